@@ -1,0 +1,1 @@
+//! Structured Text: lexer and parser.

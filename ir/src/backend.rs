@@ -1,0 +1,81 @@
+//! The interface that makes a backend pluggable.
+
+use crate::diag::Diagnostic;
+use crate::machine::Machine;
+use crate::module::Module;
+use crate::types::ElemType;
+
+/// What a target is like, as far as front ends and the driver care.
+#[derive(Clone, Debug)]
+pub struct TargetFacts {
+    /// The target's name on the command line.
+    pub name: &'static str,
+    /// Width of a data address in bits.
+    pub pointer_bits: u32,
+    /// Byte order of multi-byte values in memory.
+    pub little_endian: bool,
+    /// The elementary types it can hold; any other is a compile error naming the type
+    /// and the target.
+    pub elem_types: &'static [ElemType],
+}
+
+/// Options the driver passes to a backend.
+#[derive(Clone, Debug, Default)]
+pub struct Options {
+    /// What to produce when the backend has several outputs (`asm`, `hex`, `obj`, …);
+    /// `None` for its default.
+    pub emit: Option<String>,
+    /// Target-specific settings (`key=value` from the command line).
+    pub settings: Vec<(String, String)>,
+}
+
+/// One output file of a compilation.
+#[derive(Clone, Debug)]
+pub struct Artifact {
+    /// What it is, as an extension: `asm`, `hex`, `xcp`, `dcp`, `o`, `h`.
+    pub kind: String,
+    /// Its contents.
+    pub bytes: Vec<u8>,
+}
+
+/// Where a variable ended up on the target.
+#[derive(Clone, Debug)]
+pub struct Symbol {
+    /// The source path (`main.count`).
+    pub path: String,
+    /// Its address in the target's data memory.
+    pub address: u64,
+    /// Its size in bytes.
+    pub size: u32,
+    /// Its IEC type.
+    pub elem: ElemType,
+}
+
+/// Everything a compilation produces.
+#[derive(Clone, Debug, Default)]
+pub struct Artifacts {
+    /// Output files, the main one first.
+    pub files: Vec<Artifact>,
+    /// The variables' addresses.
+    pub symbols: Vec<Symbol>,
+    /// A one-line summary for the user (for example memory usage).
+    pub summary: Option<String>,
+}
+
+/// A code generator for one target.
+pub trait Backend {
+    /// What the target can hold.
+    fn facts(&self) -> TargetFacts;
+
+    /// Translates a verified module. Errors are diagnostics with codes and, where
+    /// possible, source spans.
+    fn compile(&self, module: &Module, options: &Options) -> Result<Artifacts, Vec<Diagnostic>>;
+
+    /// A machine that runs the module, if this target can run code here (a JIT, a
+    /// simulator, a VM).
+    fn machine(
+        &self,
+        module: &Module,
+        options: &Options,
+    ) -> Option<Result<Box<dyn Machine>, Vec<Diagnostic>>>;
+}

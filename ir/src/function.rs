@@ -1,0 +1,291 @@
+//! Functions: blocks in layout order, instructions, SSA values and stack slots.
+
+use crate::diag::Span;
+use crate::entities::{Block, Inst, SlotId, Value};
+use crate::inst::InstData;
+use crate::module::Module;
+use crate::types::{MemType, Type};
+
+/// What a function is for. Informational: every kind is called the same way, but
+/// backends and the runner use it (an FB body's first parameter is its instance).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum FuncKind {
+    /// An IEC FUNCTION.
+    Function,
+    /// The body of a FUNCTION_BLOCK: `(instance: ptr)`.
+    FbBody,
+    /// The body of a PROGRAM: `(instance: ptr)`.
+    ProgramBody,
+    /// Cold-start initialisation of an instance or of the globals.
+    Init,
+    /// A helper the front end generated (integer power, …).
+    Helper,
+}
+
+impl FuncKind {
+    /// The keyword of the text form.
+    pub fn name(self) -> &'static str {
+        match self {
+            FuncKind::Function => "function",
+            FuncKind::FbBody => "fb",
+            FuncKind::ProgramBody => "program",
+            FuncKind::Init => "init",
+            FuncKind::Helper => "helper",
+        }
+    }
+
+    /// Parses a keyword of the text form.
+    pub fn from_name(s: &str) -> Option<FuncKind> {
+        Some(match s {
+            "function" => FuncKind::Function,
+            "fb" => FuncKind::FbBody,
+            "program" => FuncKind::ProgramBody,
+            "init" => FuncKind::Init,
+            "helper" => FuncKind::Helper,
+            _ => return None,
+        })
+    }
+}
+
+/// Where an SSA value comes from.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum ValueDef {
+    /// The `index`th parameter of a block.
+    Param(Block, u32),
+    /// The result of an instruction.
+    Result(Inst),
+}
+
+/// An SSA value's type and definition.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct ValueData {
+    /// Its type.
+    pub ty: Type,
+    /// Where it is defined.
+    pub def: ValueDef,
+}
+
+/// A basic block: parameters and instructions, the last of which is a terminator.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BlockData {
+    /// The block's parameters (the SSA form of phi nodes).
+    pub params: Vec<Value>,
+    /// Its instructions in order.
+    pub insts: Vec<Inst>,
+}
+
+/// Memory local to one call of a function (FUNCTION locals whose address is taken,
+/// VAR_OUTPUT/VAR_IN_OUT buffers, local arrays).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Slot {
+    /// A name for listings (the source variable, if any).
+    pub name: String,
+    /// What it holds.
+    pub ty: MemType,
+}
+
+/// A function of the IR.
+///
+/// Entities are stored in vectors indexed by their ids. `layout` gives the order of the
+/// blocks; its first block is the entry, whose parameters are the function's
+/// parameters. A block removed from `layout` is dead and ignored by everyone.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Function {
+    /// Unique name within the module.
+    pub name: String,
+    /// What the function is for.
+    pub kind: FuncKind,
+    /// Parameter types.
+    pub params: Vec<Type>,
+    /// Result type, if it returns a value.
+    pub ret: Option<Type>,
+    /// The declaration it was lowered from (for diagnostics).
+    pub span: Option<Span>,
+    /// Stack slots.
+    pub slots: Vec<Slot>,
+    /// All instructions ever created (only those in a block of `layout` are live).
+    pub insts: Vec<InstData>,
+    /// The result of each instruction.
+    pub results: Vec<Option<Value>>,
+    /// The source location of each instruction.
+    pub spans: Vec<Option<Span>>,
+    /// All values ever created.
+    pub values: Vec<ValueData>,
+    /// All blocks ever created.
+    pub blocks: Vec<BlockData>,
+    /// Blocks in layout order; the first is the entry.
+    pub layout: Vec<Block>,
+}
+
+impl Function {
+    /// An empty function (no blocks yet).
+    pub fn new(name: impl Into<String>, kind: FuncKind, params: Vec<Type>, ret: Option<Type>) -> Function {
+        Function {
+            name: name.into(),
+            kind,
+            params,
+            ret,
+            span: None,
+            slots: Vec::new(),
+            insts: Vec::new(),
+            results: Vec::new(),
+            spans: Vec::new(),
+            values: Vec::new(),
+            blocks: Vec::new(),
+            layout: Vec::new(),
+        }
+    }
+
+    /// The entry block.
+    pub fn entry(&self) -> Option<Block> {
+        self.layout.first().copied()
+    }
+
+    /// The type of a value.
+    #[inline]
+    pub fn value_type(&self, v: Value) -> Type {
+        self.values[v.index()].ty
+    }
+
+    /// The definition of a value.
+    #[inline]
+    pub fn value_def(&self, v: Value) -> ValueDef {
+        self.values[v.index()].def
+    }
+
+    /// An instruction's data.
+    #[inline]
+    pub fn inst(&self, i: Inst) -> &InstData {
+        &self.insts[i.index()]
+    }
+
+    /// An instruction's data, for rewriting.
+    #[inline]
+    pub fn inst_mut(&mut self, i: Inst) -> &mut InstData {
+        &mut self.insts[i.index()]
+    }
+
+    /// An instruction's result.
+    #[inline]
+    pub fn result(&self, i: Inst) -> Option<Value> {
+        self.results[i.index()]
+    }
+
+    /// A block's data.
+    #[inline]
+    pub fn block(&self, b: Block) -> &BlockData {
+        &self.blocks[b.index()]
+    }
+
+    /// The last instruction of a block, if it is a terminator.
+    pub fn terminator(&self, b: Block) -> Option<Inst> {
+        let last = *self.blocks[b.index()].insts.last()?;
+        self.insts[last.index()].is_terminator().then_some(last)
+    }
+
+    /// Creates a block that is not yet in the layout.
+    pub fn create_block(&mut self) -> Block {
+        self.blocks.push(BlockData::default());
+        Block::new(self.blocks.len() - 1)
+    }
+
+    /// Adds a parameter of type `ty` to `block`.
+    pub fn append_block_param(&mut self, block: Block, ty: Type) -> Value {
+        let index = self.blocks[block.index()].params.len() as u32;
+        let v = self.make_value(ty, ValueDef::Param(block, index));
+        self.blocks[block.index()].params.push(v);
+        v
+    }
+
+    /// Creates an instruction (not placed in any block) and its result value, whose
+    /// type is `result`.
+    pub fn create_inst(&mut self, data: InstData, result: Option<Type>, span: Option<Span>) -> Inst {
+        let inst = Inst::new(self.insts.len());
+        self.insts.push(data);
+        self.spans.push(span);
+        let res = result.map(|ty| self.make_value(ty, ValueDef::Result(inst)));
+        self.results.push(res);
+        inst
+    }
+
+    /// Adds a stack slot.
+    pub fn create_slot(&mut self, name: impl Into<String>, ty: MemType) -> SlotId {
+        self.slots.push(Slot {
+            name: name.into(),
+            ty,
+        });
+        SlotId::new(self.slots.len() - 1)
+    }
+
+    fn make_value(&mut self, ty: Type, def: ValueDef) -> Value {
+        self.values.push(ValueData { ty, def });
+        Value::new(self.values.len() - 1)
+    }
+
+    /// Live instructions in layout order, with their blocks.
+    pub fn inst_iter(&self) -> impl Iterator<Item = (Block, Inst)> + '_ {
+        self.layout.iter().flat_map(move |&b| {
+            self.blocks[b.index()]
+                .insts
+                .iter()
+                .map(move |&i| (b, i))
+        })
+    }
+
+    /// The number of live instructions.
+    pub fn live_inst_count(&self) -> usize {
+        self.layout
+            .iter()
+            .map(|b| self.blocks[b.index()].insts.len())
+            .sum()
+    }
+
+    /// The result type an instruction produces, computed from its operands.
+    /// `module` resolves callee signatures. Returns `None` for instructions without a
+    /// result.
+    pub fn result_type_of(&self, module: &Module, data: &InstData) -> Option<Type> {
+        match data {
+            InstData::Iconst { ty, .. } | InstData::Fconst { ty, .. } => Some(*ty),
+            InstData::Unary { arg, .. } => Some(self.value_type(*arg)),
+            InstData::Binary { args, .. } => Some(self.value_type(args[0])),
+            InstData::Icmp { .. } | InstData::Fcmp { .. } => Some(Type::I1),
+            InstData::Convert { ty, .. } => Some(*ty),
+            InstData::Select { if_true, .. } => Some(self.value_type(*if_true)),
+            InstData::GlobalAddr { .. }
+            | InstData::SlotAddr { .. }
+            | InstData::FieldAddr { .. }
+            | InstData::ElemAddr { .. } => Some(Type::Ptr),
+            InstData::Load { ty, .. } => Some(*ty),
+            InstData::Store { .. } => None,
+            InstData::Call { func, .. } => module.funcs.get(func.index()).and_then(|f| f.ret),
+            InstData::Intrinsic { op, .. } => op.result(),
+            InstData::Jump { .. } | InstData::Brif { .. } | InstData::Return { .. } => None,
+        }
+    }
+
+    /// Predecessor blocks of every block (indexed by block), from the terminators of
+    /// the blocks in the layout. A block appears once per edge.
+    pub fn predecessors(&self) -> Vec<Vec<Block>> {
+        let mut preds = vec![Vec::new(); self.blocks.len()];
+        for &b in &self.layout {
+            if let Some(t) = self.terminator(b) {
+                for dest in self.insts[t.index()].successors() {
+                    preds[dest.block.index()].push(b);
+                }
+            }
+        }
+        preds
+    }
+
+    /// Successor blocks of a block (one per edge).
+    pub fn successors(&self, b: Block) -> Vec<Block> {
+        match self.terminator(b) {
+            Some(t) => self.insts[t.index()]
+                .successors()
+                .into_iter()
+                .map(|d| d.block)
+                .collect(),
+            None => Vec::new(),
+        }
+    }
+}

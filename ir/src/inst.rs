@@ -1,0 +1,788 @@
+//! Instructions and their operations.
+//!
+//! The semantics here are the contract every backend and the interpreter implement bit
+//! for bit (see `docs/ir.md` for the full table). In short: integer arithmetic wraps;
+//! division and remainder by zero give 0 and raise the fault flag; shifts by at least
+//! the width give 0; rotates take the count modulo the width; float-to-integer
+//! conversions truncate toward zero, saturate, and give 0 for NaN.
+
+use crate::entities::{AggId, Block, DataId, FuncId, SlotId, Value};
+use crate::types::Type;
+
+/// Unary operations. The result has the operand's type.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum UnaryOp {
+    /// Two's complement negation (wraps: `-MIN = MIN`).
+    Ineg,
+    /// Bitwise complement; on `i1` it is logical NOT.
+    Bnot,
+    /// Absolute value of a signed integer (wraps: `abs(MIN) = MIN`).
+    Iabs,
+    /// Float negation.
+    Fneg,
+    /// Float absolute value.
+    Fabs,
+    /// Square root (NaN for negative operands).
+    Fsqrt,
+    /// Round to the nearest integral value, ties to even.
+    Fnearest,
+    /// Round toward zero to an integral value.
+    Ftrunc,
+    /// Round toward negative infinity.
+    Ffloor,
+    /// Round toward positive infinity.
+    Fceil,
+    /// Sine (radians).
+    Sin,
+    /// Cosine.
+    Cos,
+    /// Tangent.
+    Tan,
+    /// Arc sine.
+    Asin,
+    /// Arc cosine.
+    Acos,
+    /// Arc tangent.
+    Atan,
+    /// Natural logarithm.
+    Ln,
+    /// Base-10 logarithm.
+    Log10,
+    /// e to the power.
+    Exp,
+}
+
+impl UnaryOp {
+    /// Every unary operation.
+    pub const ALL: [UnaryOp; 19] = [
+        UnaryOp::Ineg,
+        UnaryOp::Bnot,
+        UnaryOp::Iabs,
+        UnaryOp::Fneg,
+        UnaryOp::Fabs,
+        UnaryOp::Fsqrt,
+        UnaryOp::Fnearest,
+        UnaryOp::Ftrunc,
+        UnaryOp::Ffloor,
+        UnaryOp::Fceil,
+        UnaryOp::Sin,
+        UnaryOp::Cos,
+        UnaryOp::Tan,
+        UnaryOp::Asin,
+        UnaryOp::Acos,
+        UnaryOp::Atan,
+        UnaryOp::Ln,
+        UnaryOp::Log10,
+        UnaryOp::Exp,
+    ];
+
+    /// The mnemonic of the text form.
+    pub fn name(self) -> &'static str {
+        match self {
+            UnaryOp::Ineg => "ineg",
+            UnaryOp::Bnot => "bnot",
+            UnaryOp::Iabs => "iabs",
+            UnaryOp::Fneg => "fneg",
+            UnaryOp::Fabs => "fabs",
+            UnaryOp::Fsqrt => "fsqrt",
+            UnaryOp::Fnearest => "fnearest",
+            UnaryOp::Ftrunc => "ftrunc",
+            UnaryOp::Ffloor => "ffloor",
+            UnaryOp::Fceil => "fceil",
+            UnaryOp::Sin => "sin",
+            UnaryOp::Cos => "cos",
+            UnaryOp::Tan => "tan",
+            UnaryOp::Asin => "asin",
+            UnaryOp::Acos => "acos",
+            UnaryOp::Atan => "atan",
+            UnaryOp::Ln => "ln",
+            UnaryOp::Log10 => "log10",
+            UnaryOp::Exp => "exp",
+        }
+    }
+
+    /// True if the operand must be an integer (else it must be a float).
+    pub fn is_int_op(self) -> bool {
+        matches!(self, UnaryOp::Ineg | UnaryOp::Bnot | UnaryOp::Iabs)
+    }
+}
+
+/// Binary operations. Both operands and the result have one type.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum BinaryOp {
+    /// Wrapping addition.
+    Iadd,
+    /// Wrapping subtraction.
+    Isub,
+    /// Wrapping multiplication (low half).
+    Imul,
+    /// Signed division truncating toward zero; `x/0 = 0` + fault; `MIN/-1 = MIN`.
+    Sdiv,
+    /// Unsigned division; `x/0 = 0` + fault.
+    Udiv,
+    /// Signed remainder with the sign of the dividend; `x%0 = 0` + fault; `x%-1 = 0`.
+    Srem,
+    /// Unsigned remainder; `x%0 = 0` + fault.
+    Urem,
+    /// Bitwise AND (logical on `i1`).
+    Band,
+    /// Bitwise OR.
+    Bor,
+    /// Bitwise XOR.
+    Bxor,
+    /// Shift left; a count (read unsigned) of at least the width gives 0.
+    Ishl,
+    /// Logical shift right; a count of at least the width gives 0.
+    Ushr,
+    /// Arithmetic shift right; a count of at least the width gives the sign fill.
+    Sshr,
+    /// Rotate left by the count modulo the width.
+    Rotl,
+    /// Rotate right by the count modulo the width.
+    Rotr,
+    /// IEEE addition.
+    Fadd,
+    /// IEEE subtraction.
+    Fsub,
+    /// IEEE multiplication.
+    Fmul,
+    /// IEEE division (by zero gives an infinity or NaN; no fault).
+    Fdiv,
+    /// `pow(a, b)` of the C library.
+    Fpow,
+    /// Arc tangent of a/b using both signs (`atan2`).
+    Fatan2,
+}
+
+impl BinaryOp {
+    /// Every binary operation.
+    pub const ALL: [BinaryOp; 21] = [
+        BinaryOp::Iadd,
+        BinaryOp::Isub,
+        BinaryOp::Imul,
+        BinaryOp::Sdiv,
+        BinaryOp::Udiv,
+        BinaryOp::Srem,
+        BinaryOp::Urem,
+        BinaryOp::Band,
+        BinaryOp::Bor,
+        BinaryOp::Bxor,
+        BinaryOp::Ishl,
+        BinaryOp::Ushr,
+        BinaryOp::Sshr,
+        BinaryOp::Rotl,
+        BinaryOp::Rotr,
+        BinaryOp::Fadd,
+        BinaryOp::Fsub,
+        BinaryOp::Fmul,
+        BinaryOp::Fdiv,
+        BinaryOp::Fpow,
+        BinaryOp::Fatan2,
+    ];
+
+    /// The mnemonic of the text form.
+    pub fn name(self) -> &'static str {
+        match self {
+            BinaryOp::Iadd => "iadd",
+            BinaryOp::Isub => "isub",
+            BinaryOp::Imul => "imul",
+            BinaryOp::Sdiv => "sdiv",
+            BinaryOp::Udiv => "udiv",
+            BinaryOp::Srem => "srem",
+            BinaryOp::Urem => "urem",
+            BinaryOp::Band => "band",
+            BinaryOp::Bor => "bor",
+            BinaryOp::Bxor => "bxor",
+            BinaryOp::Ishl => "ishl",
+            BinaryOp::Ushr => "ushr",
+            BinaryOp::Sshr => "sshr",
+            BinaryOp::Rotl => "rotl",
+            BinaryOp::Rotr => "rotr",
+            BinaryOp::Fadd => "fadd",
+            BinaryOp::Fsub => "fsub",
+            BinaryOp::Fmul => "fmul",
+            BinaryOp::Fdiv => "fdiv",
+            BinaryOp::Fpow => "fpow",
+            BinaryOp::Fatan2 => "fatan2",
+        }
+    }
+
+    /// True if the operands must be integers (else floats).
+    pub fn is_int_op(self) -> bool {
+        !matches!(
+            self,
+            BinaryOp::Fadd
+                | BinaryOp::Fsub
+                | BinaryOp::Fmul
+                | BinaryOp::Fdiv
+                | BinaryOp::Fpow
+                | BinaryOp::Fatan2
+        )
+    }
+
+    /// True for the operations that may raise the fault flag (division by zero).
+    pub fn can_fault(self) -> bool {
+        matches!(
+            self,
+            BinaryOp::Sdiv | BinaryOp::Udiv | BinaryOp::Srem | BinaryOp::Urem
+        )
+    }
+
+    /// True if `a op b == b op a`.
+    pub fn is_commutative(self) -> bool {
+        matches!(
+            self,
+            BinaryOp::Iadd
+                | BinaryOp::Imul
+                | BinaryOp::Band
+                | BinaryOp::Bor
+                | BinaryOp::Bxor
+                | BinaryOp::Fadd
+                | BinaryOp::Fmul
+        )
+    }
+}
+
+/// Integer comparison conditions.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum IntCC {
+    /// `==`
+    Eq,
+    /// `!=`
+    Ne,
+    /// signed `<`
+    Slt,
+    /// signed `<=`
+    Sle,
+    /// signed `>`
+    Sgt,
+    /// signed `>=`
+    Sge,
+    /// unsigned `<`
+    Ult,
+    /// unsigned `<=`
+    Ule,
+    /// unsigned `>`
+    Ugt,
+    /// unsigned `>=`
+    Uge,
+}
+
+impl IntCC {
+    /// Every condition.
+    pub const ALL: [IntCC; 10] = [
+        IntCC::Eq,
+        IntCC::Ne,
+        IntCC::Slt,
+        IntCC::Sle,
+        IntCC::Sgt,
+        IntCC::Sge,
+        IntCC::Ult,
+        IntCC::Ule,
+        IntCC::Ugt,
+        IntCC::Uge,
+    ];
+
+    /// The name of the text form.
+    pub fn name(self) -> &'static str {
+        match self {
+            IntCC::Eq => "eq",
+            IntCC::Ne => "ne",
+            IntCC::Slt => "slt",
+            IntCC::Sle => "sle",
+            IntCC::Sgt => "sgt",
+            IntCC::Sge => "sge",
+            IntCC::Ult => "ult",
+            IntCC::Ule => "ule",
+            IntCC::Ugt => "ugt",
+            IntCC::Uge => "uge",
+        }
+    }
+
+    /// The condition with the operands swapped (`a < b` is `b > a`).
+    pub fn swapped(self) -> IntCC {
+        match self {
+            IntCC::Eq => IntCC::Eq,
+            IntCC::Ne => IntCC::Ne,
+            IntCC::Slt => IntCC::Sgt,
+            IntCC::Sle => IntCC::Sge,
+            IntCC::Sgt => IntCC::Slt,
+            IntCC::Sge => IntCC::Sle,
+            IntCC::Ult => IntCC::Ugt,
+            IntCC::Ule => IntCC::Uge,
+            IntCC::Ugt => IntCC::Ult,
+            IntCC::Uge => IntCC::Ule,
+        }
+    }
+
+    /// The negated condition (`!(a < b)` is `a >= b`).
+    pub fn inverted(self) -> IntCC {
+        match self {
+            IntCC::Eq => IntCC::Ne,
+            IntCC::Ne => IntCC::Eq,
+            IntCC::Slt => IntCC::Sge,
+            IntCC::Sle => IntCC::Sgt,
+            IntCC::Sgt => IntCC::Sle,
+            IntCC::Sge => IntCC::Slt,
+            IntCC::Ult => IntCC::Uge,
+            IntCC::Ule => IntCC::Ugt,
+            IntCC::Ugt => IntCC::Ule,
+            IntCC::Uge => IntCC::Ult,
+        }
+    }
+}
+
+/// Float comparison conditions. All are false when an operand is NaN, except `Ne`,
+/// which is true (IEEE "unordered or not equal", as `<>` in IEC 61131-3).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum FloatCC {
+    /// ordered `==`
+    Eq,
+    /// unordered or `!=`
+    Ne,
+    /// ordered `<`
+    Lt,
+    /// ordered `<=`
+    Le,
+    /// ordered `>`
+    Gt,
+    /// ordered `>=`
+    Ge,
+}
+
+impl FloatCC {
+    /// Every condition.
+    pub const ALL: [FloatCC; 6] = [
+        FloatCC::Eq,
+        FloatCC::Ne,
+        FloatCC::Lt,
+        FloatCC::Le,
+        FloatCC::Gt,
+        FloatCC::Ge,
+    ];
+
+    /// The name of the text form.
+    pub fn name(self) -> &'static str {
+        match self {
+            FloatCC::Eq => "eq",
+            FloatCC::Ne => "ne",
+            FloatCC::Lt => "lt",
+            FloatCC::Le => "le",
+            FloatCC::Gt => "gt",
+            FloatCC::Ge => "ge",
+        }
+    }
+}
+
+/// Conversions between types. The result type is given by the instruction.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum ConvOp {
+    /// Sign-extend an integer to a wider one.
+    Sext,
+    /// Zero-extend an integer (or `i1`) to a wider one.
+    Uext,
+    /// Keep the low bits of an integer (narrowing wraps).
+    Itrunc,
+    /// `f32` to `f64`.
+    Fpromote,
+    /// `f64` to `f32`, rounding to nearest even.
+    Fdemote,
+    /// Signed integer to float, rounding to nearest even.
+    SiToF,
+    /// Unsigned integer to float, rounding to nearest even.
+    UiToF,
+    /// Float to signed integer: toward zero, saturating at the result type's range,
+    /// NaN gives 0.
+    FToSi,
+    /// Float to unsigned integer: toward zero, saturating, NaN and negatives give 0.
+    FToUi,
+    /// Reinterpret the bits between an integer and a float of the same width.
+    Bitcast,
+}
+
+impl ConvOp {
+    /// Every conversion.
+    pub const ALL: [ConvOp; 10] = [
+        ConvOp::Sext,
+        ConvOp::Uext,
+        ConvOp::Itrunc,
+        ConvOp::Fpromote,
+        ConvOp::Fdemote,
+        ConvOp::SiToF,
+        ConvOp::UiToF,
+        ConvOp::FToSi,
+        ConvOp::FToUi,
+        ConvOp::Bitcast,
+    ];
+
+    /// The mnemonic of the text form.
+    pub fn name(self) -> &'static str {
+        match self {
+            ConvOp::Sext => "sext",
+            ConvOp::Uext => "uext",
+            ConvOp::Itrunc => "itrunc",
+            ConvOp::Fpromote => "fpromote",
+            ConvOp::Fdemote => "fdemote",
+            ConvOp::SiToF => "sitof",
+            ConvOp::UiToF => "uitof",
+            ConvOp::FToSi => "ftosi",
+            ConvOp::FToUi => "ftoui",
+            ConvOp::Bitcast => "bitcast",
+        }
+    }
+}
+
+/// Services of the runtime that every target provides.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Intrinsic {
+    /// `-> i32`: the PLC clock in milliseconds (TIME), sampled once at the start of the
+    /// scan, so it is the same value throughout a scan. Wraps after 2^31 ms.
+    ClockMs,
+    /// `-> i64`: the PLC clock in nanoseconds (LTIME), sampled with `ClockMs`.
+    ClockNs,
+    /// Raises the runtime fault flag (array index out of range, …).
+    RaiseFault,
+}
+
+impl Intrinsic {
+    /// Every intrinsic.
+    pub const ALL: [Intrinsic; 3] = [
+        Intrinsic::ClockMs,
+        Intrinsic::ClockNs,
+        Intrinsic::RaiseFault,
+    ];
+
+    /// The mnemonic of the text form.
+    pub fn name(self) -> &'static str {
+        match self {
+            Intrinsic::ClockMs => "clock_ms",
+            Intrinsic::ClockNs => "clock_ns",
+            Intrinsic::RaiseFault => "raise_fault",
+        }
+    }
+
+    /// The result type, if it produces one.
+    pub fn result(self) -> Option<Type> {
+        match self {
+            Intrinsic::ClockMs => Some(Type::I32),
+            Intrinsic::ClockNs => Some(Type::I64),
+            Intrinsic::RaiseFault => None,
+        }
+    }
+}
+
+/// A branch destination with the arguments for the block's parameters.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct BlockCall {
+    /// The destination.
+    pub block: Block,
+    /// One value per parameter of the destination.
+    pub args: Vec<Value>,
+}
+
+impl BlockCall {
+    /// A destination with arguments.
+    pub fn new(block: Block, args: Vec<Value>) -> BlockCall {
+        BlockCall { block, args }
+    }
+}
+
+/// One instruction: the operation and its operands. At most one result.
+#[derive(Clone, Debug, PartialEq)]
+pub enum InstData {
+    /// An integer constant of type `ty`; `imm` is canonical (see [`Type::canon_int`]).
+    Iconst {
+        /// The result type (an integer type).
+        ty: Type,
+        /// The value, sign-extended from the type's width (`i1`: 0 or 1).
+        imm: i64,
+    },
+    /// A float constant: `bits` is the IEEE encoding (binary32 in the low 32 bits).
+    Fconst {
+        /// `F32` or `F64`.
+        ty: Type,
+        /// The raw encoding.
+        bits: u64,
+    },
+    /// `op arg`
+    Unary {
+        /// The operation.
+        op: UnaryOp,
+        /// The operand.
+        arg: Value,
+    },
+    /// `op a, b`
+    Binary {
+        /// The operation.
+        op: BinaryOp,
+        /// The operands.
+        args: [Value; 2],
+    },
+    /// `icmp cond a, b -> i1`
+    Icmp {
+        /// The condition.
+        cond: IntCC,
+        /// The operands (same integer or pointer type).
+        args: [Value; 2],
+    },
+    /// `fcmp cond a, b -> i1`
+    Fcmp {
+        /// The condition.
+        cond: FloatCC,
+        /// The operands (same float type).
+        args: [Value; 2],
+    },
+    /// `op.ty arg`
+    Convert {
+        /// The conversion.
+        op: ConvOp,
+        /// The result type.
+        ty: Type,
+        /// The operand.
+        arg: Value,
+    },
+    /// `select c, a, b`: `a` if `c` else `b`.
+    Select {
+        /// The `i1` condition.
+        cond: Value,
+        /// The value when true.
+        if_true: Value,
+        /// The value when false.
+        if_false: Value,
+    },
+    /// The address of a data object.
+    GlobalAddr {
+        /// The object.
+        data: DataId,
+    },
+    /// The address of a stack slot of this function.
+    SlotAddr {
+        /// The slot.
+        slot: SlotId,
+    },
+    /// The address of field `field` of the struct `agg` at `base`.
+    FieldAddr {
+        /// Address of the struct.
+        base: Value,
+        /// The struct type.
+        agg: AggId,
+        /// Field index.
+        field: u32,
+    },
+    /// The address of element `index` (zero-based) of the array `agg` at `base`.
+    /// The index must be in range: front ends check bounds before.
+    ElemAddr {
+        /// Address of the array.
+        base: Value,
+        /// The array type.
+        agg: AggId,
+        /// The index (any integer type, read as signed).
+        index: Value,
+    },
+    /// `load.ty addr`
+    Load {
+        /// The loaded type.
+        ty: Type,
+        /// The address.
+        addr: Value,
+    },
+    /// `store value, addr`
+    Store {
+        /// The stored value.
+        value: Value,
+        /// The address.
+        addr: Value,
+    },
+    /// `call @f(args)`
+    Call {
+        /// The callee.
+        func: FuncId,
+        /// One value per parameter.
+        args: Vec<Value>,
+    },
+    /// A runtime service.
+    Intrinsic {
+        /// Which service.
+        op: Intrinsic,
+        /// Its operands (none so far).
+        args: Vec<Value>,
+    },
+    /// `jump block(args)`
+    Jump {
+        /// The destination.
+        dest: BlockCall,
+    },
+    /// `brif c, then(args), else(args)`
+    Brif {
+        /// The `i1` condition.
+        cond: Value,
+        /// Taken when true.
+        then_dest: BlockCall,
+        /// Taken when false.
+        else_dest: BlockCall,
+    },
+    /// `return` or `return v`
+    Return {
+        /// The result, if the function has one.
+        value: Option<Value>,
+    },
+}
+
+impl InstData {
+    /// True for instructions that end a block.
+    pub fn is_terminator(&self) -> bool {
+        matches!(
+            self,
+            InstData::Jump { .. } | InstData::Brif { .. } | InstData::Return { .. }
+        )
+    }
+
+    /// True if the instruction has an effect besides its result (so it may not be
+    /// removed even when the result is unused).
+    pub fn has_side_effects(&self) -> bool {
+        match self {
+            InstData::Store { .. }
+            | InstData::Call { .. }
+            | InstData::Intrinsic { .. }
+            | InstData::Jump { .. }
+            | InstData::Brif { .. }
+            | InstData::Return { .. } => true,
+            InstData::Binary { op, .. } => op.can_fault(),
+            _ => false,
+        }
+    }
+
+    /// Calls `f` on every value operand, branch arguments included.
+    pub fn for_each_arg(&self, mut f: impl FnMut(Value)) {
+        match self {
+            InstData::Iconst { .. }
+            | InstData::Fconst { .. }
+            | InstData::GlobalAddr { .. }
+            | InstData::SlotAddr { .. } => {}
+            InstData::Unary { arg, .. } | InstData::Convert { arg, .. } => f(*arg),
+            InstData::Binary { args, .. }
+            | InstData::Icmp { args, .. }
+            | InstData::Fcmp { args, .. } => {
+                f(args[0]);
+                f(args[1]);
+            }
+            InstData::Select {
+                cond,
+                if_true,
+                if_false,
+            } => {
+                f(*cond);
+                f(*if_true);
+                f(*if_false);
+            }
+            InstData::FieldAddr { base, .. } => f(*base),
+            InstData::ElemAddr { base, index, .. } => {
+                f(*base);
+                f(*index);
+            }
+            InstData::Load { addr, .. } => f(*addr),
+            InstData::Store { value, addr } => {
+                f(*value);
+                f(*addr);
+            }
+            InstData::Call { args, .. } | InstData::Intrinsic { args, .. } => {
+                args.iter().copied().for_each(f)
+            }
+            InstData::Jump { dest } => dest.args.iter().copied().for_each(f),
+            InstData::Brif {
+                cond,
+                then_dest,
+                else_dest,
+            } => {
+                f(*cond);
+                then_dest.args.iter().copied().for_each(&mut f);
+                else_dest.args.iter().copied().for_each(f);
+            }
+            InstData::Return { value } => {
+                if let Some(v) = value {
+                    f(*v)
+                }
+            }
+        }
+    }
+
+    /// Calls `f` on every value operand for rewriting, branch arguments included.
+    pub fn map_args(&mut self, mut f: impl FnMut(Value) -> Value) {
+        match self {
+            InstData::Iconst { .. }
+            | InstData::Fconst { .. }
+            | InstData::GlobalAddr { .. }
+            | InstData::SlotAddr { .. } => {}
+            InstData::Unary { arg, .. } | InstData::Convert { arg, .. } => *arg = f(*arg),
+            InstData::Binary { args, .. }
+            | InstData::Icmp { args, .. }
+            | InstData::Fcmp { args, .. } => {
+                args[0] = f(args[0]);
+                args[1] = f(args[1]);
+            }
+            InstData::Select {
+                cond,
+                if_true,
+                if_false,
+            } => {
+                *cond = f(*cond);
+                *if_true = f(*if_true);
+                *if_false = f(*if_false);
+            }
+            InstData::FieldAddr { base, .. } => *base = f(*base),
+            InstData::ElemAddr { base, index, .. } => {
+                *base = f(*base);
+                *index = f(*index);
+            }
+            InstData::Load { addr, .. } => *addr = f(*addr),
+            InstData::Store { value, addr } => {
+                *value = f(*value);
+                *addr = f(*addr);
+            }
+            InstData::Call { args, .. } | InstData::Intrinsic { args, .. } => {
+                args.iter_mut().for_each(|a| *a = f(*a))
+            }
+            InstData::Jump { dest } => dest.args.iter_mut().for_each(|a| *a = f(*a)),
+            InstData::Brif {
+                cond,
+                then_dest,
+                else_dest,
+            } => {
+                *cond = f(*cond);
+                then_dest.args.iter_mut().for_each(|a| *a = f(*a));
+                else_dest.args.iter_mut().for_each(|a| *a = f(*a));
+            }
+            InstData::Return { value } => {
+                if let Some(v) = value {
+                    *v = f(*v)
+                }
+            }
+        }
+    }
+
+    /// The branch destinations of a terminator (empty for other instructions).
+    pub fn successors(&self) -> Vec<&BlockCall> {
+        match self {
+            InstData::Jump { dest } => vec![dest],
+            InstData::Brif {
+                then_dest,
+                else_dest,
+                ..
+            } => vec![then_dest, else_dest],
+            _ => Vec::new(),
+        }
+    }
+
+    /// The branch destinations of a terminator, for rewriting.
+    pub fn successors_mut(&mut self) -> Vec<&mut BlockCall> {
+        match self {
+            InstData::Jump { dest } => vec![dest],
+            InstData::Brif {
+                then_dest,
+                else_dest,
+                ..
+            } => vec![then_dest, else_dest],
+            _ => Vec::new(),
+        }
+    }
+}

@@ -1,0 +1,35 @@
+//! plcc's SSA intermediate representation: the one language between every front end
+//! and every backend.
+//!
+//! A [`Module`] holds aggregate types, data objects (program instances, globals),
+//! functions and the list of programs a scan runs. Functions are SSA with block
+//! parameters, explicit widths and signedness in the operations. See `docs/ir.md` for
+//! the semantics of every instruction and the text form.
+
+pub mod backend;
+pub mod builder;
+pub mod diag;
+pub mod entities;
+pub mod function;
+pub mod inst;
+pub mod interp;
+pub mod layout;
+pub mod machine;
+pub mod module;
+pub mod passes;
+pub mod text;
+pub mod types;
+pub mod value;
+pub mod vars;
+pub mod verify;
+
+pub use builder::FuncBuilder;
+pub use entities::{AggId, Block, DataId, FuncId, Inst, SlotId, Value};
+pub use function::{FuncKind, Function};
+pub use inst::{BinaryOp, BlockCall, ConvOp, FloatCC, InstData, IntCC, Intrinsic, UnaryOp};
+pub use module::{
+    AggDef, ArrayDef, DataDef, DataKind, Field, FieldRole, Module, ProgramEntry, StructDef,
+    StructKind,
+};
+pub use types::{ElemType, MemType, Type};
+pub use value::PlcValue;

@@ -1,0 +1,58 @@
+//! What can run compiled code: the interface every runnable target implements.
+//!
+//! `plcc run`, `plcc test` and the differential tests talk only to this trait, so a new
+//! target is tested by the same suite the day it can run.
+
+use crate::value::PlcValue;
+use std::fmt;
+
+/// A failure while running a program (not a PLC fault: those set the fault flag).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MachineError(pub String);
+
+impl fmt::Display for MachineError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for MachineError {}
+
+impl From<crate::vars::PathError> for MachineError {
+    fn from(e: crate::vars::PathError) -> Self {
+        MachineError(e.0)
+    }
+}
+
+/// A PLC that runs one compiled module scan by scan.
+///
+/// Variables are named by source path (`main.timer.Q`; case-insensitive). The clock is
+/// simulated: the runner sets it before each scan and every read of the clock within
+/// that scan sees the same value.
+pub trait Machine {
+    /// The target's name (`host`, `interp`, …).
+    fn target(&self) -> &str;
+
+    /// Cold start: every variable gets its declared initial value, the fault flag is
+    /// cleared, and the clock is 0.
+    fn cold_start(&mut self) -> Result<(), MachineError>;
+
+    /// Sets the PLC clock (microseconds since cold start) the next scan samples.
+    fn set_clock_us(&mut self, us: i64);
+
+    /// Runs one scan: every program body once, in order.
+    fn scan(&mut self) -> Result<(), MachineError>;
+
+    /// Reads a variable.
+    fn read(&self, path: &str) -> Result<PlcValue, MachineError>;
+
+    /// Writes a variable (the value's type must be the variable's).
+    fn write(&mut self, path: &str, value: PlcValue) -> Result<(), MachineError>;
+
+    /// True once a runtime fault (division by zero, index out of range) has happened
+    /// since the flag was last cleared.
+    fn fault(&self) -> bool;
+
+    /// Clears the fault flag.
+    fn clear_fault(&mut self);
+}

@@ -1,0 +1,312 @@
+//! Modules: aggregate types, data objects, functions and the programs to run.
+
+use crate::entities::{AggId, DataId, FuncId};
+use crate::function::Function;
+use crate::types::{ElemType, MemType};
+
+/// What a struct stands for in the source.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum StructKind {
+    /// The variables of a PROGRAM.
+    Program,
+    /// The variables of a FUNCTION_BLOCK (an instance).
+    FunctionBlock,
+    /// A user STRUCT type.
+    Struct,
+    /// Anything else the front end needs (for example a FUNCTION's output buffer).
+    Other,
+}
+
+impl StructKind {
+    /// The keyword of the text form.
+    pub fn name(self) -> &'static str {
+        match self {
+            StructKind::Program => "program",
+            StructKind::FunctionBlock => "fb",
+            StructKind::Struct => "struct",
+            StructKind::Other => "other",
+        }
+    }
+
+    /// Parses a keyword of the text form.
+    pub fn from_name(s: &str) -> Option<StructKind> {
+        Some(match s {
+            "program" => StructKind::Program,
+            "fb" => StructKind::FunctionBlock,
+            "struct" => StructKind::Struct,
+            "other" => StructKind::Other,
+            _ => return None,
+        })
+    }
+}
+
+/// How a field is declared in its POU; the runner lists variables by it.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum FieldRole {
+    /// `VAR` (or a struct field).
+    Var,
+    /// `VAR_INPUT`
+    Input,
+    /// `VAR_OUTPUT`
+    Output,
+    /// `VAR_IN_OUT` (the field holds the address of the argument).
+    InOut,
+    /// `VAR_TEMP`
+    Temp,
+    /// `VAR_EXTERNAL` (the field holds the address of the global).
+    External,
+    /// State a front end added that the user did not declare.
+    Hidden,
+}
+
+impl FieldRole {
+    /// The keyword of the text form.
+    pub fn name(self) -> &'static str {
+        match self {
+            FieldRole::Var => "var",
+            FieldRole::Input => "in",
+            FieldRole::Output => "out",
+            FieldRole::InOut => "inout",
+            FieldRole::Temp => "temp",
+            FieldRole::External => "external",
+            FieldRole::Hidden => "hidden",
+        }
+    }
+
+    /// Parses a keyword of the text form.
+    pub fn from_name(s: &str) -> Option<FieldRole> {
+        Some(match s {
+            "var" => FieldRole::Var,
+            "in" => FieldRole::Input,
+            "out" => FieldRole::Output,
+            "inout" => FieldRole::InOut,
+            "temp" => FieldRole::Temp,
+            "external" => FieldRole::External,
+            "hidden" => FieldRole::Hidden,
+            _ => return None,
+        })
+    }
+}
+
+/// A field of a struct.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Field {
+    /// The source name (as declared; paths compare it case-insensitively).
+    pub name: String,
+    /// What it holds.
+    pub ty: MemType,
+    /// For a scalar, its IEC type (how the runner shows it).
+    pub elem: Option<ElemType>,
+    /// How it was declared.
+    pub role: FieldRole,
+    /// `AT %IX0.0`: its located address, as written.
+    pub location: Option<String>,
+}
+
+/// A struct: program or FB instance variables, or a user STRUCT.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StructDef {
+    /// Unique name within the module's aggregates (the POU or type name).
+    pub name: String,
+    /// What it stands for.
+    pub kind: StructKind,
+    /// The fields in declaration order.
+    pub fields: Vec<Field>,
+}
+
+/// An array of `len` elements; the source indexes it from `lower`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ArrayDef {
+    /// Unique name within the module's aggregates.
+    pub name: String,
+    /// Element type.
+    pub elem: MemType,
+    /// For scalar elements, their IEC type.
+    pub elem_type: Option<ElemType>,
+    /// Number of elements.
+    pub len: u32,
+    /// The source index of element 0 (for paths such as `main.a[3]`).
+    pub lower: i64,
+}
+
+/// A struct or an array type.
+#[derive(Clone, Debug, PartialEq)]
+pub enum AggDef {
+    /// A struct.
+    Struct(StructDef),
+    /// An array.
+    Array(ArrayDef),
+}
+
+impl AggDef {
+    /// The aggregate's unique name.
+    pub fn name(&self) -> &str {
+        match self {
+            AggDef::Struct(s) => &s.name,
+            AggDef::Array(a) => &a.name,
+        }
+    }
+}
+
+/// What a data object is.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum DataKind {
+    /// The instance of a PROGRAM.
+    Program,
+    /// A global variable (`VAR_GLOBAL`).
+    Global,
+    /// Read-only data (constant tables).
+    Constant,
+}
+
+impl DataKind {
+    /// The keyword of the text form.
+    pub fn name(self) -> &'static str {
+        match self {
+            DataKind::Program => "program",
+            DataKind::Global => "global",
+            DataKind::Constant => "const",
+        }
+    }
+
+    /// Parses a keyword of the text form.
+    pub fn from_name(s: &str) -> Option<DataKind> {
+        Some(match s {
+            "program" => DataKind::Program,
+            "global" => DataKind::Global,
+            "const" => DataKind::Constant,
+            _ => return None,
+        })
+    }
+}
+
+/// A statically allocated object.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DataDef {
+    /// Unique name among data objects (the program instance or global's name).
+    pub name: String,
+    /// What it holds.
+    pub ty: MemType,
+    /// For a scalar, its IEC type.
+    pub elem: Option<ElemType>,
+    /// What it is.
+    pub kind: DataKind,
+    /// `AT %...` location of a located global.
+    pub location: Option<String>,
+}
+
+/// A PROGRAM instance the scan runs: its memory, its body and its cold-start code.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProgramEntry {
+    /// The instance name (paths start with it: `main.count`).
+    pub name: String,
+    /// Its variables.
+    pub data: DataId,
+    /// `body(instance: ptr)`, run once per scan.
+    pub body: FuncId,
+    /// `init(instance: ptr)`, run at cold start.
+    pub init: FuncId,
+    /// The task's cycle time, if a configuration gives one (milliseconds).
+    pub interval_ms: Option<u32>,
+    /// The task's priority (0 is the most urgent), if a configuration gives one.
+    pub priority: Option<u32>,
+}
+
+/// A whole program ready for a backend.
+///
+/// Cold start calls `init_globals` (if any) and then every program's `init` with the
+/// address of its data; every scan calls every program's `body` in order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Module {
+    /// Source file names, indexed by [`crate::diag::FileId`].
+    pub files: Vec<String>,
+    /// Struct and array types.
+    pub aggs: Vec<AggDef>,
+    /// Data objects.
+    pub data: Vec<DataDef>,
+    /// Functions.
+    pub funcs: Vec<Function>,
+    /// The programs the scan runs, in order.
+    pub programs: Vec<ProgramEntry>,
+    /// `() -> ()` that initialises the globals at cold start.
+    pub init_globals: Option<FuncId>,
+}
+
+impl Module {
+    /// An empty module.
+    pub fn new() -> Module {
+        Module::default()
+    }
+
+    /// Adds an aggregate type.
+    pub fn add_agg(&mut self, def: AggDef) -> AggId {
+        self.aggs.push(def);
+        AggId::new(self.aggs.len() - 1)
+    }
+
+    /// Adds a data object.
+    pub fn add_data(&mut self, def: DataDef) -> DataId {
+        self.data.push(def);
+        DataId::new(self.data.len() - 1)
+    }
+
+    /// Adds a function.
+    pub fn add_func(&mut self, func: Function) -> FuncId {
+        self.funcs.push(func);
+        FuncId::new(self.funcs.len() - 1)
+    }
+
+    /// An aggregate's definition.
+    pub fn agg(&self, id: AggId) -> &AggDef {
+        &self.aggs[id.index()]
+    }
+
+    /// A struct's definition (panics if `id` is an array: callers check types first).
+    pub fn struct_def(&self, id: AggId) -> &StructDef {
+        match &self.aggs[id.index()] {
+            AggDef::Struct(s) => s,
+            AggDef::Array(a) => panic!("aggregate {} is an array, not a struct", a.name),
+        }
+    }
+
+    /// An array's definition (panics if `id` is a struct).
+    pub fn array_def(&self, id: AggId) -> &ArrayDef {
+        match &self.aggs[id.index()] {
+            AggDef::Array(a) => a,
+            AggDef::Struct(s) => panic!("aggregate {} is a struct, not an array", s.name),
+        }
+    }
+
+    /// A function.
+    pub fn func(&self, id: FuncId) -> &Function {
+        &self.funcs[id.index()]
+    }
+
+    /// A function, for rewriting.
+    pub fn func_mut(&mut self, id: FuncId) -> &mut Function {
+        &mut self.funcs[id.index()]
+    }
+
+    /// Looks a function up by name.
+    pub fn func_by_name(&self, name: &str) -> Option<FuncId> {
+        self.funcs
+            .iter()
+            .position(|f| f.name == name)
+            .map(FuncId::new)
+    }
+
+    /// Looks a data object up by name (case-insensitive, as IEC names).
+    pub fn data_by_name(&self, name: &str) -> Option<DataId> {
+        self.data
+            .iter()
+            .position(|d| d.name.eq_ignore_ascii_case(name))
+            .map(DataId::new)
+    }
+
+    /// Looks a program entry up by instance name (case-insensitive).
+    pub fn program(&self, name: &str) -> Option<&ProgramEntry> {
+        self.programs
+            .iter()
+            .find(|p| p.name.eq_ignore_ascii_case(name))
+    }
+}
