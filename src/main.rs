@@ -1,1 +1,139 @@
-fn main() {}
+//! `plcc`: compile PLC programs, run them, test them.
+
+use clap::{Args, Parser, Subcommand};
+use plcc::commands;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "plcc",
+    version,
+    about = "A compiler for IEC 61131-3 PLC programs (Structured Text)",
+    args_conflicts_with_subcommands = true,
+    after_help = "Examples:\n  plcc run examples/traffic_light.st --scans 100 --cycle-ms 100\n  plcc test prog.st --scenario prog.expect --target interp\n  plcc --emit ir prog.st\n  plcc --target host prog.st -o prog.o"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+    #[command(flatten)]
+    build: BuildArgs,
+}
+
+/// Shared options of every command that compiles.
+#[derive(Args, Clone)]
+struct Common {
+    /// Source files (.st; the language comes from the extension or --lang)
+    files: Vec<PathBuf>,
+    /// The language of all files: st, il, stl, xml
+    #[arg(long)]
+    lang: Option<String>,
+}
+
+#[derive(Args)]
+struct BuildArgs {
+    #[command(flatten)]
+    common: Common,
+    /// The target: host (object file), interp
+    #[arg(long, default_value = "host")]
+    target: String,
+    /// Output file (default: the first input with the target's extension; `-` for
+    /// standard output)
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// What to produce: ir (optimised IR), ir-raw (unoptimised), or a target output
+    /// (host: obj, header)
+    #[arg(long)]
+    emit: Option<String>,
+    /// PROGRAMs to instantiate (default: all)
+    #[arg(long)]
+    program: Vec<String>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a program scan by scan and print its variables
+    Run {
+        #[command(flatten)]
+        common: Common,
+        /// Where to run it: host (JIT) or interp
+        #[arg(long, default_value = "host")]
+        target: String,
+        /// The PROGRAM to run (needed when the files have several)
+        #[arg(long)]
+        program: Option<String>,
+        /// Number of scans
+        #[arg(long, default_value_t = 1)]
+        scans: u64,
+        /// Cycle time in milliseconds (scan k runs with the clock at k * cycle)
+        #[arg(long, default_value_t = 10)]
+        cycle_ms: u64,
+    },
+    /// Run a scenario (corpus-expect v1) and check its expectations
+    Test {
+        #[command(flatten)]
+        common: Common,
+        /// The scenario file
+        #[arg(long)]
+        scenario: PathBuf,
+        /// Where to run it: host (JIT) or interp
+        #[arg(long, default_value = "host")]
+        target: String,
+        /// Clock step of `run N` in milliseconds
+        #[arg(long, default_value_t = 10)]
+        cycle_ms: u64,
+    },
+    /// Check programs and print diagnostics only
+    Check {
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Explain a diagnostic code (e.g. E0301)
+    Explain {
+        /// The code
+        code: String,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let status = match cli.command {
+        Some(Command::Run {
+            common,
+            target,
+            program,
+            scans,
+            cycle_ms,
+        }) => commands::run(&commands::RunArgs {
+            files: common.files,
+            lang: common.lang,
+            target,
+            program,
+            scans,
+            cycle_ms,
+        }),
+        Some(Command::Test {
+            common,
+            scenario,
+            target,
+            cycle_ms,
+        }) => commands::test(&commands::TestArgs {
+            files: common.files,
+            lang: common.lang,
+            scenario,
+            target,
+            cycle_ms,
+        }),
+        Some(Command::Check { common }) => commands::check(&common.files, common.lang.as_deref()),
+        Some(Command::Explain { code }) => commands::explain(&code),
+        None => commands::compile(&commands::CompileArgs {
+            files: cli.build.common.files,
+            lang: cli.build.common.lang,
+            target: cli.build.target,
+            output: cli.build.output,
+            emit: cli.build.emit,
+            programs: cli.build.program,
+        }),
+    };
+    ExitCode::from(status)
+}

@@ -23,16 +23,173 @@ macro_rules! codes {
 
 codes! {
     // ---- lexical and syntax (E00xx, E01xx) ----
+    UNEXPECTED_CHAR = "E0001", "unexpected character",
+        "The character cannot start any token of Structured Text (outside comments and \
+         strings, ST uses ASCII letters, digits and the operators `:= + - * / ( ) [ ] ...`).\n\
+         \n    x := a ? b;      (* error: `?` is not an operator *)\n\
+         \n    x := SEL(c, b, a); (* fix: use a function or an IF *)";
+    UNTERMINATED_COMMENT = "E0002", "unterminated comment or pragma",
+        "A comment `(* ... *)` or `/* ... */`, or a pragma `{ ... }`, runs to the end of the \
+         file. `(* *)` comments nest, so every `(*` inside one needs its own `*)`.\n\
+         \n    (* outer (* inner *)   x := 1;   (* error: the outer comment is never closed *)\n\
+         \n    (* outer (* inner *) *) x := 1;  (* fix *)";
+    UNTERMINATED_STRING = "E0003", "unterminated string literal",
+        "A string literal is not closed on its line. A line break inside a string is \
+         written `$N` (or `$L`), and a quote of the same kind is written `$'` (or `$\"`).\n\
+         \n    msg := 'it's done';   (* error: the string ends after `it` *)\n\
+         \n    msg := 'it$'s done';  (* fix *)";
+    INVALID_ESCAPE = "E0004", "invalid escape sequence in a string literal",
+        "After `$` a string literal allows `$$ $' $\" $L $N $P $R $T`, or exactly two hex \
+         digits in a STRING (`$0A`) and four in a WSTRING (`$000A`).\n\
+         \n    s := 'cost: 5$';    (* error: a lone `$` *)\n\
+         \n    s := 'cost: 5$$';   (* fix: `$$` is a dollar sign *)";
+    MALFORMED_NUMBER = "E0005", "malformed number",
+        "A number literal has a digit that is not valid in its base, a base other than 2, 8 \
+         or 16, no digits, or letters glued to it.\n\
+         \n    m := 16#FG;   x := 3#12;   y := 12abc;   (* errors *)\n\
+         \n    m := 16#FF;   x := 2#101;  y := 12;      (* fixes *)";
+    INT_LITERAL_TOO_LARGE = "E0006", "integer literal too large",
+        "The integer literal does not fit in 128 bits, so no type could hold it.\n\
+         \n    x := 999999999999999999999999999999999999999999;  (* error *)\n\
+         \n    x := 9223372036854775807;  (* fix: the largest LINT *)";
+    MALFORMED_DURATION = "E0007", "malformed duration literal",
+        "A duration is `T#` (or `TIME#`, `LT#`, `LTIME#`), an optional `-`, then numbers \
+         with units d, h, m, s, ms, us, ns from the largest to the smallest, each at most \
+         once; any number may have a decimal fraction, `_` may separate the parts.\n\
+         \n    t := T#5x;   u := T#3s1h;   (* errors: unknown unit, units out of order *)\n\
+         \n    t := T#5s;   u := T#1h3s;   (* fixes *)";
+    MALFORMED_DATE_TIME = "E0008", "malformed date or time literal",
+        "Dates are `D#YYYY-MM-DD` (or `DATE#`, `LD#`, `LDATE#`), times of day \
+         `TOD#HH:MM:SS[.frac]` (or `TIME_OF_DAY#`, `LTOD#`), dates and times \
+         `DT#YYYY-MM-DD-HH:MM:SS[.frac]` (or `DATE_AND_TIME#`, `LDT#`). Every field must be \
+         in range (month 1-12, a day that exists in that month, hour 0-23, ...).\n\
+         \n    d := D#2023-02-29;   t := TOD#24:00:00;   (* errors *)\n\
+         \n    d := D#2023-02-28;   t := TOD#23:59:59;   (* fixes *)";
+    MALFORMED_TYPED_LITERAL = "E0009", "malformed typed literal",
+        "A typed literal is an elementary type name, `#`, then a value: a number with an \
+         optional sign (`INT#-5`, `DINT#16#FF`, `REAL#1.5`), TRUE/FALSE or 0/1 for BOOL, or \
+         a string for STRING and WSTRING.\n\
+         \n    x := INT#five;   b := BOOL#2;   (* errors *)\n\
+         \n    x := INT#5;      b := BOOL#1;   (* fixes *)";
+    MALFORMED_ADDRESS = "E0010", "malformed direct address",
+        "A direct address is `%`, a location I (input), Q (output) or M (memory), an \
+         optional size X (bit), B, W, D or L, then numbers separated by dots, or `*` when \
+         the address is assigned in a VAR_CONFIG. After a `.`, `%X3`, `%B1`, `%W0`, `%D0` and \
+         `%L0` select a bit or a part of a variable.\n\
+         \n    lamp AT %QY0.1 : BOOL;   (* error: Y is not a size *)\n\
+         \n    lamp AT %QX0.1 : BOOL;   (* fix *)";
+    UNEXPECTED_TOKEN = "E0101", "unexpected token",
+        "The parser found something other than what the grammar allows at this point; the \
+         message says what it expected.\n\
+         \n    IF a > 1 x := 0; END_IF;        (* error: expected `THEN`, found `x` *)\n\
+         \n    IF a > 1 THEN x := 0; END_IF;   (* fix *)";
+    MISSING_SEMICOLON = "E0102", "missing `;`",
+        "Every statement and every declaration ends with `;`, including the last one before \
+         END_IF, ELSE, END_VAR and the like, and the END_IF/END_FOR/... of a compound \
+         statement.\n\
+         \n    IF a THEN x := 1 END_IF;    (* error: expected `;`, found `END_IF` *)\n\
+         \n    IF a THEN x := 1; END_IF;   (* fix *)";
+    UNMATCHED_END = "E0103", "closing keyword without an opening one",
+        "An END_IF, END_FOR, ELSE, ELSIF, UNTIL (or similar) appears where no matching IF, \
+         FOR, CASE or REPEAT is open.\n\
+         \n    x := 1;\n    END_IF;          (* error: no IF is open *)\n\
+         \n    IF c THEN x := 1; END_IF;   (* fix: open the IF, or delete the END_IF *)";
+    UNCLOSED_BLOCK = "E0104", "block not closed",
+        "A block (IF, CASE, FOR, WHILE, REPEAT, a POU, VAR, TYPE, STRUCT, ...) is not \
+         closed by its END_ keyword before something that cannot be inside it.\n\
+         \n    FUNCTION f : INT\n        IF a THEN f := 1;\n    END_FUNCTION   (* error: expected `END_IF` *)\n\
+         \n    FUNCTION f : INT\n        IF a THEN f := 1; END_IF;\n    END_FUNCTION   (* fix *)";
+    NESTING_TOO_DEEP = "E0105", "nesting too deep",
+        "Parentheses, statements, types or initialisers are nested deeper than the compiler \
+         allows (about 200 levels), or one expression is extremely long. Split the code: \
+         put parts of the expression in temporary variables, or move nested statements into \
+         a function.\n\
+         \n    x := ((((((...))))));   (* error when nested hundreds of levels deep *)\n\
+         \n    t := (...); x := (t);   (* fix: name an intermediate result *)";
+    UNNAMED_LOCATED_VAR = "E0106", "located variable without a name",
+        "Inside a PROGRAM, FUNCTION or FUNCTION_BLOCK a located variable needs a name so \
+         that the code can use it; only global and configuration blocks may declare \
+         anonymous locations.\n\
+         \n    VAR AT %QX0.1 : BOOL; END_VAR        (* error *)\n\
+         \n    VAR lamp AT %QX0.1 : BOOL; END_VAR   (* fix *)";
+    SYNTAX_NOT_SUPPORTED = "E0107", "syntax not supported",
+        "The construct is valid in some IEC 61131-3 dialect (object-oriented INTERFACE, \
+         CLASS, METHOD or PROPERTY outside a FUNCTION_BLOCK, R_EDGE/F_EDGE inputs, VAR_ACCESS \
+         paths) but plcc does not support it. The parser skips it and goes on.\n\
+         \n    INTERFACE I_Motor ... END_INTERFACE   (* error: not supported *)\n\
+         \n    (* fix: use FUNCTION_BLOCKs and FUNCTIONs *)";
+    NOT_A_STATEMENT = "E0108", "expression is not a statement",
+        "A statement must be an assignment `target := value;`, a call `f(...);` or a \
+         keyword statement (IF, CASE, FOR, ...). An expression on its own does nothing; \
+         `=` compares, it does not assign.\n\
+         \n    x = 5;    (* error: expected `:=` *)\n\
+         \n    x := 5;   (* fix *)";
 
     // ---- names and declarations (E02xx) ----
+    E_UNDECLARED = "E0201", "name not declared",
+        "A name is used that is not a variable of the POU, its FUNCTION result, or a FUNCTION.\n\n    x := y + 1;   (* y was never declared *)\n\nDeclare it (`VAR y : INT; END_VAR`) or fix the spelling.";
+    E_DUPLICATE = "E0202", "declared twice",
+        "Two POUs, or two variables of one POU, have the same name (names ignore case).\n\n    VAR a : INT; A : BOOL; END_VAR\n\nRename one of them.";
+    E_UNKNOWN_TYPE = "E0203", "unknown type",
+        "A declaration names a type that is neither elementary nor a FUNCTION_BLOCK.\n\n    VAR t : TIMER; END_VAR   (* the standard on-delay timer is TON *)";
+    E_NOT_A_TYPE = "E0204", "not a type",
+        "A PROGRAM or FUNCTION name is used where a type is expected; only FUNCTION_BLOCKs can be instantiated.\n\n    VAR x : MyFunction; END_VAR";
+    E_BAD_DECLARATION = "E0205", "invalid declaration",
+        "A declaration breaks a rule of IEC 61131-3: array bounds reversed, an initial value where none is allowed, a CONSTANT section other than VAR, an array too large.\n\n    VAR a : ARRAY[10..1] OF INT; END_VAR";
+    E_NOT_CONSTANT = "E0206", "not a constant expression",
+        "Array bounds, CASE labels, repetition counts, initial values and CONSTANT values must be computable at compile time from literals and constants.\n\n    VAR CONSTANT n : INT := x; END_VAR   (* x is a variable *)";
+    E_NO_MEMBER = "E0207", "no such member or parameter",
+        "A member access or named argument names something the function block or function does not have, or an internal variable that is not visible from outside.\n\n    t(IN := x, TIME := T#1s);   (* TON's preset is PT *)";
+    E_NO_PROGRAM = "E0208", "no such PROGRAM",
+        "The PROGRAM asked for on the command line or in a scenario (`program = NAME`) is not declared in the given files.";
 
     // ---- types (E03xx) ----
+    E_TYPE_MISMATCH = "E0301", "type mismatch",
+        "A value of one type is used where another is needed and IEC 61131-3 does not convert it implicitly (only widening conversions are implicit: INT to DINT, REAL to LREAL, ...).\n\n    VAR i : INT; d : DINT; END_VAR\n    i := d;              (* error: narrowing *)\n    i := DINT_TO_INT(d); (* explicit conversion: fine *)";
+    E_LITERAL_RANGE = "E0302", "literal out of range",
+        "A literal does not fit the type it is given.\n\n    VAR s : SINT; END_VAR\n    s := 200;   (* SINT holds -128..127 *)";
+    E_BAD_INDEX = "E0303", "invalid index or bit access",
+        "An array is indexed with the wrong number of indexes or a non-integer, something that is not an array is indexed, or a bit number is out of the word.\n\n    VAR a : ARRAY[1..3] OF INT; w : WORD; END_VAR\n    a[1, 2] := 0;   (* one dimension *)\n    w.16 := TRUE;   (* bits 0..15 *)";
+    E_BAD_CASE_LABEL = "E0304", "invalid CASE label",
+        "CASE labels must be integer constants in the selector's range, ranges must not be empty, and labels must not overlap.\n\n    CASE x OF 1..5: a := 1; 3: a := 2; END_CASE   (* 3 is already in 1..5 *)";
+    E_BAD_FOR = "E0305", "invalid FOR loop",
+        "A FOR loop whose step is the constant 0 never ends.\n\n    FOR i := 1 TO 10 BY 0 DO ... END_FOR";
 
     // ---- calls (E04xx) ----
+    E_NOT_CALLABLE = "E0401", "cannot be called",
+        "Only FUNCTIONs, standard functions and function block instances can be called; a FUNCTION_BLOCK type or a PROGRAM cannot.\n\n    TON(IN := x, PT := T#1s);   (* call an instance: t(IN := x, PT := T#1s) *)";
+    E_ARG_COUNT = "E0402", "wrong arguments",
+        "A call has too many or too few arguments, gives one parameter twice, or mixes positional and named arguments where that is not allowed.\n\n    y := LIMIT(0, x);   (* LIMIT(MN, IN, MX) takes three *)";
+    E_ARG_DIRECTION = "E0403", "argument in the wrong direction",
+        "Inputs are passed with `:=` and outputs read with `=>`.\n\n    t(IN := x, Q := done);   (* Q is an output: Q => done *)";
+    E_MISSING_ARG = "E0404", "missing VAR_IN_OUT argument",
+        "A VAR_IN_OUT parameter refers to the caller's variable, so every call must give one.\n\n    FUNCTION inc : INT VAR_IN_OUT x : INT; END_VAR ...\n    inc();   (* inc(x := counter) *)";
+    E_NO_RESULT = "E0405", "function without result used as a value",
+        "A FUNCTION declared without a result type can only be called as a statement.";
+    E_FB_CALL_IN_EXPR = "E0406", "function block call used as a value",
+        "Calling a function block instance is a statement; its outputs are read afterwards.\n\n    x := t(IN := go);           (* error *)\n    t(IN := go); x := t.Q;      (* fine *)";
 
     // ---- writing, recursion (E05xx) ----
+    E_WRITE_CONSTANT = "E0501", "assignment to a constant",
+        "A VAR CONSTANT cannot be assigned or used as a FOR variable or VAR_IN_OUT argument.";
+    E_WRITE_INPUT = "E0502", "assignment to an input",
+        "A POU cannot assign its own VAR_INPUT: inputs belong to the caller. Copy the value into a local variable instead.\n\n    FUNCTION_BLOCK F VAR_INPUT x : INT; END_VAR x := 0; END_FUNCTION_BLOCK";
+    E_WRITE_OUTPUT = "E0503", "assignment to an output of an instance",
+        "The outputs of a function block instance are written by the instance itself; outside code can only read them.\n\n    t.Q := TRUE;   (* error *)";
+    E_NOT_A_PLACE = "E0504", "not a variable",
+        "Something that is not a variable is assigned, or passed to a VAR_IN_OUT (which needs a variable of exactly the parameter's type).";
+    E_RECURSION = "E0505", "recursion",
+        "IEC 61131-3 forbids recursive calls, so that every frame can be allocated statically. The message shows the cycle of calls.";
+    E_OUTSIDE_LOOP = "E0506", "EXIT or CONTINUE outside a loop",
+        "EXIT and CONTINUE can only appear inside FOR, WHILE or REPEAT.";
+    E_NOT_A_STATEMENT = "E0507", "expression used as a statement",
+        "Only assignments and calls are statements; an expression on its own does nothing.\n\n    x + 1;   (* did you mean x := x + 1; ? *)";
 
     // ---- not supported yet (E06xx) ----
+    E_UNSUPPORTED = "E0601", "not supported yet",
+        "The construct is valid IEC 61131-3 (or a common dialect) but plcc does not compile it yet. The message names the construct.";
+    E_LANGUAGE_UNSUPPORTED = "E0602", "language not supported yet",
+        "The file's language (from its extension or --lang) has no front end yet: Instruction List (.il), PLC-UD STL (.stl) and PLCopen XML ladder (.xml) are planned.";
 }
 
 /// The description of a code, if it is a front-end code.

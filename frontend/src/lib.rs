@@ -1,8 +1,114 @@
 //! plcc's front ends: source files, the shared syntax tree, the Structured Text parser,
 //! semantic analysis and lowering to the IR.
+//!
+//! [`compile`] is the entry point: it parses every input file in its language, adds the
+//! standard function blocks, checks everything, and lowers it to one IR module.
 
 pub mod ast;
 pub mod codes;
 pub mod intern;
+pub mod lower;
 pub mod source;
 pub mod st;
+pub mod types;
+
+use plcc_ir::diag::{Diagnostic, FileId};
+use plcc_ir::Module;
+use source::{SourceFile, SourceMap};
+
+pub use lower::LowerOptions;
+
+/// The source languages plcc reads.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Lang {
+    /// IEC 61131-3 Structured Text (`.st`).
+    St,
+    /// IEC 61131-3 Instruction List (`.il`).
+    Il,
+    /// The STL of the PLC-UD controller (`.stl`).
+    Stl,
+    /// Ladder diagrams in PLCopen TC6 XML (`.xml`).
+    Ld,
+}
+
+impl Lang {
+    /// The language of a file from its extension (case-insensitive).
+    pub fn from_path(path: &str) -> Option<Lang> {
+        let ext = std::path::Path::new(path).extension()?.to_str()?;
+        Lang::from_name(ext)
+    }
+
+    /// The language named on the command line (`st`, `il`, `stl`, `xml`/`ld`).
+    pub fn from_name(name: &str) -> Option<Lang> {
+        Some(match name.to_ascii_lowercase().as_str() {
+            "st" => Lang::St,
+            "il" => Lang::Il,
+            "stl" => Lang::Stl,
+            "xml" | "ld" => Lang::Ld,
+            _ => return None,
+        })
+    }
+
+    /// The language's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Lang::St => "Structured Text",
+            Lang::Il => "Instruction List",
+            Lang::Stl => "PLC-UD STL",
+            Lang::Ld => "ladder (PLCopen XML)",
+        }
+    }
+}
+
+/// The file name the standard library's diagnostics point at.
+pub const STDLIB_NAME: &str = "<plcc standard library>";
+
+/// The result of compiling: the module if there was no error, and every diagnostic
+/// (warnings included) in the order found.
+pub struct Compiled {
+    /// The unoptimised IR module, if there were no errors.
+    pub module: Option<Module>,
+    /// Errors and warnings.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// Parses, checks and lowers the given files (already in `sources`) to one module.
+/// The standard library is added to `sources` so diagnostics can point into it.
+pub fn compile(sources: &mut SourceMap, inputs: &[(FileId, Lang)], opts: &LowerOptions) -> Compiled {
+    let std_file = sources.add(SourceFile::new(STDLIB_NAME, lower::std_library_source()));
+    let mut interner = intern::Interner::new();
+    let mut diagnostics = Vec::new();
+    let mut units = Vec::with_capacity(inputs.len() + 1);
+    units.push(st::parse(
+        std_file,
+        &sources.get(std_file).text,
+        &mut interner,
+        &mut diagnostics,
+    ));
+    for &(file, lang) in inputs {
+        match lang {
+            Lang::St => units.push(st::parse(file, &sources.get(file).text, &mut interner, &mut diagnostics)),
+            other => diagnostics.push(
+                Diagnostic::error(
+                    codes::E_LANGUAGE_UNSUPPORTED,
+                    format!("not supported yet: {} files", other.name()),
+                    plcc_ir::diag::Span::new(file, 0, 0),
+                )
+                .with_note("plcc compiles Structured Text (.st) so far"),
+            ),
+        }
+    }
+    if diagnostics.iter().any(|d| d.is_error()) {
+        return Compiled {
+            module: None,
+            diagnostics,
+        };
+    }
+    let lowerer = lower::Lowerer::new(sources, &mut interner, &units);
+    let (module, mut more) = lowerer.run(1, opts);
+    diagnostics.append(&mut more);
+    Compiled {
+        module,
+        diagnostics,
+    }
+}

@@ -1,0 +1,302 @@
+//! The JIT machine: the whole module compiled into this process's memory, run scan by
+//! scan through [`plcc_ir::machine::Machine`].
+
+use crate::codegen::{self, CodegenSettings, DataLayout};
+use crate::codes;
+use crate::runtime::{Runtime, MATH};
+use crate::translate::Addressing;
+use cranelift_jit::{JITBuilder, JITModule};
+use cranelift_module::{default_libcall_names, Linkage};
+use plcc_ir::diag::Diagnostic;
+use plcc_ir::machine::{Machine, MachineError};
+use plcc_ir::value::{host_size, PlcValue};
+use plcc_ir::{Module, Type};
+
+/// The byte cold start fills data memory with before the init functions run. Not zero,
+/// so that a variable an init function forgets shows up as garbage in tests.
+pub const GARBAGE: u8 = 0xA5;
+
+type EntryFn = unsafe extern "C" fn(*mut u8);
+type InitGlobalsFn = unsafe extern "C" fn();
+
+/// A program instance: its body, its init and where its data is.
+#[derive(Copy, Clone)]
+struct Program {
+    body: EntryFn,
+    init: EntryFn,
+    offset: u64,
+}
+
+/// A module compiled to machine code in this process, with its data memory and runtime
+/// context: the `host` target's [`Machine`].
+///
+/// Data memory is one block, never moved after compilation, whose address is baked into
+/// the code; so is the runtime context's. Dropping the machine frees its code.
+pub struct Jit {
+    jit: Option<JITModule>,
+    /// Data memory: `words` u64s (8-byte aligned), owned through a raw pointer because
+    /// the compiled code writes it behind Rust's back.
+    data: *mut u64,
+    words: usize,
+    rt: *mut Runtime,
+    init_globals: Option<InitGlobalsFn>,
+    programs: Vec<Program>,
+    /// The module's types and data objects (no functions), to resolve paths.
+    vars: Module,
+    data_layout: DataLayout,
+    code_size: u64,
+}
+
+impl Jit {
+    /// Compiles `module` with the default settings.
+    pub fn new(module: &Module) -> Result<Jit, Vec<Diagnostic>> {
+        Jit::with_settings(module, &CodegenSettings::default())
+    }
+
+    pub(crate) fn with_settings(
+        module: &Module,
+        settings: &CodegenSettings,
+    ) -> Result<Jit, Vec<Diagnostic>> {
+        let data_layout = DataLayout::compute(module)?;
+        check_entries(module)?;
+        let words = (data_layout.size.div_ceil(8) as usize).max(1);
+        let data = Box::into_raw(vec![0u64; words].into_boxed_slice()) as *mut u64;
+        let rt = Box::into_raw(Box::new(Runtime::default()));
+        // From here on `jit` owns the buffers: dropping it frees them.
+        let mut jit = Jit {
+            jit: None,
+            data,
+            words,
+            rt,
+            init_globals: None,
+            programs: Vec::new(),
+            vars: Module {
+                aggs: module.aggs.clone(),
+                data: module.data.clone(),
+                ..Module::default()
+            },
+            data_layout,
+            code_size: 0,
+        };
+
+        let isa = codegen::host_isa(settings)?;
+        let mut builder = JITBuilder::with_isa(isa.clone(), default_libcall_names());
+        for m in &MATH {
+            builder.symbol(m.name, (m.addr)());
+        }
+        let mut cl = JITModule::new(builder);
+        let addressing = Addressing::Absolute {
+            data: data as u64,
+            rt: rt as u64,
+        };
+        let compiled = codegen::compile_functions(
+            &mut cl,
+            module,
+            &jit.data_layout,
+            addressing,
+            Linkage::Local,
+            settings,
+            &isa,
+        );
+        let compiled = match compiled {
+            Ok(c) => c,
+            Err(e) => {
+                // SAFETY: nothing of this module has run; its code is garbage now.
+                unsafe { cl.free_memory() };
+                return Err(e);
+            }
+        };
+        if let Err(e) = cl.finalize_definitions() {
+            unsafe { cl.free_memory() };
+            return Err(vec![Diagnostic::error_nowhere(
+                codes::E_EMIT,
+                format!("cannot finalise the JIT code: {e}"),
+            )]);
+        }
+        jit.code_size = compiled.code_size;
+        let addr = |f: plcc_ir::FuncId| cl.get_finalized_function(compiled.funcs[f.index()]);
+        // SAFETY: the functions were checked to have these signatures
+        // (`check_entries`), and Cranelift compiled them with the host's C convention.
+        unsafe {
+            jit.init_globals = module
+                .init_globals
+                .map(|f| std::mem::transmute::<*const u8, InitGlobalsFn>(addr(f)));
+            for p in &module.programs {
+                jit.programs.push(Program {
+                    body: std::mem::transmute::<*const u8, EntryFn>(addr(p.body)),
+                    init: std::mem::transmute::<*const u8, EntryFn>(addr(p.init)),
+                    offset: jit.data_layout.offsets[p.data.index()],
+                });
+            }
+        }
+        jit.jit = Some(cl);
+        Ok(jit)
+    }
+
+    /// Bytes of machine code the module compiled to.
+    pub fn code_size(&self) -> u64 {
+        self.code_size
+    }
+
+    /// Bytes of data memory.
+    pub fn data_size(&self) -> u64 {
+        self.data_layout.size
+    }
+
+    /// The runtime context (clock and fault flag) as the code sees it.
+    pub fn runtime(&self) -> Runtime {
+        // SAFETY: `rt` is valid while `self` lives; no code runs during the read.
+        unsafe { std::ptr::read(self.rt) }
+    }
+
+    /// Data memory, for inspection (only valid until the next scan).
+    pub fn data(&self) -> &[u8] {
+        // SAFETY: `data` holds `words * 8` initialised bytes; no code runs while the
+        // borrow of `self` lasts.
+        unsafe {
+            std::slice::from_raw_parts(self.data as *const u8, self.data_layout.size as usize)
+        }
+    }
+
+    fn data_ptr(&self) -> *mut u8 {
+        self.data as *mut u8
+    }
+
+    /// Byte offset and size of a variable in data memory.
+    fn locate(&self, path: &str) -> Result<(plcc_ir::vars::VarRef, usize, usize), MachineError> {
+        let var = plcc_ir::vars::resolve(&self.vars, path)?;
+        let off = self.data_layout.offsets[var.root.index()]
+            + self.data_layout.layout.offset_of(&var.steps);
+        let size = host_size(var.ty) as usize;
+        if off + size as u64 > self.data_layout.size {
+            return Err(MachineError(format!("`{path}` lies outside data memory")));
+        }
+        Ok((var, off as usize, size))
+    }
+}
+
+/// Program bodies and inits take the instance; `init_globals` takes nothing.
+fn check_entries(module: &Module) -> Result<(), Vec<Diagnostic>> {
+    let bad = |name: &str, what: &str| {
+        vec![Diagnostic::error_nowhere(
+            codes::E_MALFORMED_IR,
+            format!("function `{name}` cannot be {what}: wrong signature"),
+        )]
+    };
+    let get = |id: plcc_ir::FuncId| module.funcs.get(id.index());
+    for p in &module.programs {
+        for (id, what) in [(p.body, "a program body"), (p.init, "a program init")] {
+            match get(id) {
+                Some(f) if f.params == [Type::Ptr] && f.ret.is_none() => {}
+                Some(f) => return Err(bad(&f.name, what)),
+                None => return Err(bad(&format!("{id}"), what)),
+            }
+        }
+        if p.data.index() >= module.data.len() {
+            return Err(bad(&p.name, "run: its data object is missing;"));
+        }
+    }
+    if let Some(id) = module.init_globals {
+        match get(id) {
+            Some(f) if f.params.is_empty() && f.ret.is_none() => {}
+            Some(f) => return Err(bad(&f.name, "init_globals")),
+            None => return Err(bad(&format!("{id}"), "init_globals")),
+        }
+    }
+    Ok(())
+}
+
+impl Drop for Jit {
+    fn drop(&mut self) {
+        if let Some(m) = self.jit.take() {
+            // SAFETY: the function pointers die with `self`; nothing runs any more.
+            unsafe { m.free_memory() };
+        }
+        // SAFETY: both came from `Box::into_raw` with these sizes.
+        unsafe {
+            drop(Box::from_raw(std::ptr::slice_from_raw_parts_mut(
+                self.data, self.words,
+            )));
+            drop(Box::from_raw(self.rt));
+        }
+    }
+}
+
+impl Machine for Jit {
+    fn target(&self) -> &str {
+        "host"
+    }
+
+    fn cold_start(&mut self) -> Result<(), MachineError> {
+        // SAFETY: data and rt are valid and exclusively ours between scans; the entry
+        // points were compiled for exactly these arguments.
+        unsafe {
+            std::ptr::write(self.rt, Runtime::default());
+            std::ptr::write_bytes(self.data_ptr(), GARBAGE, self.words * 8);
+            if let Some(f) = self.init_globals {
+                f();
+            }
+            for p in &self.programs {
+                (p.init)(self.data_ptr().add(p.offset as usize));
+            }
+        }
+        Ok(())
+    }
+
+    fn set_clock_us(&mut self, us: i64) {
+        // SAFETY: see `cold_start`.
+        unsafe {
+            (*self.rt).clock_ms = us.div_euclid(1000) as i32;
+            (*self.rt).clock_ns = us.wrapping_mul(1000);
+        }
+    }
+
+    fn scan(&mut self) -> Result<(), MachineError> {
+        // SAFETY: see `cold_start`.
+        unsafe {
+            for p in &self.programs {
+                (p.body)(self.data_ptr().add(p.offset as usize));
+            }
+        }
+        Ok(())
+    }
+
+    fn read(&self, path: &str) -> Result<PlcValue, MachineError> {
+        let (var, off, size) = self.locate(path)?;
+        let mut buf = [0u8; 8];
+        buf[..size].copy_from_slice(&self.data()[off..off + size]);
+        Ok(PlcValue::from_bits(var.elem, u64::from_le_bytes(buf)))
+    }
+
+    fn write(&mut self, path: &str, value: PlcValue) -> Result<(), MachineError> {
+        let (var, off, size) = self.locate(path)?;
+        if value.ty != var.elem {
+            return Err(MachineError(format!(
+                "`{}` is {}, not {}",
+                var.path,
+                var.elem.name(),
+                value.ty.name()
+            )));
+        }
+        let bits = if var.ty == Type::I1 {
+            (value.bits != 0) as u64
+        } else {
+            value.bits
+        };
+        let bytes = bits.to_le_bytes();
+        // SAFETY: `locate` checked the range; no code runs during the write.
+        unsafe {
+            std::ptr::copy_nonoverlapping(bytes.as_ptr(), self.data_ptr().add(off), size);
+        }
+        Ok(())
+    }
+
+    fn fault(&self) -> bool {
+        self.runtime().fault != 0
+    }
+
+    fn clear_fault(&mut self) {
+        // SAFETY: see `cold_start`.
+        unsafe { (*self.rt).fault = 0 };
+    }
+}

@@ -1,0 +1,206 @@
+//! Compile speed on a large generated module (the size of a 58,000-line program with
+//! about 1000 functions). `cargo test --release -p plcc-native --test speed -- --nocapture`
+//! prints the numbers; the assertion is loose so that debug builds pass.
+
+mod common;
+
+use common::{field, Prog};
+use plcc_ir::machine::Machine;
+use plcc_ir::{BinaryOp, ConvOp, FuncId, FuncKind, Function, IntCC, Module, Type, UnaryOp};
+use plcc_native::Jit;
+use std::time::Instant;
+
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+    fn below(&mut self, n: u64) -> u64 {
+        self.next() % n
+    }
+}
+
+const NFIELDS: u32 = 48;
+
+fn field_type(i: u32) -> Type {
+    match i % 4 {
+        0 => Type::I16,
+        1 => Type::I32,
+        2 => Type::F32,
+        _ => Type::I1,
+    }
+}
+
+/// About `stmts` source-statement-sized chunks of IR per function.
+pub fn generate(nfuncs: usize, stmts: usize) -> (Module, usize) {
+    let fields = (0..NFIELDS)
+        .map(|i| field(&format!("v{i}"), field_type(i)))
+        .collect();
+    let mut p = Prog::new(fields);
+    let agg = p.agg;
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    let mut funcs: Vec<FuncId> = Vec::new();
+    for k in 0..nfuncs {
+        let mut f = Function::new(format!("fb{k}"), FuncKind::FbBody, vec![Type::Ptr], None);
+        {
+            let mut b = plcc_ir::FuncBuilder::new(&mut f);
+            let inst = b.params()[0];
+            let pick = |rng: &mut Rng, m: u32| {
+                let i = rng.below((NFIELDS / 4) as u64) as u32 * 4 + m;
+                i
+            };
+            for _ in 0..stmts {
+                match rng.below(10) {
+                    0..=3 => {
+                        // vI := vJ + vK * c (integers)
+                        let m = rng.below(2) as u32;
+                        let ty = field_type(m);
+                        let (i, j, kk) = (pick(&mut rng, m), pick(&mut rng, m), pick(&mut rng, m));
+                        let aj = b.field_addr(inst, agg, j);
+                        let x = b.load(ty, aj);
+                        let ak = b.field_addr(inst, agg, kk);
+                        let y = b.load(ty, ak);
+                        let c = b.iconst(ty, rng.below(100) as i64);
+                        let y = b.binary(BinaryOp::Imul, y, c);
+                        let r = b.binary(BinaryOp::Iadd, x, y);
+                        let ai = b.field_addr(inst, agg, i);
+                        b.store(r, ai);
+                    }
+                    4..=5 => {
+                        // IF vJ > vK THEN vI := vI / vJ ELSE vI := vK END_IF
+                        let m = rng.below(2) as u32;
+                        let ty = field_type(m);
+                        let (i, j, kk) = (pick(&mut rng, m), pick(&mut rng, m), pick(&mut rng, m));
+                        let aj = b.field_addr(inst, agg, j);
+                        let x = b.load(ty, aj);
+                        let ak = b.field_addr(inst, agg, kk);
+                        let y = b.load(ty, ak);
+                        let c = b.icmp(IntCC::Sgt, x, y);
+                        let (t, e, done) = (b.create_block(), b.create_block(), b.create_block());
+                        b.brif(c, t, vec![], e, vec![]);
+                        b.switch_to(t);
+                        let ai = b.field_addr(inst, agg, i);
+                        let v = b.load(ty, ai);
+                        let q = b.binary(BinaryOp::Sdiv, v, x);
+                        b.store(q, ai);
+                        b.jump(done, vec![]);
+                        b.switch_to(e);
+                        let ai = b.field_addr(inst, agg, i);
+                        b.store(y, ai);
+                        b.jump(done, vec![]);
+                        b.switch_to(done);
+                    }
+                    6 => {
+                        // r := r * 1.5 + REAL(vJ)
+                        let (i, j) = (pick(&mut rng, 2), pick(&mut rng, 1));
+                        let ai = b.field_addr(inst, agg, i);
+                        let r = b.load(Type::F32, ai);
+                        let c = b.f32const(1.5);
+                        let r = b.binary(BinaryOp::Fmul, r, c);
+                        let aj = b.field_addr(inst, agg, j);
+                        let x = b.load(Type::I32, aj);
+                        let x = b.convert(ConvOp::SiToF, Type::F32, x);
+                        let r = b.binary(BinaryOp::Fadd, r, x);
+                        let r = if rng.below(8) == 0 { b.unary(UnaryOp::Sin, r) } else { r };
+                        b.store(r, ai);
+                    }
+                    7 => {
+                        // flag := a AND NOT b OR (vJ < 10)
+                        let (i, j, kk) = (pick(&mut rng, 3), pick(&mut rng, 3), pick(&mut rng, 3));
+                        let aj = b.field_addr(inst, agg, j);
+                        let x = b.load(Type::I1, aj);
+                        let ak = b.field_addr(inst, agg, kk);
+                        let y = b.load(Type::I1, ak);
+                        let ny = b.unary(UnaryOp::Bnot, y);
+                        let z = b.binary(BinaryOp::Band, x, ny);
+                        let an = b.field_addr(inst, agg, pick(&mut rng, 0));
+                        let n = b.load(Type::I16, an);
+                        let ten = b.iconst(Type::I16, 10);
+                        let c = b.icmp(IntCC::Slt, n, ten);
+                        let z = b.binary(BinaryOp::Bor, z, c);
+                        let ai = b.field_addr(inst, agg, i);
+                        b.store(z, ai);
+                    }
+                    8 => {
+                        // FOR n := 0 TO 3 DO vI := vI + n END_FOR
+                        let i = pick(&mut rng, 1);
+                        let head = b.create_block();
+                        let body = b.create_block();
+                        let exit = b.create_block();
+                        let n = b.block_param(head, Type::I32);
+                        let z = b.iconst(Type::I32, 0);
+                        b.jump(head, vec![z]);
+                        b.switch_to(head);
+                        let lim = b.iconst(Type::I32, 3);
+                        let c = b.icmp(IntCC::Sle, n, lim);
+                        b.brif(c, body, vec![], exit, vec![]);
+                        b.switch_to(body);
+                        let ai = b.field_addr(inst, agg, i);
+                        let v = b.load(Type::I32, ai);
+                        let v = b.binary(BinaryOp::Iadd, v, n);
+                        b.store(v, ai);
+                        let one = b.iconst(Type::I32, 1);
+                        let n1 = b.binary(BinaryOp::Iadd, n, one);
+                        b.jump(head, vec![n1]);
+                        b.switch_to(exit);
+                    }
+                    _ => {
+                        // call an earlier FB on the same instance
+                        if let Some(&callee) = funcs.get(rng.below(funcs.len().max(1) as u64) as usize) {
+                            if rng.below(4) == 0 {
+                                b.call(callee, None, vec![inst]);
+                            }
+                        }
+                    }
+                }
+            }
+            b.ret(None);
+        }
+        funcs.push(p.module.add_func(f));
+    }
+    let insts: usize = p.module.funcs.iter().map(|f| f.live_inst_count()).sum();
+    let last = *funcs.last().unwrap();
+    let m = p.finish(|b, inst, _| {
+        b.call(last, None, vec![inst]);
+    });
+    (m, insts)
+}
+
+fn measure(m: &Module, threads: &str) -> f64 {
+    use plcc_ir::backend::{Backend, Options};
+    let opts = Options {
+        emit: None,
+        settings: vec![("threads".into(), threads.into())],
+    };
+    let t = Instant::now();
+    let mut jit = plcc_native::NativeBackend.machine(m, &opts).unwrap().unwrap();
+    let secs = t.elapsed().as_secs_f64();
+    jit.cold_start().unwrap();
+    jit.scan().unwrap();
+    secs
+}
+
+#[test]
+fn large_module_compiles_fast() {
+    let (m, insts) = generate(1000, 58);
+    let _ = Jit::new(&m).unwrap(); // warm up (page faults, lazy statics)
+    let serial = measure(&m, "1");
+    let parallel = measure(&m, "0");
+    let n = m.funcs.len();
+    println!(
+        "{n} functions, {insts} IR instructions: serial {:.3} s ({:.1} us/function), \
+         parallel {:.3} s ({:.1} us/function), {} threads available",
+        serial,
+        serial * 1e6 / n as f64,
+        parallel,
+        parallel * 1e6 / n as f64,
+        std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)
+    );
+    if !cfg!(debug_assertions) {
+        assert!(parallel < 2.0, "compile too slow: {parallel} s");
+    }
+}

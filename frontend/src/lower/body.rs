@@ -1,0 +1,589 @@
+//! Lowering one POU body: the function's prologue and epilogue, where each variable
+//! lives, and the context shared by statements and expressions.
+
+use super::consts::ConstVal;
+use super::{Lowerer, Storage};
+use crate::ast::{self, PouKind, VarKind};
+use crate::codes;
+use crate::types::{PouId, Ty};
+use plcc_ir::diag::Span;
+use plcc_ir::{Block, FuncBuilder, FuncId, Function, MemType, SlotId, Type, Value};
+
+/// Why a place may not be written.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(super) enum Access {
+    /// Any access.
+    ReadWrite,
+    /// The POU's own VAR_INPUT.
+    OwnInput,
+    /// An output of another instance.
+    OtherOutput,
+}
+
+/// A variable, element or member in memory.
+#[derive(Copy, Clone, Debug)]
+pub(super) struct Place {
+    /// Its address.
+    pub addr: Value,
+    /// Its type.
+    pub ty: Ty,
+    /// Whether it may be written.
+    pub access: Access,
+    /// `x.3`: a single bit of the word at `addr` (the place's type is BOOL then, and
+    /// `word` is the word's type).
+    pub bit: Option<(u8, Ty)>,
+    /// For array elements: an `i1` that is false when an index was out of bounds.
+    /// Then `addr` is a safe stand-in, reads give 0 and writes are dropped.
+    pub guard: Option<Value>,
+}
+
+impl Place {
+    pub(super) fn new(addr: Value, ty: Ty) -> Place {
+        Place {
+            addr,
+            ty,
+            access: Access::ReadWrite,
+            bit: None,
+            guard: None,
+        }
+    }
+}
+
+/// What a name stands for in an expression.
+pub(super) enum Named {
+    /// A variable in memory.
+    Place(Place),
+    /// A constant.
+    Const(ConstVal, Ty),
+    /// Something already reported.
+    Error,
+}
+
+/// Jump targets of the innermost loops.
+#[derive(Copy, Clone, Debug)]
+pub(super) struct LoopTargets {
+    /// Where EXIT goes.
+    pub exit: Block,
+    /// Where CONTINUE goes.
+    pub cont: Block,
+}
+
+/// The state of lowering one function body.
+pub(super) struct BodyCx<'a, 's> {
+    pub l: &'a mut Lowerer<'s>,
+    pub b: FuncBuilder<'a>,
+    pub pou: PouId,
+    /// The instance pointer (PROGRAM and FB bodies and init functions).
+    pub self_ptr: Option<Value>,
+    /// Innermost loop last.
+    pub loops: Vec<LoopTargets>,
+    /// A FUNCTION's epilogue (copies outputs, returns the result).
+    pub ret_block: Option<Block>,
+    /// A FUNCTION's result variable.
+    pub result_slot: Option<SlotId>,
+    /// Lowering initial values: only constants may be named.
+    pub in_init: bool,
+    /// Parameter values of the function (FUNCTION inputs and pointers).
+    pub params: Vec<Value>,
+}
+
+impl<'s> Lowerer<'s> {
+    /// Lowers the body (and, for instances, the init function) of one POU.
+    pub(super) fn lower_pou(&mut self, id: PouId) {
+        let kind = self.pou(id).kind;
+        let body_id = match self.ir[id.0 as usize].body {
+            Some(b) => b,
+            None => return,
+        };
+        self.with_function(body_id, |l, func| {
+            let mut cx = BodyCx::new(l, func, id, false);
+            cx.prologue();
+            let stmts = &cx.l.pou_ast(id).body.stmts;
+            cx.stmts(stmts);
+            cx.epilogue();
+        });
+        if kind != PouKind::Function {
+            let init_id = self.ir[id.0 as usize].init.expect("init function");
+            self.with_function(init_id, |l, func| {
+                let mut cx = BodyCx::new(l, func, id, true);
+                cx.init_instance_fields();
+                cx.b.ret(None);
+            });
+        }
+    }
+
+    /// Takes a function out of the module while `f` builds it (so the builder and the
+    /// lowerer can both be borrowed), then puts it back.
+    pub(super) fn with_function(&mut self, fid: FuncId, f: impl FnOnce(&mut Lowerer<'s>, &mut Function)) {
+        let shell = {
+            let cur = &self.module.funcs[fid.index()];
+            let mut s = Function::new(cur.name.clone(), cur.kind, cur.params.clone(), cur.ret);
+            s.span = cur.span;
+            s
+        };
+        let mut func = std::mem::replace(&mut self.module.funcs[fid.index()], shell);
+        f(self, &mut func);
+        self.module.funcs[fid.index()] = func;
+    }
+}
+
+impl<'a, 's> BodyCx<'a, 's> {
+    pub(super) fn new(l: &'a mut Lowerer<'s>, func: &'a mut Function, pou: PouId, in_init: bool) -> Self {
+        let b = FuncBuilder::new(func);
+        let params = b.params();
+        let kind = l.pou(pou).kind;
+        let self_ptr = (kind != PouKind::Function).then(|| params[0]);
+        BodyCx {
+            l,
+            b,
+            pou,
+            self_ptr,
+            loops: Vec::new(),
+            ret_block: None,
+            result_slot: None,
+            in_init,
+            params,
+        }
+    }
+
+    pub(super) fn kind(&self) -> PouKind {
+        self.l.pou(self.pou).kind
+    }
+
+    pub(super) fn set_span(&mut self, span: Span) {
+        self.b.set_span(Some(span));
+    }
+
+    /// Allocates slots for FUNCTION variables and VAR_TEMPs and gives them their
+    /// initial values (they start afresh at every call).
+    fn prologue(&mut self) {
+        let pou = self.pou;
+        let kind = self.kind();
+        let n = self.l.pou(pou).vars.len();
+        if kind == PouKind::Function {
+            let ret = self.l.pou(pou).ret;
+            if let Some(t) = ret.ir() {
+                let name = self.l.pou(pou).display.clone();
+                let slot = self.b.slot(name, MemType::Scalar(t));
+                self.result_slot = Some(slot);
+                let addr = self.b.slot_addr(slot);
+                let zero = self.zero(ret);
+                self.b.store(zero, addr);
+            }
+            let rb = self.b.create_block();
+            self.ret_block = Some(rb);
+        }
+        for vi in 0..n {
+            let v = self.l.pou(pou).vars[vi].clone();
+            if v.constant {
+                if self.l.ir[pou.0 as usize].storage[vi].is_none() {
+                    self.l.fold_constant(pou, vi);
+                }
+                continue;
+            }
+            let local = match kind {
+                PouKind::Function => v.section != VarKind::InOut,
+                _ => v.section == VarKind::Temp,
+            };
+            if !local {
+                continue;
+            }
+            let Some((mt, _)) = self.l.mem_type(v.ty) else { continue };
+            let slot = self.b.slot(v.display.clone(), mt);
+            self.l.ir[pou.0 as usize].storage[vi] = Some(Storage::Slot(slot));
+            self.set_span(v.name.span);
+            let addr = self.b.slot_addr(slot);
+            if kind == PouKind::Function && v.section == VarKind::Input {
+                let p = self.l.ir[pou.0 as usize].param_of[vi].expect("input parameter");
+                let pv = self.params[p as usize];
+                self.b.store(pv, addr);
+            } else {
+                let init = self.decl_init(vi);
+                self.init_var(addr, v.ty, init);
+            }
+        }
+    }
+
+    /// The AST initial value of variable `vi` of this POU.
+    pub(super) fn decl_init(&self, vi: usize) -> Option<&'s ast::Init> {
+        let v = &self.l.pou(self.pou).vars[vi];
+        let ast = self.l.pou_ast(self.pou);
+        ast.var_blocks[v.decl.0 as usize].decls[v.decl.1 as usize]
+            .init
+            .as_ref()
+    }
+
+    /// Ends the body: FUNCTIONs copy their outputs and return their result.
+    fn epilogue(&mut self) {
+        let pou = self.pou;
+        match self.ret_block {
+            Some(rb) => {
+                if !self.b.is_terminated() {
+                    self.b.jump(rb, vec![]);
+                }
+                self.b.switch_to(rb);
+                let n = self.l.pou(pou).vars.len();
+                for vi in 0..n {
+                    let v = &self.l.pou(pou).vars[vi];
+                    if v.section != VarKind::Output {
+                        continue;
+                    }
+                    let ty = v.ty;
+                    let Some(Storage::Slot(slot)) = self.l.ir[pou.0 as usize].storage[vi] else {
+                        continue;
+                    };
+                    let Some(irt) = ty.ir() else { continue };
+                    let p = self.l.ir[pou.0 as usize].param_of[vi].expect("output parameter");
+                    let out_ptr = self.params[p as usize];
+                    let addr = self.b.slot_addr(slot);
+                    let val = self.b.load(irt, addr);
+                    self.b.store(val, out_ptr);
+                }
+                let result = self.result_slot.map(|s| {
+                    let t = self.l.pou(pou).ret.ir().expect("result type");
+                    let addr = self.b.slot_addr(s);
+                    self.b.load(t, addr)
+                });
+                self.b.ret(result);
+            }
+            None => {
+                if !self.b.is_terminated() {
+                    self.b.ret(None);
+                }
+            }
+        }
+    }
+
+    /// Cold-start values of the instance's fields (the body of `T$init`).
+    fn init_instance_fields(&mut self) {
+        let pou = self.pou;
+        let agg = self.l.ir[pou.0 as usize].agg.expect("instance struct");
+        let this = self.self_ptr.expect("instance pointer");
+        let n = self.l.pou(pou).vars.len();
+        for vi in 0..n {
+            let Some(Storage::Field(fi)) = self.l.ir[pou.0 as usize].storage[vi] else {
+                continue;
+            };
+            let v = self.l.pou(pou).vars[vi].clone();
+            self.set_span(v.name.span);
+            let addr = self.b.field_addr(this, agg, fi);
+            if v.section == VarKind::InOut {
+                if let Some(init) = self.decl_init(vi) {
+                    self.l.error(
+                        codes::E_BAD_DECLARATION,
+                        "a VAR_IN_OUT cannot have an initial value",
+                        init.span(),
+                    );
+                }
+                continue;
+            }
+            let init = self.decl_init(vi);
+            self.init_var(addr, v.ty, init);
+        }
+    }
+
+    /// The zero value of a scalar type.
+    pub(super) fn zero(&mut self, ty: Ty) -> Value {
+        match ty.ir() {
+            Some(t) if t.is_float() => self.b.fconst(t, 0.0),
+            Some(t) => self.b.iconst(t, 0),
+            None => self.b.iconst(Type::I32, 0),
+        }
+    }
+
+    /// Stores the initial value of a variable of type `ty` at `addr`: the declared
+    /// one, or the type's default.
+    pub(super) fn init_var(&mut self, addr: Value, ty: Ty, init: Option<&'s ast::Init>) {
+        let saved = self.in_init;
+        self.in_init = true;
+        match ty {
+            Ty::Elem(_) => {
+                let v = match init {
+                    Some(ast::Init::Expr(e)) => self.emit_as(e, ty),
+                    Some(other) => {
+                        self.l.error(
+                            codes::E_TYPE_MISMATCH,
+                            format!("a {} is initialised with a single value", self.l.ty_name(ty)),
+                            other.span(),
+                        );
+                        self.zero(ty)
+                    }
+                    None => self.zero(ty),
+                };
+                self.b.store(v, addr);
+            }
+            Ty::Fb(p) => {
+                let init_fn = self.l.ir[p.0 as usize].init;
+                if let Some(f) = init_fn {
+                    self.b.call(f, None, vec![addr]);
+                }
+                match init {
+                    None => {}
+                    Some(ast::Init::Struct { fields, .. }) => {
+                        for (name, fi) in fields {
+                            if let Some(place) = self.member_place(addr, p, *name, true) {
+                                self.init_var(place.addr, place.ty, Some(fi));
+                            }
+                        }
+                    }
+                    Some(other) => {
+                        self.l.error(
+                            codes::E_TYPE_MISMATCH,
+                            "a function block instance is initialised with `(name := value, ...)`",
+                            other.span(),
+                        );
+                    }
+                }
+            }
+            Ty::Array(a) => self.init_array(addr, a, init),
+            _ => {}
+        }
+        self.in_init = saved;
+    }
+
+    /// Element-wise initialisation of an array: a loop gives every element the
+    /// element type's default, then the explicit values are stored.
+    fn init_array(&mut self, addr: Value, a: crate::types::ArrayId, init: Option<&'s ast::Init>) {
+        let at = self.l.types.get(a).clone();
+        let explicit: Vec<Option<&'s ast::Init>> = match init {
+            None => Vec::new(),
+            Some(ast::Init::Array { elems, .. }) => {
+                let mut flat = Vec::new();
+                for el in elems {
+                    let count = match &el.repeat {
+                        None => 1,
+                        Some(r) => match self.l.const_eval(r, self.pou) {
+                            Some((ConstVal::Int(n), _)) if n >= 0 => n as u64,
+                            _ => {
+                                self.l.error(
+                                    codes::E_NOT_CONSTANT,
+                                    "a repetition count must be a non-negative integer constant",
+                                    r.span,
+                                );
+                                0
+                            }
+                        },
+                    };
+                    for _ in 0..count.min(at.total() + 1) {
+                        flat.push(el.value.as_ref());
+                    }
+                }
+                if flat.len() as u64 > at.total() {
+                    self.l.error(
+                        codes::E_TYPE_MISMATCH,
+                        format!(
+                            "{} initial values for an array of {} elements",
+                            flat.len(),
+                            at.total()
+                        ),
+                        init.expect("array initialiser").span(),
+                    );
+                    flat.truncate(at.total() as usize);
+                }
+                flat
+            }
+            Some(other) => {
+                self.l.error(
+                    codes::E_TYPE_MISMATCH,
+                    "an array is initialised with `[value, value, n(value), ...]`",
+                    other.span(),
+                );
+                Vec::new()
+            }
+        };
+        // Default every element (one loop over the flattened array).
+        if (explicit.len() as u64) < at.total() || explicit.iter().any(|e| e.is_none()) {
+            self.array_default_loop(addr, a, 0, &at);
+        }
+        for (k, init) in explicit.iter().enumerate() {
+            let Some(init) = init else { continue };
+            let idx = self.flat_to_indices(&at, k as u64);
+            let mut p = addr;
+            for (d, i) in idx.iter().enumerate() {
+                let agg = self.l.array_agg(a, d as u32);
+                let iv = self.b.iconst(Type::I32, *i as i64);
+                p = self.b.elem_addr(p, agg, iv);
+            }
+            self.init_var(p, at.elem, Some(init));
+        }
+    }
+
+    fn flat_to_indices(&self, at: &crate::types::ArrayTy, mut k: u64) -> Vec<u64> {
+        let mut idx = vec![0u64; at.dims.len()];
+        for d in (0..at.dims.len()).rev() {
+            let len = at.len(d);
+            idx[d] = k % len;
+            k /= len;
+        }
+        idx
+    }
+
+    /// `for i in 0..len: init(elem i)`, nested per dimension.
+    fn array_default_loop(&mut self, addr: Value, a: crate::types::ArrayId, dim: u32, at: &crate::types::ArrayTy) {
+        let agg = self.l.array_agg(a, dim);
+        let len = at.len(dim as usize) as i64;
+        let header = self.b.create_block();
+        let body = self.b.create_block();
+        let exit = self.b.create_block();
+        let i = self.b.block_param(header, Type::I32);
+        let zero = self.b.iconst(Type::I32, 0);
+        self.b.jump(header, vec![zero]);
+        self.b.switch_to(header);
+        let lenv = self.b.iconst(Type::I32, len);
+        let more = self.b.icmp(plcc_ir::IntCC::Slt, i, lenv);
+        self.b.brif(more, body, vec![], exit, vec![]);
+        self.b.switch_to(body);
+        let p = self.b.elem_addr(addr, agg, i);
+        if (dim as usize) + 1 < at.dims.len() {
+            self.array_default_loop(p, a, dim + 1, at);
+        } else {
+            self.init_var(p, at.elem, None);
+        }
+        let one = self.b.iconst(Type::I32, 1);
+        let next = self.b.binary(plcc_ir::BinaryOp::Iadd, i, one);
+        self.b.jump(header, vec![next]);
+        self.b.switch_to(exit);
+    }
+
+    /// Resolves a plain name: a variable of this POU, the FUNCTION's result, a
+    /// constant.
+    pub(super) fn resolve_name(&mut self, id: ast::Ident, report: bool) -> Named {
+        let pou = self.pou;
+        if let Some(vi) = self.l.pou(pou).var(id.sym) {
+            let vi = vi as usize;
+            let v = &self.l.pou(pou).vars[vi];
+            let (ty, section) = (v.ty, v.section);
+            let storage = self.l.ir[pou.0 as usize].storage[vi];
+            if let Some(Storage::Const(c)) = storage {
+                let val = self.l.ir[pou.0 as usize].consts[c as usize];
+                return Named::Const(val, ty);
+            }
+            if v.constant {
+                return Named::Error;
+            }
+            if self.in_init {
+                if report {
+                    self.l.error(
+                        codes::E_NOT_CONSTANT,
+                        "an initial value can only use literals and constants",
+                        id.span,
+                    );
+                }
+                return Named::Error;
+            }
+            let access = if section == VarKind::Input {
+                Access::OwnInput
+            } else {
+                Access::ReadWrite
+            };
+            let addr = match storage {
+                Some(Storage::Slot(s)) => self.b.slot_addr(s),
+                Some(Storage::Field(f)) => {
+                    let agg = self.l.ir[pou.0 as usize].agg.expect("instance struct");
+                    let this = self.self_ptr.expect("instance pointer");
+                    let fa = self.b.field_addr(this, agg, f);
+                    if section == VarKind::InOut {
+                        self.b.load(Type::Ptr, fa)
+                    } else {
+                        fa
+                    }
+                }
+                None if section == VarKind::InOut && self.kind() == PouKind::Function => {
+                    let p = self.l.ir[pou.0 as usize].param_of[vi].expect("in-out parameter");
+                    self.params[p as usize]
+                }
+                _ => return Named::Error,
+            };
+            return Named::Place(Place {
+                addr,
+                ty,
+                access,
+                bit: None,
+                guard: None,
+            });
+        }
+        // The FUNCTION's own name is its result variable.
+        if self.kind() == PouKind::Function && id.sym == self.l.pou(pou).name.sym && !self.in_init {
+            if let Some(slot) = self.result_slot {
+                let addr = self.b.slot_addr(slot);
+                let ty = self.l.pou(pou).ret;
+                return Named::Place(Place::new(addr, ty));
+            }
+        }
+        if report {
+            let name = self.l.text(id.span).to_string();
+            let msg = if let Some(&p) = self.l.pou_by_name.get(&id.sym) {
+                match self.l.pou(p).kind {
+                    PouKind::Function => format!("`{name}` is a FUNCTION: call it with `{name}(...)`"),
+                    PouKind::FunctionBlock => format!("`{name}` is a FUNCTION_BLOCK type: declare an instance of it"),
+                    PouKind::Program => format!("`{name}` is a PROGRAM, not a variable"),
+                }
+            } else {
+                format!("`{name}` is not declared")
+            };
+            self.l.error(codes::E_UNDECLARED, msg, id.span);
+        }
+        Named::Error
+    }
+
+    /// The place of member `name` of the FB instance at `base`. `init` allows the
+    /// internal variables (initialisers may set any member); otherwise only inputs and
+    /// outputs are visible from outside.
+    pub(super) fn member_place(&mut self, base: Value, fb: PouId, name: ast::Ident, init: bool) -> Option<Place> {
+        let Some(vi) = self.l.pou(fb).var(name.sym) else {
+            let n = self.l.text(name.span).to_string();
+            let fbn = self.l.pou(fb).display.clone();
+            self.l.error(
+                codes::E_NO_MEMBER,
+                format!("function block `{fbn}` has no input or output named `{n}`"),
+                name.span,
+            );
+            return None;
+        };
+        let vi = vi as usize;
+        let v = self.l.pou(fb).vars[vi].clone();
+        let visible = matches!(v.section, VarKind::Input | VarKind::Output | VarKind::InOut) || init;
+        let storage = self.l.ir[fb.0 as usize].storage[vi];
+        if let Some(Storage::Const(_)) | None = storage {
+            if !visible || storage.is_none() {
+                let n = self.l.text(name.span).to_string();
+                self.l.error(
+                    codes::E_NO_MEMBER,
+                    format!("`{n}` is not an input or output of `{}`", self.l.pou(fb).display),
+                    name.span,
+                );
+                return None;
+            }
+        }
+        if !visible {
+            let n = self.l.text(name.span).to_string();
+            self.l.error(
+                codes::E_NO_MEMBER,
+                format!(
+                    "`{n}` is internal to `{}`: only its inputs and outputs can be used from outside",
+                    self.l.pou(fb).display
+                ),
+                name.span,
+            );
+            return None;
+        }
+        let Some(Storage::Field(fi)) = storage else { return None };
+        let agg = self.l.ir[fb.0 as usize].agg?;
+        let mut addr = self.b.field_addr(base, agg, fi);
+        if v.section == VarKind::InOut {
+            addr = self.b.load(Type::Ptr, addr);
+        }
+        let access = if v.section == VarKind::Output && !init {
+            Access::OtherOutput
+        } else {
+            Access::ReadWrite
+        };
+        Some(Place {
+            addr,
+            ty: v.ty,
+            access,
+            bit: None,
+            guard: None,
+        })
+    }
+}

@@ -1,0 +1,618 @@
+//! The standard functions of IEC 61131-3: type conversions, numeric, bit-shift,
+//! selection and comparison functions, and the function forms of the operators.
+
+use super::body::BodyCx;
+use super::expr::{concretize, unify, Val};
+use crate::ast::{Arg, ArgKind, BinaryOp as Op, Expr};
+use crate::codes;
+use crate::types::Ty;
+use plcc_ir::diag::Span;
+use plcc_ir::{BinaryOp, ConvOp, ElemType, IntCC, Intrinsic, Type, UnaryOp, Value};
+
+/// A standard function.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub(super) enum Builtin {
+    /// `X_TO_Y`, `TO_Y` (from the argument's type), `X_TRUNC_Y`/`TRUNC_Y` (toward
+    /// zero).
+    Convert {
+        from: Option<ElemType>,
+        to: ElemType,
+        trunc: bool,
+    },
+    /// `TRUNC(x)`: REAL/LREAL to an integer (DINT/LINT) toward zero.
+    Trunc,
+    /// `ABS`
+    Abs,
+    /// `SQRT LN LOG EXP SIN COS TAN ASIN ACOS ATAN`
+    Math(UnaryOp),
+    /// `EXPT(a, b)`
+    Expt,
+    /// `ADD MUL SUB DIV MOD` (ADD and MUL take any number of inputs).
+    Arith(Op),
+    /// `GT GE EQ LE LT NE` (GT, GE, EQ, LE, LT chain over several inputs).
+    Compare(Op),
+    /// `AND OR XOR` (extensible).
+    Logic(Op),
+    /// `NOT`
+    Not,
+    /// `MOVE`
+    Move,
+    /// `SHL SHR ROL ROR`
+    Shift(BinaryOp),
+    /// `SEL(G, IN0, IN1)`
+    Sel,
+    /// `MAX` (extensible)
+    Max,
+    /// `MIN` (extensible)
+    Min,
+    /// `LIMIT(MN, IN, MX)`
+    Limit,
+    /// `MUX(K, IN0, IN1, ...)`
+    Mux,
+    /// `ADD_TIME SUB_TIME MUL_TIME DIV_TIME`
+    TimeOp(Op),
+    /// `__PLC_CLOCK()`: the PLC clock (TIME), used by the standard timers.
+    Clock,
+}
+
+impl Builtin {
+    /// The standard function with this (upper-case) name.
+    pub(super) fn lookup(name: &str) -> Option<Builtin> {
+        use Builtin::*;
+        Some(match name {
+            "TRUNC" => Trunc,
+            "ABS" => Abs,
+            "SQRT" => Math(UnaryOp::Fsqrt),
+            "LN" => Math(UnaryOp::Ln),
+            "LOG" => Math(UnaryOp::Log10),
+            "EXP" => Math(UnaryOp::Exp),
+            "SIN" => Math(UnaryOp::Sin),
+            "COS" => Math(UnaryOp::Cos),
+            "TAN" => Math(UnaryOp::Tan),
+            "ASIN" => Math(UnaryOp::Asin),
+            "ACOS" => Math(UnaryOp::Acos),
+            "ATAN" => Math(UnaryOp::Atan),
+            "EXPT" => Expt,
+            "ADD" => Arith(Op::Add),
+            "SUB" => Arith(Op::Sub),
+            "MUL" => Arith(Op::Mul),
+            "DIV" => Arith(Op::Div),
+            "MOD" => Arith(Op::Mod),
+            "GT" => Compare(Op::Gt),
+            "GE" => Compare(Op::Ge),
+            "EQ" => Compare(Op::Eq),
+            "LE" => Compare(Op::Le),
+            "LT" => Compare(Op::Lt),
+            "NE" => Compare(Op::Ne),
+            "AND" => Logic(Op::And),
+            "OR" => Logic(Op::Or),
+            "XOR" => Logic(Op::Xor),
+            "NOT" => Not,
+            "MOVE" => Move,
+            "SHL" => Shift(BinaryOp::Ishl),
+            "SHR" => Shift(BinaryOp::Ushr),
+            "ROL" => Shift(BinaryOp::Rotl),
+            "ROR" => Shift(BinaryOp::Rotr),
+            "SEL" => Sel,
+            "MAX" => Max,
+            "MIN" => Min,
+            "LIMIT" => Limit,
+            "MUX" => Mux,
+            "ADD_TIME" => TimeOp(Op::Add),
+            "SUB_TIME" => TimeOp(Op::Sub),
+            "MUL_TIME" => TimeOp(Op::Mul),
+            "DIV_TIME" => TimeOp(Op::Div),
+            "__PLC_CLOCK" => Clock,
+            _ => return Self::conversion(name),
+        })
+    }
+
+    /// `X_TO_Y`, `TO_Y`, `X_TRUNC_Y`, `TRUNC_Y`.
+    fn conversion(name: &str) -> Option<Builtin> {
+        let elem = |s: &str| ElemType::from_name(s).filter(|e| *e != ElemType::Ref);
+        if let Some(to) = name.strip_prefix("TO_") {
+            return Some(Builtin::Convert {
+                from: None,
+                to: elem(to)?,
+                trunc: false,
+            });
+        }
+        if let Some(to) = name.strip_prefix("TRUNC_") {
+            return Some(Builtin::Convert {
+                from: None,
+                to: elem(to)?,
+                trunc: true,
+            });
+        }
+        if let Some(i) = name.find("_TRUNC_") {
+            return Some(Builtin::Convert {
+                from: Some(elem(&name[..i])?),
+                to: elem(&name[i + 7..])?,
+                trunc: true,
+            });
+        }
+        let i = name.find("_TO_")?;
+        Some(Builtin::Convert {
+            from: Some(elem(&name[..i])?),
+            to: elem(&name[i + 4..])?,
+            trunc: false,
+        })
+    }
+
+    /// Formal parameter names, in positional order. Extensible functions repeat their
+    /// last pattern (`IN1, IN2, ...`).
+    fn param_name(self, i: usize) -> String {
+        use Builtin::*;
+        match self {
+            Convert { .. } | Trunc | Abs | Math(_) | Not | Move => "IN".into(),
+            Shift(_) => ["IN", "N"].get(i).unwrap_or(&"?").to_string(),
+            Sel => ["G", "IN0", "IN1"].get(i).unwrap_or(&"?").to_string(),
+            Limit => ["MN", "IN", "MX"].get(i).unwrap_or(&"?").to_string(),
+            Mux => {
+                if i == 0 {
+                    "K".into()
+                } else {
+                    format!("IN{}", i - 1)
+                }
+            }
+            _ => format!("IN{}", i + 1),
+        }
+    }
+
+    /// (minimum, maximum) number of inputs.
+    fn arity(self) -> (usize, usize) {
+        use Builtin::*;
+        match self {
+            Convert { .. } | Trunc | Abs | Math(_) | Not | Move => (1, 1),
+            Clock => (0, 0),
+            Expt | Shift(_) | TimeOp(_) => (2, 2),
+            Arith(Op::Add) | Arith(Op::Mul) | Logic(_) | Max | Min => (2, usize::MAX),
+            Arith(_) | Compare(Op::Ne) => (2, 2),
+            Compare(_) => (2, usize::MAX),
+            Sel | Limit => (3, 3),
+            Mux => (2, usize::MAX),
+        }
+    }
+}
+
+impl<'s> BodyCx<'_, 's> {
+    /// Orders the arguments of a standard function by its formal parameter names.
+    fn builtin_args(&mut self, b: Builtin, name: &str, args: &'s [Arg], span: Span) -> Option<Vec<&'s Expr>> {
+        let positional = args.iter().all(|a| matches!(a.kind, ArgKind::Positional(_)));
+        let mut out: Vec<Option<&'s Expr>> = Vec::new();
+        if positional {
+            out = args
+                .iter()
+                .map(|a| match &a.kind {
+                    ArgKind::Positional(e) => Some(e),
+                    _ => None,
+                })
+                .collect();
+        } else {
+            for a in args {
+                match &a.kind {
+                    ArgKind::Input { name: pn, value } => {
+                        let pname = self.l.sym_name(pn.sym).to_string();
+                        let idx = (0..args.len().max(3) + 1).find(|&i| b.param_name(i) == pname);
+                        let Some(i) = idx else {
+                            let n = self.l.text(pn.span).to_string();
+                            self.l.error(codes::E_NO_MEMBER, format!("`{name}` has no parameter named `{n}`"), pn.span);
+                            return None;
+                        };
+                        if out.len() <= i {
+                            out.resize(i + 1, None);
+                        }
+                        if out[i].is_some() {
+                            self.l.error(codes::E_ARG_COUNT, "this parameter is given twice", a.span);
+                            return None;
+                        }
+                        out[i] = Some(value);
+                    }
+                    ArgKind::Positional(_) => {
+                        self.l.error(
+                            codes::E_ARG_COUNT,
+                            "positional and named arguments cannot be mixed in a standard function call",
+                            a.span,
+                        );
+                        return None;
+                    }
+                    ArgKind::Output { .. } => {
+                        self.l.error(codes::E_ARG_DIRECTION, format!("`{name}` has no outputs besides its result"), a.span);
+                        return None;
+                    }
+                }
+            }
+        }
+        let (min, max) = b.arity();
+        if out.len() < min || out.len() > max || out.iter().any(|a| a.is_none()) {
+            let want = if min == max {
+                format!("{min}")
+            } else if max == usize::MAX {
+                format!("at least {min}")
+            } else {
+                format!("{min} to {max}")
+            };
+            let missing: Vec<String> = (0..out.len().max(min))
+                .filter(|&i| out.get(i).is_none_or(|a| a.is_none()))
+                .map(|i| b.param_name(i))
+                .collect();
+            let mut d = plcc_ir::diag::Diagnostic::error(
+                codes::E_ARG_COUNT,
+                format!("`{name}` takes {want} argument(s), {} given", args.len()),
+                span,
+            );
+            if !missing.is_empty() && out.len() >= min {
+                d = d.with_note(format!("missing: {}", missing.join(", ")));
+            }
+            self.l.diags.push(d);
+            return None;
+        }
+        Some(out.into_iter().map(|a| a.expect("checked")).collect())
+    }
+
+    /// The result type of a standard function call, without emitting anything.
+    pub(super) fn builtin_infer(&mut self, b: Builtin, args: &[Arg]) -> Ty {
+        let arg_ty = |cx: &mut Self, i: usize| -> Ty {
+            match args.get(i).map(|a| &a.kind) {
+                Some(ArgKind::Positional(e)) | Some(ArgKind::Input { value: e, .. }) => cx.infer(e),
+                _ => Ty::Error,
+            }
+        };
+        use Builtin::*;
+        match b {
+            Convert { to, .. } => Ty::Elem(to),
+            Trunc => match arg_ty(self, 0) {
+                Ty::Elem(ElemType::LReal) => Ty::Elem(ElemType::LInt),
+                _ => Ty::DINT,
+            },
+            Abs | Math(_) | Not | Move => arg_ty(self, 0),
+            Expt => arg_ty(self, 0),
+            Shift(_) => arg_ty(self, 0),
+            Compare(_) => Ty::BOOL,
+            Sel | Limit => arg_ty(self, 1),
+            Mux => arg_ty(self, 1),
+            TimeOp(_) => Ty::TIME,
+            Clock => Ty::TIME,
+            Arith(_) | Logic(_) | Max | Min => {
+                let mut t = arg_ty(self, 0);
+                for i in 1..args.len() {
+                    let u = arg_ty(self, i);
+                    t = unify(t, u).unwrap_or(Ty::Error);
+                }
+                t
+            }
+        }
+    }
+
+    /// Emits a standard function call.
+    pub(super) fn builtin_call(&mut self, b: Builtin, args: &'s [Arg], want: Option<Ty>, span: Span) -> Option<Val> {
+        let name = self.l.text(span).split('(').next().unwrap_or("").trim().to_ascii_uppercase();
+        let xs = self.builtin_args(b, &name, args, span)?;
+        use Builtin::*;
+        match b {
+            Clock => {
+                let v = self.b.intrinsic(Intrinsic::ClockMs, vec![])?;
+                Some(Val { v, ty: Ty::TIME })
+            }
+            Convert { from, to, trunc } => self.conversion_call(xs[0], from, to, trunc, &name),
+            Trunc => {
+                let x = self.real_arg(xs[0], &name)?;
+                let to = if x.ty == Ty::Elem(ElemType::LReal) { ElemType::LInt } else { ElemType::DInt };
+                let v = self.b.convert(ConvOp::FToSi, to.ir_type(), x.v);
+                Some(Val { v, ty: Ty::Elem(to) })
+            }
+            Abs => {
+                let x = self.emit(xs[0], want);
+                match x.ty {
+                    t if t.is_real() => Some(Val { v: self.b.unary(UnaryOp::Fabs, x.v), ty: t }),
+                    t if t.is_signed() && t.elem().is_some_and(|e| e.is_integer()) => {
+                        Some(Val { v: self.b.unary(UnaryOp::Iabs, x.v), ty: t })
+                    }
+                    t if t.is_int_like() => Some(x),
+                    Ty::Error => None,
+                    t => self.bad_arg(&name, "a number", t, xs[0].span),
+                }
+            }
+            Math(op) => {
+                let x = self.real_arg(xs[0], &name)?;
+                Some(Val { v: self.b.unary(op, x.v), ty: x.ty })
+            }
+            Expt => {
+                let x = self.emit(xs[0], want);
+                if x.ty == Ty::Error {
+                    return None;
+                }
+                if !x.ty.is_numeric() {
+                    return self.bad_arg(&name, "a number", x.ty, xs[0].span);
+                }
+                let n = self.emit(xs[1], None);
+                let x = if x.ty.is_real() || !n.ty.is_real() {
+                    x
+                } else {
+                    // An integer base with a real exponent: compute in the exponent's type.
+                    let (Some(f), Some(t)) = (x.ty.elem(), n.ty.elem()) else { return None };
+                    Val { v: self.convert(x.v, f, t), ty: n.ty }
+                };
+                let e = x.ty.elem()?;
+                let v = if e.is_real() {
+                    let nv = match n.ty.elem() {
+                        Some(ne) if ne.is_real() || ne.is_integer() => self.convert(n.v, ne, e),
+                        _ => return self.bad_arg(&name, "a number", n.ty, xs[1].span),
+                    };
+                    self.b.binary(BinaryOp::Fpow, x.v, nv)
+                } else {
+                    let ne = n.ty.elem().filter(|ne| ne.is_integer() || ne.is_bit_string());
+                    let Some(ne) = ne else {
+                        return self.bad_arg(&name, "an integer exponent", n.ty, xs[1].span);
+                    };
+                    let exp = self.convert(n.v, ne, ElemType::LInt);
+                    let f = self.l.ipow_helper(e.ir_type());
+                    self.b.call(f, Some(e.ir_type()), vec![x.v, exp])?
+                };
+                Some(Val { v, ty: x.ty })
+            }
+            Arith(op) | Logic(op) => {
+                let t = self.common_type(&xs, want, &name)?;
+                if matches!(b, Logic(_)) && !(t == Ty::BOOL || t.is_int_like()) {
+                    return self.bad_arg(&name, "BOOL or a bit string", t, span);
+                }
+                if matches!(b, Arith(Op::Mod)) && !t.is_int_like() {
+                    return self.bad_arg(&name, "an integer", t, span);
+                }
+                if matches!(b, Arith(_)) && !t.is_numeric() {
+                    return self.bad_arg(&name, "a number", t, span);
+                }
+                let e = t.elem()?;
+                let mut acc = self.emit_as(xs[0], t);
+                for x in &xs[1..] {
+                    let y = self.emit_as(x, t);
+                    acc = self.arith(op, acc, y, e);
+                }
+                Some(Val { v: acc, ty: t })
+            }
+            Compare(op) => {
+                let t = self.common_type(&xs, None, &name)?;
+                let e = t.elem()?;
+                let vals: Vec<Value> = xs.iter().map(|x| self.emit_as(x, t)).collect();
+                let mut acc: Option<Value> = None;
+                for w in vals.windows(2) {
+                    let c = self.arith(op, w[0], w[1], e);
+                    acc = Some(match acc {
+                        Some(a) => self.b.binary(BinaryOp::Band, a, c),
+                        None => c,
+                    });
+                }
+                Some(Val { v: acc?, ty: Ty::BOOL })
+            }
+            Not => {
+                let x = self.emit(xs[0], want);
+                match x.ty {
+                    t if t == Ty::BOOL || t.is_int_like() => Some(Val { v: self.b.unary(UnaryOp::Bnot, x.v), ty: t }),
+                    Ty::Error => None,
+                    t => self.bad_arg(&name, "BOOL or a bit string", t, xs[0].span),
+                }
+            }
+            Move => {
+                let x = self.emit(xs[0], want);
+                (x.ty != Ty::Error).then_some(x)
+            }
+            Shift(op) => {
+                let x = self.emit(xs[0], want);
+                let e = match x.ty.elem() {
+                    Some(e) if x.ty.is_int_like() => e,
+                    _ if x.ty == Ty::Error => return None,
+                    _ => return self.bad_arg(&name, "a bit string or an integer", x.ty, xs[0].span),
+                };
+                let n = self.emit(xs[1], Some(Ty::Elem(ElemType::UDInt)));
+                let Some(ne) = n.ty.elem().filter(|ne| ne.is_integer() || (ne.is_bit_string() && *ne != ElemType::Bool)) else {
+                    if n.ty == Ty::Error {
+                        return None;
+                    }
+                    return self.bad_arg(&name, "an integer shift count", n.ty, xs[1].span);
+                };
+                // The count is read unsigned at the value's width; a wider count that
+                // does not fit saturates to the width (so the shift gives 0).
+                let t = e.ir_type();
+                let count = self.shift_count(n.v, ne, t);
+                Some(Val { v: self.b.binary(op, x.v, count), ty: x.ty })
+            }
+            Sel => {
+                let g = self.emit_as(xs[0], Ty::BOOL);
+                let t = self.common_type(&xs[1..], want, &name)?;
+                let a = self.emit_as(xs[1], t);
+                let c = self.emit_as(xs[2], t);
+                Some(Val { v: self.b.select(g, c, a), ty: t })
+            }
+            Max | Min => {
+                let t = self.common_type(&xs, want, &name)?;
+                let e = t.elem()?;
+                let mut acc = self.emit_as(xs[0], t);
+                for x in &xs[1..] {
+                    let y = self.emit_as(x, t);
+                    let op = if b == Max { Op::Gt } else { Op::Lt };
+                    let c = self.arith(op, y, acc, e);
+                    acc = self.b.select(c, y, acc);
+                }
+                Some(Val { v: acc, ty: t })
+            }
+            Limit => {
+                let t = self.common_type(&xs, want, &name)?;
+                let e = t.elem()?;
+                let mn = self.emit_as(xs[0], t);
+                let x = self.emit_as(xs[1], t);
+                let mx = self.emit_as(xs[2], t);
+                let below = self.arith(Op::Lt, x, mn, e);
+                let lo = self.b.select(below, mn, x);
+                let above = self.arith(Op::Gt, lo, mx, e);
+                Some(Val { v: self.b.select(above, mx, lo), ty: t })
+            }
+            Mux => {
+                let k = self.emit(xs[0], Some(Ty::DINT));
+                let ke = match k.ty.elem() {
+                    Some(e) if k.ty.is_int_like() => e,
+                    _ if k.ty == Ty::Error => return None,
+                    _ => return self.bad_arg(&name, "an integer selector", k.ty, xs[0].span),
+                };
+                let k64 = self.convert(k.v, ke, ElemType::LInt);
+                let t = self.common_type(&xs[1..], want, &name)?;
+                // A selector out of range picks the nearest end (first or last input).
+                let mut acc = self.emit_as(xs[xs.len() - 1], t);
+                for i in (1..xs.len() - 1).rev() {
+                    let y = self.emit_as(xs[i], t);
+                    let lim = self.b.iconst(Type::I64, (i - 1) as i64);
+                    let cc = if i == 1 { IntCC::Sle } else { IntCC::Eq };
+                    let c = self.b.icmp(cc, k64, lim);
+                    acc = self.b.select(c, y, acc);
+                }
+                Some(Val { v: acc, ty: t })
+            }
+            TimeOp(op) => {
+                let x = self.emit_as(xs[0], Ty::TIME);
+                match op {
+                    Op::Add | Op::Sub => {
+                        let y = self.emit_as(xs[1], Ty::TIME);
+                        Some(Val { v: self.arith(op, x, y, ElemType::Time), ty: Ty::TIME })
+                    }
+                    _ => {
+                        let n = self.emit(xs[1], None);
+                        let v = match n.ty {
+                            t if t.is_real() => {
+                                let nf = self.to_lreal(n);
+                                let xf = self.b.convert(ConvOp::SiToF, Type::F64, x);
+                                let fop = if op == Op::Mul { BinaryOp::Fmul } else { BinaryOp::Fdiv };
+                                let r = self.b.binary(fop, xf, nf);
+                                self.b.convert(ConvOp::FToSi, Type::I32, r)
+                            }
+                            Ty::Elem(ne) if ne.is_integer() => {
+                                let nv = self.convert(n.v, ne, ElemType::DInt);
+                                let iop = if op == Op::Mul { BinaryOp::Imul } else { BinaryOp::Sdiv };
+                                self.b.binary(iop, x, nv)
+                            }
+                            Ty::Error => return None,
+                            t => return self.bad_arg(&name, "a number", t, xs[1].span),
+                        };
+                        Some(Val { v, ty: Ty::TIME })
+                    }
+                }
+            }
+        }
+    }
+
+    /// A shift count converted to type `t`, saturated to `t`'s width when wider.
+    fn shift_count(&mut self, n: Value, ne: ElemType, t: Type) -> Value {
+        // A negative count reads as a huge unsigned one, so the shift gives 0.
+        let nt = ne.ir_type();
+        if nt.bits() <= t.bits() {
+            return if nt == t {
+                n
+            } else {
+                self.b.convert(ConvOp::Uext, t, n)
+            };
+        }
+        let width = self.b.iconst(nt, t.bits() as i64);
+        let big = self.b.icmp(IntCC::Uge, n, width);
+        let sat = self.b.select(big, width, n);
+        self.b.convert(ConvOp::Itrunc, t, sat)
+    }
+
+    /// The common type of several arguments (literals adapt; `want` types literal-only
+    /// lists).
+    fn common_type(&mut self, xs: &[&'s Expr], want: Option<Ty>, name: &str) -> Option<Ty> {
+        let mut t = Ty::AnyInt;
+        let mut first = true;
+        for x in xs {
+            let u = self.infer(x);
+            let next = if first { Some(u) } else { unify(t, u) };
+            first = false;
+            match next {
+                Some(n) => t = n,
+                None => {
+                    let (a, b) = (self.l.ty_name(t), self.l.ty_name(u));
+                    self.l.error(
+                        codes::E_TYPE_MISMATCH,
+                        format!("the arguments of `{name}` must have one type: {a} and {b} differ"),
+                        x.span,
+                    );
+                    for y in xs {
+                        let _ = self.emit(y, None);
+                    }
+                    return None;
+                }
+            }
+        }
+        if t == Ty::Error {
+            for y in xs {
+                let _ = self.emit(y, None);
+            }
+            return None;
+        }
+        Some(concretize(t, want))
+    }
+
+    /// An argument that must be REAL or LREAL (an untyped literal becomes LREAL).
+    fn real_arg(&mut self, e: &'s Expr, name: &str) -> Option<Val> {
+        let t = self.infer(e);
+        let target = if t.is_literal() { Ty::Elem(ElemType::LReal) } else { t };
+        let x = self.emit(e, Some(target));
+        match x.ty {
+            t if t.is_real() => Some(x),
+            Ty::Error => None,
+            t => self.bad_arg(name, "REAL or LREAL", t, e.span),
+        }
+    }
+
+    fn bad_arg(&mut self, name: &str, wants: &str, got: Ty, span: Span) -> Option<Val> {
+        let g = self.l.ty_name(got);
+        self.l.error(codes::E_TYPE_MISMATCH, format!("`{name}` needs {wants}, not {g}"), span);
+        None
+    }
+
+    /// `X_TO_Y(v)` and friends.
+    fn conversion_call(&mut self, e: &'s Expr, from: Option<ElemType>, to: ElemType, trunc: bool, name: &str) -> Option<Val> {
+        let inferred = self.infer(e);
+        let want = match from {
+            Some(f) => Ty::Elem(f),
+            None => concretize(inferred, None),
+        };
+        let x = self.emit(e, Some(want));
+        if x.ty == Ty::Error {
+            return None;
+        }
+        let Some(xe) = x.ty.elem() else {
+            return self.bad_arg(name, "an elementary value", x.ty, e.span);
+        };
+        let src = match from {
+            Some(f) if f != xe => {
+                if crate::types::implicit(xe, f) {
+                    self.convert(x.v, xe, f)
+                } else {
+                    let d = plcc_ir::diag::Diagnostic::error(
+                        codes::E_TYPE_MISMATCH,
+                        format!("`{name}` converts from {}, not from {}", f.name(), xe.name()),
+                        e.span,
+                    );
+                    self.l.diags.push(d);
+                    return None;
+                }
+            }
+            _ => x.v,
+        };
+        let from = from.unwrap_or(xe);
+        let convertible = |t: ElemType| t != ElemType::Ref && !matches!(t, ElemType::Char | ElemType::WChar | ElemType::Date | ElemType::Tod | ElemType::Dt);
+        if !convertible(from) || !convertible(to) {
+            self.l.error(codes::E_UNSUPPORTED, format!("not supported yet: `{name}`"), e.span);
+            return None;
+        }
+        if trunc {
+            if !from.is_real() || !(to.is_integer() || to.is_bit_string()) || to == ElemType::Bool {
+                self.l.error(codes::E_TYPE_MISMATCH, format!("`{name}` truncates a REAL or LREAL to an integer"), e.span);
+                return None;
+            }
+            let op = if to.is_signed() { ConvOp::FToSi } else { ConvOp::FToUi };
+            let v = self.b.convert(op, to.ir_type(), src);
+            return Some(Val { v, ty: Ty::Elem(to) });
+        }
+        let v = self.convert(src, from, to);
+        Some(Val { v, ty: Ty::Elem(to) })
+    }
+}

@@ -1,0 +1,432 @@
+//! Calls of user FUNCTIONs and function block instances.
+
+use super::body::{BodyCx, Place};
+use super::builtins::Builtin;
+use super::expr::Val;
+use super::Storage;
+use crate::ast::{Arg, ArgKind, Expr, ExprKind, PouKind, VarKind};
+use crate::codes;
+use crate::types::{PouId, Ty};
+use plcc_ir::diag::Span;
+use plcc_ir::{MemType, SlotId, Type, UnaryOp, Value};
+
+/// What a call expression calls.
+enum Callee {
+    /// An FB instance (its place) of the given FB type.
+    Instance(Place, PouId),
+    /// A user FUNCTION.
+    Function(PouId),
+    /// A standard function.
+    Builtin(Builtin),
+    /// Already reported.
+    Error,
+}
+
+/// One parameter of a POU as a call sees it.
+#[derive(Copy, Clone)]
+struct Param {
+    var: usize,
+    section: VarKind,
+}
+
+fn params_of(cx: &BodyCx<'_, '_>, p: PouId) -> Vec<Param> {
+    cx.l.pou(p)
+        .vars
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| matches!(v.section, VarKind::Input | VarKind::InOut | VarKind::Output) && !v.constant)
+        .map(|(i, v)| Param {
+            var: i,
+            section: v.section,
+        })
+        .collect()
+}
+
+impl<'s> BodyCx<'_, 's> {
+    /// A call used as a statement.
+    pub(super) fn call_stmt(&mut self, e: &'s Expr) {
+        let ExprKind::Call { callee, args } = &e.kind else {
+            self.l.error(codes::E_NOT_A_STATEMENT, "this expression does nothing: only calls can be statements", e.span);
+            return;
+        };
+        match self.classify(callee, false) {
+            Callee::Instance(place, fb) => self.fb_call(place, fb, args, e.span),
+            Callee::Function(p) => {
+                self.func_call(p, args, e.span);
+            }
+            Callee::Builtin(b) => {
+                self.builtin_call(b, args, None, e.span);
+            }
+            Callee::Error => {}
+        }
+    }
+
+    /// A call used as a value.
+    pub(super) fn call_expr(&mut self, callee: &'s Expr, args: &'s [Arg], want: Option<Ty>, span: Span) -> Option<Val> {
+        match self.classify(callee, true) {
+            Callee::Instance(_, fb) => {
+                let n = self.l.pou(fb).display.clone();
+                self.l.error(
+                    codes::E_FB_CALL_IN_EXPR,
+                    format!("a call of a `{n}` instance is a statement, not a value; call it, then read its outputs (`inst.Q`)"),
+                    span,
+                );
+                None
+            }
+            Callee::Function(p) => {
+                let v = self.func_call(p, args, span);
+                if v.is_none() {
+                    let n = self.l.pou(p).display.clone();
+                    self.l.error(codes::E_NO_RESULT, format!("FUNCTION `{n}` has no result type, so it gives no value"), span);
+                }
+                v
+            }
+            Callee::Builtin(b) => self.builtin_call(b, args, want, span),
+            Callee::Error => {
+                for a in args {
+                    if let ArgKind::Positional(x) | ArgKind::Input { value: x, .. } = &a.kind {
+                        let _ = self.emit(x, None);
+                    }
+                }
+                None
+            }
+        }
+    }
+
+    /// The result type of a call, without emitting anything.
+    pub(super) fn infer_call(&mut self, callee: &Expr, args: &[Arg]) -> Ty {
+        let ExprKind::Name(id) = &callee.kind else { return Ty::Error };
+        if self.l.pou(self.pou).var(id.sym).is_some() {
+            return Ty::Error;
+        }
+        if let Some(&p) = self.l.pou_by_name.get(&id.sym) {
+            if self.l.pou(p).kind == PouKind::Function {
+                return self.l.pou(p).ret;
+            }
+            return Ty::Error;
+        }
+        let name = self.l.sym_name(id.sym).to_string();
+        match Builtin::lookup(&name) {
+            Some(b) => self.builtin_infer(b, args),
+            None => Ty::Error,
+        }
+    }
+
+    fn classify(&mut self, callee: &'s Expr, _in_expr: bool) -> Callee {
+        match &callee.kind {
+            ExprKind::Name(id) => {
+                if self.l.pou(self.pou).var(id.sym).is_some() {
+                    let Some(place) = self.place(callee) else { return Callee::Error };
+                    return match place.ty {
+                        Ty::Fb(fb) => Callee::Instance(place, fb),
+                        Ty::Error => Callee::Error,
+                        t => {
+                            let n = self.l.text(id.span).to_string();
+                            let tn = self.l.ty_name(t);
+                            self.l.error(
+                                codes::E_NOT_CALLABLE,
+                                format!("`{n}` is a variable of type {tn}; it cannot be called"),
+                                id.span,
+                            );
+                            Callee::Error
+                        }
+                    };
+                }
+                if let Some(&p) = self.l.pou_by_name.get(&id.sym) {
+                    let n = self.l.text(id.span).to_string();
+                    return match self.l.pou(p).kind {
+                        PouKind::Function if self.l.used[p.0 as usize] => Callee::Function(p),
+                        PouKind::Function => Callee::Error,
+                        PouKind::FunctionBlock => {
+                            self.l.error(
+                                codes::E_NOT_CALLABLE,
+                                format!("`{n}` is a FUNCTION_BLOCK type: declare an instance (`x : {n};`) and call the instance"),
+                                id.span,
+                            );
+                            Callee::Error
+                        }
+                        PouKind::Program => {
+                            self.l.error(codes::E_NOT_CALLABLE, format!("PROGRAM `{n}` cannot be called"), id.span);
+                            Callee::Error
+                        }
+                    };
+                }
+                let name = self.l.sym_name(id.sym).to_string();
+                if let Some(b) = Builtin::lookup(&name) {
+                    return Callee::Builtin(b);
+                }
+                let n = self.l.text(id.span).to_string();
+                self.l.error(codes::E_UNDECLARED, format!("no FUNCTION or function block instance named `{n}`"), id.span);
+                Callee::Error
+            }
+            ExprKind::Member(..) | ExprKind::Index(..) | ExprKind::Paren(_) => {
+                let Some(place) = self.place(callee) else { return Callee::Error };
+                match place.ty {
+                    Ty::Fb(fb) => Callee::Instance(place, fb),
+                    Ty::Error => Callee::Error,
+                    t => {
+                        let tn = self.l.ty_name(t);
+                        self.l.error(codes::E_NOT_CALLABLE, format!("a value of type {tn} cannot be called"), callee.span);
+                        Callee::Error
+                    }
+                }
+            }
+            _ => {
+                self.l.error(codes::E_NOT_CALLABLE, "this cannot be called", callee.span);
+                Callee::Error
+            }
+        }
+    }
+
+    /// Matches call arguments to parameters: positional ones in declaration order
+    /// (inputs and in-outs), named ones by name. Reports unknown, duplicate and
+    /// misdirected arguments.
+    fn bind_args(&mut self, callee: PouId, params: &[Param], args: &'s [Arg]) -> Vec<Option<&'s Arg>> {
+        let mut bound: Vec<Option<&'s Arg>> = vec![None; params.len()];
+        let mut next_pos = 0usize;
+        let callee_name = self.l.pou(callee).display.clone();
+        for a in args {
+            let slot = match &a.kind {
+                ArgKind::Positional(_) => {
+                    while next_pos < params.len() && params[next_pos].section == VarKind::Output {
+                        next_pos += 1;
+                    }
+                    if next_pos >= params.len() {
+                        self.l.error(codes::E_ARG_COUNT, format!("too many arguments for `{callee_name}`"), a.span);
+                        continue;
+                    }
+                    next_pos += 1;
+                    next_pos - 1
+                }
+                ArgKind::Input { name, .. } | ArgKind::Output { name, .. } => {
+                    let upper = self.l.sym_name(name.sym).to_string();
+                    if upper == "EN" || upper == "ENO" {
+                        self.l.error(codes::E_UNSUPPORTED, "not supported yet: EN/ENO", name.span);
+                        continue;
+                    }
+                    let found = params
+                        .iter()
+                        .position(|p| self.l.pou(callee).vars[p.var].name.sym == name.sym);
+                    let n = self.l.text(name.span).to_string();
+                    let Some(i) = found else {
+                        self.l.error(
+                            codes::E_NO_MEMBER,
+                            format!("`{callee_name}` has no parameter named `{n}`"),
+                            name.span,
+                        );
+                        continue;
+                    };
+                    let is_out = matches!(a.kind, ArgKind::Output { .. });
+                    if is_out != (params[i].section == VarKind::Output) {
+                        let msg = if is_out {
+                            format!("`{n}` is an input of `{callee_name}`: pass it with `{n} := value`")
+                        } else {
+                            format!("`{n}` is an output of `{callee_name}`: read it with `{n} => variable`")
+                        };
+                        self.l.error(codes::E_ARG_DIRECTION, msg, a.span);
+                        continue;
+                    }
+                    i
+                }
+            };
+            if bound[slot].is_some() {
+                self.l.error(codes::E_ARG_COUNT, "this parameter is given twice", a.span);
+                continue;
+            }
+            bound[slot] = Some(a);
+        }
+        bound
+    }
+
+    /// The value expression of an input argument.
+    fn arg_value(a: &'s Arg) -> Option<&'s Expr> {
+        match &a.kind {
+            ArgKind::Positional(e) | ArgKind::Input { value: e, .. } => Some(e),
+            ArgKind::Output { .. } => None,
+        }
+    }
+
+    /// The place of an in-out argument: a writable variable of exactly the parameter's
+    /// type.
+    fn inout_arg(&mut self, e: &'s Expr, ty: Ty) -> Option<Value> {
+        let p = self.place(e)?;
+        if p.bit.is_some() {
+            self.l.error(codes::E_NOT_A_PLACE, "a single bit cannot be passed to a VAR_IN_OUT", e.span);
+            return None;
+        }
+        if p.ty != ty && p.ty != Ty::Error {
+            let (a, b) = (self.l.ty_name(ty), self.l.ty_name(p.ty));
+            self.l.error(codes::E_TYPE_MISMATCH, format!("a VAR_IN_OUT of type {a} needs a variable of exactly that type, not {b}"), e.span);
+            return None;
+        }
+        if !self.check_writable(&p, e.span) {
+            return None;
+        }
+        Some(p.addr)
+    }
+
+    /// Calls a user FUNCTION; its result, if it has one.
+    fn func_call(&mut self, p: PouId, args: &'s [Arg], span: Span) -> Option<Val> {
+        self.l.calls.push((self.pou, p, span));
+        let params = params_of(self, p);
+        let bound = self.bind_args(p, &params, args);
+        let mut ir_args = Vec::with_capacity(params.len());
+        let mut outs: Vec<(SlotId, Ty, &'s Arg)> = Vec::new();
+        let callee_name = self.l.pou(p).display.clone();
+        for (i, prm) in params.iter().enumerate() {
+            let v = self.l.pou(p).vars[prm.var].clone();
+            match prm.section {
+                VarKind::Input => {
+                    let val = match bound[i].and_then(Self::arg_value) {
+                        Some(e) => self.emit_as(e, v.ty),
+                        None => self.default_input(p, prm.var, span),
+                    };
+                    ir_args.push(val);
+                }
+                VarKind::InOut => {
+                    let addr = match bound[i].and_then(Self::arg_value) {
+                        Some(e) => self.inout_arg(e, v.ty),
+                        None => {
+                            self.l.error(
+                                codes::E_MISSING_ARG,
+                                format!("the VAR_IN_OUT `{}` of `{callee_name}` must be given", v.display),
+                                span,
+                            );
+                            None
+                        }
+                    };
+                    let addr = match addr {
+                        Some(a) => a,
+                        None => {
+                            // Keep the IR valid: point at a scratch slot.
+                            let mt = self.l.mem_type(v.ty).map(|m| m.0).unwrap_or(MemType::Scalar(Type::I64));
+                            let s = self.b.slot("scratch", mt);
+                            self.b.slot_addr(s)
+                        }
+                    };
+                    ir_args.push(addr);
+                }
+                _ => {
+                    let t = v.ty.ir().unwrap_or(Type::I32);
+                    let s = self.b.slot(format!("{callee_name}.{}", v.display), MemType::Scalar(t));
+                    let addr = self.b.slot_addr(s);
+                    ir_args.push(addr);
+                    if let Some(a) = bound[i] {
+                        outs.push((s, v.ty, a));
+                    }
+                }
+            }
+        }
+        let f = self.l.ir[p.0 as usize].body?;
+        let ret = self.l.pou(p).ret;
+        let r = self.b.call(f, ret.ir(), ir_args);
+        for (slot, ty, a) in outs {
+            let addr = self.b.slot_addr(slot);
+            let v = self.b.load(ty.ir().unwrap_or(Type::I32), addr);
+            self.assign_output(Val { v, ty }, a);
+        }
+        r.map(|v| Val { v, ty: ret })
+    }
+
+    /// `name => target` after a call: stores an output into its target.
+    fn assign_output(&mut self, out: Val, a: &'s Arg) {
+        let ArgKind::Output { negated, target, .. } = &a.kind else { return };
+        let Some(target) = target else { return };
+        let mut out = out;
+        if *negated {
+            if out.ty != Ty::BOOL {
+                self.l.error(codes::E_TYPE_MISMATCH, "only a BOOL output can be negated", a.span);
+                return;
+            }
+            out.v = self.b.unary(UnaryOp::Bnot, out.v);
+        }
+        let Some(place) = self.place(target) else { return };
+        if !self.check_writable(&place, target.span) {
+            return;
+        }
+        let v = self.coerce(out, place.ty, target.span);
+        self.store_place(&place, v);
+    }
+
+    /// The value an input gets when a call does not give it: its declared initial
+    /// value (which must be constant), else the type's zero.
+    fn default_input(&mut self, p: PouId, vi: usize, span: Span) -> Value {
+        let v = self.l.pou(p).vars[vi].clone();
+        let ast = self.l.pou_ast(p);
+        let init = ast.var_blocks[v.decl.0 as usize].decls[v.decl.1 as usize].init.as_ref();
+        if let Some(crate::ast::Init::Expr(e)) = init {
+            if let Some((c, _)) = self.l.const_eval(e, p) {
+                return self.constant(c, v.ty, None, span).v;
+            }
+        }
+        self.zero(v.ty)
+    }
+
+    /// Calls an FB instance: stores the inputs, runs the body, reads the outputs. A
+    /// call on an array element whose index was out of bounds is skipped.
+    fn fb_call(&mut self, inst: Place, fb: PouId, args: &'s [Arg], span: Span) {
+        self.l.calls.push((self.pou, fb, span));
+        let params = params_of(self, fb);
+        let bound = self.bind_args(fb, &params, args);
+        let skip = inst.guard.map(|g| {
+            let call = self.b.create_block();
+            let join = self.b.create_block();
+            self.b.brif(g, call, vec![], join, vec![]);
+            self.b.switch_to(call);
+            join
+        });
+        let agg = self.l.ir[fb.0 as usize].agg;
+        let fb_name = self.l.pou(fb).display.clone();
+        let mut outs: Vec<(usize, &'s Arg)> = Vec::new();
+        for (i, prm) in params.iter().enumerate() {
+            let v = self.l.pou(fb).vars[prm.var].clone();
+            let Some(Storage::Field(fi)) = self.l.ir[fb.0 as usize].storage[prm.var] else { continue };
+            let Some(agg) = agg else { continue };
+            match prm.section {
+                VarKind::Input => {
+                    if let Some(e) = bound[i].and_then(Self::arg_value) {
+                        let val = self.emit_as(e, v.ty);
+                        let addr = self.b.field_addr(inst.addr, agg, fi);
+                        self.b.store(val, addr);
+                    }
+                }
+                VarKind::InOut => match bound[i].and_then(Self::arg_value) {
+                    Some(e) => {
+                        if let Some(p) = self.inout_arg(e, v.ty) {
+                            let addr = self.b.field_addr(inst.addr, agg, fi);
+                            self.b.store(p, addr);
+                        }
+                    }
+                    None => {
+                        self.l.error(
+                            codes::E_MISSING_ARG,
+                            format!("the VAR_IN_OUT `{}` of `{fb_name}` must be given at every call", v.display),
+                            span,
+                        );
+                    }
+                },
+                _ => {
+                    if let Some(a) = bound[i] {
+                        outs.push((prm.var, a));
+                    }
+                }
+            }
+        }
+        if let Some(f) = self.l.ir[fb.0 as usize].body {
+            self.b.call(f, None, vec![inst.addr]);
+        }
+        for (vi, a) in outs {
+            let v = self.l.pou(fb).vars[vi].clone();
+            let (Some(Storage::Field(fi)), Some(agg)) = (self.l.ir[fb.0 as usize].storage[vi], agg) else {
+                continue;
+            };
+            let addr = self.b.field_addr(inst.addr, agg, fi);
+            let val = self.b.load(v.ty.ir().unwrap_or(Type::I32), addr);
+            self.assign_output(Val { v: val, ty: v.ty }, a);
+        }
+        if let Some(join) = skip {
+            self.b.jump(join, vec![]);
+            self.b.switch_to(join);
+        }
+    }
+}

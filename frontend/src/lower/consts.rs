@@ -1,0 +1,161 @@
+//! Compile-time constants: array bounds, CASE labels, VAR CONSTANT values.
+
+use crate::ast::{BinaryOp, Expr, ExprKind, LiteralKind, UnaryOp};
+use crate::intern::{Interner, Symbol};
+use crate::types::{int_range, Ty};
+use plcc_ir::ElemType;
+
+/// A constant value.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub enum ConstVal {
+    /// Integers, bit strings, and durations in their unit (ms for TIME, ns for LTIME,
+    /// or ns for an untyped duration literal: see [`eval`]).
+    Int(i128),
+    /// Reals.
+    Real(f64),
+    /// BOOL.
+    Bool(bool),
+}
+
+impl ConstVal {
+    /// The zero value of a type.
+    pub fn zero_of(ty: Ty) -> ConstVal {
+        match ty {
+            Ty::Elem(ElemType::Bool) => ConstVal::Bool(false),
+            t if t.is_real() => ConstVal::Real(0.0),
+            _ => ConstVal::Int(0),
+        }
+    }
+
+    /// Converts the value to a variable of type `ty` as an assignment would, or says
+    /// why it cannot.
+    pub fn coerce(self, ty: Ty) -> Result<ConstVal, String> {
+        let Some(e) = ty.elem() else {
+            return Err("expected a value of an elementary type".into());
+        };
+        match (self, e) {
+            (ConstVal::Bool(b), ElemType::Bool) => Ok(ConstVal::Bool(b)),
+            (ConstVal::Int(v), ElemType::Real | ElemType::LReal) => Ok(ConstVal::Real(v as f64)),
+            (ConstVal::Real(r), ElemType::Real | ElemType::LReal) => Ok(ConstVal::Real(r)),
+            (ConstVal::Int(v), e) => match int_range(e) {
+                Some((lo, hi)) if e != ElemType::Bool => {
+                    if v < lo || v > hi {
+                        Err(format!("{v} is out of the range of {}", e.name()))
+                    } else {
+                        Ok(ConstVal::Int(v))
+                    }
+                }
+                _ => Err(format!("an integer cannot be a {}", e.name())),
+            },
+            (ConstVal::Real(_), e) => Err(format!("a real number cannot be a {}", e.name())),
+            (ConstVal::Bool(_), e) => Err(format!("TRUE/FALSE cannot be a {}", e.name())),
+        }
+    }
+}
+
+/// How deep constant definitions may refer to each other (stops cycles).
+const MAX_DEPTH: u32 = 32;
+
+type Lookup<'a> = dyn Fn(Symbol, u32, &dyn Fn(&Expr, u32) -> Option<(ConstVal, Ty)>) -> Option<(ConstVal, Ty)> + 'a;
+
+/// Evaluates a constant expression. `lookup` resolves names of constants (it gets the
+/// evaluator back to evaluate their initialisers). TIME literals evaluate to
+/// milliseconds, LTIME literals to nanoseconds. `None` if the expression is not
+/// constant or overflows.
+pub fn eval(e: &Expr, interner: &Interner, lookup: &Lookup<'_>) -> Option<(ConstVal, Ty)> {
+    eval_depth(e, interner, lookup, 0)
+}
+
+fn eval_depth(e: &Expr, interner: &Interner, lookup: &Lookup<'_>, depth: u32) -> Option<(ConstVal, Ty)> {
+    if depth > MAX_DEPTH {
+        return None;
+    }
+    let rec = |x: &Expr, d: u32| eval_depth(x, interner, lookup, d);
+    match &e.kind {
+        ExprKind::Paren(inner) => rec(inner, depth),
+        ExprKind::Literal(lit) => {
+            let prefix = lit
+                .type_prefix
+                .and_then(|p| ElemType::from_name(interner.name(p.sym)));
+            let (v, t) = match &lit.kind {
+                LiteralKind::Int(v) => (ConstVal::Int(*v), Ty::AnyInt),
+                LiteralKind::Real(text) => (ConstVal::Real(text.parse().ok()?), Ty::AnyReal),
+                LiteralKind::Bool(b) => (ConstVal::Bool(*b), Ty::BOOL),
+                LiteralKind::Duration { ns, long: false } => {
+                    (ConstVal::Int(ns / 1_000_000), Ty::TIME)
+                }
+                LiteralKind::Duration { ns, long: true } => {
+                    (ConstVal::Int(*ns), Ty::Elem(ElemType::LTime))
+                }
+                _ => return None,
+            };
+            match prefix {
+                Some(p) => Some((v.coerce(Ty::Elem(p)).ok()?, Ty::Elem(p))),
+                None => Some((v, t)),
+            }
+        }
+        ExprKind::Name(id) => lookup(id.sym, depth, &|x, d| rec(x, d)),
+        ExprKind::Unary(op, inner) => {
+            let (v, t) = rec(inner, depth + 1)?;
+            let r = match (op, v) {
+                (UnaryOp::Plus, v) => v,
+                (UnaryOp::Neg, ConstVal::Int(i)) => ConstVal::Int(-i),
+                (UnaryOp::Neg, ConstVal::Real(r)) => ConstVal::Real(-r),
+                (UnaryOp::Not, ConstVal::Bool(b)) => ConstVal::Bool(!b),
+                _ => return None,
+            };
+            Some((r, t))
+        }
+        ExprKind::Binary(op, l, r) => {
+            let (a, ta) = rec(l, depth + 1)?;
+            let (b, tb) = rec(r, depth + 1)?;
+            let ty = if ta.is_literal() { tb } else { ta };
+            use BinaryOp::*;
+            let v = match (a, b) {
+                (ConstVal::Int(x), ConstVal::Int(y)) => match op {
+                    Add => ConstVal::Int(x.checked_add(y)?),
+                    Sub => ConstVal::Int(x.checked_sub(y)?),
+                    Mul => ConstVal::Int(x.checked_mul(y)?),
+                    Div => ConstVal::Int(if y == 0 { return None } else { x / y }),
+                    Mod => ConstVal::Int(if y == 0 { return None } else { x % y }),
+                    Pow => ConstVal::Int(x.checked_pow(u32::try_from(y).ok()?)?),
+                    Eq => ConstVal::Bool(x == y),
+                    Ne => ConstVal::Bool(x != y),
+                    Lt => ConstVal::Bool(x < y),
+                    Le => ConstVal::Bool(x <= y),
+                    Gt => ConstVal::Bool(x > y),
+                    Ge => ConstVal::Bool(x >= y),
+                    And | AndThen => ConstVal::Int(x & y),
+                    Or | OrElse => ConstVal::Int(x | y),
+                    Xor => ConstVal::Int(x ^ y),
+                },
+                (ConstVal::Real(x), ConstVal::Real(y)) => match op {
+                    Add => ConstVal::Real(x + y),
+                    Sub => ConstVal::Real(x - y),
+                    Mul => ConstVal::Real(x * y),
+                    Div => ConstVal::Real(x / y),
+                    Pow => ConstVal::Real(x.powf(y)),
+                    Eq => ConstVal::Bool(x == y),
+                    Ne => ConstVal::Bool(x != y),
+                    Lt => ConstVal::Bool(x < y),
+                    Le => ConstVal::Bool(x <= y),
+                    Gt => ConstVal::Bool(x > y),
+                    Ge => ConstVal::Bool(x >= y),
+                    _ => return None,
+                },
+                (ConstVal::Bool(x), ConstVal::Bool(y)) => match op {
+                    And | AndThen => ConstVal::Bool(x && y),
+                    Or | OrElse => ConstVal::Bool(x || y),
+                    Xor => ConstVal::Bool(x ^ y),
+                    Eq => ConstVal::Bool(x == y),
+                    Ne => ConstVal::Bool(x != y),
+                    _ => return None,
+                },
+                _ => return None,
+            };
+            let ty = if matches!(v, ConstVal::Bool(_)) { Ty::BOOL } else { ty };
+            Some((v, ty))
+        }
+        _ => None,
+    }
+}

@@ -1,0 +1,647 @@
+//! Declarations: the POU table, variable interfaces, types, and the IR shells (instance
+//! structs, function signatures) every body is lowered into.
+
+use super::consts::{self, ConstVal};
+use super::{Lowerer, PouInfo, PouIr, Storage, VarInfo};
+use crate::ast::{self, PouKind, TypeSpec, VarKind};
+use crate::codes;
+use crate::types::{ArrayId, ArrayTy, PouId, Ty};
+use plcc_ir::diag::Span;
+use plcc_ir::{
+    AggDef, AggId, ArrayDef, Field, FieldRole, FuncKind, Function, MemType, StructDef, StructKind,
+    Type,
+};
+use rustc_hash::FxHashMap;
+
+/// The largest array the front end accepts (elements), so that a typo such as
+/// `ARRAY[0..1000000000]` is an error rather than gigabytes of memory.
+const MAX_ARRAY_ELEMENTS: u64 = 1 << 24;
+
+impl Lowerer<'_> {
+    /// Fills the POU table from every unit. User POUs shadow standard ones of the same
+    /// name; two user POUs with one name are an error.
+    pub(super) fn collect_pous(&mut self, std_units: usize) {
+        for (u, unit) in self.units.iter().enumerate() {
+            for (i, item) in unit.items.iter().enumerate() {
+                let ast::Item::Pou(p) = item else { continue };
+                let is_std = u < std_units;
+                let id = PouId(self.pous.len() as u32);
+                if let Some(&prev) = self.pou_by_name.get(&p.name.sym) {
+                    let prev_info = &self.pous[prev.0 as usize];
+                    if !prev_info.std {
+                        let prev_span = prev_info.name.span;
+                        let name = self.text(p.name.span).to_string();
+                        self.diags.push(
+                            plcc_ir::diag::Diagnostic::error(
+                                codes::E_DUPLICATE,
+                                format!("`{name}` is declared twice"),
+                                p.name.span,
+                            )
+                            .with_label("second declaration")
+                            .with_secondary(prev_span, "first declared here"),
+                        );
+                        continue;
+                    }
+                }
+                let display = self.text(p.name.span).to_string();
+                self.pous.push(PouInfo {
+                    name: p.name,
+                    display,
+                    kind: p.kind,
+                    unit: u as u32,
+                    item: i as u32,
+                    vars: Vec::new(),
+                    lookup: FxHashMap::default(),
+                    ret: Ty::Void,
+                    std: is_std,
+                    resolved: false,
+                });
+                self.ir.push(PouIr::default());
+                self.used.push(false);
+                self.pou_by_name.insert(p.name.sym, id);
+            }
+        }
+    }
+
+    /// Resolves the variables and result type of a POU.
+    pub(super) fn resolve_interface(&mut self, id: PouId) {
+        let pou = self.pou_ast(id);
+        let is_std = self.pou(id).std;
+        let mut vars: Vec<VarInfo> = Vec::new();
+        let mut lookup = FxHashMap::default();
+        let kind = pou.kind;
+        if kind == PouKind::Function {
+            let ret = match &pou.return_type {
+                Some(spec) => self.resolve_type(spec, id),
+                None => Ty::Void,
+            };
+            if let Ty::Fb(_) | Ty::Array(_) = ret {
+                self.error(
+                    codes::E_UNSUPPORTED,
+                    "not supported yet: FUNCTIONs returning a function block or an array",
+                    pou.return_type.as_ref().map_or(pou.name.span, |s| s.span()),
+                );
+            }
+            self.pous[id.0 as usize].ret = ret;
+        }
+        for (bi, block) in pou.var_blocks.iter().enumerate() {
+            match block.kind {
+                VarKind::Var | VarKind::Input | VarKind::Output | VarKind::InOut | VarKind::Temp => {}
+                VarKind::Global
+                | VarKind::External
+                | VarKind::Access
+                | VarKind::Config
+                | VarKind::Stat => {
+                    let what = match block.kind {
+                        VarKind::Global => "VAR_GLOBAL inside a POU",
+                        VarKind::External => "VAR_EXTERNAL",
+                        VarKind::Access => "VAR_ACCESS",
+                        VarKind::Config => "VAR_CONFIG",
+                        _ => "VAR_STAT",
+                    };
+                    self.error(
+                        codes::E_UNSUPPORTED,
+                        format!("not supported yet: {what}"),
+                        block.span,
+                    );
+                    continue;
+                }
+            }
+            if block.constant && block.kind != VarKind::Var {
+                self.error(
+                    codes::E_BAD_DECLARATION,
+                    "only VAR blocks can be CONSTANT",
+                    block.span,
+                );
+            }
+            for (di, decl) in block.decls.iter().enumerate() {
+                let ty = self.resolve_type(&decl.ty, id);
+                if let Ty::Fb(_) = ty {
+                    if matches!(block.kind, VarKind::Input | VarKind::Output | VarKind::InOut) {
+                        self.error(
+                            codes::E_UNSUPPORTED,
+                            "not supported yet: function block instances as inputs, outputs or in-outs",
+                            decl.ty.span(),
+                        );
+                    }
+                }
+                if let Ty::Array(_) = ty {
+                    if kind != PouKind::Program
+                        && matches!(block.kind, VarKind::Input | VarKind::Output)
+                    {
+                        self.error(
+                            codes::E_UNSUPPORTED,
+                            "not supported yet: arrays as inputs or outputs of FUNCTIONs and function blocks (use VAR_IN_OUT)",
+                            decl.ty.span(),
+                        );
+                    }
+                }
+                for name in &decl.names {
+                    if let Some(&prev) = lookup.get(&name.sym) {
+                        let prev: &VarInfo = &vars[prev as usize];
+                        let prev_span = prev.name.span;
+                        let n = self.text(name.span).to_string();
+                        self.diags.push(
+                            plcc_ir::diag::Diagnostic::error(
+                                codes::E_DUPLICATE,
+                                format!("variable `{n}` is declared twice"),
+                                name.span,
+                            )
+                            .with_secondary(prev_span, "first declared here"),
+                        );
+                        continue;
+                    }
+                    if kind == PouKind::Function && name.sym == pou.name.sym {
+                        self.error(
+                            codes::E_DUPLICATE,
+                            "a variable cannot have the name of its FUNCTION (that name is the result)",
+                            name.span,
+                        );
+                        continue;
+                    }
+                    lookup.insert(name.sym, vars.len() as u32);
+                    vars.push(VarInfo {
+                        name: *name,
+                        display: self.text(name.span).to_string(),
+                        section: block.kind,
+                        constant: block.constant,
+                        ty,
+                        decl: (bi as u32, di as u32),
+                        location: decl.location.as_ref().map(|(l, _)| l.to_string()),
+                    });
+                }
+            }
+        }
+        let _ = is_std;
+        let info = &mut self.pous[id.0 as usize];
+        info.vars = vars;
+        info.lookup = lookup;
+        info.resolved = true;
+        let n = self.pous[id.0 as usize].vars.len();
+        self.ir[id.0 as usize].storage = vec![None; n];
+        self.ir[id.0 as usize].param_of = vec![None; n];
+    }
+
+    /// Resolves a type as written. Errors give [`Ty::Error`].
+    pub(super) fn resolve_type(&mut self, spec: &TypeSpec, pou: PouId) -> Ty {
+        match spec {
+            TypeSpec::Named(id) => {
+                let name = self.sym_name(id.sym).to_string();
+                if let Some(e) = plcc_ir::ElemType::from_name(&name) {
+                    if e == plcc_ir::ElemType::Ref {
+                        self.error(codes::E_UNKNOWN_TYPE, format!("unknown type `{}`", self.text(id.span)), id.span);
+                        return Ty::Error;
+                    }
+                    return Ty::Elem(e);
+                }
+                if matches!(name.as_str(), "LDATE" | "LTOD" | "LTIME_OF_DAY" | "LDT" | "LDATE_AND_TIME") {
+                    self.error(
+                        codes::E_UNSUPPORTED,
+                        format!("not supported yet: the type {name}"),
+                        id.span,
+                    );
+                    return Ty::Error;
+                }
+                if let Some(&p) = self.pou_by_name.get(&id.sym) {
+                    return match self.pou(p).kind {
+                        PouKind::FunctionBlock => Ty::Fb(p),
+                        k => {
+                            let what = if k == PouKind::Program { "PROGRAM" } else { "FUNCTION" };
+                            self.error(
+                                codes::E_NOT_A_TYPE,
+                                format!("`{}` is a {what}, not a type", self.text(id.span)),
+                                id.span,
+                            );
+                            Ty::Error
+                        }
+                    };
+                }
+                if self.is_declared_type(id.sym) {
+                    // Its TYPE declaration was already reported as unsupported.
+                    return Ty::Error;
+                }
+                self.error(
+                    codes::E_UNKNOWN_TYPE,
+                    format!("unknown type `{}`", self.text(id.span)),
+                    id.span,
+                );
+                Ty::Error
+            }
+            TypeSpec::Array { dims, elem, span } => {
+                let elem_ty = self.resolve_type(elem, pou);
+                if elem_ty == Ty::Error {
+                    return Ty::Error;
+                }
+                let mut bounds = Vec::new();
+                for d in dims {
+                    let Some((lo, hi)) = d else {
+                        self.error(
+                            codes::E_UNSUPPORTED,
+                            "not supported yet: variable-length arrays ARRAY[*]",
+                            *span,
+                        );
+                        return Ty::Error;
+                    };
+                    let lo_v = self.const_int(lo, pou);
+                    let hi_v = self.const_int(hi, pou);
+                    let (Some(l), Some(h)) = (lo_v, hi_v) else {
+                        return Ty::Error;
+                    };
+                    if h < l {
+                        self.error(
+                            codes::E_BAD_DECLARATION,
+                            format!("array bounds {l}..{h}: the upper bound is below the lower bound"),
+                            lo.span.to(hi.span),
+                        );
+                        return Ty::Error;
+                    }
+                    bounds.push((l as i64, h as i64));
+                }
+                let mut a = ArrayTy {
+                    elem: elem_ty,
+                    dims: bounds,
+                };
+                // ARRAY[..] OF ARRAY[..] OF T is one array with more dimensions.
+                if let Ty::Array(inner) = elem_ty {
+                    let inner = self.types.get(inner).clone();
+                    a.dims.extend(inner.dims);
+                    a.elem = inner.elem;
+                }
+                let total = a.total() as u128
+                    * match a.elem {
+                        Ty::Fb(_) => 16,
+                        _ => 1,
+                    };
+                if total > MAX_ARRAY_ELEMENTS as u128 {
+                    self.error(
+                        codes::E_BAD_DECLARATION,
+                        format!("array of {} elements is too large", a.total()),
+                        *span,
+                    );
+                    return Ty::Error;
+                }
+                Ty::Array(self.types.array(a))
+            }
+            TypeSpec::String { wide, span, .. } => {
+                let what = if *wide { "WSTRING" } else { "STRING" };
+                self.error(codes::E_UNSUPPORTED, format!("not supported yet: {what}"), *span);
+                Ty::Error
+            }
+            TypeSpec::Subrange { span, .. } => {
+                self.error(codes::E_UNSUPPORTED, "not supported yet: subrange types", *span);
+                Ty::Error
+            }
+            TypeSpec::Enum { span, .. } => {
+                self.error(codes::E_UNSUPPORTED, "not supported yet: enumerations", *span);
+                Ty::Error
+            }
+            TypeSpec::Struct { span, .. } => {
+                self.error(codes::E_UNSUPPORTED, "not supported yet: STRUCT", *span);
+                Ty::Error
+            }
+            TypeSpec::Ref { span, .. } => {
+                self.error(codes::E_UNSUPPORTED, "not supported yet: REF_TO", *span);
+                Ty::Error
+            }
+            TypeSpec::Pointer { span, .. } => {
+                self.error(codes::E_UNSUPPORTED, "not supported yet: POINTER TO", *span);
+                Ty::Error
+            }
+        }
+    }
+
+    fn is_declared_type(&self, sym: crate::intern::Symbol) -> bool {
+        self.units.iter().any(|u| {
+            u.items
+                .iter()
+                .any(|i| matches!(i, ast::Item::Type(t) if t.name.sym == sym))
+        })
+    }
+
+    /// Evaluates a constant integer expression (array bounds); reports what is wrong.
+    fn const_int(&mut self, e: &ast::Expr, pou: PouId) -> Option<i128> {
+        match self.const_eval(e, pou) {
+            Some((ConstVal::Int(v), _)) => Some(v),
+            Some(_) => {
+                self.error(codes::E_NOT_CONSTANT, "expected an integer constant", e.span);
+                None
+            }
+            None => {
+                self.error(
+                    codes::E_NOT_CONSTANT,
+                    "expected a constant expression (literals and VAR CONSTANTs)",
+                    e.span,
+                );
+                None
+            }
+        }
+    }
+
+    /// Evaluates a constant expression in the scope of a POU: literals, operators and
+    /// the POU's VAR CONSTANTs.
+    pub(super) fn const_eval(&mut self, e: &ast::Expr, pou: PouId) -> Option<(ConstVal, Ty)> {
+        let ast = self.pou_ast(pou);
+        let interner = &*self.interner;
+        let lookup = |sym: crate::intern::Symbol, depth: u32, this: &dyn Fn(&ast::Expr, u32) -> Option<(ConstVal, Ty)>| {
+            for block in &ast.var_blocks {
+                if !block.constant {
+                    continue;
+                }
+                for decl in &block.decls {
+                    if decl.names.iter().any(|n| n.sym == sym) {
+                        let Some(ast::Init::Expr(init)) = &decl.init else { return None };
+                        let (v, t) = this(init, depth + 1)?;
+                        // The constant's declared type wins over the literal's.
+                        let ty = match &decl.ty {
+                            TypeSpec::Named(id) => plcc_ir::ElemType::from_name(interner.name(id.sym))
+                                .map(Ty::Elem)
+                                .unwrap_or(t),
+                            _ => t,
+                        };
+                        return Some((v, ty));
+                    }
+                }
+            }
+            None
+        };
+        consts::eval(e, interner, &lookup)
+    }
+
+    /// Marks the POUs whose IR is wanted: every user POU and the standard FBs they use.
+    pub(super) fn mark_used(&mut self) {
+        let mut stack: Vec<PouId> = Vec::new();
+        for (i, p) in self.pous.iter().enumerate() {
+            if !p.std {
+                stack.push(PouId(i as u32));
+            }
+        }
+        // Only user POUs that are still the ones their name resolves to.
+        stack.retain(|&id| self.pou_by_name.get(&self.pou(id).name.sym) == Some(&id));
+        while let Some(id) = stack.pop() {
+            if self.used[id.0 as usize] {
+                continue;
+            }
+            self.used[id.0 as usize] = true;
+            let tys: Vec<Ty> = self.pou(id).vars.iter().map(|v| v.ty).collect();
+            for t in tys {
+                let t = match t {
+                    Ty::Array(a) => self.types.get(a).elem,
+                    t => t,
+                };
+                if let Ty::Fb(p) = t {
+                    stack.push(p);
+                }
+            }
+            // Standard FBs called by name in a body are found when lowering; a std FB
+            // that is only used through a variable is covered above.
+        }
+    }
+
+    /// Creates the instance structs and the (empty) functions of every used POU, so
+    /// that bodies can refer to any of them.
+    pub(super) fn create_shells(&mut self) {
+        // Structs first (empty), so fields can refer to any of them.
+        for i in 0..self.pous.len() {
+            if !self.used[i] {
+                continue;
+            }
+            let p = &self.pous[i];
+            let kind = match p.kind {
+                PouKind::Program => StructKind::Program,
+                PouKind::FunctionBlock => StructKind::FunctionBlock,
+                PouKind::Function => continue,
+            };
+            let agg = self.module.add_agg(AggDef::Struct(StructDef {
+                name: p.display.clone(),
+                kind,
+                fields: Vec::new(),
+            }));
+            self.ir[i].agg = Some(agg);
+        }
+        for i in 0..self.pous.len() {
+            if !self.used[i] {
+                continue;
+            }
+            let id = PouId(i as u32);
+            match self.pous[i].kind {
+                PouKind::Function => self.create_function_shell(id),
+                PouKind::Program | PouKind::FunctionBlock => self.create_instance_shell(id),
+            }
+        }
+    }
+
+    fn create_function_shell(&mut self, id: PouId) {
+        let mut params = Vec::new();
+        let n = self.pou(id).vars.len();
+        for vi in 0..n {
+            let v = &self.pous[id.0 as usize].vars[vi];
+            let ty = match v.section {
+                VarKind::Input => v.ty.ir().unwrap_or(Type::I32),
+                VarKind::InOut | VarKind::Output => Type::Ptr,
+                _ => continue,
+            };
+            self.ir[id.0 as usize].param_of[vi] = Some(params.len() as u32);
+            params.push(ty);
+        }
+        let ret = self.pou(id).ret.ir();
+        let mut f = Function::new(self.pou(id).display.clone(), FuncKind::Function, params, ret);
+        f.span = Some(self.pou(id).name.span);
+        let fid = self.module.add_func(f);
+        self.ir[id.0 as usize].body = Some(fid);
+    }
+
+    fn create_instance_shell(&mut self, id: PouId) {
+        let agg = self.ir[id.0 as usize].agg.expect("instance struct");
+        let is_std = self.pou(id).std;
+        let mut fields = Vec::new();
+        let n = self.pou(id).vars.len();
+        for vi in 0..n {
+            let v = self.pous[id.0 as usize].vars[vi].clone();
+            if v.constant {
+                self.fold_constant(id, vi);
+                continue;
+            }
+            if v.section == VarKind::Temp {
+                continue;
+            }
+            let role = match v.section {
+                VarKind::Input => FieldRole::Input,
+                VarKind::Output => FieldRole::Output,
+                VarKind::InOut => FieldRole::InOut,
+                _ if is_std => FieldRole::Hidden,
+                _ => FieldRole::Var,
+            };
+            let (ty, elem) = if role == FieldRole::InOut {
+                (MemType::Scalar(Type::Ptr), None)
+            } else {
+                match self.mem_type(v.ty) {
+                    Some(t) => t,
+                    None => continue,
+                }
+            };
+            self.ir[id.0 as usize].storage[vi] = Some(Storage::Field(fields.len() as u32));
+            fields.push(Field {
+                name: v.display.clone(),
+                ty,
+                elem,
+                role,
+                location: v.location.clone(),
+            });
+        }
+        if let AggDef::Struct(s) = &mut self.module.aggs[agg.index()] {
+            s.fields = fields;
+        }
+        let (kind, name) = match self.pou(id).kind {
+            PouKind::Program => (FuncKind::ProgramBody, self.pou(id).display.clone()),
+            _ => (FuncKind::FbBody, self.pou(id).display.clone()),
+        };
+        let mut body = Function::new(name.clone(), kind, vec![Type::Ptr], None);
+        body.span = Some(self.pou(id).name.span);
+        let body = self.module.add_func(body);
+        let mut init = Function::new(format!("{name}$init"), FuncKind::Init, vec![Type::Ptr], None);
+        init.span = Some(self.pou(id).name.span);
+        let init = self.module.add_func(init);
+        let ir = &mut self.ir[id.0 as usize];
+        ir.body = Some(body);
+        ir.init = Some(init);
+    }
+
+    /// Folds a VAR CONSTANT to its value; a constant needs a constant initial value.
+    pub(super) fn fold_constant(&mut self, id: PouId, vi: usize) {
+        let v = self.pous[id.0 as usize].vars[vi].clone();
+        let ast = self.pou_ast(id);
+        let decl = &ast.var_blocks[v.decl.0 as usize].decls[v.decl.1 as usize];
+        let value = match &decl.init {
+            Some(ast::Init::Expr(e)) => match self.const_eval(e, id) {
+                Some((c, _)) => Some(c),
+                None => {
+                    self.error(
+                        codes::E_NOT_CONSTANT,
+                        "the initial value of a CONSTANT must be a constant expression",
+                        e.span,
+                    );
+                    None
+                }
+            },
+            Some(other) => {
+                self.error(
+                    codes::E_UNSUPPORTED,
+                    "not supported yet: constants of array or structured types",
+                    other.span(),
+                );
+                None
+            }
+            None => Some(ConstVal::zero_of(v.ty)),
+        };
+        let Some(mut value) = value else { return };
+        if v.ty.elem().is_none() {
+            if v.ty != Ty::Error {
+                self.error(
+                    codes::E_UNSUPPORTED,
+                    "not supported yet: constants that are not of an elementary type",
+                    v.name.span,
+                );
+            }
+            return;
+        }
+        match value.coerce(v.ty) {
+            Ok(c) => value = c,
+            Err(msg) => {
+                let span = decl.init.as_ref().map_or(v.name.span, |i| i.span());
+                self.error(codes::E_TYPE_MISMATCH, msg, span);
+                return;
+            }
+        }
+        let ir = &mut self.ir[id.0 as usize];
+        ir.storage[vi] = Some(Storage::Const(ir.consts.len() as u32));
+        ir.consts.push(value);
+    }
+
+    /// The IR memory type of a variable type (and its IEC type for scalars).
+    pub(super) fn mem_type(&mut self, ty: Ty) -> Option<(MemType, Option<plcc_ir::ElemType>)> {
+        match ty {
+            Ty::Elem(e) => Some((MemType::Scalar(e.ir_type()), Some(e))),
+            Ty::Fb(p) => self.ir[p.0 as usize]
+                .agg
+                .map(|a| (MemType::Agg(a), None)),
+            Ty::Array(a) => Some((MemType::Agg(self.array_agg(a, 0)), None)),
+            _ => None,
+        }
+    }
+
+    /// The IR array for dimension `dim` (and the ones after it) of an array type.
+    pub(super) fn array_agg(&mut self, a: ArrayId, dim: u32) -> AggId {
+        if let Some(&agg) = self.array_aggs.get(&(a, dim)) {
+            return agg;
+        }
+        let at = self.types.get(a).clone();
+        let (elem, elem_type) = if (dim as usize) + 1 < at.dims.len() {
+            (MemType::Agg(self.array_agg(a, dim + 1)), None)
+        } else {
+            self.mem_type(at.elem).unwrap_or((MemType::Scalar(Type::I8), None))
+        };
+        let (lo, hi) = at.dims[dim as usize];
+        let name = format!("arr{}", self.module.aggs.len());
+        let agg = self.module.add_agg(AggDef::Array(ArrayDef {
+            name,
+            elem,
+            elem_type,
+            len: (hi - lo + 1) as u32,
+            lower: lo,
+        }));
+        self.array_aggs.insert((a, dim), agg);
+        agg
+    }
+
+    /// Reports calls that form a cycle (IEC 61131-3 forbids recursion).
+    pub(super) fn check_recursion(&mut self) {
+        let n = self.pous.len();
+        let mut edges: Vec<Vec<(PouId, Span)>> = vec![Vec::new(); n];
+        for &(from, to, span) in &self.calls {
+            edges[from.0 as usize].push((to, span));
+        }
+        // Iterative DFS with colours; a back edge closes a cycle.
+        let mut colour = vec![0u8; n];
+        let mut reported = vec![false; n];
+        for start in 0..n {
+            if colour[start] != 0 {
+                continue;
+            }
+            let mut stack: Vec<(usize, usize)> = vec![(start, 0)];
+            colour[start] = 1;
+            while let Some(&mut (node, ref mut next)) = stack.last_mut() {
+                if *next < edges[node].len() {
+                    let (to, span) = edges[node][*next];
+                    *next += 1;
+                    let t = to.0 as usize;
+                    if colour[t] == 1 {
+                        if !reported[t] {
+                            reported[t] = true;
+                            let path: Vec<String> = stack
+                                .iter()
+                                .skip_while(|(x, _)| *x != t)
+                                .map(|(x, _)| self.pous[*x].display.clone())
+                                .chain(std::iter::once(self.pous[t].display.clone()))
+                                .collect();
+                            self.diags.push(
+                                plcc_ir::diag::Diagnostic::error(
+                                    codes::E_RECURSION,
+                                    format!("recursion is not allowed: {}", path.join(" -> ")),
+                                    span,
+                                )
+                                .with_label("this call closes the cycle")
+                                .with_note("IEC 61131-3 forbids recursive calls, so every frame can be static"),
+                            );
+                        }
+                    } else if colour[t] == 0 {
+                        colour[t] = 1;
+                        stack.push((t, 0));
+                    }
+                } else {
+                    colour[node] = 2;
+                    stack.pop();
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,1014 @@
+//! Expressions: type inference, type checking and emission.
+//!
+//! `infer` computes an expression's type without emitting anything (literals stay
+//! [`Ty::AnyInt`]/[`Ty::AnyReal`]); `emit` then emits it, giving untyped literals the
+//! type the context wants. Operators follow IEC 61131-3: both operands get one common
+//! type by implicit widening, integer literals adapt to the other operand.
+
+use super::body::{BodyCx, Named, Place};
+use super::consts::ConstVal;
+use crate::ast::{BinaryOp as Op, Expr, ExprKind, LiteralKind, UnaryOp as UOp};
+use crate::codes;
+use crate::types::{implicit, Ty};
+use plcc_ir::diag::Span;
+use plcc_ir::{BinaryOp, ConvOp, ElemType, FloatCC, IntCC, Type, UnaryOp, Value};
+
+/// An emitted value and its (concrete) type.
+#[derive(Copy, Clone, Debug)]
+pub(super) struct Val {
+    pub v: Value,
+    pub ty: Ty,
+}
+
+/// How a binary operator's operands and result are typed.
+#[derive(Copy, Clone, Debug)]
+pub(super) struct BinTyping {
+    /// The type both operands are emitted at (may be a literal type).
+    pub operand: Ty,
+    /// For TIME * n and TIME / n: the type of the right operand.
+    pub right: Option<Ty>,
+    /// The result type.
+    pub result: Ty,
+}
+
+/// The common type of two operands, or `None` if they do not combine.
+pub(super) fn unify(a: Ty, b: Ty) -> Option<Ty> {
+    use Ty::*;
+    Some(match (a, b) {
+        (Error, _) | (_, Error) => Error,
+        (x, y) if x == y => x,
+        (AnyInt, AnyReal) | (AnyReal, AnyInt) => AnyReal,
+        (AnyInt, t) | (t, AnyInt) => {
+            if t.is_numeric() {
+                t
+            } else {
+                return None;
+            }
+        }
+        (AnyReal, t) | (t, AnyReal) => {
+            if t.is_real() {
+                t
+            } else {
+                return None;
+            }
+        }
+        (Elem(x), Elem(y)) => {
+            if implicit(x, y) {
+                Elem(y)
+            } else if implicit(y, x) {
+                Elem(x)
+            } else {
+                return None;
+            }
+        }
+        _ => return None,
+    })
+}
+
+/// The concrete type a literal type takes in a context that wants `want`: the wanted
+/// type if it is of the same kind, else the default (DINT, LREAL).
+pub(super) fn concretize(t: Ty, want: Option<Ty>) -> Ty {
+    match t {
+        Ty::AnyInt => match want {
+            Some(w @ Ty::Elem(e)) if w.is_int_like() || e.is_real() => w,
+            _ => Ty::DINT,
+        },
+        Ty::AnyReal => match want {
+            Some(w) if w.is_real() && !w.is_literal() => w,
+            _ => Ty::Elem(ElemType::LReal),
+        },
+        t => t,
+    }
+}
+
+fn is_duration(t: Ty) -> bool {
+    t.elem().is_some_and(|e| e.is_duration())
+}
+
+/// Types a binary operator. The error text says what is wrong.
+pub(super) fn binary_typing(op: Op, l: Ty, r: Ty, names: &dyn Fn(Ty) -> String) -> Result<BinTyping, String> {
+    let mismatch = || {
+        format!(
+            "`{}` cannot combine {} and {}",
+            op.symbol(),
+            names(l),
+            names(r)
+        )
+    };
+    if l == Ty::Error || r == Ty::Error {
+        return Ok(BinTyping {
+            operand: Ty::Error,
+            right: None,
+            result: if matches!(op, Op::Eq | Op::Ne | Op::Lt | Op::Le | Op::Gt | Op::Ge) {
+                Ty::BOOL
+            } else {
+                Ty::Error
+            },
+        });
+    }
+    let same = |t: Ty| BinTyping {
+        operand: t,
+        right: None,
+        result: t,
+    };
+    match op {
+        Op::And | Op::Or | Op::Xor => {
+            let t = unify(l, r).ok_or_else(mismatch)?;
+            if t == Ty::BOOL || t.is_int_like() {
+                Ok(same(t))
+            } else {
+                Err(format!(
+                    "`{}` needs BOOL or bit-string operands, not {}",
+                    op.symbol(),
+                    names(t)
+                ))
+            }
+        }
+        Op::AndThen | Op::OrElse => {
+            if unify(l, r) == Some(Ty::BOOL) {
+                Ok(same(Ty::BOOL))
+            } else {
+                Err(format!("`{}` needs BOOL operands", op.symbol()))
+            }
+        }
+        Op::Eq | Op::Ne | Op::Lt | Op::Le | Op::Gt | Op::Ge => {
+            let t = unify(l, r).ok_or_else(mismatch)?;
+            if t.elem().is_some() || t.is_literal() {
+                Ok(BinTyping {
+                    operand: t,
+                    right: None,
+                    result: Ty::BOOL,
+                })
+            } else {
+                Err(format!("`{}` cannot compare values of type {}", op.symbol(), names(t)))
+            }
+        }
+        Op::Add | Op::Sub => {
+            if is_duration(l) || is_duration(r) {
+                let t = unify(l, r).filter(|t| is_duration(*t)).ok_or_else(mismatch)?;
+                return Ok(same(t));
+            }
+            let t = unify(l, r).ok_or_else(mismatch)?;
+            if t.is_numeric() {
+                Ok(same(t))
+            } else {
+                Err(mismatch())
+            }
+        }
+        Op::Mul | Op::Div => {
+            if is_duration(l) && r.is_numeric() {
+                return Ok(BinTyping {
+                    operand: l,
+                    right: Some(r),
+                    result: l,
+                });
+            }
+            if op == Op::Mul && is_duration(r) && l.is_numeric() {
+                return Ok(BinTyping {
+                    operand: r,
+                    right: Some(l),
+                    result: r,
+                });
+            }
+            let t = unify(l, r).ok_or_else(mismatch)?;
+            if t.is_numeric() {
+                Ok(same(t))
+            } else {
+                Err(mismatch())
+            }
+        }
+        Op::Mod => {
+            let t = unify(l, r).ok_or_else(mismatch)?;
+            if t.is_int_like() {
+                Ok(same(t))
+            } else {
+                Err(format!("MOD needs integer operands, not {}", names(t)))
+            }
+        }
+        Op::Pow => {
+            if !(l.is_numeric() && r.is_numeric()) {
+                return Err(mismatch());
+            }
+            if l.is_real() {
+                Ok(BinTyping {
+                    operand: l,
+                    right: Some(r),
+                    result: l,
+                })
+            } else if r.is_real() {
+                // An integer base with a real exponent computes in the exponent's type.
+                let t = if r == Ty::AnyReal { Ty::Elem(ElemType::LReal) } else { r };
+                Ok(BinTyping {
+                    operand: t,
+                    right: Some(r),
+                    result: t,
+                })
+            } else {
+                Ok(BinTyping {
+                    operand: l,
+                    right: Some(r),
+                    result: l,
+                })
+            }
+        }
+    }
+}
+
+impl<'s> BodyCx<'_, 's> {
+    /// The type of an expression, without emitting anything or reporting errors.
+    pub(super) fn infer(&mut self, e: &Expr) -> Ty {
+        match &e.kind {
+            ExprKind::Paren(x) => self.infer(x),
+            ExprKind::Literal(lit) => {
+                if let Some(p) = lit.type_prefix {
+                    if let Some(t) = ElemType::from_name(self.l.sym_name(p.sym)) {
+                        return Ty::Elem(t);
+                    }
+                    return Ty::Error;
+                }
+                match &lit.kind {
+                    LiteralKind::Int(_) => Ty::AnyInt,
+                    LiteralKind::Real(_) => Ty::AnyReal,
+                    LiteralKind::Bool(_) => Ty::BOOL,
+                    LiteralKind::Duration { long: false, .. } => Ty::TIME,
+                    LiteralKind::Duration { long: true, .. } => Ty::Elem(ElemType::LTime),
+                    _ => Ty::Error,
+                }
+            }
+            ExprKind::Name(id) => self.name_type(id.sym),
+            ExprKind::Member(base, name) => match self.infer(base) {
+                Ty::Fb(p) => self
+                    .l
+                    .pou(p)
+                    .var(name.sym)
+                    .map(|vi| self.l.pou(p).vars[vi as usize].ty)
+                    .unwrap_or(Ty::Error),
+                _ => Ty::Error,
+            },
+            ExprKind::Bit(..) => Ty::BOOL,
+            ExprKind::Index(base, idx) => match self.infer(base) {
+                Ty::Array(a) if self.l.types.get(a).dims.len() == idx.len() => self.l.types.get(a).elem,
+                _ => Ty::Error,
+            },
+            ExprKind::Unary(UOp::Not, x) | ExprKind::Unary(UOp::Neg, x) | ExprKind::Unary(UOp::Plus, x) => {
+                self.infer(x)
+            }
+            ExprKind::Binary(op, a, b) => {
+                let (l, r) = (self.infer(a), self.infer(b));
+                binary_typing(*op, l, r, &|_| String::new())
+                    .map(|t| t.result)
+                    .unwrap_or(Ty::Error)
+            }
+            ExprKind::Call { callee, args } => self.infer_call(callee, args),
+            _ => Ty::Error,
+        }
+    }
+
+    /// The type of a plain name (without emitting code).
+    fn name_type(&self, sym: crate::intern::Symbol) -> Ty {
+        let pou = self.l.pou(self.pou);
+        if let Some(vi) = pou.var(sym) {
+            return pou.vars[vi as usize].ty;
+        }
+        if pou.kind == crate::ast::PouKind::Function && pou.name.sym == sym {
+            return pou.ret;
+        }
+        Ty::Error
+    }
+
+    /// Emits an expression and converts it (implicitly, with checks) to `target`.
+    pub(super) fn emit_as(&mut self, e: &'s Expr, target: Ty) -> Value {
+        let v = self.emit(e, Some(target));
+        self.coerce(v, target, e.span)
+    }
+
+    /// Converts a value to `target` if IEC allows it implicitly; reports otherwise.
+    pub(super) fn coerce(&mut self, v: Val, target: Ty, span: Span) -> Value {
+        if v.ty == target {
+            return v.v;
+        }
+        if v.ty == Ty::Error || target == Ty::Error {
+            return self.zero(target);
+        }
+        match (v.ty, target) {
+            (Ty::Elem(from), Ty::Elem(to)) if implicit(from, to) => self.convert(v.v, from, to),
+            (Ty::Elem(from), Ty::Elem(to)) => {
+                let d = plcc_ir::diag::Diagnostic::error(
+                    codes::E_TYPE_MISMATCH,
+                    format!("expected {}, found {}", to.name(), from.name()),
+                    span,
+                )
+                .with_label(format!("this is {}", from.name()))
+                .with_note(format!(
+                    "convert explicitly, e.g. `{}_TO_{}(...)`",
+                    from.name(),
+                    to.name()
+                ));
+                self.l.diags.push(d);
+                self.zero(target)
+            }
+            _ => {
+                let (a, b) = (self.l.ty_name(target), self.l.ty_name(v.ty));
+                self.l.error(codes::E_TYPE_MISMATCH, format!("expected {a}, found {b}"), span);
+                self.zero(target)
+            }
+        }
+    }
+
+    /// Emits an expression. `want` is the type the context would like (it decides the
+    /// type of untyped literals); the result may still have another type.
+    pub(super) fn emit(&mut self, e: &'s Expr, want: Option<Ty>) -> Val {
+        match &e.kind {
+            ExprKind::Paren(x) => self.emit(x, want),
+            ExprKind::Literal(_) => self.literal(e, want, false),
+            ExprKind::Name(id) => match self.resolve_name(*id, true) {
+                Named::Place(p) => {
+                    let v = self.load_place(&p);
+                    Val { v, ty: p.ty }
+                }
+                Named::Const(c, ty) => self.constant(c, ty, want, e.span),
+                Named::Error => self.error_val(),
+            },
+            ExprKind::Member(..) | ExprKind::Index(..) | ExprKind::Bit(..) => match self.place(e) {
+                Some(p) => {
+                    if p.ty.elem().is_none() && p.ty != Ty::Error {
+                        let t = self.l.ty_name(p.ty);
+                        self.l.error(
+                            codes::E_TYPE_MISMATCH,
+                            format!("a whole {t} cannot be used as a value here"),
+                            e.span,
+                        );
+                        return self.error_val();
+                    }
+                    let v = self.load_place(&p);
+                    Val { v, ty: p.ty }
+                }
+                None => self.error_val(),
+            },
+            ExprKind::Unary(op, x) => self.unary(*op, x, want, e.span),
+            ExprKind::Binary(op, a, b) => self.binary(*op, a, b, want, e.span),
+            ExprKind::Call { callee, args } => match self.call_expr(callee, args, want, e.span) {
+                Some(v) => v,
+                None => self.error_val(),
+            },
+            ExprKind::Deref(_) => self.unsupported("dereferencing with ^", e.span),
+            ExprKind::EnumValue { .. } => self.unsupported("enumerations", e.span),
+            ExprKind::DirectAddress(_) => self.unsupported("direct addresses in expressions", e.span),
+            ExprKind::Partial(..) => self.unsupported("partial access (.%B, .%W, .%D)", e.span),
+        }
+    }
+
+    pub(super) fn unsupported(&mut self, what: &str, span: Span) -> Val {
+        self.l.error(codes::E_UNSUPPORTED, format!("not supported yet: {what}"), span);
+        self.error_val()
+    }
+
+    /// A placeholder for an expression that had an error.
+    pub(super) fn error_val(&mut self) -> Val {
+        let v = self.b.iconst(Type::I32, 0);
+        Val { v, ty: Ty::Error }
+    }
+
+    /// Emits a literal; `negate` folds a unary minus in (so `-128` is a SINT).
+    fn literal(&mut self, e: &'s Expr, want: Option<Ty>, negate: bool) -> Val {
+        let ExprKind::Literal(lit) = &e.kind else { unreachable!() };
+        let prefix = match lit.type_prefix {
+            Some(p) => match ElemType::from_name(self.l.sym_name(p.sym)) {
+                Some(t) => Some(Ty::Elem(t)),
+                None => {
+                    let n = self.l.text(p.span).to_string();
+                    self.l.error(codes::E_UNKNOWN_TYPE, format!("unknown type `{n}` in a typed literal"), p.span);
+                    return self.error_val();
+                }
+            },
+            None => None,
+        };
+        let (value, lit_ty) = match &lit.kind {
+            LiteralKind::Int(v) => (ConstVal::Int(if negate { -v } else { *v }), Ty::AnyInt),
+            LiteralKind::Real(text) => {
+                // Keep the text so REAL literals round once, straight to binary32.
+                let ty = concretize(prefix.unwrap_or(Ty::AnyReal), want);
+                let ty = if prefix.is_some() { prefix.unwrap_or(ty) } else { ty };
+                return match ty {
+                    Ty::Elem(ElemType::Real) => {
+                        let f: f32 = text.parse().unwrap_or(0.0);
+                        let v = self.b.f32const(if negate { -f } else { f });
+                        Val { v, ty }
+                    }
+                    Ty::Elem(ElemType::LReal) => {
+                        let f: f64 = text.parse().unwrap_or(0.0);
+                        let v = self.b.f64const(if negate { -f } else { f });
+                        Val { v, ty }
+                    }
+                    _ => {
+                        let t = self.l.ty_name(ty);
+                        self.l.error(codes::E_TYPE_MISMATCH, format!("a real literal cannot be a {t}"), e.span);
+                        self.error_val()
+                    }
+                };
+            }
+            LiteralKind::Bool(b) => (ConstVal::Bool(*b), Ty::BOOL),
+            LiteralKind::Duration { ns, long } => {
+                let ns = if negate { -ns } else { *ns };
+                if *long {
+                    (ConstVal::Int(ns), Ty::Elem(ElemType::LTime))
+                } else {
+                    (ConstVal::Int(ns / 1_000_000), Ty::TIME)
+                }
+            }
+            LiteralKind::String { .. } => return self.unsupported("STRING literals", e.span),
+            _ => return self.unsupported("date and time-of-day literals", e.span),
+        };
+        let ty = match prefix {
+            Some(p) => {
+                if let (Ty::Elem(ElemType::Bool), ConstVal::Int(v)) = (p, value) {
+                    if v == 0 || v == 1 {
+                        let v = self.b.iconst(Type::I1, v as i64);
+                        return Val { v, ty: p };
+                    }
+                }
+                p
+            }
+            None => concretize(lit_ty, want),
+        };
+        self.constant(value, ty, None, e.span)
+    }
+
+    /// Emits a constant of type `ty` (a literal type is made concrete with `want`).
+    pub(super) fn constant(&mut self, c: ConstVal, ty: Ty, want: Option<Ty>, span: Span) -> Val {
+        let ty = concretize(ty, want);
+        let c = match c.coerce(ty) {
+            Ok(c) => c,
+            Err(msg) => {
+                self.l.error(codes::E_LITERAL_RANGE, msg, span);
+                return self.error_val();
+            }
+        };
+        let v = match (c, ty.ir()) {
+            (ConstVal::Bool(b), _) => self.b.iconst(Type::I1, b as i64),
+            (ConstVal::Real(r), Some(t)) => self.b.fconst(t, r),
+            (ConstVal::Int(i), Some(t)) => self.b.iconst(t, i as i64),
+            _ => return self.error_val(),
+        };
+        Val { v, ty }
+    }
+
+    fn unary(&mut self, op: UOp, x: &'s Expr, want: Option<Ty>, span: Span) -> Val {
+        match op {
+            UOp::Plus => self.emit(x, want),
+            UOp::Neg => {
+                let mut inner = x;
+                while let ExprKind::Paren(i) = &inner.kind {
+                    inner = i;
+                }
+                if let ExprKind::Literal(lit) = &inner.kind {
+                    if !matches!(lit.kind, LiteralKind::Bool(_) | LiteralKind::String { .. }) {
+                        return self.literal(inner, want, true);
+                    }
+                }
+                let v = self.emit(x, want);
+                match v.ty {
+                    Ty::Error => v,
+                    t if t.is_real() => Val {
+                        v: self.b.unary(UnaryOp::Fneg, v.v),
+                        ty: t,
+                    },
+                    t if t.is_signed() => Val {
+                        v: self.b.unary(UnaryOp::Ineg, v.v),
+                        ty: t,
+                    },
+                    t => {
+                        let n = self.l.ty_name(t);
+                        self.l.error(
+                            codes::E_TYPE_MISMATCH,
+                            format!("cannot negate a value of type {n} (it has no sign)"),
+                            span,
+                        );
+                        self.error_val()
+                    }
+                }
+            }
+            UOp::Not => {
+                let v = self.emit(x, want);
+                match v.ty {
+                    Ty::Error => v,
+                    t if t == Ty::BOOL || t.is_int_like() => Val {
+                        v: self.b.unary(UnaryOp::Bnot, v.v),
+                        ty: t,
+                    },
+                    t => {
+                        let n = self.l.ty_name(t);
+                        self.l.error(
+                            codes::E_TYPE_MISMATCH,
+                            format!("NOT needs a BOOL or a bit string, not {n}"),
+                            span,
+                        );
+                        self.error_val()
+                    }
+                }
+            }
+        }
+    }
+
+    fn binary(&mut self, op: Op, a: &'s Expr, b: &'s Expr, want: Option<Ty>, span: Span) -> Val {
+        let (lt, rt) = (self.infer(a), self.infer(b));
+        let typing = {
+            let l = &*self.l;
+            binary_typing(op, lt, rt, &|t| l.ty_name(t))
+        };
+        let typing = match typing {
+            Ok(t) => t,
+            Err(msg) => {
+                // Emit both sides for their own errors, then report the mismatch.
+                let _ = self.emit(a, None);
+                let _ = self.emit(b, None);
+                self.l.error(codes::E_TYPE_MISMATCH, msg, span);
+                return self.error_val();
+            }
+        };
+        if matches!(op, Op::AndThen | Op::OrElse) {
+            return self.short_circuit(op, a, b);
+        }
+        let is_cmp = matches!(op, Op::Eq | Op::Ne | Op::Lt | Op::Le | Op::Gt | Op::Ge);
+        let operand = if is_cmp {
+            concretize(typing.operand, None)
+        } else {
+            concretize(typing.operand, want)
+        };
+        if operand == Ty::Error {
+            let _ = self.emit(a, None);
+            let _ = self.emit(b, None);
+            return Val {
+                v: self.zero(typing.result),
+                ty: if is_cmp { Ty::BOOL } else { Ty::Error },
+            };
+        }
+        let result = if is_cmp { Ty::BOOL } else { operand };
+        // TIME * n, n * TIME, TIME / n, x ** n: the right operand keeps its own type.
+        if let Some(rt) = typing.right {
+            return self.mixed_binary(op, a, b, operand, rt, span);
+        }
+        let x = self.emit_as(a, operand);
+        let y = self.emit_as(b, operand);
+        let Some(e) = operand.elem() else {
+            return self.error_val();
+        };
+        let v = self.arith(op, x, y, e);
+        Val { v, ty: result }
+    }
+
+    /// The IR for `x op y` on operands of type `e` (both already of that type).
+    pub(super) fn arith(&mut self, op: Op, x: Value, y: Value, e: ElemType) -> Value {
+        let float = e.is_real();
+        let signed = e.is_signed();
+        let b = &mut self.b;
+        match op {
+            Op::Add => b.binary(if float { BinaryOp::Fadd } else { BinaryOp::Iadd }, x, y),
+            Op::Sub => b.binary(if float { BinaryOp::Fsub } else { BinaryOp::Isub }, x, y),
+            Op::Mul => b.binary(if float { BinaryOp::Fmul } else { BinaryOp::Imul }, x, y),
+            Op::Div => b.binary(
+                if float {
+                    BinaryOp::Fdiv
+                } else if signed {
+                    BinaryOp::Sdiv
+                } else {
+                    BinaryOp::Udiv
+                },
+                x,
+                y,
+            ),
+            Op::Mod => b.binary(if signed { BinaryOp::Srem } else { BinaryOp::Urem }, x, y),
+            Op::And | Op::AndThen => b.binary(BinaryOp::Band, x, y),
+            Op::Or | Op::OrElse => b.binary(BinaryOp::Bor, x, y),
+            Op::Xor => b.binary(BinaryOp::Bxor, x, y),
+            Op::Eq | Op::Ne | Op::Lt | Op::Le | Op::Gt | Op::Ge => {
+                if float {
+                    let cc = match op {
+                        Op::Eq => FloatCC::Eq,
+                        Op::Ne => FloatCC::Ne,
+                        Op::Lt => FloatCC::Lt,
+                        Op::Le => FloatCC::Le,
+                        Op::Gt => FloatCC::Gt,
+                        _ => FloatCC::Ge,
+                    };
+                    b.fcmp(cc, x, y)
+                } else {
+                    let cc = match (op, signed) {
+                        (Op::Eq, _) => IntCC::Eq,
+                        (Op::Ne, _) => IntCC::Ne,
+                        (Op::Lt, true) => IntCC::Slt,
+                        (Op::Le, true) => IntCC::Sle,
+                        (Op::Gt, true) => IntCC::Sgt,
+                        (Op::Ge, true) => IntCC::Sge,
+                        (Op::Lt, false) => IntCC::Ult,
+                        (Op::Le, false) => IntCC::Ule,
+                        (Op::Gt, false) => IntCC::Ugt,
+                        _ => IntCC::Uge,
+                    };
+                    b.icmp(cc, x, y)
+                }
+            }
+            Op::Pow => unreachable!("** is lowered by mixed_binary"),
+        }
+    }
+
+    /// Operators whose right operand keeps its own type: TIME * n, TIME / n, and `**`.
+    fn mixed_binary(&mut self, op: Op, a: &'s Expr, b: &'s Expr, operand: Ty, right: Ty, span: Span) -> Val {
+        let (left_e, right_e, right_ty, time_on_right) =
+            if op == Op::Mul && is_duration(self.infer(b)) && !is_duration(self.infer(a)) {
+                (b, a, self.infer(a), true)
+            } else {
+                (a, b, right, false)
+            };
+        let _ = time_on_right;
+        let x = self.emit_as(left_e, operand);
+        let n = self.emit(right_e, Some(concretize(right_ty, None)));
+        let Some(e) = operand.elem() else {
+            return self.error_val();
+        };
+        if op == Op::Pow {
+            let v = self.power(x, e, n, span);
+            return Val { v, ty: operand };
+        }
+        // TIME scaled by a number: integers multiply/divide the count of ms, reals go
+        // through LREAL and truncate toward zero.
+        let t = e.ir_type();
+        let v = match n.ty {
+            Ty::Error => x,
+            nt if nt.is_real() => {
+                let nf = self.to_lreal(n);
+                let xf = self.b.convert(ConvOp::SiToF, Type::F64, x);
+                let r = self.b.binary(
+                    if op == Op::Mul { BinaryOp::Fmul } else { BinaryOp::Fdiv },
+                    xf,
+                    nf,
+                );
+                self.b.convert(ConvOp::FToSi, t, r)
+            }
+            Ty::Elem(ne) => {
+                let nv = self.convert(n.v, ne, e);
+                self.b.binary(if op == Op::Mul { BinaryOp::Imul } else { BinaryOp::Sdiv }, x, nv)
+            }
+            _ => x,
+        };
+        Val { v, ty: operand }
+    }
+
+    /// A REAL or LREAL value as LREAL.
+    pub(super) fn to_lreal(&mut self, v: Val) -> Value {
+        match v.ty {
+            Ty::Elem(ElemType::Real) => self.b.convert(ConvOp::Fpromote, Type::F64, v.v),
+            _ => v.v,
+        }
+    }
+
+    /// `x ** n` with `x` of type `e`.
+    fn power(&mut self, x: Value, e: ElemType, n: Val, span: Span) -> Value {
+        if e.is_real() {
+            let t = e.ir_type();
+            let nv = match n.ty {
+                Ty::Elem(ne) if ne.is_real() => {
+                    if ne == e {
+                        n.v
+                    } else {
+                        self.convert(n.v, ne, e)
+                    }
+                }
+                Ty::Elem(ne) if ne.is_integer() => self.convert(n.v, ne, e),
+                Ty::Error => self.b.fconst(t, 1.0),
+                other => {
+                    let name = self.l.ty_name(other);
+                    self.l.error(codes::E_TYPE_MISMATCH, format!("an exponent cannot be {name}"), span);
+                    self.b.fconst(t, 1.0)
+                }
+            };
+            return self.b.binary(BinaryOp::Fpow, x, nv);
+        }
+        // Integer power by repeated squaring (a helper function).
+        let exp = match n.ty {
+            Ty::Elem(ne) if ne.is_integer() || ne.is_bit_string() => self.convert(n.v, ne, ElemType::LInt),
+            Ty::Error => self.b.iconst(Type::I64, 1),
+            other => {
+                let name = self.l.ty_name(other);
+                self.l.error(codes::E_TYPE_MISMATCH, format!("an integer power needs an integer exponent, not {name}"), span);
+                self.b.iconst(Type::I64, 1)
+            }
+        };
+        let f = self.l.ipow_helper(e.ir_type());
+        self.b
+            .call(f, Some(e.ir_type()), vec![x, exp])
+            .expect("ipow returns a value")
+    }
+
+    /// `a AND_THEN b` / `a OR_ELSE b`: the right side runs only when needed.
+    fn short_circuit(&mut self, op: Op, a: &'s Expr, b: &'s Expr) -> Val {
+        let x = self.emit_as(a, Ty::BOOL);
+        let rhs = self.b.create_block();
+        let join = self.b.create_block();
+        let r = self.b.block_param(join, Type::I1);
+        if op == Op::AndThen {
+            self.b.brif(x, rhs, vec![], join, vec![x]);
+        } else {
+            self.b.brif(x, join, vec![x], rhs, vec![]);
+        }
+        self.b.switch_to(rhs);
+        let y = self.emit_as(b, Ty::BOOL);
+        self.b.jump(join, vec![y]);
+        self.b.switch_to(join);
+        Val { v: r, ty: Ty::BOOL }
+    }
+
+    /// Explicit conversion between elementary types (`*_TO_*`), with the semantics of
+    /// DESIGN.md: narrowing wraps, reals round to nearest (ties to even) and
+    /// saturate, NaN gives 0, TIME counts milliseconds and LTIME nanoseconds.
+    pub(super) fn convert(&mut self, v: Value, from: ElemType, to: ElemType) -> Value {
+        use ElemType::*;
+        if from == to {
+            return v;
+        }
+        let (ft, tt) = (from.ir_type(), to.ir_type());
+        match (from, to) {
+            (Time, LTime) => {
+                let w = self.b.convert(ConvOp::Sext, Type::I64, v);
+                let k = self.b.iconst(Type::I64, 1_000_000);
+                return self.b.binary(BinaryOp::Imul, w, k);
+            }
+            (LTime, Time) => {
+                let k = self.b.iconst(Type::I64, 1_000_000);
+                let d = self.b.binary(BinaryOp::Sdiv, v, k);
+                return self.b.convert(ConvOp::Itrunc, Type::I32, d);
+            }
+            _ => {}
+        }
+        if to == Bool {
+            return if ft.is_float() {
+                let z = self.b.fconst(ft, 0.0);
+                self.b.fcmp(FloatCC::Ne, v, z)
+            } else {
+                let z = self.b.iconst(ft, 0);
+                self.b.icmp(IntCC::Ne, v, z)
+            };
+        }
+        if from == Bool {
+            let one_or_zero = if tt.is_float() {
+                let w = self.b.convert(ConvOp::Uext, Type::I32, v);
+                return self.b.convert(ConvOp::SiToF, tt, w);
+            } else {
+                self.b.convert(ConvOp::Uext, tt, v)
+            };
+            return one_or_zero;
+        }
+        match (ft.is_float(), tt.is_float()) {
+            (true, true) => {
+                if ft == tt {
+                    v
+                } else if tt == Type::F64 {
+                    self.b.convert(ConvOp::Fpromote, Type::F64, v)
+                } else {
+                    self.b.convert(ConvOp::Fdemote, Type::F32, v)
+                }
+            }
+            (false, true) => {
+                let op = if from.is_signed() { ConvOp::SiToF } else { ConvOp::UiToF };
+                self.b.convert(op, tt, v)
+            }
+            (true, false) => {
+                let r = self.b.unary(UnaryOp::Fnearest, v);
+                let op = if to.is_signed() { ConvOp::FToSi } else { ConvOp::FToUi };
+                self.b.convert(op, tt, r)
+            }
+            (false, false) => {
+                let (fb, tb) = (ft.bits(), tt.bits());
+                if fb == tb {
+                    v
+                } else if fb > tb {
+                    self.b.convert(ConvOp::Itrunc, tt, v)
+                } else if from.is_signed() {
+                    self.b.convert(ConvOp::Sext, tt, v)
+                } else {
+                    self.b.convert(ConvOp::Uext, tt, v)
+                }
+            }
+        }
+    }
+
+    /// Reads a place (a whole variable or one bit of it); an element whose index was
+    /// out of bounds reads as 0.
+    pub(super) fn load_place(&mut self, p: &Place) -> Value {
+        let v = self.load_unguarded(p);
+        match p.guard {
+            Some(g) => {
+                let z = self.zero(p.ty);
+                self.b.select(g, v, z)
+            }
+            None => v,
+        }
+    }
+
+    fn load_unguarded(&mut self, p: &Place) -> Value {
+        match p.bit {
+            Some((bit, word_ty)) => {
+                let t = word_ty.ir().expect("bit-addressable word");
+                let w = self.b.load(t, p.addr);
+                let mask = self.b.iconst(t, 1i64 << bit);
+                let m = self.b.binary(BinaryOp::Band, w, mask);
+                let z = self.b.iconst(t, 0);
+                self.b.icmp(IntCC::Ne, m, z)
+            }
+            None => match p.ty.ir() {
+                Some(t) => self.b.load(t, p.addr),
+                None => self.b.iconst(Type::I32, 0),
+            },
+        }
+    }
+
+    /// Writes a place (a read-modify-write for a single bit); a write to an element
+    /// whose index was out of bounds is dropped.
+    pub(super) fn store_place(&mut self, p: &Place, v: Value) {
+        let Some(g) = p.guard else {
+            self.store_unguarded(p, v);
+            return;
+        };
+        let store = self.b.create_block();
+        let join = self.b.create_block();
+        self.b.brif(g, store, vec![], join, vec![]);
+        self.b.switch_to(store);
+        self.store_unguarded(p, v);
+        self.b.jump(join, vec![]);
+        self.b.switch_to(join);
+    }
+
+    fn store_unguarded(&mut self, p: &Place, v: Value) {
+        match p.bit {
+            Some((bit, word_ty)) => {
+                let t = word_ty.ir().expect("bit-addressable word");
+                let w = self.b.load(t, p.addr);
+                let clear = self.b.iconst(t, !(1i64 << bit));
+                let kept = self.b.binary(BinaryOp::Band, w, clear);
+                let vb = self.b.convert(ConvOp::Uext, t, v);
+                let sh = self.b.iconst(t, bit as i64);
+                let moved = self.b.binary(BinaryOp::Ishl, vb, sh);
+                let nw = self.b.binary(BinaryOp::Bor, kept, moved);
+                self.b.store(nw, p.addr);
+            }
+            None => self.b.store(v, p.addr),
+        }
+    }
+
+    /// Resolves an expression that names memory: a variable, an FB member, an array
+    /// element, a bit.
+    pub(super) fn place(&mut self, e: &'s Expr) -> Option<Place> {
+        match &e.kind {
+            ExprKind::Paren(x) => self.place(x),
+            ExprKind::Name(id) => match self.resolve_name(*id, true) {
+                Named::Place(p) => Some(p),
+                Named::Const(..) => {
+                    let n = self.l.text(id.span).to_string();
+                    self.l.error(codes::E_WRITE_CONSTANT, format!("`{n}` is a constant"), id.span);
+                    None
+                }
+                Named::Error => None,
+            },
+            ExprKind::Member(base, name) => {
+                let bp = self.place(base)?;
+                match bp.ty {
+                    Ty::Fb(fb) => {
+                        let mut p = self.member_place(bp.addr, fb, *name, false)?;
+                        p.guard = bp.guard;
+                        // Writing an input of a member instance of an instance we may
+                        // not write is still not allowed.
+                        if bp.access != super::body::Access::ReadWrite && p.access == super::body::Access::ReadWrite {
+                            p.access = bp.access;
+                        }
+                        Some(p)
+                    }
+                    Ty::Error => None,
+                    t => {
+                        let tn = self.l.ty_name(t);
+                        let n = self.l.text(name.span).to_string();
+                        self.l.error(
+                            codes::E_NO_MEMBER,
+                            format!("a value of type {tn} has no member `{n}`"),
+                            name.span,
+                        );
+                        None
+                    }
+                }
+            }
+            ExprKind::Bit(base, bit) => {
+                let bp = self.place(base)?;
+                let bits = match bp.ty.elem() {
+                    Some(e) if e != ElemType::Bool && (e.is_bit_string() || e.is_integer()) => e.ir_type().bits(),
+                    _ => {
+                        if bp.ty != Ty::Error {
+                            let tn = self.l.ty_name(bp.ty);
+                            self.l.error(codes::E_TYPE_MISMATCH, format!("bit access needs a bit string or an integer, not {tn}"), e.span);
+                        }
+                        return None;
+                    }
+                };
+                let n = match self.l.const_eval(bit, self.pou) {
+                    Some((ConstVal::Int(n), _)) if n >= 0 && (n as u32) < bits => n as u8,
+                    _ => {
+                        self.l.error(
+                            codes::E_BAD_INDEX,
+                            format!("bit number must be a constant from 0 to {}", bits - 1),
+                            bit.span,
+                        );
+                        return None;
+                    }
+                };
+                Some(Place {
+                    addr: bp.addr,
+                    ty: Ty::BOOL,
+                    access: bp.access,
+                    bit: Some((n, bp.ty)),
+                    guard: bp.guard,
+                })
+            }
+            ExprKind::Index(base, idx) => {
+                let bp = self.place(base)?;
+                let Ty::Array(a) = bp.ty else {
+                    if bp.ty != Ty::Error {
+                        let tn = self.l.ty_name(bp.ty);
+                        self.l.error(codes::E_BAD_INDEX, format!("a value of type {tn} cannot be indexed"), e.span);
+                    }
+                    return None;
+                };
+                let at = self.l.types.get(a).clone();
+                if idx.len() != at.dims.len() {
+                    self.l.error(
+                        codes::E_BAD_INDEX,
+                        format!("this array has {} dimension(s), not {}", at.dims.len(), idx.len()),
+                        e.span,
+                    );
+                    return None;
+                }
+                let mut addr = bp.addr;
+                let mut guard = bp.guard;
+                for (d, ie) in idx.iter().enumerate() {
+                    let agg = self.l.array_agg(a, d as u32);
+                    let (a2, g) = self.index(addr, agg, at.dims[d], ie)?;
+                    addr = a2;
+                    guard = Some(match guard {
+                        Some(prev) => self.b.binary(BinaryOp::Band, prev, g),
+                        None => g,
+                    });
+                }
+                Some(Place {
+                    addr,
+                    ty: at.elem,
+                    access: bp.access,
+                    bit: None,
+                    guard,
+                })
+            }
+            ExprKind::Call { .. } => {
+                self.l.error(codes::E_NOT_A_PLACE, "a call result cannot be assigned or passed by reference", e.span);
+                None
+            }
+            _ => {
+                self.l.error(codes::E_NOT_A_PLACE, "this expression is not a variable", e.span);
+                None
+            }
+        }
+    }
+
+    /// The address of element `ie` of the array `agg` with source bounds `(lo, hi)`,
+    /// and an `i1` that says whether the index was in bounds. An index outside raises
+    /// the fault flag and addresses element `lo` instead, so every target stays
+    /// memory-safe; the caller's guard makes the read 0 and drops the write.
+    fn index(&mut self, base: Value, agg: plcc_ir::AggId, (lo, hi): (i64, i64), ie: &'s Expr) -> Option<(Value, Value)> {
+        let it = self.infer(ie);
+        let want = if it.is_literal() || it == Ty::Error { Ty::DINT } else { it };
+        let iv = self.emit(ie, Some(want));
+        let (v, e) = match iv.ty {
+            Ty::Elem(e) if e.is_integer() || (e.is_bit_string() && e != ElemType::Bool) => (iv.v, e),
+            Ty::Error => return None,
+            t => {
+                let tn = self.l.ty_name(t);
+                self.l.error(codes::E_BAD_INDEX, format!("an array index must be an integer, not {tn}"), ie.span);
+                return None;
+            }
+        };
+        // Compute in 64 bits when the index is, else 32 (enough for any array).
+        let wide = e.ir_type() == Type::I64 || (e == ElemType::UDInt || e == ElemType::DWord);
+        let t = if wide { Type::I64 } else { Type::I32 };
+        let w = self.convert(v, e, if wide { ElemType::LInt } else { ElemType::DInt });
+        let lo_c = self.b.iconst(t, lo);
+        let zero_based = self.b.binary(BinaryOp::Isub, w, lo_c);
+        let len = self.b.iconst(t, hi - lo + 1);
+        let inside = self.b.icmp(IntCC::Ult, zero_based, len);
+        // Out of range: raise the fault and use element 0 (stays memory-safe).
+        let bad = self.b.create_block();
+        let join = self.b.create_block();
+        let p = self.b.block_param(join, t);
+        self.b.brif(inside, join, vec![zero_based], bad, vec![]);
+        self.b.switch_to(bad);
+        self.b.intrinsic(plcc_ir::Intrinsic::RaiseFault, vec![]);
+        let z = self.b.iconst(t, 0);
+        self.b.jump(join, vec![z]);
+        self.b.switch_to(join);
+        Some((self.b.elem_addr(base, agg, p), inside))
+    }
+}

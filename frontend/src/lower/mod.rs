@@ -1,0 +1,271 @@
+//! Semantic analysis and lowering to the IR, in one pass over the syntax tree.
+//!
+//! The work goes in phases: collect every POU of every file (and the standard function
+//! blocks), resolve their interfaces (variables and types), give each an IR shell (the
+//! instance struct, the body and init functions), then check and lower every body.
+//! Type checking and IR emission happen together: an expression's type is inferred
+//! first (so that untyped literals take the type their context wants), then it is
+//! emitted. Errors become diagnostics with codes and spans; an expression with an
+//! error has type [`Ty::Error`], which every later check accepts silently, so one
+//! mistake gives one diagnostic.
+
+mod body;
+mod builtins;
+mod calls;
+mod consts;
+mod decls;
+mod expr;
+mod init;
+mod stmt;
+
+use crate::ast::{self, Ident, PouKind, SourceUnit, VarKind};
+use crate::codes;
+use crate::intern::{Interner, Symbol};
+use crate::source::SourceMap;
+use crate::types::{ArrayId, PouId, Ty, TypeTable};
+use plcc_ir::diag::{Diagnostic, Span};
+use plcc_ir::{AggId, FuncId, Module};
+use rustc_hash::FxHashMap;
+
+pub use consts::ConstVal;
+
+/// What to build.
+#[derive(Clone, Debug, Default)]
+pub struct LowerOptions {
+    /// The PROGRAMs to instantiate and run, by name; all of them when empty.
+    pub programs: Vec<String>,
+}
+
+/// One declared variable of a POU.
+#[derive(Clone, Debug)]
+pub struct VarInfo {
+    /// The name as declared.
+    pub name: Ident,
+    /// The declared spelling (for the IR and the runner).
+    pub display: String,
+    /// Its section.
+    pub section: VarKind,
+    /// `CONSTANT`.
+    pub constant: bool,
+    /// The type.
+    pub ty: Ty,
+    /// Index of its declaration: (var block, declaration) in the POU's AST.
+    pub decl: (u32, u32),
+    /// `AT %...`, if located.
+    pub location: Option<String>,
+}
+
+/// Where a variable lives once lowered.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum Storage {
+    /// A field of the instance struct (PROGRAM/FB variables).
+    Field(u32),
+    /// A stack slot of the body function (FUNCTION variables, VAR_TEMP).
+    Slot(plcc_ir::SlotId),
+    /// A VAR CONSTANT folded to its value (index into the POU's constants).
+    Const(u32),
+}
+
+/// One POU with its resolved interface.
+#[derive(Clone, Debug)]
+pub struct PouInfo {
+    /// Its name.
+    pub name: Ident,
+    /// The declared spelling.
+    pub display: String,
+    /// PROGRAM, FUNCTION or FUNCTION_BLOCK.
+    pub kind: PouKind,
+    /// Which parsed unit and item it is.
+    pub unit: u32,
+    /// Item index within the unit.
+    pub item: u32,
+    /// Its variables in declaration order.
+    pub vars: Vec<VarInfo>,
+    /// Variable lookup by name.
+    pub lookup: FxHashMap<Symbol, u32>,
+    /// A FUNCTION's result type (`Void` if none; `Void` for the others).
+    pub ret: Ty,
+    /// Part of the built-in standard library.
+    pub std: bool,
+    /// True once its interface has been resolved.
+    pub resolved: bool,
+}
+
+impl PouInfo {
+    /// The variable with this name.
+    pub fn var(&self, sym: Symbol) -> Option<u32> {
+        self.lookup.get(&sym).copied()
+    }
+}
+
+/// The IR objects made for a POU.
+#[derive(Clone, Debug, Default)]
+struct PouIr {
+    /// The instance struct (PROGRAM, FUNCTION_BLOCK).
+    agg: Option<AggId>,
+    /// The body function.
+    body: Option<FuncId>,
+    /// The init function (PROGRAM, FUNCTION_BLOCK).
+    init: Option<FuncId>,
+    /// How each variable is stored (filled when the body is lowered, for fields
+    /// before).
+    storage: Vec<Option<Storage>>,
+    /// Values of VAR CONSTANTs (indexed by `Storage::Const`).
+    consts: Vec<ConstVal>,
+    /// For FUNCTIONs: parameter index of each input/in-out/output variable.
+    param_of: Vec<Option<u32>>,
+}
+
+/// The state of one build: parsed units, the POU table, the module being built.
+pub struct Lowerer<'s> {
+    pub(crate) sources: &'s SourceMap,
+    pub(crate) interner: &'s mut Interner,
+    pub(crate) units: &'s [SourceUnit],
+    pub(crate) pous: Vec<PouInfo>,
+    pub(crate) pou_by_name: FxHashMap<Symbol, PouId>,
+    pub(crate) types: TypeTable,
+    pub(crate) diags: Vec<Diagnostic>,
+    pub(crate) module: Module,
+    ir: Vec<PouIr>,
+    array_aggs: FxHashMap<(ArrayId, u32), AggId>,
+    helpers: FxHashMap<String, FuncId>,
+    /// Calls between POUs (caller, callee, span), for the recursion check.
+    calls: Vec<(PouId, PouId, Span)>,
+    /// POUs whose IR is wanted (user POUs, and standard FBs that are used).
+    used: Vec<bool>,
+}
+
+impl<'s> Lowerer<'s> {
+    /// A lowerer over parsed units. `std_units` marks which units are the standard
+    /// library.
+    pub fn new(
+        sources: &'s SourceMap,
+        interner: &'s mut Interner,
+        units: &'s [SourceUnit],
+    ) -> Lowerer<'s> {
+        let mut module = Module::new();
+        module.files = sources.iter().map(|(_, f)| f.name.clone()).collect();
+        Lowerer {
+            sources,
+            interner,
+            units,
+            pous: Vec::new(),
+            pou_by_name: FxHashMap::default(),
+            types: TypeTable::default(),
+            diags: Vec::new(),
+            module,
+            ir: Vec::new(),
+            array_aggs: FxHashMap::default(),
+            helpers: FxHashMap::default(),
+            calls: Vec::new(),
+            used: Vec::new(),
+        }
+    }
+
+    /// Runs every phase. `std_units` is the number of leading units that hold the
+    /// standard library. Returns the module (if there were no errors) and every
+    /// diagnostic.
+    pub fn run(mut self, std_units: usize, opts: &LowerOptions) -> (Option<Module>, Vec<Diagnostic>) {
+        self.collect_pous(std_units);
+        self.report_unsupported_items();
+        for i in 0..self.pous.len() {
+            self.resolve_interface(PouId(i as u32));
+        }
+        self.mark_used();
+        self.create_shells();
+        for i in 0..self.pous.len() {
+            if self.used[i] {
+                self.lower_pou(PouId(i as u32));
+            }
+        }
+        self.check_recursion();
+        self.instantiate_programs(opts);
+        let has_errors = self.diags.iter().any(|d| d.is_error());
+        let module = (!has_errors).then_some(self.module);
+        (module, self.diags)
+    }
+
+    pub(crate) fn error(&mut self, code: &'static str, msg: impl Into<String>, span: Span) {
+        self.diags.push(Diagnostic::error(code, msg, span));
+    }
+
+    pub(crate) fn text(&self, span: Span) -> &str {
+        self.sources.get(span.file).slice(span)
+    }
+
+    pub(crate) fn sym_name(&self, sym: Symbol) -> &str {
+        self.interner.name(sym)
+    }
+
+    pub(crate) fn pou(&self, id: PouId) -> &PouInfo {
+        &self.pous[id.0 as usize]
+    }
+
+    pub(crate) fn pou_ast(&self, id: PouId) -> &'s ast::Pou {
+        let p = &self.pous[id.0 as usize];
+        match &self.units[p.unit as usize].items[p.item as usize] {
+            ast::Item::Pou(pou) => pou,
+            _ => unreachable!("POU table points at a POU"),
+        }
+    }
+
+    /// The name of a type for messages.
+    pub(crate) fn ty_name(&self, ty: Ty) -> String {
+        match ty {
+            Ty::Elem(e) => e.name().to_string(),
+            Ty::Fb(p) => self.pou(p).display.clone(),
+            Ty::Array(a) => {
+                let a = self.types.get(a);
+                let dims: Vec<String> = a.dims.iter().map(|(l, h)| format!("{l}..{h}")).collect();
+                format!("ARRAY[{}] OF {}", dims.join(", "), self.ty_name(a.elem))
+            }
+            Ty::AnyInt => "an integer literal".to_string(),
+            Ty::AnyReal => "a real literal".to_string(),
+            Ty::Void => "no value".to_string(),
+            Ty::Error => "?".to_string(),
+        }
+    }
+
+    fn report_unsupported_items(&mut self) {
+        let mut errs = Vec::new();
+        for unit in self.units {
+            for item in &unit.items {
+                let (what, span) = match item {
+                    ast::Item::Pou(p) => {
+                        if let Some(b) = &p.extends {
+                            errs.push((
+                                "EXTENDS (inheritance between function blocks)",
+                                b.span,
+                            ));
+                        }
+                        for &m in &p.unsupported_members {
+                            errs.push(("METHOD and other object-oriented members", m));
+                        }
+                        if !p.actions.is_empty() {
+                            errs.push(("ACTIONs", p.actions[0].span));
+                        }
+                        continue;
+                    }
+                    ast::Item::Type(t) => ("TYPE declarations", t.name.span),
+                    ast::Item::Globals(b) => ("VAR_GLOBAL", b.span),
+                    ast::Item::Configuration(c) => ("CONFIGURATION", c.name.span),
+                    ast::Item::Action(a) => ("ACTIONs", a.span),
+                };
+                errs.push((what, span));
+            }
+        }
+        for (what, span) in errs {
+            self.error(
+                codes::E_UNSUPPORTED,
+                format!("not supported yet: {what}"),
+                span,
+            );
+        }
+    }
+}
+
+/// Describes where the standard library starts and stops among the units, so callers
+/// can build the unit list.
+pub fn std_library_source() -> &'static str {
+    include_str!("../stdlib/std_fbs.st")
+}

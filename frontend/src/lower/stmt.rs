@@ -1,0 +1,393 @@
+//! Statements.
+
+use super::body::{Access, BodyCx, LoopTargets};
+use super::consts::ConstVal;
+use crate::ast::{self, CaseLabel, Expr, Stmt, StmtKind};
+use crate::codes;
+use crate::types::Ty;
+use plcc_ir::diag::Span;
+use plcc_ir::{BinaryOp, ElemType, IntCC, Type, Value};
+
+impl<'s> BodyCx<'_, 's> {
+    /// Lowers a statement list.
+    pub(super) fn stmts(&mut self, stmts: &'s [Stmt]) {
+        for s in stmts {
+            self.stmt(s);
+        }
+    }
+
+    fn stmt(&mut self, s: &'s Stmt) {
+        self.set_span(s.span);
+        match &s.kind {
+            StmtKind::Assign { target, value } => self.assign(target, value),
+            StmtKind::RefAssign { target, .. } => {
+                self.l.error(codes::E_UNSUPPORTED, "not supported yet: REF=", target.span);
+            }
+            StmtKind::Call(e) => self.call_stmt(e),
+            StmtKind::If { branches, else_body } => self.if_stmt(branches, else_body.as_deref()),
+            StmtKind::Case {
+                selector,
+                arms,
+                else_body,
+            } => self.case_stmt(selector, arms, else_body.as_deref()),
+            StmtKind::For {
+                var,
+                from,
+                to,
+                by,
+                body,
+            } => self.for_stmt(*var, from, to, by.as_ref(), body, s.span),
+            StmtKind::While { cond, body } => {
+                let header = self.b.create_block();
+                let body_b = self.b.create_block();
+                let exit = self.b.create_block();
+                self.b.jump(header, vec![]);
+                self.b.switch_to(header);
+                let c = self.cond(cond);
+                self.b.brif(c, body_b, vec![], exit, vec![]);
+                self.b.switch_to(body_b);
+                self.loops.push(LoopTargets { exit, cont: header });
+                self.stmts(body);
+                self.loops.pop();
+                self.b.jump(header, vec![]);
+                self.b.switch_to(exit);
+            }
+            StmtKind::Repeat { body, until } => {
+                let body_b = self.b.create_block();
+                let test = self.b.create_block();
+                let exit = self.b.create_block();
+                self.b.jump(body_b, vec![]);
+                self.b.switch_to(body_b);
+                self.loops.push(LoopTargets { exit, cont: test });
+                self.stmts(body);
+                self.loops.pop();
+                self.b.jump(test, vec![]);
+                self.b.switch_to(test);
+                self.set_span(until.span);
+                let c = self.cond(until);
+                self.b.brif(c, exit, vec![], body_b, vec![]);
+                self.b.switch_to(exit);
+            }
+            StmtKind::Exit | StmtKind::Continue => {
+                let exit = matches!(s.kind, StmtKind::Exit);
+                match self.loops.last() {
+                    Some(t) => {
+                        let dest = if exit { t.exit } else { t.cont };
+                        self.b.jump(dest, vec![]);
+                    }
+                    None => {
+                        let w = if exit { "EXIT" } else { "CONTINUE" };
+                        self.l.error(
+                            codes::E_OUTSIDE_LOOP,
+                            format!("{w} outside of a FOR, WHILE or REPEAT loop"),
+                            s.span,
+                        );
+                    }
+                }
+            }
+            StmtKind::Return => match self.ret_block {
+                Some(rb) => self.b.jump(rb, vec![]),
+                None => self.b.ret(None),
+            },
+            StmtKind::Empty => {}
+            StmtKind::Label(id) | StmtKind::Goto(id) => {
+                self.l.error(
+                    codes::E_UNSUPPORTED,
+                    "not supported yet: labels and jumps in this language",
+                    id.span,
+                );
+            }
+        }
+    }
+
+    /// A BOOL condition.
+    pub(super) fn cond(&mut self, e: &'s Expr) -> Value {
+        self.emit_as(e, Ty::BOOL)
+    }
+
+    fn assign(&mut self, target: &'s Expr, value: &'s Expr) {
+        let Some(place) = self.place(target) else {
+            // Still check the value for errors of its own.
+            let _ = self.emit(value, None);
+            return;
+        };
+        if !self.check_writable(&place, target.span) {
+            let _ = self.emit(value, None);
+            return;
+        }
+        match place.ty {
+            Ty::Elem(_) => {
+                let v = self.emit_as(value, place.ty);
+                self.store_place(&place, v);
+            }
+            Ty::Error => {
+                let _ = self.emit(value, None);
+            }
+            _ => {
+                let what = self.l.ty_name(place.ty);
+                self.l.error(
+                    codes::E_UNSUPPORTED,
+                    format!("not supported yet: assigning a whole {what}"),
+                    target.span,
+                );
+            }
+        }
+    }
+
+    /// Reports a write to something that may not be written; true if it may.
+    pub(super) fn check_writable(&mut self, place: &super::body::Place, span: Span) -> bool {
+        let (code, msg) = match place.access {
+            Access::ReadWrite => return true,
+            Access::OwnInput => (
+                codes::E_WRITE_INPUT,
+                "cannot assign to an input (VAR_INPUT) inside its own POU",
+            ),
+            Access::OtherOutput => (
+                codes::E_WRITE_OUTPUT,
+                "cannot assign to an output of a function block instance from outside",
+            ),
+        };
+        self.l.error(code, msg, span);
+        false
+    }
+
+    fn if_stmt(&mut self, branches: &'s [(Expr, Vec<Stmt>)], else_body: Option<&'s [Stmt]>) {
+        let join = self.b.create_block();
+        for (cond, body) in branches {
+            self.set_span(cond.span);
+            let c = self.cond(cond);
+            let then_b = self.b.create_block();
+            let next = self.b.create_block();
+            self.b.brif(c, then_b, vec![], next, vec![]);
+            self.b.switch_to(then_b);
+            self.stmts(body);
+            self.b.jump(join, vec![]);
+            self.b.switch_to(next);
+        }
+        if let Some(e) = else_body {
+            self.stmts(e);
+        }
+        self.b.jump(join, vec![]);
+        self.b.switch_to(join);
+    }
+
+    fn case_stmt(&mut self, selector: &'s Expr, arms: &'s [ast::CaseArm], else_body: Option<&'s [Stmt]>) {
+        self.set_span(selector.span);
+        let sel = self.emit(selector, None);
+        let ok_type = matches!(sel.ty, Ty::Error) || sel.ty.is_int_like();
+        if !ok_type {
+            let t = self.l.ty_name(sel.ty);
+            self.l.error(
+                codes::E_TYPE_MISMATCH,
+                format!("a CASE selector must be an integer or a bit string, not {t}"),
+                selector.span,
+            );
+        }
+        let sel_elem = sel.ty.elem().filter(|_| ok_type);
+        let join = self.b.create_block();
+        let mut seen: Vec<(i128, i128, Span)> = Vec::new();
+        for arm in arms {
+            let body_b = self.b.create_block();
+            for label in &arm.labels {
+                let (lo_e, hi_e) = match label {
+                    CaseLabel::Value(e) => (e, e),
+                    CaseLabel::Range(a, b) => (a, b),
+                };
+                let lo = self.case_label_value(lo_e, sel_elem);
+                let hi = if std::ptr::eq(lo_e, hi_e) {
+                    lo
+                } else {
+                    self.case_label_value(hi_e, sel_elem)
+                };
+                let (Some(lo), Some(hi)) = (lo, hi) else { continue };
+                let span = lo_e.span.to(hi_e.span);
+                if hi < lo {
+                    self.l.error(
+                        codes::E_BAD_CASE_LABEL,
+                        format!("empty CASE range {lo}..{hi}"),
+                        span,
+                    );
+                    continue;
+                }
+                if let Some(&(_, _, prev)) = seen.iter().find(|(a, b, _)| lo <= *b && *a <= hi) {
+                    self.l.diags.push(
+                        plcc_ir::diag::Diagnostic::error(
+                            codes::E_BAD_CASE_LABEL,
+                            "this CASE label overlaps an earlier one",
+                            span,
+                        )
+                        .with_secondary(prev, "earlier label"),
+                    );
+                    continue;
+                }
+                seen.push((lo, hi, span));
+                let Some(e) = sel_elem else { continue };
+                let t = e.ir_type();
+                let next = self.b.create_block();
+                if lo == hi {
+                    let c = self.b.iconst(t, lo as i64);
+                    let eq = self.b.icmp(IntCC::Eq, sel.v, c);
+                    self.b.brif(eq, body_b, vec![], next, vec![]);
+                } else {
+                    // lo <= sel <= hi as one unsigned compare: sel - lo <= hi - lo.
+                    let lo_c = self.b.iconst(t, lo as i64);
+                    let d = self.b.binary(BinaryOp::Isub, sel.v, lo_c);
+                    let span_c = self.b.iconst(t, (hi - lo) as i64);
+                    let inr = self.b.icmp(IntCC::Ule, d, span_c);
+                    self.b.brif(inr, body_b, vec![], next, vec![]);
+                }
+                self.b.switch_to(next);
+            }
+            let after_tests = self.b.current_block();
+            self.b.switch_to(body_b);
+            self.stmts(&arm.body);
+            self.b.jump(join, vec![]);
+            if let Some(blk) = after_tests {
+                self.b.switch_to(blk);
+            }
+        }
+        if let Some(e) = else_body {
+            self.stmts(e);
+        }
+        self.b.jump(join, vec![]);
+        self.b.switch_to(join);
+    }
+
+    /// A CASE label's value, checked against the selector's type.
+    fn case_label_value(&mut self, e: &'s Expr, sel: Option<ElemType>) -> Option<i128> {
+        match self.l.const_eval(e, self.pou) {
+            Some((ConstVal::Int(v), _)) => {
+                if let Some(t) = sel {
+                    if let Some((lo, hi)) = crate::types::int_range(t) {
+                        if v < lo || v > hi {
+                            self.l.error(
+                                codes::E_BAD_CASE_LABEL,
+                                format!("CASE label {v} is out of the range of {}", t.name()),
+                                e.span,
+                            );
+                            return None;
+                        }
+                    }
+                }
+                Some(v)
+            }
+            _ => {
+                self.l.error(
+                    codes::E_BAD_CASE_LABEL,
+                    "a CASE label must be an integer constant",
+                    e.span,
+                );
+                None
+            }
+        }
+    }
+
+    /// `FOR v := from TO to BY by DO body END_FOR`. The end and step are evaluated
+    /// once. The loop stops when the control variable passes the end, and also when
+    /// the next step would overflow the variable's type (so `FOR i := 0 TO 32767` on an
+    /// INT terminates); after the loop the variable holds the first value past the end.
+    fn for_stmt(
+        &mut self,
+        var: ast::Ident,
+        from: &'s Expr,
+        to: &'s Expr,
+        by: Option<&'s Expr>,
+        body: &'s [Stmt],
+        span: Span,
+    ) {
+        let var_expr_place = match self.resolve_name(var, true) {
+            super::body::Named::Place(p) => Some(p),
+            super::body::Named::Const(..) => {
+                self.l.error(codes::E_WRITE_CONSTANT, "a FOR control variable cannot be a constant", var.span);
+                None
+            }
+            super::body::Named::Error => None,
+        };
+        let Some(place) = var_expr_place else {
+            let _ = self.emit(from, None);
+            let _ = self.emit(to, None);
+            return;
+        };
+        if !self.check_writable(&place, var.span) {
+            return;
+        }
+        let Some(e) = place.ty.elem().filter(|e| e.is_integer()) else {
+            if place.ty != Ty::Error {
+                let t = self.l.ty_name(place.ty);
+                self.l.error(
+                    codes::E_TYPE_MISMATCH,
+                    format!("a FOR control variable must be an integer, not {t}"),
+                    var.span,
+                );
+            }
+            return;
+        };
+        let ty = place.ty;
+        let t = e.ir_type();
+        let signed = e.is_signed();
+        let (lt, ge, gt) = if signed {
+            (IntCC::Slt, IntCC::Sge, IntCC::Sgt)
+        } else {
+            (IntCC::Ult, IntCC::Uge, IntCC::Ugt)
+        };
+        self.set_span(from.span);
+        let start = self.emit_as(from, ty);
+        self.store_place(&place, start);
+        self.set_span(to.span);
+        let end = self.emit_as(to, ty);
+        let (step, step_const) = match by {
+            Some(b) => {
+                self.set_span(b.span);
+                let c = match self.l.const_eval(b, self.pou) {
+                    Some((ConstVal::Int(v), _)) => Some(v),
+                    _ => None,
+                };
+                if c == Some(0) {
+                    self.l.error(codes::E_BAD_FOR, "a FOR loop with step 0 never ends", b.span);
+                }
+                (self.emit_as(b, ty), c)
+            }
+            None => (self.b.iconst(t, 1), Some(1)),
+        };
+        let header = self.b.create_block();
+        let body_b = self.b.create_block();
+        let latch = self.b.create_block();
+        let exit = self.b.create_block();
+        self.set_span(span);
+        self.b.jump(header, vec![]);
+        self.b.switch_to(header);
+        let i = self.load_place(&place);
+        // Counting down only for a negative step (signed types only).
+        let going_up = match step_const {
+            Some(c) => {
+                let up = c >= 0 || !signed;
+                self.b.iconst(Type::I1, up as i64)
+            }
+            None if signed => {
+                let zero = self.b.iconst(t, 0);
+                self.b.icmp(ge, step, zero)
+            }
+            None => self.b.iconst(Type::I1, 1),
+        };
+        let past_up = self.b.icmp(gt, i, end);
+        let past_down = self.b.icmp(lt, i, end);
+        let past = self.b.select(going_up, past_up, past_down);
+        self.b.brif(past, exit, vec![], body_b, vec![]);
+        self.b.switch_to(body_b);
+        self.loops.push(LoopTargets { exit, cont: latch });
+        self.stmts(body);
+        self.loops.pop();
+        self.b.jump(latch, vec![]);
+        self.b.switch_to(latch);
+        self.set_span(span);
+        let i = self.load_place(&place);
+        let next = self.b.binary(BinaryOp::Iadd, i, step);
+        self.store_place(&place, next);
+        // Overflow: stepping up gave a smaller value, or down a larger one.
+        let wrapped_up = self.b.icmp(lt, next, i);
+        let wrapped_down = self.b.icmp(gt, next, i);
+        let wrapped = self.b.select(going_up, wrapped_up, wrapped_down);
+        self.b.brif(wrapped, exit, vec![], header, vec![]);
+        self.b.switch_to(exit);
+    }
+}

@@ -1,0 +1,1279 @@
+//! The Structured Text lexer: source text to a flat vector of small `Copy` tokens.
+//!
+//! One pass over the bytes, no allocation per token: names are interned as they are
+//! met (the token keeps the symbol), literal values go to a side table (the token
+//! keeps the index). Keywords are recognised through the interner too, so a word
+//! costs one hash lookup whether it is a keyword or a name.
+//!
+//! Lexical errors are reported here, once; a bad character becomes an [`Tok::Error`]
+//! token so that the parser can recover without reporting it again, and a malformed
+//! literal still becomes a literal token (with a placeholder value).
+
+use super::literals::{self, DigitError};
+use crate::ast::{Ident, Literal, LiteralKind};
+use crate::codes;
+use crate::intern::{Interner, Symbol};
+use plcc_ir::diag::{Diagnostic, FileId, Span};
+
+/// Token kinds. Only words the grammar needs to be reserved are keywords; others
+/// with a meaning in some context only (`ON`, `WITH`, `STEP`, `METHOD`, ...) are
+/// identifiers that the parser recognises by symbol where they matter.
+#[allow(missing_docs)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+#[repr(u8)]
+pub enum Tok {
+    /// End of input (always the last token).
+    Eof,
+    /// Bytes that start no token; already reported by the lexer.
+    Error,
+    /// A name; `data` is its [`Symbol`].
+    Ident,
+    /// A literal; `data` indexes [`Lexed::literals`].
+    Lit,
+    /// A direct address `%IX0.0`, `%QW1`, `%I*`, or a partial access `%X3`, `%B1`.
+    Address,
+    // punctuation
+    Assign,
+    Arrow,
+    Eq,
+    Ne,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+    Plus,
+    Minus,
+    Star,
+    Slash,
+    Pow,
+    Amp,
+    LParen,
+    RParen,
+    LBracket,
+    RBracket,
+    Comma,
+    Semi,
+    Colon,
+    Dot,
+    DotDot,
+    Caret,
+    Hash,
+    // keywords
+    Program,
+    EndProgram,
+    Function,
+    EndFunction,
+    FunctionBlock,
+    EndFunctionBlock,
+    Type,
+    EndType,
+    Struct,
+    EndStruct,
+    Var,
+    VarInput,
+    VarOutput,
+    VarInOut,
+    VarTemp,
+    VarGlobal,
+    VarExternal,
+    VarAccess,
+    VarConfig,
+    VarStat,
+    EndVar,
+    Constant,
+    Retain,
+    NonRetain,
+    Persistent,
+    At,
+    Array,
+    Of,
+    String,
+    WString,
+    RefTo,
+    If,
+    Then,
+    Elsif,
+    Else,
+    EndIf,
+    Case,
+    EndCase,
+    For,
+    To,
+    By,
+    Do,
+    EndFor,
+    While,
+    EndWhile,
+    Repeat,
+    Until,
+    EndRepeat,
+    Exit,
+    Continue,
+    Return,
+    And,
+    Or,
+    Xor,
+    Not,
+    Mod,
+    AndThen,
+    OrElse,
+    True,
+    False,
+    Configuration,
+    EndConfiguration,
+    EndResource,
+    EndAction,
+    EndMethod,
+    EndProperty,
+    EndInterface,
+    EndClass,
+    EndStep,
+    EndTransition,
+    EndActions,
+}
+
+/// The reserved words and their tokens.
+const KEYWORDS: &[(&str, Tok)] = &[
+    ("PROGRAM", Tok::Program),
+    ("END_PROGRAM", Tok::EndProgram),
+    ("FUNCTION", Tok::Function),
+    ("END_FUNCTION", Tok::EndFunction),
+    ("FUNCTION_BLOCK", Tok::FunctionBlock),
+    ("END_FUNCTION_BLOCK", Tok::EndFunctionBlock),
+    ("TYPE", Tok::Type),
+    ("END_TYPE", Tok::EndType),
+    ("STRUCT", Tok::Struct),
+    ("END_STRUCT", Tok::EndStruct),
+    ("VAR", Tok::Var),
+    ("VAR_INPUT", Tok::VarInput),
+    ("VAR_OUTPUT", Tok::VarOutput),
+    ("VAR_IN_OUT", Tok::VarInOut),
+    ("VAR_TEMP", Tok::VarTemp),
+    ("VAR_GLOBAL", Tok::VarGlobal),
+    ("VAR_EXTERNAL", Tok::VarExternal),
+    ("VAR_ACCESS", Tok::VarAccess),
+    ("VAR_CONFIG", Tok::VarConfig),
+    ("VAR_STAT", Tok::VarStat),
+    ("END_VAR", Tok::EndVar),
+    ("CONSTANT", Tok::Constant),
+    ("RETAIN", Tok::Retain),
+    ("NON_RETAIN", Tok::NonRetain),
+    ("PERSISTENT", Tok::Persistent),
+    ("AT", Tok::At),
+    ("ARRAY", Tok::Array),
+    ("OF", Tok::Of),
+    ("STRING", Tok::String),
+    ("WSTRING", Tok::WString),
+    ("REF_TO", Tok::RefTo),
+    ("IF", Tok::If),
+    ("THEN", Tok::Then),
+    ("ELSIF", Tok::Elsif),
+    ("ELSE", Tok::Else),
+    ("END_IF", Tok::EndIf),
+    ("CASE", Tok::Case),
+    ("END_CASE", Tok::EndCase),
+    ("FOR", Tok::For),
+    ("TO", Tok::To),
+    ("BY", Tok::By),
+    ("DO", Tok::Do),
+    ("END_FOR", Tok::EndFor),
+    ("WHILE", Tok::While),
+    ("END_WHILE", Tok::EndWhile),
+    ("REPEAT", Tok::Repeat),
+    ("UNTIL", Tok::Until),
+    ("END_REPEAT", Tok::EndRepeat),
+    ("EXIT", Tok::Exit),
+    ("CONTINUE", Tok::Continue),
+    ("RETURN", Tok::Return),
+    ("AND", Tok::And),
+    ("OR", Tok::Or),
+    ("XOR", Tok::Xor),
+    ("NOT", Tok::Not),
+    ("MOD", Tok::Mod),
+    ("AND_THEN", Tok::AndThen),
+    ("OR_ELSE", Tok::OrElse),
+    ("TRUE", Tok::True),
+    ("FALSE", Tok::False),
+    ("CONFIGURATION", Tok::Configuration),
+    ("END_CONFIGURATION", Tok::EndConfiguration),
+    ("END_RESOURCE", Tok::EndResource),
+    ("END_ACTION", Tok::EndAction),
+    ("END_METHOD", Tok::EndMethod),
+    ("END_PROPERTY", Tok::EndProperty),
+    ("END_INTERFACE", Tok::EndInterface),
+    ("END_CLASS", Tok::EndClass),
+    ("END_STEP", Tok::EndStep),
+    ("END_TRANSITION", Tok::EndTransition),
+    ("END_ACTIONS", Tok::EndActions),
+];
+
+impl Tok {
+    /// How the token is written, for messages (keywords in upper case).
+    pub fn text(self) -> &'static str {
+        if let Some(&(name, _)) = KEYWORDS.iter().find(|&&(_, t)| t == self) {
+            return name;
+        }
+        match self {
+            Tok::Eof => "end of file",
+            Tok::Error => "invalid character",
+            Tok::Ident => "identifier",
+            Tok::Lit => "literal",
+            Tok::Address => "direct address",
+            Tok::Assign => ":=",
+            Tok::Arrow => "=>",
+            Tok::Eq => "=",
+            Tok::Ne => "<>",
+            Tok::Lt => "<",
+            Tok::Le => "<=",
+            Tok::Gt => ">",
+            Tok::Ge => ">=",
+            Tok::Plus => "+",
+            Tok::Minus => "-",
+            Tok::Star => "*",
+            Tok::Slash => "/",
+            Tok::Pow => "**",
+            Tok::Amp => "&",
+            Tok::LParen => "(",
+            Tok::RParen => ")",
+            Tok::LBracket => "[",
+            Tok::RBracket => "]",
+            Tok::Comma => ",",
+            Tok::Semi => ";",
+            Tok::Colon => ":",
+            Tok::Dot => ".",
+            Tok::DotDot => "..",
+            Tok::Caret => "^",
+            Tok::Hash => "#",
+            _ => "keyword",
+        }
+    }
+}
+
+/// `Token::flags` bit: a line break (possibly inside a comment) precedes the token.
+pub const NEWLINE_BEFORE: u8 = 1;
+/// `Token::flags` bit: an unterminated literal that swallowed the rest of its line
+/// (already reported; the parser does not report what is missing after it).
+pub const SWALLOWED: u8 = 2;
+
+/// One token: 16 bytes, `Copy`.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Token {
+    /// What it is.
+    pub kind: Tok,
+    /// [`NEWLINE_BEFORE`], [`SWALLOWED`].
+    pub flags: u8,
+    /// Byte offset of its first byte.
+    pub start: u32,
+    /// Byte offset one past its last byte.
+    pub end: u32,
+    /// The symbol of an [`Tok::Ident`], the literal index of a [`Tok::Lit`], else 0.
+    pub data: u32,
+}
+
+impl Token {
+    /// True if a line break comes between the previous token and this one.
+    pub fn newline_before(&self) -> bool {
+        self.flags & NEWLINE_BEFORE != 0
+    }
+}
+
+/// The lexer's output.
+#[derive(Debug, Default)]
+pub struct Lexed {
+    /// The tokens, ending with exactly one [`Tok::Eof`].
+    pub tokens: Vec<Token>,
+    /// Values of the [`Tok::Lit`] tokens.
+    pub literals: Vec<Literal>,
+    /// An unterminated comment, pragma or string ran into the end of the file (the
+    /// parser then keeps quiet about what is missing at the end).
+    pub eof_in_error: bool,
+}
+
+/// What the word before a `#` makes of the literal after it.
+#[derive(Copy, Clone, PartialEq, Eq)]
+enum Prefix {
+    Duration(bool),
+    Date(bool),
+    Tod(bool),
+    Dt(bool),
+    /// An elementary type name: `INT#5`, `REAL#1.5`, `BOOL#TRUE`, `STRING#'x'`.
+    Typed,
+}
+
+fn prefix_of(upper: &[u8]) -> Option<Prefix> {
+    Some(match upper {
+        b"T" | b"TIME" => Prefix::Duration(false),
+        b"LT" | b"LTIME" => Prefix::Duration(true),
+        b"D" | b"DATE" => Prefix::Date(false),
+        b"LD" | b"LDATE" => Prefix::Date(true),
+        b"TOD" | b"TIME_OF_DAY" => Prefix::Tod(false),
+        b"LTOD" | b"LTIME_OF_DAY" => Prefix::Tod(true),
+        b"DT" | b"DATE_AND_TIME" => Prefix::Dt(false),
+        b"LDT" | b"LDATE_AND_TIME" => Prefix::Dt(true),
+        b"BOOL" | b"SINT" | b"INT" | b"DINT" | b"LINT" | b"USINT" | b"UINT" | b"UDINT"
+        | b"ULINT" | b"BYTE" | b"WORD" | b"DWORD" | b"LWORD" | b"REAL" | b"LREAL"
+        | b"STRING" | b"WSTRING" | b"CHAR" | b"WCHAR" => Prefix::Typed,
+        _ => return None,
+    })
+}
+
+fn is_ident_byte(b: u8) -> bool {
+    b.is_ascii_alphanumeric() || b == b'_'
+}
+
+/// Splits `text` into tokens. Errors go to `diags`; the result always ends with
+/// [`Tok::Eof`].
+pub fn lex(
+    file: FileId,
+    text: &str,
+    interner: &mut Interner,
+    diags: &mut Vec<Diagnostic>,
+) -> Lexed {
+    let mut keywords: Vec<Tok> = Vec::new();
+    for &(name, tok) in KEYWORDS {
+        let sym = interner.intern_upper(name).0 as usize;
+        if keywords.len() <= sym {
+            keywords.resize(sym + 1, Tok::Ident);
+        }
+        keywords[sym] = tok;
+    }
+    let mut lx = Lexer {
+        file,
+        text,
+        src: text.as_bytes(),
+        pos: 0,
+        tokens: Vec::with_capacity(text.len() / 5 + 16),
+        literals: Vec::new(),
+        diags,
+        interner,
+        keywords,
+        upper: String::new(),
+        flags: 0,
+        eof_in_error: false,
+        swallowed: false,
+    };
+    lx.run();
+    Lexed {
+        tokens: lx.tokens,
+        literals: lx.literals,
+        eof_in_error: lx.eof_in_error,
+    }
+}
+
+struct Lexer<'a> {
+    file: FileId,
+    text: &'a str,
+    src: &'a [u8],
+    pos: usize,
+    tokens: Vec<Token>,
+    literals: Vec<Literal>,
+    diags: &'a mut Vec<Diagnostic>,
+    interner: &'a mut Interner,
+    /// Token kind by symbol index, for symbols of keywords.
+    keywords: Vec<Tok>,
+    upper: String,
+    flags: u8,
+    eof_in_error: bool,
+    /// The literal being lexed is an unterminated string.
+    swallowed: bool,
+}
+
+impl<'a> Lexer<'a> {
+    fn span(&self, start: usize, end: usize) -> Span {
+        Span::new(self.file, start as u32, end as u32)
+    }
+
+    fn peek(&self, ahead: usize) -> u8 {
+        self.src.get(self.pos + ahead).copied().unwrap_or(0)
+    }
+
+    fn error(&mut self, code: &'static str, msg: String, start: usize, end: usize, label: &str) {
+        let d = Diagnostic::error(code, msg, self.span(start, end)).with_label(label);
+        self.diags.push(d);
+    }
+
+    fn push(&mut self, kind: Tok, start: usize, data: u32) {
+        self.tokens.push(Token {
+            kind,
+            flags: self.flags,
+            start: start as u32,
+            end: self.pos as u32,
+            data,
+        });
+        self.flags = 0;
+    }
+
+    fn push_lit(&mut self, start: usize, kind: LiteralKind, type_prefix: Option<Ident>) {
+        let idx = self.literals.len() as u32;
+        self.literals.push(Literal { kind, type_prefix });
+        self.push(Tok::Lit, start, idx);
+        if self.swallowed {
+            self.swallowed = false;
+            if let Some(t) = self.tokens.last_mut() {
+                t.flags |= SWALLOWED;
+            }
+        }
+    }
+
+    fn run(&mut self) {
+        loop {
+            self.skip_trivia();
+            let start = self.pos;
+            if start >= self.src.len() {
+                self.push(Tok::Eof, start, 0);
+                return;
+            }
+            let c = self.src[start];
+            let two = |k2: Tok, k1: Tok, second: u8, me: &mut Self| {
+                if me.peek(1) == second {
+                    me.pos += 2;
+                    k2
+                } else {
+                    me.pos += 1;
+                    k1
+                }
+            };
+            let kind = match c {
+                b'a'..=b'z' | b'A'..=b'Z' | b'_' => {
+                    self.word();
+                    continue;
+                }
+                b'0'..=b'9' => {
+                    let kind = self.number(false);
+                    self.push_lit(start, kind, None);
+                    continue;
+                }
+                b'\'' | b'"' => {
+                    let kind = self.string();
+                    self.push_lit(start, kind, None);
+                    continue;
+                }
+                b'%' => {
+                    self.address();
+                    self.push(Tok::Address, start, 0);
+                    continue;
+                }
+                b':' => two(Tok::Assign, Tok::Colon, b'=', self),
+                b'=' => two(Tok::Arrow, Tok::Eq, b'>', self),
+                b'<' => match self.peek(1) {
+                    b'=' => {
+                        self.pos += 2;
+                        Tok::Le
+                    }
+                    b'>' => {
+                        self.pos += 2;
+                        Tok::Ne
+                    }
+                    _ => {
+                        self.pos += 1;
+                        Tok::Lt
+                    }
+                },
+                b'>' => two(Tok::Ge, Tok::Gt, b'=', self),
+                b'*' => two(Tok::Pow, Tok::Star, b'*', self),
+                b'.' => two(Tok::DotDot, Tok::Dot, b'.', self),
+                _ => {
+                    let single = match c {
+                        b'+' => Tok::Plus,
+                        b'-' => Tok::Minus,
+                        b'/' => Tok::Slash,
+                        b'&' => Tok::Amp,
+                        b'(' => Tok::LParen,
+                        b')' => Tok::RParen,
+                        b'[' => Tok::LBracket,
+                        b']' => Tok::RBracket,
+                        b',' => Tok::Comma,
+                        b';' => Tok::Semi,
+                        b'^' => Tok::Caret,
+                        b'#' => Tok::Hash,
+                        _ => {
+                            self.garbage();
+                            continue;
+                        }
+                    };
+                    self.pos += 1;
+                    single
+                }
+            };
+            self.push(kind, start, 0);
+        }
+    }
+
+    /// Whitespace, comments and pragmas; notes line breaks in `flags`.
+    fn skip_trivia(&mut self) {
+        let src = self.src;
+        let len = src.len();
+        loop {
+            while self.pos < len {
+                match src[self.pos] {
+                    b' ' | b'\t' | b'\r' | 0x0b | 0x0c => self.pos += 1,
+                    b'\n' => {
+                        self.flags |= NEWLINE_BEFORE;
+                        self.pos += 1;
+                    }
+                    // U+00A0 (no-break space): common in files that went through a
+                    // Latin-1 editor; harmless as a separator.
+                    0xC2 if self.peek(1) == 0xA0 => self.pos += 2,
+                    _ => break,
+                }
+            }
+            if self.pos >= len {
+                return;
+            }
+            match (src[self.pos], self.peek(1)) {
+                (b'(', b'*') => self.block_comment(),
+                (b'/', b'*') => self.c_comment(),
+                (b'/', b'/') => {
+                    while self.pos < len && src[self.pos] != b'\n' {
+                        self.pos += 1;
+                    }
+                }
+                (b'{', _) => self.pragma(),
+                _ => return,
+            }
+        }
+    }
+
+    /// `(* ... *)`, nested comments counted.
+    fn block_comment(&mut self) {
+        let start = self.pos;
+        let src = self.src;
+        let mut depth = 0usize;
+        let mut i = self.pos;
+        while i < src.len() {
+            match src[i] {
+                b'(' if src.get(i + 1) == Some(&b'*') => {
+                    depth += 1;
+                    i += 2;
+                }
+                b'*' if src.get(i + 1) == Some(&b')') => {
+                    depth -= 1;
+                    i += 2;
+                    if depth == 0 {
+                        self.pos = i;
+                        return;
+                    }
+                }
+                b'\n' => {
+                    self.flags |= NEWLINE_BEFORE;
+                    i += 1;
+                }
+                _ => i += 1,
+            }
+        }
+        self.pos = src.len();
+        self.eof_in_error = true;
+        self.error(
+            codes::UNTERMINATED_COMMENT,
+            "unterminated comment: `(*` has no matching `*)`".into(),
+            start,
+            start + 2,
+            "this comment is never closed",
+        );
+    }
+
+    /// `/* ... */` (not nested, as in C).
+    fn c_comment(&mut self) {
+        let start = self.pos;
+        let src = self.src;
+        let mut i = self.pos + 2;
+        while i < src.len() {
+            if src[i] == b'*' && src.get(i + 1) == Some(&b'/') {
+                self.pos = i + 2;
+                return;
+            }
+            if src[i] == b'\n' {
+                self.flags |= NEWLINE_BEFORE;
+            }
+            i += 1;
+        }
+        self.pos = src.len();
+        self.eof_in_error = true;
+        self.error(
+            codes::UNTERMINATED_COMMENT,
+            "unterminated comment: `/*` has no matching `*/`".into(),
+            start,
+            start + 2,
+            "this comment is never closed",
+        );
+    }
+
+    /// `{ ... }`: pragmas and attributes are ignored.
+    fn pragma(&mut self) {
+        let start = self.pos;
+        let src = self.src;
+        let mut i = self.pos + 1;
+        while i < src.len() {
+            if src[i] == b'}' {
+                self.pos = i + 1;
+                return;
+            }
+            if src[i] == b'\n' {
+                self.flags |= NEWLINE_BEFORE;
+            }
+            i += 1;
+        }
+        self.pos = src.len();
+        self.eof_in_error = true;
+        self.error(
+            codes::UNTERMINATED_COMMENT,
+            "unterminated pragma: `{` has no matching `}`".into(),
+            start,
+            start + 1,
+            "this pragma is never closed",
+        );
+    }
+
+    /// A run of bytes that start no token: one error token, one diagnostic.
+    fn garbage(&mut self) {
+        let start = self.pos;
+        let src = self.src;
+        self.pos += 1;
+        while self.pos < src.len() {
+            let b = src[self.pos];
+            let starts_token = b.is_ascii_alphanumeric()
+                || b.is_ascii_whitespace()
+                || b"_'\"%:=<>*./+-&()[],;^#{".contains(&b);
+            if starts_token {
+                break;
+            }
+            self.pos += 1;
+        }
+        let shown = self.text[start..].chars().next().unwrap_or('?');
+        let msg = if shown.is_control() {
+            format!("unexpected character U+{:04X}", shown as u32)
+        } else {
+            format!("unexpected character `{shown}`")
+        };
+        self.error(codes::UNEXPECTED_CHAR, msg, start, self.pos, "not valid here");
+        self.push(Tok::Error, start, 0);
+    }
+
+    /// A name, a keyword, or a literal with a prefix (`T#5s`, `INT#-5`).
+    fn word(&mut self) {
+        let start = self.pos;
+        let src = self.src;
+        let mut i = start + 1;
+        while i < src.len() && is_ident_byte(src[i]) {
+            i += 1;
+        }
+        self.pos = i;
+        self.upper.clear();
+        for &b in &src[start..i] {
+            self.upper.push(b.to_ascii_uppercase() as char);
+        }
+        if self.peek(0) == b'#' {
+            if let Some(p) = prefix_of(self.upper.as_bytes()) {
+                self.prefixed_literal(start, p);
+                return;
+            }
+        }
+        let sym = self.interner.intern_upper(&self.upper);
+        let kind = self
+            .keywords
+            .get(sym.0 as usize)
+            .copied()
+            .unwrap_or(Tok::Ident);
+        self.push(kind, start, if kind == Tok::Ident { sym.0 } else { 0 });
+    }
+
+    /// After `PREFIX` and before its `#`.
+    fn prefixed_literal(&mut self, start: usize, prefix: Prefix) {
+        let word_end = self.pos;
+        self.pos += 1; // '#'
+        let body = self.pos;
+        let src = self.src;
+        let class: fn(u8) -> bool = match prefix {
+            Prefix::Duration(_) => |b| is_ident_byte(b) || b == b'.',
+            Prefix::Date(_) => |b| b.is_ascii_digit() || b == b'-',
+            Prefix::Tod(_) => |b| b.is_ascii_digit() || b == b':' || b == b'.',
+            Prefix::Dt(_) => |b| b.is_ascii_digit() || b == b'-' || b == b':' || b == b'.',
+            Prefix::Typed => {
+                let sym = self.interner.intern_upper(&self.upper);
+                let ident = Ident {
+                    sym,
+                    span: self.span(start, word_end),
+                };
+                let kind = self.typed_value(start, word_end);
+                self.push_lit(start, kind, Some(ident));
+                return;
+            }
+        };
+        let mut i = body;
+        if matches!(prefix, Prefix::Duration(_)) && matches!(src.get(i), Some(b'-' | b'+')) {
+            i += 1;
+        }
+        while i < src.len() && class(src[i]) {
+            i += 1;
+        }
+        // Letters glued to a date belong to the (bad) literal, not to the next token.
+        while i < src.len() && is_ident_byte(src[i]) {
+            i += 1;
+        }
+        self.pos = i;
+        let t = &self.text[body..i];
+        let (kind, code) = match prefix {
+            Prefix::Duration(long) => (
+                literals::duration(t).map(|ns| LiteralKind::Duration { ns, long }),
+                codes::MALFORMED_DURATION,
+            ),
+            Prefix::Date(long) => (
+                literals::date(t).map(|days| LiteralKind::Date { days, long }),
+                codes::MALFORMED_DATE_TIME,
+            ),
+            Prefix::Tod(long) => (
+                literals::time_of_day(t).map(|ns| LiteralKind::TimeOfDay { ns, long }),
+                codes::MALFORMED_DATE_TIME,
+            ),
+            Prefix::Dt(long) => (
+                literals::date_time(t).map(|ns| LiteralKind::DateTime { ns, long }),
+                codes::MALFORMED_DATE_TIME,
+            ),
+            Prefix::Typed => unreachable!("handled above"),
+        };
+        let kind = match kind {
+            Ok(k) => k,
+            Err(msg) => {
+                let what = &self.text[start..word_end];
+                self.error(
+                    code,
+                    format!("malformed `{what}#` literal: {msg}"),
+                    start,
+                    i.max(body),
+                    "malformed literal",
+                );
+                match prefix {
+                    Prefix::Duration(long) => LiteralKind::Duration { ns: 0, long },
+                    Prefix::Date(long) => LiteralKind::Date { days: 0, long },
+                    Prefix::Tod(long) => LiteralKind::TimeOfDay { ns: 0, long },
+                    _ => LiteralKind::DateTime { ns: 0, long: matches!(prefix, Prefix::Dt(true)) },
+                }
+            }
+        };
+        self.push_lit(start, kind, None);
+    }
+
+    /// The value after `TYPE#`: a signed number, TRUE/FALSE or a string.
+    fn typed_value(&mut self, start: usize, word_end: usize) -> LiteralKind {
+        let src = self.src;
+        let mut neg = false;
+        if matches!(self.peek(0), b'-' | b'+') {
+            neg = self.peek(0) == b'-';
+            self.pos += 1;
+        }
+        let is_bool = &self.upper == "BOOL";
+        let c = self.peek(0);
+        let kind = if c.is_ascii_digit() {
+            self.number(neg)
+        } else if c.is_ascii_alphabetic() && !neg {
+            let ws = self.pos;
+            while self.pos < src.len() && is_ident_byte(src[self.pos]) {
+                self.pos += 1;
+            }
+            match self.text[ws..self.pos].to_ascii_uppercase().as_str() {
+                "TRUE" => LiteralKind::Bool(true),
+                "FALSE" => LiteralKind::Bool(false),
+                other => {
+                    let msg = format!(
+                        "malformed `{}#` literal: expected a number, TRUE or FALSE, found `{other}`",
+                        &self.text[start..word_end]
+                    );
+                    self.error(codes::MALFORMED_TYPED_LITERAL, msg, start, self.pos, "malformed literal");
+                    LiteralKind::Int(0)
+                }
+            }
+        } else if (c == b'\'' || c == b'"') && !neg {
+            self.string()
+        } else {
+            let msg = format!(
+                "malformed `{}#` literal: expected a value after `#`",
+                &self.text[start..word_end]
+            );
+            self.error(codes::MALFORMED_TYPED_LITERAL, msg, start, self.pos, "value missing");
+            LiteralKind::Int(0)
+        };
+        if is_bool {
+            if let LiteralKind::Int(v) = kind {
+                return match v {
+                    0 => LiteralKind::Bool(false),
+                    1 => LiteralKind::Bool(true),
+                    _ => {
+                        let msg = "malformed `BOOL#` literal: the value must be 0, 1, TRUE or FALSE";
+                        self.error(codes::MALFORMED_TYPED_LITERAL, msg.into(), start, self.pos, "not a BOOL");
+                        LiteralKind::Bool(false)
+                    }
+                };
+            }
+        }
+        kind
+    }
+
+    /// A decimal, based or real number starting at a digit. `neg` negates it (for the
+    /// `-` of a typed literal).
+    fn number(&mut self, neg: bool) -> LiteralKind {
+        let start = self.pos;
+        let src = self.src;
+        let mut i = start;
+        while i < src.len() && (src[i].is_ascii_digit() || src[i] == b'_') {
+            i += 1;
+        }
+        let mut kind;
+        if src.get(i) == Some(&b'#') {
+            // Based: BASE#DIGITS
+            let base = literals::parse_digits(&src[start..i], 10).unwrap_or(0);
+            i += 1;
+            let ds = i;
+            while i < src.len() && is_ident_byte(src[i]) {
+                i += 1;
+            }
+            self.pos = i;
+            if !matches!(base, 2 | 8 | 16) {
+                let msg = format!(
+                    "invalid base `{}` in a based number (use 2#, 8# or 16#)",
+                    &self.text[start..ds - 1]
+                );
+                self.error(codes::MALFORMED_NUMBER, msg, start, i, "invalid base");
+                return LiteralKind::Int(0);
+            }
+            kind = match literals::parse_digits(&src[ds..i], base as u32) {
+                Ok(v) => LiteralKind::Int(v),
+                Err(e) => {
+                    self.digit_error(e, start, i, base as u32);
+                    LiteralKind::Int(0)
+                }
+            };
+        } else {
+            let mut real = false;
+            if src.get(i) == Some(&b'.') && src.get(i + 1).is_some_and(|b| b.is_ascii_digit()) {
+                real = true;
+                i += 1;
+                while i < src.len() && (src[i].is_ascii_digit() || src[i] == b'_') {
+                    i += 1;
+                }
+            }
+            if matches!(src.get(i), Some(b'e' | b'E')) {
+                let mut j = i + 1;
+                if matches!(src.get(j), Some(b'+' | b'-')) {
+                    j += 1;
+                }
+                if src.get(j).is_some_and(|b| b.is_ascii_digit()) {
+                    real = true;
+                    i = j;
+                    while i < src.len() && (src[i].is_ascii_digit() || src[i] == b'_') {
+                        i += 1;
+                    }
+                }
+            }
+            self.pos = i;
+            kind = if real {
+                let mut t = String::with_capacity(i - start + 1);
+                if neg {
+                    t.push('-');
+                }
+                t.extend(self.text[start..i].chars().filter(|&c| c != '_'));
+                LiteralKind::Real(t.into_boxed_str())
+            } else {
+                match literals::parse_digits(&src[start..i], 10) {
+                    Ok(v) => LiteralKind::Int(v),
+                    Err(e) => {
+                        self.digit_error(e, start, i, 10);
+                        LiteralKind::Int(0)
+                    }
+                }
+            };
+            if !real && neg {
+                if let LiteralKind::Int(v) = kind {
+                    kind = LiteralKind::Int(-v);
+                }
+            }
+            if i < src.len() && is_ident_byte(src[i]) {
+                let ss = i;
+                while i < src.len() && is_ident_byte(src[i]) {
+                    i += 1;
+                }
+                self.pos = i;
+                let msg = format!(
+                    "invalid suffix `{}` after the number `{}`",
+                    &self.text[ss..i],
+                    &self.text[start..ss]
+                );
+                self.error(codes::MALFORMED_NUMBER, msg, start, i, "malformed number");
+            }
+            return kind;
+        }
+        if neg {
+            if let LiteralKind::Int(v) = kind {
+                kind = LiteralKind::Int(-v);
+            }
+        }
+        kind
+    }
+
+    fn digit_error(&mut self, e: DigitError, start: usize, end: usize, base: u32) {
+        let (code, msg, label) = match e {
+            DigitError::BadDigit(b) => (
+                codes::MALFORMED_NUMBER,
+                format!("`{}` is not a digit in base {base}", b as char),
+                "invalid digit",
+            ),
+            DigitError::NoDigits => (
+                codes::MALFORMED_NUMBER,
+                format!("expected digits in base {base} after `#`"),
+                "digits missing",
+            ),
+            DigitError::TooLarge => (
+                codes::INT_LITERAL_TOO_LARGE,
+                "integer literal is too large".to_string(),
+                "does not fit in 128 bits",
+            ),
+        };
+        self.error(code, msg, start, end, label);
+    }
+
+    /// A `'STRING'` or `"WSTRING"` literal; a line break ends an unterminated one.
+    fn string(&mut self) -> LiteralKind {
+        let start = self.pos;
+        let src = self.src;
+        let quote = src[start];
+        let wide = quote == b'"';
+        let mut i = start + 1;
+        let mut closed = false;
+        while i < src.len() {
+            match src[i] {
+                b if b == quote => {
+                    closed = true;
+                    break;
+                }
+                b'\n' | b'\r' => break,
+                b'$' if !matches!(src.get(i + 1), None | Some(b'\n' | b'\r')) => i += 2,
+                _ => i += 1,
+            }
+        }
+        let i = i.min(src.len());
+        // `i` may sit inside a multi-byte character after `$`; back off to a boundary.
+        let mut content_end = i;
+        while !self.text.is_char_boundary(content_end) {
+            content_end -= 1;
+        }
+        self.pos = if closed { i + 1 } else { content_end };
+        if !closed {
+            self.swallowed = true;
+            if self.pos >= src.len() {
+                self.eof_in_error = true;
+            }
+            let q = quote as char;
+            self.error(
+                codes::UNTERMINATED_STRING,
+                format!("unterminated string literal: missing closing `{q}`"),
+                start,
+                self.pos,
+                "this string is not closed on its line",
+            );
+        }
+        let mut errors = Vec::new();
+        let units =
+            literals::decode_string(&self.text[start + 1..content_end], wide, &mut errors);
+        for e in errors {
+            let s = start + 1 + e.offset;
+            self.error(codes::INVALID_ESCAPE, e.message, s, s + e.len, "invalid escape");
+        }
+        LiteralKind::String { wide, units }
+    }
+
+    /// `%IX0.0`, `%QW1`, `%MD2`, `%I*`, and the partial accesses `%X3`, `%B1`.
+    fn address(&mut self) {
+        let start = self.pos;
+        let src = self.src;
+        let mut i = start + 1;
+        let ls = i;
+        while i < src.len() && src[i].is_ascii_alphabetic() {
+            i += 1;
+        }
+        let letters = self.text[ls..i].to_ascii_uppercase();
+        let mut star = false;
+        let ds = i;
+        if src.get(i) == Some(&b'*') {
+            star = true;
+            i += 1;
+        } else {
+            while i < src.len() && src[i].is_ascii_digit() {
+                i += 1;
+                if src.get(i) == Some(&b'.') && src.get(i + 1).is_some_and(|b| b.is_ascii_digit()) {
+                    i += 1;
+                }
+            }
+        }
+        // Glued letters are part of the malformed address.
+        while i < src.len() && is_ident_byte(src[i]) {
+            i += 1;
+        }
+        self.pos = i;
+        let digits = &self.text[ds..i];
+        let l = letters.as_bytes();
+        let area_ok = matches!(l.first(), Some(b'I' | b'Q' | b'M'))
+            && (l.len() == 1 || (l.len() == 2 && b"XBWDL".contains(&l[1])));
+        let partial_ok = l.len() == 1 && b"XBWDL".contains(&l[0]) && !digits.contains('.');
+        let digits_ok = star
+            || (!digits.is_empty()
+                && digits.bytes().all(|b| b.is_ascii_digit() || b == b'.')
+                && !digits.ends_with('.'));
+        if !((area_ok || partial_ok && !star) && digits_ok) {
+            let text = &self.text[start..i];
+            let msg = if l.is_empty() {
+                format!("malformed direct address `{text}`: expected I, Q or M after `%`")
+            } else if !(area_ok || partial_ok) {
+                format!("malformed direct address `{text}`: `{letters}` is not a location and size (use I, Q or M, then X, B, W, D or L)")
+            } else {
+                format!("malformed direct address `{text}`: expected a number or `*`")
+            };
+            self.error(codes::MALFORMED_ADDRESS, msg, start, i, "malformed address");
+        }
+    }
+}
+
+/// The symbol of an identifier token.
+pub fn sym(tok: &Token) -> Symbol {
+    Symbol(tok.data)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lx(src: &str) -> (Lexed, Vec<Diagnostic>, Interner) {
+        let mut i = Interner::new();
+        let mut d = Vec::new();
+        let l = lex(FileId(0), src, &mut i, &mut d);
+        (l, d, i)
+    }
+
+    fn kinds(src: &str) -> Vec<Tok> {
+        let (l, d, _) = lx(src);
+        assert!(d.is_empty(), "unexpected diagnostics for {src:?}: {d:?}");
+        l.tokens.iter().map(|t| t.kind).collect()
+    }
+
+    fn lit(src: &str) -> Literal {
+        let (l, d, _) = lx(src);
+        assert!(d.is_empty(), "unexpected diagnostics for {src:?}: {d:?}");
+        assert_eq!(l.tokens.len(), 2, "{src:?} should be one token: {:?}", l.tokens);
+        assert_eq!(l.tokens[0].kind, Tok::Lit);
+        assert_eq!(l.tokens[0].end as usize, src.len());
+        l.literals[l.tokens[0].data as usize].clone()
+    }
+
+    fn lit_kind(src: &str) -> LiteralKind {
+        lit(src).kind
+    }
+
+    fn errors(src: &str) -> Vec<&'static str> {
+        let (_, d, _) = lx(src);
+        d.iter().map(|d| d.code).collect()
+    }
+
+    use LiteralKind as L;
+    use Tok as T;
+
+    #[test]
+    fn integers_and_reals() {
+        assert_eq!(lit_kind("123"), L::Int(123));
+        assert_eq!(lit_kind("1_000"), L::Int(1000));
+        assert_eq!(lit_kind("2#1010_0101"), L::Int(0xA5));
+        assert_eq!(lit_kind("8#17"), L::Int(15));
+        assert_eq!(lit_kind("16#FF"), L::Int(255));
+        assert_eq!(lit_kind("16#ff"), L::Int(255));
+        assert_eq!(lit_kind("1.5"), L::Real("1.5".into()));
+        assert_eq!(lit_kind("1.5E3"), L::Real("1.5E3".into()));
+        assert_eq!(lit_kind("1.0e-3"), L::Real("1.0e-3".into()));
+        assert_eq!(lit_kind("1E3"), L::Real("1E3".into()));
+        assert_eq!(lit_kind("1_000.000_1"), L::Real("1000.0001".into()));
+        assert_eq!(
+            lit_kind("170141183460469231731687303715884105727"),
+            L::Int(i128::MAX)
+        );
+    }
+
+    #[test]
+    fn ranges_bits_and_members_are_not_reals() {
+        assert_eq!(kinds("1..10"), vec![T::Lit, T::DotDot, T::Lit, T::Eof]);
+        assert_eq!(kinds("x.3"), vec![T::Ident, T::Dot, T::Lit, T::Eof]);
+        assert_eq!(kinds("a.b.c"), vec![T::Ident, T::Dot, T::Ident, T::Dot, T::Ident, T::Eof]);
+        assert_eq!(kinds("x.%X3"), vec![T::Ident, T::Dot, T::Address, T::Eof]);
+        assert_eq!(kinds("E1 := 1E1"), vec![T::Ident, T::Assign, T::Lit, T::Eof]);
+    }
+
+    #[test]
+    fn typed_literals() {
+        let l = lit("INT#5");
+        assert_eq!(l.kind, L::Int(5));
+        assert!(l.type_prefix.is_some());
+        assert_eq!(lit_kind("INT#-5"), L::Int(-5));
+        assert_eq!(lit_kind("DINT#16#FF"), L::Int(255));
+        assert_eq!(lit_kind("REAL#1.5"), L::Real("1.5".into()));
+        assert_eq!(lit_kind("LREAL#-1.0E10"), L::Real("-1.0E10".into()));
+        assert_eq!(lit_kind("BOOL#1"), L::Bool(true));
+        assert_eq!(lit_kind("BOOL#0"), L::Bool(false));
+        assert_eq!(lit_kind("BOOL#TRUE"), L::Bool(true));
+        assert_eq!(lit_kind("bool#false"), L::Bool(false));
+        assert_eq!(lit_kind("UINT#2#1010"), L::Int(10));
+        assert_eq!(
+            lit_kind("STRING#'ABC'"),
+            L::String { wide: false, units: vec![65, 66, 67] }
+        );
+        let (l, _, i) = lx("int#5");
+        let p = l.literals[0].type_prefix.unwrap();
+        assert_eq!(i.name(p.sym), "INT");
+        assert_eq!((p.span.start, p.span.end), (0, 3));
+        // Not an elementary type: an enumeration value, left to the parser.
+        assert_eq!(kinds("Color#Red"), vec![T::Ident, T::Hash, T::Ident, T::Eof]);
+    }
+
+    #[test]
+    fn durations_dates_times() {
+        const S: i128 = 1_000_000_000;
+        let d = |ns: i128| L::Duration { ns, long: false };
+        assert_eq!(lit_kind("T#1h2m3s4ms"), d(3723 * S + 4_000_000));
+        assert_eq!(lit_kind("TIME#5s"), d(5 * S));
+        assert_eq!(lit_kind("t#1.5s"), d(1_500_000_000));
+        assert_eq!(lit_kind("T#-5s"), d(-5 * S));
+        assert_eq!(lit_kind("T#1d"), d(86_400 * S));
+        assert_eq!(lit_kind("T#100us"), d(100_000));
+        assert_eq!(lit_kind("T#10ns"), d(10));
+        assert_eq!(lit_kind("T#1m_30s"), d(90 * S));
+        assert_eq!(lit_kind("T#1.5h"), d(5400 * S));
+        assert_eq!(lit_kind("LT#1s"), L::Duration { ns: S, long: true });
+        assert_eq!(lit_kind("LTIME#1ms"), L::Duration { ns: 1_000_000, long: true });
+        assert_eq!(lit_kind("D#2024-01-31"), L::Date { days: 19753, long: false });
+        assert_eq!(lit_kind("DATE#1970-01-01"), L::Date { days: 0, long: false });
+        assert_eq!(lit_kind("LDATE#1970-01-02"), L::Date { days: 1, long: true });
+        assert_eq!(lit_kind("LD#1970-01-02"), L::Date { days: 1, long: true });
+        let tod = (12 * 3600 + 30 * 60 + 15) * 1_000_000_000 + 250_000_000;
+        assert_eq!(lit_kind("TOD#12:30:15.25"), L::TimeOfDay { ns: tod, long: false });
+        assert_eq!(lit_kind("TIME_OF_DAY#12:30:15.25"), L::TimeOfDay { ns: tod, long: false });
+        assert_eq!(lit_kind("LTOD#00:00:01"), L::TimeOfDay { ns: 1_000_000_000, long: true });
+        let dt = 19753 * 86_400 * S + 45015 * S + 500_000_000;
+        assert_eq!(lit_kind("DT#2024-01-31-12:30:15.5"), L::DateTime { ns: dt, long: false });
+        assert_eq!(lit_kind("DATE_AND_TIME#2024-01-31-12:30:15.5"), L::DateTime { ns: dt, long: false });
+        assert_eq!(lit_kind("LDT#1970-01-01-00:00:00"), L::DateTime { ns: 0, long: true });
+        // A duration followed by an operator is not swallowed.
+        assert_eq!(kinds("T#5s-x"), vec![T::Lit, T::Minus, T::Ident, T::Eof]);
+        assert_eq!(errors("D#2024-01-31-x"), vec![codes::MALFORMED_DATE_TIME]);
+    }
+
+    #[test]
+    fn malformed_literals() {
+        assert_eq!(errors("T#5x"), vec![codes::MALFORMED_DURATION]);
+        assert_eq!(errors("T#"), vec![codes::MALFORMED_DURATION]);
+        assert_eq!(errors("D#2024-02-30"), vec![codes::MALFORMED_DATE_TIME]);
+        assert_eq!(errors("TOD#25:00:00"), vec![codes::MALFORMED_DATE_TIME]);
+        assert_eq!(errors("DT#2024-01-01"), vec![codes::MALFORMED_DATE_TIME]);
+        assert_eq!(errors("3#12"), vec![codes::MALFORMED_NUMBER]);
+        assert_eq!(errors("2#102"), vec![codes::MALFORMED_NUMBER]);
+        assert_eq!(errors("16#"), vec![codes::MALFORMED_NUMBER]);
+        assert_eq!(errors("12abc"), vec![codes::MALFORMED_NUMBER]);
+        assert_eq!(
+            errors("999999999999999999999999999999999999999999"),
+            vec![codes::INT_LITERAL_TOO_LARGE]
+        );
+        assert_eq!(errors("INT#x"), vec![codes::MALFORMED_TYPED_LITERAL]);
+        assert_eq!(errors("INT#"), vec![codes::MALFORMED_TYPED_LITERAL]);
+        assert_eq!(errors("BOOL#2"), vec![codes::MALFORMED_TYPED_LITERAL]);
+        assert_eq!(errors("%Z1"), vec![codes::MALFORMED_ADDRESS]);
+        assert_eq!(errors("%IY1"), vec![codes::MALFORMED_ADDRESS]);
+        assert_eq!(errors("%IX"), vec![codes::MALFORMED_ADDRESS]);
+        assert_eq!(errors("'a$qb'"), vec![codes::INVALID_ESCAPE]);
+        // Every malformed literal is still one literal token.
+        let (l, _, _) = lx("T#5x");
+        assert_eq!(l.tokens.len(), 2);
+    }
+
+    #[test]
+    fn strings() {
+        assert_eq!(
+            lit_kind("'a$$b$'c$N$0A'"),
+            L::String { wide: false, units: vec![97, 36, 98, 39, 99, 10, 10] }
+        );
+        assert_eq!(
+            lit_kind("\"w$\"$0041\""),
+            L::String { wide: true, units: vec![119, 34, 0x41] }
+        );
+        assert_eq!(lit_kind("''"), L::String { wide: false, units: vec![] });
+        assert_eq!(errors("'abc"), vec![codes::UNTERMINATED_STRING]);
+        assert_eq!(errors("'abc\nx"), vec![codes::UNTERMINATED_STRING]);
+        assert_eq!(errors("\"abc$"), vec![codes::UNTERMINATED_STRING, codes::INVALID_ESCAPE]);
+        // `$` before a multi-byte character must not split it.
+        assert_eq!(errors("'$\u{e4}"), vec![codes::UNTERMINATED_STRING, codes::INVALID_ESCAPE]);
+    }
+
+    #[test]
+    fn comments_and_pragmas() {
+        assert_eq!(kinds("a (* x (* nested *) y *) b"), vec![T::Ident, T::Ident, T::Eof]);
+        assert_eq!(kinds("a /* x (* y */ b"), vec![T::Ident, T::Ident, T::Eof]);
+        assert_eq!(kinds("a // x *)\nb"), vec![T::Ident, T::Ident, T::Eof]);
+        assert_eq!(kinds("a {attribute 'x'} b"), vec![T::Ident, T::Ident, T::Eof]);
+        assert_eq!(kinds("(*****)x(***)"), vec![T::Ident, T::Eof]);
+        assert_eq!(errors("a (* x (* y *)"), vec![codes::UNTERMINATED_COMMENT]);
+        assert_eq!(errors("/* x"), vec![codes::UNTERMINATED_COMMENT]);
+        assert_eq!(errors("{ x"), vec![codes::UNTERMINATED_COMMENT]);
+        let (l, _, _) = lx("a (* \n *) b c");
+        assert!(l.tokens[1].newline_before());
+        assert!(!l.tokens[2].newline_before());
+        assert!(lx("(* x").0.eof_in_error);
+    }
+
+    #[test]
+    fn addresses() {
+        for a in ["%IX0.0", "%QW1", "%MD2", "%IB3", "%I*", "%Q*", "%Q0.0", "%MW1.2.3", "%ix1", "%QX0.1"] {
+            assert_eq!(kinds(a), vec![T::Address, T::Eof], "{a}");
+        }
+        assert_eq!(kinds("%IX0.0.."), vec![T::Address, T::DotDot, T::Eof]);
+    }
+
+    #[test]
+    fn operators_and_keywords() {
+        assert_eq!(
+            kinds(":= => = <> < <= > >= + - * / ** & ( ) [ ] , ; : . .. ^ #"),
+            vec![
+                T::Assign, T::Arrow, T::Eq, T::Ne, T::Lt, T::Le, T::Gt, T::Ge, T::Plus,
+                T::Minus, T::Star, T::Slash, T::Pow, T::Amp, T::LParen, T::RParen,
+                T::LBracket, T::RBracket, T::Comma, T::Semi, T::Colon, T::Dot, T::DotDot,
+                T::Caret, T::Hash, T::Eof
+            ]
+        );
+        assert_eq!(kinds("if Then end_IF"), vec![T::If, T::Then, T::EndIf, T::Eof]);
+        // Contextual words stay names.
+        assert_eq!(kinds("on with step end method"), vec![T::Ident; 5].into_iter().chain([T::Eof]).collect::<Vec<_>>());
+        let (l, _, i) = lx("Motor_1 motor_1");
+        assert_eq!(l.tokens[0].data, l.tokens[1].data);
+        assert_eq!(i.name(sym(&l.tokens[0])), "MOTOR_1");
+    }
+
+    #[test]
+    fn garbage_is_one_error_token() {
+        let (l, d, _) = lx("a $?! b \u{20ac}\u{20ac} c");
+        assert_eq!(d.len(), 2);
+        let k: Vec<Tok> = l.tokens.iter().map(|t| t.kind).collect();
+        assert_eq!(k, vec![T::Ident, T::Error, T::Ident, T::Error, T::Ident, T::Eof]);
+    }
+
+    #[test]
+    fn arbitrary_bytes_never_panic() {
+        let mut seed = 0x1234_5678_9abc_def0u64;
+        for len in 0..400 {
+            let mut bytes = Vec::with_capacity(len);
+            for _ in 0..len {
+                seed ^= seed << 13;
+                seed ^= seed >> 7;
+                seed ^= seed << 17;
+                let pool = b"(*)/{}'\"$%#:=.0123456789eE_abcxTtD-+ \n\xc3\xa4\xe2\x82\xac";
+                bytes.push(pool[(seed % pool.len() as u64) as usize]);
+            }
+            let text = String::from_utf8_lossy(&bytes);
+            let (l, _, _) = lx(&text);
+            assert_eq!(l.tokens.last().map(|t| t.kind), Some(T::Eof));
+            for t in &l.tokens {
+                assert!(text.is_char_boundary(t.start as usize) && text.is_char_boundary(t.end as usize));
+            }
+        }
+    }
+}

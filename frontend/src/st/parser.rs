@@ -1,0 +1,2608 @@
+//! The Structured Text parser: recursive descent over the token vector, precedence
+//! climbing for expressions.
+//!
+//! Error recovery follows three rules, so that one mistake gives one diagnostic:
+//! - at most one error per token: once an error is reported at a token, errors at that
+//!   token or before it are dropped (the parser never moves backwards);
+//! - a construct that failed is left out of the tree and the parser resynchronises at
+//!   a `;`, a statement keyword, an END_ keyword, END_VAR or the next POU keyword;
+//! - END_ keywords close the innermost construct that expects them, and a construct
+//!   that meets another construct's END_ reports itself as not closed, so a missing
+//!   END_IF is reported once, at the place it was expected.
+//!
+//! Nesting is limited ([`MAX_DEPTH`] recursion levels, [`MAX_HEIGHT`] for the height
+//! of an expression tree) so that no input can overflow the stack, here or in the
+//! passes that walk the tree.
+
+use super::lexer::{Lexed, Tok, Token, SWALLOWED};
+use crate::ast::*;
+use crate::codes;
+use crate::intern::{Interner, Symbol};
+use plcc_ir::diag::{Diagnostic, FileId, Span};
+
+/// The deepest nesting of parentheses, statements, types and initialisers accepted.
+pub const MAX_DEPTH: u32 = 200;
+/// The greatest height of an expression tree (nesting plus chained operators).
+pub const MAX_HEIGHT: u32 = 1000;
+
+/// Parses the tokens of one file (see [`super::parse`]).
+pub fn parse_tokens(
+    file: FileId,
+    text: &str,
+    lexed: &Lexed,
+    interner: &mut Interner,
+    diags: &mut Vec<Diagnostic>,
+) -> SourceUnit {
+    let s = Syms::new(interner);
+    let mut p = Parser {
+        file,
+        text,
+        toks: &lexed.tokens,
+        lits: &lexed.literals,
+        pos: 0,
+        interner,
+        diags,
+        last_err: None,
+        eof_silent: lexed.eof_in_error,
+        depth: 0,
+        height: 0,
+        open: [0; 8],
+        s,
+        last_pou: None,
+    };
+    if p.toks.last().map(|t| t.kind) != Some(Tok::Eof) {
+        // `lex` always ends with Eof; a hand-made token vector might not.
+        return SourceUnit { file, items: Vec::new() };
+    }
+    let items = p.unit();
+    SourceUnit { file, items }
+}
+
+/// Words that are keywords only in some contexts (and names everywhere else).
+struct Syms {
+    action: Symbol,
+    method: Symbol,
+    property: Symbol,
+    interface: Symbol,
+    class: Symbol,
+    step: Symbol,
+    initial_step: Symbol,
+    transition: Symbol,
+    on: Symbol,
+    with: Symbol,
+    task: Symbol,
+    resource: Symbol,
+    pointer: Symbol,
+    ref_: Symbol,
+    extends: Symbol,
+    implements: Symbol,
+    r_edge: Symbol,
+    f_edge: Symbol,
+    reference: Symbol,
+    actions: Symbol,
+    functionblock: Symbol,
+    library: Symbol,
+    end_library: Symbol,
+    modifiers: [Symbol; 6],
+}
+
+impl Syms {
+    fn new(i: &mut Interner) -> Syms {
+        Syms {
+            action: i.intern_upper("ACTION"),
+            method: i.intern_upper("METHOD"),
+            property: i.intern_upper("PROPERTY"),
+            interface: i.intern_upper("INTERFACE"),
+            class: i.intern_upper("CLASS"),
+            step: i.intern_upper("STEP"),
+            initial_step: i.intern_upper("INITIAL_STEP"),
+            transition: i.intern_upper("TRANSITION"),
+            on: i.intern_upper("ON"),
+            with: i.intern_upper("WITH"),
+            task: i.intern_upper("TASK"),
+            resource: i.intern_upper("RESOURCE"),
+            pointer: i.intern_upper("POINTER"),
+            ref_: i.intern_upper("REF"),
+            extends: i.intern_upper("EXTENDS"),
+            implements: i.intern_upper("IMPLEMENTS"),
+            r_edge: i.intern_upper("R_EDGE"),
+            f_edge: i.intern_upper("F_EDGE"),
+            reference: i.intern_upper("REFERENCE"),
+            actions: i.intern_upper("ACTIONS"),
+            functionblock: i.intern_upper("FUNCTIONBLOCK"),
+            library: i.intern_upper("LIBRARY"),
+            end_library: i.intern_upper("END_LIBRARY"),
+            modifiers: [
+                i.intern_upper("ABSTRACT"),
+                i.intern_upper("FINAL"),
+                i.intern_upper("PUBLIC"),
+                i.intern_upper("PRIVATE"),
+                i.intern_upper("PROTECTED"),
+                i.intern_upper("INTERNAL"),
+            ],
+        }
+    }
+}
+
+/// Members of a POU that start with a contextual keyword.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+enum Member {
+    Action,
+    Method,
+    Property,
+    Interface,
+    Class,
+    Step,
+    Transition,
+}
+
+/// Where a declaration is, which decides what it may look like.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+enum DeclCtx {
+    /// A block of a POU: a located variable needs a name.
+    Pou,
+    /// VAR_GLOBAL outside POUs: anonymous located variables allowed.
+    Global,
+    /// VAR_CONFIG: names are instance paths `a.b.c`.
+    Config,
+    /// VAR_ACCESS: not supported.
+    Access,
+    /// A STRUCT field.
+    Struct,
+}
+
+/// Index in `Parser::open` of a token that closes part of a statement.
+fn closer_idx(t: Tok) -> Option<usize> {
+    Some(match t {
+        Tok::Elsif => 0,
+        Tok::Else => 1,
+        Tok::EndIf => 2,
+        Tok::EndCase => 3,
+        Tok::EndFor => 4,
+        Tok::EndWhile => 5,
+        Tok::Until => 6,
+        Tok::EndRepeat => 7,
+        _ => return None,
+    })
+}
+
+fn is_end_closer(t: Tok) -> bool {
+    matches!(
+        t,
+        Tok::EndIf | Tok::EndCase | Tok::EndFor | Tok::EndWhile | Tok::EndRepeat
+    )
+}
+
+fn is_stmt_keyword(t: Tok) -> bool {
+    matches!(
+        t,
+        Tok::If
+            | Tok::Case
+            | Tok::For
+            | Tok::While
+            | Tok::Repeat
+            | Tok::Exit
+            | Tok::Continue
+            | Tok::Return
+    )
+}
+
+fn starts_stmt(t: Tok) -> bool {
+    matches!(t, Tok::Ident | Tok::Address | Tok::Semi) || is_stmt_keyword(t)
+}
+
+fn var_kind(t: Tok) -> Option<VarKind> {
+    Some(match t {
+        Tok::Var => VarKind::Var,
+        Tok::VarInput => VarKind::Input,
+        Tok::VarOutput => VarKind::Output,
+        Tok::VarInOut => VarKind::InOut,
+        Tok::VarTemp => VarKind::Temp,
+        Tok::VarGlobal => VarKind::Global,
+        Tok::VarExternal => VarKind::External,
+        Tok::VarAccess => VarKind::Access,
+        Tok::VarConfig => VarKind::Config,
+        Tok::VarStat => VarKind::Stat,
+        _ => return None,
+    })
+}
+
+/// Starts of top-level declarations: a POU missing its END_ stops at these.
+fn is_top_start(t: Tok) -> bool {
+    matches!(
+        t,
+        Tok::Program | Tok::Function | Tok::FunctionBlock | Tok::Type | Tok::Configuration
+    )
+}
+
+fn is_pou_end(t: Tok) -> bool {
+    matches!(t, Tok::EndProgram | Tok::EndFunction | Tok::EndFunctionBlock)
+}
+
+/// Tokens no statement list goes past: section keywords and END_s of non-statements.
+fn is_section_stop(t: Tok) -> bool {
+    is_top_start(t)
+        || is_pou_end(t)
+        || var_kind(t).is_some()
+        || matches!(
+            t,
+            Tok::Eof
+                | Tok::EndVar
+                | Tok::EndType
+                | Tok::EndStruct
+                | Tok::EndConfiguration
+                | Tok::EndResource
+                | Tok::EndAction
+                | Tok::EndMethod
+                | Tok::EndProperty
+                | Tok::EndInterface
+                | Tok::EndClass
+                | Tok::EndStep
+                | Tok::EndTransition
+                | Tok::EndActions
+        )
+}
+
+/// Keywords that close something.
+fn is_end_keyword(t: Tok) -> bool {
+    closer_idx(t).is_some()
+        || is_pou_end(t)
+        || (is_section_stop(t) && !is_top_start(t) && var_kind(t).is_none() && t != Tok::Eof)
+}
+
+fn binop(t: Tok) -> Option<(BinaryOp, u8)> {
+    Some(match t {
+        Tok::Or => (BinaryOp::Or, 1),
+        Tok::OrElse => (BinaryOp::OrElse, 1),
+        Tok::Xor => (BinaryOp::Xor, 2),
+        Tok::And | Tok::Amp => (BinaryOp::And, 3),
+        Tok::AndThen => (BinaryOp::AndThen, 3),
+        Tok::Eq => (BinaryOp::Eq, 4),
+        Tok::Ne => (BinaryOp::Ne, 4),
+        Tok::Lt => (BinaryOp::Lt, 5),
+        Tok::Le => (BinaryOp::Le, 5),
+        Tok::Gt => (BinaryOp::Gt, 5),
+        Tok::Ge => (BinaryOp::Ge, 5),
+        Tok::Plus => (BinaryOp::Add, 6),
+        Tok::Minus => (BinaryOp::Sub, 6),
+        Tok::Star => (BinaryOp::Mul, 7),
+        Tok::Slash => (BinaryOp::Div, 7),
+        Tok::Mod => (BinaryOp::Mod, 7),
+        Tok::Pow => (BinaryOp::Pow, 8),
+        _ => return None,
+    })
+}
+
+fn opener_of(t: Tok) -> &'static str {
+    match t {
+        Tok::Elsif | Tok::EndIf => "IF",
+        Tok::Else => "IF or CASE",
+        Tok::EndCase => "CASE",
+        Tok::EndFor => "FOR",
+        Tok::EndWhile => "WHILE",
+        Tok::Until | Tok::EndRepeat => "REPEAT",
+        Tok::EndVar => "VAR block",
+        Tok::EndType => "TYPE",
+        Tok::EndStruct => "STRUCT",
+        Tok::EndConfiguration => "CONFIGURATION",
+        Tok::EndResource => "RESOURCE",
+        Tok::EndAction => "ACTION",
+        Tok::EndMethod => "METHOD",
+        Tok::EndProperty => "PROPERTY",
+        Tok::EndInterface => "INTERFACE",
+        Tok::EndClass => "CLASS",
+        Tok::EndStep => "STEP",
+        Tok::EndTransition => "TRANSITION",
+        Tok::EndActions => "ACTIONS",
+        _ => "block",
+    }
+}
+
+struct Parser<'a> {
+    file: FileId,
+    text: &'a str,
+    toks: &'a [Token],
+    lits: &'a [Literal],
+    pos: usize,
+    interner: &'a mut Interner,
+    diags: &'a mut Vec<Diagnostic>,
+    /// Token index of the last error reported (or suppressed).
+    last_err: Option<usize>,
+    /// The lexer already reported an unterminated comment or string at the end.
+    eof_silent: bool,
+    depth: u32,
+    height: u32,
+    /// How many open statements accept each closer (see [`closer_idx`]).
+    open: [u32; 8],
+    s: Syms,
+    /// The last POU parsed, owner of CODESYS-style actions that follow it.
+    last_pou: Option<Ident>,
+}
+
+impl<'a> Parser<'a> {
+    // ---------------------------------------------------------------- tokens
+
+    fn tok(&self) -> Token {
+        self.toks[self.pos]
+    }
+
+    fn peek(&self) -> Tok {
+        self.toks[self.pos].kind
+    }
+
+    fn peek_at(&self, n: usize) -> Tok {
+        self.toks.get(self.pos + n).map_or(Tok::Eof, |t| t.kind)
+    }
+
+    fn at(&self, k: Tok) -> bool {
+        self.peek() == k
+    }
+
+    fn bump(&mut self) -> Token {
+        let t = self.toks[self.pos];
+        if t.kind != Tok::Eof {
+            self.pos += 1;
+        }
+        t
+    }
+
+    fn eat(&mut self, k: Tok) -> bool {
+        if self.at(k) {
+            self.bump();
+            true
+        } else {
+            false
+        }
+    }
+
+    fn sp(&self, start: u32, end: u32) -> Span {
+        Span::new(self.file, start, end)
+    }
+
+    fn tspan(&self, t: Token) -> Span {
+        Span::new(self.file, t.start, t.end)
+    }
+
+    fn prev_end(&self) -> u32 {
+        if self.pos == 0 {
+            0
+        } else {
+            self.toks[self.pos - 1].end
+        }
+    }
+
+    fn span_from(&self, start: u32) -> Span {
+        self.sp(start, self.prev_end().max(start))
+    }
+
+    fn ident(&self, t: Token) -> Ident {
+        Ident {
+            sym: Symbol(t.data),
+            span: self.tspan(t),
+        }
+    }
+
+    fn at_sym(&self, n: usize, sym: Symbol) -> bool {
+        self.toks
+            .get(self.pos + n)
+            .is_some_and(|t| t.kind == Tok::Ident && t.data == sym.0)
+    }
+
+    fn slice(&self, t: Token) -> &'a str {
+        self.text.get(t.start as usize..t.end as usize).unwrap_or("")
+    }
+
+    // ---------------------------------------------------------------- errors
+
+    /// How the token at `idx` is shown in "found ..." messages.
+    fn describe(&self, idx: usize) -> String {
+        let t = self.toks[idx];
+        match t.kind {
+            Tok::Eof => "end of file".into(),
+            Tok::Error => "an invalid character".into(),
+            _ => {
+                let s = self.slice(t);
+                if s.chars().count() > 24 {
+                    format!("`{}...`", s.chars().take(20).collect::<String>())
+                } else {
+                    format!("`{s}`")
+                }
+            }
+        }
+    }
+
+    /// Reports `d`, attributed to the token at `idx`, unless an error was already
+    /// reported at or after it, or the token is one the lexer reported.
+    fn emit(&mut self, idx: usize, d: Diagnostic) {
+        if self.last_err.is_some_and(|l| idx <= l) {
+            return;
+        }
+        self.last_err = Some(idx);
+        let k = self.toks[idx].kind;
+        let after_swallow = idx > 0 && self.toks[idx - 1].flags & SWALLOWED != 0;
+        if k == Tok::Error || (k == Tok::Eof && self.eof_silent) || after_swallow {
+            return;
+        }
+        self.diags.push(d);
+    }
+
+    fn error_here(&mut self, code: &'static str, msg: String, label: impl Into<String>) {
+        let d = Diagnostic::error(code, msg, self.tspan(self.tok())).with_label(label);
+        self.emit(self.pos, d);
+    }
+
+    /// "expected {what}, found ..." at the current token.
+    fn expected(&mut self, what: &str) {
+        let msg = format!("expected {what}, found {}", self.describe(self.pos));
+        self.error_here(codes::UNEXPECTED_TOKEN, msg, format!("expected {what}"));
+    }
+
+    fn expect_tok(&mut self, k: Tok, what: &str) -> Option<Token> {
+        if self.at(k) {
+            Some(self.bump())
+        } else {
+            self.expected(what);
+            None
+        }
+    }
+
+    fn expect_ident(&mut self, what: &str) -> Option<Ident> {
+        if self.at(Tok::Ident) {
+            let t = self.bump();
+            Some(self.ident(t))
+        } else {
+            self.expected(what);
+            None
+        }
+    }
+
+    fn too_deep(&mut self) {
+        let msg = if self.depth >= MAX_DEPTH {
+            format!("nesting too deep (more than {MAX_DEPTH} levels)")
+        } else {
+            format!("expression too long or nested too deeply (height over {MAX_HEIGHT})")
+        };
+        self.error_here(codes::NESTING_TOO_DEEP, msg, "too deep here");
+    }
+
+    /// Runs `f` one nesting level deeper, or reports that the limit is reached.
+    fn nested<T>(&mut self, f: impl FnOnce(&mut Self) -> Option<T>) -> Option<T> {
+        if self.depth >= MAX_DEPTH || self.height >= MAX_HEIGHT {
+            self.too_deep();
+            return None;
+        }
+        self.depth += 1;
+        self.height += 1;
+        let r = f(self);
+        self.depth -= 1;
+        self.height -= 1;
+        r
+    }
+
+    /// One more link in an operator chain (the caller restores `height`).
+    fn grow(&mut self) -> bool {
+        self.height += 1;
+        if self.height >= MAX_HEIGHT {
+            self.too_deep();
+            return false;
+        }
+        true
+    }
+
+    fn open_add(&mut self, toks: &[Tok], delta: i32) {
+        for &t in toks {
+            if let Some(i) = closer_idx(t) {
+                self.open[i] = self.open[i].saturating_add_signed(delta);
+            }
+        }
+    }
+
+    // ---------------------------------------------------------------- recovery
+
+    /// True at tokens where statement-level recovery stops.
+    fn at_sync(&self) -> bool {
+        let t = self.peek();
+        t == Tok::Semi || is_stmt_keyword(t) || closer_idx(t).is_some() || is_section_stop(t)
+    }
+
+    /// Skips a broken statement: up to and including its `;`, or up to a token that
+    /// starts or ends something.
+    fn recover_stmt(&mut self) {
+        while !self.at_sync() {
+            self.bump();
+        }
+        self.eat(Tok::Semi);
+    }
+
+    /// Skips to `kw` (consumed) or to a synchronisation token (not consumed).
+    fn recover_to(&mut self, kw: Tok) {
+        while !self.at(kw) && !self.at_sync() {
+            self.bump();
+        }
+        self.eat(kw);
+    }
+
+    /// Skips a broken declaration: to its `;` (consumed), or to END_VAR, END_TYPE,
+    /// a section keyword. Nested STRUCT ... END_STRUCT are skipped whole.
+    fn skip_decl(&mut self) {
+        let mut level = 0u32;
+        loop {
+            let t = self.peek();
+            match t {
+                Tok::Struct => level += 1,
+                Tok::EndStruct if level > 0 => level -= 1,
+                Tok::Semi if level == 0 => {
+                    self.bump();
+                    return;
+                }
+                _ if is_section_stop(t) => return,
+                _ if level == 0 && (is_stmt_keyword(t) || closer_idx(t).is_some()) => return,
+                _ => {}
+            }
+            self.bump();
+        }
+    }
+
+    /// Skips a whole compound statement (too deeply nested), counting its nested ones.
+    fn skip_balanced_stmt(&mut self) {
+        let mut level = 0u32;
+        loop {
+            let t = self.peek();
+            match t {
+                Tok::If | Tok::Case | Tok::For | Tok::While | Tok::Repeat => level += 1,
+                _ if is_end_closer(t) => {
+                    level = level.saturating_sub(1);
+                    if level == 0 {
+                        self.bump();
+                        self.eat(Tok::Semi);
+                        return;
+                    }
+                }
+                _ if is_section_stop(t) => return,
+                _ => {}
+            }
+            self.bump();
+        }
+    }
+
+    /// After a statement: its `;`. A missing one is reported once; the parser goes on
+    /// as if it were there when what follows can follow a statement.
+    fn expect_semi(&mut self) {
+        if self.eat(Tok::Semi) {
+            return;
+        }
+        let t = self.tok();
+        let msg = format!("expected `;`, found {}", self.describe(self.pos));
+        self.error_here(codes::MISSING_SEMICOLON, msg, "expected `;` before this");
+        let follows = (t.newline_before() && starts_stmt(t.kind))
+            || is_stmt_keyword(t.kind)
+            || closer_idx(t.kind).is_some()
+            || is_section_stop(t.kind);
+        if !follows {
+            self.recover_stmt();
+        }
+    }
+
+    /// After a declaration: its `;` (see [`Self::expect_semi`]).
+    fn expect_decl_semi(&mut self) {
+        if self.eat(Tok::Semi) {
+            return;
+        }
+        let t = self.tok();
+        let msg = format!("expected `;`, found {}", self.describe(self.pos));
+        self.error_here(codes::MISSING_SEMICOLON, msg, "expected `;` before this");
+        let follows = (t.newline_before() && matches!(t.kind, Tok::Ident | Tok::At))
+            || is_section_stop(t.kind);
+        if !follows {
+            self.skip_decl();
+        }
+    }
+
+    /// A header keyword (THEN, DO, OF). When missing: reported, then assumed present
+    /// if a statement follows on a new line, else skipped to.
+    fn expect_kw(&mut self, kw: Tok) -> bool {
+        if self.eat(kw) {
+            return true;
+        }
+        let t = self.tok();
+        self.expected(&format!("`{}`", kw.text()));
+        let follows = (t.newline_before() && starts_stmt(t.kind))
+            || is_stmt_keyword(t.kind)
+            || closer_idx(t.kind).is_some()
+            || is_section_stop(t.kind);
+        if !follows {
+            self.recover_to(kw);
+        }
+        false
+    }
+
+    /// The END_ keyword of a compound statement opened by `opener`. Another
+    /// statement END_ that nothing else is waiting for is taken as a misspelt one.
+    fn expect_end(&mut self, end: Tok, opener: Token) -> bool {
+        if self.eat(end) {
+            return true;
+        }
+        let t = self.tok();
+        let mismatched = is_end_closer(t.kind)
+            && closer_idx(t.kind).is_some_and(|i| self.open[i] == 0);
+        let msg = format!("expected `{}`, found {}", end.text(), self.describe(self.pos));
+        let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
+            .with_label(format!("expected `{}`", end.text()))
+            .with_secondary(
+                self.tspan(opener),
+                format!("this `{}` is not closed", opener.kind.text()),
+            );
+        self.emit(self.pos, d);
+        if mismatched {
+            self.bump();
+        }
+        mismatched
+    }
+
+    // ---------------------------------------------------------------- top level
+
+    fn unit(&mut self) -> Vec<Item> {
+        let mut items = Vec::new();
+        loop {
+            let t = self.tok();
+            match t.kind {
+                Tok::Eof => break,
+                Tok::Program | Tok::Function | Tok::FunctionBlock => {
+                    let kind = match t.kind {
+                        Tok::Program => PouKind::Program,
+                        Tok::Function => PouKind::Function,
+                        _ => PouKind::FunctionBlock,
+                    };
+                    if let Some(p) = self.pou(kind) {
+                        self.last_pou = Some(p.name);
+                        items.push(Item::Pou(p));
+                    }
+                }
+                Tok::Type => self.type_block(&mut items),
+                Tok::VarGlobal => {
+                    if let Some(b) = self.var_block(DeclCtx::Global) {
+                        items.push(Item::Globals(b));
+                    }
+                }
+                Tok::Configuration => {
+                    if let Some(c) = self.configuration() {
+                        items.push(Item::Configuration(c));
+                    }
+                }
+                Tok::Semi => {
+                    self.bump();
+                }
+                Tok::Ident if self.at_sym(0, self.s.actions) && self.peek_at(1) == Tok::Ident => {
+                    self.actions_block(&mut items);
+                }
+                // CoDeSys 2.3 accepts this spelling (OSCAT uses it).
+                Tok::Ident
+                    if self.at_sym(0, self.s.functionblock) && self.peek_at(1) == Tok::Ident =>
+                {
+                    if let Some(p) = self.pou(PouKind::FunctionBlock) {
+                        self.last_pou = Some(p.name);
+                        items.push(Item::Pou(p));
+                    }
+                }
+                // The list of libraries at the end of a CoDeSys 2.3 export: not code.
+                Tok::Ident
+                    if self.at_sym(0, self.s.library) && (t.newline_before() || self.pos == 0) =>
+                {
+                    self.bump();
+                    while !self.at(Tok::Eof) && !self.at_sym(0, self.s.end_library) {
+                        self.bump();
+                    }
+                    if self.at(Tok::Eof) {
+                        let msg = "expected `END_LIBRARY`, found end of file".to_string();
+                        let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(self.tok()))
+                            .with_label("expected `END_LIBRARY`")
+                            .with_secondary(self.tspan(t), "this LIBRARY list is not closed");
+                        self.emit(self.pos, d);
+                    }
+                    self.bump();
+                }
+                _ => match self.member_at() {
+                    Some(Member::Action) => {
+                        if let Some(a) = self.action(true) {
+                            items.push(Item::Action(a));
+                        }
+                    }
+                    Some(m) => self.unsupported_member(m),
+                    None => {
+                        let what = "`PROGRAM`, `FUNCTION`, `FUNCTION_BLOCK`, `TYPE`, \
+                                    `VAR_GLOBAL` or `CONFIGURATION`";
+                        if is_end_keyword(t.kind) {
+                            let msg = format!(
+                                "unexpected {}: it closes nothing here",
+                                self.describe(self.pos)
+                            );
+                            self.error_here(codes::UNMATCHED_END, msg, "nothing to close here");
+                        } else {
+                            self.expected(what);
+                        }
+                        self.bump();
+                        while !matches!(self.peek(), Tok::Eof | Tok::VarGlobal | Tok::Semi)
+                            && !is_top_start(self.peek())
+                            && self.member_at().is_none()
+                        {
+                            self.bump();
+                        }
+                    }
+                },
+            }
+        }
+        items
+    }
+
+    /// RuSTy's `ACTIONS [pou] ACTION a ... END_ACTION ... END_ACTIONS`.
+    fn actions_block(&mut self, items: &mut Vec<Item>) {
+        let kw = self.bump();
+        let owner = if self.at(Tok::Ident) && self.member_at() != Some(Member::Action) {
+            let t = self.bump();
+            Some(self.ident(t))
+        } else {
+            self.last_pou
+        };
+        self.eat(Tok::Semi);
+        loop {
+            let t = self.tok();
+            match t.kind {
+                Tok::EndActions => {
+                    self.bump();
+                    self.eat(Tok::Semi);
+                    break;
+                }
+                Tok::Semi => {
+                    self.bump();
+                }
+                _ if self.member_at() == Some(Member::Action) => {
+                    if let Some(mut a) = self.action(false) {
+                        a.pou = a.pou.or(owner);
+                        items.push(Item::Action(a));
+                    }
+                }
+                k if k == Tok::Eof || is_top_start(k) => {
+                    let msg = format!("expected `END_ACTIONS`, found {}", self.describe(self.pos));
+                    let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
+                        .with_label("expected `END_ACTIONS`")
+                        .with_secondary(self.tspan(kw), "this ACTIONS block is not closed");
+                    self.emit(self.pos, d);
+                    break;
+                }
+                _ => {
+                    self.expected("`ACTION` or `END_ACTIONS`");
+                    self.bump();
+                }
+            }
+        }
+    }
+
+    /// A member keyword at the current token (`METHOD m`, `ACTION a:`, `STEP s:`).
+    fn member_at(&self) -> Option<Member> {
+        let t = self.tok();
+        if t.kind != Tok::Ident || self.peek_at(1) != Tok::Ident {
+            return None;
+        }
+        let s = Symbol(t.data);
+        let m = &self.s;
+        Some(if s == m.action {
+            Member::Action
+        } else if s == m.method {
+            Member::Method
+        } else if s == m.property {
+            Member::Property
+        } else if s == m.interface {
+            Member::Interface
+        } else if s == m.class {
+            Member::Class
+        } else if s == m.initial_step || (s == m.step && self.peek_at(2) == Tok::Colon) {
+            Member::Step
+        } else if s == m.transition {
+            Member::Transition
+        } else {
+            return None;
+        })
+    }
+
+    fn member_end(m: Member) -> Tok {
+        match m {
+            Member::Action => Tok::EndAction,
+            Member::Method => Tok::EndMethod,
+            Member::Property => Tok::EndProperty,
+            Member::Interface => Tok::EndInterface,
+            Member::Class => Tok::EndClass,
+            Member::Step => Tok::EndStep,
+            Member::Transition => Tok::EndTransition,
+        }
+    }
+
+    /// Skips a member to its END_ keyword; returns the span of its header.
+    fn skip_member(&mut self, m: Member) -> Span {
+        let header = self.member_header();
+        self.skip_member_rest(m, header);
+        header
+    }
+
+    /// The keyword, modifiers and name of a member.
+    fn member_header(&mut self) -> Span {
+        let kw = self.bump();
+        let mut header_end = kw.end;
+        while self.at(Tok::Ident) && !self.tok().newline_before() {
+            header_end = self.bump().end;
+            if self.at(Tok::Ident) && self.s.modifiers.contains(&Symbol(self.toks[self.pos - 1].data)) {
+                continue;
+            }
+            break;
+        }
+        self.sp(kw.start, header_end)
+    }
+
+    fn skip_member_rest(&mut self, m: Member, header: Span) {
+        let end = Self::member_end(m);
+        loop {
+            let t = self.peek();
+            if t == end {
+                self.bump();
+                self.eat(Tok::Semi);
+                break;
+            }
+            if t == Tok::Eof || is_pou_end(t) || is_top_start(t) {
+                let msg = format!("expected `{}`, found {}", end.text(), self.describe(self.pos));
+                let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(self.tok()))
+                    .with_label(format!("expected `{}`", end.text()))
+                    .with_secondary(header, "this member is not closed");
+                self.emit(self.pos, d);
+                break;
+            }
+            self.bump();
+        }
+    }
+
+    /// INTERFACE, CLASS, METHOD... at top level: reported once and skipped.
+    fn unsupported_member(&mut self, m: Member) {
+        let t = self.tok();
+        let word = self.slice(t).to_ascii_uppercase();
+        let msg = format!("`{word}` declarations are not supported");
+        let idx = self.pos;
+        let header = self.member_header();
+        let d = Diagnostic::error(codes::SYNTAX_NOT_SUPPORTED, msg, header)
+            .with_label("not supported; skipped up to its END_ keyword");
+        self.emit(idx, d);
+        self.skip_member_rest(m, header);
+    }
+
+    // ---------------------------------------------------------------- POUs
+
+    fn pou(&mut self, kind: PouKind) -> Option<Pou> {
+        let kw = self.bump();
+        let end_tok = match kind {
+            PouKind::Program => Tok::EndProgram,
+            PouKind::Function => Tok::EndFunction,
+            PouKind::FunctionBlock => Tok::EndFunctionBlock,
+        };
+        let mut unsupported = Vec::new();
+        while self.at(Tok::Ident)
+            && self.peek_at(1) == Tok::Ident
+            && self.s.modifiers.contains(&Symbol(self.tok().data))
+        {
+            let m = self.bump();
+            unsupported.push(self.tspan(m));
+        }
+        let name = self.expect_ident("a name");
+        let mut return_type = None;
+        let mut extends = None;
+        if name.is_some() {
+            if self.at(Tok::Colon) {
+                self.bump();
+                return_type = self.type_spec();
+                if return_type.is_none() {
+                    self.skip_header_rest();
+                }
+            }
+            if self.at_sym(0, self.s.extends) {
+                self.bump();
+                extends = self.expect_ident("the name of the base FUNCTION_BLOCK");
+            }
+            if self.at_sym(0, self.s.implements) {
+                let t = self.bump();
+                while self.at(Tok::Ident) {
+                    self.bump();
+                    if !self.eat(Tok::Comma) {
+                        break;
+                    }
+                }
+                unsupported.push(self.span_from(t.start));
+            }
+        }
+        self.eat(Tok::Semi);
+        let mut var_blocks = Vec::new();
+        let mut stmts: Vec<Stmt> = Vec::new();
+        let mut body_start = None;
+        let mut body_end = self.prev_end();
+        let mut decl_end = self.prev_end();
+        let mut actions = Vec::new();
+        loop {
+            let t = self.tok();
+            match t.kind {
+                k if k == end_tok => {
+                    self.bump();
+                    break;
+                }
+                k if is_pou_end(k) => {
+                    let msg = format!("expected `{}`, found {}", end_tok.text(), self.describe(self.pos));
+                    let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
+                        .with_label(format!("expected `{}`", end_tok.text()))
+                        .with_secondary(self.tspan(kw), "this POU is closed by the wrong keyword");
+                    self.emit(self.pos, d);
+                    self.bump();
+                    break;
+                }
+                k if k == Tok::Eof || is_top_start(k) => {
+                    let msg = format!("expected `{}`, found {}", end_tok.text(), self.describe(self.pos));
+                    let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
+                        .with_label(format!("expected `{}`", end_tok.text()))
+                        .with_secondary(self.tspan(kw), "this POU is not closed");
+                    self.emit(self.pos, d);
+                    break;
+                }
+                k if var_kind(k).is_some() => {
+                    if let Some(b) = self.var_block(DeclCtx::Pou) {
+                        var_blocks.push(b);
+                    }
+                    if stmts.is_empty() {
+                        decl_end = self.prev_end();
+                    }
+                }
+                k if is_section_stop(k) => {
+                    let msg = format!("unexpected {}: it closes nothing here", self.describe(self.pos));
+                    self.error_here(
+                        codes::UNMATCHED_END,
+                        msg,
+                        format!("no {} is open", opener_of(k)),
+                    );
+                    self.bump();
+                }
+                _ => {
+                    if let Some(m) = self.member_at() {
+                        match m {
+                            Member::Action => {
+                                if let Some(a) = self.action(false) {
+                                    actions.push(a);
+                                }
+                            }
+                            Member::Interface | Member::Class => self.unsupported_member(m),
+                            _ => {
+                                let h = self.skip_member(m);
+                                unsupported.push(h);
+                            }
+                        }
+                        continue;
+                    }
+                    let before = self.pos;
+                    let list = self.stmt_list(&[], false, false);
+                    if let Some(first) = list.first() {
+                        body_start.get_or_insert(first.span.start);
+                        body_end = self.prev_end();
+                        stmts.extend(list);
+                    } else if self.pos > before && body_start.is_some() {
+                        body_end = self.prev_end();
+                    }
+                    if self.pos == before {
+                        self.bump();
+                    }
+                }
+            }
+        }
+        let end = self.prev_end();
+        self.eat(Tok::Semi);
+        let body_span = match body_start {
+            Some(s) => self.sp(s, body_end),
+            None => self.sp(decl_end, decl_end),
+        };
+        Some(Pou {
+            kind,
+            name: name?,
+            return_type,
+            extends,
+            var_blocks,
+            body: Body {
+                stmts,
+                span: body_span,
+            },
+            actions,
+            unsupported_members: unsupported,
+            span: self.sp(kw.start, end),
+        })
+    }
+
+    /// After a broken POU header: skip what is left of its line.
+    fn skip_header_rest(&mut self) {
+        while !self.tok().newline_before() && !is_section_stop(self.peek()) && !self.at(Tok::Semi)
+        {
+            self.bump();
+        }
+    }
+
+    /// `ACTION name: ... END_ACTION`, `ACTION pou.name: ...`.
+    fn action(&mut self, top_level: bool) -> Option<Action> {
+        let kw = self.bump();
+        let first = self.expect_ident("an action name");
+        let mut pou = None;
+        let mut name = first;
+        if first.is_some() && self.eat(Tok::Dot) {
+            pou = first;
+            name = self.expect_ident("an action name");
+        }
+        if name.is_none() {
+            self.skip_member_body(Tok::EndAction);
+            return None;
+        }
+        if top_level && pou.is_none() {
+            pou = self.last_pou;
+        }
+        self.eat(Tok::Colon);
+        let body = self.code_body(Tok::EndAction, kw);
+        let span = self.span_from(kw.start);
+        self.eat(Tok::Semi);
+        Some(Action {
+            pou,
+            name: name?,
+            body,
+            span,
+        })
+    }
+
+    fn skip_member_body(&mut self, end: Tok) {
+        while !self.at(end) && !self.at(Tok::Eof) && !is_pou_end(self.peek()) && !is_top_start(self.peek()) {
+            self.bump();
+        }
+        if self.eat(end) {
+            self.eat(Tok::Semi);
+        }
+    }
+
+    /// Statements up to `end` (consumed), for ACTION bodies.
+    fn code_body(&mut self, end: Tok, opener: Token) -> Body {
+        let start = self.tok().start;
+        let mut stmts = Vec::new();
+        loop {
+            let list = self.stmt_list(&[end], false, false);
+            stmts.extend(list);
+            let t = self.tok();
+            if t.kind == end {
+                break;
+            }
+            if t.kind == Tok::Eof
+                || is_top_start(t.kind)
+                || is_pou_end(t.kind)
+                || var_kind(t.kind).is_some()
+                || self.member_at().is_some()
+            {
+                let msg = format!("expected `{}`, found {}", end.text(), self.describe(self.pos));
+                let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
+                    .with_label(format!("expected `{}`", end.text()))
+                    .with_secondary(self.tspan(opener), "this block is not closed");
+                self.emit(self.pos, d);
+                let span = self.span_from(start);
+                return Body { stmts, span };
+            }
+            let msg = format!("unexpected {}: it closes nothing here", self.describe(self.pos));
+            self.error_here(codes::UNMATCHED_END, msg, format!("no {} is open", opener_of(t.kind)));
+            self.bump();
+        }
+        let span = match (stmts.first(), stmts.last()) {
+            (Some(f), Some(_)) => self.sp(f.span.start, self.prev_end()),
+            _ => self.sp(start, start),
+        };
+        self.bump();
+        Body { stmts, span }
+    }
+
+    // ---------------------------------------------------------------- declarations
+
+    fn var_block(&mut self, ctx: DeclCtx) -> Option<VarBlock> {
+        let kw = self.bump();
+        let kind = var_kind(kw.kind)?;
+        let ctx = match kind {
+            VarKind::Config => DeclCtx::Config,
+            VarKind::Access => DeclCtx::Access,
+            _ => ctx,
+        };
+        let mut constant = false;
+        let mut retain = false;
+        loop {
+            match self.peek() {
+                Tok::Constant => constant = true,
+                Tok::Retain | Tok::Persistent => retain = true,
+                Tok::NonRetain => retain = false,
+                _ => break,
+            }
+            self.bump();
+        }
+        let mut decls = Vec::new();
+        loop {
+            let t = self.tok();
+            match t.kind {
+                Tok::EndVar => {
+                    self.bump();
+                    break;
+                }
+                Tok::Semi => {
+                    self.bump();
+                }
+                Tok::Ident | Tok::At => {
+                    let n = self.peek_at(1);
+                    let stmt_like = t.kind == Tok::Ident
+                        && (matches!(n, Tok::Assign | Tok::LParen | Tok::LBracket | Tok::Caret)
+                            || (n == Tok::Dot && ctx != DeclCtx::Config)
+                            || self.member_at().is_some());
+                    if stmt_like {
+                        self.missing_end_var(kw);
+                        break;
+                    }
+                    if let Some(d) = self.var_decl(ctx) {
+                        decls.push(d);
+                    }
+                }
+                k if is_stmt_keyword(k) || is_section_stop(k) || closer_idx(k).is_some() => {
+                    self.missing_end_var(kw);
+                    break;
+                }
+                _ => {
+                    let before = self.pos;
+                    self.expected("a variable name or `END_VAR`");
+                    self.skip_decl();
+                    if self.pos == before {
+                        self.bump();
+                    }
+                }
+            }
+        }
+        Some(VarBlock {
+            kind,
+            constant,
+            retain,
+            decls,
+            span: self.span_from(kw.start),
+        })
+    }
+
+    fn missing_end_var(&mut self, kw: Token) {
+        let msg = format!("expected `END_VAR`, found {}", self.describe(self.pos));
+        let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(self.tok()))
+            .with_label("expected `END_VAR` before this")
+            .with_secondary(self.tspan(kw), "this block is not closed");
+        self.emit(self.pos, d);
+    }
+
+    /// One declaration with its `;`; `None` (after resynchronising) if it is broken.
+    fn var_decl(&mut self, ctx: DeclCtx) -> Option<VarDecl> {
+        let Some(d) = self.var_decl_inner(ctx) else {
+            self.skip_decl();
+            return None;
+        };
+        // Reported by `var_decl_inner`.
+        if d.names.is_empty() && matches!(ctx, DeclCtx::Pou | DeclCtx::Struct) {
+            return None;
+        }
+        Some(d)
+    }
+
+    fn var_decl_inner(&mut self, ctx: DeclCtx) -> Option<VarDecl> {
+        let start = self.tok().start;
+        let mut names = Vec::new();
+        if !self.at(Tok::At) {
+            loop {
+                let name = if ctx == DeclCtx::Config {
+                    self.instance_path()?
+                } else {
+                    self.expect_ident("a variable name")?
+                };
+                names.push(name);
+                if !self.eat(Tok::Comma) {
+                    break;
+                }
+            }
+        }
+        if self.at(Tok::Lit) && self.peek_at(1) == Tok::DotDot {
+            let d = Diagnostic::error(
+                codes::SYNTAX_NOT_SUPPORTED,
+                "extensible inputs (`IN 1 ..`) are not supported",
+                self.sp(self.tok().start, self.toks[self.pos + 1].end),
+            )
+            .with_label("not supported");
+            self.emit(self.pos, d);
+            return None;
+        }
+        let mut location = None;
+        if names.is_empty() && matches!(ctx, DeclCtx::Pou | DeclCtx::Struct) {
+            let t = self.tok();
+            let d = Diagnostic::error(
+                codes::UNNAMED_LOCATED_VAR,
+                "a located variable needs a name here",
+                self.tspan(t),
+            )
+            .with_label("add a name before `AT`");
+            self.emit(self.pos, d);
+        }
+        if self.eat(Tok::At) {
+            let a = self.tok();
+            if a.kind != Tok::Address {
+                self.expected("a direct address such as `%IX0.0`");
+                return None;
+            }
+            self.bump();
+            location = Some((Box::from(self.slice(a)), self.tspan(a)));
+        }
+        if ctx == DeclCtx::Access {
+            let msg = "VAR_ACCESS declarations are not supported".to_string();
+            let span = self.span_from(start);
+            let d = Diagnostic::error(codes::SYNTAX_NOT_SUPPORTED, msg, span)
+                .with_label("not supported; skipped");
+            self.emit(self.pos.saturating_sub(1), d);
+            return None;
+        }
+        self.expect_tok(Tok::Colon, "`:`")?;
+        let ty = self.type_spec()?;
+        if self.at_sym(0, self.s.r_edge) || self.at_sym(0, self.s.f_edge) {
+            let t = self.tok();
+            let msg = format!(
+                "`{}` edge-detecting inputs are not supported",
+                self.slice(t).to_ascii_uppercase()
+            );
+            self.error_here(
+                codes::SYNTAX_NOT_SUPPORTED,
+                msg,
+                "not supported; use an R_TRIG or F_TRIG instance",
+            );
+            self.bump();
+        }
+        let init = if self.eat(Tok::Assign) {
+            Some(self.decl_init(&ty)?)
+        } else {
+            None
+        };
+        let span = self.span_from(start);
+        self.expect_decl_semi();
+        Some(VarDecl {
+            names,
+            location,
+            ty,
+            init,
+            span,
+        })
+    }
+
+    /// `a.b.c` in VAR_CONFIG: one identifier whose symbol is the dotted path.
+    fn instance_path(&mut self) -> Option<Ident> {
+        let first = self.expect_ident("an instance path")?;
+        if !(self.at(Tok::Dot) && self.peek_at(1) == Tok::Ident) {
+            return Some(first);
+        }
+        let mut path = self.interner.name(first.sym).to_string();
+        while self.at(Tok::Dot) && self.peek_at(1) == Tok::Ident {
+            self.bump();
+            let t = self.bump();
+            path.push('.');
+            path.push_str(self.interner.name(Symbol(t.data)));
+        }
+        Some(Ident {
+            sym: self.interner.intern_upper(&path),
+            span: self.span_from(first.span.start),
+        })
+    }
+
+    fn type_block(&mut self, items: &mut Vec<Item>) {
+        let kw = self.bump();
+        loop {
+            let t = self.tok();
+            match t.kind {
+                Tok::EndType => {
+                    self.bump();
+                    self.eat(Tok::Semi);
+                    break;
+                }
+                Tok::Ident => {
+                    if let Some(d) = self.type_decl() {
+                        items.push(Item::Type(d));
+                    }
+                }
+                Tok::Semi => {
+                    self.bump();
+                }
+                k if is_section_stop(k) || is_stmt_keyword(k) => {
+                    let msg = format!("expected `END_TYPE`, found {}", self.describe(self.pos));
+                    let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
+                        .with_label("expected `END_TYPE` before this")
+                        .with_secondary(self.tspan(kw), "this TYPE block is not closed");
+                    self.emit(self.pos, d);
+                    break;
+                }
+                _ => {
+                    self.expected("a type name or `END_TYPE`");
+                    self.bump();
+                    self.skip_decl();
+                }
+            }
+        }
+    }
+
+    fn type_decl(&mut self) -> Option<TypeDecl> {
+        let r = self.type_decl_inner();
+        if r.is_none() {
+            self.skip_decl();
+        }
+        r
+    }
+
+    fn type_decl_inner(&mut self) -> Option<TypeDecl> {
+        let t = self.bump();
+        let name = self.ident(t);
+        self.expect_tok(Tok::Colon, "`:`")?;
+        let spec = self.type_spec()?;
+        let init = if self.eat(Tok::Assign) {
+            Some(self.decl_init(&spec)?)
+        } else {
+            None
+        };
+        let span = self.span_from(t.start);
+        // CODESYS writes `END_STRUCT END_TYPE` without the `;`.
+        if !self.at(Tok::EndType) {
+            self.expect_decl_semi();
+        }
+        Some(TypeDecl {
+            name,
+            spec,
+            init,
+            span,
+        })
+    }
+
+    // ---------------------------------------------------------------- types
+
+    fn type_spec(&mut self) -> Option<TypeSpec> {
+        self.nested(|p| p.type_spec_inner())
+    }
+
+    fn type_spec_inner(&mut self) -> Option<TypeSpec> {
+        let t = self.tok();
+        match t.kind {
+            Tok::String | Tok::WString => {
+                self.bump();
+                let len = match self.peek() {
+                    Tok::LBracket => {
+                        self.bump();
+                        let e = self.expr()?;
+                        self.expect_tok(Tok::RBracket, "`]`")?;
+                        Some(Box::new(e))
+                    }
+                    Tok::LParen => {
+                        self.bump();
+                        let e = self.expr()?;
+                        self.expect_tok(Tok::RParen, "`)`")?;
+                        Some(Box::new(e))
+                    }
+                    _ => None,
+                };
+                Some(TypeSpec::String {
+                    wide: t.kind == Tok::WString,
+                    len,
+                    span: self.span_from(t.start),
+                })
+            }
+            Tok::Array => self.array_type(),
+            Tok::RefTo => {
+                self.bump();
+                let target = Box::new(self.type_spec()?);
+                Some(TypeSpec::Ref {
+                    target,
+                    span: self.span_from(t.start),
+                })
+            }
+            Tok::Struct => self.struct_type(),
+            Tok::LParen => self.enum_type(None, t.start),
+            Tok::Ident => {
+                if t.data == self.s.reference.0 && self.peek_at(1) == Tok::To {
+                    let d = Diagnostic::error(
+                        codes::SYNTAX_NOT_SUPPORTED,
+                        "`REFERENCE TO` is not supported",
+                        self.sp(t.start, self.toks[self.pos + 1].end),
+                    )
+                    .with_label("not supported; use `REF_TO` and dereference with `^`");
+                    self.emit(self.pos, d);
+                    return None;
+                }
+                if t.data == self.s.pointer.0 && self.peek_at(1) == Tok::To {
+                    self.bump();
+                    self.bump();
+                    let target = Box::new(self.type_spec()?);
+                    return Some(TypeSpec::Pointer {
+                        target,
+                        span: self.span_from(t.start),
+                    });
+                }
+                self.bump();
+                let name = self.ident(t);
+                if !self.at(Tok::LParen) {
+                    return Some(TypeSpec::Named(name));
+                }
+                if self.peek_at(1) == Tok::Ident
+                    && matches!(self.peek_at(2), Tok::Comma | Tok::Assign | Tok::RParen)
+                {
+                    // `BYTE (a := 1, b := 2)`: an enumeration with its base type first.
+                    return self.enum_type(Some(name), t.start);
+                }
+                self.bump();
+                let lo = self.expr()?;
+                self.expect_tok(Tok::DotDot, "`..`")?;
+                let hi = self.expr()?;
+                self.expect_tok(Tok::RParen, "`)`")?;
+                Some(TypeSpec::Subrange {
+                    base: name,
+                    lo: Box::new(lo),
+                    hi: Box::new(hi),
+                    span: self.span_from(t.start),
+                })
+            }
+            _ => {
+                self.expected("a type");
+                None
+            }
+        }
+    }
+
+    fn array_type(&mut self) -> Option<TypeSpec> {
+        let t = self.bump();
+        self.expect_tok(Tok::LBracket, "`[`")?;
+        let mut dims = Vec::new();
+        loop {
+            if self.eat(Tok::Star) {
+                dims.push(None);
+            } else {
+                let lo = self.expr()?;
+                self.expect_tok(Tok::DotDot, "`..`")?;
+                let hi = self.expr()?;
+                dims.push(Some((lo, hi)));
+            }
+            if !self.eat(Tok::Comma) {
+                break;
+            }
+        }
+        self.expect_tok(Tok::RBracket, "`]` or `,`")?;
+        self.expect_tok(Tok::Of, "`OF`")?;
+        let elem = Box::new(self.type_spec()?);
+        Some(TypeSpec::Array {
+            dims,
+            elem,
+            span: self.span_from(t.start),
+        })
+    }
+
+    fn struct_type(&mut self) -> Option<TypeSpec> {
+        let kw = self.bump();
+        let mut fields = Vec::new();
+        loop {
+            let t = self.tok();
+            match t.kind {
+                Tok::EndStruct => {
+                    self.bump();
+                    break;
+                }
+                Tok::Ident | Tok::At => {
+                    if let Some(d) = self.var_decl(DeclCtx::Struct) {
+                        fields.push(d);
+                    }
+                }
+                Tok::Semi => {
+                    self.bump();
+                }
+                k if is_section_stop(k) || is_stmt_keyword(k) => {
+                    let msg = format!("expected `END_STRUCT`, found {}", self.describe(self.pos));
+                    let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
+                        .with_label("expected `END_STRUCT` before this")
+                        .with_secondary(self.tspan(kw), "this STRUCT is not closed");
+                    self.emit(self.pos, d);
+                    return None;
+                }
+                _ => {
+                    self.expected("a field name or `END_STRUCT`");
+                    self.bump();
+                    self.skip_decl();
+                }
+            }
+        }
+        Some(TypeSpec::Struct {
+            fields,
+            span: self.span_from(kw.start),
+        })
+    }
+
+    /// `(a, b := 5, c)`, with the base type before (`INT (a, b)`) or after (`(a, b) INT`).
+    fn enum_type(&mut self, base_before: Option<Ident>, start: u32) -> Option<TypeSpec> {
+        self.expect_tok(Tok::LParen, "`(`")?;
+        let mut values = Vec::new();
+        loop {
+            let name = self.expect_ident("an enumeration value")?;
+            let value = if self.eat(Tok::Assign) {
+                Some(self.expr()?)
+            } else {
+                None
+            };
+            values.push((name, value));
+            if !self.eat(Tok::Comma) {
+                break;
+            }
+        }
+        self.expect_tok(Tok::RParen, "`,` or `)`")?;
+        let mut base = base_before;
+        if base.is_none() && self.at(Tok::Ident) && !self.tok().newline_before() {
+            let t = self.bump();
+            base = Some(self.ident(t));
+        }
+        Some(TypeSpec::Enum {
+            values,
+            base,
+            span: self.span_from(start),
+        })
+    }
+
+    // ---------------------------------------------------------------- initialisers
+
+    fn decl_init(&mut self, ty: &TypeSpec) -> Option<Init> {
+        if matches!(ty, TypeSpec::Array { .. }) && !self.at(Tok::LBracket) {
+            self.loose_array_init()
+        } else {
+            self.init()
+        }
+    }
+
+    fn init(&mut self) -> Option<Init> {
+        self.nested(|p| p.init_inner())
+    }
+
+    fn init_inner(&mut self) -> Option<Init> {
+        match self.peek() {
+            Tok::LBracket => {
+                let open = self.bump();
+                let elems = if self.at(Tok::RBracket) {
+                    Vec::new()
+                } else {
+                    self.array_elems()?
+                };
+                self.expect_tok(Tok::RBracket, "`,` or `]`")?;
+                Some(Init::Array {
+                    elems,
+                    span: self.span_from(open.start),
+                })
+            }
+            Tok::LParen if self.peek_at(1) == Tok::Ident && self.peek_at(2) == Tok::Assign => {
+                let open = self.bump();
+                let mut fields = Vec::new();
+                loop {
+                    let name = self.expect_ident("a field name")?;
+                    self.expect_tok(Tok::Assign, "`:=`")?;
+                    let value = self.init()?;
+                    fields.push((name, value));
+                    if !self.eat(Tok::Comma) {
+                        break;
+                    }
+                }
+                self.expect_tok(Tok::RParen, "`,` or `)`")?;
+                Some(Init::Struct {
+                    fields,
+                    span: self.span_from(open.start),
+                })
+            }
+            _ => Some(Init::Expr(self.expr()?)),
+        }
+    }
+
+    fn array_elems(&mut self) -> Option<Vec<ArrayInitElem>> {
+        let mut elems = Vec::new();
+        loop {
+            elems.push(self.array_elem()?);
+            if !self.eat(Tok::Comma) {
+                return Some(elems);
+            }
+        }
+    }
+
+    /// `v`, `n(v)` or `n()`; `n` is an integer literal (so `3(0)` is no call).
+    fn array_elem(&mut self) -> Option<ArrayInitElem> {
+        let t = self.tok();
+        let plain_int = t.kind == Tok::Lit
+            && self.lits.get(t.data as usize).is_some_and(|l| {
+                l.type_prefix.is_none() && matches!(l.kind, LiteralKind::Int(_))
+            });
+        if plain_int && self.peek_at(1) == Tok::LParen {
+            let count = self.literal_expr(t);
+            self.bump();
+            self.bump();
+            let value = if self.at(Tok::RParen) {
+                None
+            } else {
+                Some(self.init()?)
+            };
+            self.expect_tok(Tok::RParen, "`)`")?;
+            return Some(ArrayInitElem {
+                repeat: Some(count),
+                value,
+                span: self.span_from(t.start),
+            });
+        }
+        let v = self.init()?;
+        Some(ArrayInitElem {
+            repeat: None,
+            span: v.span(),
+            value: Some(v),
+        })
+    }
+
+    /// An array initialiser written without brackets (`:= 1, 2, 3(0)`).
+    fn loose_array_init(&mut self) -> Option<Init> {
+        let start = self.tok().start;
+        let first = self.array_elem()?;
+        if !self.at(Tok::Comma) && first.repeat.is_none() {
+            return first.value;
+        }
+        let mut elems = vec![first];
+        while self.eat(Tok::Comma) {
+            elems.push(self.array_elem()?);
+        }
+        Some(Init::Array {
+            elems,
+            span: self.span_from(start),
+        })
+    }
+
+    // ---------------------------------------------------------------- configurations
+
+    fn configuration(&mut self) -> Option<Configuration> {
+        let kw = self.bump();
+        let name = self.expect_ident("a configuration name");
+        self.eat(Tok::Semi);
+        let mut var_blocks = Vec::new();
+        let mut resources = Vec::new();
+        let mut tasks = Vec::new();
+        let mut programs = Vec::new();
+        loop {
+            let t = self.tok();
+            match t.kind {
+                Tok::EndConfiguration => {
+                    self.bump();
+                    break;
+                }
+                Tok::VarGlobal | Tok::VarAccess | Tok::VarConfig => {
+                    if let Some(b) = self.var_block(DeclCtx::Global) {
+                        var_blocks.push(b);
+                    }
+                }
+                Tok::Program => {
+                    if let Some(p) = self.program_config() {
+                        programs.push(p);
+                    }
+                }
+                Tok::Semi => {
+                    self.bump();
+                }
+                Tok::Ident if self.at_sym(0, self.s.resource) && self.peek_at(1) == Tok::Ident => {
+                    if let Some(r) = self.resource() {
+                        resources.push(r);
+                    }
+                }
+                Tok::Ident if self.at_sym(0, self.s.task) && self.peek_at(1) == Tok::Ident => {
+                    if let Some(task) = self.task() {
+                        tasks.push(task);
+                    }
+                }
+                k if k == Tok::Eof || is_top_start(k) || is_pou_end(k) => {
+                    let msg = format!(
+                        "expected `END_CONFIGURATION`, found {}",
+                        self.describe(self.pos)
+                    );
+                    let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
+                        .with_label("expected `END_CONFIGURATION`")
+                        .with_secondary(self.tspan(kw), "this CONFIGURATION is not closed");
+                    self.emit(self.pos, d);
+                    break;
+                }
+                _ => {
+                    self.expected("`VAR_GLOBAL`, `RESOURCE`, `TASK`, `PROGRAM` or `END_CONFIGURATION`");
+                    self.bump();
+                    self.skip_decl();
+                }
+            }
+        }
+        let span = self.span_from(kw.start);
+        self.eat(Tok::Semi);
+        let name = name?;
+        if !tasks.is_empty() || !programs.is_empty() {
+            let implicit_span = tasks
+                .iter()
+                .map(|t| t.span)
+                .chain(programs.iter().map(|p| p.span))
+                .reduce(|a, b| a.to(b))
+                .unwrap_or(span);
+            resources.push(Resource {
+                name,
+                on: None,
+                var_blocks: Vec::new(),
+                tasks,
+                programs,
+                span: implicit_span,
+            });
+        }
+        Some(Configuration {
+            name,
+            var_blocks,
+            resources,
+            span,
+        })
+    }
+
+    fn resource(&mut self) -> Option<Resource> {
+        let kw = self.bump();
+        let name = self.expect_ident("a resource name");
+        let mut on = None;
+        if name.is_some() && self.at_sym(0, self.s.on) {
+            self.bump();
+            on = self.expect_ident("a processor type after `ON`");
+        }
+        self.eat(Tok::Semi);
+        let mut var_blocks = Vec::new();
+        let mut tasks = Vec::new();
+        let mut programs = Vec::new();
+        loop {
+            let t = self.tok();
+            match t.kind {
+                Tok::EndResource => {
+                    self.bump();
+                    break;
+                }
+                Tok::VarGlobal | Tok::VarAccess | Tok::VarConfig => {
+                    if let Some(b) = self.var_block(DeclCtx::Global) {
+                        var_blocks.push(b);
+                    }
+                }
+                Tok::Program => {
+                    if let Some(p) = self.program_config() {
+                        programs.push(p);
+                    }
+                }
+                Tok::Semi => {
+                    self.bump();
+                }
+                Tok::Ident if self.at_sym(0, self.s.task) && self.peek_at(1) == Tok::Ident => {
+                    if let Some(task) = self.task() {
+                        tasks.push(task);
+                    }
+                }
+                k if k == Tok::Eof || is_section_stop(k) => {
+                    let msg = format!("expected `END_RESOURCE`, found {}", self.describe(self.pos));
+                    let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
+                        .with_label("expected `END_RESOURCE`")
+                        .with_secondary(self.tspan(kw), "this RESOURCE is not closed");
+                    self.emit(self.pos, d);
+                    break;
+                }
+                _ => {
+                    self.expected("`VAR_GLOBAL`, `TASK`, `PROGRAM` or `END_RESOURCE`");
+                    self.bump();
+                    self.skip_decl();
+                }
+            }
+        }
+        let span = self.span_from(kw.start);
+        self.eat(Tok::Semi);
+        Some(Resource {
+            name: name?,
+            on,
+            var_blocks,
+            tasks,
+            programs,
+            span,
+        })
+    }
+
+    fn task(&mut self) -> Option<TaskDecl> {
+        let r = self.task_inner();
+        if r.is_none() {
+            self.skip_decl();
+        }
+        r
+    }
+
+    fn task_inner(&mut self) -> Option<TaskDecl> {
+        let kw = self.bump();
+        let name = self.expect_ident("a task name")?;
+        let mut props = Vec::new();
+        if self.eat(Tok::LParen) && !self.eat(Tok::RParen) {
+            loop {
+                let p = self.expect_ident("a task property such as `INTERVAL`")?;
+                self.expect_tok(Tok::Assign, "`:=`")?;
+                let v = self.expr()?;
+                props.push((p, v));
+                if !self.eat(Tok::Comma) {
+                    break;
+                }
+            }
+            self.expect_tok(Tok::RParen, "`,` or `)`")?;
+        }
+        let span = self.span_from(kw.start);
+        self.expect_decl_semi();
+        Some(TaskDecl { name, props, span })
+    }
+
+    fn program_config(&mut self) -> Option<ProgramConfig> {
+        let r = self.program_config_inner();
+        if r.is_none() {
+            self.skip_decl();
+        }
+        r
+    }
+
+    fn program_config_inner(&mut self) -> Option<ProgramConfig> {
+        let kw = self.bump();
+        if matches!(self.peek(), Tok::Retain | Tok::NonRetain) {
+            self.bump();
+        }
+        let name = self.expect_ident("a program instance name")?;
+        let mut task = None;
+        if self.at_sym(0, self.s.with) {
+            self.bump();
+            task = Some(self.expect_ident("a task name after `WITH`")?);
+        }
+        self.expect_tok(Tok::Colon, "`:`")?;
+        let pou = self.expect_ident("a PROGRAM type name")?;
+        let mut args = Vec::new();
+        if self.eat(Tok::LParen) {
+            args = self.nested(|p| p.call_args())?.0;
+        }
+        let span = self.span_from(kw.start);
+        self.expect_decl_semi();
+        Some(ProgramConfig {
+            name,
+            task,
+            pou,
+            args,
+            span,
+        })
+    }
+
+    // ---------------------------------------------------------------- statements
+
+    /// Statements until a token in `stop`, a section keyword, or a closer that an
+    /// enclosing construct is waiting for. `compound`: inside IF/CASE/loops, where a
+    /// foreign END_ ends the list (the construct reports it). `case_arm`: also stop
+    /// at the next CASE label.
+    fn stmt_list(&mut self, stop: &[Tok], compound: bool, case_arm: bool) -> Vec<Stmt> {
+        let mut out = Vec::new();
+        loop {
+            let t = self.peek();
+            if stop.contains(&t) || is_section_stop(t) {
+                break;
+            }
+            if let Some(ci) = closer_idx(t) {
+                if self.open[ci] > 0 || (compound && is_end_closer(t)) {
+                    break;
+                }
+                self.stray_closer();
+                continue;
+            }
+            if t == Tok::Ident && self.member_at().is_some() {
+                break;
+            }
+            if case_arm && self.at_case_label() {
+                break;
+            }
+            let before = self.pos;
+            if let Some(s) = self.stmt() {
+                out.push(s);
+            }
+            if self.pos == before {
+                self.bump();
+            }
+        }
+        out
+    }
+
+    /// An END_IF, ELSE, UNTIL... that no open construct accepts.
+    fn stray_closer(&mut self) {
+        let t = self.tok();
+        let msg = format!(
+            "unexpected {}: no {} is open",
+            self.describe(self.pos),
+            opener_of(t.kind)
+        );
+        self.error_here(codes::UNMATCHED_END, msg, "nothing to close here");
+        self.bump();
+        match t.kind {
+            Tok::Elsif => self.recover_to(Tok::Then),
+            Tok::Until => self.recover_to(Tok::EndRepeat),
+            _ => {}
+        }
+    }
+
+    /// Looks ahead for `label, label..label :` (not `:=`).
+    fn at_case_label(&self) -> bool {
+        match self.peek() {
+            Tok::Lit | Tok::Minus | Tok::Plus | Tok::True | Tok::False => return true,
+            Tok::Ident => {}
+            _ => return false,
+        }
+        let mut i = self.pos;
+        loop {
+            match self.toks.get(i).map_or(Tok::Eof, |t| t.kind) {
+                Tok::Ident
+                | Tok::Lit
+                | Tok::Dot
+                | Tok::Hash
+                | Tok::Minus
+                | Tok::Plus
+                | Tok::Comma
+                | Tok::DotDot => i += 1,
+                Tok::Colon => return true,
+                _ => return false,
+            }
+        }
+    }
+
+    fn stmt(&mut self) -> Option<Stmt> {
+        let t = self.tok();
+        match t.kind {
+            Tok::Semi => {
+                self.bump();
+                Some(Stmt {
+                    kind: StmtKind::Empty,
+                    span: self.sp(t.start, t.start),
+                })
+            }
+            Tok::If | Tok::Case | Tok::For | Tok::While | Tok::Repeat => {
+                if self.depth >= MAX_DEPTH {
+                    self.too_deep();
+                    self.skip_balanced_stmt();
+                    return None;
+                }
+                let s = self.nested(|p| match t.kind {
+                    Tok::If => p.if_stmt(),
+                    Tok::Case => p.case_stmt(),
+                    Tok::For => p.for_stmt(),
+                    Tok::While => p.while_stmt(),
+                    _ => p.repeat_stmt(),
+                });
+                // IEC wants `END_IF;`, but CODESYS and RuSTy accept `END_IF` alone, and
+                // code written for them leaves the `;` out.
+                self.eat(Tok::Semi);
+                s
+            }
+            Tok::Exit | Tok::Continue | Tok::Return => {
+                self.bump();
+                let kind = match t.kind {
+                    Tok::Exit => StmtKind::Exit,
+                    Tok::Continue => StmtKind::Continue,
+                    _ => StmtKind::Return,
+                };
+                self.expect_semi();
+                Some(Stmt {
+                    kind,
+                    span: self.tspan(t),
+                })
+            }
+            Tok::Ident | Tok::Address => self.simple_stmt(),
+            _ => {
+                self.expected("a statement");
+                self.recover_stmt();
+                None
+            }
+        }
+    }
+
+    /// Assignment, reference assignment or call.
+    fn simple_stmt(&mut self) -> Option<Stmt> {
+        let Some(target) = self.postfix() else {
+            self.recover_stmt();
+            return None;
+        };
+        let start = target.span.start;
+        let kind = if self.at(Tok::Assign) {
+            self.bump();
+            let Some(value) = self.expr() else {
+                self.recover_stmt();
+                return None;
+            };
+            StmtKind::Assign { target, value }
+        } else if self.at_sym(0, self.s.ref_) && self.peek_at(1) == Tok::Eq {
+            self.bump();
+            self.bump();
+            let Some(value) = self.expr() else {
+                self.recover_stmt();
+                return None;
+            };
+            StmtKind::RefAssign { target, value }
+        } else if matches!(target.kind, ExprKind::Call { .. }) {
+            StmtKind::Call(target)
+        } else {
+            let found = self.describe(self.pos);
+            let d = Diagnostic::error(
+                codes::NOT_A_STATEMENT,
+                format!("expected `:=` or a call, found {found}"),
+                self.tspan(self.tok()),
+            )
+            .with_label("expected `:=`");
+            let d = if self.at(Tok::Eq) {
+                d.with_note("`=` compares two values; assignment is written `:=`")
+            } else {
+                d.with_secondary(target.span, "this is not a statement on its own")
+            };
+            self.emit(self.pos, d);
+            self.recover_stmt();
+            return None;
+        };
+        let span = self.span_from(start);
+        self.expect_semi();
+        Some(Stmt { kind, span })
+    }
+
+    fn if_stmt(&mut self) -> Option<Stmt> {
+        let kw = self.bump();
+        self.open_add(&[Tok::Elsif, Tok::Else, Tok::EndIf], 1);
+        let mut ok = true;
+        let mut branches = Vec::new();
+        loop {
+            let cond = self.expr();
+            if cond.is_some() {
+                self.expect_kw(Tok::Then);
+            } else {
+                ok = false;
+                self.recover_to(Tok::Then);
+            }
+            let body = self.stmt_list(&[Tok::Elsif, Tok::Else, Tok::EndIf], true, false);
+            if let Some(c) = cond {
+                branches.push((c, body));
+            }
+            if !self.eat(Tok::Elsif) {
+                break;
+            }
+        }
+        self.open_add(&[Tok::Elsif, Tok::Else], -1);
+        let else_body = if self.eat(Tok::Else) {
+            Some(self.stmt_list(&[Tok::EndIf], true, false))
+        } else {
+            None
+        };
+        self.open_add(&[Tok::EndIf], -1);
+        self.expect_end(Tok::EndIf, kw);
+        let span = self.span_from(kw.start);
+        ok.then_some(Stmt {
+            kind: StmtKind::If {
+                branches,
+                else_body,
+            },
+            span,
+        })
+    }
+
+    fn case_stmt(&mut self) -> Option<Stmt> {
+        let kw = self.bump();
+        self.open_add(&[Tok::Else, Tok::EndCase], 1);
+        let mut ok = true;
+        let selector = self.expr();
+        if selector.is_some() {
+            self.expect_kw(Tok::Of);
+        } else {
+            ok = false;
+            self.recover_to(Tok::Of);
+        }
+        let mut arms = Vec::new();
+        let mut else_body = None;
+        let mut else_open = true;
+        loop {
+            let t = self.peek();
+            if t == Tok::Else {
+                self.bump();
+                self.open_add(&[Tok::Else], -1);
+                else_open = false;
+                else_body = Some(self.stmt_list(&[Tok::EndCase], true, false));
+                break;
+            }
+            if closer_idx(t).is_some() || is_section_stop(t) {
+                break;
+            }
+            if t == Tok::Semi {
+                self.bump();
+                continue;
+            }
+            let before = self.pos;
+            let labels = self.case_labels();
+            let body = self.stmt_list(&[Tok::Else, Tok::EndCase], true, true);
+            match labels {
+                Some((labels, span)) => arms.push(CaseArm { labels, body, span }),
+                None => ok = false,
+            }
+            if self.pos == before {
+                self.bump();
+            }
+        }
+        if else_open {
+            self.open_add(&[Tok::Else], -1);
+        }
+        self.open_add(&[Tok::EndCase], -1);
+        self.expect_end(Tok::EndCase, kw);
+        let span = self.span_from(kw.start);
+        let selector = selector?;
+        ok.then_some(Stmt {
+            kind: StmtKind::Case {
+                selector,
+                arms,
+                else_body,
+            },
+            span,
+        })
+    }
+
+    fn case_labels(&mut self) -> Option<(Vec<CaseLabel>, Span)> {
+        let r = self.case_labels_inner();
+        if r.is_none() {
+            while !self.at(Tok::Colon) && !self.at_sync() {
+                self.bump();
+            }
+            self.eat(Tok::Colon);
+        }
+        r
+    }
+
+    fn case_labels_inner(&mut self) -> Option<(Vec<CaseLabel>, Span)> {
+        let start = self.tok().start;
+        let mut labels = Vec::new();
+        loop {
+            let lo = self.expr()?;
+            if self.eat(Tok::DotDot) {
+                let hi = self.expr()?;
+                labels.push(CaseLabel::Range(lo, hi));
+            } else {
+                labels.push(CaseLabel::Value(lo));
+            }
+            if !self.eat(Tok::Comma) {
+                break;
+            }
+        }
+        self.expect_tok(Tok::Colon, "`:`, `,` or `..` after a CASE label")?;
+        Some((labels, self.span_from(start)))
+    }
+
+    fn for_stmt(&mut self) -> Option<Stmt> {
+        let kw = self.bump();
+        self.open_add(&[Tok::EndFor], 1);
+        let header = self.for_header();
+        if header.is_none() {
+            self.recover_to(Tok::Do);
+        }
+        let body = self.stmt_list(&[Tok::EndFor], true, false);
+        self.open_add(&[Tok::EndFor], -1);
+        self.expect_end(Tok::EndFor, kw);
+        let (var, from, to, by) = header?;
+        Some(Stmt {
+            kind: StmtKind::For {
+                var,
+                from,
+                to,
+                by,
+                body,
+            },
+            span: self.span_from(kw.start),
+        })
+    }
+
+    #[allow(clippy::type_complexity)]
+    fn for_header(&mut self) -> Option<(Ident, Expr, Expr, Option<Expr>)> {
+        let var = self.expect_ident("the control variable")?;
+        self.expect_tok(Tok::Assign, "`:=`")?;
+        let from = self.expr()?;
+        self.expect_tok(Tok::To, "`TO`")?;
+        let to = self.expr()?;
+        let by = if self.eat(Tok::By) {
+            Some(self.expr()?)
+        } else {
+            None
+        };
+        self.expect_kw(Tok::Do);
+        Some((var, from, to, by))
+    }
+
+    fn while_stmt(&mut self) -> Option<Stmt> {
+        let kw = self.bump();
+        self.open_add(&[Tok::EndWhile], 1);
+        let cond = self.expr();
+        if cond.is_some() {
+            self.expect_kw(Tok::Do);
+        } else {
+            self.recover_to(Tok::Do);
+        }
+        let body = self.stmt_list(&[Tok::EndWhile], true, false);
+        self.open_add(&[Tok::EndWhile], -1);
+        self.expect_end(Tok::EndWhile, kw);
+        Some(Stmt {
+            kind: StmtKind::While { cond: cond?, body },
+            span: self.span_from(kw.start),
+        })
+    }
+
+    fn repeat_stmt(&mut self) -> Option<Stmt> {
+        let kw = self.bump();
+        self.open_add(&[Tok::Until, Tok::EndRepeat], 1);
+        let body = self.stmt_list(&[Tok::Until], true, false);
+        self.open_add(&[Tok::Until], -1);
+        let until = if self.eat(Tok::Until) {
+            let c = self.expr();
+            if c.is_none() {
+                while !self.at(Tok::EndRepeat) && !self.at_sync() {
+                    self.bump();
+                }
+            }
+            c
+        } else {
+            let msg = format!("expected `UNTIL`, found {}", self.describe(self.pos));
+            let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(self.tok()))
+                .with_label("expected `UNTIL`")
+                .with_secondary(self.tspan(kw), "this `REPEAT` has no `UNTIL`");
+            self.emit(self.pos, d);
+            None
+        };
+        self.open_add(&[Tok::EndRepeat], -1);
+        self.expect_end(Tok::EndRepeat, kw);
+        Some(Stmt {
+            kind: StmtKind::Repeat {
+                body,
+                until: until?,
+            },
+            span: self.span_from(kw.start),
+        })
+    }
+
+    // ---------------------------------------------------------------- expressions
+
+    fn expr(&mut self) -> Option<Expr> {
+        self.expr_bp(0)
+    }
+
+    /// Precedence climbing; every binary operator is left-associative (`**` too, as
+    /// in IEC 61131-3 ed. 3).
+    fn expr_bp(&mut self, min: u8) -> Option<Expr> {
+        let saved = self.height;
+        let r = self.expr_bp_inner(min);
+        self.height = saved;
+        r
+    }
+
+    fn expr_bp_inner(&mut self, min: u8) -> Option<Expr> {
+        let mut lhs = self.unary()?;
+        while let Some((op, bp)) = binop(self.peek()) {
+            if bp < min {
+                break;
+            }
+            self.bump();
+            if !self.grow() {
+                return None;
+            }
+            let rhs = self.expr_bp(bp + 1)?;
+            let span = lhs.span.to(rhs.span);
+            lhs = Expr {
+                kind: ExprKind::Binary(op, Box::new(lhs), Box::new(rhs)),
+                span,
+            };
+        }
+        Some(lhs)
+    }
+
+    /// Prefix `-`, `+`, `NOT`: they bind tighter than every binary operator, so
+    /// `-2**2` is `(-2)**2` and `NOT a AND b` is `(NOT a) AND b`.
+    fn unary(&mut self) -> Option<Expr> {
+        let op = match self.peek() {
+            Tok::Minus => UnaryOp::Neg,
+            Tok::Plus => UnaryOp::Plus,
+            Tok::Not => UnaryOp::Not,
+            _ => return self.postfix(),
+        };
+        let t = self.bump();
+        self.nested(|p| {
+            let e = p.unary()?;
+            let span = p.sp(t.start, e.span.end);
+            Some(Expr {
+                kind: ExprKind::Unary(op, Box::new(e)),
+                span,
+            })
+        })
+    }
+
+    fn postfix(&mut self) -> Option<Expr> {
+        let saved = self.height;
+        let r = self.postfix_inner();
+        self.height = saved;
+        r
+    }
+
+    fn postfix_inner(&mut self) -> Option<Expr> {
+        let mut e = self.primary()?;
+        loop {
+            let start = e.span.start;
+            match self.peek() {
+                Tok::LParen => {
+                    self.bump();
+                    let (args, end) = self.nested(|p| p.call_args())?;
+                    e = Expr {
+                        kind: ExprKind::Call {
+                            callee: Box::new(e),
+                            args,
+                        },
+                        span: self.sp(start, end),
+                    };
+                }
+                Tok::LBracket => {
+                    self.bump();
+                    let idx = self.nested(|p| {
+                        let mut idx = Vec::new();
+                        loop {
+                            idx.push(p.expr()?);
+                            if !p.eat(Tok::Comma) {
+                                break;
+                            }
+                        }
+                        p.expect_tok(Tok::RBracket, "`,` or `]`")?;
+                        Some(idx)
+                    })?;
+                    e = Expr {
+                        kind: ExprKind::Index(Box::new(e), idx),
+                        span: self.span_from(start),
+                    };
+                }
+                Tok::Dot => {
+                    self.bump();
+                    e = self.member_access(e)?;
+                }
+                Tok::Caret => {
+                    self.bump();
+                    e = Expr {
+                        kind: ExprKind::Deref(Box::new(e)),
+                        span: self.span_from(start),
+                    };
+                }
+                _ => break,
+            }
+            if !self.grow() {
+                return None;
+            }
+        }
+        Some(e)
+    }
+
+    /// After `base.`: a member name, a bit number, or `%X3`/`%B1`/`%W0`/`%D0`/`%L0`.
+    fn member_access(&mut self, base: Expr) -> Option<Expr> {
+        let t = self.tok();
+        let start = base.span.start;
+        match t.kind {
+            Tok::Ident => {
+                self.bump();
+                let m = self.ident(t);
+                Some(Expr {
+                    kind: ExprKind::Member(Box::new(base), m),
+                    span: self.span_from(start),
+                })
+            }
+            Tok::Lit
+                if self.lits.get(t.data as usize).is_some_and(|l| {
+                    l.type_prefix.is_none() && matches!(l.kind, LiteralKind::Int(_))
+                }) =>
+            {
+                self.bump();
+                let bit = self.literal_expr(t);
+                Some(Expr {
+                    kind: ExprKind::Bit(Box::new(base), Box::new(bit)),
+                    span: self.span_from(start),
+                })
+            }
+            Tok::Address => {
+                let text = self.slice(t);
+                let b = text.as_bytes();
+                let size = match b.get(1).map(|c| c.to_ascii_uppercase()) {
+                    Some(b'X') => Some(1u8),
+                    Some(b'B') => Some(8),
+                    Some(b'W') => Some(16),
+                    Some(b'D') => Some(32),
+                    Some(b'L') => Some(64),
+                    _ => None,
+                };
+                let index = text.get(2..).and_then(|d| d.parse::<u32>().ok());
+                let (Some(size), Some(index)) = (size, index) else {
+                    self.expected("a member name, a bit number or `%X`, `%B`, `%W`, `%D`, `%L` after `.`");
+                    return None;
+                };
+                self.bump();
+                let kind = if size == 1 {
+                    let bit = Expr {
+                        kind: ExprKind::Literal(Literal {
+                            kind: LiteralKind::Int(index as i128),
+                            type_prefix: None,
+                        }),
+                        span: self.tspan(t),
+                    };
+                    ExprKind::Bit(Box::new(base), Box::new(bit))
+                } else {
+                    ExprKind::Partial(Box::new(base), size, index)
+                };
+                Some(Expr {
+                    kind,
+                    span: self.span_from(start),
+                })
+            }
+            _ => {
+                self.expected("a member name or a bit number after `.`");
+                None
+            }
+        }
+    }
+
+    /// After `(`: the arguments and the end offset of the `)`.
+    fn call_args(&mut self) -> Option<(Vec<Arg>, u32)> {
+        let mut args = Vec::new();
+        if self.at(Tok::RParen) {
+            return Some((args, self.bump().end));
+        }
+        loop {
+            args.push(self.arg()?);
+            if self.eat(Tok::Comma) {
+                continue;
+            }
+            let close = self.expect_tok(Tok::RParen, "`,` or `)`")?;
+            return Some((args, close.end));
+        }
+    }
+
+    fn arg(&mut self) -> Option<Arg> {
+        let t = self.tok();
+        let start = t.start;
+        let (n1, n2) = (self.peek_at(1), self.peek_at(2));
+        let kind = if t.kind == Tok::Ident && n1 == Tok::Assign {
+            self.bump();
+            self.bump();
+            let value = self.expr()?;
+            ArgKind::Input {
+                name: self.ident(t),
+                value,
+            }
+        } else if (t.kind == Tok::Ident && n1 == Tok::Arrow)
+            || (t.kind == Tok::Not && n1 == Tok::Ident && n2 == Tok::Arrow)
+        {
+            let negated = t.kind == Tok::Not;
+            if negated {
+                self.bump();
+            }
+            let n = self.bump();
+            self.bump();
+            let target = if matches!(self.peek(), Tok::Comma | Tok::RParen) {
+                None
+            } else {
+                Some(self.expr()?)
+            };
+            ArgKind::Output {
+                name: self.ident(n),
+                negated,
+                target,
+            }
+        } else {
+            ArgKind::Positional(self.expr()?)
+        };
+        Some(Arg {
+            kind,
+            span: self.span_from(start),
+        })
+    }
+
+    fn literal_expr(&self, t: Token) -> Expr {
+        let lit = self.lits.get(t.data as usize).cloned().unwrap_or(Literal {
+            kind: LiteralKind::Int(0),
+            type_prefix: None,
+        });
+        Expr {
+            kind: ExprKind::Literal(lit),
+            span: self.tspan(t),
+        }
+    }
+
+    fn primary(&mut self) -> Option<Expr> {
+        let t = self.tok();
+        match t.kind {
+            Tok::Lit => {
+                self.bump();
+                Some(self.literal_expr(t))
+            }
+            Tok::True | Tok::False => {
+                self.bump();
+                Some(Expr {
+                    kind: ExprKind::Literal(Literal {
+                        kind: LiteralKind::Bool(t.kind == Tok::True),
+                        type_prefix: None,
+                    }),
+                    span: self.tspan(t),
+                })
+            }
+            Tok::Ident => {
+                self.bump();
+                let id = self.ident(t);
+                if self.at(Tok::Hash) {
+                    let n = self.toks[self.pos + 1];
+                    if n.kind == Tok::Ident {
+                        self.bump();
+                        self.bump();
+                        return Some(Expr {
+                            kind: ExprKind::EnumValue {
+                                ty: id,
+                                value: self.ident(n),
+                            },
+                            span: self.sp(t.start, n.end),
+                        });
+                    }
+                    let plain = n.kind == Tok::Lit
+                        && self
+                            .lits
+                            .get(n.data as usize)
+                            .is_some_and(|l| l.type_prefix.is_none());
+                    if plain {
+                        // A literal typed by a derived type: `MyInt#5`.
+                        self.bump();
+                        self.bump();
+                        let mut e = self.literal_expr(n);
+                        if let ExprKind::Literal(l) = &mut e.kind {
+                            l.type_prefix = Some(id);
+                        }
+                        e.span = self.sp(t.start, n.end);
+                        return Some(e);
+                    }
+                }
+                Some(Expr {
+                    kind: ExprKind::Name(id),
+                    span: id.span,
+                })
+            }
+            Tok::And | Tok::Or | Tok::Xor | Tok::Mod if self.peek_at(1) == Tok::LParen => {
+                    // The standard functions AND(a, b), OR, XOR, MOD.
+                self.bump();
+                let id = Ident {
+                    sym: self.interner.intern_upper(t.kind.text()),
+                    span: self.tspan(t),
+                };
+                Some(Expr {
+                    kind: ExprKind::Name(id),
+                    span: id.span,
+                })
+            }
+            Tok::LParen => {
+                self.bump();
+                self.nested(|p| {
+                    let inner = p.expr()?;
+                    let close = p.expect_tok(Tok::RParen, "`)`")?;
+                    Some(Expr {
+                        kind: ExprKind::Paren(Box::new(inner)),
+                        span: p.sp(t.start, close.end),
+                    })
+                })
+            }
+            Tok::Address => {
+                let text = self.slice(t);
+                if !matches!(text.as_bytes().get(1).map(|c| c.to_ascii_uppercase()), Some(b'I' | b'Q' | b'M')) {
+                    let msg = format!("`{text}` selects part of a variable: write it after one, as in `x.{text}`");
+                    self.error_here(codes::UNEXPECTED_TOKEN, msg, "partial access without a variable");
+                    return None;
+                }
+                self.bump();
+                Some(Expr {
+                    kind: ExprKind::DirectAddress(text.into()),
+                    span: self.tspan(t),
+                })
+            }
+            _ => {
+                self.expected("an expression");
+                None
+            }
+        }
+    }
+}

@@ -1,0 +1,938 @@
+//! Parser tests: precedence, statements, declarations, recovery, limits, and the
+//! external corpus.
+
+use super::parse;
+use crate::ast::*;
+use crate::intern::Interner;
+use crate::source::SourceFile;
+use plcc_ir::diag::{Diagnostic, FileId};
+use std::fmt::Write;
+
+fn parse_str(src: &str) -> (SourceUnit, Vec<Diagnostic>, Interner) {
+    let mut i = Interner::new();
+    let mut d = Vec::new();
+    let u = parse(FileId(0), src, &mut i, &mut d);
+    (u, d, i)
+}
+
+/// Parses and asserts there is no diagnostic.
+fn ok(src: &str) -> (SourceUnit, Interner) {
+    let (u, d, i) = parse_str(src);
+    assert!(d.is_empty(), "unexpected diagnostics for\n{src}\n{}", show(&d, src));
+    (u, i)
+}
+
+fn show(d: &[Diagnostic], src: &str) -> String {
+    let f = SourceFile::new("t.st", src);
+    let mut s = String::new();
+    for d in d {
+        let (l, c) = d.span.map_or((0, 0), |sp| f.line_col(sp.start));
+        let _ = writeln!(s, "{l}:{c}: {d} [{}]", d.label);
+    }
+    s
+}
+
+fn codes_of(src: &str) -> Vec<&'static str> {
+    parse_str(src).1.iter().map(|d| d.code).collect()
+}
+
+/// An S-expression of an expression, for precedence tests.
+fn sx(e: &Expr, i: &Interner) -> String {
+    match &e.kind {
+        ExprKind::Literal(l) => {
+            let v = match &l.kind {
+                LiteralKind::Int(v) => v.to_string(),
+                LiteralKind::Real(t) => t.to_string(),
+                LiteralKind::Bool(b) => b.to_string().to_uppercase(),
+                LiteralKind::Duration { ns, long } => format!("{}#{ns}ns", if *long { "LT" } else { "T" }),
+                LiteralKind::Date { days, .. } => format!("D#{days}"),
+                LiteralKind::TimeOfDay { ns, .. } => format!("TOD#{ns}"),
+                LiteralKind::DateTime { ns, .. } => format!("DT#{ns}"),
+                LiteralKind::String { units, wide } => {
+                    let s: String = units.iter().map(|&u| char::from_u32(u as u32).unwrap_or('?')).collect();
+                    if *wide { format!("\"{s}\"") } else { format!("'{s}'") }
+                }
+            };
+            match l.type_prefix {
+                Some(p) => format!("{}#{v}", i.name(p.sym)),
+                None => v,
+            }
+        }
+        ExprKind::Name(id) => i.name(id.sym).to_string(),
+        ExprKind::Member(b, m) => format!("{}.{}", sx(b, i), i.name(m.sym)),
+        ExprKind::Bit(b, n) => format!("(bit {} {})", sx(b, i), sx(n, i)),
+        ExprKind::Partial(b, size, n) => format!("(part{size} {} {n})", sx(b, i)),
+        ExprKind::Index(b, ix) => {
+            let ix: Vec<String> = ix.iter().map(|e| sx(e, i)).collect();
+            format!("{}[{}]", sx(b, i), ix.join(","))
+        }
+        ExprKind::Deref(b) => format!("{}^", sx(b, i)),
+        ExprKind::EnumValue { ty, value } => format!("{}#{}", i.name(ty.sym), i.name(value.sym)),
+        ExprKind::DirectAddress(a) => a.to_string(),
+        ExprKind::Unary(op, e) => {
+            let o = match op {
+                UnaryOp::Neg => "neg",
+                UnaryOp::Plus => "pos",
+                UnaryOp::Not => "not",
+            };
+            format!("({o} {})", sx(e, i))
+        }
+        ExprKind::Binary(op, a, b) => format!("({} {} {})", op.symbol(), sx(a, i), sx(b, i)),
+        ExprKind::Call { callee, args } => {
+            let a: Vec<String> = args
+                .iter()
+                .map(|a| match &a.kind {
+                    ArgKind::Positional(e) => sx(e, i),
+                    ArgKind::Input { name, value } => format!("{}:={}", i.name(name.sym), sx(value, i)),
+                    ArgKind::Output { name, negated, target } => format!(
+                        "{}{}=>{}",
+                        if *negated { "NOT " } else { "" },
+                        i.name(name.sym),
+                        target.as_ref().map_or(String::new(), |t| sx(t, i))
+                    ),
+                })
+                .collect();
+            format!("{}({})", sx(callee, i), a.join(", "))
+        }
+        ExprKind::Paren(e) => format!("[{}]", sx(e, i)),
+    }
+}
+
+/// The expression of `x := <src>;` in a PROGRAM.
+fn expr(src: &str) -> String {
+    let prog = format!("PROGRAM p x := {src}; END_PROGRAM");
+    let (u, i) = ok(&prog);
+    let Item::Pou(p) = &u.items[0] else { panic!() };
+    let StmtKind::Assign { value, .. } = &p.body.stmts[0].kind else { panic!() };
+    sx(value, &i)
+}
+
+fn body(src: &str) -> (Vec<Stmt>, Interner) {
+    let prog = format!("PROGRAM p\n{src}\nEND_PROGRAM");
+    let (u, i) = ok(&prog);
+    let Item::Pou(p) = u.items.into_iter().next().unwrap() else { panic!() };
+    (p.body.stmts, i)
+}
+
+fn pou(src: &str) -> (Pou, Interner) {
+    let (u, i) = ok(src);
+    let Item::Pou(p) = u.items.into_iter().next().unwrap() else { panic!() };
+    (p, i)
+}
+
+// ------------------------------------------------------------------ expressions
+
+#[test]
+fn precedence() {
+    assert_eq!(expr("a OR b AND c"), "(OR A (AND B C))");
+    assert_eq!(expr("a OR_ELSE b XOR c"), "(OR_ELSE A (XOR B C))");
+    assert_eq!(expr("a XOR b & c AND_THEN d"), "(XOR A (AND_THEN (AND B C) D))");
+    assert_eq!(expr("a = b < c"), "(= A (< B C))");
+    assert_eq!(expr("a <> b + c * d"), "(<> A (+ B (* C D)))");
+    assert_eq!(expr("a - b - c"), "(- (- A B) C)");
+    assert_eq!(expr("a / b MOD c * d"), "(* (MOD (/ A B) C) D)");
+    assert_eq!(expr("a + b * c ** d"), "(+ A (* B (** C D)))");
+    assert_eq!(expr("2 ** 3 ** 2"), "(** (** 2 3) 2)");
+    assert_eq!(expr("-2 ** 2"), "(** (neg 2) 2)");
+    assert_eq!(expr("- x * y"), "(* (neg X) Y)");
+    assert_eq!(expr("NOT a AND b"), "(AND (not A) B)");
+    assert_eq!(expr("NOT a = b"), "(= (not A) B)");
+    assert_eq!(expr("a AND NOT b OR c"), "(OR (AND A (not B)) C)");
+    assert_eq!(expr("a >= b AND c <= d"), "(AND (>= A B) (<= C D))");
+    assert_eq!(expr("(a + b) * c"), "(* [(+ A B)] C)");
+    assert_eq!(expr("- - +x"), "(neg (neg (pos X)))");
+    assert_eq!(expr("2 ** -1"), "(** 2 (neg 1))");
+    assert_eq!(expr("t.Q AND x"), "(AND T.Q X)");
+}
+
+#[test]
+fn postfix_forms() {
+    assert_eq!(expr("a.b.c"), "A.B.C");
+    assert_eq!(expr("a[1, j + 1].x"), "A[1,(+ J 1)].X");
+    assert_eq!(expr("p^.x^"), "P^.X^");
+    assert_eq!(expr("x.3"), "(bit X 3)");
+    assert_eq!(expr("x.%X3"), "(bit X 3)");
+    assert_eq!(expr("w.%B1 + w.%W0 + d.%D0 + l.%L0"), "(+ (+ (+ (part8 W 1) (part16 W 0)) (part32 D 0)) (part64 L 0))");
+    assert_eq!(expr("a.b[2].3"), "(bit A.B[2] 3)");
+    assert_eq!(expr("f(1, 2)"), "F(1, 2)");
+    assert_eq!(expr("f()"), "F()");
+    assert_eq!(expr("inst.act()"), "INST.ACT()");
+    assert_eq!(expr("SUPER^.calc()"), "SUPER^.CALC()");
+    assert_eq!(expr("%IX0.0 AND %QW1 > 0"), "(AND %IX0.0 (> %QW1 0))");
+    assert_eq!(expr("Color#Red"), "COLOR#RED");
+    assert_eq!(expr("INT#-5 + DINT#16#FF"), "(+ INT#-5 DINT#255)");
+    assert_eq!(expr("MyInt#5"), "MYINT#5");
+    assert_eq!(expr("T#1s + TIME#2ms"), "(+ T#1000000000ns T#2000000ns)");
+    assert_eq!(expr("TRUE AND FALSE"), "(AND TRUE FALSE)");
+    assert_eq!(expr("'a$'b' = \"w\""), "(= 'a'b' \"w\")");
+    assert_eq!(expr("1.5E3 * 2"), "(* 1.5E3 2)");
+}
+
+#[test]
+fn call_arguments() {
+    let (s, i) = body("fb(IN := x, PT := T#5s, Q => y, NOT ET => z, CV =>);");
+    let StmtKind::Call(c) = &s[0].kind else { panic!() };
+    assert_eq!(sx(c, &i), "FB(IN:=X, PT:=T#5000000000ns, Q=>Y, NOT ET=>Z, CV=>)");
+    let (s, i) = body("f(1, a + 2, g(h(3)));");
+    let StmtKind::Call(c) = &s[0].kind else { panic!() };
+    assert_eq!(sx(c, &i), "F(1, (+ A 2), G(H(3)))");
+}
+
+#[test]
+fn spans_are_tight() {
+    let src = "PROGRAM p\n  x := (a + b) * c;\n  t(IN := x);\nEND_PROGRAM";
+    let (u, _) = ok(src);
+    let Item::Pou(p) = &u.items[0] else { panic!() };
+    let at = |s: plcc_ir::diag::Span| &src[s.start as usize..s.end as usize];
+    assert_eq!(at(p.span), src);
+    assert_eq!(at(p.body.stmts[0].span), "x := (a + b) * c");
+    assert_eq!(at(p.body.stmts[1].span), "t(IN := x)");
+    assert_eq!(at(p.body.span), "x := (a + b) * c;\n  t(IN := x);");
+    let StmtKind::Assign { value, .. } = &p.body.stmts[0].kind else { panic!() };
+    assert_eq!(at(value.span), "(a + b) * c");
+    let ExprKind::Binary(_, l, _) = &value.kind else { panic!() };
+    assert_eq!(at(l.span), "(a + b)");
+    let StmtKind::Call(c) = &p.body.stmts[1].kind else { panic!() };
+    let ExprKind::Call { args, .. } = &c.kind else { panic!() };
+    assert_eq!(at(args[0].span), "IN := x");
+}
+
+// ------------------------------------------------------------------ statements
+
+#[test]
+fn if_elsif_else() {
+    let (s, i) = body("IF a THEN x := 1; ELSIF b THEN x := 2; y := 3; ELSE x := 4; END_IF;");
+    let StmtKind::If { branches, else_body } = &s[0].kind else { panic!() };
+    assert_eq!(branches.len(), 2);
+    assert_eq!(sx(&branches[1].0, &i), "B");
+    assert_eq!(branches[1].1.len(), 2);
+    assert_eq!(else_body.as_ref().unwrap().len(), 1);
+    let (s, _) = body("IF a THEN END_IF;");
+    let StmtKind::If { branches, else_body } = &s[0].kind else { panic!() };
+    assert!(branches[0].1.is_empty() && else_body.is_none());
+}
+
+#[test]
+fn case_labels_and_arms() {
+    let (s, i) = body(
+        "CASE x OF\n 1, 2, 5..10: y := 1; z := 2;\n RED, -3: y := 3;\n Color#Green: ;\n -5..-1: y := 4;\n E.A: \nELSE y := 0; z := 0;\nEND_CASE;",
+    );
+    let StmtKind::Case { selector, arms, else_body } = &s[0].kind else { panic!() };
+    assert_eq!(sx(selector, &i), "X");
+    assert_eq!(arms.len(), 5);
+    let labels: Vec<String> = arms
+        .iter()
+        .map(|a| {
+            a.labels
+                .iter()
+                .map(|l| match l {
+                    CaseLabel::Value(e) => sx(e, &i),
+                    CaseLabel::Range(a, b) => format!("{}..{}", sx(a, &i), sx(b, &i)),
+                })
+                .collect::<Vec<_>>()
+                .join(",")
+        })
+        .collect();
+    assert_eq!(labels, ["1,2,5..10", "RED,(neg 3)", "COLOR#GREEN", "(neg 5)..(neg 1)", "E.A"]);
+    assert_eq!(arms[0].body.len(), 2);
+    assert_eq!(arms[2].body.len(), 1); // the empty statement
+    assert!(arms[4].body.is_empty());
+    assert_eq!(else_body.as_ref().unwrap().len(), 2);
+}
+
+#[test]
+fn case_arm_statements_that_look_like_labels() {
+    // Calls, assignments to members and indexed targets are statements, not labels.
+    let (s, _) = body("CASE x OF 1: f(a, b); s.a := 1; arr[1] := 2; 2: y := 1; END_CASE;");
+    let StmtKind::Case { arms, .. } = &s[0].kind else { panic!() };
+    assert_eq!(arms.len(), 2);
+    assert_eq!(arms[0].body.len(), 3);
+}
+
+#[test]
+fn loops_and_jumps() {
+    let (s, i) = body(
+        "FOR i := 10 TO 1 BY -1 DO x := x + i; IF x > 5 THEN EXIT; END_IF; CONTINUE; END_FOR;\n\
+         WHILE a < 5 DO a := a + 1; END_WHILE;\n\
+         REPEAT a := a - 1; UNTIL a = 0 END_REPEAT;\n\
+         RETURN; ;",
+    );
+    let StmtKind::For { var, from, to, by, body } = &s[0].kind else { panic!() };
+    assert_eq!(i.name(var.sym), "I");
+    assert_eq!((sx(from, &i), sx(to, &i), sx(by.as_ref().unwrap(), &i)), ("10".into(), "1".into(), "(neg 1)".into()));
+    assert_eq!(body.len(), 3);
+    assert!(matches!(s[1].kind, StmtKind::While { .. }));
+    let StmtKind::Repeat { until, body } = &s[2].kind else { panic!() };
+    assert_eq!((sx(until, &i), body.len()), ("(= A 0)".into(), 1));
+    assert!(matches!(s[3].kind, StmtKind::Return));
+    assert!(matches!(s[4].kind, StmtKind::Empty));
+}
+
+#[test]
+fn assignments() {
+    let (s, i) = body("a.b[1]^ := 1; r REF= v; %QX0.1 := TRUE;");
+    let StmtKind::Assign { target, .. } = &s[0].kind else { panic!() };
+    assert_eq!(sx(target, &i), "A.B[1]^");
+    assert!(matches!(s[1].kind, StmtKind::RefAssign { .. }));
+    assert!(matches!(s[2].kind, StmtKind::Assign { .. }));
+}
+
+// ------------------------------------------------------------------ corpus
+
+/// Files that use syntax plcc does not support (object-oriented extensions), with
+/// the reason; they may give diagnostics. Every other corpus file must parse clean.
+const CORPUS_UNSUPPORTED: &[(&str, &str)] = &[
+    (
+        "reference_to__array_of_reference_to_element_bound_then_reads.st",
+        "CODESYS `REFERENCE TO` (auto-dereferencing references; the AST has only REF_TO)",
+    ),
+    ("reference_to__reference_to_written_then_updates_referent.st", "CODESYS `REFERENCE TO`"),
+    (
+        "reference_to__reference_to_written_without_caret_then_auto_dereferences.st",
+        "CODESYS `REFERENCE TO`",
+    ),
+    ("reference_to__two_references_alias_then_writes_are_observed.st", "CODESYS `REFERENCE TO`"),
+    (
+        "standard_functions.txt",
+        "matiec's internal prototypes: extensible inputs `IN 1 ..` (not IEC syntax)",
+    ),
+    (
+        "ironplc_res_var_decl.st",
+        "located variables without a name inside a PROGRAM (`AT %IX1.1 : BOOL;`), rejected by design",
+    ),
+];
+
+/// Parses every ST file of the shared corpus and lists those with diagnostics.
+#[test]
+fn corpus_parses_without_diagnostics() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/corpus");
+    if !root.exists() {
+        eprintln!("notice: {} not found; corpus test skipped", root.display());
+        return;
+    }
+    let mut files = Vec::new();
+    for dir in ["bulk/ironplc_e2e", "st", "libs/oscat_basic_333", "libs/matiec_stdlib"] {
+        let Ok(rd) = std::fs::read_dir(root.join(dir)) else { continue };
+        for e in rd.flatten() {
+            let p = e.path();
+            let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+            let st = ext == "st" || (dir.starts_with("libs/") && ext == "txt" && !p.ends_with("COPYING.LESSER"));
+            if st {
+                files.push(p);
+            }
+        }
+    }
+    files.sort();
+    assert!(files.len() > 300, "corpus looks incomplete: {} files", files.len());
+    let mut unexpected = Vec::new();
+    let mut interner = Interner::new();
+    for p in &files {
+        let bytes = std::fs::read(p).unwrap();
+        let f = SourceFile::from_bytes(p.display().to_string(), &bytes);
+        let mut d = Vec::new();
+        let unit = parse(FileId(0), &f.text, &mut interner, &mut d);
+        let name = p.file_name().unwrap().to_string_lossy().to_string();
+        let allowed = CORPUS_UNSUPPORTED.iter().any(|(n, _)| *n == name);
+        if !d.is_empty() {
+            eprintln!("{name}: {} diagnostic(s)", d.len());
+            for d in d.iter().take(5) {
+                let (l, c) = d.span.map_or((0, 0), |s| f.line_col(s.start));
+                eprintln!("    {l}:{c}: {d} [{}]", d.label);
+            }
+            if !allowed {
+                unexpected.push(name.clone());
+            }
+        } else if unit.items.is_empty() {
+            unexpected.push(format!("{name} (no items)"));
+        }
+        if name.starts_with("OSCAT_BASIC_333") {
+            let pous = unit.items.iter().filter(|i| matches!(i, Item::Pou(_))).count();
+            let types = unit.items.iter().filter(|i| matches!(i, Item::Type(_))).count();
+            let globals = unit.items.iter().filter(|i| matches!(i, Item::Globals(_))).count();
+            assert_eq!((pous, types, globals), (545, 14, 3), "{name}");
+        }
+    }
+    assert!(unexpected.is_empty(), "corpus files with diagnostics: {unexpected:#?}");
+}
+
+// ------------------------------------------------------------------ declarations
+
+fn ty(t: &TypeSpec, i: &Interner) -> String {
+    match t {
+        TypeSpec::Named(n) => i.name(n.sym).to_string(),
+        TypeSpec::String { wide, len, .. } => format!(
+            "{}{}",
+            if *wide { "WSTRING" } else { "STRING" },
+            len.as_ref().map_or(String::new(), |l| format!("[{}]", sx(l, i)))
+        ),
+        TypeSpec::Array { dims, elem, .. } => {
+            let d: Vec<String> = dims
+                .iter()
+                .map(|d| d.as_ref().map_or("*".into(), |(a, b)| format!("{}..{}", sx(a, i), sx(b, i))))
+                .collect();
+            format!("ARRAY[{}] OF {}", d.join(","), ty(elem, i))
+        }
+        TypeSpec::Subrange { base, lo, hi, .. } => format!("{}({}..{})", i.name(base.sym), sx(lo, i), sx(hi, i)),
+        TypeSpec::Enum { values, base, .. } => {
+            let v: Vec<String> = values
+                .iter()
+                .map(|(n, v)| match v {
+                    Some(v) => format!("{}:={}", i.name(n.sym), sx(v, i)),
+                    None => i.name(n.sym).to_string(),
+                })
+                .collect();
+            format!("({}){}", v.join(","), base.map_or(String::new(), |b| format!(" {}", i.name(b.sym))))
+        }
+        TypeSpec::Struct { fields, .. } => {
+            let f: Vec<String> = fields.iter().map(|d| decl(d, i)).collect();
+            format!("STRUCT {} END_STRUCT", f.join(" "))
+        }
+        TypeSpec::Ref { target, .. } => format!("REF_TO {}", ty(target, i)),
+        TypeSpec::Pointer { target, .. } => format!("POINTER TO {}", ty(target, i)),
+    }
+}
+
+fn init(v: &Init, i: &Interner) -> String {
+    match v {
+        Init::Expr(e) => sx(e, i),
+        Init::Array { elems, .. } => {
+            let e: Vec<String> = elems
+                .iter()
+                .map(|e| match (&e.repeat, &e.value) {
+                    (Some(r), Some(v)) => format!("{}({})", sx(r, i), init(v, i)),
+                    (Some(r), None) => format!("{}()", sx(r, i)),
+                    (None, Some(v)) => init(v, i),
+                    (None, None) => "?".into(),
+                })
+                .collect();
+            format!("[{}]", e.join(","))
+        }
+        Init::Struct { fields, .. } => {
+            let f: Vec<String> = fields.iter().map(|(n, v)| format!("{}:={}", i.name(n.sym), init(v, i))).collect();
+            format!("({})", f.join(","))
+        }
+    }
+}
+
+fn decl(d: &VarDecl, i: &Interner) -> String {
+    let names: Vec<&str> = d.names.iter().map(|n| i.name(n.sym)).collect();
+    let mut s = names.join(",");
+    if let Some((a, _)) = &d.location {
+        let _ = write!(s, " AT {a}");
+    }
+    let _ = write!(s, " : {}", ty(&d.ty, i));
+    if let Some(v) = &d.init {
+        let _ = write!(s, " := {}", init(v, i));
+    }
+    s + ";"
+}
+
+fn decls(src: &str) -> Vec<String> {
+    let (p, i) = pou(&format!("PROGRAM p\nVAR\n{src}\nEND_VAR\nEND_PROGRAM"));
+    p.var_blocks[0].decls.iter().map(|d| decl(d, &i)).collect()
+}
+
+#[test]
+fn variable_declarations() {
+    assert_eq!(
+        decls(
+            "a, b : INT := 5;\n x AT %IX0.0 : BOOL;\n s1 : STRING; s2 : STRING[20]; s3 : STRING(20); w : WSTRING[10];\n\
+             arr : ARRAY[1..10, 0..2] OF INT; va : ARRAY[*] OF INT; r : INT(0..100); neg : INT(-10..10);\n\
+             e : (red, green := 5, blue); e2 : (a, b) INT := a; e3 : BYTE (x := 1, y := 2);\n\
+             p : REF_TO INT; q : POINTER TO ARRAY[0..1] OF BYTE; t : TON := (PT := T#5s);\n\
+             m : ARRAY[0..N-1] OF ARRAY[1..2] OF REAL;"
+        ),
+        [
+            "A,B : INT := 5;",
+            "X AT %IX0.0 : BOOL;",
+            "S1 : STRING;",
+            "S2 : STRING[20];",
+            "S3 : STRING[20];",
+            "W : WSTRING[10];",
+            "ARR : ARRAY[1..10,0..2] OF INT;",
+            "VA : ARRAY[*] OF INT;",
+            "R : INT(0..100);",
+            "NEG : INT((neg 10)..10);",
+            "E : (RED,GREEN:=5,BLUE);",
+            "E2 : (A,B) INT := A;",
+            "E3 : (X:=1,Y:=2) BYTE;",
+            "P : REF_TO INT;",
+            "Q : POINTER TO ARRAY[0..1] OF BYTE;",
+            "T : TON := (PT:=T#5000000000ns);",
+            "M : ARRAY[0..(- N 1)] OF ARRAY[1..2] OF REAL;",
+        ]
+    );
+}
+
+#[test]
+fn initialisers() {
+    assert_eq!(
+        decls(
+            "a : ARRAY[0..5] OF INT := [1, 2, 3(0), 2()];\n\
+             b : ARRAY[0..2] OF INT := 1, 2, 3;\n\
+             c : ARRAY[0..9] OF INT := 10(7);\n\
+             d : ARRAY[0..1] OF S := [(x := 1), (x := 2, y := [1, 2])];\n\
+             e : S := (a := 1, b := (c := 2));\n\
+             f : INT := (1 + 2);\n\
+             g : ARRAY[0..1, 0..1] OF INT := [[1, 2], [3, 4]];\n\
+             h : ARRAY[0..1] OF INT := other;"
+        ),
+        [
+            "A : ARRAY[0..5] OF INT := [1,2,3(0),2()];",
+            "B : ARRAY[0..2] OF INT := [1,2,3];",
+            "C : ARRAY[0..9] OF INT := [10(7)];",
+            "D : ARRAY[0..1] OF S := [(X:=1),(X:=2,Y:=[1,2])];",
+            "E : S := (A:=1,B:=(C:=2));",
+            "F : INT := [(+ 1 2)];",
+            "G : ARRAY[0..1,0..1] OF INT := [[1,2],[3,4]];",
+            "H : ARRAY[0..1] OF INT := OTHER;",
+        ]
+    );
+}
+
+#[test]
+fn var_block_kinds_and_qualifiers() {
+    let (p, _) = pou(
+        "FUNCTION_BLOCK fb\n VAR_INPUT a : INT; END_VAR\n VAR_OUTPUT b : INT; END_VAR\n VAR_IN_OUT c : INT; END_VAR\n\
+         VAR_TEMP d : INT; END_VAR\n VAR_EXTERNAL CONSTANT e : INT; END_VAR\n VAR_STAT f : INT; END_VAR\n\
+         VAR RETAIN CONSTANT g : INT; END_VAR\n VAR CONSTANT PERSISTENT h : INT; END_VAR\n VAR NON_RETAIN i : INT; END_VAR\n\
+         VAR_GLOBAL j : INT; END_VAR\nEND_FUNCTION_BLOCK",
+    );
+    let kinds: Vec<(VarKind, bool, bool)> = p.var_blocks.iter().map(|b| (b.kind, b.constant, b.retain)).collect();
+    use VarKind::*;
+    assert_eq!(
+        kinds,
+        [
+            (Input, false, false),
+            (Output, false, false),
+            (InOut, false, false),
+            (Temp, false, false),
+            (External, true, false),
+            (Stat, false, false),
+            (Var, true, true),
+            (Var, true, true),
+            (Var, false, false),
+            (Global, false, false),
+        ]
+    );
+}
+
+#[test]
+fn type_declarations() {
+    let src = "TYPE\n  S : STRUCT a : INT := 1; b : ARRAY[1..2] OF BOOL; END_STRUCT;\n  E : (red, green, blue) := green;\n\
+               R : INT(0..10);\n  A : ARRAY[1..3] OF R := [1, 2, 3];\n  Al : INT;\n  TE : INT (x := 100, y := 200);\n\
+               Str : STRING[5] := 'value';\nEND_TYPE\nTYPE C : STRUCT re : REAL; END_STRUCT\nEND_TYPE";
+    let (u, i) = ok(src);
+    let got: Vec<String> = u
+        .items
+        .iter()
+        .map(|it| {
+            let Item::Type(t) = it else { panic!() };
+            let mut s = format!("{} : {}", i.name(t.name.sym), ty(&t.spec, &i));
+            if let Some(v) = &t.init {
+                let _ = write!(s, " := {}", init(v, &i));
+            }
+            s
+        })
+        .collect();
+    assert_eq!(
+        got,
+        [
+            "S : STRUCT A : INT := 1; B : ARRAY[1..2] OF BOOL; END_STRUCT",
+            "E : (RED,GREEN,BLUE) := GREEN",
+            "R : INT(0..10)",
+            "A : ARRAY[1..3] OF R := [1,2,3]",
+            "AL : INT",
+            "TE : (X:=100,Y:=200) INT",
+            "STR : STRING[5] := 'value'",
+            "C : STRUCT RE : REAL; END_STRUCT",
+        ]
+    );
+    let Item::Type(t) = &u.items[0] else { panic!() };
+    assert_eq!(&src[t.span.start as usize..t.span.end as usize], "S : STRUCT a : INT := 1; b : ARRAY[1..2] OF BOOL; END_STRUCT");
+}
+
+#[test]
+fn pou_headers() {
+    let (u, i) = ok(
+        "FUNCTION f : INT; VAR_INPUT a : INT; END_VAR f := a; END_FUNCTION;\n\
+         FUNCTION g VAR_INPUT a : INT; END_VAR END_FUNCTION\n\
+         FUNCTION h : STRING[10] h := 'x'; END_FUNCTION\n\
+         FUNCTION_BLOCK fb EXTENDS base\n VAR x : INT; END_VAR\n x := 1;\nEND_FUNCTION_BLOCK\n\
+         PROGRAM p; END_PROGRAM",
+    );
+    let pous: Vec<&Pou> = u.items.iter().map(|it| if let Item::Pou(p) = it { p } else { panic!() }).collect();
+    assert_eq!(pous.len(), 5);
+    assert_eq!((pous[0].kind, i.name(pous[0].name.sym)), (PouKind::Function, "F"));
+    assert_eq!(ty(pous[0].return_type.as_ref().unwrap(), &i), "INT");
+    assert!(pous[1].return_type.is_none());
+    assert_eq!(ty(pous[2].return_type.as_ref().unwrap(), &i), "STRING[10]");
+    assert_eq!(i.name(pous[3].extends.unwrap().sym), "BASE");
+    assert_eq!(pous[3].kind, PouKind::FunctionBlock);
+    assert_eq!(pous[4].kind, PouKind::Program);
+    // An empty body sits at the end of the declarations.
+    assert_eq!(pous[1].body.span.start, pous[1].body.span.end);
+    assert!(pous[1].body.stmts.is_empty());
+}
+
+#[test]
+fn object_oriented_members_are_recorded_not_parsed() {
+    let src = "FUNCTION_BLOCK PUBLIC fb EXTENDS base IMPLEMENTS I1, I2\nVAR s : STRING; END_VAR\n\
+               METHOD PUBLIC baz : INT\n  VAR_INPUT x : INT; END_VAR\n  baz := x;\nEND_METHOD\n\
+               PROPERTY P : INT\n  GET P := 1; END_GET\nEND_PROPERTY\n\
+               s := 'a';\nEND_FUNCTION_BLOCK";
+    let (p, i) = pou(src);
+    let h: Vec<&str> = p.unsupported_members.iter().map(|s| &src[s.start as usize..s.end as usize]).collect();
+    assert_eq!(h, ["PUBLIC", "IMPLEMENTS I1, I2", "METHOD PUBLIC baz", "PROPERTY P"]);
+    assert_eq!(p.body.stmts.len(), 1);
+    assert_eq!(i.name(p.name.sym), "FB");
+    // At top level they are reported and skipped, with no cascade.
+    let src = "INTERFACE I\n METHOD m : INT END_METHOD\nEND_INTERFACE\nPROGRAM p x := 1; END_PROGRAM";
+    let (u, d, _) = parse_str(src);
+    assert_eq!(d.iter().map(|d| d.code).collect::<Vec<_>>(), [crate::codes::SYNTAX_NOT_SUPPORTED]);
+    assert_eq!(u.items.len(), 1);
+}
+
+#[test]
+fn sfc_elements_are_recorded_not_parsed() {
+    let src = "FUNCTION_BLOCK sfc\nVAR c : INT; END_VAR\nINITIAL_STEP Start:\nEND_STEP\n\
+               TRANSITION FROM Start TO Mid\n  := c > 1;\nEND_TRANSITION\nSTEP Mid:\n  RESET(N);\nEND_STEP\n\
+               ACTION RESET:\n  c := 0;\nEND_ACTION\nEND_FUNCTION_BLOCK";
+    let (p, i) = pou(src);
+    assert_eq!(p.unsupported_members.len(), 3);
+    assert_eq!(p.actions.len(), 1);
+    assert_eq!(i.name(p.actions[0].name.sym), "RESET");
+    assert!(p.actions[0].pou.is_none());
+    // `step` is still an ordinary name elsewhere.
+    body("step := 1; step(x := 2);");
+}
+
+#[test]
+fn actions() {
+    let src = "FUNCTION_BLOCK fb\nVAR x : INT; END_VAR\nx := 1;\nACTION a1:\n x := 2;\nEND_ACTION\nEND_FUNCTION_BLOCK\n\
+               ACTION a2:\n x := 3;\nEND_ACTION\nACTION fb.a3: x := 4; END_ACTION\n\
+               ACTIONS fb\n  ACTION a4\n    x := 5;\n  END_ACTION\nEND_ACTIONS";
+    let (u, i) = ok(src);
+    let Item::Pou(p) = &u.items[0] else { panic!() };
+    assert_eq!(p.actions.len(), 1);
+    assert_eq!(p.body.stmts.len(), 1);
+    let tops: Vec<(Option<&str>, &str)> = u.items[1..]
+        .iter()
+        .map(|it| {
+            let Item::Action(a) = it else { panic!() };
+            (a.pou.map(|p| i.name(p.sym)), i.name(a.name.sym))
+        })
+        .collect();
+    assert_eq!(tops, [(Some("FB"), "A2"), (Some("FB"), "A3"), (Some("FB"), "A4")]);
+}
+
+#[test]
+fn configuration() {
+    let src = "CONFIGURATION cfg\n VAR_GLOBAL g : INT; AT %QX0.0 : BOOL; END_VAR\n\
+               RESOURCE res ON PLC\n  VAR_GLOBAL rg : BOOL; END_VAR\n  TASK fast(INTERVAL := T#10ms, PRIORITY := 1);\n\
+               PROGRAM inst WITH fast : Main(IN := g, OUT => rg);\n  PROGRAM other : Main;\n END_RESOURCE\n\
+               TASK t2(SINGLE := trig, PRIORITY := 2);\n PROGRAM RETAIN p2 WITH t2 : Prog2;\n\
+               VAR_CONFIG inst.a.b AT %IX1.0 : BOOL; inst.fb : FBT := (ELEM := 1); END_VAR\nEND_CONFIGURATION";
+    let (u, i) = ok(src);
+    let Item::Configuration(c) = &u.items[0] else { panic!() };
+    assert_eq!(i.name(c.name.sym), "CFG");
+    assert_eq!(c.var_blocks.len(), 2);
+    assert!(c.var_blocks[0].decls[1].names.is_empty());
+    let paths: Vec<&str> = c.var_blocks[1].decls.iter().map(|d| i.name(d.names[0].sym)).collect();
+    assert_eq!(paths, ["INST.A.B", "INST.FB"]);
+    assert_eq!(c.resources.len(), 2);
+    let r = &c.resources[0];
+    assert_eq!((i.name(r.name.sym), r.on.map(|o| i.name(o.sym))), ("RES", Some("PLC")));
+    assert_eq!(r.var_blocks.len(), 1);
+    assert_eq!(r.tasks.len(), 1);
+    let props: Vec<String> = r.tasks[0].props.iter().map(|(n, v)| format!("{}={}", i.name(n.sym), sx(v, &i))).collect();
+    assert_eq!(props, ["INTERVAL=T#10000000ns", "PRIORITY=1"]);
+    assert_eq!(r.programs.len(), 2);
+    assert_eq!(i.name(r.programs[0].task.unwrap().sym), "FAST");
+    assert_eq!(i.name(r.programs[0].pou.sym), "MAIN");
+    assert_eq!(r.programs[0].args.len(), 2);
+    assert!(r.programs[1].task.is_none());
+    // Tasks and programs written directly in the configuration: an implicit resource.
+    let imp = &c.resources[1];
+    assert_eq!((i.name(imp.name.sym), imp.on), ("CFG", None));
+    assert_eq!((imp.tasks.len(), imp.programs.len()), (1, 1));
+    assert_eq!(&src[imp.span.start as usize..imp.span.end as usize], "TASK t2(SINGLE := trig, PRIORITY := 2);\n PROGRAM RETAIN p2 WITH t2 : Prog2");
+}
+
+#[test]
+fn globals_and_comments_everywhere() {
+    let (u, _) = ok(
+        "(* header (* nested *) *)\n{attribute 'x'}\nVAR_GLOBAL CONSTANT\n  limit : INT := 10; // c\nEND_VAR\n\
+         /* c */ PROGRAM p (* a *) VAR (* b *) x : INT; END_VAR x := (* c *) 1; END_PROGRAM",
+    );
+    assert!(matches!(u.items[0], Item::Globals(VarBlock { constant: true, .. })));
+}
+
+// ------------------------------------------------------------------ error recovery
+
+fn check_errors(src: &str, expected: &[&str]) {
+    let (_, d, _) = parse_str(src);
+    let got: Vec<String> = d.iter().map(|d| d.to_string()).collect();
+    assert_eq!(got, expected, "for\n{src}\n{}", show(&d, src));
+}
+
+#[test]
+fn missing_semicolon_is_one_error() {
+    check_errors(
+        "PROGRAM p\n x := 1\n y := 2;\n IF a THEN z := 3 END_IF;\n w := 4\nEND_PROGRAM",
+        &[
+            "error[E0102]: expected `;`, found `y`",
+            "error[E0102]: expected `;`, found `END_IF`",
+            "error[E0102]: expected `;`, found `END_PROGRAM`",
+        ],
+    );
+    // The statement after a missing `;` on a new line is kept.
+    let (u, _, _) = parse_str("PROGRAM p\n x := 1\n y := 2;\nEND_PROGRAM");
+    let Item::Pou(p) = &u.items[0] else { panic!() };
+    assert_eq!(p.body.stmts.len(), 2);
+}
+
+#[test]
+fn unclosed_blocks_are_one_error() {
+    check_errors(
+        "PROGRAM p\n IF a THEN x := 1;\nEND_PROGRAM\nPROGRAM q x := 1; END_PROGRAM",
+        &["error[E0104]: expected `END_IF`, found `END_PROGRAM`"],
+    );
+    check_errors(
+        "PROGRAM p\n IF a THEN WHILE b DO x := 1; END_IF;\nEND_PROGRAM",
+        &["error[E0104]: expected `END_WHILE`, found `END_IF`"],
+    );
+    check_errors(
+        "PROGRAM p\n FOR i := 1 TO 3 DO x := 1; END_WHILE;\n y := 2;\nEND_PROGRAM",
+        &["error[E0104]: expected `END_FOR`, found `END_WHILE`"],
+    );
+    check_errors(
+        "PROGRAM p\n x := 1;\nFUNCTION f : INT f := 1; END_FUNCTION",
+        &["error[E0104]: expected `END_PROGRAM`, found `FUNCTION`"],
+    );
+    check_errors(
+        "FUNCTION f : INT\n f := 1;\nEND_FUNCTION_BLOCK\nPROGRAM p END_PROGRAM",
+        &["error[E0104]: expected `END_FUNCTION`, found `END_FUNCTION_BLOCK`"],
+    );
+    check_errors(
+        "PROGRAM p VAR x : INT;\n x := 1;\nEND_PROGRAM",
+        &["error[E0104]: expected `END_VAR`, found `x`"],
+    );
+    check_errors(
+        "PROGRAM p\n REPEAT x := 1; END_REPEAT;\nEND_PROGRAM",
+        &["error[E0104]: expected `UNTIL`, found `END_REPEAT`"],
+    );
+    check_errors(
+        "TYPE s : STRUCT a : INT;\nEND_TYPE\nPROGRAM p END_PROGRAM",
+        &["error[E0104]: expected `END_STRUCT`, found `END_TYPE`"],
+    );
+}
+
+#[test]
+fn stray_closers() {
+    check_errors(
+        "PROGRAM p\n x := 1;\n END_IF;\n ELSE\n y := 2;\nEND_PROGRAM",
+        &["error[E0103]: unexpected `END_IF`: no IF is open", "error[E0103]: unexpected `ELSE`: no IF or CASE is open"],
+    );
+    check_errors(
+        "PROGRAM p\n WHILE a DO x := 1; ELSE y := 2; END_WHILE;\nEND_PROGRAM",
+        &["error[E0103]: unexpected `ELSE`: no IF or CASE is open"],
+    );
+    check_errors(
+        "PROGRAM p\n IF a THEN x := 1; ELSE y := 1; ELSE z := 1; END_IF;\nEND_PROGRAM",
+        &["error[E0103]: unexpected `ELSE`: no IF or CASE is open"],
+    );
+    check_errors("END_IF; PROGRAM p END_PROGRAM", &["error[E0103]: unexpected `END_IF`: it closes nothing here"]);
+}
+
+#[test]
+fn header_errors() {
+    check_errors(
+        "PROGRAM p\n IF a > 1\n   x := 0;\n END_IF;\n y := 1;\nEND_PROGRAM",
+        &["error[E0101]: expected `THEN`, found `x`"],
+    );
+    check_errors(
+        "PROGRAM p\n IF a = THEN x := 0; END_IF;\n WHILE DO y := 1; END_WHILE;\n FOR 1 := 2 TO 3 DO END_FOR;\nEND_PROGRAM",
+        &[
+            "error[E0101]: expected an expression, found `THEN`",
+            "error[E0101]: expected an expression, found `DO`",
+            "error[E0101]: expected the control variable, found `1`",
+        ],
+    );
+    check_errors(
+        "PROGRAM p\n CASE x OF 1: y := 1; 2 3: y := 2; 4: y := 3; END_CASE;\nEND_PROGRAM",
+        &["error[E0101]: expected `:`, `,` or `..` after a CASE label, found `3`"],
+    );
+}
+
+#[test]
+fn expression_statement_errors() {
+    check_errors("PROGRAM p x = 5; y := 1; END_PROGRAM", &["error[E0108]: expected `:=` or a call, found `=`"]);
+    check_errors("PROGRAM p a + b; END_PROGRAM", &["error[E0108]: expected `:=` or a call, found `+`"]);
+    check_errors("PROGRAM p x := (a + ; y := 1; END_PROGRAM", &["error[E0101]: expected an expression, found `;`"]);
+    check_errors("PROGRAM p x := f(a b); END_PROGRAM", &["error[E0101]: expected `,` or `)`, found `b`"]);
+    check_errors("PROGRAM p x := 1 2 3; y := 4; END_PROGRAM", &["error[E0102]: expected `;`, found `2`"]);
+    check_errors("PROGRAM p ) := 1; y := 4; END_PROGRAM", &["error[E0101]: expected a statement, found `)`"]);
+    check_errors("PROGRAM p x := %X3; END_PROGRAM", &["error[E0101]: `%X3` selects part of a variable: write it after one, as in `x.%X3`"]);
+}
+
+#[test]
+fn several_independent_errors_give_exactly_that_many_diagnostics() {
+    let src = "\
+PROGRAM a
+VAR
+  x : INT
+  y : INT;
+END_VAR
+  x := 1 +;
+  IF x > 1 THEN
+    y := 2
+  END_IF;
+  z := $;
+END_PROGRAM
+
+FUNCTION f : INT
+  f := 16#GG;
+  CASE f OF 1: f := 2; END_WHILE;
+END_FUNCTION
+
+TYPE t : (a, b; END_TYPE
+
+PROGRAM b
+  x := T#5q;
+  y := 'unterminated;
+END_PROGRAM
+";
+    let (u, d, _) = parse_str(src);
+    let codes: Vec<&str> = d.iter().map(|d| d.code).collect();
+    assert_eq!(
+        codes,
+        ["E0102", "E0101", "E0102", "E0001", "E0005", "E0104", "E0101", "E0007", "E0003"],
+        "{}",
+        show(&d, src)
+    );
+    // The good parts are still there.
+    assert_eq!(u.items.iter().filter(|i| matches!(i, Item::Pou(_))).count(), 3);
+}
+
+#[test]
+fn lexical_errors_are_not_repeated_by_the_parser() {
+    check_errors("PROGRAM p x := ?; y := 1; END_PROGRAM", &["error[E0001]: unexpected character `?`"]);
+    check_errors("PROGRAM p x := 1 ?; END_PROGRAM", &["error[E0001]: unexpected character `?`"]);
+    check_errors(
+        "PROGRAM p x := 1; (* open comment\n y := 2;",
+        &["error[E0002]: unterminated comment: `(*` has no matching `*)`"],
+    );
+    check_errors("PROGRAM p x := 'abc", &["error[E0003]: unterminated string literal: missing closing `'`"]);
+}
+
+#[test]
+fn unnamed_located_variables() {
+    check_errors(
+        "PROGRAM p VAR AT %QX0.1 : BOOL; ok AT %QX0.2 : BOOL; END_VAR END_PROGRAM",
+        &["error[E0106]: a located variable needs a name here"],
+    );
+    ok("VAR_GLOBAL AT %QX0.1 : BOOL; END_VAR");
+}
+
+#[test]
+fn unsupported_declarations() {
+    check_errors(
+        "FUNCTION_BLOCK f VAR_INPUT c : BOOL R_EDGE; END_VAR END_FUNCTION_BLOCK",
+        &["error[E0107]: `R_EDGE` edge-detecting inputs are not supported"],
+    );
+    check_errors(
+        "PROGRAM p VAR r : REFERENCE TO INT; x : INT; END_VAR END_PROGRAM",
+        &["error[E0107]: `REFERENCE TO` is not supported"],
+    );
+    check_errors(
+        "CONFIGURATION c VAR_ACCESS a : p.x : INT READ_WRITE; END_VAR END_CONFIGURATION",
+        &["error[E0107]: VAR_ACCESS declarations are not supported"],
+    );
+}
+
+#[test]
+fn garbage_and_truncation_never_panic() {
+    let src = "TYPE s : STRUCT a : INT := 1; END_STRUCT; e : (x, y := 2); END_TYPE\n\
+        FUNCTION_BLOCK fb EXTENDS b VAR_INPUT i : ARRAY[1..2] OF INT := [1, 2(3)]; END_VAR\n\
+        IF a THEN b := c.d[1]^.%X2; ELSIF e THEN f(g := 1, h => i); ELSE j := -k ** 2; END_IF;\n\
+        CASE x OF 1, 2..3: ; ELSE END_CASE; FOR i := 1 TO 2 BY 3 DO EXIT; END_FOR;\n\
+        WHILE TRUE DO CONTINUE; END_WHILE; REPEAT RETURN; UNTIL T#1s > TIME#2ms END_REPEAT;\n\
+        METHOD m : INT m := 1; END_METHOD ACTION act: x := 'a$N'; END_ACTION END_FUNCTION_BLOCK\n\
+        CONFIGURATION c RESOURCE r ON p TASK t(INTERVAL := T#1s); PROGRAM i WITH t : x(a := 1); END_RESOURCE END_CONFIGURATION";
+    // Every prefix: the parser stops, with errors only.
+    for end in 0..=src.len() {
+        if src.is_char_boundary(end) {
+            let _ = parse_str(&src[..end]);
+        }
+    }
+    // Every prefix of a token soup, and random byte strings.
+    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    let words = [
+        "IF", "THEN", "ELSE", "END_IF", "CASE", "OF", ":", ":=", ";", "(", ")", "[", "]", "x", "1", "..",
+        ",", "FOR", "TO", "DO", "END_FOR", "WHILE", "END_WHILE", "REPEAT", "UNTIL", "END_REPEAT", "VAR",
+        "END_VAR", "PROGRAM", "END_PROGRAM", "FUNCTION", "TYPE", "STRUCT", "END_STRUCT", "END_TYPE", "ARRAY",
+        "AT", "%IX0.0", ".", "^", "#", "=>", "NOT", "+", "-", "**", "'s'", "T#1s", "METHOD", "ACTION",
+        "CONFIGURATION", "RESOURCE", "TASK", "END_CONFIGURATION", "ELSIF", "EXIT", "$", "(*", "*)",
+    ];
+    for _ in 0..300 {
+        let mut s = String::new();
+        let n = (seed % 60) as usize;
+        for _ in 0..n {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            s.push_str(words[(seed % words.len() as u64) as usize]);
+            s.push(' ');
+        }
+        let _ = parse_str(&s);
+    }
+}
+
+/// Runs `f` on a thread with a small stack (what a test thread or a small embedder
+/// gives), so that a recursion limit that is too generous shows up here.
+fn on_small_stack(f: impl FnOnce() + Send + 'static) {
+    std::thread::Builder::new()
+        .stack_size(2 << 20)
+        .spawn(f)
+        .unwrap()
+        .join()
+        .unwrap();
+}
+
+#[test]
+fn deep_nesting_is_one_error_and_no_overflow() {
+    on_small_stack(|| {
+        let n = 10_000;
+        let parens = format!("PROGRAM p x := {}1{}; y := 2; END_PROGRAM", "(".repeat(n), ")".repeat(n));
+        assert_eq!(codes_of(&parens), ["E0105"]);
+        let ifs = format!(
+            "PROGRAM p {} x := 1; {} y := 2; END_PROGRAM",
+            "IF a THEN ".repeat(n),
+            "END_IF; ".repeat(n)
+        );
+        let (u, d, _) = parse_str(&ifs);
+        assert_eq!(d.iter().map(|d| d.code).collect::<Vec<_>>(), ["E0105"]);
+        let Item::Pou(p) = &u.items[0] else { panic!() };
+        assert_eq!(p.body.stmts.len(), 2);
+        let nots = format!("PROGRAM p x := {}a; END_PROGRAM", "NOT ".repeat(n));
+        assert_eq!(codes_of(&nots), ["E0105"]);
+        let arrays = format!("PROGRAM p VAR x : {}INT; y : INT; END_VAR END_PROGRAM", "ARRAY[1..2] OF ".repeat(n));
+        assert_eq!(codes_of(&arrays), ["E0105"]);
+        let structs = format!("TYPE t : {} END_TYPE", "STRUCT a : ".repeat(n));
+        assert!(codes_of(&structs).contains(&"E0105"));
+        let inits = format!("PROGRAM p VAR x : S := {}1{}; END_VAR END_PROGRAM", "(a := ".repeat(n), ")".repeat(n));
+        assert_eq!(codes_of(&inits), ["E0105"]);
+        let calls = format!("PROGRAM p x := {}1{}; END_PROGRAM", "f(".repeat(n), ")".repeat(n));
+        assert_eq!(codes_of(&calls), ["E0105"]);
+        let chain = format!("PROGRAM p x := 1{}; y := 1; END_PROGRAM", " + 1".repeat(100_000));
+        assert_eq!(codes_of(&chain), ["E0105"]);
+        let members = format!("PROGRAM p x := a{}; END_PROGRAM", ".b".repeat(100_000));
+        assert_eq!(codes_of(&members), ["E0105"]);
+        // Just below the limits everything parses (and the tree can be dropped).
+        let d = (super::parser::MAX_DEPTH - 2) as usize;
+        ok(&format!("PROGRAM p x := {}1{}; END_PROGRAM", "(".repeat(d), ")".repeat(d)));
+        ok(&format!("PROGRAM p {} x := 1; {} END_PROGRAM", "IF a THEN ".repeat(d), "END_IF; ".repeat(d)));
+        ok(&format!("PROGRAM p x := 1{}; END_PROGRAM", " + 1".repeat(900)));
+    });
+}

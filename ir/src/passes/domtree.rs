@@ -1,0 +1,297 @@
+//! Dominator tree (Cooper, Harvey & Kennedy, "A Simple, Fast Dominance Algorithm") and
+//! dominance frontiers.
+//!
+//! Only blocks reachable from the entry take part; unreachable blocks have no immediate
+//! dominator and dominate nothing. Side tables are vectors indexed by block id.
+
+use crate::entities::Block;
+use crate::function::Function;
+use crate::passes::util::dests;
+
+const NONE: u32 = u32::MAX;
+
+/// Blocks reachable from the entry, in reverse postorder (the entry first; every block
+/// comes after its dominators). Follows the terminators of the blocks, so it is correct
+/// for any layout order.
+pub fn reverse_postorder(func: &Function) -> Vec<Block> {
+    let Some(entry) = func.entry() else {
+        return Vec::new();
+    };
+    let mut visited = vec![false; func.blocks.len()];
+    let mut post = Vec::with_capacity(func.layout.len());
+    // Explicit stack of (block, next successor index): deep CFGs must not overflow.
+    let mut stack: Vec<(Block, u8)> = vec![(entry, 0)];
+    visited[entry.index()] = true;
+    while let Some(top) = stack.last_mut() {
+        let (b, next) = *top;
+        if next < 2 {
+            top.1 += 1;
+            let succ = func
+                .terminator(b)
+                .and_then(|t| dests(func.inst(t))[next as usize].map(|d| d.block));
+            if let Some(s) = succ {
+                if !visited[s.index()] {
+                    visited[s.index()] = true;
+                    stack.push((s, 0));
+                }
+            }
+        } else {
+            post.push(b);
+            stack.pop();
+        }
+    }
+    post.reverse();
+    post
+}
+
+/// The dominator tree of a function's reachable blocks.
+#[derive(Clone, Debug)]
+pub struct DomTree {
+    rpo: Vec<Block>,
+    /// Position of each block in `rpo`, `NONE` if unreachable.
+    rpo_num: Vec<u32>,
+    /// Immediate dominator of each block (by index), `NONE` for the entry and for
+    /// unreachable blocks.
+    idom: Vec<u32>,
+    /// Reachable predecessors (one per edge), in compressed rows.
+    pred_start: Vec<u32>,
+    preds: Vec<Block>,
+    /// Dominator-tree children, in compressed rows.
+    child_start: Vec<u32>,
+    children: Vec<Block>,
+    /// Preorder / postorder numbers in the dominator tree, for O(1) dominance queries.
+    pre: Vec<u32>,
+    post: Vec<u32>,
+}
+
+impl DomTree {
+    /// Computes the dominator tree of `func` (blocks reachable from the entry).
+    pub fn compute(func: &Function) -> DomTree {
+        let n = func.blocks.len();
+        let rpo = reverse_postorder(func);
+        let mut rpo_num = vec![NONE; n];
+        for (k, b) in rpo.iter().enumerate() {
+            rpo_num[b.index()] = k as u32;
+        }
+
+        // Predecessors among reachable blocks (compressed rows).
+        let mut pred_start = vec![0u32; n + 1];
+        for &b in &rpo {
+            if let Some(t) = func.terminator(b) {
+                for d in dests(func.inst(t)).into_iter().flatten() {
+                    pred_start[d.block.index() + 1] += 1;
+                }
+            }
+        }
+        for i in 0..n {
+            pred_start[i + 1] += pred_start[i];
+        }
+        let mut fill = pred_start.clone();
+        let mut preds = vec![Block(0); pred_start[n] as usize];
+        for &b in &rpo {
+            if let Some(t) = func.terminator(b) {
+                for d in dests(func.inst(t)).into_iter().flatten() {
+                    let s = &mut fill[d.block.index()];
+                    preds[*s as usize] = b;
+                    *s += 1;
+                }
+            }
+        }
+
+        // Cooper-Harvey-Kennedy: iterate idoms over RPO until stable. `idom` holds rpo
+        // numbers during the iteration (the entry is its own idom).
+        let m = rpo.len();
+        let mut idom_rpo = vec![NONE; m];
+        if m > 0 {
+            idom_rpo[0] = 0;
+        }
+        let mut changed = true;
+        while changed {
+            changed = false;
+            for k in 1..m {
+                let b = rpo[k];
+                let mut new_idom = NONE;
+                for &p in &preds[pred_start[b.index()] as usize..pred_start[b.index() + 1] as usize]
+                {
+                    let pn = rpo_num[p.index()];
+                    if idom_rpo[pn as usize] == NONE {
+                        continue; // not processed yet
+                    }
+                    new_idom = if new_idom == NONE {
+                        pn
+                    } else {
+                        intersect(&idom_rpo, pn, new_idom)
+                    };
+                }
+                if new_idom != idom_rpo[k] {
+                    idom_rpo[k] = new_idom;
+                    changed = true;
+                }
+            }
+        }
+        let mut idom = vec![NONE; n];
+        for k in 1..m {
+            idom[rpo[k].index()] = rpo[idom_rpo[k] as usize].0;
+        }
+
+        // Children in compressed rows (in RPO order, which keeps traversals stable).
+        let mut child_start = vec![0u32; n + 1];
+        for &b in rpo.iter().skip(1) {
+            child_start[idom[b.index()] as usize + 1] += 1;
+        }
+        for i in 0..n {
+            child_start[i + 1] += child_start[i];
+        }
+        let mut fill = child_start.clone();
+        let mut children = vec![Block(0); m.saturating_sub(1)];
+        for &b in rpo.iter().skip(1) {
+            let s = &mut fill[idom[b.index()] as usize];
+            children[*s as usize] = b;
+            *s += 1;
+        }
+
+        let mut tree = DomTree {
+            rpo,
+            rpo_num,
+            idom,
+            pred_start,
+            preds,
+            child_start,
+            children,
+            pre: vec![NONE; n],
+            post: vec![NONE; n],
+        };
+        tree.number();
+        tree
+    }
+
+    /// Pre/postorder numbering of the tree.
+    fn number(&mut self) {
+        let Some(&entry) = self.rpo.first() else {
+            return;
+        };
+        let (mut pre, mut post) = (0u32, 0u32);
+        let mut stack: Vec<(Block, u32)> = vec![(entry, 0)];
+        self.pre[entry.index()] = pre;
+        pre += 1;
+        while let Some(top) = stack.last_mut() {
+            let (b, k) = *top;
+            let kids = self.children(b);
+            if (k as usize) < kids.len() {
+                let c = kids[k as usize];
+                top.1 += 1;
+                self.pre[c.index()] = pre;
+                pre += 1;
+                stack.push((c, 0));
+            } else {
+                self.post[b.index()] = post;
+                post += 1;
+                stack.pop();
+            }
+        }
+    }
+
+    /// Reachable blocks in reverse postorder (entry first).
+    pub fn rpo(&self) -> &[Block] {
+        &self.rpo
+    }
+
+    /// True if `b` is reachable from the entry.
+    #[inline]
+    pub fn is_reachable(&self, b: Block) -> bool {
+        self.rpo_num.get(b.index()).is_some_and(|&n| n != NONE)
+    }
+
+    /// The position of `b` in reverse postorder, if reachable.
+    pub fn rpo_number(&self, b: Block) -> Option<u32> {
+        self.rpo_num.get(b.index()).copied().filter(|&n| n != NONE)
+    }
+
+    /// The immediate dominator of `b` (`None` for the entry and unreachable blocks).
+    #[inline]
+    pub fn idom(&self, b: Block) -> Option<Block> {
+        let d = *self.idom.get(b.index())?;
+        (d != NONE).then_some(Block(d))
+    }
+
+    /// Reachable predecessors of `b`, one per edge (a `brif` with both destinations
+    /// `b` appears twice).
+    pub fn preds(&self, b: Block) -> &[Block] {
+        let i = b.index();
+        &self.preds[self.pred_start[i] as usize..self.pred_start[i + 1] as usize]
+    }
+
+    /// The blocks `b` immediately dominates.
+    pub fn children(&self, b: Block) -> &[Block] {
+        let i = b.index();
+        &self.children[self.child_start[i] as usize..self.child_start[i + 1] as usize]
+    }
+
+    /// True if `a` dominates `b` (every block dominates itself). False if either is
+    /// unreachable.
+    #[inline]
+    pub fn dominates(&self, a: Block, b: Block) -> bool {
+        if !self.is_reachable(a) || !self.is_reachable(b) {
+            return false;
+        }
+        self.pre[a.index()] <= self.pre[b.index()] && self.post[a.index()] >= self.post[b.index()]
+    }
+
+    /// True if `a` strictly dominates `b`.
+    pub fn strictly_dominates(&self, a: Block, b: Block) -> bool {
+        a != b && self.dominates(a, b)
+    }
+
+    /// The dominance frontier of every reachable block.
+    pub fn frontiers(&self) -> DominanceFrontiers {
+        let n = self.rpo_num.len();
+        let mut df: Vec<Vec<Block>> = vec![Vec::new(); n];
+        for &b in &self.rpo {
+            let preds = self.preds(b);
+            if preds.len() < 2 && !(b == self.rpo[0] && !preds.is_empty()) {
+                continue;
+            }
+            let stop = self.idom[b.index()];
+            for &p in preds {
+                let mut runner = p.0;
+                while runner != stop {
+                    let list = &mut df[runner as usize];
+                    if list.last() != Some(&b) {
+                        list.push(b);
+                    }
+                    runner = self.idom[runner as usize];
+                    if runner == NONE {
+                        break; // walked past the entry (b is the entry)
+                    }
+                }
+            }
+        }
+        DominanceFrontiers { df }
+    }
+}
+
+fn intersect(idom: &[u32], mut a: u32, mut b: u32) -> u32 {
+    while a != b {
+        while a > b {
+            a = idom[a as usize];
+        }
+        while b > a {
+            b = idom[b as usize];
+        }
+    }
+    a
+}
+
+/// Dominance frontiers: `DF(b)` is the set of blocks where `b`'s dominance ends (where
+/// SSA needs block parameters for values defined in `b`).
+#[derive(Clone, Debug)]
+pub struct DominanceFrontiers {
+    df: Vec<Vec<Block>>,
+}
+
+impl DominanceFrontiers {
+    /// The dominance frontier of `b` (empty for unreachable blocks).
+    pub fn frontier(&self, b: Block) -> &[Block] {
+        self.df.get(b.index()).map_or(&[], |v| v.as_slice())
+    }
+}

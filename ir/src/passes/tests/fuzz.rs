@@ -1,0 +1,716 @@
+//! Random functions shaped like naive front-end output (locals in stack slots,
+//! variables in structs reached through pointers and globals, every statement
+//! reloading what it reads, IF/WHILE/RETURN with dead blocks after RETURN, calls that
+//! write memory, divisions that may fault), run by the reference interpreter before
+//! and after each pass and after the whole driver. Results, fault flags and the final
+//! contents of memory must agree, and the IR must verify after every pass.
+
+use super::{verify, PASSES};
+use crate::builder::FuncBuilder;
+use crate::entities::{AggId, DataId, FuncId, SlotId, Value};
+use crate::function::{FuncKind, Function};
+use crate::inst::{BinaryOp, ConvOp, FloatCC, IntCC, UnaryOp};
+use crate::interp::Interp;
+use crate::machine::Machine;
+use crate::module::{
+    AggDef, ArrayDef, DataDef, DataKind, Field, FieldRole, Module, StructDef, StructKind,
+};
+use crate::types::{ElemType, MemType, Type};
+
+/// xorshift64*: deterministic and good enough for picking shapes.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+    }
+    fn below(&mut self, n: u64) -> u64 {
+        self.next() % n
+    }
+    fn chance(&mut self, percent: u64) -> bool {
+        self.below(100) < percent
+    }
+    fn pick<T: Copy>(&mut self, xs: &[T]) -> T {
+        xs[self.below(xs.len() as u64) as usize]
+    }
+}
+
+/// Field types of the struct `%S` (index = field number); the last field is `arr`.
+const FIELDS: [(Type, ElemType); 7] = [
+    (Type::I32, ElemType::DInt),
+    (Type::I16, ElemType::Int),
+    (Type::I8, ElemType::SInt),
+    (Type::I1, ElemType::Bool),
+    (Type::F32, ElemType::Real),
+    (Type::I64, ElemType::LInt),
+    (Type::I32, ElemType::DInt),
+];
+const ARR_FIELD: u32 = FIELDS.len() as u32;
+const ARR_LEN: u32 = 4;
+const TYPES: [Type; 6] = [
+    Type::I1,
+    Type::I8,
+    Type::I16,
+    Type::I32,
+    Type::I64,
+    Type::F32,
+];
+
+/// Where a variable lives.
+#[derive(Copy, Clone)]
+enum Base {
+    /// Parameter `p` (the test passes @g).
+    P,
+    /// Parameter `q` (@h, or @g again: aliasing).
+    Q,
+    /// `global_addr @g`.
+    G,
+}
+
+#[derive(Copy, Clone)]
+enum Place {
+    Slot(SlotId, Type),
+    Field(Base, u32),
+    Elem(Base, Option<u32>),
+}
+
+struct Ctx {
+    s: AggId,
+    a: AggId,
+    g: DataId,
+    bump: FuncId,
+}
+
+struct Gen<'a, 'f> {
+    rng: &'a mut Rng,
+    b: FuncBuilder<'f>,
+    cx: &'a Ctx,
+    slots: Vec<(SlotId, Type)>,
+    params: Vec<Value>,
+    depth: u32,
+    budget: u32,
+}
+
+impl Gen<'_, '_> {
+    fn place_type(&self, p: Place) -> Type {
+        match p {
+            Place::Slot(_, t) => t,
+            Place::Field(_, f) => FIELDS[f as usize].0,
+            Place::Elem(..) => Type::I32,
+        }
+    }
+
+    fn base(&mut self, base: Base) -> Value {
+        match base {
+            Base::P => self.params[2],
+            Base::Q => self.params[3],
+            Base::G => self.b.global_addr(self.cx.g),
+        }
+    }
+
+    /// The address of a place, recomputed at every access as a naive front end does.
+    fn addr(&mut self, p: Place) -> Value {
+        match p {
+            Place::Slot(s, _) => self.b.slot_addr(s),
+            Place::Field(base, f) => {
+                let bv = self.base(base);
+                self.b.field_addr(bv, self.cx.s, f)
+            }
+            Place::Elem(base, idx) => {
+                let bv = self.base(base);
+                let arr = self.b.field_addr(bv, self.cx.s, ARR_FIELD);
+                let i = match idx {
+                    Some(k) => self.b.iconst(Type::I32, k as i64),
+                    None => {
+                        // Any value, reduced into range the way a checked index is.
+                        let x = self.expr(Type::I32);
+                        let n = self.b.iconst(Type::I32, ARR_LEN as i64);
+                        self.b.binary(BinaryOp::Urem, x, n)
+                    }
+                };
+                self.b.elem_addr(arr, self.cx.a, i)
+            }
+        }
+    }
+
+    fn random_place(&mut self, ty: Option<Type>) -> Option<Place> {
+        for _ in 0..20 {
+            let p = match self.rng.below(4) {
+                0 if !self.slots.is_empty() => {
+                    let (s, t) = self.rng.pick(&self.slots);
+                    Place::Slot(s, t)
+                }
+                1 => Place::Elem(
+                    self.rng.pick(&[Base::P, Base::Q, Base::G]),
+                    if self.rng.chance(60) {
+                        Some(self.rng.below(ARR_LEN as u64) as u32)
+                    } else {
+                        None
+                    },
+                ),
+                _ => Place::Field(
+                    self.rng.pick(&[Base::P, Base::Q, Base::G]),
+                    self.rng.below(FIELDS.len() as u64) as u32,
+                ),
+            };
+            if ty.is_none_or(|t| t == self.place_type(p)) {
+                return Some(p);
+            }
+        }
+        None
+    }
+
+    fn konst(&mut self, ty: Type) -> Value {
+        if ty == Type::F32 {
+            let x = self
+                .rng
+                .pick(&[0.0f32, -0.0, 1.0, -1.5, 2.5, 0.1, 1e30, -7.0, 3.5, 65536.0]);
+            return self.b.f32const(x);
+        }
+        let w = ty.bits();
+        let x = match self.rng.below(8) {
+            0 => 0,
+            1 => 1,
+            2 => -1,
+            3 => 1i64 << (w - 1).min(62),
+            4 => w as i64,
+            5 => self.rng.below(10) as i64,
+            6 => 1 << self.rng.below(w as u64),
+            _ => self.rng.next() as i64,
+        };
+        self.b.iconst(ty, x)
+    }
+
+    fn expr(&mut self, ty: Type) -> Value {
+        self.depth += 1;
+        let v = self.expr_inner(ty);
+        self.depth -= 1;
+        v
+    }
+
+    fn expr_inner(&mut self, ty: Type) -> Value {
+        let leaf = self.depth > 3 || self.budget == 0 || self.rng.chance(30);
+        self.budget = self.budget.saturating_sub(1);
+        if leaf {
+            return match self.rng.below(3) {
+                0 => self.konst(ty),
+                1 => match self.random_place(Some(ty)) {
+                    Some(p) => {
+                        let a = self.addr(p);
+                        self.b.load(ty, a)
+                    }
+                    None => self.konst(ty),
+                },
+                _ => {
+                    let x = self.params[self.rng.below(2) as usize];
+                    self.from_i32(x, ty)
+                }
+            };
+        }
+        match ty {
+            Type::I1 => match self.rng.below(6) {
+                0 | 1 => {
+                    let t = self.rng.pick(&TYPES[1..5]);
+                    let (x, y) = (self.expr(t), self.expr(t));
+                    let cc = self.rng.pick(&IntCC::ALL);
+                    self.b.icmp(cc, x, y)
+                }
+                2 => {
+                    let (x, y) = (self.expr(Type::F32), self.expr(Type::F32));
+                    let cc = self.rng.pick(&FloatCC::ALL);
+                    self.b.fcmp(cc, x, y)
+                }
+                3 => {
+                    let x = self.expr(Type::I1);
+                    self.b.unary(UnaryOp::Bnot, x)
+                }
+                4 => {
+                    let (x, y) = (self.expr(Type::I1), self.expr(Type::I1));
+                    let op = self
+                        .rng
+                        .pick(&[BinaryOp::Band, BinaryOp::Bor, BinaryOp::Bxor]);
+                    self.b.binary(op, x, y)
+                }
+                _ => self.select(ty),
+            },
+            Type::F32 => match self.rng.below(5) {
+                0 | 1 => {
+                    let (x, y) = (self.expr(ty), self.expr(ty));
+                    let op = self.rng.pick(&[
+                        BinaryOp::Fadd,
+                        BinaryOp::Fsub,
+                        BinaryOp::Fmul,
+                        BinaryOp::Fdiv,
+                    ]);
+                    self.b.binary(op, x, y)
+                }
+                2 => {
+                    let x = self.expr(ty);
+                    let op = self.rng.pick(&[
+                        UnaryOp::Fneg,
+                        UnaryOp::Fabs,
+                        UnaryOp::Fsqrt,
+                        UnaryOp::Fnearest,
+                        UnaryOp::Ftrunc,
+                        UnaryOp::Ffloor,
+                        UnaryOp::Fceil,
+                    ]);
+                    self.b.unary(op, x)
+                }
+                3 => {
+                    let x = self.expr(Type::I32);
+                    let op = self.rng.pick(&[ConvOp::SiToF, ConvOp::UiToF]);
+                    self.b.convert(op, ty, x)
+                }
+                _ => self.select(ty),
+            },
+            _ => match self.rng.below(8) {
+                0..=2 => {
+                    let (x, y) = (self.expr(ty), self.expr(ty));
+                    let op = self.rng.pick(&BinaryOp::ALL[..15]);
+                    self.b.binary(op, x, y)
+                }
+                3 => {
+                    // Operations with one constant operand exercise the identities.
+                    let x = self.expr(ty);
+                    let k = self.konst(ty);
+                    let op = self.rng.pick(&BinaryOp::ALL[..15]);
+                    if self.rng.chance(50) {
+                        self.b.binary(op, x, k)
+                    } else {
+                        self.b.binary(op, k, x)
+                    }
+                }
+                4 => {
+                    let x = self.expr(ty);
+                    let op = self
+                        .rng
+                        .pick(&[UnaryOp::Ineg, UnaryOp::Bnot, UnaryOp::Iabs]);
+                    self.b.unary(op, x)
+                }
+                5 => {
+                    let from = self.rng.pick(&TYPES);
+                    let x = self.expr(from);
+                    self.convert(x, from, ty)
+                }
+                6 if ty == Type::I32 && self.rng.chance(30) => {
+                    let base = self.rng.pick(&[Base::P, Base::Q, Base::G]);
+                    let p = self.base(base);
+                    self.b.call(self.cx.bump, Some(Type::I32), vec![p]).unwrap()
+                }
+                _ => self.select(ty),
+            },
+        }
+    }
+
+    fn select(&mut self, ty: Type) -> Value {
+        let c = self.expr(Type::I1);
+        let x = self.expr(ty);
+        let y = if self.rng.chance(20) {
+            x
+        } else {
+            self.expr(ty)
+        };
+        self.b.select(c, x, y)
+    }
+
+    fn from_i32(&mut self, x: Value, ty: Type) -> Value {
+        self.convert(x, Type::I32, ty)
+    }
+
+    fn convert(&mut self, x: Value, from: Type, to: Type) -> Value {
+        if from == to {
+            return x;
+        }
+        if from.is_float() {
+            let op = self.rng.pick(&[ConvOp::FToSi, ConvOp::FToUi]);
+            if to == Type::I1 {
+                let z = self.b.f32const(0.0);
+                return self.b.fcmp(FloatCC::Ne, x, z);
+            }
+            return self.b.convert(op, to, x);
+        }
+        if to.is_float() {
+            let op = self.rng.pick(&[ConvOp::SiToF, ConvOp::UiToF]);
+            return self.b.convert(op, to, x);
+        }
+        if to.bits() < from.bits() {
+            if to == Type::I1 {
+                let z = self.b.iconst(from, 0);
+                return self.b.icmp(IntCC::Ne, x, z);
+            }
+            self.b.convert(ConvOp::Itrunc, to, x)
+        } else {
+            let op = if from == Type::I1 || self.rng.chance(50) {
+                ConvOp::Uext
+            } else {
+                ConvOp::Sext
+            };
+            self.b.convert(op, to, x)
+        }
+    }
+
+    fn stmts(&mut self, n: u32, loops: u32) {
+        for _ in 0..n {
+            self.budget = 12;
+            match self.rng.below(12) {
+                0..=5 => {
+                    if let Some(p) = self.random_place(None) {
+                        let ty = self.place_type(p);
+                        let v = self.expr(ty);
+                        let a = self.addr(p);
+                        self.b.store(v, a);
+                    }
+                }
+                6 | 7 if self.depth_ok() => {
+                    let c = self.expr(Type::I1);
+                    let (t, e, j) = (
+                        self.b.create_block(),
+                        self.b.create_block(),
+                        self.b.create_block(),
+                    );
+                    self.b.brif(c, t, vec![], e, vec![]);
+                    self.b.switch_to(t);
+                    self.nested(|g| g.stmts(2, loops));
+                    self.b.jump(j, vec![]);
+                    self.b.switch_to(e);
+                    if self.rng.chance(50) {
+                        self.nested(|g| g.stmts(2, loops));
+                    }
+                    self.b.jump(j, vec![]);
+                    self.b.switch_to(j);
+                }
+                8 if loops > 0 && self.depth_ok() => {
+                    // cnt := k; WHILE cnt > 0 DO ...; cnt := cnt - 1; END_WHILE
+                    let cnt = self.b.slot("cnt", MemType::Scalar(Type::I16));
+                    let k = self.b.iconst(Type::I16, 1 + self.rng.below(3) as i64);
+                    let a = self.b.slot_addr(cnt);
+                    self.b.store(k, a);
+                    let (h, body, exit) = (
+                        self.b.create_block(),
+                        self.b.create_block(),
+                        self.b.create_block(),
+                    );
+                    self.b.jump(h, vec![]);
+                    self.b.switch_to(h);
+                    let a = self.b.slot_addr(cnt);
+                    let c = self.b.load(Type::I16, a);
+                    let z = self.b.iconst(Type::I16, 0);
+                    let go = self.b.icmp(IntCC::Sgt, c, z);
+                    self.b.brif(go, body, vec![], exit, vec![]);
+                    self.b.switch_to(body);
+                    self.nested(|g| g.stmts(2, loops - 1));
+                    let a = self.b.slot_addr(cnt);
+                    let c = self.b.load(Type::I16, a);
+                    let one = self.b.iconst(Type::I16, 1);
+                    let d = self.b.binary(BinaryOp::Isub, c, one);
+                    let a = self.b.slot_addr(cnt);
+                    self.b.store(d, a);
+                    self.b.jump(h, vec![]);
+                    self.b.switch_to(exit);
+                }
+                9 if self.rng.chance(30) => {
+                    // RETURN in the middle: the rest goes to a dead block.
+                    let v = self.expr(Type::I32);
+                    self.b.ret(Some(v));
+                }
+                10 => {
+                    let base = self.rng.pick(&[Base::P, Base::Q, Base::G]);
+                    let p = self.base(base);
+                    self.b.call(self.cx.bump, Some(Type::I32), vec![p]);
+                }
+                _ => {
+                    let v = self.expr(Type::I32);
+                    let p = self
+                        .random_place(Some(Type::I32))
+                        .unwrap_or(Place::Field(Base::P, 0));
+                    let a = self.addr(p);
+                    self.b.store(v, a);
+                }
+            }
+        }
+    }
+
+    fn depth_ok(&self) -> bool {
+        self.depth < 3
+    }
+
+    fn nested(&mut self, f: impl FnOnce(&mut Self)) {
+        self.depth += 1;
+        f(self);
+        self.depth -= 1;
+    }
+}
+
+/// The fixed part of every module: `%S`, `@g`, `@h`, `@bump(ptr) -> i32` (increments
+/// field 0 and returns its old value) and `@init(ptr, i32, i32)` (fills a struct).
+fn skeleton() -> (Module, Ctx, FuncId) {
+    let mut m = Module::new();
+    let a = m.add_agg(AggDef::Array(ArrayDef {
+        name: "A".into(),
+        elem: MemType::Scalar(Type::I32),
+        elem_type: Some(ElemType::DInt),
+        len: ARR_LEN,
+        lower: 0,
+    }));
+    let mut fields: Vec<Field> = FIELDS
+        .iter()
+        .enumerate()
+        .map(|(k, &(t, e))| Field {
+            name: format!("f{k}"),
+            ty: MemType::Scalar(t),
+            elem: Some(e),
+            role: FieldRole::Var,
+            location: None,
+        })
+        .collect();
+    fields.push(Field {
+        name: "arr".into(),
+        ty: MemType::Agg(a),
+        elem: None,
+        role: FieldRole::Var,
+        location: None,
+    });
+    let s = m.add_agg(AggDef::Struct(StructDef {
+        name: "S".into(),
+        kind: StructKind::Struct,
+        fields,
+    }));
+    let data = |name: &str| DataDef {
+        name: name.into(),
+        ty: MemType::Agg(s),
+        elem: None,
+        kind: DataKind::Global,
+        location: None,
+    };
+    let g = m.add_data(data("g"));
+    m.add_data(data("h"));
+
+    let mut f = Function::new("bump", FuncKind::Function, vec![Type::Ptr], Some(Type::I32));
+    {
+        let mut b = FuncBuilder::new(&mut f);
+        let p = b.params()[0];
+        let a0 = b.field_addr(p, s, 0);
+        let x = b.load(Type::I32, a0);
+        let one = b.iconst(Type::I32, 1);
+        let y = b.binary(BinaryOp::Iadd, x, one);
+        b.store(y, a0);
+        b.ret(Some(x));
+    }
+    let bump = m.add_func(f);
+
+    let mut f = Function::new(
+        "init",
+        FuncKind::Function,
+        vec![Type::Ptr, Type::I32, Type::I32],
+        None,
+    );
+    {
+        let mut b = FuncBuilder::new(&mut f);
+        let ps = b.params();
+        let (p, x, y) = (ps[0], ps[1], ps[2]);
+        let vals = [
+            x,
+            b.convert(ConvOp::Itrunc, Type::I16, y),
+            {
+                let t = b.binary(BinaryOp::Bxor, x, y);
+                b.convert(ConvOp::Itrunc, Type::I8, t)
+            },
+            b.icmp(IntCC::Slt, x, y),
+            b.convert(ConvOp::SiToF, Type::F32, y),
+            {
+                let t = b.convert(ConvOp::Sext, Type::I64, x);
+                let u = b.convert(ConvOp::Sext, Type::I64, y);
+                b.binary(BinaryOp::Imul, t, u)
+            },
+            y,
+        ];
+        for (k, v) in vals.into_iter().enumerate() {
+            let a = b.field_addr(p, s, k as u32);
+            b.store(v, a);
+        }
+        let arr = b.field_addr(p, s, ARR_FIELD);
+        for k in 0..ARR_LEN {
+            let i = b.iconst(Type::I32, k as i64);
+            let e = b.elem_addr(arr, a, i);
+            let kk = b.iconst(Type::I32, k as i64 * 7 - 5);
+            let v = b.binary(BinaryOp::Imul, x, kk);
+            b.store(v, e);
+        }
+        b.ret(None);
+    }
+    let init = m.add_func(f);
+    (m, Ctx { s, a, g, bump }, init)
+}
+
+/// Adds a random `@t(a: i32, b: i32, p: ptr, q: ptr) -> i32`.
+fn random_function(m: &mut Module, cx: &Ctx, rng: &mut Rng) -> FuncId {
+    let mut f = Function::new(
+        "t",
+        FuncKind::Function,
+        vec![Type::I32, Type::I32, Type::Ptr, Type::Ptr],
+        Some(Type::I32),
+    );
+    {
+        let b = FuncBuilder::new(&mut f);
+        let params = b.params();
+        let mut g = Gen {
+            rng,
+            b,
+            cx,
+            slots: Vec::new(),
+            params,
+            depth: 0,
+            budget: 12,
+        };
+        // Locals, initialised as front ends do (sometimes from the inputs).
+        for k in 0..g.rng.below(5) + 1 {
+            let ty = g.rng.pick(&TYPES);
+            let s = g.b.slot(format!("l{k}"), MemType::Scalar(ty));
+            g.slots.push((s, ty));
+            let v = if g.rng.chance(50) {
+                g.konst(ty)
+            } else {
+                let x = g.params[0];
+                g.from_i32(x, ty)
+            };
+            let a = g.b.slot_addr(s);
+            g.b.store(v, a);
+        }
+        let n = 3 + g.rng.below(6) as u32;
+        g.stmts(n, 2);
+        g.budget = 12;
+        let v = g.expr(Type::I32);
+        g.b.ret(Some(v));
+    }
+    m.add_func(f)
+}
+
+/// Everything observable after one call: result, fault flag, both structs.
+type Outcome = (Result<Option<u64>, String>, bool, Vec<u64>);
+
+fn run_one(
+    it: &mut Interp,
+    m: &Module,
+    init: FuncId,
+    t: FuncId,
+    x: i32,
+    y: i32,
+    alias: bool,
+) -> Outcome {
+    let g = it.data_addr(DataId::new(0)).unwrap();
+    let h = it.data_addr(DataId::new(1)).unwrap();
+    it.call(init, &[g, x as u64, y as u64]).expect("init runs");
+    it.call(init, &[h, y as u64, x.wrapping_mul(3) as u64])
+        .expect("init runs");
+    it.clear_fault();
+    let q = if alias { g } else { h };
+    let r = it.call(t, &[x as u64, y as u64, g, q]).map_err(|e| e.0);
+    let mut mem = Vec::new();
+    for root in [DataId::new(0), DataId::new(1)] {
+        for v in crate::vars::variables(m, root) {
+            mem.push(it.read(&v.path).expect("readable").bits);
+        }
+    }
+    (r, it.fault(), mem)
+}
+
+const INPUTS: [(i32, i32); 8] = [
+    (0, 0),
+    (1, 2),
+    (-1, 7),
+    (100, -3),
+    (i32::MIN, -1),
+    (i32::MAX, 4),
+    (12345, 0),
+    (-77, 65536),
+];
+
+fn outcomes(m: &Module, init: FuncId, t: FuncId) -> Vec<Outcome> {
+    let mut it = Interp::new(m).expect("module runs");
+    it.set_step_limit(Some(1_000_000));
+    let mut out = Vec::new();
+    for &(x, y) in &INPUTS {
+        for alias in [false, true] {
+            out.push(run_one(&mut it, m, init, t, x, y, alias));
+        }
+    }
+    out
+}
+
+fn check_same(
+    seed: u64,
+    what: &str,
+    m0: &Module,
+    before: &[Outcome],
+    m: &Module,
+    init: FuncId,
+    t: FuncId,
+) {
+    let after = outcomes(m, init, t);
+    for (k, (a, b)) in before.iter().zip(&after).enumerate() {
+        if a != b {
+            panic!(
+                "seed {seed}: {what} changed the behaviour for input {k}:\nbefore {a:?}\nafter  {b:?}\n{}\n--- after:\n{}",
+                crate::text::print_function(m0, &m0.funcs[t.index()], &Default::default()),
+                crate::text::print_function(m, &m.funcs[t.index()], &Default::default()),
+            );
+        }
+    }
+}
+
+#[test]
+fn random_functions_keep_their_meaning() {
+    let seeds = if cfg!(debug_assertions) { 300 } else { 3000 };
+    for seed in 1..=seeds {
+        let mut rng = Rng(seed * 0x9e37_79b9_7f4a_7c15);
+        let (mut m, cx, init) = skeleton();
+        let t = random_function(&mut m, &cx, &mut rng);
+        verify(&m, &m.funcs[t.index()], &format!("seed {seed}: generated"));
+        let before = outcomes(&m, init, t);
+        if before.iter().any(|o| o.0.is_err()) {
+            panic!(
+                "seed {seed}: the generated function fails: {:?}",
+                before[0].0
+            );
+        }
+
+        // Each pass alone, in driver order, on the accumulated result.
+        let mut cur = m.clone();
+        for round in 0..2 {
+            for (name, pass) in PASSES {
+                for k in 0..cur.funcs.len() {
+                    let mut f = cur.funcs[k].clone();
+                    pass(&mut f);
+                    cur.funcs[k] = f;
+                    verify(
+                        &cur,
+                        &cur.funcs[k],
+                        &format!("seed {seed}: after {name} (round {round})"),
+                    );
+                }
+                check_same(seed, name, &m, &before, &cur, init, t);
+            }
+        }
+
+        // The driver.
+        let mut opt = m.clone();
+        crate::passes::optimize_module(&mut opt);
+        for f in &opt.funcs {
+            verify(&opt, f, &format!("seed {seed}: after optimize_module"));
+        }
+        check_same(seed, "optimize_module", &m, &before, &opt, init, t);
+        // Optimising again finds nothing to do.
+        let mut again = opt.clone();
+        for f in &mut again.funcs {
+            assert!(
+                !crate::passes::optimize_function(f),
+                "seed {seed}: a second optimisation changed {}",
+                f.name
+            );
+        }
+    }
+}

@@ -1,0 +1,347 @@
+//! The commands of the `plcc` binary. Each returns the process exit status: 0 on
+//! success, 1 when the program has errors or a check fails, 2 for usage and I/O
+//! errors.
+
+use crate::driver::{self, Build, BuildOptions, UsageError};
+use crate::{output, render, scenario, targets};
+use plcc_frontend::Lang;
+use plcc_ir::text::{print_module, PrintOptions};
+use plcc_ir::Module;
+use std::path::{Path, PathBuf};
+
+/// Exit status for a program with errors or a failed check.
+pub const EXIT_FAIL: u8 = 1;
+/// Exit status for usage and I/O errors.
+pub const EXIT_USAGE: u8 = 2;
+
+fn usage(msg: impl std::fmt::Display) -> u8 {
+    eprintln!("error: {msg}");
+    EXIT_USAGE
+}
+
+fn parse_lang(lang: Option<&str>) -> Result<Option<Lang>, UsageError> {
+    match lang {
+        None => Ok(None),
+        Some(l) => Lang::from_name(l)
+            .map(Some)
+            .ok_or_else(|| UsageError(format!("unknown language `{l}` (use st, il, stl or xml)"))),
+    }
+}
+
+/// Builds and prints the diagnostics; `Err(status)` when the build cannot go on.
+fn build_and_report<P: AsRef<Path>>(files: &[P], lang: Option<&str>, programs: Vec<String>, no_opt: bool) -> Result<(Build, Module), u8> {
+    let lang = parse_lang(lang).map_err(usage)?;
+    let opts = BuildOptions {
+        lang,
+        programs,
+        no_opt,
+    };
+    let build = driver::build_files(files, &opts).map_err(usage)?;
+    render::to_stderr(&build.sources, &build.diagnostics);
+    match &build.module {
+        Some(m) => {
+            let m = m.clone();
+            Ok((build, m))
+        }
+        None => {
+            let n = build.diagnostics.iter().filter(|d| d.is_error()).count();
+            eprintln!("error: could not compile: {n} error(s)");
+            Err(EXIT_FAIL)
+        }
+    }
+}
+
+/// `plcc check FILE...`
+pub fn check(files: &[PathBuf], lang: Option<&str>) -> u8 {
+    match build_and_report(files, lang, Vec::new(), true) {
+        Ok(_) => 0,
+        Err(s) => s,
+    }
+}
+
+/// `plcc explain CODE`
+pub fn explain(code: &str) -> u8 {
+    let all = plcc_frontend::codes::ALL
+        .iter()
+        .chain(plcc_native::CODES.iter())
+        .find(|c| c.code.eq_ignore_ascii_case(code));
+    match all {
+        Some(c) => {
+            println!("{}: {}\n\n{}", c.code, c.title, c.explanation);
+            0
+        }
+        None if code.eq_ignore_ascii_case(driver::E_INTERNAL) => {
+            println!("{}: internal compiler error\n\nplcc produced invalid IR: a bug in plcc. Please report it with the program.", driver::E_INTERNAL);
+            0
+        }
+        None => usage(format!("no diagnostic code `{code}`")),
+    }
+}
+
+/// Arguments of `plcc run`.
+pub struct RunArgs {
+    /// Source files.
+    pub files: Vec<PathBuf>,
+    /// `--lang`
+    pub lang: Option<String>,
+    /// `--target`
+    pub target: String,
+    /// `--program`
+    pub program: Option<String>,
+    /// `--scans`
+    pub scans: u64,
+    /// `--cycle-ms`
+    pub cycle_ms: u64,
+}
+
+fn runnable_target(name: &str) -> Result<&'static str, u8> {
+    match targets::find(name) {
+        Some(t) if t.runs => Ok(t.name),
+        Some(t) => Err(usage(format!("target `{}` cannot run programs here (targets that can: {})", t.name, targets::names(true)))),
+        None => Err(usage(format!("unknown target `{name}` (known: {})", targets::names(false)))),
+    }
+}
+
+/// Picks the program instance to run: the one asked for, else the only one.
+fn pick_program(m: &Module, asked: Option<&str>) -> Result<String, u8> {
+    match asked {
+        Some(p) => match m.program(p) {
+            Some(e) => Ok(e.name.clone()),
+            None => {
+                eprintln!("error: no PROGRAM named `{p}`");
+                Err(EXIT_FAIL)
+            }
+        },
+        None => match m.programs.as_slice() {
+            [one] => Ok(one.name.clone()),
+            [] => {
+                eprintln!("error: the files declare no PROGRAM to run");
+                Err(EXIT_FAIL)
+            }
+            many => {
+                let names: Vec<&str> = many.iter().map(|p| p.name.as_str()).collect();
+                eprintln!("error: several PROGRAMs ({}): choose one with --program", names.join(", "));
+                Err(EXIT_FAIL)
+            }
+        },
+    }
+}
+
+/// `plcc run FILE...`
+pub fn run(a: &RunArgs) -> u8 {
+    let target = match runnable_target(&a.target) {
+        Ok(t) => t,
+        Err(s) => return s,
+    };
+    let programs: Vec<String> = a.program.iter().cloned().collect();
+    let (_, module) = match build_and_report(&a.files, a.lang.as_deref(), programs, false) {
+        Ok(b) => b,
+        Err(s) => return s,
+    };
+    let program = match pick_program(&module, a.program.as_deref()) {
+        Ok(p) => p,
+        Err(s) => return s,
+    };
+    let mut m = match targets::machine(target, &module) {
+        Ok(m) => m,
+        Err(diags) => {
+            for d in diags {
+                eprintln!("{d}");
+            }
+            return EXIT_FAIL;
+        }
+    };
+    let mut run = || -> Result<(), String> {
+        m.cold_start().map_err(|e| e.to_string())?;
+        for k in 1..=a.scans {
+            m.set_clock_us((k * a.cycle_ms * 1000) as i64);
+            m.scan().map_err(|e| format!("scan {k}: {e}"))?;
+        }
+        Ok(())
+    };
+    if let Err(e) = run() {
+        eprintln!("error: {e}");
+        return EXIT_FAIL;
+    }
+    let entry = module.program(&program).expect("picked program");
+    let prefix = format!("{}.", entry.name);
+    for var in plcc_ir::vars::variables(&module, entry.data) {
+        match m.read(&var.path) {
+            Ok(v) => println!("{} = {v}", var.path.strip_prefix(&prefix).unwrap_or(&var.path)),
+            Err(e) => {
+                eprintln!("error: reading {}: {e}", var.path);
+                return EXIT_FAIL;
+            }
+        }
+    }
+    if m.fault() {
+        eprintln!("warning: the runtime fault flag is set (a division by zero or an array index out of bounds happened)");
+    }
+    0
+}
+
+/// Arguments of `plcc test`.
+pub struct TestArgs {
+    /// Source files.
+    pub files: Vec<PathBuf>,
+    /// `--lang`
+    pub lang: Option<String>,
+    /// `--scenario`
+    pub scenario: PathBuf,
+    /// `--target`
+    pub target: String,
+    /// `--cycle-ms`
+    pub cycle_ms: u64,
+}
+
+/// `plcc test FILE... --scenario F.expect`
+pub fn test(a: &TestArgs) -> u8 {
+    let target = match runnable_target(&a.target) {
+        Ok(t) => t,
+        Err(s) => return s,
+    };
+    let text = match std::fs::read_to_string(&a.scenario) {
+        Ok(t) => t,
+        Err(e) => return usage(format!("cannot read {}: {e}", a.scenario.display())),
+    };
+    let scn = match scenario::parse(&text) {
+        Ok(s) => s,
+        Err(e) => return usage(format!("{}: {e}", a.scenario.display())),
+    };
+    if let Some(why) = &scn.unsupported {
+        eprintln!("error: {}: not supported: {why}", a.scenario.display());
+        return EXIT_FAIL;
+    }
+    let programs: Vec<String> = scn.program.iter().cloned().collect();
+    let (_, module) = match build_and_report(&a.files, a.lang.as_deref(), programs, false) {
+        Ok(b) => b,
+        Err(s) => return s,
+    };
+    let program = match pick_program(&module, scn.program.as_deref()) {
+        Ok(p) => p,
+        Err(s) => return s,
+    };
+    let mut m = match targets::machine(target, &module) {
+        Ok(m) => m,
+        Err(diags) => {
+            for d in diags {
+                eprintln!("{d}");
+            }
+            return EXIT_FAIL;
+        }
+    };
+    let out = scenario::run(&scn, m.as_mut(), &program, a.cycle_ms);
+    for c in &out.checks {
+        if c.ok {
+            println!("ok    line {}: {}", c.line, c.text);
+        } else {
+            println!("FAIL  line {}: {}: {}", c.line, c.text, c.detail);
+        }
+    }
+    if let Some(e) = &out.error {
+        println!("ERROR {e}");
+    }
+    let failed = out.checks.iter().filter(|c| !c.ok).count();
+    println!(
+        "{}: {} check(s), {} failed{} [{target}]",
+        if out.passed() { "passed" } else { "FAILED" },
+        out.checks.len(),
+        failed,
+        if out.fault { ", fault flag raised" } else { "" }
+    );
+    if out.passed() {
+        0
+    } else {
+        EXIT_FAIL
+    }
+}
+
+/// Arguments of a plain compilation.
+pub struct CompileArgs {
+    /// Source files.
+    pub files: Vec<PathBuf>,
+    /// `--lang`
+    pub lang: Option<String>,
+    /// `--target`
+    pub target: String,
+    /// `-o`
+    pub output: Option<PathBuf>,
+    /// `--emit`
+    pub emit: Option<String>,
+    /// `--program`
+    pub programs: Vec<String>,
+}
+
+/// `plcc [--target T] [--emit KIND] FILE... [-o OUT]`
+pub fn compile(a: &CompileArgs) -> u8 {
+    if a.files.is_empty() {
+        return usage("no input files (try `plcc --help`)");
+    }
+    let Some(target) = targets::find(&a.target) else {
+        return usage(format!("unknown target `{}` (known: {})", a.target, targets::names(false)));
+    };
+    let emit = a.emit.as_deref();
+    let no_opt = emit == Some("ir-raw");
+    let (_, module) = match build_and_report(&a.files, a.lang.as_deref(), a.programs.clone(), no_opt) {
+        Ok(b) => b,
+        Err(s) => return s,
+    };
+    let (bytes, ext) = match emit {
+        Some("ir") | Some("ir-raw") => (print_module(&module, &PrintOptions::default()).into_bytes(), "ir".to_string()),
+        _ => {
+            let Some(backend) = targets::backend(target.name) else {
+                return usage(format!(
+                    "target `{}` produces no files; use `plcc run --target {}` or `--emit ir`",
+                    target.name, target.name
+                ));
+            };
+            let opts = plcc_ir::backend::Options {
+                emit: a.emit.clone(),
+                settings: Vec::new(),
+            };
+            match backend.compile(&module, &opts) {
+                Ok(arts) => {
+                    let Some(main) = arts.files.first() else {
+                        return usage("the backend produced nothing");
+                    };
+                    if let Some(s) = &arts.summary {
+                        eprintln!("{s}");
+                    }
+                    // Secondary files (a C header, a description) go beside the main one.
+                    let base = a.output.clone().unwrap_or_else(|| a.files[0].with_extension(&main.kind));
+                    for extra in &arts.files[1..] {
+                        if base.as_os_str() == "-" {
+                            continue;
+                        }
+                        let p = base.with_extension(&extra.kind);
+                        if let Err(e) = output::write_atomic(&p, &extra.bytes) {
+                            return usage(format!("cannot write {}: {e}", p.display()));
+                        }
+                    }
+                    (main.bytes.clone(), main.kind.clone())
+                }
+                Err(diags) => {
+                    let sources = plcc_frontend::source::SourceMap::new();
+                    render::to_stderr(&sources, &diags);
+                    return EXIT_FAIL;
+                }
+            }
+        }
+    };
+    let out = a.output.clone().unwrap_or_else(|| {
+        if ext == "ir" && a.output.is_none() {
+            PathBuf::from("-")
+        } else {
+            a.files[0].with_extension(&ext)
+        }
+    });
+    if out.as_os_str() == "-" {
+        use std::io::Write;
+        let _ = std::io::stdout().write_all(&bytes);
+        return 0;
+    }
+    match output::write_atomic(&out, &bytes) {
+        Ok(()) => 0,
+        Err(e) => usage(format!("cannot write {}: {e}", out.display())),
+    }
+}

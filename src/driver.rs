@@ -1,0 +1,122 @@
+//! From files on disk to a verified, optimised IR module, with diagnostics.
+
+use plcc_frontend::source::{SourceFile, SourceMap};
+use plcc_frontend::{Lang, LowerOptions};
+use plcc_ir::diag::{Diagnostic, FileId};
+use plcc_ir::Module;
+use std::path::Path;
+
+/// Code of the diagnostic for an internal compiler error (a bug in plcc).
+pub const E_INTERNAL: &str = "E9001";
+
+/// A failure that is not a diagnostic of the program: a file that cannot be read, a
+/// language that cannot be told (exit status 2).
+#[derive(Debug)]
+pub struct UsageError(pub String);
+
+impl std::fmt::Display for UsageError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+/// The outcome of a build: the sources (for rendering diagnostics), the module if
+/// there was no error, and the diagnostics.
+pub struct Build {
+    /// Every source file, the standard library included.
+    pub sources: SourceMap,
+    /// The module, optimised unless asked otherwise; `None` after an error.
+    pub module: Option<Module>,
+    /// Errors and warnings.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl Build {
+    /// True if the build failed.
+    pub fn failed(&self) -> bool {
+        self.module.is_none()
+    }
+}
+
+/// How to build.
+#[derive(Clone, Debug, Default)]
+pub struct BuildOptions {
+    /// The language of every file (else from each file's extension).
+    pub lang: Option<Lang>,
+    /// PROGRAMs to instantiate (all when empty).
+    pub programs: Vec<String>,
+    /// Skip the optimisation passes.
+    pub no_opt: bool,
+}
+
+/// Reads the files and builds them.
+pub fn build_files<P: AsRef<Path>>(files: &[P], opts: &BuildOptions) -> Result<Build, UsageError> {
+    if files.is_empty() {
+        return Err(UsageError("no input files".into()));
+    }
+    let mut texts = Vec::new();
+    for f in files {
+        let path = f.as_ref();
+        let bytes = std::fs::read(path)
+            .map_err(|e| UsageError(format!("cannot read {}: {e}", path.display())))?;
+        texts.push((path.display().to_string(), bytes));
+    }
+    build_sources(texts, opts)
+}
+
+/// Builds sources given as (name, bytes); the language comes from the options or
+/// each name's extension.
+pub fn build_sources(texts: Vec<(String, Vec<u8>)>, opts: &BuildOptions) -> Result<Build, UsageError> {
+    let mut sources = SourceMap::new();
+    let mut inputs: Vec<(FileId, Lang)> = Vec::new();
+    for (name, bytes) in texts {
+        let lang = match opts.lang.or_else(|| Lang::from_path(&name)) {
+            Some(l) => l,
+            None => {
+                return Err(UsageError(format!(
+                    "cannot tell the language of {name}: use a .st, .il, .stl or .xml extension, or --lang"
+                )))
+            }
+        };
+        let id = sources.add(SourceFile::from_bytes(name, &bytes));
+        inputs.push((id, lang));
+    }
+    let lower_opts = LowerOptions {
+        programs: opts.programs.clone(),
+    };
+    let compiled = plcc_frontend::compile(&mut sources, &inputs, &lower_opts);
+    let mut diagnostics = compiled.diagnostics;
+    let module = compiled.module.and_then(|mut m| {
+        if let Err(errs) = check(&m, "the front end") {
+            diagnostics.extend(errs);
+            return None;
+        }
+        if !opts.no_opt {
+            plcc_ir::passes::optimize_module(&mut m);
+            if let Err(errs) = check(&m, "optimisation") {
+                diagnostics.extend(errs);
+                return None;
+            }
+        }
+        Some(m)
+    });
+    Ok(Build {
+        sources,
+        module,
+        diagnostics,
+    })
+}
+
+/// Verifies a module; failures are internal errors (bugs in plcc), reported as
+/// diagnostics rather than panics.
+fn check(m: &Module, stage: &str) -> Result<(), Vec<Diagnostic>> {
+    plcc_ir::verify::verify_module(m).map_err(|errs| {
+        errs.iter()
+            .take(10)
+            .map(|e| {
+                Diagnostic::error_nowhere(E_INTERNAL, format!("internal error: invalid IR after {stage}: {e}"))
+                    .with_note("this is a bug in plcc; please report it with the program")
+            })
+            .collect()
+    })
+}

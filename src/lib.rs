@@ -1,0 +1,12 @@
+//! The `plcc` driver: the command line, the target registry, and the runner that
+//! executes programs scan by scan on any machine (`plcc run`, `plcc test`).
+//!
+//! The binary (`main.rs`) only parses arguments; everything else is here so that the
+//! end-to-end tests can drive builds and scenarios in-process.
+
+pub mod commands;
+pub mod driver;
+pub mod output;
+pub mod render;
+pub mod scenario;
+pub mod targets;

@@ -1,0 +1,283 @@
+//! Scenarios: the `corpus-expect v1` format of `../shared/corpus/README.md`.
+//!
+//! A scenario drives a [`Machine`] scan by scan (`run N`, `run_at_us T`), writes
+//! variables (`set`), and checks them (`expect`, `expect ~=`). Lines starting with `#`
+//! are comments.
+
+use plcc_ir::machine::Machine;
+use plcc_ir::value::PlcValue;
+use plcc_ir::ElemType;
+
+/// One command of a scenario.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Step {
+    /// `run N`: N scans, the clock advancing one cycle before each.
+    Run(u64),
+    /// `run_at_us T`: one scan with the clock at T microseconds.
+    RunAt(i64),
+    /// `duration_s = S`: scans for S seconds of cycles (steady state).
+    Duration(f64),
+    /// `set VAR = V`
+    Set {
+        /// The variable, relative to the program.
+        var: String,
+        /// The value as written.
+        value: String,
+    },
+    /// `expect VAR = V` or `expect VAR ~= V tol T`
+    Expect {
+        /// The variable, relative to the program.
+        var: String,
+        /// The expected value as written.
+        value: String,
+        /// The absolute tolerance of a `~=` check.
+        tol: Option<f64>,
+    },
+}
+
+/// A parsed scenario.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Scenario {
+    /// `program = NAME`, if given.
+    pub program: Option<String>,
+    /// Commands with their line numbers.
+    pub steps: Vec<(usize, Step)>,
+    /// Why plcc cannot run it, if it uses a kind of scenario plcc does not support
+    /// (RuSTy's printf checks).
+    pub unsupported: Option<String>,
+}
+
+/// Parses a scenario file.
+pub fn parse(text: &str) -> Result<Scenario, String> {
+    let mut s = Scenario::default();
+    for (i, raw) in text.lines().enumerate() {
+        let line_no = i + 1;
+        let line = raw.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let err = |m: &str| Err(format!("line {line_no}: {m}: `{line}`"));
+        let (word, rest) = line.split_once(char::is_whitespace).unwrap_or((line, ""));
+        let rest = rest.trim();
+        match word {
+            "program" | "entry" | "duration_s" => {
+                let Some(v) = rest.strip_prefix('=') else { return err("expected `=`") };
+                let v = v.trim();
+                match word {
+                    "program" => s.program = Some(v.to_string()),
+                    "entry" => {
+                        s.unsupported = Some("RuSTy-style scenario (FUNCTION entry with printf checks)".into())
+                    }
+                    _ => match v.parse::<f64>() {
+                        Ok(d) if d >= 0.0 => s.steps.push((line_no, Step::Duration(d))),
+                        _ => return err("expected a duration in seconds"),
+                    },
+                }
+            }
+            "run" => match rest.parse::<u64>() {
+                Ok(n) => s.steps.push((line_no, Step::Run(n))),
+                Err(_) => return err("expected `run N`"),
+            },
+            "run_at_us" => match rest.parse::<i64>() {
+                Ok(t) => s.steps.push((line_no, Step::RunAt(t))),
+                Err(_) => return err("expected `run_at_us T`"),
+            },
+            "run_once" | "check" | "check_next" => {
+                s.unsupported = Some("RuSTy-style scenario (FUNCTION entry with printf checks)".into())
+            }
+            "set" => {
+                let Some((var, value)) = rest.split_once('=') else { return err("expected `set VAR = VALUE`") };
+                s.steps.push((
+                    line_no,
+                    Step::Set {
+                        var: var.trim().to_string(),
+                        value: value.trim().to_string(),
+                    },
+                ));
+            }
+            "expect" => {
+                if let Some((var, rhs)) = rest.split_once("~=") {
+                    let rhs = rhs.trim();
+                    let Some((value, tol)) = rhs.split_once(" tol ") else {
+                        return err("expected `expect VAR ~= VALUE tol T`");
+                    };
+                    let Ok(tol) = tol.trim().parse::<f64>() else { return err("bad tolerance") };
+                    s.steps.push((
+                        line_no,
+                        Step::Expect {
+                            var: var.trim().to_string(),
+                            value: value.trim().to_string(),
+                            tol: Some(tol),
+                        },
+                    ));
+                } else {
+                    let Some((var, value)) = rest.split_once('=') else {
+                        return err("expected `expect VAR = VALUE`");
+                    };
+                    s.steps.push((
+                        line_no,
+                        Step::Expect {
+                            var: var.trim().to_string(),
+                            value: value.trim().to_string(),
+                            tol: None,
+                        },
+                    ));
+                }
+            }
+            _ => return err("unknown command"),
+        }
+    }
+    Ok(s)
+}
+
+/// The result of one `expect`.
+#[derive(Clone, Debug)]
+pub struct Check {
+    /// Its line in the scenario.
+    pub line: usize,
+    /// The check as written.
+    pub text: String,
+    /// Whether it held.
+    pub ok: bool,
+    /// What was found, when it did not hold.
+    pub detail: String,
+}
+
+/// What running a scenario gave.
+#[derive(Clone, Debug, Default)]
+pub struct Outcome {
+    /// Every check in order.
+    pub checks: Vec<Check>,
+    /// A failure that stopped the scenario (unknown variable, machine error).
+    pub error: Option<String>,
+    /// True if the runtime fault flag was raised at some point.
+    pub fault: bool,
+}
+
+impl Outcome {
+    /// True if every check held and nothing failed.
+    pub fn passed(&self) -> bool {
+        self.error.is_none() && self.checks.iter().all(|c| c.ok)
+    }
+}
+
+/// Runs a scenario on a machine that has the program `program` (the instance name
+/// variables are relative to). `cycle_ms` is the clock step of `run N`.
+pub fn run(s: &Scenario, m: &mut dyn Machine, program: &str, cycle_ms: u64) -> Outcome {
+    let mut out = Outcome::default();
+    let mut now_us: i64 = 0;
+    if let Err(e) = m.cold_start() {
+        out.error = Some(format!("cold start failed: {e}"));
+        return out;
+    }
+    let scan = |m: &mut dyn Machine, t: i64| -> Result<(), String> {
+        m.set_clock_us(t);
+        m.scan().map_err(|e| format!("scan failed: {e}"))
+    };
+    for (line, step) in &s.steps {
+        let res: Result<(), String> = match step {
+            Step::Run(n) => (0..*n).try_for_each(|_| {
+                now_us += cycle_ms as i64 * 1000;
+                scan(m, now_us)
+            }),
+            Step::RunAt(t) => {
+                now_us = *t;
+                scan(m, now_us)
+            }
+            Step::Duration(secs) => {
+                let n = ((secs * 1000.0) / cycle_ms.max(1) as f64).ceil().max(1.0) as u64;
+                (0..n).try_for_each(|_| {
+                    now_us += cycle_ms as i64 * 1000;
+                    scan(m, now_us)
+                })
+            }
+            Step::Set { var, value } => set(m, &format!("{program}.{var}"), value),
+            Step::Expect { var, value, tol } => {
+                let text = match tol {
+                    Some(t) => format!("expect {var} ~= {value} tol {t}"),
+                    None => format!("expect {var} = {value}"),
+                };
+                match expect(m, &format!("{program}.{var}"), value, *tol) {
+                    Ok(()) => out.checks.push(Check {
+                        line: *line,
+                        text,
+                        ok: true,
+                        detail: String::new(),
+                    }),
+                    Err(detail) => out.checks.push(Check {
+                        line: *line,
+                        text,
+                        ok: false,
+                        detail,
+                    }),
+                }
+                Ok(())
+            }
+        };
+        out.fault |= m.fault();
+        if let Err(e) = res {
+            out.error = Some(format!("line {line}: {e}"));
+            return out;
+        }
+    }
+    out
+}
+
+fn set(m: &mut dyn Machine, path: &str, text: &str) -> Result<(), String> {
+    let current = m.read(path).map_err(|e| e.to_string())?;
+    let v = PlcValue::parse(current.ty, text)?;
+    m.write(path, v).map_err(|e| e.to_string())
+}
+
+fn expect(m: &mut dyn Machine, path: &str, text: &str, tol: Option<f64>) -> Result<(), String> {
+    let got = m.read(path).map_err(|e| e.to_string())?;
+    if let Some(tol) = tol {
+        let want = plcc_ir::value::parse_real(text).ok_or_else(|| format!("`{text}` is not a number"))?;
+        let g = got.as_f64();
+        return if (g - want).abs() <= tol {
+            Ok(())
+        } else {
+            Err(format!("got {got}"))
+        };
+    }
+    let want = PlcValue::parse(got.ty, text)?;
+    let same = match got.ty {
+        ElemType::Real | ElemType::LReal => {
+            let (a, b) = (got.as_f64(), want.as_f64());
+            a == b || (a.is_nan() && b.is_nan())
+        }
+        _ => got.bits == want.bits,
+    };
+    if same {
+        Ok(())
+    } else {
+        Err(format!("got {got}"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_every_command() {
+        let s = parse(
+            "# comment\nprogram = main\nrun 3\nrun_at_us 5000\nset a = TRUE\nexpect b = 5\nexpect r ~= 1.5 tol 0.01\nduration_s = 1.0\n",
+        )
+        .unwrap();
+        assert_eq!(s.program.as_deref(), Some("main"));
+        assert_eq!(s.steps.len(), 6);
+        assert_eq!(s.steps[0].1, Step::Run(3));
+        assert_eq!(s.steps[1].1, Step::RunAt(5000));
+        assert!(matches!(&s.steps[4].1, Step::Expect { tol: Some(t), .. } if *t == 0.01));
+        assert_eq!(s.steps[5].1, Step::Duration(1.0));
+    }
+
+    #[test]
+    fn rejects_garbage_and_flags_rusty() {
+        assert!(parse("run x\n").is_err());
+        assert!(parse("frobnicate\n").is_err());
+        let s = parse("entry = main\nrun_once\ncheck 5\n").unwrap();
+        assert!(s.unsupported.is_some());
+    }
+}

@@ -1,0 +1,70 @@
+//! The registry of targets: name to backend, and machines to run programs on.
+
+use plcc_ir::backend::{Backend, Options};
+use plcc_ir::diag::Diagnostic;
+use plcc_ir::machine::Machine;
+use plcc_ir::Module;
+
+/// A target plcc knows.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct TargetInfo {
+    /// Its name on the command line.
+    pub name: &'static str,
+    /// One line for `--help` and errors.
+    pub about: &'static str,
+    /// True if `plcc run`/`plcc test` can run programs on it here.
+    pub runs: bool,
+}
+
+/// Every target, the default first.
+pub const TARGETS: &[TargetInfo] = &[
+    TargetInfo {
+        name: "host",
+        about: "this machine: Cranelift JIT for run/test, relocatable object files",
+        runs: true,
+    },
+    TargetInfo {
+        name: "interp",
+        about: "plcc's reference IR interpreter (run/test only)",
+        runs: true,
+    },
+];
+
+/// Looks a target up by name.
+pub fn find(name: &str) -> Option<&'static TargetInfo> {
+    TARGETS.iter().find(|t| t.name.eq_ignore_ascii_case(name))
+}
+
+/// The names of the targets, for messages.
+pub fn names(runnable_only: bool) -> String {
+    TARGETS
+        .iter()
+        .filter(|t| t.runs || !runnable_only)
+        .map(|t| t.name)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The backend of a target that generates code.
+pub fn backend(name: &str) -> Option<Box<dyn Backend>> {
+    match name {
+        "host" => Some(Box::new(plcc_native::NativeBackend::new())),
+        _ => None,
+    }
+}
+
+/// A machine running `module` on the target.
+pub fn machine(name: &str, module: &Module) -> Result<Box<dyn Machine>, Vec<Diagnostic>> {
+    match name {
+        "interp" => plcc_ir::interp::Interp::new(module)
+            .map(|m| Box::new(m) as Box<dyn Machine>)
+            .map_err(|e| vec![Diagnostic::error_nowhere(crate::driver::E_INTERNAL, e.0)]),
+        _ => match backend(name).and_then(|b| b.machine(module, &Options::default())) {
+            Some(r) => r,
+            None => Err(vec![Diagnostic::error_nowhere(
+                "E9002",
+                format!("target `{name}` cannot run programs here"),
+            )]),
+        },
+    }
+}
