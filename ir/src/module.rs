@@ -198,7 +198,8 @@ pub struct DataDef {
 /// A PROGRAM instance the scan runs: its memory, its body and its cold-start code.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProgramEntry {
-    /// The instance name (paths start with it: `main.count`).
+    /// The instance name (paths start with it: `main.count`); it is also the name
+    /// of its data object, which is how paths find the memory.
     pub name: String,
     /// Its variables.
     pub data: DataId,

@@ -122,7 +122,7 @@ impl PlcValue {
                 let (lo, hi) = if ty.is_signed() {
                     (-(1i128 << (bits - 1)), (1i128 << (bits - 1)) - 1)
                 } else {
-                    (-(1i128 << (bits - 1)), (1i128 << bits) - 1)
+                    (0, (1i128 << bits) - 1)
                 };
                 if v < lo || v > hi {
                     return Err(format!("{t} is out of the range of {}", ty.name()));

@@ -63,7 +63,10 @@ fn kitchen_sink_text_mentions_everything() {
         assert!(t.contains(&format!("fcmp {} ", cc.name())));
     }
     for op in Intrinsic::ALL {
-        assert!(t.contains(&format!("    {}\n", op.name())) || t.contains(&format!("= {}\n", op.name())));
+        assert!(
+            t.contains(&format!("    {}\n", op.name()))
+                || t.contains(&format!("= {}\n", op.name()))
+        );
     }
     for role in ["in", "out", "inout", "temp", "external", "hidden", "var"] {
         assert!(t.contains(&format!("    {role} ")), "{role}");
@@ -74,7 +77,13 @@ fn kitchen_sink_text_mentions_everything() {
     for kind in [" program\n", " global at", " const\n"] {
         assert!(t.contains(kind), "{kind}");
     }
-    for kind in [") -> i32 function {", ") -> i64 helper {", ") fb {", ") program {", ") init {"] {
+    for kind in [
+        ") -> i32 function {",
+        ") -> i64 helper {",
+        ") fb {",
+        ") program {",
+        ") init {",
+    ] {
         assert!(t.contains(kind), "{kind}");
     }
     for s in [
@@ -175,7 +184,12 @@ fn gaps_in_numbering_are_kept() {
 #[test]
 fn layout_out_of_dominance_order() {
     let mut m = Module::new();
-    let mut f = Function::new("f", FuncKind::Function, vec![Type::I32, Type::F64], Some(Type::F64));
+    let mut f = Function::new(
+        "f",
+        FuncKind::Function,
+        vec![Type::I32, Type::F64],
+        Some(Type::F64),
+    );
     {
         let mut b = FuncBuilder::new(&mut f);
         let p = b.params();
@@ -224,7 +238,12 @@ fn exact_layout_of_the_text() {
     let s = m.add_agg(AggDef::Struct(StructDef {
         name: "S".into(),
         kind: StructKind::Struct,
-        fields: vec![field("a", FieldRole::Var, scalar(Type::I32), Some(ElemType::DInt))],
+        fields: vec![field(
+            "a",
+            FieldRole::Var,
+            scalar(Type::I32),
+            Some(ElemType::DInt),
+        )],
     }));
     let d = m.add_data(DataDef {
         name: "d".into(),
@@ -336,14 +355,21 @@ init_globals @globals$init
     verify_module(&m).unwrap();
     assert_eq!(m.files, vec!["examples/traffic_light.st".to_string()]);
     assert_eq!(m.aggs.len(), 5);
-    let AggDef::Struct(ton) = &m.aggs[0] else { panic!() };
+    let AggDef::Struct(ton) = &m.aggs[0] else {
+        panic!()
+    };
     assert_eq!(ton.kind, StructKind::FunctionBlock);
     assert_eq!(ton.fields.len(), 7);
     assert_eq!(ton.fields[5].ty, MemType::Agg(AggId(1)));
     assert_eq!(ton.fields[6].location.as_deref(), Some("%QX0.0"));
     assert_eq!(ton.fields[1].elem, Some(ElemType::Time));
-    let AggDef::Array(grid) = &m.aggs[4] else { panic!() };
-    assert_eq!((grid.len, grid.lower, grid.elem), (3, 0, MemType::Agg(AggId(3))));
+    let AggDef::Array(grid) = &m.aggs[4] else {
+        panic!()
+    };
+    assert_eq!(
+        (grid.len, grid.lower, grid.elem),
+        (3, 0, MemType::Agg(AggId(3)))
+    );
     assert_eq!(m.data[1].location.as_deref(), Some("%MD2"));
     let add3 = &m.funcs[0];
     assert_eq!(add3.params, vec![Type::I32; 3]);
@@ -407,7 +433,11 @@ struct %P program {
     // text parses; the verifier reports the use.
     let errs = verify_module(&m).unwrap_err();
     assert_eq!(errs.len(), 1, "{errs:?}");
-    assert!(errs[0].message.contains("v12 is defined in block2"), "{}", errs[0]);
+    assert!(
+        errs[0].message.contains("v12 is defined in block2"),
+        "{}",
+        errs[0]
+    );
     let body = &m.funcs[0];
     assert_eq!(body.layout, vec![Block(7), Block(2)]);
     assert_eq!(body.value_type(Value(3)), Type::I32);
@@ -418,7 +448,10 @@ struct %P program {
     assert!(!body.layout.contains(&Block(8)));
     // Printing keeps the numbers.
     let t = print_module(&m, &PLAIN);
-    assert!(t.contains("block7(v10: ptr):\n    v3 = call @sq(v12)\n    jump block2(v3)\n"), "{t}");
+    assert!(
+        t.contains("block7(v10: ptr):\n    v3 = call @sq(v12)\n    jump block2(v3)\n"),
+        "{t}"
+    );
     assert_eq!(print_module(&parse_module(&t).unwrap(), &PLAIN), t);
 }
 
@@ -430,7 +463,12 @@ fn type_inference_through_long_reverse_chains() {
     let mut text = format!("func @f(i64) -> i64 function {{\nblock{n}(v0: i64):\n    v{n} = bnot v0\n    jump block{}\n", n - 1);
     text.push_str("block1:\n    v1 = iadd v2, v2\n    return v1\n");
     for k in 2..n {
-        text.push_str(&format!("block{k}:\n    v{k} = iadd v{}, v{}\n    jump block{}\n", k + 1, k + 1, k - 1));
+        text.push_str(&format!(
+            "block{k}:\n    v{k} = iadd v{}, v{}\n    jump block{}\n",
+            k + 1,
+            k + 1,
+            k - 1
+        ));
     }
     text.push_str("}\n");
     let m = parse_module(&text).unwrap();
@@ -441,7 +479,8 @@ fn type_inference_through_long_reverse_chains() {
 #[test]
 fn select_and_binary_fall_back_to_the_other_operand() {
     // v2's first operand depends on v2 itself (invalid SSA), the second gives its type.
-    let text = "func @f(i8) -> i8 function {\nblock0(v0: i8):\n    v2 = iadd v2, v0\n    return v2\n}\n";
+    let text =
+        "func @f(i8) -> i8 function {\nblock0(v0: i8):\n    v2 = iadd v2, v0\n    return v2\n}\n";
     let m = parse_module(text).unwrap();
     assert_eq!(m.funcs[0].value_type(Value(2)), Type::I8);
     assert!(verify_module(&m).is_err());

@@ -34,7 +34,12 @@ fn base() -> Module {
         kind: DataKind::Global,
         location: None,
     });
-    let mut c = Function::new("callee", FuncKind::Function, vec![Type::I32, Type::F64], Some(Type::I16));
+    let mut c = Function::new(
+        "callee",
+        FuncKind::Function,
+        vec![Type::I32, Type::F64],
+        Some(Type::I16),
+    );
     {
         let mut b = FuncBuilder::new(&mut c);
         let x = b.iconst(Type::I16, 0);
@@ -51,7 +56,18 @@ const CALLEE: FuncId = FuncId(0);
 /// Builds `@f(i32, i64, f32, f64, ptr, i1) -> i32` in the base module with `body`,
 /// which gets the parameters; then verifies the whole module.
 fn check(body: impl FnOnce(&mut FuncBuilder, &[Value])) -> Vec<VerifyError> {
-    check_sig(vec![Type::I32, Type::I64, Type::F32, Type::F64, Type::Ptr, Type::I1], Some(Type::I32), body)
+    check_sig(
+        vec![
+            Type::I32,
+            Type::I64,
+            Type::F32,
+            Type::F64,
+            Type::Ptr,
+            Type::I1,
+        ],
+        Some(Type::I32),
+        body,
+    )
 }
 
 fn check_sig(
@@ -91,12 +107,21 @@ fn expect(errs: &[VerifyError], msg: &str) {
 #[track_caller]
 fn expect_only(errs: &[VerifyError], msg: &str) {
     expect(errs, msg);
-    assert_eq!(errs.len(), 1, "{:#?}", errs.iter().map(|e| e.to_string()).collect::<Vec<_>>());
+    assert_eq!(
+        errs.len(),
+        1,
+        "{:#?}",
+        errs.iter().map(|e| e.to_string()).collect::<Vec<_>>()
+    );
 }
 
 #[track_caller]
 fn expect_ok(errs: &[VerifyError]) {
-    assert!(errs.is_empty(), "{:#?}", errs.iter().map(|e| e.to_string()).collect::<Vec<_>>());
+    assert!(
+        errs.is_empty(),
+        "{:#?}",
+        errs.iter().map(|e| e.to_string()).collect::<Vec<_>>()
+    );
 }
 
 fn ret0(b: &mut FuncBuilder, p: &[Value]) {
@@ -119,7 +144,10 @@ fn display_format() {
         b.ret(Some(y));
     });
     expect_only(&errs, "operand types differ: i32 vs i16");
-    assert_eq!(errs[0].to_string(), "in @f, inst1 (v7 = iadd v0, v6): operand types differ: i32 vs i16");
+    assert_eq!(
+        errs[0].to_string(),
+        "in @f, inst1 (v7 = iadd v0, v6): operand types differ: i32 vs i16"
+    );
     assert_eq!(errs[0].inst, Some(Inst(1)));
     assert_eq!(errs[0].func.as_deref(), Some("f"));
     let e = VerifyError {
@@ -170,7 +198,10 @@ fn block_twice_in_layout() {
         b.ret(None);
     }
     f.layout.push(Block(0));
-    expect_only(&check_func(f), "block0 appears more than once in the layout");
+    expect_only(
+        &check_func(f),
+        "block0 appears more than once in the layout",
+    );
 }
 
 #[test]
@@ -181,7 +212,10 @@ fn layout_block_out_of_range() {
         b.ret(None);
     }
     f.layout.push(Block(7));
-    expect_only(&check_func(f), "the layout names block7, which does not exist");
+    expect_only(
+        &check_func(f),
+        "the layout names block7, which does not exist",
+    );
 }
 
 #[test]
@@ -225,9 +259,15 @@ fn entry_params_match_the_signature() {
     }
     let mut g = f.clone();
     f.params = vec![Type::I32, Type::I32];
-    expect_only(&check_func(f), "the entry block block0 has 1 parameters but the function has 2");
+    expect_only(
+        &check_func(f),
+        "the entry block block0 has 1 parameters but the function has 2",
+    );
     g.params = vec![Type::I16];
-    expect_only(&check_func(g), "parameter 0 of the entry block (v0) is i32 but the function's is i16");
+    expect_only(
+        &check_func(g),
+        "parameter 0 of the entry block (v0) is i32 but the function's is i16",
+    );
 }
 
 #[test]
@@ -238,9 +278,15 @@ fn block_param_definitions() {
         b.ret(None);
     }
     f.values[0].def = ValueDef::Param(Block(0), 3);
-    expect(&check_func(f.clone()), "v0 is parameter 0 of block0 but its definition says");
+    expect(
+        &check_func(f.clone()),
+        "v0 is parameter 0 of block0 but its definition says",
+    );
     f.blocks[0].params[0] = Value(9);
-    expect(&check_func(f), "parameter 0 of block0 is v9, which does not exist");
+    expect(
+        &check_func(f),
+        "parameter 0 of block0 is v9, which does not exist",
+    );
 }
 
 #[test]
@@ -251,7 +297,10 @@ fn tables_of_different_lengths() {
         b.ret(None);
     }
     f.spans.clear();
-    expect_only(&check_func(f), "the function has 1 instructions but 1 results and 0 locations");
+    expect_only(
+        &check_func(f),
+        "the function has 1 instructions but 1 results and 0 locations",
+    );
 }
 
 // ----- types ---------------------------------------------------------------------
@@ -265,26 +314,57 @@ fn constants() {
         ret0(b, p)
     }));
     let errs = check(|b, p| {
-        b.func.create_inst(InstData::Iconst { ty: Type::I8, imm: 255 }, Some(Type::I8), None);
+        b.func.create_inst(
+            InstData::Iconst {
+                ty: Type::I8,
+                imm: 255,
+            },
+            Some(Type::I8),
+            None,
+        );
         let i = Inst(b.func.insts.len() as u32 - 1);
         b.func.blocks[0].insts.push(i);
         ret0(b, p)
     });
-    expect_only(&errs, "the constant 255 is not in canonical form for i8 (expected -1)");
+    expect_only(
+        &errs,
+        "the constant 255 is not in canonical form for i8 (expected -1)",
+    );
     let errs = check(|b, p| {
-        b.func.create_inst(InstData::Iconst { ty: Type::Ptr, imm: 0 }, Some(Type::Ptr), None);
+        b.func.create_inst(
+            InstData::Iconst {
+                ty: Type::Ptr,
+                imm: 0,
+            },
+            Some(Type::Ptr),
+            None,
+        );
         b.func.blocks[0].insts.push(Inst(0));
         ret0(b, p)
     });
     expect_only(&errs, "iconst needs an integer type, not ptr");
     let errs = check(|b, p| {
-        b.func.create_inst(InstData::Fconst { ty: Type::I32, bits: 0 }, Some(Type::I32), None);
+        b.func.create_inst(
+            InstData::Fconst {
+                ty: Type::I32,
+                bits: 0,
+            },
+            Some(Type::I32),
+            None,
+        );
         b.func.blocks[0].insts.push(Inst(0));
         ret0(b, p)
     });
     expect_only(&errs, "fconst needs a float type, not i32");
     let errs = check(|b, p| {
-        b.func.create_inst(InstData::Fconst { ty: Type::F32, bits: 1 << 40 }, Some(Type::F32), None);
+        b.func.create_inst(
+            InstData::Fconst {
+                ty: Type::F32,
+                bits: 1 << 40,
+            },
+            Some(Type::F32),
+            None,
+        );
         b.func.blocks[0].insts.push(Inst(0));
         ret0(b, p)
     });
@@ -303,22 +383,34 @@ fn unary_types() {
         ret0(b, p)
     });
     expect_ok(&ok);
-    expect_only(&check(|b, p| {
-        b.unary(UnaryOp::Ineg, p[5]);
-        ret0(b, p)
-    }), "ineg needs an integer (i8..i64) operand, found i1");
-    expect_only(&check(|b, p| {
-        b.unary(UnaryOp::Iabs, p[2]);
-        ret0(b, p)
-    }), "iabs needs an integer (i8..i64) operand, found f32");
-    expect_only(&check(|b, p| {
-        b.unary(UnaryOp::Bnot, p[4]);
-        ret0(b, p)
-    }), "bnot needs an integer or i1 operand, found ptr");
-    expect_only(&check(|b, p| {
-        b.unary(UnaryOp::Sin, p[0]);
-        ret0(b, p)
-    }), "sin needs a float (f32 or f64) operand, found i32");
+    expect_only(
+        &check(|b, p| {
+            b.unary(UnaryOp::Ineg, p[5]);
+            ret0(b, p)
+        }),
+        "ineg needs an integer (i8..i64) operand, found i1",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.unary(UnaryOp::Iabs, p[2]);
+            ret0(b, p)
+        }),
+        "iabs needs an integer (i8..i64) operand, found f32",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.unary(UnaryOp::Bnot, p[4]);
+            ret0(b, p)
+        }),
+        "bnot needs an integer or i1 operand, found ptr",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.unary(UnaryOp::Sin, p[0]);
+            ret0(b, p)
+        }),
+        "sin needs a float (f32 or f64) operand, found i32",
+    );
 }
 
 #[test]
@@ -337,30 +429,48 @@ fn binary_types() {
         ret0(b, p)
     });
     expect_ok(&ok);
-    expect_only(&check(|b, p| {
-        b.binary(BinaryOp::Iadd, p[5], p[5]);
-        ret0(b, p)
-    }), "iadd needs integer (i8..i64) operands, found i1");
-    expect_only(&check(|b, p| {
-        b.binary(BinaryOp::Ishl, p[4], p[4]);
-        ret0(b, p)
-    }), "ishl needs integer (i8..i64) operands, found ptr");
-    expect_only(&check(|b, p| {
-        b.binary(BinaryOp::Fadd, p[0], p[0]);
-        ret0(b, p)
-    }), "fadd needs float (f32 or f64) operands, found i32");
-    expect_only(&check(|b, p| {
-        b.binary(BinaryOp::Band, p[2], p[2]);
-        ret0(b, p)
-    }), "band needs integer or i1 operands, found f32");
-    expect_only(&check(|b, p| {
-        b.binary(BinaryOp::Fmul, p[2], p[3]);
-        ret0(b, p)
-    }), "operand types differ: f32 vs f64");
-    expect_only(&check(|b, p| {
-        b.binary(BinaryOp::Ishl, p[0], p[1]);
-        ret0(b, p)
-    }), "operand types differ: i32 vs i64");
+    expect_only(
+        &check(|b, p| {
+            b.binary(BinaryOp::Iadd, p[5], p[5]);
+            ret0(b, p)
+        }),
+        "iadd needs integer (i8..i64) operands, found i1",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.binary(BinaryOp::Ishl, p[4], p[4]);
+            ret0(b, p)
+        }),
+        "ishl needs integer (i8..i64) operands, found ptr",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.binary(BinaryOp::Fadd, p[0], p[0]);
+            ret0(b, p)
+        }),
+        "fadd needs float (f32 or f64) operands, found i32",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.binary(BinaryOp::Band, p[2], p[2]);
+            ret0(b, p)
+        }),
+        "band needs integer or i1 operands, found f32",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.binary(BinaryOp::Fmul, p[2], p[3]);
+            ret0(b, p)
+        }),
+        "operand types differ: f32 vs f64",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.binary(BinaryOp::Ishl, p[0], p[1]);
+            ret0(b, p)
+        }),
+        "operand types differ: i32 vs i64",
+    );
 }
 
 #[test]
@@ -372,22 +482,34 @@ fn compare_types() {
         b.fcmp(FloatCC::Ne, p[2], p[2]);
         ret0(b, p)
     }));
-    expect_only(&check(|b, p| {
-        b.icmp(IntCC::Eq, p[2], p[2]);
-        ret0(b, p)
-    }), "icmp needs integer or ptr operands, found f32");
-    expect_only(&check(|b, p| {
-        b.icmp(IntCC::Eq, p[0], p[1]);
-        ret0(b, p)
-    }), "operand types differ: i32 vs i64");
-    expect_only(&check(|b, p| {
-        b.fcmp(FloatCC::Eq, p[0], p[0]);
-        ret0(b, p)
-    }), "fcmp needs float operands, found i32");
-    expect_only(&check(|b, p| {
-        b.fcmp(FloatCC::Eq, p[2], p[3]);
-        ret0(b, p)
-    }), "operand types differ: f32 vs f64");
+    expect_only(
+        &check(|b, p| {
+            b.icmp(IntCC::Eq, p[2], p[2]);
+            ret0(b, p)
+        }),
+        "icmp needs integer or ptr operands, found f32",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.icmp(IntCC::Eq, p[0], p[1]);
+            ret0(b, p)
+        }),
+        "operand types differ: i32 vs i64",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.fcmp(FloatCC::Eq, p[0], p[0]);
+            ret0(b, p)
+        }),
+        "fcmp needs float operands, found i32",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.fcmp(FloatCC::Eq, p[2], p[3]);
+            ret0(b, p)
+        }),
+        "operand types differ: f32 vs f64",
+    );
 }
 
 #[test]
@@ -461,14 +583,20 @@ fn select_types() {
         b.select(p[5], p[4], p[4]);
         ret0(b, p)
     }));
-    expect_only(&check(|b, p| {
-        b.select(p[0], p[0], p[0]);
-        ret0(b, p)
-    }), "the select condition v0 is i32, expected i1");
-    expect_only(&check(|b, p| {
-        b.select(p[5], p[0], p[1]);
-        ret0(b, p)
-    }), "select arms differ: i32 vs i64");
+    expect_only(
+        &check(|b, p| {
+            b.select(p[0], p[0], p[0]);
+            ret0(b, p)
+        }),
+        "the select condition v0 is i32, expected i1",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.select(p[5], p[0], p[1]);
+            ret0(b, p)
+        }),
+        "select arms differ: i32 vs i64",
+    );
 }
 
 #[test]
@@ -483,54 +611,90 @@ fn addresses() {
         let x = b.load(Type::I32, a);
         b.ret(Some(x));
     }));
-    expect_only(&check(|b, p| {
-        b.field_addr(p[0], S, 0);
-        ret0(b, p)
-    }), "the address v0 is i32, expected ptr");
-    expect_only(&check(|b, p| {
-        b.field_addr(p[4], A, 0);
-        ret0(b, p)
-    }), "field_addr needs a struct, but %A is an array");
-    expect_only(&check(|b, p| {
-        b.field_addr(p[4], S, 2);
-        ret0(b, p)
-    }), "struct %S has 2 fields; field 2 does not exist");
-    expect_only(&check(|b, p| {
-        b.field_addr(p[4], AggId(9), 0);
-        ret0(b, p)
-    }), "agg9 does not exist");
-    expect_only(&check(|b, p| {
-        b.elem_addr(p[4], S, p[0]);
-        ret0(b, p)
-    }), "elem_addr needs an array, but %S is a struct");
-    expect_only(&check(|b, p| {
-        b.elem_addr(p[4], A, p[5]);
-        ret0(b, p)
-    }), "the index v5 is i1, expected an integer (i8..i64)");
-    expect_only(&check(|b, p| {
-        b.elem_addr(p[4], A, p[3]);
-        ret0(b, p)
-    }), "the index v3 is f64, expected an integer (i8..i64)");
-    expect_only(&check(|b, p| {
-        b.elem_addr(p[1], A, p[1]);
-        ret0(b, p)
-    }), "the address v1 is i64, expected ptr");
-    expect_only(&check(|b, p| {
-        b.load(Type::I32, p[0]);
-        ret0(b, p)
-    }), "the address v0 is i32, expected ptr");
-    expect_only(&check(|b, p| {
-        b.store(p[4], p[1]);
-        ret0(b, p)
-    }), "the address v1 is i64, expected ptr");
-    expect_only(&check(|b, p| {
-        b.global_addr(DataId(3));
-        ret0(b, p)
-    }), "data3 does not exist");
-    expect_only(&check(|b, p| {
-        b.slot_addr(SlotId(0));
-        ret0(b, p)
-    }), "ss0 does not exist");
+    expect_only(
+        &check(|b, p| {
+            b.field_addr(p[0], S, 0);
+            ret0(b, p)
+        }),
+        "the address v0 is i32, expected ptr",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.field_addr(p[4], A, 0);
+            ret0(b, p)
+        }),
+        "field_addr needs a struct, but %A is an array",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.field_addr(p[4], S, 2);
+            ret0(b, p)
+        }),
+        "struct %S has 2 fields; field 2 does not exist",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.field_addr(p[4], AggId(9), 0);
+            ret0(b, p)
+        }),
+        "agg9 does not exist",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.elem_addr(p[4], S, p[0]);
+            ret0(b, p)
+        }),
+        "elem_addr needs an array, but %S is a struct",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.elem_addr(p[4], A, p[5]);
+            ret0(b, p)
+        }),
+        "the index v5 is i1, expected an integer (i8..i64)",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.elem_addr(p[4], A, p[3]);
+            ret0(b, p)
+        }),
+        "the index v3 is f64, expected an integer (i8..i64)",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.elem_addr(p[1], A, p[1]);
+            ret0(b, p)
+        }),
+        "the address v1 is i64, expected ptr",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.load(Type::I32, p[0]);
+            ret0(b, p)
+        }),
+        "the address v0 is i32, expected ptr",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.store(p[4], p[1]);
+            ret0(b, p)
+        }),
+        "the address v1 is i64, expected ptr",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.global_addr(DataId(3));
+            ret0(b, p)
+        }),
+        "data3 does not exist",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.slot_addr(SlotId(0));
+            ret0(b, p)
+        }),
+        "ss0 does not exist",
+    );
 }
 
 #[test]
@@ -539,26 +703,41 @@ fn calls() {
         b.call(CALLEE, Some(Type::I16), vec![p[0], p[3]]);
         ret0(b, p)
     }));
-    expect_only(&check(|b, p| {
-        b.call(CALLEE, Some(Type::I16), vec![p[0]]);
-        ret0(b, p)
-    }), "@callee takes 2 arguments, found 1");
-    expect_only(&check(|b, p| {
-        b.call(CALLEE, Some(Type::I16), vec![p[0], p[2]]);
-        ret0(b, p)
-    }), "argument 1 of @callee is f32, expected f64");
-    expect_only(&check(|b, p| {
-        b.call(CALLEE, Some(Type::I32), vec![p[0], p[3]]);
-        ret0(b, p)
-    }), "the result v6 is i32, but the instruction gives i16");
-    expect_only(&check(|b, p| {
-        b.call(CALLEE, None, vec![p[0], p[3]]);
-        ret0(b, p)
-    }), "the result is missing (the instruction gives i16)");
-    expect_only(&check(|b, p| {
-        b.call(FuncId(5), None, vec![]);
-        ret0(b, p)
-    }), "func5 does not exist");
+    expect_only(
+        &check(|b, p| {
+            b.call(CALLEE, Some(Type::I16), vec![p[0]]);
+            ret0(b, p)
+        }),
+        "@callee takes 2 arguments, found 1",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.call(CALLEE, Some(Type::I16), vec![p[0], p[2]]);
+            ret0(b, p)
+        }),
+        "argument 1 of @callee is f32, expected f64",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.call(CALLEE, Some(Type::I32), vec![p[0], p[3]]);
+            ret0(b, p)
+        }),
+        "the result v6 is i32, but the instruction gives i16",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.call(CALLEE, None, vec![p[0], p[3]]);
+            ret0(b, p)
+        }),
+        "the result is missing (the instruction gives i16)",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.call(FuncId(5), None, vec![]);
+            ret0(b, p)
+        }),
+        "func5 does not exist",
+    );
     // A call with a result to a function without one.
     let mut m = base();
     let mut g = Function::new("g", FuncKind::Helper, vec![], None);
@@ -571,7 +750,10 @@ fn calls() {
         b.ret(None);
     }
     m.add_func(f);
-    expect_only(&verify_module(&m).unwrap_err(), "the instruction has no result, but v0 is defined");
+    expect_only(
+        &verify_module(&m).unwrap_err(),
+        "the instruction has no result, but v0 is defined",
+    );
 }
 
 #[test]
@@ -582,43 +764,92 @@ fn intrinsics() {
         }
         ret0(b, p)
     }));
-    expect_only(&check(|b, p| {
-        b.intrinsic(Intrinsic::RaiseFault, vec![p[0]]);
-        ret0(b, p)
-    }), "raise_fault takes no operands, found 1");
-    expect_only(&check(|b, p| {
-        b.func.create_inst(InstData::Intrinsic { op: Intrinsic::ClockMs, args: vec![] }, None, None);
-        b.func.blocks[0].insts.push(Inst(0));
-        ret0(b, p)
-    }), "the result is missing (the instruction gives i32)");
-    expect_only(&check(|b, p| {
-        b.func.create_inst(
-            InstData::Intrinsic { op: Intrinsic::ClockNs, args: vec![] },
-            Some(Type::I32),
-            None,
-        );
-        b.func.blocks[0].insts.push(Inst(0));
-        ret0(b, p)
-    }), "the result v6 is i32, but the instruction gives i64");
+    expect_only(
+        &check(|b, p| {
+            b.intrinsic(Intrinsic::RaiseFault, vec![p[0]]);
+            ret0(b, p)
+        }),
+        "raise_fault takes no operands, found 1",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.func.create_inst(
+                InstData::Intrinsic {
+                    op: Intrinsic::ClockMs,
+                    args: vec![],
+                },
+                None,
+                None,
+            );
+            b.func.blocks[0].insts.push(Inst(0));
+            ret0(b, p)
+        }),
+        "the result is missing (the instruction gives i32)",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.func.create_inst(
+                InstData::Intrinsic {
+                    op: Intrinsic::ClockNs,
+                    args: vec![],
+                },
+                Some(Type::I32),
+                None,
+            );
+            b.func.blocks[0].insts.push(Inst(0));
+            ret0(b, p)
+        }),
+        "the result v6 is i32, but the instruction gives i64",
+    );
 }
 
 #[test]
 fn results_of_instructions_without_one() {
-    expect_only(&check(|b, p| {
-        b.func.create_inst(InstData::Store { value: p[0], addr: p[4] }, Some(Type::I32), None);
-        b.func.blocks[0].insts.push(Inst(0));
-        ret0(b, p)
-    }), "the instruction has no result, but v6 is defined");
-    expect_only(&check(|b, p| {
-        b.func.create_inst(InstData::Unary { op: UnaryOp::Ineg, arg: p[0] }, Some(Type::I64), None);
-        b.func.blocks[0].insts.push(Inst(0));
-        ret0(b, p)
-    }), "the result v6 is i64, but the instruction gives i32");
-    expect_only(&check(|b, p| {
-        b.func.create_inst(InstData::Unary { op: UnaryOp::Ineg, arg: p[0] }, None, None);
-        b.func.blocks[0].insts.push(Inst(0));
-        ret0(b, p)
-    }), "the result is missing");
+    expect_only(
+        &check(|b, p| {
+            b.func.create_inst(
+                InstData::Store {
+                    value: p[0],
+                    addr: p[4],
+                },
+                Some(Type::I32),
+                None,
+            );
+            b.func.blocks[0].insts.push(Inst(0));
+            ret0(b, p)
+        }),
+        "the instruction has no result, but v6 is defined",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.func.create_inst(
+                InstData::Unary {
+                    op: UnaryOp::Ineg,
+                    arg: p[0],
+                },
+                Some(Type::I64),
+                None,
+            );
+            b.func.blocks[0].insts.push(Inst(0));
+            ret0(b, p)
+        }),
+        "the result v6 is i64, but the instruction gives i32",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.func.create_inst(
+                InstData::Unary {
+                    op: UnaryOp::Ineg,
+                    arg: p[0],
+                },
+                None,
+                None,
+            );
+            b.func.blocks[0].insts.push(Inst(0));
+            ret0(b, p)
+        }),
+        "the result is missing",
+    );
     // A result value whose definition points elsewhere.
     let errs = check(|b, p| {
         let x = b.iconst(Type::I32, 1);
@@ -630,8 +861,14 @@ fn results_of_instructions_without_one() {
 
 #[test]
 fn returns() {
-    expect_only(&check(|b, _| b.ret(None)), "return without a value in a function returning i32");
-    expect_only(&check(|b, p| b.ret(Some(p[1]))), "the returned v1 is i64, but the function returns i32");
+    expect_only(
+        &check(|b, _| b.ret(None)),
+        "return without a value in a function returning i32",
+    );
+    expect_only(
+        &check(|b, p| b.ret(Some(p[1]))),
+        "the returned v1 is i64, but the function returns i32",
+    );
     expect_only(
         &check_sig(vec![Type::I32], None, |b, p| b.ret(Some(p[0]))),
         "the function returns nothing, but return has v0",
@@ -651,34 +888,49 @@ fn branches() {
         b.jump(t, vec![p[0]]);
     });
     expect_ok(&errs);
-    expect_only(&check(|b, p| {
-        let t = b.create_block();
-        b.block_param(t, Type::I32);
-        b.jump(t, vec![]);
-        b.switch_to(t);
-        ret0(b, p)
-    }), "block1 takes 1 arguments, found 0");
-    expect_only(&check(|b, p| {
-        let t = b.create_block();
-        b.block_param(t, Type::I32);
-        b.jump(t, vec![p[1]]);
-        b.switch_to(t);
-        ret0(b, p)
-    }), "argument 0 to block1 is i64, but the parameter v6 is i32");
-    expect_only(&check(|b, p| {
-        let t = b.create_block();
-        b.brif(p[0], t, vec![], t, vec![]);
-        b.switch_to(t);
-        ret0(b, p)
-    }), "the branch condition v0 is i32, expected i1");
-    expect_only(&check(|b, p| {
-        let t = b.create_block();
-        b.jump(t, vec![]);
-        let _ = p;
-    }), "branch to block1, which is not in the layout");
-    expect_only(&check(|b, _| {
-        b.jump(Block(33), vec![]);
-    }), "branch to block33, which does not exist");
+    expect_only(
+        &check(|b, p| {
+            let t = b.create_block();
+            b.block_param(t, Type::I32);
+            b.jump(t, vec![]);
+            b.switch_to(t);
+            ret0(b, p)
+        }),
+        "block1 takes 1 arguments, found 0",
+    );
+    expect_only(
+        &check(|b, p| {
+            let t = b.create_block();
+            b.block_param(t, Type::I32);
+            b.jump(t, vec![p[1]]);
+            b.switch_to(t);
+            ret0(b, p)
+        }),
+        "argument 0 to block1 is i64, but the parameter v6 is i32",
+    );
+    expect_only(
+        &check(|b, p| {
+            let t = b.create_block();
+            b.brif(p[0], t, vec![], t, vec![]);
+            b.switch_to(t);
+            ret0(b, p)
+        }),
+        "the branch condition v0 is i32, expected i1",
+    );
+    expect_only(
+        &check(|b, p| {
+            let t = b.create_block();
+            b.jump(t, vec![]);
+            let _ = p;
+        }),
+        "branch to block1, which is not in the layout",
+    );
+    expect_only(
+        &check(|b, _| {
+            b.jump(Block(33), vec![]);
+        }),
+        "branch to block33, which does not exist",
+    );
 }
 
 #[test]
@@ -689,7 +941,13 @@ fn ids_out_of_range() {
     });
     expect_only(&errs, "v99 does not exist");
     let errs = check(|b, p| {
-        b.func.create_inst(InstData::Return { value: Some(Value(77)) }, None, None);
+        b.func.create_inst(
+            InstData::Return {
+                value: Some(Value(77)),
+            },
+            None,
+            None,
+        );
         b.func.blocks[0].insts.push(Inst(0));
         let _ = p;
     });
@@ -699,7 +957,10 @@ fn ids_out_of_range() {
     f.create_slot("x", MemType::Agg(AggId(12)));
     FuncBuilder::new(&mut f).ret(None);
     m.add_func(f);
-    expect_only(&verify_module(&m).unwrap_err(), "the type of ss0 does not exist");
+    expect_only(
+        &verify_module(&m).unwrap_err(),
+        "the type of ss0 does not exist",
+    );
 }
 
 // ----- SSA dominance -------------------------------------------------------------
@@ -739,7 +1000,10 @@ fn use_not_dominated() {
         b.switch_to(merge);
         b.ret(Some(x));
     });
-    expect_only(&errs, "v6 is defined in block1, which does not dominate this use in block2");
+    expect_only(
+        &errs,
+        "v6 is defined in block1, which does not dominate this use in block2",
+    );
     // A branch argument is used at the end of the branching block: fine even though
     // the destination is not dominated.
     let errs = check(|b, p| {
@@ -788,7 +1052,10 @@ fn def_outside_the_layout() {
     }
     f.layout.retain(|&b| b != Block(1));
     m.add_func(f.clone());
-    expect_only(&verify_module(&m).unwrap_err(), "v0 is not defined in any block of the layout");
+    expect_only(
+        &verify_module(&m).unwrap_err(),
+        "v0 is not defined in any block of the layout",
+    );
     // A block parameter of a block outside the layout.
     let mut f = Function::new("f", FuncKind::Function, vec![], Some(Type::I32));
     {
@@ -797,13 +1064,26 @@ fn def_outside_the_layout() {
         let p = b.block_param(dead, Type::I32);
         b.ret(Some(p));
     }
-    expect_only(&check_func(f), "v0 is not defined in any block of the layout");
+    expect_only(
+        &check_func(f),
+        "v0 is not defined in any block of the layout",
+    );
     // An instruction result whose instruction is in no block.
     let mut f = Function::new("f", FuncKind::Function, vec![], Some(Type::I32));
-    let lone = f.create_inst(InstData::Iconst { ty: Type::I32, imm: 1 }, Some(Type::I32), None);
+    let lone = f.create_inst(
+        InstData::Iconst {
+            ty: Type::I32,
+            imm: 1,
+        },
+        Some(Type::I32),
+        None,
+    );
     let v = f.result(lone).unwrap();
     FuncBuilder::new(&mut f).ret(Some(v));
-    expect_only(&check_func(f), "v0 is not defined in any block of the layout");
+    expect_only(
+        &check_func(f),
+        "v0 is not defined in any block of the layout",
+    );
 }
 
 #[test]
@@ -838,29 +1118,48 @@ fn simple(name: &str, kind: FuncKind, params: Vec<Type>) -> Function {
 fn duplicate_names() {
     let mut m = base();
     m.add_func(simple("callee", FuncKind::Helper, vec![]));
-    expect_only(&verify_module(&m).unwrap_err(), "functions func0 and func1 are both named @callee");
+    expect_only(
+        &verify_module(&m).unwrap_err(),
+        "functions func0 and func1 are both named @callee",
+    );
     let mut m = base();
     let a = m.aggs[1].clone();
     m.add_agg(a);
-    expect_only(&verify_module(&m).unwrap_err(), "aggregates agg1 and agg2 are both named %A");
+    expect_only(
+        &verify_module(&m).unwrap_err(),
+        "aggregates agg1 and agg2 are both named %A",
+    );
     let mut m = base();
     let mut d = m.data[0].clone();
     d.name = "D".into();
     m.add_data(d);
-    expect_only(&verify_module(&m).unwrap_err(), "data objects @d and @D have the same name");
+    expect_only(
+        &verify_module(&m).unwrap_err(),
+        "data objects @d and @D have the same name",
+    );
     let mut m = base();
     if let AggDef::Struct(s) = &mut m.aggs[0] {
-        s.fields.push(field("A", FieldRole::Var, scalar(Type::I8), None));
+        s.fields
+            .push(field("A", FieldRole::Var, scalar(Type::I8), None));
     }
-    expect_only(&verify_module(&m).unwrap_err(), "struct %S has two fields named `A` (field names ignore case)");
+    expect_only(
+        &verify_module(&m).unwrap_err(),
+        "struct %S has two fields named `A` (field names ignore case)",
+    );
 }
 
 #[test]
 fn aggregate_members() {
     let mut m = base();
     if let AggDef::Struct(s) = &mut m.aggs[0] {
-        s.fields.push(field("z", FieldRole::Var, MemType::Agg(AggId(40)), None));
-        s.fields.push(field("w", FieldRole::Var, scalar(Type::I16), Some(ElemType::Bool)));
+        s.fields
+            .push(field("z", FieldRole::Var, MemType::Agg(AggId(40)), None));
+        s.fields.push(field(
+            "w",
+            FieldRole::Var,
+            scalar(Type::I16),
+            Some(ElemType::Bool),
+        ));
     }
     if let AggDef::Array(a) = &mut m.aggs[1] {
         a.elem_type = Some(ElemType::Real);
@@ -868,8 +1167,14 @@ fn aggregate_members() {
     m.data[0].ty = MemType::Agg(AggId(41));
     let errs = verify_module(&m).unwrap_err();
     expect(&errs, "field `z` of %S has a type that does not exist");
-    expect(&errs, "field `w` of %S is i16 but its IEC type BOOL is held in i1");
-    expect(&errs, "the elements of %A are i16 but their IEC type REAL is held in f32");
+    expect(
+        &errs,
+        "field `w` of %S is i16 but its IEC type BOOL is held in i1",
+    );
+    expect(
+        &errs,
+        "the elements of %A are i16 but their IEC type REAL is held in f32",
+    );
     expect(&errs, "the type of data @d does not exist");
     assert_eq!(errs.len(), 4);
 }
@@ -882,13 +1187,19 @@ fn aggregate_cycles() {
         a.elem = MemType::Agg(S);
         a.elem_type = None;
     }
-    expect_only(&verify_module(&m).unwrap_err(), "aggregate %S contains itself: %S -> %A -> %S");
+    expect_only(
+        &verify_module(&m).unwrap_err(),
+        "aggregate %S contains itself: %S -> %A -> %S",
+    );
     let mut m = base();
     if let AggDef::Struct(s) = &mut m.aggs[0] {
         s.fields[0].ty = MemType::Agg(S);
         s.fields[0].elem = None;
     }
-    expect_only(&verify_module(&m).unwrap_err(), "aggregate %S contains itself: %S -> %S");
+    expect_only(
+        &verify_module(&m).unwrap_err(),
+        "aggregate %S contains itself: %S -> %S",
+    );
 }
 
 fn with_program(body: Function, init: Function) -> Module {
@@ -916,11 +1227,28 @@ fn programs() {
         good_init(),
     ))
     .unwrap_err();
-    expect_only(&errs, "program \"p\": its body @b must be (ptr) with no result, but is (i32)");
-    let errs = verify_module(&with_program(good_body(), simple("i", FuncKind::Helper, vec![Type::Ptr]))).unwrap_err();
-    expect_only(&errs, "program \"p\": its init @i must be a `init` function, but is `helper`");
-    let errs = verify_module(&with_program(simple("b", FuncKind::FbBody, vec![Type::Ptr]), good_init())).unwrap_err();
-    expect_only(&errs, "its body @b must be a `program` function, but is `fb`");
+    expect_only(
+        &errs,
+        "program \"p\": its body @b must be (ptr) with no result, but is (i32)",
+    );
+    let errs = verify_module(&with_program(
+        good_body(),
+        simple("i", FuncKind::Helper, vec![Type::Ptr]),
+    ))
+    .unwrap_err();
+    expect_only(
+        &errs,
+        "program \"p\": its init @i must be a `init` function, but is `helper`",
+    );
+    let errs = verify_module(&with_program(
+        simple("b", FuncKind::FbBody, vec![Type::Ptr]),
+        good_init(),
+    ))
+    .unwrap_err();
+    expect_only(
+        &errs,
+        "its body @b must be a `program` function, but is `fb`",
+    );
     let mut m = with_program(good_body(), good_init());
     m.programs[0].data = DataId(8);
     m.programs[0].init = FuncId(9);
@@ -933,7 +1261,10 @@ fn programs() {
         name: "P".into(),
         ..again
     });
-    expect_only(&verify_module(&m).unwrap_err(), "program \"P\" is listed twice");
+    expect_only(
+        &verify_module(&m).unwrap_err(),
+        "program \"P\" is listed twice",
+    );
 }
 
 #[test]
@@ -945,10 +1276,16 @@ fn init_globals() {
     let mut m = base();
     let g = m.add_func(simple("g", FuncKind::Init, vec![Type::Ptr]));
     m.init_globals = Some(g);
-    expect_only(&verify_module(&m).unwrap_err(), "init_globals @g must be () with no result, but is (ptr)");
+    expect_only(
+        &verify_module(&m).unwrap_err(),
+        "init_globals @g must be () with no result, but is (ptr)",
+    );
     let mut m = base();
     m.init_globals = Some(FuncId(3));
-    expect_only(&verify_module(&m).unwrap_err(), "init_globals func3 does not exist");
+    expect_only(
+        &verify_module(&m).unwrap_err(),
+        "init_globals func3 does not exist",
+    );
 }
 
 #[test]
@@ -968,10 +1305,16 @@ fn recursion() {
     m.add_func(caller("c", FuncId(1)));
     let errs = verify_module(&m).unwrap_err();
     expect_only(&errs, "recursion: @a -> @b -> @c -> @a");
-    assert_eq!(errs[0].to_string(), "in @a: recursion: @a -> @b -> @c -> @a");
+    assert_eq!(
+        errs[0].to_string(),
+        "in @a: recursion: @a -> @b -> @c -> @a"
+    );
     let mut m = base();
     m.add_func(caller("self", FuncId(1)));
-    expect_only(&verify_module(&m).unwrap_err(), "recursion: @self calls itself");
+    expect_only(
+        &verify_module(&m).unwrap_err(),
+        "recursion: @self calls itself",
+    );
     // A diamond is not a cycle.
     let mut m = base();
     m.add_func(caller("top", FuncId(2)));
@@ -1038,7 +1381,15 @@ fn naive_dominators(succ: &[Vec<usize>], entry: usize) -> Vec<Option<Vec<bool>>>
             }
         }
     }
-    let mut dom: Vec<Vec<bool>> = (0..n).map(|b| if b == entry { (0..n).map(|x| x == entry).collect() } else { vec![true; n] }).collect();
+    let mut dom: Vec<Vec<bool>> = (0..n)
+        .map(|b| {
+            if b == entry {
+                (0..n).map(|x| x == entry).collect()
+            } else {
+                vec![true; n]
+            }
+        })
+        .collect();
     let mut changed = true;
     while changed {
         changed = false;
@@ -1075,7 +1426,14 @@ fn domtree_matches_the_naive_algorithm_on_random_cfgs() {
         let n = 1 + rnd(14);
         let mut f = Function::new("f", FuncKind::Helper, vec![], None);
         let blocks: Vec<Block> = (0..n).map(|_| f.create_block()).collect();
-        let c = f.create_inst(InstData::Iconst { ty: Type::I1, imm: 1 }, Some(Type::I1), None);
+        let c = f.create_inst(
+            InstData::Iconst {
+                ty: Type::I1,
+                imm: 1,
+            },
+            Some(Type::I1),
+            None,
+        );
         let cv = f.result(c).unwrap();
         f.blocks[0].insts.push(c);
         let mut succ = vec![Vec::new(); n];
@@ -1085,7 +1443,9 @@ fn domtree_matches_the_naive_algorithm_on_random_cfgs() {
                 1 => {
                     let t = rnd(n);
                     succ[i].push(t);
-                    InstData::Jump { dest: BlockCall::new(blocks[t], vec![]) }
+                    InstData::Jump {
+                        dest: BlockCall::new(blocks[t], vec![]),
+                    }
                 }
                 _ => {
                     let (t, e) = (rnd(n), rnd(n));
@@ -1112,13 +1472,20 @@ fn domtree_matches_the_naive_algorithm_on_random_cfgs() {
         for a in 0..n {
             for b in 0..n {
                 let want = a == b || naive[b].as_ref().is_some_and(|d| d[a]) && naive[a].is_some();
-                assert_eq!(dt.dominates(Block(a as u32), Block(b as u32)), want, "{a} dom {b}\n{succ:?}");
+                assert_eq!(
+                    dt.dominates(Block(a as u32), Block(b as u32)),
+                    want,
+                    "{a} dom {b}\n{succ:?}"
+                );
             }
             assert_eq!(dt.is_reachable(Block(a as u32)), naive[a].is_some());
             // The immediate dominator is the strict dominator dominated by all others.
             if let Some(d) = &naive[a] {
                 let strict: Vec<usize> = (0..n).filter(|&x| x != a && d[x]).collect();
-                let idom = strict.iter().copied().find(|&x| strict.iter().all(|&y| naive[x].as_ref().unwrap()[y]));
+                let idom = strict
+                    .iter()
+                    .copied()
+                    .find(|&x| strict.iter().all(|&y| naive[x].as_ref().unwrap()[y]));
                 assert_eq!(dt.idom(Block(a as u32)), idom.map(|x| Block(x as u32)));
                 for &c in dt.children(Block(a as u32)) {
                     assert_eq!(dt.idom(c), Some(Block(a as u32)));
@@ -1151,7 +1518,9 @@ fn domtree_of_a_deep_cfg() {
     let blocks: Vec<Block> = (0..n).map(|_| f.create_block()).collect();
     for k in 0..n {
         let data = if k + 1 < n {
-            InstData::Jump { dest: BlockCall::new(blocks[k + 1], vec![]) }
+            InstData::Jump {
+                dest: BlockCall::new(blocks[k + 1], vec![]),
+            }
         } else {
             InstData::Return { value: None }
         };
@@ -1281,7 +1650,11 @@ fn corrupted_modules_do_not_panic() {
                 }
                 9 => {
                     let i = rnd(f.results.len());
-                    f.results[i] = if rnd(2) == 0 { None } else { Some(Value(rnd(nv as usize) as u32)) };
+                    f.results[i] = if rnd(2) == 0 {
+                        None
+                    } else {
+                        Some(Value(rnd(nv as usize) as u32))
+                    };
                 }
                 10 => {
                     let b = rnd(f.blocks.len());

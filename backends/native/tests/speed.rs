@@ -5,7 +5,6 @@
 mod common;
 
 use common::{field, Prog};
-use plcc_ir::machine::Machine;
 use plcc_ir::{BinaryOp, ConvOp, FuncId, FuncKind, Function, IntCC, Module, Type, UnaryOp};
 use plcc_native::Jit;
 use std::time::Instant;

@@ -510,6 +510,15 @@ impl<'a, 's> BodyCx<'a, 's> {
                 return Named::Place(Place::new(addr, ty));
             }
         }
+        if self.l.is_unsupported_name(id.sym) {
+            // Declared by something already reported as not supported (an
+            // enumeration value, a global): no second error.
+            return Named::Error;
+        }
+        if report && self.l.sym_name(id.sym) == "NULL" {
+            self.l.error(codes::E_UNSUPPORTED, "not supported yet: references (NULL)", id.span);
+            return Named::Error;
+        }
         if report {
             let name = self.l.text(id.span).to_string();
             let msg = if let Some(&p) = self.l.pou_by_name.get(&id.sym) {

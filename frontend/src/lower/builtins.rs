@@ -107,6 +107,24 @@ impl Builtin {
         })
     }
 
+    /// Standard functions (and common dialect ones) that plcc does not compile yet:
+    /// the feature they belong to, for a not-supported diagnostic.
+    pub(super) fn unsupported(name: &str) -> Option<&'static str> {
+        Some(match name {
+            "LEN" | "LEFT" | "RIGHT" | "MID" | "CONCAT" | "INSERT" | "DELETE" | "REPLACE" | "FIND" => "string functions",
+            "ADD_TOD_TIME" | "ADD_DT_TIME" | "SUB_DATE_DATE" | "SUB_TOD_TIME" | "SUB_TOD_TOD" | "SUB_DT_TIME"
+            | "SUB_DT_DT" | "CONCAT_DATE_TOD" | "CONCAT_DATE" | "CONCAT_TOD" | "CONCAT_DT" | "SPLIT_DATE"
+            | "SPLIT_TOD" | "SPLIT_DT" | "DAY_OF_WEEK" => "date and time functions",
+            "REF" | "ADR" | "REFERENCE" => "references (REF, ADR)",
+            "SIZEOF" => "SIZEOF",
+            "PRINTF" => "printf (a RuSTy extension)",
+            _ if name.contains("BCD") => "BCD conversions",
+            _ if name.contains("STRING") || name.contains("CHAR") => "string conversions",
+            _ if name.starts_with("DATE_") || name.starts_with("DT_") || name.starts_with("TOD_") || name.contains("_TO_DATE") || name.contains("_TO_DT") || name.contains("_TO_TOD") => "date and time conversions",
+            _ => return None,
+        })
+    }
+
     /// `X_TO_Y`, `TO_Y`, `X_TRUNC_Y`, `TRUNC_Y`.
     fn conversion(name: &str) -> Option<Builtin> {
         let elem = |s: &str| ElemType::from_name(s).filter(|e| *e != ElemType::Ref);

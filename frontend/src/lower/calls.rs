@@ -155,6 +155,13 @@ impl<'s> BodyCx<'_, 's> {
                 if let Some(b) = Builtin::lookup(&name) {
                     return Callee::Builtin(b);
                 }
+                if let Some(what) = Builtin::unsupported(&name) {
+                    self.l.error(codes::E_UNSUPPORTED, format!("not supported yet: {what}"), id.span);
+                    return Callee::Error;
+                }
+                if self.l.is_unsupported_name(id.sym) {
+                    return Callee::Error;
+                }
                 let n = self.l.text(id.span).to_string();
                 self.l.error(codes::E_UNDECLARED, format!("no FUNCTION or function block instance named `{n}`"), id.span);
                 Callee::Error

@@ -133,6 +133,9 @@ pub struct Lowerer<'s> {
     calls: Vec<(PouId, PouId, Span)>,
     /// POUs whose IR is wanted (user POUs, and standard FBs that are used).
     used: Vec<bool>,
+    /// Names declared by constructs reported as not supported (enumeration values,
+    /// globals, user types): using them gives no second error.
+    unsupported_names: rustc_hash::FxHashSet<Symbol>,
 }
 
 impl<'s> Lowerer<'s> {
@@ -159,6 +162,7 @@ impl<'s> Lowerer<'s> {
             helpers: FxHashMap::default(),
             calls: Vec::new(),
             used: Vec::new(),
+            unsupported_names: Default::default(),
         }
     }
 
@@ -197,6 +201,11 @@ impl<'s> Lowerer<'s> {
         self.interner.name(sym)
     }
 
+    /// True for a name declared by a construct already reported as not supported.
+    pub(crate) fn is_unsupported_name(&self, sym: Symbol) -> bool {
+        self.unsupported_names.contains(&sym)
+    }
+
     pub(crate) fn pou(&self, id: PouId) -> &PouInfo {
         &self.pous[id.0 as usize]
     }
@@ -228,8 +237,19 @@ impl<'s> Lowerer<'s> {
 
     fn report_unsupported_items(&mut self) {
         let mut errs = Vec::new();
-        for unit in self.units {
+        let units = self.units;
+        for unit in units {
             for item in &unit.items {
+                if let ast::Item::Pou(p) = item {
+                    for b in &p.var_blocks {
+                        for d in &b.decls {
+                            collect_enum_values(&d.ty, &mut self.unsupported_names);
+                            if matches!(b.kind, VarKind::External) {
+                                self.unsupported_names.extend(d.names.iter().map(|n| n.sym));
+                            }
+                        }
+                    }
+                }
                 let (what, span) = match item {
                     ast::Item::Pou(p) => {
                         if let Some(b) = &p.extends {
@@ -246,8 +266,17 @@ impl<'s> Lowerer<'s> {
                         }
                         continue;
                     }
-                    ast::Item::Type(t) => ("TYPE declarations", t.name.span),
-                    ast::Item::Globals(b) => ("VAR_GLOBAL", b.span),
+                    ast::Item::Type(t) => {
+                        self.unsupported_names.insert(t.name.sym);
+                        collect_enum_values(&t.spec, &mut self.unsupported_names);
+                        ("TYPE declarations", t.name.span)
+                    }
+                    ast::Item::Globals(b) => {
+                        for d in &b.decls {
+                            self.unsupported_names.extend(d.names.iter().map(|n| n.sym));
+                        }
+                        ("VAR_GLOBAL", b.span)
+                    }
                     ast::Item::Configuration(c) => ("CONFIGURATION", c.name.span),
                     ast::Item::Action(a) => ("ACTIONs", a.span),
                 };
@@ -261,6 +290,21 @@ impl<'s> Lowerer<'s> {
                 span,
             );
         }
+    }
+}
+
+/// Adds the value names of an enumeration type (and of enumerations nested in
+/// structs and arrays) to `out`.
+fn collect_enum_values(spec: &ast::TypeSpec, out: &mut rustc_hash::FxHashSet<Symbol>) {
+    match spec {
+        ast::TypeSpec::Enum { values, .. } => out.extend(values.iter().map(|(v, _)| v.sym)),
+        ast::TypeSpec::Struct { fields, .. } => {
+            for f in fields {
+                collect_enum_values(&f.ty, out);
+            }
+        }
+        ast::TypeSpec::Array { elem, .. } => collect_enum_values(elem, out),
+        _ => {}
     }
 }
 

@@ -272,6 +272,14 @@ impl<'s> BodyCx<'_, 's> {
                 Some(v)
             }
             _ => {
+                match &e.kind {
+                    crate::ast::ExprKind::Name(id) if self.l.is_unsupported_name(id.sym) => return None,
+                    crate::ast::ExprKind::EnumValue { .. } => {
+                        self.l.error(codes::E_UNSUPPORTED, "not supported yet: enumerations", e.span);
+                        return None;
+                    }
+                    _ => {}
+                }
                 self.l.error(
                     codes::E_BAD_CASE_LABEL,
                     "a CASE label must be an integer constant",

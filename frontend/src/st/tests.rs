@@ -936,3 +936,46 @@ fn deep_nesting_is_one_error_and_no_overflow() {
         ok(&format!("PROGRAM p x := 1{}; END_PROGRAM", " + 1".repeat(900)));
     });
 }
+
+#[test]
+fn zz_stack_probe() {
+    let d = (super::parser::MAX_DEPTH - 2) as usize;
+    let cases: Vec<(&str, String)> = vec![
+        ("parens", format!("PROGRAM p x := {}1{}; END_PROGRAM", "(".repeat(d), ")".repeat(d))),
+        ("ifs", format!("PROGRAM p {} x := 1; {} END_PROGRAM", "IF a THEN ".repeat(d), "END_IF; ".repeat(d))),
+        ("calls", format!("PROGRAM p x := {}1{}; END_PROGRAM", "f(".repeat(d), ")".repeat(d))),
+        ("nots", format!("PROGRAM p x := {}a; END_PROGRAM", "NOT ".repeat(d))),
+        ("arrays", format!("PROGRAM p VAR x : {}INT; END_VAR END_PROGRAM", "ARRAY[1..2] OF ".repeat(d))),
+        ("inits", format!("PROGRAM p VAR x : S := {}1{}; END_VAR END_PROGRAM", "(a := ".repeat(d), ")".repeat(d))),
+        ("chain", format!("PROGRAM p x := 1{}; END_PROGRAM", " + 1".repeat(990))),
+    ];
+    for (name, src) in cases {
+        for kb in [64usize, 128, 256, 512, 1024, 1536, 2048, 4096] {
+            let s = src.clone();
+            let r = std::process::Command::new(std::env::current_exe().unwrap())
+                .args(["--exact", "st::tests::zz_probe_child", "--nocapture"])
+                .env("PROBE_SRC", &s)
+                .env("PROBE_KB", kb.to_string())
+                .output()
+                .unwrap();
+            if r.status.success() {
+                eprintln!("{name}: ok with {kb} KiB");
+                break;
+            }
+        }
+    }
+}
+
+#[test]
+fn zz_probe_child() {
+    let Ok(src) = std::env::var("PROBE_SRC") else { return };
+    let kb: usize = std::env::var("PROBE_KB").unwrap().parse().unwrap();
+    std::thread::Builder::new()
+        .stack_size(kb << 10)
+        .spawn(move || {
+            let _ = parse_str(&src);
+        })
+        .unwrap()
+        .join()
+        .unwrap();
+}

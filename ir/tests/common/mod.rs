@@ -219,7 +219,6 @@ pub fn kitchen_sink() -> Module {
 
     // Functions are added first so that calls can refer to later ones.
     let helper_id = FuncId(1);
-    let k = FuncId(0);
     let mut kf = Function::new(
         "kitchen",
         FuncKind::Function,
@@ -447,7 +446,6 @@ pub fn kitchen_sink() -> Module {
         b.ret(Some(p[0]));
     }
     assert_eq!(m.add_func(hf), helper_id);
-    let _ = k;
 
     let mut fb = Function::new("TON", FuncKind::FbBody, vec![Type::Ptr], None);
     {

@@ -334,6 +334,11 @@ impl Gen<'_, '_> {
             return self.b.convert(op, to, x);
         }
         if to.is_float() {
+            let x = if from == Type::I1 {
+                self.b.convert(ConvOp::Uext, Type::I32, x)
+            } else {
+                x
+            };
             let op = self.rng.pick(&[ConvOp::SiToF, ConvOp::UiToF]);
             return self.b.convert(op, to, x);
         }
@@ -664,9 +669,9 @@ fn check_same(
 
 #[test]
 fn random_functions_keep_their_meaning() {
-    let seeds = if cfg!(debug_assertions) { 300 } else { 3000 };
+    let seeds: u64 = if cfg!(debug_assertions) { 300 } else { 3000 };
     for seed in 1..=seeds {
-        let mut rng = Rng(seed * 0x9e37_79b9_7f4a_7c15);
+        let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15));
         let (mut m, cx, init) = skeleton();
         let t = random_function(&mut m, &cx, &mut rng);
         verify(&m, &m.funcs[t.index()], &format!("seed {seed}: generated"));
@@ -713,4 +718,27 @@ fn random_functions_keep_their_meaning() {
             );
         }
     }
+}
+
+#[test]
+fn fuzz_stats() {
+    let mut total = (0, 0, 0, 0);
+    for seed in 1..=300u64 {
+        let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        let (mut m, cx, init) = skeleton();
+        let t = random_function(&mut m, &cx, &mut rng);
+        let before = outcomes(&m, init, t);
+        let mut opt = m.clone();
+        crate::passes::optimize_module(&mut opt);
+        total.0 += m.funcs[t.index()].live_inst_count();
+        total.1 += opt.funcs[t.index()].live_inst_count();
+        total.2 += before.iter().filter(|o| o.1).count();
+        total.3 += m.funcs[t.index()].layout.len();
+        if seed == 7 {
+            println!("{}", crate::text::print_function(&m, &m.funcs[t.index()], &Default::default()));
+            println!("{}", crate::text::print_function(&opt, &opt.funcs[t.index()], &Default::default()));
+            println!("{:?}", before);
+        }
+    }
+    println!("insts before {} after {} faults {} blocks {}", total.0, total.1, total.2, total.3);
 }

@@ -138,8 +138,8 @@ block3:
 #[test]
 fn mem2reg_keeps_escaping_and_mistyped_slots() {
     // ss0 escapes into a call, ss1 is read with another type, ss2 is an aggregate,
-    // ss3 has its address stored; ss4 is promotable and ss5 unused: both go, and the
-    // others are renumbered.
+    // ss4 is stored a value of another type, ss6 has its address stored; ss3 (a
+    // pointer) is promotable and ss5 unused: both go, and the others are renumbered.
     check(
         r#"
 array %A = [2 x i32 DINT] lower 0
@@ -182,7 +182,7 @@ func @f(i32) -> i32 function {
     ss0 = slot i32 "a"
     ss1 = slot i32 "b"
     ss2 = slot %A "c"
-    ss3 = slot ptr "d"
+    ss3 = slot i32 "e"
     ss4 = slot i32 "f"
 block0(v0: i32):
     v1 = slot_addr ss0
@@ -191,9 +191,9 @@ block0(v0: i32):
     store v0, v2
     v3 = load.i16 v2
     v4 = slot_addr ss2
+    v5 = slot_addr ss3
+    store v4, v5
     v6 = slot_addr ss4
-    v7 = slot_addr ss3
-    store v6, v7
     v8 = load.i32 v6
     return v8
 }
@@ -227,6 +227,7 @@ block2:
 func @f(i1) -> f32 function {
 block0(v0: i1):
     v11 = fconst.f32 0.0
+    v12 = iconst.i8 0
     brif v0, block1, block2(v11)
 
 block1:
@@ -234,7 +235,6 @@ block1:
     jump block2(v2)
 
 block2(v10: f32):
-    v12 = iconst.i8 0
     return v10
 }
 "#,
@@ -521,7 +521,6 @@ block3:
     v10 = icmp sge v7, v0
     v11 = uext.i32 v10
     v12 = iconst.i32 0
-    v13 = icmp ne v11, v12
     v14 = select v10, v0, v7
     return v14
 }
@@ -907,7 +906,8 @@ block0(v0: i16):
     brif v10, block1, block2
 
 block1:
-    v14 = isub v5, v9
+    v13 = iconst.i16 10
+    v14 = isub v5, v13
     return v14
 
 block2:

@@ -1,0 +1,212 @@
+//! Runs every ST program of `../shared/corpus` (bulk/ and st/) that has a scenario, on
+//! `host` and `interp`, and prints a table per category: passed, failed, unsupported
+//! (with the diagnostic code that says why). Fails if a program that plcc accepts
+//! fails its scenario, if a program is rejected for a reason other than a
+//! not-supported-yet diagnostic, or if anything panics.
+//!
+//! Skips with a notice when `../shared` is absent (a user's fresh clone).
+
+use plcc::driver::{build_sources, BuildOptions};
+use plcc::{scenario, targets};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+fn corpus_dir() -> Option<PathBuf> {
+    let d = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus");
+    d.is_dir().then_some(d)
+}
+
+#[derive(Default)]
+struct Row {
+    passed: u32,
+    failed: Vec<String>,
+    unsupported: BTreeMap<String, u32>,
+    excluded: u32,
+}
+
+/// Programs excluded because their expectations follow another dialect:
+/// name -> reason.
+fn exclusions() -> BTreeMap<String, String> {
+    let text = include_str!("corpus_exclusions.txt");
+    text.lines()
+        .filter(|l| !l.trim().is_empty() && !l.starts_with('#'))
+        .filter_map(|l| l.split_once('\t'))
+        .map(|(n, r)| (n.trim().to_string(), r.trim().to_string()))
+        .collect()
+}
+
+/// Codes that mean "valid, but not compiled by plcc yet".
+fn is_unsupported_code(code: &str) -> bool {
+    code.starts_with("E06") || code == "E0107"
+}
+
+enum Verdict {
+    Pass,
+    Fail(String),
+    Unsupported(String),
+}
+
+fn category(name: &str) -> String {
+    let stem = name.trim_end_matches(".st");
+    let base = stem.split("__").next().unwrap_or(stem);
+    base.to_string()
+}
+
+fn judge(st: &Path, expect: &Path, target: &str) -> Verdict {
+    let text = std::fs::read_to_string(expect).unwrap();
+    let scn = match scenario::parse(&text) {
+        Ok(s) => s,
+        Err(e) => return Verdict::Fail(format!("scenario: {e}")),
+    };
+    if let Some(why) = scn.unsupported {
+        return Verdict::Unsupported(format!("scenario: {why}"));
+    }
+    let bytes = std::fs::read(st).unwrap();
+    let opts = BuildOptions {
+        programs: scn.program.iter().cloned().collect(),
+        ..Default::default()
+    };
+    let build = match build_sources(vec![(st.display().to_string(), bytes)], &opts) {
+        Ok(b) => b,
+        Err(e) => return Verdict::Fail(e.0),
+    };
+    let Some(module) = build.module else {
+        let errors: Vec<_> = build.diagnostics.iter().filter(|d| d.is_error()).collect();
+        // Errors after a construct plcc does not support yet are usually its
+        // consequences; the unsupported construct is the reason.
+        if errors.iter().any(|d| is_unsupported_code(d.code)) {
+            let mut codes: Vec<&str> = errors.iter().map(|d| d.code).filter(|c| is_unsupported_code(c)).collect();
+            codes.sort();
+            codes.dedup();
+            let first = errors
+                .iter()
+                .find(|d| is_unsupported_code(d.code))
+                .map(|d| d.message.clone())
+                .unwrap_or_default();
+            return Verdict::Unsupported(format!("{} ({first})", codes.join(",")));
+        }
+        let shown: Vec<String> = errors.iter().take(3).map(|d| d.to_string()).collect();
+        return Verdict::Fail(format!("does not compile: {}", shown.join("; ")));
+    };
+    let program = match scn.program.clone() {
+        Some(p) => p,
+        None => match module.programs.as_slice() {
+            [one] => one.name.clone(),
+            _ => return Verdict::Fail("no single PROGRAM to run".into()),
+        },
+    };
+    let mut m = match targets::machine(target, &module) {
+        Ok(m) => m,
+        Err(d) => return Verdict::Fail(format!("machine: {:?}", d)),
+    };
+    let out = scenario::run(&scn, m.as_mut(), &program, 10);
+    if out.passed() {
+        Verdict::Pass
+    } else {
+        let why: Vec<String> = out
+            .checks
+            .iter()
+            .filter(|c| !c.ok)
+            .take(3)
+            .map(|c| format!("line {}: {}: {}", c.line, c.text, c.detail))
+            .chain(out.error.clone())
+            .collect();
+        Verdict::Fail(why.join("; "))
+    }
+}
+
+fn run_corpus(target: &str) {
+    let Some(dir) = corpus_dir() else {
+        eprintln!("notice: ../shared/corpus not found; skipping the corpus test");
+        return;
+    };
+    let mut table: BTreeMap<String, Row> = BTreeMap::new();
+    let mut failures = Vec::new();
+    let excluded = exclusions();
+    let mut excluded_seen = Vec::new();
+    for sub in ["bulk/ironplc_e2e", "st"] {
+        let mut entries: Vec<PathBuf> = std::fs::read_dir(dir.join(sub))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "st"))
+            .collect();
+        entries.sort();
+        for st in entries {
+            let expect = st.with_extension("expect");
+            if !expect.exists() {
+                continue;
+            }
+            let name = st.file_name().unwrap().to_string_lossy().into_owned();
+            let cat = format!("{}/{}", sub.split('/').next().unwrap(), category(&name));
+            let row = table.entry(cat).or_default();
+            if let Some(reason) = excluded.get(name.trim_end_matches(".st")) {
+                row.excluded += 1;
+                excluded_seen.push(format!("{name}: {reason}"));
+                continue;
+            }
+            let verdict = std::panic::catch_unwind(|| judge(&st, &expect, target))
+                .unwrap_or_else(|_| Verdict::Fail("PANIC".into()));
+            match verdict {
+                Verdict::Pass => row.passed += 1,
+                Verdict::Unsupported(code) => {
+                    let key = code.split(' ').next().unwrap_or("").to_string();
+                    *row.unsupported.entry(key).or_default() += 1;
+                    if std::env::var_os("PLCC_CORPUS_VERBOSE").is_some() {
+                        println!("unsupported {name}: {code}");
+                    }
+                }
+                Verdict::Fail(why) => {
+                    row.failed.push(name.clone());
+                    failures.push(format!("{name}: {why}"));
+                }
+            }
+        }
+    }
+    println!("\ncorpus on {target}:");
+    println!(
+        "{:<40} {:>6} {:>6} {:>6} {:>6}  unsupported by",
+        "category", "passed", "failed", "unsup", "excl"
+    );
+    let (mut tp, mut tf, mut tu, mut te) = (0, 0, 0, 0);
+    for (cat, row) in &table {
+        let u: u32 = row.unsupported.values().sum();
+        let why: Vec<String> = row.unsupported.iter().map(|(k, v)| format!("{k}×{v}")).collect();
+        println!(
+            "{:<40} {:>6} {:>6} {:>6} {:>6}  {}",
+            cat,
+            row.passed,
+            row.failed.len(),
+            u,
+            row.excluded,
+            why.join(" ")
+        );
+        tp += row.passed;
+        tf += row.failed.len();
+        tu += u;
+        te += row.excluded;
+    }
+    println!("{:<40} {:>6} {:>6} {:>6} {:>6}", "total", tp, tf, tu, te);
+    if !excluded_seen.is_empty() {
+        println!("\nexcluded (dialect-specific expectations):");
+        for e in &excluded_seen {
+            println!("  {e}");
+        }
+    }
+    if !failures.is_empty() {
+        println!("\nfailures:");
+        for f in &failures {
+            println!("  {f}");
+        }
+    }
+    assert!(failures.is_empty(), "{} corpus program(s) failed on {target}", failures.len());
+}
+
+#[test]
+fn corpus_on_interp() {
+    run_corpus("interp");
+}
+
+#[test]
+fn corpus_on_host() {
+    run_corpus("host");
+}
