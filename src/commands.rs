@@ -29,21 +29,29 @@ fn parse_lang(lang: Option<&str>) -> Result<Option<Lang>, UsageError> {
 }
 
 /// Builds and prints the diagnostics; `Err(status)` when the build cannot go on.
-fn build_and_report<P: AsRef<Path>>(files: &[P], lang: Option<&str>, programs: Vec<String>, no_opt: bool) -> Result<(Build, Module), u8> {
+/// The returned build's module has been taken out into the second value.
+fn build_and_report<P: AsRef<Path>>(
+    files: &[P],
+    lang: Option<&str>,
+    programs: Vec<String>,
+    mode: Mode,
+) -> Result<(Build, Module), u8> {
     let lang = parse_lang(lang).map_err(usage)?;
     let opts = BuildOptions {
         lang,
         programs,
-        no_opt,
+        no_opt: mode == Mode::Unoptimised,
+        check_only: mode == Mode::Check,
     };
-    let build = driver::build_files(files, &opts).map_err(usage)?;
+    let mut build = driver::build_files(files, &opts).map_err(usage)?;
     render::to_stderr(&build.sources, &build.diagnostics);
-    match &build.module {
-        Some(m) => {
-            let m = m.clone();
-            Ok((build, m))
-        }
+    // The syntax trees are no longer needed and the process ends soon: skip freeing
+    // them node by node.
+    std::mem::forget(std::mem::take(&mut build.syntax));
+    match build.module.take() {
+        Some(m) => Ok((build, m)),
         None => {
+            build.report_timings(&[]);
             let n = build.diagnostics.iter().filter(|d| d.is_error()).count();
             eprintln!("error: could not compile: {n} error(s)");
             Err(EXIT_FAIL)
@@ -51,10 +59,25 @@ fn build_and_report<P: AsRef<Path>>(files: &[P], lang: Option<&str>, programs: V
     }
 }
 
+/// How far a build goes.
+#[derive(Copy, Clone, PartialEq, Eq)]
+enum Mode {
+    /// Diagnostics only.
+    Check,
+    /// IR as the front end made it.
+    Unoptimised,
+    /// Optimised IR, for code generation.
+    Full,
+}
+
 /// `plcc check FILE...`
 pub fn check(files: &[PathBuf], lang: Option<&str>) -> u8 {
-    match build_and_report(files, lang, Vec::new(), true) {
-        Ok(_) => 0,
+    match build_and_report(files, lang, Vec::new(), Mode::Check) {
+        Ok((build, module)) => {
+            build.report_timings(&[]);
+            std::mem::forget(module);
+            0
+        }
         Err(s) => s,
     }
 }
@@ -134,7 +157,7 @@ pub fn run(a: &RunArgs) -> u8 {
         Err(s) => return s,
     };
     let programs: Vec<String> = a.program.iter().cloned().collect();
-    let (_, module) = match build_and_report(&a.files, a.lang.as_deref(), programs, false) {
+    let (build, module) = match build_and_report(&a.files, a.lang.as_deref(), programs, Mode::Full) {
         Ok(b) => b,
         Err(s) => return s,
     };
@@ -142,6 +165,7 @@ pub fn run(a: &RunArgs) -> u8 {
         Ok(p) => p,
         Err(s) => return s,
     };
+    let t = std::time::Instant::now();
     let mut m = match targets::machine(target, &module) {
         Ok(m) => m,
         Err(diags) => {
@@ -151,6 +175,7 @@ pub fn run(a: &RunArgs) -> u8 {
             return EXIT_FAIL;
         }
     };
+    build.report_timings(&[("code generation", t.elapsed())]);
     let mut run = || -> Result<(), String> {
         m.cold_start().map_err(|e| e.to_string())?;
         for k in 1..=a.scans {
@@ -213,7 +238,7 @@ pub fn test(a: &TestArgs) -> u8 {
         return EXIT_FAIL;
     }
     let programs: Vec<String> = scn.program.iter().cloned().collect();
-    let (_, module) = match build_and_report(&a.files, a.lang.as_deref(), programs, false) {
+    let (_, module) = match build_and_report(&a.files, a.lang.as_deref(), programs, Mode::Full) {
         Ok(b) => b,
         Err(s) => return s,
     };
@@ -281,8 +306,8 @@ pub fn compile(a: &CompileArgs) -> u8 {
         return usage(format!("unknown target `{}` (known: {})", a.target, targets::names(false)));
     };
     let emit = a.emit.as_deref();
-    let no_opt = emit == Some("ir-raw");
-    let (_, module) = match build_and_report(&a.files, a.lang.as_deref(), a.programs.clone(), no_opt) {
+    let mode = if emit == Some("ir-raw") { Mode::Unoptimised } else { Mode::Full };
+    let (build, module) = match build_and_report(&a.files, a.lang.as_deref(), a.programs.clone(), mode) {
         Ok(b) => b,
         Err(s) => return s,
     };
@@ -328,6 +353,7 @@ pub fn compile(a: &CompileArgs) -> u8 {
             }
         }
     };
+    build.report_timings(&[]);
     let out = a.output.clone().unwrap_or_else(|| {
         if ext == "ir" && a.output.is_none() {
             PathBuf::from("-")

@@ -5,6 +5,7 @@ use plcc_frontend::{Lang, LowerOptions};
 use plcc_ir::diag::{Diagnostic, FileId};
 use plcc_ir::Module;
 use std::path::Path;
+use std::time::{Duration, Instant};
 
 /// Code of the diagnostic for an internal compiler error (a bug in plcc).
 pub const E_INTERNAL: &str = "E9001";
@@ -29,9 +30,25 @@ pub struct Build {
     pub module: Option<Module>,
     /// Errors and warnings.
     pub diagnostics: Vec<Diagnostic>,
+    /// Wall time of each phase.
+    pub timings: Vec<(&'static str, Duration)>,
+    /// The syntax trees (see [`plcc_frontend::Compiled::syntax`]).
+    pub syntax: Vec<plcc_frontend::ast::SourceUnit>,
 }
 
 impl Build {
+    /// Prints the phase timings to standard error when `PLCC_TIME_PASSES` is set.
+    pub fn report_timings(&self, extra: &[(&'static str, Duration)]) {
+        if std::env::var_os("PLCC_TIME_PASSES").is_none() {
+            return;
+        }
+        let mut total = Duration::ZERO;
+        for (name, d) in self.timings.iter().chain(extra) {
+            eprintln!("time: {:>9.3} ms  {name}", d.as_secs_f64() * 1e3);
+            total += *d;
+        }
+        eprintln!("time: {:>9.3} ms  total", total.as_secs_f64() * 1e3);
+    }
     /// True if the build failed.
     pub fn failed(&self) -> bool {
         self.module.is_none()
@@ -47,6 +64,8 @@ pub struct BuildOptions {
     pub programs: Vec<String>,
     /// Skip the optimisation passes.
     pub no_opt: bool,
+    /// Only check: no verification or optimisation of the IR.
+    pub check_only: bool,
 }
 
 /// Reads the files and builds them.
@@ -86,24 +105,30 @@ pub fn build_sources(texts: Vec<(String, Vec<u8>)>, opts: &BuildOptions) -> Resu
     };
     let compiled = plcc_frontend::compile(&mut sources, &inputs, &lower_opts);
     let mut diagnostics = compiled.diagnostics;
-    let module = compiled.module.and_then(|mut m| {
-        if let Err(errs) = check(&m, "the front end") {
-            diagnostics.extend(errs);
-            return None;
+    let mut timings = compiled.timings;
+    let mut module = compiled.module;
+    if let (Some(m), false) = (&mut module, opts.check_only) {
+        let t = Instant::now();
+        let mut ok = check(m, "the front end").map_err(|e| diagnostics.extend(e)).is_ok();
+        timings.push(("verify", t.elapsed()));
+        if ok && !opts.no_opt {
+            let t = Instant::now();
+            plcc_ir::passes::optimize_module(m);
+            timings.push(("optimise", t.elapsed()));
+            let t = Instant::now();
+            ok = check(m, "optimisation").map_err(|e| diagnostics.extend(e)).is_ok();
+            timings.push(("verify", t.elapsed()));
         }
-        if !opts.no_opt {
-            plcc_ir::passes::optimize_module(&mut m);
-            if let Err(errs) = check(&m, "optimisation") {
-                diagnostics.extend(errs);
-                return None;
-            }
+        if !ok {
+            module = None;
         }
-        Some(m)
-    });
+    }
     Ok(Build {
         sources,
         module,
         diagnostics,
+        timings,
+        syntax: compiled.syntax,
     })
 }
 

@@ -82,9 +82,10 @@ pub fn to_stderr(map: &SourceMap, diags: &[Diagnostic]) {
     } else {
         termcolor::ColorChoice::Never
     };
-    let stream = termcolor::StandardStream::stderr(choice);
-    let mut lock = stream.lock();
-    write(map, diags, &mut lock);
+    // One buffered write: thousands of warnings should not cost thousands of syscalls.
+    let mut stream = termcolor::BufferedStandardStream::stderr(choice);
+    write(map, diags, &mut stream);
+    let _ = std::io::Write::flush(&mut stream);
 }
 
 fn write(map: &SourceMap, diags: &[Diagnostic], out: &mut dyn termcolor::WriteColor) {

@@ -172,8 +172,6 @@ codes! {
     // ---- writing, recursion (E05xx) ----
     E_WRITE_CONSTANT = "E0501", "assignment to a constant",
         "A VAR CONSTANT cannot be assigned or used as a FOR variable or VAR_IN_OUT argument.";
-    E_WRITE_INPUT = "E0502", "assignment to an input",
-        "A POU cannot assign its own VAR_INPUT: inputs belong to the caller. Copy the value into a local variable instead.\n\n    FUNCTION_BLOCK F VAR_INPUT x : INT; END_VAR x := 0; END_FUNCTION_BLOCK";
     E_WRITE_OUTPUT = "E0503", "assignment to an output of an instance",
         "The outputs of a function block instance are written by the instance itself; outside code can only read them.\n\n    t.Q := TRUE;   (* error *)";
     E_NOT_A_PLACE = "E0504", "not a variable",
@@ -190,6 +188,10 @@ codes! {
         "The construct is valid IEC 61131-3 (or a common dialect) but plcc does not compile it yet. The message names the construct.";
     E_LANGUAGE_UNSUPPORTED = "E0602", "language not supported yet",
         "The file's language (from its extension or --lang) has no front end yet: Instruction List (.il), PLC-UD STL (.stl) and PLCopen XML ladder (.xml) are planned.";
+
+    // ---- warnings (W0xxx) ----
+    W_WRITE_INPUT = "W0502", "assignment to an input",
+        "A POU assigns its own VAR_INPUT. It compiles (for a FUNCTION the input is a copy), but the value the caller passed is lost, which is usually a mistake; IEC 61131-3 readers expect inputs to be read-only. Copy the input into a VAR instead.\n\n    FUNCTION f : INT VAR_INPUT x : INT; END_VAR x := x + 1; f := x; END_FUNCTION";
 }
 
 /// The description of a code, if it is a front-end code.

@@ -70,11 +70,17 @@ pub struct Compiled {
     pub module: Option<Module>,
     /// Errors and warnings.
     pub diagnostics: Vec<Diagnostic>,
+    /// Wall time of each phase (`parse`, `lower`), for `PLCC_TIME_PASSES`.
+    pub timings: Vec<(&'static str, std::time::Duration)>,
+    /// The syntax trees, handed back so that a short-lived caller (the command line)
+    /// can skip freeing them node by node.
+    pub syntax: Vec<ast::SourceUnit>,
 }
 
 /// Parses, checks and lowers the given files (already in `sources`) to one module.
 /// The standard library is added to `sources` so diagnostics can point into it.
 pub fn compile(sources: &mut SourceMap, inputs: &[(FileId, Lang)], opts: &LowerOptions) -> Compiled {
+    let started = std::time::Instant::now();
     let std_file = sources.add(SourceFile::new(STDLIB_NAME, lower::std_library_source()));
     let mut interner = intern::Interner::new();
     let mut diagnostics = Vec::new();
@@ -98,17 +104,24 @@ pub fn compile(sources: &mut SourceMap, inputs: &[(FileId, Lang)], opts: &LowerO
             ),
         }
     }
+    let mut timings = vec![("parse", started.elapsed())];
     if diagnostics.iter().any(|d| d.is_error()) {
         return Compiled {
             module: None,
             diagnostics,
+            timings,
+            syntax: units,
         };
     }
+    let started = std::time::Instant::now();
     let lowerer = lower::Lowerer::new(sources, &mut interner, &units);
     let (module, mut more) = lowerer.run(1, opts);
     diagnostics.append(&mut more);
+    timings.push(("check and lower", started.elapsed()));
     Compiled {
         module,
         diagnostics,
+        timings,
+        syntax: units,
     }
 }

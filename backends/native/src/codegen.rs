@@ -64,6 +64,8 @@ impl DataLayout {
 pub(crate) struct CodegenSettings {
     /// Cranelift's `opt_level`: `none`, `speed` or `speed_and_size`.
     pub opt_level: String,
+    /// Cranelift's `regalloc_algorithm`: `backtracking` or `single_pass`.
+    pub regalloc: String,
     /// Worker threads for compiling functions (0: choose).
     pub threads: usize,
 }
@@ -72,6 +74,7 @@ impl Default for CodegenSettings {
     fn default() -> Self {
         CodegenSettings {
             opt_level: "speed".to_string(),
+            regalloc: "backtracking".to_string(),
             threads: 0,
         }
     }
@@ -89,6 +92,7 @@ pub(crate) fn flags(s: &CodegenSettings, pic: bool) -> Result<settings::Flags, V
         })
     };
     set("opt_level", &s.opt_level)?;
+    set("regalloc_algorithm", &s.regalloc)?;
     set("is_pic", if pic { "true" } else { "false" })?;
     // Cranelift's own verifier runs only when a function fails (for the message) and
     // in debug builds: it would cost a tenth of the compile time.

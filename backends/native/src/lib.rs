@@ -129,6 +129,14 @@ fn parse_settings(options: &Options) -> Result<(Option<String>, CodegenSettings)
                     )))
                 }
             },
+            "regalloc" => match v.as_str() {
+                "backtracking" | "single_pass" => s.regalloc = v.clone(),
+                _ => {
+                    return Err(bad(format!(
+                        "`regalloc` is `backtracking` or `single_pass`, not `{v}`"
+                    )))
+                }
+            },
             "threads" => {
                 s.threads = v
                     .parse()
@@ -136,8 +144,8 @@ fn parse_settings(options: &Options) -> Result<(Option<String>, CodegenSettings)
             }
             _ => {
                 return Err(bad(format!(
-                    "the native backend has no setting `{k}` (it has `triple`, `opt_level` \
-                     and `threads`)"
+                    "the native backend has no setting `{k}` (it has `triple`, `opt_level`, \
+                     `regalloc` and `threads`)"
                 )))
             }
         }

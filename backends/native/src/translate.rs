@@ -107,6 +107,9 @@ pub(crate) fn math_signature(m: &runtime::MathFn, call_conv: CallConv) -> Signat
 #[derive(Default)]
 struct State {
     values: Vec<ir::Value>,
+    /// For pointers: a constant offset still to be added to `values` (field and data
+    /// offsets are folded into the loads and stores that use them, not computed).
+    offs: Vec<i64>,
     blocks: Vec<ir::Block>,
     slots: Vec<ir::StackSlot>,
     order: Vec<Block>,
@@ -161,6 +164,8 @@ impl State {
     fn reset(&mut self, env: &Env, f: &Function) -> Result<(), TransError> {
         self.values.clear();
         self.values.resize(f.values.len(), ir::Value::reserved_value());
+        self.offs.clear();
+        self.offs.resize(f.values.len(), 0);
         self.blocks.clear();
         self.blocks.resize(f.blocks.len(), ir::Block::reserved_value());
         self.slots.clear();
@@ -336,13 +341,38 @@ impl Cx<'_, '_, '_> {
         Ok(())
     }
 
-    fn val(&self, v: Value) -> Result<ir::Value, TransError> {
+    /// A value as a Cranelift value (a pointer with a pending offset gets it added).
+    fn val(&mut self, v: Value) -> Result<ir::Value, TransError> {
+        let (base, off) = self.addr(v)?;
+        Ok(if off == 0 {
+            base
+        } else {
+            self.b.ins().iadd_imm_s(base, off)
+        })
+    }
+
+    /// A value as a base and a constant offset (only pointers have offsets).
+    fn addr(&self, v: Value) -> Result<(ir::Value, i64), TransError> {
         match self.st.values.get(v.index()) {
-            Some(&x) if x != ir::Value::reserved_value() => Ok(x),
+            Some(&x) if x != ir::Value::reserved_value() => Ok((x, self.st.offs[v.index()])),
             _ => Err(format!(
                 "{v} is used in `{}` where its definition does not dominate",
                 self.f.name
             )),
+        }
+    }
+
+    /// Defines a pointer result as `base + off`; an offset that would not fit a load's
+    /// immediate is added right away.
+    fn set_addr(&mut self, inst: plcc_ir::Inst, base: ir::Value, off: i64) {
+        let (base, off) = if (i32::MIN as i64..=i32::MAX as i64).contains(&off) {
+            (base, off)
+        } else {
+            (self.b.ins().iadd_imm_s(base, off), 0)
+        };
+        if let Some(r) = self.f.result(inst) {
+            self.st.values[r.index()] = base;
+            self.st.offs[r.index()] = off;
         }
     }
 
@@ -354,11 +384,10 @@ impl Cx<'_, '_, '_> {
         self.b.ins().iconst(ty, imm_for(ty, v))
     }
 
-    fn data_addr(&mut self, off: u64) -> ir::Value {
+    /// The data block's address (data objects are at offsets from it).
+    fn data_base(&mut self) -> ir::Value {
         match self.env.addressing {
-            Addressing::Absolute { data, .. } => {
-                self.b.ins().iconst(types::I64, (data + off) as i64)
-            }
+            Addressing::Absolute { data, .. } => self.b.ins().iconst(types::I64, data as i64),
             Addressing::Symbols { data, .. } => {
                 let gv = match self.st.data_gv {
                     Some(gv) => gv,
@@ -368,12 +397,7 @@ impl Cx<'_, '_, '_> {
                         gv
                     }
                 };
-                let base = self.b.ins().symbol_value(types::I64, gv);
-                if off == 0 {
-                    base
-                } else {
-                    self.b.ins().iadd_imm_s(base, off as i64)
-                }
+                self.b.ins().symbol_value(types::I64, gv)
             }
         }
     }
@@ -565,8 +589,8 @@ impl Cx<'_, '_, '_> {
                 let Some(&off) = self.env.data_offsets.get(data.index()) else {
                     return Err(format!("missing data object {data} in `{}`", f.name));
                 };
-                let v = self.data_addr(off);
-                self.set(inst, v);
+                let base = self.data_base();
+                self.set_addr(inst, base, off as i64);
             }
             &InstData::SlotAddr { slot } => {
                 let Some(&ss) = self.st.slots.get(slot.index()) else {
@@ -576,17 +600,12 @@ impl Cx<'_, '_, '_> {
                 self.set(inst, v);
             }
             &InstData::FieldAddr { base, agg, field } => {
-                let p = self.val(base)?;
-                let off = self.env.layout.field_offset(agg, field);
-                let v = if off == 0 {
-                    p
-                } else {
-                    self.b.ins().iadd_imm_s(p, off as i64)
-                };
-                self.set(inst, v);
+                let (p, off) = self.addr(base)?;
+                let off = off + self.env.layout.field_offset(agg, field) as i64;
+                self.set_addr(inst, p, off);
             }
             &InstData::ElemAddr { base, agg, index } => {
-                let p = self.val(base)?;
+                let (p, off) = self.addr(base)?;
                 let ity = self.ty(index);
                 let i = self.val(index)?;
                 let stride = self.env.layout.stride(agg) as i64;
@@ -599,21 +618,21 @@ impl Cx<'_, '_, '_> {
                     0 => p,
                     1 => self.b.ins().iadd(p, i64v),
                     _ => {
-                        let off = self.b.ins().imul_imm_s(i64v, stride);
-                        self.b.ins().iadd(p, off)
+                        let scaled = self.b.ins().imul_imm_s(i64v, stride);
+                        self.b.ins().iadd(p, scaled)
                     }
                 };
-                self.set(inst, v);
+                self.set_addr(inst, v, off);
             }
             &InstData::Load { ty, addr } => {
-                let p = self.val(addr)?;
-                let v = self.b.ins().load(cl_type(ty), trusted(), p, 0);
+                let (p, off) = self.addr(addr)?;
+                let v = self.b.ins().load(cl_type(ty), trusted(), p, off as i32);
                 self.set(inst, v);
             }
             &InstData::Store { value, addr } => {
-                let p = self.val(addr)?;
                 let v = self.val(value)?;
-                self.b.ins().store(trusted(), v, p, 0);
+                let (p, off) = self.addr(addr)?;
+                self.b.ins().store(trusted(), v, p, off as i32);
             }
             InstData::Call { func, args } => {
                 let r = self.func_ref(*func)?;

@@ -169,37 +169,55 @@ pub fn generate(nfuncs: usize, stmts: usize) -> (Module, usize) {
     (m, insts)
 }
 
-fn measure(m: &Module, threads: &str) -> f64 {
+fn measure(m: &Module, threads: &str, opt: &str, regalloc: &str) -> f64 {
     use plcc_ir::backend::{Backend, Options};
     let opts = Options {
         emit: None,
-        settings: vec![("threads".into(), threads.into())],
+        settings: vec![
+            ("threads".into(), threads.into()),
+            ("opt_level".into(), opt.into()),
+            ("regalloc".into(), regalloc.into()),
+        ],
     };
-    let t = Instant::now();
-    let mut jit = plcc_native::NativeBackend.machine(m, &opts).unwrap().unwrap();
-    let secs = t.elapsed().as_secs_f64();
-    jit.cold_start().unwrap();
-    jit.scan().unwrap();
-    secs
+    // The best of a few runs: the machine may be busy with other work.
+    let mut best = f64::MAX;
+    for _ in 0..3 {
+        let t = Instant::now();
+        let mut jit = plcc_native::NativeBackend.machine(m, &opts).unwrap().unwrap();
+        best = best.min(t.elapsed().as_secs_f64());
+        jit.cold_start().unwrap();
+        jit.scan().unwrap();
+    }
+    best
 }
 
 #[test]
 fn large_module_compiles_fast() {
     let (m, insts) = generate(1000, 58);
-    let _ = Jit::new(&m).unwrap(); // warm up (page faults, lazy statics)
-    let serial = measure(&m, "1");
-    let parallel = measure(&m, "0");
     let n = m.funcs.len();
     println!(
-        "{n} functions, {insts} IR instructions: serial {:.3} s ({:.1} us/function), \
-         parallel {:.3} s ({:.1} us/function), {} threads available",
-        serial,
-        serial * 1e6 / n as f64,
-        parallel,
-        parallel * 1e6 / n as f64,
+        "{n} functions, {insts} IR instructions, {} threads available",
         std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)
     );
+    let _ = Jit::new(&m).unwrap(); // warm up (page faults, lazy statics)
+    let mut default = 0.0;
+    for (opt, ra) in [("speed", "backtracking"), ("speed", "single_pass"), ("none", "backtracking"), ("none", "single_pass")] {
+        if cfg!(debug_assertions) && opt != "speed" {
+            continue;
+        }
+        let serial = measure(&m, "1", opt, ra);
+        let parallel = measure(&m, "0", opt, ra);
+        println!(
+            "opt_level={opt} regalloc={ra}: serial {serial:.3} s ({:.0} us/function), \
+             parallel {parallel:.3} s ({:.0} us/function)",
+            serial * 1e6 / n as f64,
+            parallel * 1e6 / n as f64,
+        );
+        if opt == "speed" && ra == "backtracking" {
+            default = parallel;
+        }
+    }
     if !cfg!(debug_assertions) {
-        assert!(parallel < 2.0, "compile too slow: {parallel} s");
+        assert!(default < 2.0, "compile too slow: {default} s");
     }
 }

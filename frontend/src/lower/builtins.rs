@@ -429,9 +429,11 @@ impl<'s> BodyCx<'_, 's> {
                     return self.bad_arg(&name, "an integer shift count", n.ty, xs[1].span);
                 };
                 // The count is read unsigned at the value's width; a wider count that
-                // does not fit saturates to the width (so the shift gives 0).
+                // does not fit saturates to the width (so a shift gives 0), or is
+                // reduced modulo the width for a rotation.
                 let t = e.ir_type();
-                let count = self.shift_count(n.v, ne, t);
+                let rotate = matches!(op, BinaryOp::Rotl | BinaryOp::Rotr);
+                let count = self.shift_count(n.v, ne, t, rotate);
                 Some(Val { v: self.b.binary(op, x.v, count), ty: x.ty })
             }
             Sel => {
@@ -516,8 +518,9 @@ impl<'s> BodyCx<'_, 's> {
         }
     }
 
-    /// A shift count converted to type `t`, saturated to `t`'s width when wider.
-    fn shift_count(&mut self, n: Value, ne: ElemType, t: Type) -> Value {
+    /// A shift count converted to type `t`: saturated to `t`'s width when wider (for
+    /// a shift), or reduced modulo the width (for a rotation, `rotate`).
+    fn shift_count(&mut self, n: Value, ne: ElemType, t: Type, rotate: bool) -> Value {
         // A negative count reads as a huge unsigned one, so the shift gives 0.
         let nt = ne.ir_type();
         if nt.bits() <= t.bits() {
@@ -526,6 +529,13 @@ impl<'s> BodyCx<'_, 's> {
             } else {
                 self.b.convert(ConvOp::Uext, t, n)
             };
+        }
+        if rotate {
+            // The widths are powers of two: the low bits are the count modulo the
+            // width, and they survive the truncation.
+            let mask = self.b.iconst(nt, t.bits() as i64 - 1);
+            let m = self.b.binary(BinaryOp::Band, n, mask);
+            return self.b.convert(ConvOp::Itrunc, t, m);
         }
         let width = self.b.iconst(nt, t.bits() as i64);
         let big = self.b.icmp(IntCC::Uge, n, width);

@@ -56,21 +56,39 @@ impl ConstVal {
 /// How deep constant definitions may refer to each other (stops cycles).
 const MAX_DEPTH: u32 = 32;
 
-type Lookup<'a> = dyn Fn(Symbol, u32, &dyn Fn(&Expr, u32) -> Option<(ConstVal, Ty)>) -> Option<(ConstVal, Ty)> + 'a;
+/// Resolves the name of a constant; it gets the evaluator back (expression, depth,
+/// wanted type) to evaluate the constant's initialiser.
+type Lookup<'a> =
+    dyn Fn(Symbol, u32, &dyn Fn(&Expr, u32, Option<Ty>) -> Option<(ConstVal, Ty)>) -> Option<(ConstVal, Ty)> + 'a;
 
 /// Evaluates a constant expression. `lookup` resolves names of constants (it gets the
 /// evaluator back to evaluate their initialisers). TIME literals evaluate to
 /// milliseconds, LTIME literals to nanoseconds. `None` if the expression is not
 /// constant or overflows.
-pub fn eval(e: &Expr, interner: &Interner, lookup: &Lookup<'_>) -> Option<(ConstVal, Ty)> {
-    eval_depth(e, interner, lookup, 0)
+///
+/// `want` is the type the value is for (a constant's declared type), if known: `NOT`
+/// of an untyped integer literal needs a width (`NOT 16#00FF` is 16#FF00 as a WORD).
+pub fn eval(e: &Expr, interner: &Interner, lookup: &Lookup<'_>, want: Option<Ty>) -> Option<(ConstVal, Ty)> {
+    eval_depth(e, interner, lookup, 0, want)
 }
 
-fn eval_depth(e: &Expr, interner: &Interner, lookup: &Lookup<'_>, depth: u32) -> Option<(ConstVal, Ty)> {
+/// The bitwise complement of `v` at the width of the integer or bit-string type `e`.
+fn not_at_width(v: i128, e: ElemType) -> Option<i128> {
+    let (lo, hi) = int_range(e)?;
+    if e == ElemType::Bool || v < lo || v > hi {
+        return None;
+    }
+    let bits = e.ir_type().bits();
+    let modulus = 1i128 << bits;
+    let u = !v & (modulus - 1);
+    Some(if lo < 0 && u > hi { u - modulus } else { u })
+}
+
+fn eval_depth(e: &Expr, interner: &Interner, lookup: &Lookup<'_>, depth: u32, want: Option<Ty>) -> Option<(ConstVal, Ty)> {
     if depth > MAX_DEPTH {
         return None;
     }
-    let rec = |x: &Expr, d: u32| eval_depth(x, interner, lookup, d);
+    let rec = |x: &Expr, d: u32| eval_depth(x, interner, lookup, d, want);
     match &e.kind {
         ExprKind::Paren(inner) => rec(inner, depth),
         ExprKind::Literal(lit) => {
@@ -94,7 +112,7 @@ fn eval_depth(e: &Expr, interner: &Interner, lookup: &Lookup<'_>, depth: u32) ->
                 None => Some((v, t)),
             }
         }
-        ExprKind::Name(id) => lookup(id.sym, depth, &|x, d| rec(x, d)),
+        ExprKind::Name(id) => lookup(id.sym, depth, &|x, d, w| eval_depth(x, interner, lookup, d, w)),
         ExprKind::Unary(op, inner) => {
             let (v, t) = rec(inner, depth + 1)?;
             let r = match (op, v) {
@@ -102,6 +120,10 @@ fn eval_depth(e: &Expr, interner: &Interner, lookup: &Lookup<'_>, depth: u32) ->
                 (UnaryOp::Neg, ConstVal::Int(i)) => ConstVal::Int(-i),
                 (UnaryOp::Neg, ConstVal::Real(r)) => ConstVal::Real(-r),
                 (UnaryOp::Not, ConstVal::Bool(b)) => ConstVal::Bool(!b),
+                (UnaryOp::Not, ConstVal::Int(i)) => {
+                    let ty = if t.is_literal() { want.unwrap_or(t) } else { t };
+                    ConstVal::Int(not_at_width(i, ty.elem()?)?)
+                }
                 _ => return None,
             };
             Some((r, t))

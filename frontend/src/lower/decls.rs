@@ -340,9 +340,16 @@ impl Lowerer<'_> {
     /// Evaluates a constant expression in the scope of a POU: literals, operators and
     /// the POU's VAR CONSTANTs.
     pub(super) fn const_eval(&mut self, e: &ast::Expr, pou: PouId) -> Option<(ConstVal, Ty)> {
+        self.const_eval_as(e, pou, None)
+    }
+
+    /// [`Self::const_eval`] for a value of type `want` (which gives untyped literals
+    /// a width where one is needed).
+    pub(super) fn const_eval_as(&mut self, e: &ast::Expr, pou: PouId, want: Option<Ty>) -> Option<(ConstVal, Ty)> {
         let ast = self.pou_ast(pou);
         let interner = &*self.interner;
-        let lookup = |sym: crate::intern::Symbol, depth: u32, this: &dyn Fn(&ast::Expr, u32) -> Option<(ConstVal, Ty)>| {
+        type Eval<'e> = dyn Fn(&ast::Expr, u32, Option<Ty>) -> Option<(ConstVal, Ty)> + 'e;
+        let lookup = |sym: crate::intern::Symbol, depth: u32, this: &Eval<'_>| {
             for block in &ast.var_blocks {
                 if !block.constant {
                     continue;
@@ -350,21 +357,19 @@ impl Lowerer<'_> {
                 for decl in &block.decls {
                     if decl.names.iter().any(|n| n.sym == sym) {
                         let Some(ast::Init::Expr(init)) = &decl.init else { return None };
-                        let (v, t) = this(init, depth + 1)?;
                         // The constant's declared type wins over the literal's.
-                        let ty = match &decl.ty {
-                            TypeSpec::Named(id) => plcc_ir::ElemType::from_name(interner.name(id.sym))
-                                .map(Ty::Elem)
-                                .unwrap_or(t),
-                            _ => t,
+                        let declared = match &decl.ty {
+                            TypeSpec::Named(id) => plcc_ir::ElemType::from_name(interner.name(id.sym)).map(Ty::Elem),
+                            _ => None,
                         };
-                        return Some((v, ty));
+                        let (v, t) = this(init, depth + 1, declared)?;
+                        return Some((v, declared.unwrap_or(t)));
                     }
                 }
             }
             None
         };
-        consts::eval(e, interner, &lookup)
+        consts::eval(e, interner, &lookup, want)
     }
 
     /// Marks the POUs whose IR is wanted: every user POU and the standard FBs they use.
@@ -512,7 +517,7 @@ impl Lowerer<'_> {
         let ast = self.pou_ast(id);
         let decl = &ast.var_blocks[v.decl.0 as usize].decls[v.decl.1 as usize];
         let value = match &decl.init {
-            Some(ast::Init::Expr(e)) => match self.const_eval(e, id) {
+            Some(ast::Init::Expr(e)) => match self.const_eval_as(e, id, Some(v.ty)) {
                 Some((c, _)) => Some(c),
                 None => {
                     self.error(
@@ -533,7 +538,15 @@ impl Lowerer<'_> {
             }
             None => Some(ConstVal::zero_of(v.ty)),
         };
-        let Some(mut value) = value else { return };
+        // After an error the constant still gets a value (the type's zero), so that
+        // lowering the POU's init and body does not report it a second time.
+        let failed = ConstVal::zero_of(v.ty);
+        let Some(mut value) = value else {
+            if v.ty.elem().is_some() {
+                self.record_constant(id, vi, failed);
+            }
+            return;
+        };
         if v.ty.elem().is_none() {
             if v.ty != Ty::Error {
                 self.error(
@@ -549,9 +562,13 @@ impl Lowerer<'_> {
             Err(msg) => {
                 let span = decl.init.as_ref().map_or(v.name.span, |i| i.span());
                 self.error(codes::E_TYPE_MISMATCH, msg, span);
-                return;
+                value = failed;
             }
         }
+        self.record_constant(id, vi, value);
+    }
+
+    fn record_constant(&mut self, id: PouId, vi: usize, value: ConstVal) {
         let ir = &mut self.ir[id.0 as usize];
         ir.storage[vi] = Some(Storage::Const(ir.consts.len() as u32));
         ir.consts.push(value);

@@ -138,10 +138,16 @@ impl<'s> BodyCx<'_, 's> {
     pub(super) fn check_writable(&mut self, place: &super::body::Place, span: Span) -> bool {
         let (code, msg) = match place.access {
             Access::ReadWrite => return true,
-            Access::OwnInput => (
-                codes::E_WRITE_INPUT,
-                "cannot assign to an input (VAR_INPUT) inside its own POU",
-            ),
+            Access::OwnInput => {
+                // Common practice (matiec, CODESYS) allows it, and for a FUNCTION the
+                // input is a copy; but the caller's value is lost: warn.
+                self.l.diags.push(plcc_ir::diag::Diagnostic::warning(
+                    codes::W_WRITE_INPUT,
+                    "assignment to an input (VAR_INPUT) inside its own POU",
+                    span,
+                ).with_note("the caller's value is overwritten; a local copy in VAR is clearer"));
+                return true;
+            }
             Access::OtherOutput => (
                 codes::E_WRITE_OUTPUT,
                 "cannot assign to an output of a function block instance from outside",

@@ -465,18 +465,21 @@ impl<'a> Parser<'a> {
         self.error_here(codes::NESTING_TOO_DEEP, msg, "too deep here");
     }
 
-    /// Runs `f` one nesting level deeper, or reports that the limit is reached.
-    fn nested<T>(&mut self, f: impl FnOnce(&mut Self) -> Option<T>) -> Option<T> {
+    /// Goes one nesting level deeper, or reports that the limit is reached. Every
+    /// successful `enter` is paired with a `leave`.
+    fn enter(&mut self) -> bool {
         if self.depth >= MAX_DEPTH || self.height >= MAX_HEIGHT {
             self.too_deep();
-            return None;
+            return false;
         }
         self.depth += 1;
         self.height += 1;
-        let r = f(self);
+        true
+    }
+
+    fn leave(&mut self) {
         self.depth -= 1;
         self.height -= 1;
-        r
     }
 
     /// One more link in an operator chain (the caller restores `height`).
@@ -1361,89 +1364,23 @@ impl<'a> Parser<'a> {
     // ---------------------------------------------------------------- types
 
     fn type_spec(&mut self) -> Option<TypeSpec> {
-        self.nested(|p| p.type_spec_inner())
+        if !self.enter() {
+            return None;
+        }
+        let r = self.type_spec_inner();
+        self.leave();
+        r
     }
 
     fn type_spec_inner(&mut self) -> Option<TypeSpec> {
         let t = self.tok();
         match t.kind {
-            Tok::String | Tok::WString => {
-                self.bump();
-                let len = match self.peek() {
-                    Tok::LBracket => {
-                        self.bump();
-                        let e = self.expr()?;
-                        self.expect_tok(Tok::RBracket, "`]`")?;
-                        Some(Box::new(e))
-                    }
-                    Tok::LParen => {
-                        self.bump();
-                        let e = self.expr()?;
-                        self.expect_tok(Tok::RParen, "`)`")?;
-                        Some(Box::new(e))
-                    }
-                    _ => None,
-                };
-                Some(TypeSpec::String {
-                    wide: t.kind == Tok::WString,
-                    len,
-                    span: self.span_from(t.start),
-                })
-            }
+            Tok::String | Tok::WString => self.string_type(t),
             Tok::Array => self.array_type(),
-            Tok::RefTo => {
-                self.bump();
-                let target = Box::new(self.type_spec()?);
-                Some(TypeSpec::Ref {
-                    target,
-                    span: self.span_from(t.start),
-                })
-            }
+            Tok::RefTo => self.ref_type(t),
             Tok::Struct => self.struct_type(),
             Tok::LParen => self.enum_type(None, t.start),
-            Tok::Ident => {
-                if t.data == self.s.reference.0 && self.peek_at(1) == Tok::To {
-                    let d = Diagnostic::error(
-                        codes::SYNTAX_NOT_SUPPORTED,
-                        "`REFERENCE TO` is not supported",
-                        self.sp(t.start, self.toks[self.pos + 1].end),
-                    )
-                    .with_label("not supported; use `REF_TO` and dereference with `^`");
-                    self.emit(self.pos, d);
-                    return None;
-                }
-                if t.data == self.s.pointer.0 && self.peek_at(1) == Tok::To {
-                    self.bump();
-                    self.bump();
-                    let target = Box::new(self.type_spec()?);
-                    return Some(TypeSpec::Pointer {
-                        target,
-                        span: self.span_from(t.start),
-                    });
-                }
-                self.bump();
-                let name = self.ident(t);
-                if !self.at(Tok::LParen) {
-                    return Some(TypeSpec::Named(name));
-                }
-                if self.peek_at(1) == Tok::Ident
-                    && matches!(self.peek_at(2), Tok::Comma | Tok::Assign | Tok::RParen)
-                {
-                    // `BYTE (a := 1, b := 2)`: an enumeration with its base type first.
-                    return self.enum_type(Some(name), t.start);
-                }
-                self.bump();
-                let lo = self.expr()?;
-                self.expect_tok(Tok::DotDot, "`..`")?;
-                let hi = self.expr()?;
-                self.expect_tok(Tok::RParen, "`)`")?;
-                Some(TypeSpec::Subrange {
-                    base: name,
-                    lo: Box::new(lo),
-                    hi: Box::new(hi),
-                    span: self.span_from(t.start),
-                })
-            }
+            Tok::Ident => self.named_type(t),
             _ => {
                 self.expected("a type");
                 None
@@ -1451,8 +1388,99 @@ impl<'a> Parser<'a> {
         }
     }
 
+    fn string_type(&mut self, t: Token) -> Option<TypeSpec> {
+        self.bump();
+        let close = match self.peek() {
+            Tok::LBracket => Some((Tok::RBracket, "`]`")),
+            Tok::LParen => Some((Tok::RParen, "`)`")),
+            _ => None,
+        };
+        let mut len = None;
+        if let Some((close, what)) = close {
+            self.bump();
+            len = Some(Box::new(self.expr()?));
+            self.expect_tok(close, what)?;
+        }
+        Some(TypeSpec::String {
+            wide: t.kind == Tok::WString,
+            len,
+            span: self.span_from(t.start),
+        })
+    }
+
+    fn ref_type(&mut self, t: Token) -> Option<TypeSpec> {
+        self.bump();
+        let target = self.type_spec();
+        Some(TypeSpec::Ref {
+            target: Box::new(target?),
+            span: self.span_from(t.start),
+        })
+    }
+
+    /// A named type, or `POINTER TO t`, `INT(0..10)`, `BYTE (a, b)`.
+    fn named_type(&mut self, t: Token) -> Option<TypeSpec> {
+        if t.data == self.s.reference.0 && self.peek_at(1) == Tok::To {
+            let d = Diagnostic::error(
+                codes::SYNTAX_NOT_SUPPORTED,
+                "`REFERENCE TO` is not supported",
+                self.sp(t.start, self.toks[self.pos + 1].end),
+            )
+            .with_label("not supported; use `REF_TO` and dereference with `^`");
+            self.emit(self.pos, d);
+            return None;
+        }
+        if t.data == self.s.pointer.0 && self.peek_at(1) == Tok::To {
+            self.bump();
+            self.bump();
+            let target = self.type_spec();
+            return Some(TypeSpec::Pointer {
+                target: Box::new(target?),
+                span: self.span_from(t.start),
+            });
+        }
+        self.bump();
+        let name = self.ident(t);
+        if !self.at(Tok::LParen) {
+            return Some(TypeSpec::Named(name));
+        }
+        if self.peek_at(1) == Tok::Ident
+            && matches!(self.peek_at(2), Tok::Comma | Tok::Assign | Tok::RParen)
+        {
+            // `BYTE (a := 1, b := 2)`: an enumeration with its base type first.
+            return self.enum_type(Some(name), t.start);
+        }
+        self.subrange(name)
+    }
+
+    /// `(lo..hi)` after the base type.
+    fn subrange(&mut self, base: Ident) -> Option<TypeSpec> {
+        self.bump();
+        let lo = self.expr()?;
+        self.expect_tok(Tok::DotDot, "`..`")?;
+        let hi = self.expr()?;
+        self.expect_tok(Tok::RParen, "`)`")?;
+        Some(TypeSpec::Subrange {
+            base,
+            lo: Box::new(lo),
+            hi: Box::new(hi),
+            span: self.span_from(base.span.start),
+        })
+    }
+
     fn array_type(&mut self) -> Option<TypeSpec> {
         let t = self.bump();
+        let dims = self.array_dims()?;
+        let elem = self.type_spec();
+        Some(TypeSpec::Array {
+            dims,
+            elem: Box::new(elem?),
+            span: self.span_from(t.start),
+        })
+    }
+
+    /// `[lo..hi, *] OF`
+    #[allow(clippy::type_complexity)]
+    fn array_dims(&mut self) -> Option<Vec<Option<(Expr, Expr)>>> {
         self.expect_tok(Tok::LBracket, "`[`")?;
         let mut dims = Vec::new();
         loop {
@@ -1470,12 +1498,7 @@ impl<'a> Parser<'a> {
         }
         self.expect_tok(Tok::RBracket, "`]` or `,`")?;
         self.expect_tok(Tok::Of, "`OF`")?;
-        let elem = Box::new(self.type_spec()?);
-        Some(TypeSpec::Array {
-            dims,
-            elem,
-            span: self.span_from(t.start),
-        })
+        Some(dims)
     }
 
     fn struct_type(&mut self) -> Option<TypeSpec> {
@@ -1557,7 +1580,12 @@ impl<'a> Parser<'a> {
     }
 
     fn init(&mut self) -> Option<Init> {
-        self.nested(|p| p.init_inner())
+        if !self.enter() {
+            return None;
+        }
+        let r = self.init_inner();
+        self.leave();
+        r
     }
 
     fn init_inner(&mut self) -> Option<Init> {
@@ -1856,7 +1884,12 @@ impl<'a> Parser<'a> {
         let pou = self.expect_ident("a PROGRAM type name")?;
         let mut args = Vec::new();
         if self.eat(Tok::LParen) {
-            args = self.nested(|p| p.call_args())?.0;
+            if !self.enter() {
+                return None;
+            }
+            let a = self.call_args();
+            self.leave();
+            args = a?.0;
         }
         let span = self.span_from(kw.start);
         self.expect_decl_semi();
@@ -1896,9 +1929,7 @@ impl<'a> Parser<'a> {
                 break;
             }
             let before = self.pos;
-            if let Some(s) = self.stmt() {
-                out.push(s);
-            }
+            self.stmt(&mut out);
             if self.pos == before {
                 self.bump();
             }
@@ -1947,58 +1978,68 @@ impl<'a> Parser<'a> {
         }
     }
 
-    fn stmt(&mut self) -> Option<Stmt> {
+    // Statements are pushed onto `out` by the function that parses them, rather than
+    // returned through every level of the recursion (a Stmt is 300 bytes, and debug
+    // builds keep a copy of it in every frame it passes through).
+
+    /// One statement onto `out` (nothing if it is broken).
+    fn stmt(&mut self, out: &mut Vec<Stmt>) {
         let t = self.tok();
         match t.kind {
             Tok::Semi => {
                 self.bump();
-                Some(Stmt {
-                    kind: StmtKind::Empty,
-                    span: self.sp(t.start, t.start),
-                })
+                let span = self.sp(t.start, t.start);
+                push(out, StmtKind::Empty, span);
             }
             Tok::If | Tok::Case | Tok::For | Tok::While | Tok::Repeat => {
-                if self.depth >= MAX_DEPTH {
-                    self.too_deep();
-                    self.skip_balanced_stmt();
-                    return None;
-                }
-                let s = self.nested(|p| match t.kind {
-                    Tok::If => p.if_stmt(),
-                    Tok::Case => p.case_stmt(),
-                    Tok::For => p.for_stmt(),
-                    Tok::While => p.while_stmt(),
-                    _ => p.repeat_stmt(),
-                });
-                // IEC wants `END_IF;`, but CODESYS and RuSTy accept `END_IF` alone, and
-                // code written for them leaves the `;` out.
-                self.eat(Tok::Semi);
-                s
+                self.compound_stmt(t, out)
             }
-            Tok::Exit | Tok::Continue | Tok::Return => {
-                self.bump();
-                let kind = match t.kind {
-                    Tok::Exit => StmtKind::Exit,
-                    Tok::Continue => StmtKind::Continue,
-                    _ => StmtKind::Return,
-                };
-                self.expect_semi();
-                Some(Stmt {
-                    kind,
-                    span: self.tspan(t),
-                })
-            }
-            Tok::Ident | Tok::Address => self.simple_stmt(),
+            Tok::Exit | Tok::Continue | Tok::Return => self.jump_stmt(t, out),
+            Tok::Ident | Tok::Address => self.simple_stmt(out),
             _ => {
                 self.expected("a statement");
                 self.recover_stmt();
-                None
             }
         }
     }
 
+    fn compound_stmt(&mut self, t: Token, out: &mut Vec<Stmt>) {
+        if !self.enter() {
+            self.skip_balanced_stmt();
+            return;
+        }
+        match t.kind {
+            Tok::If => self.if_stmt(out),
+            Tok::Case => self.case_stmt(out),
+            Tok::For => self.for_stmt(out),
+            Tok::While => self.while_stmt(out),
+            _ => self.repeat_stmt(out),
+        }
+        self.leave();
+        // IEC wants `END_IF;`, but CODESYS and RuSTy accept `END_IF` alone, and code
+        // written for them leaves the `;` out.
+        self.eat(Tok::Semi);
+    }
+
+    fn jump_stmt(&mut self, t: Token, out: &mut Vec<Stmt>) {
+        self.bump();
+        let kind = match t.kind {
+            Tok::Exit => StmtKind::Exit,
+            Tok::Continue => StmtKind::Continue,
+            _ => StmtKind::Return,
+        };
+        self.expect_semi();
+        push(out, kind, self.tspan(t));
+    }
+
     /// Assignment, reference assignment or call.
-    fn simple_stmt(&mut self) -> Option<Stmt> {
+    fn simple_stmt(&mut self, out: &mut Vec<Stmt>) {
+        if let Some(s) = self.simple_stmt_inner() {
+            out.push(s);
+        }
+    }
+
+    fn simple_stmt_inner(&mut self) -> Option<Stmt> {
         let Some(target) = self.postfix() else {
             self.recover_stmt();
             return None;
@@ -2043,7 +2084,7 @@ impl<'a> Parser<'a> {
         Some(Stmt { kind, span })
     }
 
-    fn if_stmt(&mut self) -> Option<Stmt> {
+    fn if_stmt(&mut self, out: &mut Vec<Stmt>) {
         let kw = self.bump();
         self.open_add(&[Tok::Elsif, Tok::Else, Tok::EndIf], 1);
         let mut ok = true;
@@ -2072,17 +2113,13 @@ impl<'a> Parser<'a> {
         };
         self.open_add(&[Tok::EndIf], -1);
         self.expect_end(Tok::EndIf, kw);
-        let span = self.span_from(kw.start);
-        ok.then_some(Stmt {
-            kind: StmtKind::If {
-                branches,
-                else_body,
-            },
-            span,
-        })
+        if ok {
+            let span = self.span_from(kw.start);
+            push_if(out, branches, else_body, span);
+        }
     }
 
-    fn case_stmt(&mut self) -> Option<Stmt> {
+    fn case_stmt(&mut self, out: &mut Vec<Stmt>) {
         let kw = self.bump();
         self.open_add(&[Tok::Else, Tok::EndCase], 1);
         let mut ok = true;
@@ -2128,16 +2165,10 @@ impl<'a> Parser<'a> {
         }
         self.open_add(&[Tok::EndCase], -1);
         self.expect_end(Tok::EndCase, kw);
-        let span = self.span_from(kw.start);
-        let selector = selector?;
-        ok.then_some(Stmt {
-            kind: StmtKind::Case {
-                selector,
-                arms,
-                else_body,
-            },
-            span,
-        })
+        if ok {
+            let span = self.span_from(kw.start);
+            push_case(out, selector, arms, else_body, span);
+        }
     }
 
     fn case_labels(&mut self) -> Option<(Vec<CaseLabel>, Span)> {
@@ -2170,7 +2201,7 @@ impl<'a> Parser<'a> {
         Some((labels, self.span_from(start)))
     }
 
-    fn for_stmt(&mut self) -> Option<Stmt> {
+    fn for_stmt(&mut self, out: &mut Vec<Stmt>) {
         let kw = self.bump();
         self.open_add(&[Tok::EndFor], 1);
         let header = self.for_header();
@@ -2180,21 +2211,14 @@ impl<'a> Parser<'a> {
         let body = self.stmt_list(&[Tok::EndFor], true, false);
         self.open_add(&[Tok::EndFor], -1);
         self.expect_end(Tok::EndFor, kw);
-        let (var, from, to, by) = header?;
-        Some(Stmt {
-            kind: StmtKind::For {
-                var,
-                from,
-                to,
-                by,
-                body,
-            },
-            span: self.span_from(kw.start),
-        })
+        if let Some(h) = header {
+            let span = self.span_from(kw.start);
+            push_for(out, *h, body, span);
+        }
     }
 
-    #[allow(clippy::type_complexity)]
-    fn for_header(&mut self) -> Option<(Ident, Expr, Expr, Option<Expr>)> {
+    /// `v := from TO to [BY by] DO` (boxed: it is large and lives across the body).
+    fn for_header(&mut self) -> Option<Box<ForHeader>> {
         let var = self.expect_ident("the control variable")?;
         self.expect_tok(Tok::Assign, "`:=`")?;
         let from = self.expr()?;
@@ -2206,10 +2230,10 @@ impl<'a> Parser<'a> {
             None
         };
         self.expect_kw(Tok::Do);
-        Some((var, from, to, by))
+        Some(Box::new(ForHeader { var, from, to, by }))
     }
 
-    fn while_stmt(&mut self) -> Option<Stmt> {
+    fn while_stmt(&mut self, out: &mut Vec<Stmt>) {
         let kw = self.bump();
         self.open_add(&[Tok::EndWhile], 1);
         let cond = self.expr();
@@ -2221,13 +2245,13 @@ impl<'a> Parser<'a> {
         let body = self.stmt_list(&[Tok::EndWhile], true, false);
         self.open_add(&[Tok::EndWhile], -1);
         self.expect_end(Tok::EndWhile, kw);
-        Some(Stmt {
-            kind: StmtKind::While { cond: cond?, body },
-            span: self.span_from(kw.start),
-        })
+        if let Some(cond) = cond {
+            let span = self.span_from(kw.start);
+            push_while(out, cond, body, span);
+        }
     }
 
-    fn repeat_stmt(&mut self) -> Option<Stmt> {
+    fn repeat_stmt(&mut self, out: &mut Vec<Stmt>) {
         let kw = self.bump();
         self.open_add(&[Tok::Until, Tok::EndRepeat], 1);
         let body = self.stmt_list(&[Tok::Until], true, false);
@@ -2250,16 +2274,18 @@ impl<'a> Parser<'a> {
         };
         self.open_add(&[Tok::EndRepeat], -1);
         self.expect_end(Tok::EndRepeat, kw);
-        Some(Stmt {
-            kind: StmtKind::Repeat {
-                body,
-                until: until?,
-            },
-            span: self.span_from(kw.start),
-        })
+        if let Some(until) = until {
+            let span = self.span_from(kw.start);
+            push_repeat(out, body, until, span);
+        }
     }
 
     // ---------------------------------------------------------------- expressions
+    //
+    // The functions on the recursion path (expr_bp, unary, postfix, primary,
+    // paren_expr, call_suffix, index_suffix, arg) keep small frames: the building of
+    // nodes is done in separate functions, so that a debug build needs a few KiB of
+    // stack per nesting level, not tens.
 
     fn expr(&mut self) -> Option<Expr> {
         self.expr_bp(0)
@@ -2269,29 +2295,24 @@ impl<'a> Parser<'a> {
     /// in IEC 61131-3 ed. 3).
     fn expr_bp(&mut self, min: u8) -> Option<Expr> {
         let saved = self.height;
-        let r = self.expr_bp_inner(min);
-        self.height = saved;
-        r
-    }
-
-    fn expr_bp_inner(&mut self, min: u8) -> Option<Expr> {
-        let mut lhs = self.unary()?;
-        while let Some((op, bp)) = binop(self.peek()) {
+        let mut lhs = self.unary();
+        while lhs.is_some() {
+            let Some((op, bp)) = binop(self.peek()) else {
+                break;
+            };
             if bp < min {
                 break;
             }
             self.bump();
             if !self.grow() {
-                return None;
+                lhs = None;
+                break;
             }
-            let rhs = self.expr_bp(bp + 1)?;
-            let span = lhs.span.to(rhs.span);
-            lhs = Expr {
-                kind: ExprKind::Binary(op, Box::new(lhs), Box::new(rhs)),
-                span,
-            };
+            let rhs = self.expr_bp(bp + 1);
+            lhs = binary(op, lhs, rhs);
         }
-        Some(lhs)
+        self.height = saved;
+        lhs
     }
 
     /// Prefix `-`, `+`, `NOT`: they bind tighter than every binary operator, so
@@ -2303,107 +2324,108 @@ impl<'a> Parser<'a> {
             Tok::Not => UnaryOp::Not,
             _ => return self.postfix(),
         };
-        let t = self.bump();
-        self.nested(|p| {
-            let e = p.unary()?;
-            let span = p.sp(t.start, e.span.end);
-            Some(Expr {
-                kind: ExprKind::Unary(op, Box::new(e)),
-                span,
-            })
-        })
+        let start = self.bump().start;
+        if !self.enter() {
+            return None;
+        }
+        let e = self.unary();
+        self.leave();
+        unary(op, start, e, self.file)
     }
 
     fn postfix(&mut self) -> Option<Expr> {
         let saved = self.height;
-        let r = self.postfix_inner();
-        self.height = saved;
-        r
-    }
-
-    fn postfix_inner(&mut self) -> Option<Expr> {
-        let mut e = self.primary()?;
-        loop {
-            let start = e.span.start;
-            match self.peek() {
-                Tok::LParen => {
-                    self.bump();
-                    let (args, end) = self.nested(|p| p.call_args())?;
-                    e = Expr {
-                        kind: ExprKind::Call {
-                            callee: Box::new(e),
-                            args,
-                        },
-                        span: self.sp(start, end),
-                    };
-                }
-                Tok::LBracket => {
-                    self.bump();
-                    let idx = self.nested(|p| {
-                        let mut idx = Vec::new();
-                        loop {
-                            idx.push(p.expr()?);
-                            if !p.eat(Tok::Comma) {
-                                break;
-                            }
-                        }
-                        p.expect_tok(Tok::RBracket, "`,` or `]`")?;
-                        Some(idx)
-                    })?;
-                    e = Expr {
-                        kind: ExprKind::Index(Box::new(e), idx),
-                        span: self.span_from(start),
-                    };
-                }
+        let mut e = self.primary();
+        while let Some(base) = e.take() {
+            e = match self.peek() {
+                Tok::LParen => self.call_suffix(base),
+                Tok::LBracket => self.index_suffix(base),
                 Tok::Dot => {
                     self.bump();
-                    e = self.member_access(e)?;
+                    self.member_access(base)
                 }
-                Tok::Caret => {
-                    self.bump();
-                    e = Expr {
-                        kind: ExprKind::Deref(Box::new(e)),
-                        span: self.span_from(start),
-                    };
+                Tok::Caret => self.deref_suffix(base),
+                _ => {
+                    e = Some(base);
+                    break;
                 }
-                _ => break,
-            }
+            };
             if !self.grow() {
-                return None;
+                e = None;
             }
         }
-        Some(e)
+        self.height = saved;
+        e
+    }
+
+    fn deref_suffix(&mut self, base: Expr) -> Option<Expr> {
+        self.bump();
+        Some(self.wrap(base, Wrap::Deref))
+    }
+
+    fn call_suffix(&mut self, callee: Expr) -> Option<Expr> {
+        self.bump();
+        if !self.enter() {
+            return None;
+        }
+        let mut args = Vec::new();
+        let end = self.call_args_into(&mut args);
+        self.leave();
+        Some(call(callee, args, end?, self.file))
+    }
+
+    fn index_suffix(&mut self, base: Expr) -> Option<Expr> {
+        self.bump();
+        if !self.enter() {
+            return None;
+        }
+        let idx = self.index_list();
+        self.leave();
+        Some(self.wrap(base, Wrap::Index(idx?)))
+    }
+
+    fn index_list(&mut self) -> Option<Vec<Expr>> {
+        let mut idx = Vec::new();
+        loop {
+            idx.push(self.expr()?);
+            if !self.eat(Tok::Comma) {
+                break;
+            }
+        }
+        self.expect_tok(Tok::RBracket, "`,` or `]`")?;
+        Some(idx)
+    }
+
+    /// A postfix node over `base` ending at the last token consumed.
+    fn wrap(&self, base: Expr, w: Wrap) -> Expr {
+        let span = self.span_from(base.span.start);
+        let kind = match w {
+            Wrap::Deref => ExprKind::Deref(Box::new(base)),
+            Wrap::Index(idx) => ExprKind::Index(Box::new(base), idx),
+            Wrap::Member(m) => ExprKind::Member(Box::new(base), m),
+            Wrap::Bit(b) => ExprKind::Bit(Box::new(base), Box::new(b)),
+            Wrap::Partial(size, n) => ExprKind::Partial(Box::new(base), size, n),
+        };
+        Expr { kind, span }
     }
 
     /// After `base.`: a member name, a bit number, or `%X3`/`%B1`/`%W0`/`%D0`/`%L0`.
     fn member_access(&mut self, base: Expr) -> Option<Expr> {
         let t = self.tok();
-        let start = base.span.start;
         match t.kind {
             Tok::Ident => {
                 self.bump();
                 let m = self.ident(t);
-                Some(Expr {
-                    kind: ExprKind::Member(Box::new(base), m),
-                    span: self.span_from(start),
-                })
+                Some(self.wrap(base, Wrap::Member(m)))
             }
-            Tok::Lit
-                if self.lits.get(t.data as usize).is_some_and(|l| {
-                    l.type_prefix.is_none() && matches!(l.kind, LiteralKind::Int(_))
-                }) =>
-            {
+            Tok::Lit if self.is_plain_int(t) => {
                 self.bump();
                 let bit = self.literal_expr(t);
-                Some(Expr {
-                    kind: ExprKind::Bit(Box::new(base), Box::new(bit)),
-                    span: self.span_from(start),
-                })
+                Some(self.wrap(base, Wrap::Bit(bit)))
             }
             Tok::Address => {
                 let text = self.slice(t);
-                let b = text.as_bytes();
-                let size = match b.get(1).map(|c| c.to_ascii_uppercase()) {
+                let size = match text.as_bytes().get(1).map(|c| c.to_ascii_uppercase()) {
                     Some(b'X') => Some(1u8),
                     Some(b'B') => Some(8),
                     Some(b'W') => Some(16),
@@ -2413,11 +2435,13 @@ impl<'a> Parser<'a> {
                 };
                 let index = text.get(2..).and_then(|d| d.parse::<u32>().ok());
                 let (Some(size), Some(index)) = (size, index) else {
-                    self.expected("a member name, a bit number or `%X`, `%B`, `%W`, `%D`, `%L` after `.`");
+                    self.expected(
+                        "a member name, a bit number or `%X`, `%B`, `%W`, `%D`, `%L` after `.`",
+                    );
                     return None;
                 };
                 self.bump();
-                let kind = if size == 1 {
+                if size == 1 {
                     let bit = Expr {
                         kind: ExprKind::Literal(Literal {
                             kind: LiteralKind::Int(index as i128),
@@ -2425,14 +2449,10 @@ impl<'a> Parser<'a> {
                         }),
                         span: self.tspan(t),
                     };
-                    ExprKind::Bit(Box::new(base), Box::new(bit))
+                    Some(self.wrap(base, Wrap::Bit(bit)))
                 } else {
-                    ExprKind::Partial(Box::new(base), size, index)
-                };
-                Some(Expr {
-                    kind,
-                    span: self.span_from(start),
-                })
+                    Some(self.wrap(base, Wrap::Partial(size, index)))
+                }
             }
             _ => {
                 self.expected("a member name or a bit number after `.`");
@@ -2444,57 +2464,100 @@ impl<'a> Parser<'a> {
     /// After `(`: the arguments and the end offset of the `)`.
     fn call_args(&mut self) -> Option<(Vec<Arg>, u32)> {
         let mut args = Vec::new();
+        let end = self.call_args_into(&mut args)?;
+        Some((args, end))
+    }
+
+    fn call_args_into(&mut self, args: &mut Vec<Arg>) -> Option<u32> {
         if self.at(Tok::RParen) {
-            return Some((args, self.bump().end));
+            return Some(self.bump().end);
         }
         loop {
-            args.push(self.arg()?);
+            if !self.arg(args) {
+                return None;
+            }
             if self.eat(Tok::Comma) {
                 continue;
             }
             let close = self.expect_tok(Tok::RParen, "`,` or `)`")?;
-            return Some((args, close.end));
+            return Some(close.end);
         }
     }
 
-    fn arg(&mut self) -> Option<Arg> {
+    /// One argument onto `args`; false if it is broken.
+    fn arg(&mut self, args: &mut Vec<Arg>) -> bool {
         let t = self.tok();
-        let start = t.start;
         let (n1, n2) = (self.peek_at(1), self.peek_at(2));
-        let kind = if t.kind == Tok::Ident && n1 == Tok::Assign {
-            self.bump();
-            self.bump();
-            let value = self.expr()?;
-            ArgKind::Input {
-                name: self.ident(t),
-                value,
-            }
-        } else if (t.kind == Tok::Ident && n1 == Tok::Arrow)
-            || (t.kind == Tok::Not && n1 == Tok::Ident && n2 == Tok::Arrow)
-        {
-            let negated = t.kind == Tok::Not;
-            if negated {
+        let (negated, output) = match (t.kind, n1, n2) {
+            (Tok::Ident, Tok::Assign, _) => {
                 self.bump();
+                self.bump();
+                let value = self.expr();
+                return self.push_arg(args, t, ArgShape::Input(t), value);
             }
-            let n = self.bump();
+            (Tok::Ident, Tok::Arrow, _) => (false, true),
+            (Tok::Not, Tok::Ident, Tok::Arrow) => (true, true),
+            _ => (false, false),
+        };
+        if !output {
+            let value = self.expr();
+            return self.push_arg(args, t, ArgShape::Positional, value);
+        }
+        if negated {
             self.bump();
-            let target = if matches!(self.peek(), Tok::Comma | Tok::RParen) {
-                None
-            } else {
-                Some(self.expr()?)
-            };
-            ArgKind::Output {
+        }
+        let n = self.bump();
+        self.bump();
+        let target = if matches!(self.peek(), Tok::Comma | Tok::RParen) {
+            None
+        } else {
+            match self.expr() {
+                Some(e) => Some(e),
+                None => return false,
+            }
+        };
+        self.push_arg(args, t, ArgShape::Output(n, negated), target)
+    }
+
+    /// `first` is the first token of the argument; `value` its value, or the target of
+    /// an output. False if a needed value is missing.
+    fn push_arg(
+        &self,
+        args: &mut Vec<Arg>,
+        first: Token,
+        shape: ArgShape,
+        value: Option<Expr>,
+    ) -> bool {
+        let kind = match shape {
+            ArgShape::Output(n, negated) => ArgKind::Output {
                 name: self.ident(n),
                 negated,
-                target,
+                target: value,
+            },
+            ArgShape::Input(n) => {
+                let Some(value) = value else { return false };
+                ArgKind::Input {
+                    name: self.ident(n),
+                    value,
+                }
             }
-        } else {
-            ArgKind::Positional(self.expr()?)
+            ArgShape::Positional => {
+                let Some(value) = value else { return false };
+                ArgKind::Positional(value)
+            }
         };
-        Some(Arg {
+        args.push(Arg {
             kind,
-            span: self.span_from(start),
-        })
+            span: self.span_from(first.start),
+        });
+        true
+    }
+
+    fn is_plain_int(&self, t: Token) -> bool {
+        t.kind == Tok::Lit
+            && self.lits.get(t.data as usize).is_some_and(|l| {
+                l.type_prefix.is_none() && matches!(l.kind, LiteralKind::Int(_))
+            })
     }
 
     fn literal_expr(&self, t: Token) -> Expr {
@@ -2511,6 +2574,15 @@ impl<'a> Parser<'a> {
     fn primary(&mut self) -> Option<Expr> {
         let t = self.tok();
         match t.kind {
+            Tok::LParen => self.paren_expr(t),
+            Tok::Address => self.address_expr(t),
+            _ => self.atom(t),
+        }
+    }
+
+    /// Literals and names.
+    fn atom(&mut self, t: Token) -> Option<Expr> {
+        match t.kind {
             Tok::Lit => {
                 self.bump();
                 Some(self.literal_expr(t))
@@ -2525,46 +2597,9 @@ impl<'a> Parser<'a> {
                     span: self.tspan(t),
                 })
             }
-            Tok::Ident => {
-                self.bump();
-                let id = self.ident(t);
-                if self.at(Tok::Hash) {
-                    let n = self.toks[self.pos + 1];
-                    if n.kind == Tok::Ident {
-                        self.bump();
-                        self.bump();
-                        return Some(Expr {
-                            kind: ExprKind::EnumValue {
-                                ty: id,
-                                value: self.ident(n),
-                            },
-                            span: self.sp(t.start, n.end),
-                        });
-                    }
-                    let plain = n.kind == Tok::Lit
-                        && self
-                            .lits
-                            .get(n.data as usize)
-                            .is_some_and(|l| l.type_prefix.is_none());
-                    if plain {
-                        // A literal typed by a derived type: `MyInt#5`.
-                        self.bump();
-                        self.bump();
-                        let mut e = self.literal_expr(n);
-                        if let ExprKind::Literal(l) = &mut e.kind {
-                            l.type_prefix = Some(id);
-                        }
-                        e.span = self.sp(t.start, n.end);
-                        return Some(e);
-                    }
-                }
-                Some(Expr {
-                    kind: ExprKind::Name(id),
-                    span: id.span,
-                })
-            }
+            Tok::Ident => Some(self.name_expr(t)),
+            // The standard functions AND(a, b), OR, XOR, MOD.
             Tok::And | Tok::Or | Tok::Xor | Tok::Mod if self.peek_at(1) == Tok::LParen => {
-                    // The standard functions AND(a, b), OR, XOR, MOD.
                 self.bump();
                 let id = Ident {
                     sym: self.interner.intern_upper(t.kind.text()),
@@ -2575,34 +2610,178 @@ impl<'a> Parser<'a> {
                     span: id.span,
                 })
             }
-            Tok::LParen => {
-                self.bump();
-                self.nested(|p| {
-                    let inner = p.expr()?;
-                    let close = p.expect_tok(Tok::RParen, "`)`")?;
-                    Some(Expr {
-                        kind: ExprKind::Paren(Box::new(inner)),
-                        span: p.sp(t.start, close.end),
-                    })
-                })
-            }
-            Tok::Address => {
-                let text = self.slice(t);
-                if !matches!(text.as_bytes().get(1).map(|c| c.to_ascii_uppercase()), Some(b'I' | b'Q' | b'M')) {
-                    let msg = format!("`{text}` selects part of a variable: write it after one, as in `x.{text}`");
-                    self.error_here(codes::UNEXPECTED_TOKEN, msg, "partial access without a variable");
-                    return None;
-                }
-                self.bump();
-                Some(Expr {
-                    kind: ExprKind::DirectAddress(text.into()),
-                    span: self.tspan(t),
-                })
-            }
             _ => {
                 self.expected("an expression");
                 None
             }
         }
     }
+
+    fn paren_expr(&mut self, open: Token) -> Option<Expr> {
+        self.bump();
+        if !self.enter() {
+            return None;
+        }
+        let inner = self.expr();
+        self.leave();
+        self.close_paren(open, inner)
+    }
+
+    fn close_paren(&mut self, open: Token, inner: Option<Expr>) -> Option<Expr> {
+        let inner = inner?;
+        let close = self.expect_tok(Tok::RParen, "`)`")?;
+        Some(Expr {
+            kind: ExprKind::Paren(Box::new(inner)),
+            span: self.sp(open.start, close.end),
+        })
+    }
+
+    /// A name, `Enum#Value`, or a literal typed by a derived type (`MyInt#5`).
+    fn name_expr(&mut self, t: Token) -> Expr {
+        self.bump();
+        let id = self.ident(t);
+        if self.at(Tok::Hash) {
+            let n = self.toks[self.pos + 1];
+            if n.kind == Tok::Ident {
+                self.bump();
+                self.bump();
+                return Expr {
+                    kind: ExprKind::EnumValue {
+                        ty: id,
+                        value: self.ident(n),
+                    },
+                    span: self.sp(t.start, n.end),
+                };
+            }
+            let plain = n.kind == Tok::Lit
+                && self
+                    .lits
+                    .get(n.data as usize)
+                    .is_some_and(|l| l.type_prefix.is_none());
+            if plain {
+                self.bump();
+                self.bump();
+                let mut e = self.literal_expr(n);
+                if let ExprKind::Literal(l) = &mut e.kind {
+                    l.type_prefix = Some(id);
+                }
+                e.span = self.sp(t.start, n.end);
+                return e;
+            }
+        }
+        Expr {
+            kind: ExprKind::Name(id),
+            span: id.span,
+        }
+    }
+
+    fn address_expr(&mut self, t: Token) -> Option<Expr> {
+        let text = self.slice(t);
+        let area = text.as_bytes().get(1).map(|c| c.to_ascii_uppercase());
+        if !matches!(area, Some(b'I' | b'Q' | b'M')) {
+            let msg = format!(
+                "`{text}` selects part of a variable: write it after one, as in `x.{text}`"
+            );
+            self.error_here(codes::UNEXPECTED_TOKEN, msg, "partial access without a variable");
+            return None;
+        }
+        self.bump();
+        Some(Expr {
+            kind: ExprKind::DirectAddress(text.into()),
+            span: self.tspan(t),
+        })
+    }
+}
+
+/// The header of a FOR statement.
+struct ForHeader {
+    var: Ident,
+    from: Expr,
+    to: Expr,
+    by: Option<Expr>,
+}
+
+fn push(out: &mut Vec<Stmt>, kind: StmtKind, span: Span) {
+    out.push(Stmt { kind, span });
+}
+
+#[allow(clippy::type_complexity)]
+fn push_if(
+    out: &mut Vec<Stmt>,
+    branches: Vec<(Expr, Vec<Stmt>)>,
+    else_body: Option<Vec<Stmt>>,
+    span: Span,
+) {
+    push(out, StmtKind::If { branches, else_body }, span);
+}
+
+fn push_case(
+    out: &mut Vec<Stmt>,
+    selector: Option<Expr>,
+    arms: Vec<CaseArm>,
+    else_body: Option<Vec<Stmt>>,
+    span: Span,
+) {
+    if let Some(selector) = selector {
+        push(out, StmtKind::Case { selector, arms, else_body }, span);
+    }
+}
+
+fn push_for(out: &mut Vec<Stmt>, h: ForHeader, body: Vec<Stmt>, span: Span) {
+    let ForHeader { var, from, to, by } = h;
+    push(out, StmtKind::For { var, from, to, by, body }, span);
+}
+
+fn push_while(out: &mut Vec<Stmt>, cond: Expr, body: Vec<Stmt>, span: Span) {
+    push(out, StmtKind::While { cond, body }, span);
+}
+
+fn push_repeat(out: &mut Vec<Stmt>, body: Vec<Stmt>, until: Expr, span: Span) {
+    push(out, StmtKind::Repeat { body, until }, span);
+}
+
+/// The form of an argument, known before its value is parsed.
+enum ArgShape {
+    Positional,
+    /// `name :=`
+    Input(Token),
+    /// `name =>` / `NOT name =>`
+    Output(Token, bool),
+}
+
+/// What [`Parser::wrap`] puts around an expression.
+enum Wrap {
+    Deref,
+    Index(Vec<Expr>),
+    Member(Ident),
+    Bit(Expr),
+    Partial(u8, u32),
+}
+
+fn call(callee: Expr, args: Vec<Arg>, end: u32, file: FileId) -> Expr {
+    Expr {
+        span: Span::new(file, callee.span.start, end),
+        kind: ExprKind::Call {
+            callee: Box::new(callee),
+            args,
+        },
+    }
+}
+
+fn binary(op: BinaryOp, lhs: Option<Expr>, rhs: Option<Expr>) -> Option<Expr> {
+    let (lhs, rhs) = (lhs?, rhs?);
+    let span = lhs.span.to(rhs.span);
+    Some(Expr {
+        kind: ExprKind::Binary(op, Box::new(lhs), Box::new(rhs)),
+        span,
+    })
+}
+
+fn unary(op: UnaryOp, start: u32, e: Option<Expr>, file: FileId) -> Option<Expr> {
+    let e = e?;
+    let span = Span::new(file, start, e.span.end);
+    Some(Expr {
+        kind: ExprKind::Unary(op, Box::new(e)),
+        span,
+    })
 }

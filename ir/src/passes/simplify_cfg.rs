@@ -62,8 +62,10 @@ fn fold_branches(func: &mut Function) -> bool {
     changed
 }
 
-/// If `b` is an empty forwarder (`jump` only, not to itself), its destination.
-fn forwarder(func: &Function, b: Block, entry: Block) -> Option<&BlockCall> {
+/// If `b` is an empty forwarder (`jump` only, not to itself) whose parameters only
+/// its own jump reads, its destination. (A parameter used further on, in a block `b`
+/// dominates, must keep being defined by `b`.)
+fn forwarder<'f>(func: &'f Function, b: Block, entry: Block, uses: &[u32]) -> Option<&'f BlockCall> {
     if b == entry {
         return None;
     }
@@ -72,15 +74,36 @@ fn forwarder(func: &Function, b: Block, entry: Block) -> Option<&BlockCall> {
         return None;
     }
     match func.inst(insts[0]) {
-        InstData::Jump { dest } if dest.block != b => Some(dest),
+        InstData::Jump { dest } if dest.block != b => {
+            let params = &func.blocks[b.index()].params;
+            let local_only = params.iter().all(|&p| {
+                let in_jump = dest.args.iter().filter(|&&a| a == p).count();
+                uses.get(p.index()).is_some_and(|&n| n as usize == in_jump)
+            });
+            local_only.then_some(dest)
+        }
         _ => None,
     }
+}
+
+/// The number of uses of every value by the instructions of the layout.
+fn use_counts(func: &Function) -> Vec<u32> {
+    let mut uses = vec![0u32; func.values.len()];
+    for (_, i) in func.inst_iter() {
+        func.inst(i).for_each_arg(|a| uses[a.index()] += 1);
+    }
+    uses
 }
 
 /// Redirects every edge that enters an empty forwarder to the forwarder's destination.
 fn thread_jumps(func: &mut Function, entry: Block) -> bool {
     let mut changed = false;
     let mut visited: Vec<Block> = Vec::with_capacity(MAX_THREAD);
+    // Use counts are only needed when some forwarder has parameters.
+    let any_params = func.layout.iter().any(|&b| {
+        !func.blocks[b.index()].params.is_empty() && func.blocks[b.index()].insts.len() == 1
+    });
+    let uses = if any_params { use_counts(func) } else { Vec::new() };
     for bi in 0..func.layout.len() {
         let b = func.layout[bi];
         let Some(t) = func.terminator(b) else {
@@ -93,7 +116,7 @@ fn thread_jumps(func: &mut Function, entry: Block) -> bool {
             visited.clear();
             let mut cycle = false;
             while visited.len() < MAX_THREAD {
-                let Some(next) = forwarder(func, call.block, entry) else {
+                let Some(next) = forwarder(func, call.block, entry, &uses) else {
                     break;
                 };
                 let params = &func.blocks[call.block.index()].params;

@@ -68,7 +68,13 @@ enum Base {
     Q,
     /// `global_addr @g`.
     G,
+    /// A local `%S` in a stack slot (never promoted: an aggregate).
+    L,
+    /// A pointer variable (a `ptr` stack slot) pointing at one of the others.
+    R,
 }
+
+const BASES: [Base; 5] = [Base::P, Base::Q, Base::G, Base::L, Base::R];
 
 #[derive(Copy, Clone)]
 enum Place {
@@ -89,9 +95,15 @@ struct Gen<'a, 'f> {
     b: FuncBuilder<'f>,
     cx: &'a Ctx,
     slots: Vec<(SlotId, Type)>,
+    /// The local struct (`Base::L`) and the pointer variable (`Base::R`).
+    local: SlotId,
+    ptr_var: SlotId,
     params: Vec<Value>,
     depth: u32,
     budget: u32,
+    /// Whether RETURN may appear in the middle (off for the throughput measurement,
+    /// where it would make most code dead).
+    early_return: bool,
 }
 
 impl Gen<'_, '_> {
@@ -108,6 +120,11 @@ impl Gen<'_, '_> {
             Base::P => self.params[2],
             Base::Q => self.params[3],
             Base::G => self.b.global_addr(self.cx.g),
+            Base::L => self.b.slot_addr(self.local),
+            Base::R => {
+                let a = self.b.slot_addr(self.ptr_var);
+                self.b.load(Type::Ptr, a)
+            }
         }
     }
 
@@ -144,7 +161,7 @@ impl Gen<'_, '_> {
                     Place::Slot(s, t)
                 }
                 1 => Place::Elem(
-                    self.rng.pick(&[Base::P, Base::Q, Base::G]),
+                    self.rng.pick(&BASES),
                     if self.rng.chance(60) {
                         Some(self.rng.below(ARR_LEN as u64) as u32)
                     } else {
@@ -152,7 +169,7 @@ impl Gen<'_, '_> {
                     },
                 ),
                 _ => Place::Field(
-                    self.rng.pick(&[Base::P, Base::Q, Base::G]),
+                    self.rng.pick(&BASES),
                     self.rng.below(FIELDS.len() as u64) as u32,
                 ),
             };
@@ -297,7 +314,7 @@ impl Gen<'_, '_> {
                     self.convert(x, from, ty)
                 }
                 6 if ty == Type::I32 && self.rng.chance(30) => {
-                    let base = self.rng.pick(&[Base::P, Base::Q, Base::G]);
+                    let base = self.rng.pick(&BASES);
                     let p = self.base(base);
                     self.b.call(self.cx.bump, Some(Type::I32), vec![p]).unwrap()
                 }
@@ -417,13 +434,20 @@ impl Gen<'_, '_> {
                     self.b.jump(h, vec![]);
                     self.b.switch_to(exit);
                 }
-                9 if self.rng.chance(30) => {
+                9 if self.early_return && self.rng.chance(30) => {
                     // RETURN in the middle: the rest goes to a dead block.
                     let v = self.expr(Type::I32);
                     self.b.ret(Some(v));
                 }
+                11 if self.rng.chance(40) => {
+                    // R := ADR(somewhere else)
+                    let base = self.rng.pick(&[Base::P, Base::Q, Base::G, Base::L]);
+                    let p = self.base(base);
+                    let a = self.b.slot_addr(self.ptr_var);
+                    self.b.store(p, a);
+                }
                 10 => {
-                    let base = self.rng.pick(&[Base::P, Base::Q, Base::G]);
+                    let base = self.rng.pick(&BASES);
                     let p = self.base(base);
                     self.b.call(self.cx.bump, Some(Type::I32), vec![p]);
                 }
@@ -560,17 +584,41 @@ fn random_function(m: &mut Module, cx: &Ctx, rng: &mut Rng) -> FuncId {
         Some(Type::I32),
     );
     {
-        let b = FuncBuilder::new(&mut f);
+        let mut b = FuncBuilder::new(&mut f);
         let params = b.params();
+        let local = b.slot("local", MemType::Agg(cx.s));
+        let ptr_var = b.slot("ptr", MemType::Scalar(Type::Ptr));
         let mut g = Gen {
             rng,
             b,
             cx,
             slots: Vec::new(),
+            local,
+            ptr_var,
             params,
             depth: 0,
             budget: 12,
+            early_return: true,
         };
+        // The local struct gets every field written, the pointer variable a target.
+        for (k, &(ty, _)) in FIELDS.iter().enumerate() {
+            let v = g.konst(ty);
+            let base = g.b.slot_addr(local);
+            let a = g.b.field_addr(base, cx.s, k as u32);
+            g.b.store(v, a);
+        }
+        for k in 0..ARR_LEN {
+            let v = g.konst(Type::I32);
+            let base = g.b.slot_addr(local);
+            let arr = g.b.field_addr(base, cx.s, ARR_FIELD);
+            let i = g.b.iconst(Type::I32, k as i64);
+            let a = g.b.elem_addr(arr, cx.a, i);
+            g.b.store(v, a);
+        }
+        let target = g.rng.pick(&[Base::P, Base::Q, Base::G, Base::L]);
+        let p = g.base(target);
+        let a = g.b.slot_addr(ptr_var);
+        g.b.store(p, a);
         // Locals, initialised as front ends do (sometimes from the inputs).
         for k in 0..g.rng.below(5) + 1 {
             let ty = g.rng.pick(&TYPES);
@@ -585,7 +633,11 @@ fn random_function(m: &mut Module, cx: &Ctx, rng: &mut Rng) -> FuncId {
             let a = g.b.slot_addr(s);
             g.b.store(v, a);
         }
-        let n = 3 + g.rng.below(6) as u32;
+        let n = if g.rng.chance(15) {
+            10 + g.rng.below(20) as u32
+        } else {
+            3 + g.rng.below(6) as u32
+        };
         g.stmts(n, 2);
         g.budget = 12;
         let v = g.expr(Type::I32);
@@ -669,7 +721,7 @@ fn check_same(
 
 #[test]
 fn random_functions_keep_their_meaning() {
-    let seeds: u64 = if cfg!(debug_assertions) { 300 } else { 3000 };
+    let seeds: u64 = if cfg!(debug_assertions) { 1000 } else { 10000 };
     for seed in 1..=seeds {
         let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15));
         let (mut m, cx, init) = skeleton();
@@ -741,4 +793,96 @@ fn fuzz_stats() {
         }
     }
     println!("insts before {} after {} faults {} blocks {}", total.0, total.1, total.2, total.3);
+}
+
+#[test]
+fn fuzz_debug_seed() {
+    let Ok(seed) = std::env::var("FUZZ_SEED") else { return };
+    let seed: u64 = seed.parse().unwrap();
+    let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15));
+    let (mut m, cx, _init) = skeleton();
+    let t = random_function(&mut m, &cx, &mut rng);
+    let mut cur = m.clone();
+    for round in 0..2 {
+        for (name, pass) in PASSES {
+            let before = crate::text::print_function(&cur, &cur.funcs[t.index()], &Default::default());
+            let mut f = cur.funcs[t.index()].clone();
+            pass(&mut f);
+            cur.funcs[t.index()] = f;
+            if crate::verify::verify_function(&cur, &cur.funcs[t.index()]).is_err() {
+                println!("before {name} round {round}:\n{before}");
+                println!("after:\n{}", crate::text::print_function(&cur, &cur.funcs[t.index()], &Default::default()));
+                panic!();
+            }
+        }
+    }
+}
+
+/// Not a test: `cargo test --release -p plcc-ir passes_throughput -- --ignored --nocapture`
+/// prints how fast the driver is on large functions of this generator's kind.
+#[test]
+#[ignore]
+fn passes_throughput() {
+    for &stmts in &[100u32, 1000, 10000, 50000] {
+        let mut rng = Rng(stmts as u64 * 7919);
+        let (mut m, cx, _) = skeleton();
+        let mut f = Function::new(
+            "big",
+            FuncKind::Function,
+            vec![Type::I32, Type::I32, Type::Ptr, Type::Ptr],
+            Some(Type::I32),
+        );
+        {
+            let mut b = FuncBuilder::new(&mut f);
+            let params = b.params();
+            let local = b.slot("local", MemType::Agg(cx.s));
+            let ptr_var = b.slot("ptr", MemType::Scalar(Type::Ptr));
+            let mut g = Gen { rng: &mut rng, b, cx: &cx, slots: Vec::new(), local, ptr_var, params, depth: 0, budget: 12, early_return: false };
+            let p = g.params[2];
+            let a = g.b.slot_addr(ptr_var);
+            g.b.store(p, a);
+            for k in 0..16 {
+                let ty = TYPES[k % TYPES.len()];
+                let s = g.b.slot(format!("l{k}"), MemType::Scalar(ty));
+                g.slots.push((s, ty));
+                let v = g.konst(ty);
+                let a = g.b.slot_addr(s);
+                g.b.store(v, a);
+            }
+            g.stmts(stmts, 2);
+            let v = g.expr(Type::I32);
+            g.b.ret(Some(v));
+        }
+        let n = f.live_inst_count();
+        let nb = f.layout.len();
+        let id = m.add_func(f);
+        let mut opt = m.clone();
+        if std::env::var("PASS_TIMES").is_ok() {
+            let mut f = opt.funcs[id.index()].clone();
+            let mut times = Vec::new();
+            let mut time = |name: &str, pass: super::Pass, f: &mut Function| {
+                let t = std::time::Instant::now();
+                pass(f);
+                times.push(format!("{name} {:?}", t.elapsed()));
+            };
+            time("simplify_cfg", crate::passes::simplify_cfg::run, &mut f);
+            time("mem2reg", crate::passes::mem2reg::run, &mut f);
+            for _ in 0..3 {
+                for (name, pass) in PASSES.iter().filter(|p| p.0 != "mem2reg") {
+                    time(name, *pass, &mut f);
+                }
+            }
+            println!("{}", times.join(", "));
+        }
+        let t = std::time::Instant::now();
+        crate::passes::optimize_function(&mut opt.funcs[id.index()]);
+        let dt = t.elapsed();
+        println!(
+            "{stmts} statements: {n} insts, {nb} blocks -> {} insts, {} blocks in {:?} ({:.0} ns/inst)",
+            opt.funcs[id.index()].live_inst_count(),
+            opt.funcs[id.index()].layout.len(),
+            dt,
+            dt.as_nanos() as f64 / n as f64
+        );
+    }
 }
