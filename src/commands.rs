@@ -115,6 +115,8 @@ pub struct RunArgs {
     pub scans: u64,
     /// `--cycle-ms`
     pub cycle_ms: u64,
+    /// `--timing`: report the time the scans took.
+    pub timing: bool,
 }
 
 fn runnable_target(name: &str) -> Result<&'static str, u8> {
@@ -125,28 +127,38 @@ fn runnable_target(name: &str) -> Result<&'static str, u8> {
     }
 }
 
-/// Picks the program instance to run: the one asked for, else the only one.
-fn pick_program(m: &Module, asked: Option<&str>) -> Result<String, u8> {
+/// The program instances whose variables `run` prints: the one asked for, else all of
+/// them (every instance runs in each scan, in declaration order).
+fn pick_programs(m: &Module, asked: Option<&str>) -> Result<Vec<String>, u8> {
     match asked {
         Some(p) => match m.program(p) {
-            Some(e) => Ok(e.name.clone()),
+            Some(e) => Ok(vec![e.name.clone()]),
             None => {
                 eprintln!("error: no PROGRAM named `{p}`");
                 Err(EXIT_FAIL)
             }
         },
-        None => match m.programs.as_slice() {
-            [one] => Ok(one.name.clone()),
-            [] => {
-                eprintln!("error: the files declare no PROGRAM to run");
-                Err(EXIT_FAIL)
-            }
-            many => {
-                let names: Vec<&str> = many.iter().map(|p| p.name.as_str()).collect();
-                eprintln!("error: several PROGRAMs ({}): choose one with --program", names.join(", "));
-                Err(EXIT_FAIL)
-            }
-        },
+        None if m.programs.is_empty() => {
+            eprintln!("error: the files declare no PROGRAM to run");
+            Err(EXIT_FAIL)
+        }
+        None => Ok(m.programs.iter().map(|p| p.name.clone()).collect()),
+    }
+}
+
+/// The one program instance a scenario talks about: the one it names, else the only
+/// one.
+fn pick_program(m: &Module, asked: Option<&str>) -> Result<String, u8> {
+    let all = pick_programs(m, asked)?;
+    match all.as_slice() {
+        [one] => Ok(one.clone()),
+        many => {
+            eprintln!(
+                "error: several PROGRAMs ({}): name one with `program = NAME` in the scenario",
+                many.join(", ")
+            );
+            Err(EXIT_FAIL)
+        }
     }
 }
 
@@ -161,7 +173,7 @@ pub fn run(a: &RunArgs) -> u8 {
         Ok(b) => b,
         Err(s) => return s,
     };
-    let program = match pick_program(&module, a.program.as_deref()) {
+    let programs = match pick_programs(&module, a.program.as_deref()) {
         Ok(p) => p,
         Err(s) => return s,
     };
@@ -176,26 +188,45 @@ pub fn run(a: &RunArgs) -> u8 {
         }
     };
     build.report_timings(&[("code generation", t.elapsed())]);
+    let mut scan_time = std::time::Duration::ZERO;
     let mut run = || -> Result<(), String> {
         m.cold_start().map_err(|e| e.to_string())?;
-        for k in 1..=a.scans {
+        let started = std::time::Instant::now();
+        for k in 0..a.scans {
             m.set_clock_us((k * a.cycle_ms * 1000) as i64);
             m.scan().map_err(|e| format!("scan {k}: {e}"))?;
         }
+        scan_time = started.elapsed();
         Ok(())
     };
     if let Err(e) = run() {
         eprintln!("error: {e}");
         return EXIT_FAIL;
     }
-    let entry = module.program(&program).expect("picked program");
-    let prefix = format!("{}.", entry.name);
-    for var in plcc_ir::vars::variables(&module, entry.data) {
-        match m.read(&var.path) {
-            Ok(v) => println!("{} = {v}", var.path.strip_prefix(&prefix).unwrap_or(&var.path)),
-            Err(e) => {
-                eprintln!("error: reading {}: {e}", var.path);
-                return EXIT_FAIL;
+    if a.timing {
+        let per = scan_time.as_secs_f64() * 1e6 / a.scans.max(1) as f64;
+        eprintln!(
+            "timing: {} scans in {:.3} ms, {per:.3} us per scan [{target}]",
+            a.scans,
+            scan_time.as_secs_f64() * 1e3
+        );
+    }
+    let several = programs.len() > 1;
+    for program in &programs {
+        let entry = module.program(program).expect("picked program");
+        let prefix = format!("{}.", entry.name);
+        for var in plcc_ir::vars::variables(&module, entry.data) {
+            let name = if several {
+                var.path.as_str()
+            } else {
+                var.path.strip_prefix(&prefix).unwrap_or(&var.path)
+            };
+            match m.read(&var.path) {
+                Ok(v) => println!("{name} = {v}"),
+                Err(e) => {
+                    eprintln!("error: reading {}: {e}", var.path);
+                    return EXIT_FAIL;
+                }
             }
         }
     }

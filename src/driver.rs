@@ -113,7 +113,7 @@ pub fn build_sources(texts: Vec<(String, Vec<u8>)>, opts: &BuildOptions) -> Resu
         timings.push(("verify", t.elapsed()));
         if ok && !opts.no_opt {
             let t = Instant::now();
-            plcc_ir::passes::optimize_module(m);
+            optimise(m);
             timings.push(("optimise", t.elapsed()));
             let t = Instant::now();
             ok = check(m, "optimisation").map_err(|e| diagnostics.extend(e)).is_ok();
@@ -130,6 +130,21 @@ pub fn build_sources(texts: Vec<(String, Vec<u8>)>, opts: &BuildOptions) -> Resu
         timings,
         syntax: compiled.syntax,
     })
+}
+
+/// The optimisation pipeline: every function on its own, then inlining of small and
+/// single-use callees, promotion of instance variables to SSA values, and a last
+/// cleanup; functions nothing calls any more are dropped.
+pub fn optimise(m: &mut Module) {
+    use plcc_ir::passes::{inline, optimize_function, optimize_module, promote};
+    optimize_module(m);
+    inline::run(m, &mut |f| {
+        optimize_function(f);
+    });
+    inline::remove_unreachable_functions(m);
+    if promote::run(m) {
+        optimize_module(m);
+    }
 }
 
 /// Verifies a module; failures are internal errors (bugs in plcc), reported as

@@ -70,9 +70,12 @@ enum Command {
         /// Number of scans
         #[arg(long, default_value_t = 1)]
         scans: u64,
-        /// Cycle time in milliseconds (scan k runs with the clock at k * cycle)
+        /// Cycle time in milliseconds (scan k, from 0, runs with the clock at k * cycle)
         #[arg(long, default_value_t = 10)]
         cycle_ms: u64,
+        /// Print the time the scans took (cold start and compilation excluded)
+        #[arg(long)]
+        timing: bool,
     },
     /// Run a scenario (corpus-expect v1) and check its expectations
     Test {
@@ -109,6 +112,7 @@ fn main() -> ExitCode {
             program,
             scans,
             cycle_ms,
+            timing,
         }) => commands::run(&commands::RunArgs {
             files: common.files,
             lang: common.lang,
@@ -116,6 +120,7 @@ fn main() -> ExitCode {
             program,
             scans,
             cycle_ms,
+            timing,
         }),
         Some(Command::Test {
             common,

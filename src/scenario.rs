@@ -11,7 +11,7 @@ use plcc_ir::ElemType;
 /// One command of a scenario.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Step {
-    /// `run N`: N scans, the clock advancing one cycle before each.
+    /// `run N`: N scans, the clock advancing one cycle after each.
     Run(u64),
     /// `run_at_us T`: one scan with the clock at T microseconds.
     RunAt(i64),
@@ -165,7 +165,10 @@ impl Outcome {
 /// variables are relative to). `cycle_ms` is the clock step of `run N`.
 pub fn run(s: &Scenario, m: &mut dyn Machine, program: &str, cycle_ms: u64) -> Outcome {
     let mut out = Outcome::default();
-    let mut now_us: i64 = 0;
+    // The clock of the next scan: `run` scans at it and steps it by one cycle;
+    // `run_at_us T` scans at T and continues from T + cycle.
+    let mut next_us: i64 = 0;
+    let cycle_us = cycle_ms as i64 * 1000;
     if let Err(e) = m.cold_start() {
         out.error = Some(format!("cold start failed: {e}"));
         return out;
@@ -177,18 +180,20 @@ pub fn run(s: &Scenario, m: &mut dyn Machine, program: &str, cycle_ms: u64) -> O
     for (line, step) in &s.steps {
         let res: Result<(), String> = match step {
             Step::Run(n) => (0..*n).try_for_each(|_| {
-                now_us += cycle_ms as i64 * 1000;
-                scan(m, now_us)
+                let t = next_us;
+                next_us += cycle_us;
+                scan(m, t)
             }),
             Step::RunAt(t) => {
-                now_us = *t;
-                scan(m, now_us)
+                next_us = *t + cycle_us;
+                scan(m, *t)
             }
             Step::Duration(secs) => {
                 let n = ((secs * 1000.0) / cycle_ms.max(1) as f64).ceil().max(1.0) as u64;
                 (0..n).try_for_each(|_| {
-                    now_us += cycle_ms as i64 * 1000;
-                    scan(m, now_us)
+                    let t = next_us;
+                    next_us += cycle_us;
+                    scan(m, t)
                 })
             }
             Step::Set { var, value } => set(m, &format!("{program}.{var}"), value),

@@ -98,7 +98,11 @@ pub(crate) fn flags(s: &CodegenSettings, pic: bool) -> Result<settings::Flags, V
     // in debug builds: it would cost a tenth of the compile time.
     set(
         "enable_verifier",
-        if cfg!(debug_assertions) { "true" } else { "false" },
+        if cfg!(debug_assertions) {
+            "true"
+        } else {
+            "false"
+        },
     )?;
     if !pic {
         // Nothing unwinds through JIT code (helpers never panic).
@@ -130,9 +134,7 @@ fn used_math(module: &Module) -> [bool; 22] {
         for (_, inst) in f.inst_iter() {
             let (idx, arg) = match f.inst(inst) {
                 InstData::Unary { op, arg } => (crate::runtime::math_unary_index(*op), *arg),
-                InstData::Binary { op, args } => {
-                    (crate::runtime::math_binary_index(*op), args[0])
-                }
+                InstData::Binary { op, args } => (crate::runtime::math_binary_index(*op), args[0]),
                 _ => continue,
             };
             if let Some(i) = idx {
@@ -170,6 +172,11 @@ pub(crate) fn compile_functions<M: ClModule>(
     settings: &CodegenSettings,
     isa: &isa::OwnedTargetIsa,
 ) -> Result<Compiled, Vec<Diagnostic>> {
+    // Backends get verified modules; debug builds check it (Cranelift may panic on
+    // ill-typed input, which release builds do not verify).
+    if cfg!(debug_assertions) {
+        verify(module)?;
+    }
     let call_conv = isa.default_call_conv();
     let frontend = isa.frontend_config();
 
@@ -302,25 +309,35 @@ fn compile_parallel<M: ClModule>(
             });
         }
         drop(tx);
+        // Functions are defined in module order, whatever order they finish in, so
+        // that objects come out the same every time.
         let mut code_size = 0u64;
         let mut result = Ok(());
+        let mut pending: Vec<Option<Done>> = (0..n).map(|_| None).collect();
+        let mut cursor = 0;
         for r in rx {
             match r {
                 Ok(d) if result.is_ok() => {
-                    code_size += d.bytes.len() as u64;
-                    let align = d.align.max(min_align).max(sym_align);
-                    if let Err(e) =
-                        cl.define_function_bytes(env.funcs[d.index], align, &d.bytes, &d.relocs)
-                    {
-                        stop.store(true, Ordering::Relaxed);
-                        result = Err(module_error(
-                            codes::E_EMIT,
-                            &format!(
-                                "cannot place the code of `{}`",
-                                env.module.funcs[d.index].name
-                            ),
-                            e,
-                        ));
+                    let i = d.index;
+                    pending[i] = Some(d);
+                    while let Some(d) = pending.get_mut(cursor).and_then(Option::take) {
+                        cursor += 1;
+                        code_size += d.bytes.len() as u64;
+                        let align = d.align.max(min_align).max(sym_align);
+                        if let Err(e) =
+                            cl.define_function_bytes(env.funcs[d.index], align, &d.bytes, &d.relocs)
+                        {
+                            stop.store(true, Ordering::Relaxed);
+                            result = Err(module_error(
+                                codes::E_EMIT,
+                                &format!(
+                                    "cannot place the code of `{}`",
+                                    env.module.funcs[d.index].name
+                                ),
+                                e,
+                            ));
+                            break;
+                        }
                     }
                 }
                 Ok(_) => {}
@@ -378,14 +395,28 @@ fn malformed(name: &str, m: String) -> Vec<Diagnostic> {
     )]
 }
 
-fn define_error(isa: &dyn TargetIsa, name: &str, ctx: &mut Context, e: ModuleError) -> Vec<Diagnostic> {
+fn define_error(
+    isa: &dyn TargetIsa,
+    name: &str,
+    ctx: &mut Context,
+    e: ModuleError,
+) -> Vec<Diagnostic> {
     match e {
         ModuleError::Compilation(c) => codegen_error(isa, name, ctx, c),
-        e => module_error(codes::E_EMIT, &format!("cannot place the code of `{name}`"), e),
+        e => module_error(
+            codes::E_EMIT,
+            &format!("cannot place the code of `{name}`"),
+            e,
+        ),
     }
 }
 
-fn codegen_error(isa: &dyn TargetIsa, name: &str, ctx: &mut Context, e: CodegenError) -> Vec<Diagnostic> {
+fn codegen_error(
+    isa: &dyn TargetIsa,
+    name: &str,
+    ctx: &mut Context,
+    e: CodegenError,
+) -> Vec<Diagnostic> {
     // Re-run the verifier for a readable account of what is wrong.
     let detail = match ctx.verify(isa) {
         Err(errors) => print_errors::pretty_verifier_error(&ctx.func, None, errors),
@@ -396,4 +427,62 @@ fn codegen_error(isa: &dyn TargetIsa, name: &str, ctx: &mut Context, e: CodegenE
         format!("Cranelift cannot compile function `{name}`"),
     )
     .with_note(detail)]
+}
+
+/// The Cranelift IR of every function, as text (for debugging and inspection).
+pub(crate) fn clif_text(module: &Module) -> Result<String, Vec<Diagnostic>> {
+    let settings = CodegenSettings::default();
+    let isa = host_isa(&settings)?;
+    let data = DataLayout::compute(module)?;
+    let call_conv = isa.default_call_conv();
+    let sigs: Vec<Signature> = module
+        .funcs
+        .iter()
+        .map(|f| signature(f, call_conv))
+        .collect();
+    let funcs: Vec<ClFuncId> = (0..module.funcs.len() as u32)
+        .map(ClFuncId::from_u32)
+        .collect();
+    let math: Vec<ClFuncId> = (0..MATH.len() as u32).map(ClFuncId::from_u32).collect();
+    let env = Env {
+        module,
+        layout: &data.layout,
+        data_offsets: &data.offsets,
+        addressing: Addressing::Absolute {
+            data: 0x1000,
+            rt: 0x100,
+        },
+        funcs: &funcs,
+        sigs: &sigs,
+        math: &math,
+        call_conv,
+    };
+    let mut tr = Translator::default();
+    let mut out = String::new();
+    for (i, f) in module.funcs.iter().enumerate() {
+        let mut func = cranelift_codegen::ir::Function::new();
+        tr.translate(
+            &env,
+            plcc_ir::FuncId::new(i),
+            &mut func,
+            isa.frontend_config(),
+        )
+        .map_err(|m| malformed(&f.name, m))?;
+        out.push_str(&format!("; {}\n{}\n", f.name, func.display()));
+    }
+    Ok(out)
+}
+
+/// Runs the IR verifier; its findings become [`codes::E_MALFORMED_IR`] diagnostics.
+pub(crate) fn verify(module: &Module) -> Result<(), Vec<Diagnostic>> {
+    plcc_ir::verify::verify_module(module).map_err(|errs| {
+        errs.iter()
+            .map(|e| {
+                Diagnostic::error_nowhere(
+                    codes::E_MALFORMED_IR,
+                    format!("the native backend was given malformed IR: {e}"),
+                )
+            })
+            .collect()
+    })
 }

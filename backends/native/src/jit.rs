@@ -300,3 +300,13 @@ impl Machine for Jit {
         unsafe { (*self.rt).fault = 0 };
     }
 }
+// SAFETY: the raw pointers are to memory the `Jit` alone owns (nothing else holds
+// them but the compiled code, which runs only inside `&mut self` methods), the code has
+// no thread affinity, and `JITModule` is `Send` itself (checked below). So a machine
+// may move to another thread, as a test runner's thread pool needs.
+unsafe impl Send for Jit {}
+
+const _: () = {
+    const fn is_send<T: Send>() {}
+    is_send::<JITModule>();
+};

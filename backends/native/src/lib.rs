@@ -27,6 +27,12 @@ use plcc_ir::diag::{CodeInfo, Diagnostic};
 use plcc_ir::machine::Machine;
 use plcc_ir::{ElemType, Module};
 
+/// The Cranelift IR the JIT would compile for every function of `module`, as text
+/// (data at the made-up address 0x1000, the runtime context at 0x100).
+pub fn clif(module: &Module) -> Result<String, Vec<Diagnostic>> {
+    codegen::clif_text(module)
+}
+
 /// Diagnostic codes of the native backend.
 pub mod codes {
     /// The target triple is not understood or Cranelift cannot generate code for it.

@@ -35,7 +35,9 @@ pub(crate) fn target_isa(
         )));
     }
     let builder = isa::lookup(triple.clone()).map_err(|e| {
-        target_error(format!("Cranelift cannot generate code for `{triple}`: {e}"))
+        target_error(format!(
+            "Cranelift cannot generate code for `{triple}`: {e}"
+        ))
     })?;
     builder
         .finish(codegen::flags(settings, true)?)

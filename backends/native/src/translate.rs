@@ -11,18 +11,18 @@
 //! float-to-integer conversions saturate at the destination width.
 
 use crate::runtime::{self, MATH, RT_CLOCK_MS, RT_CLOCK_NS, RT_FAULT};
+use cranelift_codegen::entity::packed_option::ReservedValue;
 use cranelift_codegen::ir::{
     self, condcodes, types, AbiParam, BlockArg, InstBuilder, MemFlagsData, Signature,
     StackSlotData, StackSlotKind, UserExternalName, UserFuncName,
 };
-use cranelift_codegen::entity::packed_option::ReservedValue;
 use cranelift_codegen::isa::{CallConv, TargetFrontendConfig};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
 use cranelift_module::{DataId as ClDataId, FuncId as ClFuncId};
 use plcc_ir::layout::Layout;
 use plcc_ir::{
-    BinaryOp, Block, ConvOp, FloatCC, FuncId, Function, InstData, IntCC, Intrinsic, Module,
-    Type, UnaryOp, Value,
+    BinaryOp, Block, ConvOp, FloatCC, FuncId, Function, InstData, IntCC, Intrinsic, Module, Type,
+    UnaryOp, Value,
 };
 
 /// How code finds data memory and the runtime context.
@@ -163,11 +163,13 @@ impl Translator {
 impl State {
     fn reset(&mut self, env: &Env, f: &Function) -> Result<(), TransError> {
         self.values.clear();
-        self.values.resize(f.values.len(), ir::Value::reserved_value());
+        self.values
+            .resize(f.values.len(), ir::Value::reserved_value());
         self.offs.clear();
         self.offs.resize(f.values.len(), 0);
         self.blocks.clear();
-        self.blocks.resize(f.blocks.len(), ir::Block::reserved_value());
+        self.blocks
+            .resize(f.blocks.len(), ir::Block::reserved_value());
         self.slots.clear();
         for &i in &self.touched {
             self.func_refs[i] = None;
@@ -457,7 +459,10 @@ impl Cx<'_, '_, '_> {
     fn func_ref(&mut self, callee: FuncId) -> Result<ir::FuncRef, TransError> {
         let i = callee.index();
         if i >= self.env.funcs.len() {
-            return Err(format!("call to missing function {callee} in `{}`", self.f.name));
+            return Err(format!(
+                "call to missing function {callee} in `{}`",
+                self.f.name
+            ));
         }
         if let Some(r) = self.st.func_refs[i] {
             return Ok(r);
@@ -552,10 +557,7 @@ impl Cx<'_, '_, '_> {
                 let ty = self.ty(args[0]);
                 let mut a = self.val(args[0])?;
                 let mut b = self.val(args[1])?;
-                if matches!(
-                    cond,
-                    IntCC::Slt | IntCC::Sle | IntCC::Sgt | IntCC::Sge
-                ) {
+                if matches!(cond, IntCC::Slt | IntCC::Sle | IntCC::Sgt | IntCC::Sge) {
                     a = self.signed_view(ty, a);
                     b = self.signed_view(ty, b);
                 }
@@ -733,10 +735,7 @@ impl Cx<'_, '_, '_> {
                 } else {
                     let neg = ins.ineg(a);
                     let zero = self.iconst(cl_type(ty), 0);
-                    let is_neg = self
-                        .b
-                        .ins()
-                        .icmp(condcodes::IntCC::SignedLessThan, a, zero);
+                    let is_neg = self.b.ins().icmp(condcodes::IntCC::SignedLessThan, a, zero);
                     self.b.ins().select(is_neg, neg, a)
                 }
             }
@@ -905,13 +904,7 @@ impl Cx<'_, '_, '_> {
         a: ir::Value,
     ) -> Result<ir::Value, TransError> {
         let (cf, ctt) = (cl_type(from), cl_type(to));
-        let bad = || {
-            Err(format!(
-                "{}.{to} of {from} in `{}`",
-                op.name(),
-                self.f.name
-            ))
-        };
+        let bad = || Err(format!("{}.{to} of {from} in `{}`", op.name(), self.f.name));
         Ok(match op {
             ConvOp::Sext => {
                 if !from.is_int() || !to.is_int() {
@@ -929,7 +922,10 @@ impl Cx<'_, '_, '_> {
             ConvOp::Uext => {
                 if cf == ctt {
                     a
-                } else if !from.is_int() || !(to.is_int() || to == Type::Ptr) || ctt.bits() < cf.bits() {
+                } else if !from.is_int()
+                    || !(to.is_int() || to == Type::Ptr)
+                    || ctt.bits() < cf.bits()
+                {
                     return bad();
                 } else {
                     self.b.ins().uextend(ctt, a)
@@ -939,7 +935,11 @@ impl Cx<'_, '_, '_> {
                 if !(from.is_int() || from == Type::Ptr) || !to.is_int() || ctt.bits() > cf.bits() {
                     return bad();
                 }
-                let v = if cf == ctt { a } else { self.b.ins().ireduce(ctt, a) };
+                let v = if cf == ctt {
+                    a
+                } else {
+                    self.b.ins().ireduce(ctt, a)
+                };
                 self.canon(to, v)
             }
             ConvOp::Fpromote => self.b.ins().fpromote(types::F64, a),

@@ -7,8 +7,8 @@ mod common;
 use common::{agg_field, field, ld, st, val, Pair, Prog};
 use plcc_ir::machine::Machine;
 use plcc_ir::{
-    AggDef, ArrayDef, BinaryOp, ConvOp, DataDef, DataKind, ElemType, FieldRole, FuncKind,
-    Function, IntCC, Intrinsic, MemType, PlcValue, StructDef, StructKind, Type,
+    AggDef, ArrayDef, BinaryOp, ConvOp, DataDef, DataKind, ElemType, FieldRole, FuncKind, Function,
+    IntCC, Intrinsic, MemType, PlcValue, StructDef, StructKind, Type,
 };
 use plcc_native::Jit;
 
@@ -46,10 +46,22 @@ fn clock_is_sampled_in_ms_and_ns() {
         st(b, ns, inst, agg, fnn);
     });
     let mut p = Pair::new(m);
-    for us in [0i64, 999, 1000, 1_500_000, -1, -1500, 3_000_000_000_000, i64::MAX / 1000] {
+    for us in [
+        0i64,
+        999,
+        1000,
+        1_500_000,
+        -1,
+        -1500,
+        3_000_000_000_000,
+        i64::MAX / 1000,
+    ] {
         p.set_clock_us(us);
         p.scan();
-        assert_eq!(p.read("main.ms").as_i64(), us.div_euclid(1000) as i32 as i64);
+        assert_eq!(
+            p.read("main.ms").as_i64(),
+            us.div_euclid(1000) as i32 as i64
+        );
         assert_eq!(p.read("main.ns").as_i64(), us.wrapping_mul(1000));
     }
     p.cold_start();
@@ -92,7 +104,11 @@ fn nested_aggregates_arrays_and_paths() {
     let pt = p.module.add_agg(AggDef::Struct(StructDef {
         name: "pt".into(),
         kind: StructKind::Struct,
-        fields: vec![field("x", Type::I16), field("y", Type::F64), field("ok", Type::I1)],
+        fields: vec![
+            field("x", Type::I16),
+            field("y", Type::F64),
+            field("ok", Type::I1),
+        ],
     }));
     // array %row = [3 x %pt] lower 1 ; array %grid = [4 x %row] lower -2
     let row = p.module.add_agg(AggDef::Array(ArrayDef {
@@ -211,13 +227,20 @@ fn nested_aggregates_arrays_and_paths() {
     // Errors.
     assert!(p.jit.read("main.g[2][1].x").is_err());
     assert!(p.jit.read("main.nope").is_err());
-    assert!(p.jit.write("main.i", PlcValue::from_i64(ElemType::Int, 1)).is_err());
+    assert!(p
+        .jit
+        .write("main.i", PlcValue::from_i64(ElemType::Int, 1))
+        .is_err());
     assert!(p.jit.write("main.sum", PlcValue::from_f32(1.0)).is_err());
 }
 
 #[test]
 fn stack_slots_of_scalars_and_aggregates() {
-    let mut p = Prog::new(vec![field("a", Type::I32), field("r", Type::I32), field("s", Type::F64)]);
+    let mut p = Prog::new(vec![
+        field("a", Type::I32),
+        field("r", Type::I32),
+        field("s", Type::F64),
+    ]);
     let arr = p.module.add_agg(AggDef::Array(ArrayDef {
         name: "arr".into(),
         elem: MemType::Scalar(Type::F64),
@@ -274,7 +297,11 @@ fn stack_slots_of_scalars_and_aggregates() {
 #[test]
 fn block_params_with_swapped_arguments() {
     // Fibonacci-like loop passing (b, a+b) and a swap of (x, y) -> (y, x) each round.
-    let p = Prog::new(vec![field("n", Type::I32), field("x", Type::I64), field("y", Type::I64)]);
+    let p = Prog::new(vec![
+        field("n", Type::I32),
+        field("x", Type::I64),
+        field("y", Type::I64),
+    ]);
     let (fnn, fx, fy) = (p.f("n"), p.f("x"), p.f("y"));
     let m = p.finish(|b, inst, agg| {
         let n = ld(b, inst, agg, fnn, Type::I32);
@@ -316,7 +343,12 @@ fn block_params_with_swapped_arguments() {
 fn loop_back_to_the_entry_block_and_layout_out_of_dominance_order() {
     let mut p = Prog::new(vec![field("n", Type::I32), field("r", Type::I32)]);
     // sum(n, acc): entry block is a loop header (branch target).
-    let mut f = Function::new("sum", FuncKind::Function, vec![Type::I32, Type::I32], Some(Type::I32));
+    let mut f = Function::new(
+        "sum",
+        FuncKind::Function,
+        vec![Type::I32, Type::I32],
+        Some(Type::I32),
+    );
     {
         let mut b = plcc_ir::FuncBuilder::new(&mut f);
         let ps = b.params();
@@ -367,14 +399,19 @@ fn calls_extend_narrow_arguments_and_results() {
         field("nb", Type::I1),
     ]);
     // widen(a: i8, b: i16, c: i1) -> i64 = sext(a) + uext(b) + uext(c)
-    let widen = p.func("widen", vec![Type::I8, Type::I16, Type::I1], Some(Type::I64), |b, ps| {
-        let a = b.convert(ConvOp::Sext, Type::I64, ps[0]);
-        let bb = b.convert(ConvOp::Uext, Type::I64, ps[1]);
-        let c = b.convert(ConvOp::Uext, Type::I64, ps[2]);
-        let s = b.binary(BinaryOp::Iadd, a, bb);
-        let s = b.binary(BinaryOp::Iadd, s, c);
-        b.ret(Some(s));
-    });
+    let widen = p.func(
+        "widen",
+        vec![Type::I8, Type::I16, Type::I1],
+        Some(Type::I64),
+        |b, ps| {
+            let a = b.convert(ConvOp::Sext, Type::I64, ps[0]);
+            let bb = b.convert(ConvOp::Uext, Type::I64, ps[1]);
+            let c = b.convert(ConvOp::Uext, Type::I64, ps[2]);
+            let s = b.binary(BinaryOp::Iadd, a, bb);
+            let s = b.binary(BinaryOp::Iadd, s, c);
+            b.ret(Some(s));
+        },
+    );
     // neg8(a: i8) -> i8 ; not1(c: i1) -> i1
     let neg8 = p.func("neg8", vec![Type::I8], Some(Type::I8), |b, ps| {
         let r = b.unary(plcc_ir::UnaryOp::Ineg, ps[0]);
@@ -384,7 +421,14 @@ fn calls_extend_narrow_arguments_and_results() {
         let r = b.unary(plcc_ir::UnaryOp::Bnot, ps[0]);
         b.ret(Some(r));
     });
-    let (f8, f16, fc, fr, fn8, fnb) = (p.f("a8"), p.f("a16"), p.f("c"), p.f("r"), p.f("n8"), p.f("nb"));
+    let (f8, f16, fc, fr, fn8, fnb) = (
+        p.f("a8"),
+        p.f("a16"),
+        p.f("c"),
+        p.f("r"),
+        p.f("n8"),
+        p.f("nb"),
+    );
     let m = p.finish(|b, inst, agg| {
         let a = ld(b, inst, agg, f8, Type::I8);
         let x = ld(b, inst, agg, f16, Type::I16);
@@ -401,7 +445,12 @@ fn calls_extend_narrow_arguments_and_results() {
         st(b, nb, inst, agg, fnb);
     });
     let mut p = Pair::new(m);
-    for (a, x, c) in [(-1i64, 65535u64, 1u64), (127, 0, 0), (-128, 32768, 1), (5, 7, 0)] {
+    for (a, x, c) in [
+        (-1i64, 65535u64, 1u64),
+        (127, 0, 0),
+        (-128, 32768, 1),
+        (5, 7, 0),
+    ] {
         p.write("main.a8", PlcValue::from_i64(ElemType::SInt, a));
         p.write("main.a16", val(Type::I16, x));
         p.write("main.c", PlcValue::from_bool(c != 0));
@@ -548,4 +597,16 @@ fn malformed_ir_is_a_diagnostic_not_a_panic() {
     f.blocks[entry.index()].insts.insert(0, inst);
     let err = Jit::new(&m).err().expect("an error");
     assert_eq!(err[0].code, plcc_native::codes::E_MALFORMED_IR);
+}
+
+#[test]
+fn an_empty_module_runs() {
+    let m = plcc_ir::Module::new();
+    let mut j = Jit::new(&m).unwrap();
+    j.cold_start().unwrap();
+    j.set_clock_us(5);
+    j.scan().unwrap();
+    assert!(!j.fault());
+    assert!(j.read("x").is_err());
+    assert_eq!(j.target(), "host");
 }

@@ -97,18 +97,27 @@ fn object_has_the_expected_symbols() {
         "plcc_d_gcount",
         "sinf",
     ] {
-        assert!(names.iter().any(|n| n == want.trim_start_matches('_')), "missing {want} in {names:?}");
+        assert!(
+            names.iter().any(|n| n == want.trim_start_matches('_')),
+            "missing {want} in {names:?}"
+        );
     }
     // Unused helpers are not referenced.
     assert!(!names.iter().any(|n| n == "cosf"));
     // Data object symbols sit inside plcc_data at their offsets.
     let data = obj.symbols().find(|s| s.name() == Ok("plcc_data")).unwrap();
-    let g = obj.symbols().find(|s| s.name() == Ok("plcc_d_gcount")).unwrap();
+    let g = obj
+        .symbols()
+        .find(|s| s.name() == Ok("plcc_d_gcount"))
+        .unwrap();
     let gsym = arts.symbols.iter().find(|s| s.path == "gcount").unwrap();
     assert_eq!(g.address() - data.address(), gsym.address);
     assert_eq!(gsym.size, 8);
     // Every variable has a symbol.
-    assert!(arts.symbols.iter().any(|s| s.path == "main.t.PT" && s.elem == ElemType::DInt));
+    assert!(arts
+        .symbols
+        .iter()
+        .any(|s| s.path == "main.t.PT" && s.elem == ElemType::DInt));
     assert!(arts.symbols.iter().any(|s| s.path == "main.v[3]"));
     assert!(arts.summary.is_some());
 }
@@ -128,7 +137,8 @@ fn objects_for_other_targets() {
             .unwrap_or_else(|e| panic!("{triple}: {e:?}"));
         let obj = object::File::parse(&*arts.files[0].bytes).expect("a valid object");
         assert!(
-            obj.symbols().any(|s| s.name().is_ok_and(|n| n.ends_with("plcc_f_main"))),
+            obj.symbols()
+                .any(|s| s.name().is_ok_and(|n| n.ends_with("plcc_f_main"))),
             "{triple}"
         );
     }
@@ -211,7 +221,11 @@ fn header_compiles_with_gcc() {
             .arg(&exe)
             .output()
             .unwrap();
-        assert!(out.status.success(), "link: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "link: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         let out = Command::new(&exe).output().unwrap();
         let text = String::from_utf8_lossy(&out.stdout).to_string();
         let want = format!("{} {} 1 0\n0 1\n", 1500 / 7, c_hex_float(0.5f32.sin()));
@@ -236,4 +250,69 @@ fn c_hex_float(x: f32) -> String {
     } else {
         format!("{sign}0x1.{hex}p{exp:+}")
     }
+}
+
+#[test]
+fn many_functions_compile_in_parallel_into_an_object_and_the_jit() {
+    // Enough functions for the worker threads to kick in.
+    let mut p = Prog::new(vec![field("x", Type::I32), field("r", Type::F64)]);
+    let mut fs = Vec::new();
+    for k in 0..100 {
+        let prev = fs.last().copied();
+        fs.push(p.func(
+            &format!("f{k}"),
+            vec![Type::I32],
+            Some(Type::I32),
+            |b, ps| {
+                let c = b.iconst(Type::I32, k + 1);
+                let q = b.binary(BinaryOp::Sdiv, ps[0], c);
+                let r = match prev {
+                    Some(f) => b.call(f, Some(Type::I32), vec![q]).unwrap(),
+                    None => q,
+                };
+                let s = b.binary(BinaryOp::Iadd, r, ps[0]);
+                b.ret(Some(s));
+            },
+        ));
+    }
+    let last = *fs.last().unwrap();
+    let (fx, fr) = (p.f("x"), p.f("r"));
+    let m = p.finish(|b, inst, agg| {
+        let x = ld(b, inst, agg, fx, Type::I32);
+        let y = b.call(last, Some(Type::I32), vec![x]).unwrap();
+        st(b, y, inst, agg, fx);
+        let f = b.convert(plcc_ir::ConvOp::SiToF, Type::F64, y);
+        let c = b.unary(UnaryOp::Cos, f);
+        st(b, c, inst, agg, fr);
+    });
+    let mut first: Option<Vec<u8>> = None;
+    for threads in ["1", "2", "3", "2"] {
+        let arts = NativeBackend
+            .compile(&m, &options(&[("threads", threads)]))
+            .unwrap();
+        // The same bytes however many threads compiled them.
+        match &first {
+            None => first = Some(arts.files[0].bytes.clone()),
+            Some(f) => assert!(
+                *f == arts.files[0].bytes,
+                "object differs with {threads} threads"
+            ),
+        }
+        let obj = object::File::parse(&*arts.files[0].bytes).unwrap();
+        for k in [0, 50, 99] {
+            let name = format!("plcc_f_f{k}");
+            assert!(
+                obj.symbols().any(|s| s.name() == Ok(name.as_str())),
+                "{name}"
+            );
+        }
+    }
+    let mut pair = common::Pair::new(m);
+    pair.write(
+        "main.x",
+        plcc_ir::PlcValue::from_i64(ElemType::DInt, 1_000_000),
+    );
+    pair.scan();
+    pair.scan();
+    pair.compare_all();
 }

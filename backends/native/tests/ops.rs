@@ -27,8 +27,16 @@ fn sx(ty: Type, v: u64) -> i64 {
 
 fn interesting(ty: Type) -> Vec<u64> {
     let w = width(ty) as i64;
-    let min = if w == 64 { i64::MIN } else { -(1i64 << (w - 1)) };
-    let max = if w == 64 { i64::MAX } else { (1i64 << (w - 1)) - 1 };
+    let min = if w == 64 {
+        i64::MIN
+    } else {
+        -(1i64 << (w - 1))
+    };
+    let max = if w == 64 {
+        i64::MAX
+    } else {
+        (1i64 << (w - 1)) - 1
+    };
     let mut v: Vec<u64> = [
         0,
         1,
@@ -128,7 +136,11 @@ fn oracle(op: BinaryOp, ty: Type, a: u64, b: u64) -> (u64, bool) {
 
 /// A program `r := f(a, b)` where `f` applies `op` (so calls with narrow arguments and
 /// results are exercised too).
-fn binary_module(tin: Type, tout: Type, op: impl FnOnce(&mut FuncBuilder, Value, Value) -> Value) -> Module {
+fn binary_module(
+    tin: Type,
+    tout: Type,
+    op: impl FnOnce(&mut FuncBuilder, Value, Value) -> Value,
+) -> Module {
     let mut p = Prog::new(vec![
         common::field("a", tin),
         common::field("b", tin),
@@ -147,7 +159,11 @@ fn binary_module(tin: Type, tout: Type, op: impl FnOnce(&mut FuncBuilder, Value,
     })
 }
 
-fn unary_module(tin: Type, tout: Type, op: impl FnOnce(&mut FuncBuilder, Value) -> Value) -> Module {
+fn unary_module(
+    tin: Type,
+    tout: Type,
+    op: impl FnOnce(&mut FuncBuilder, Value) -> Value,
+) -> Module {
     binary_module(tin, tout, |b, a, _| op(b, a))
 }
 
@@ -175,14 +191,7 @@ fn integer_binary_ops_at_every_width() {
                 for &b in &vals {
                     let got = run2(&mut p, ty, ty, a, b);
                     let want = oracle(op, ty, a, b);
-                    assert_eq!(
-                        got,
-                        want,
-                        "{} {ty} {} {}",
-                        op.name(),
-                        sx(ty, a),
-                        sx(ty, b)
-                    );
+                    assert_eq!(got, want, "{} {ty} {} {}", op.name(), sx(ty, a), sx(ty, b));
                 }
             }
         }
@@ -191,7 +200,12 @@ fn integer_binary_ops_at_every_width() {
 
 #[test]
 fn division_by_zero_faults_without_a_signal() {
-    for op in [BinaryOp::Sdiv, BinaryOp::Udiv, BinaryOp::Srem, BinaryOp::Urem] {
+    for op in [
+        BinaryOp::Sdiv,
+        BinaryOp::Udiv,
+        BinaryOp::Srem,
+        BinaryOp::Urem,
+    ] {
         for ty in INTS {
             let mut p = Pair::new(binary_module(ty, ty, |b, x, y| b.binary(op, x, y)));
             assert!(!p.fault());
@@ -216,7 +230,8 @@ fn division_by_zero_faults_without_a_signal() {
 fn bool_operations() {
     use BinaryOp::*;
     let t = Type::I1;
-    for op in [Band, Bor, Bxor, Iadd, Isub, Imul, Ishl, Ushr, Sshr, Rotl, Rotr, Sdiv, Udiv, Srem, Urem] {
+    // The verifier allows only the logical operations on i1.
+    for op in [Band, Bor, Bxor] {
         let mut p = Pair::new(binary_module(t, t, |b, x, y| b.binary(op, x, y)));
         for a in 0..2 {
             for b in 0..2 {
@@ -232,7 +247,7 @@ fn bool_operations() {
             }
         }
     }
-    for op in [UnaryOp::Bnot, UnaryOp::Ineg, UnaryOp::Iabs] {
+    for op in [UnaryOp::Bnot] {
         let mut p = Pair::new(unary_module(t, t, |b, x| b.unary(op, x)));
         for a in 0..2 {
             let (r, _) = run2(&mut p, t, t, a, 0);
@@ -292,7 +307,15 @@ fn integer_unary_ops_and_comparisons() {
 
 #[test]
 fn select_of_every_type() {
-    for ty in [Type::I1, Type::I8, Type::I16, Type::I32, Type::I64, Type::F32, Type::F64] {
+    for ty in [
+        Type::I1,
+        Type::I8,
+        Type::I16,
+        Type::I32,
+        Type::I64,
+        Type::F32,
+        Type::F64,
+    ] {
         let mut p = Pair::new(binary_module(ty, ty, |b, x, y| {
             let z = common::zero(b, ty);
             let c = if ty.is_float() {
@@ -317,11 +340,50 @@ fn select_of_every_type() {
 
 fn floats32() -> Vec<f32> {
     vec![
-        0.0, -0.0, 0.5, -0.5, 1.5, 2.5, -2.5, 3.5, 1.0, -1.0, 0.1, 100.25, 1e10, -1e10, 127.9,
-        128.0, -128.9, -129.0, 255.9, 256.0, 32767.5, 32768.0, -32768.9, 65535.9, 65536.0,
-        2147483520.0, 2147483648.0, -2147483648.0, 4294967040.0, 4294967296.0,
-        9.223372e18, -9.223372e18, 1.8446743e19, 2e19, f32::MAX, f32::MIN, f32::MIN_POSITIVE,
-        1e-45, f32::INFINITY, f32::NEG_INFINITY, f32::NAN, -f32::NAN, 0.49999997, 8388609.0,
+        0.0,
+        -0.0,
+        0.5,
+        -0.5,
+        1.5,
+        2.5,
+        -2.5,
+        3.5,
+        1.0,
+        -1.0,
+        0.1,
+        100.25,
+        1e10,
+        -1e10,
+        127.9,
+        128.0,
+        -128.9,
+        -129.0,
+        255.9,
+        256.0,
+        32767.5,
+        32768.0,
+        -32768.9,
+        65535.9,
+        65536.0,
+        2147483520.0,
+        2147483648.0,
+        -2147483648.0,
+        4294967040.0,
+        4294967296.0,
+        9.223372e18,
+        -9.223372e18,
+        1.8446743e19,
+        2e19,
+        f32::MAX,
+        f32::MIN,
+        f32::MIN_POSITIVE,
+        1e-45,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::NAN,
+        -f32::NAN,
+        0.49999997,
+        8388609.0,
     ]
 }
 
@@ -365,7 +427,7 @@ fn float_inputs(ty: Type) -> Vec<u64> {
 #[test]
 fn float_to_integer_saturates_at_every_width() {
     for from in [Type::F32, Type::F64] {
-        for to in INTS.into_iter().chain([Type::I1]) {
+        for to in INTS {
             for op in [ConvOp::FToSi, ConvOp::FToUi] {
                 let mut p = Pair::new(unary_module(from, to, |b, x| b.convert(op, to, x)));
                 for a in float_inputs(from) {
@@ -398,25 +460,46 @@ fn float_to_integer_saturates_at_every_width() {
 
 #[test]
 fn integer_to_float_rounds_to_nearest_even() {
-    for from in INTS.into_iter().chain([Type::I1]) {
+    for from in INTS {
         for to in [Type::F32, Type::F64] {
             for op in [ConvOp::SiToF, ConvOp::UiToF] {
                 let mut p = Pair::new(unary_module(from, to, |b, x| b.convert(op, to, x)));
-                let mut inputs = if from == Type::I1 { vec![0, 1] } else { interesting(from) };
-                inputs.extend([mask(from, 16777217), mask(from, (1u64 << 53) + 1), mask(from, u64::MAX - 1023)]);
+                let mut inputs = if from == Type::I1 {
+                    vec![0, 1]
+                } else {
+                    interesting(from)
+                };
+                inputs.extend([
+                    mask(from, 16777217),
+                    mask(from, (1u64 << 53) + 1),
+                    mask(from, u64::MAX - 1023),
+                ]);
                 if from == Type::I1 {
                     inputs.truncate(2);
                 }
                 for a in inputs {
                     let v = if op == ConvOp::SiToF {
-                        let s = if from == Type::I1 { -(a as i64) } else { sx(from, a) };
-                        if to == Type::F32 { (s as f32).to_bits() as u64 } else { (s as f64).to_bits() }
+                        let s = if from == Type::I1 {
+                            -(a as i64)
+                        } else {
+                            sx(from, a)
+                        };
+                        if to == Type::F32 {
+                            (s as f32).to_bits() as u64
+                        } else {
+                            (s as f64).to_bits()
+                        }
                     } else if to == Type::F32 {
                         (a as f32).to_bits() as u64
                     } else {
                         (a as f64).to_bits()
                     };
-                    assert_eq!(run2(&mut p, from, to, a, 0), (v, false), "{}.{to} {from} {a}", op.name());
+                    assert_eq!(
+                        run2(&mut p, from, to, a, 0),
+                        (v, false),
+                        "{}.{to} {from} {a}",
+                        op.name()
+                    );
                 }
             }
         }
@@ -428,9 +511,19 @@ fn integer_width_conversions() {
     let all = [Type::I1, Type::I8, Type::I16, Type::I32, Type::I64];
     for from in all {
         for to in all {
-            let inputs = if from == Type::I1 { vec![0, 1] } else { interesting(from) };
-            if to.bits() >= from.bits() {
-                for op in [ConvOp::Sext, ConvOp::Uext] {
+            let inputs = if from == Type::I1 {
+                vec![0, 1]
+            } else {
+                interesting(from)
+            };
+            if to.bits() > from.bits() {
+                // sext takes i8..i64 only; uext also takes i1.
+                let ops: &[ConvOp] = if from == Type::I1 {
+                    &[ConvOp::Uext]
+                } else {
+                    &[ConvOp::Sext, ConvOp::Uext]
+                };
+                for &op in ops {
                     let mut p = Pair::new(unary_module(from, to, |b, x| b.convert(op, to, x)));
                     for &a in &inputs {
                         let want = if op == ConvOp::Uext {
@@ -440,12 +533,19 @@ fn integer_width_conversions() {
                         } else {
                             mask(to, sx(from, a) as u64)
                         };
-                        assert_eq!(run2(&mut p, from, to, a, 0).0, want, "{}.{to} {from} {a}", op.name());
+                        assert_eq!(
+                            run2(&mut p, from, to, a, 0).0,
+                            want,
+                            "{}.{to} {from} {a}",
+                            op.name()
+                        );
                     }
                 }
             }
-            if to.bits() <= from.bits() {
-                let mut p = Pair::new(unary_module(from, to, |b, x| b.convert(ConvOp::Itrunc, to, x)));
+            if to.bits() < from.bits() && from != Type::I1 {
+                let mut p = Pair::new(unary_module(from, to, |b, x| {
+                    b.convert(ConvOp::Itrunc, to, x)
+                }));
                 for &a in &inputs {
                     assert_eq!(run2(&mut p, from, to, a, 0).0, mask(to, a));
                 }
@@ -456,7 +556,9 @@ fn integer_width_conversions() {
 
 #[test]
 fn float_conversions_and_bitcasts() {
-    let mut p = Pair::new(unary_module(Type::F32, Type::F64, |b, x| b.convert(ConvOp::Fpromote, Type::F64, x)));
+    let mut p = Pair::new(unary_module(Type::F32, Type::F64, |b, x| {
+        b.convert(ConvOp::Fpromote, Type::F64, x)
+    }));
     for a in float_inputs(Type::F32) {
         let want = (f32::from_bits(a as u32) as f64).to_bits();
         let (got, _) = run2(&mut p, Type::F32, Type::F64, a, 0);
@@ -467,8 +569,13 @@ fn float_conversions_and_bitcasts() {
             assert!(f64::from_bits(got).is_nan());
         }
     }
-    let mut p = Pair::new(unary_module(Type::F64, Type::F32, |b, x| b.convert(ConvOp::Fdemote, Type::F32, x)));
-    for a in float_inputs(Type::F64).into_iter().chain([1.0000000596046448f64.to_bits(), 1.0000001788139343f64.to_bits()]) {
+    let mut p = Pair::new(unary_module(Type::F64, Type::F32, |b, x| {
+        b.convert(ConvOp::Fdemote, Type::F32, x)
+    }));
+    for a in float_inputs(Type::F64).into_iter().chain([
+        1.0000000596046448f64.to_bits(),
+        1.0000001788139343f64.to_bits(),
+    ]) {
         let want = (f64::from_bits(a) as f32).to_bits() as u64;
         let (got, _) = run2(&mut p, Type::F64, Type::F32, a, 0);
         if !f32::from_bits(want as u32).is_nan() {
@@ -536,12 +643,30 @@ fn float_unary_ops_match_the_rust_library_bit_for_bit() {
         for op in UnaryOp::ALL.into_iter().filter(|o| !o.is_int_op()) {
             let mut p = Pair::new(unary_module(ty, ty, |b, x| b.unary(op, x)));
             let mut inputs = float_inputs(ty);
-            inputs.extend([0.3, 0.7, 1.2345, -0.75, 2.0, 10.0, 1e-3, 88.7, 710.0, 3.14159].map(|x| fbits(ty, x)));
+            inputs.extend(
+                [
+                    0.3,
+                    0.7,
+                    1.2345,
+                    -0.75,
+                    2.0,
+                    10.0,
+                    1e-3,
+                    88.7,
+                    710.0,
+                    std::f64::consts::PI,
+                ]
+                .map(|x| fbits(ty, x)),
+            );
             for a in inputs {
                 let (got, fault) = run2(&mut p, ty, ty, a, 0);
                 let want = float_unary_want(op, ty, a);
                 assert!(!fault);
-                assert!(same_float(ty, got, want), "{} {ty} of {a:#x}: {got:#x} vs {want:#x}", op.name());
+                assert!(
+                    same_float(ty, got, want),
+                    "{} {ty} of {a:#x}: {got:#x} vs {want:#x}",
+                    op.name()
+                );
             }
         }
     }
@@ -551,7 +676,16 @@ fn float_unary_ops_match_the_rust_library_bit_for_bit() {
 fn nearest_ties_to_even() {
     for ty in [Type::F32, Type::F64] {
         let mut p = Pair::new(unary_module(ty, ty, |b, x| b.unary(UnaryOp::Fnearest, x)));
-        for (x, r) in [(0.5, 0.0), (1.5, 2.0), (2.5, 2.0), (-0.5, -0.0), (-1.5, -2.0), (-2.5, -2.0), (3.5, 4.0), (0.49999997, 0.0)] {
+        for (x, r) in [
+            (0.5, 0.0),
+            (1.5, 2.0),
+            (2.5, 2.0),
+            (-0.5, -0.0),
+            (-1.5, -2.0),
+            (-2.5, -2.0),
+            (3.5, 4.0),
+            (0.49999997, 0.0),
+        ] {
             let got = run2(&mut p, ty, ty, fbits(ty, x), 0).0;
             assert_eq!(got, fbits(ty, r), "fnearest {x}");
         }
@@ -563,9 +697,23 @@ fn float_binary_ops_and_comparisons() {
     for ty in [Type::F32, Type::F64] {
         for op in BinaryOp::ALL.into_iter().filter(|o| !o.is_int_op()) {
             let mut p = Pair::new(binary_module(ty, ty, |b, x, y| b.binary(op, x, y)));
-            let inputs: Vec<u64> = [0.0, -0.0, 1.0, -1.0, 0.5, 2.0, 3.0, -2.5, 10.0, 1e30, f64::INFINITY, f64::NAN, 1e-40]
-                .map(|x| fbits(ty, x))
-                .to_vec();
+            let inputs: Vec<u64> = [
+                0.0,
+                -0.0,
+                1.0,
+                -1.0,
+                0.5,
+                2.0,
+                3.0,
+                -2.5,
+                10.0,
+                1e30,
+                f64::INFINITY,
+                f64::NAN,
+                1e-40,
+            ]
+            .map(|x| fbits(ty, x))
+            .to_vec();
             for &a in &inputs {
                 for &b in &inputs {
                     let (got, fault) = run2(&mut p, ty, ty, a, b);
@@ -588,16 +736,36 @@ fn float_binary_ops_and_comparisons() {
                     } else {
                         go!(f64::from_bits(a), f64::from_bits(b)).to_bits()
                     };
-                    assert!(same_float(ty, got, want), "{} {ty} {a:#x} {b:#x}", op.name());
+                    assert!(
+                        same_float(ty, got, want),
+                        "{} {ty} {a:#x} {b:#x}",
+                        op.name()
+                    );
                 }
             }
         }
         for cc in FloatCC::ALL {
             let mut p = Pair::new(binary_module(ty, Type::I1, |b, x, y| b.fcmp(cc, x, y)));
-            let inputs: Vec<u64> = [0.0, -0.0, 1.0, -1.0, f64::INFINITY, f64::NAN].map(|x| fbits(ty, x)).to_vec();
+            let inputs: Vec<u64> = [0.0, -0.0, 1.0, -1.0, f64::INFINITY, f64::NAN]
+                .map(|x| fbits(ty, x))
+                .to_vec();
             for &a in &inputs {
                 for &b in &inputs {
-                    let (x, y) = (f64::from_bits(fbits(Type::F64, if ty == Type::F32 { f32::from_bits(a as u32) as f64 } else { f64::from_bits(a) })), if ty == Type::F32 { f32::from_bits(b as u32) as f64 } else { f64::from_bits(b) });
+                    let (x, y) = (
+                        f64::from_bits(fbits(
+                            Type::F64,
+                            if ty == Type::F32 {
+                                f32::from_bits(a as u32) as f64
+                            } else {
+                                f64::from_bits(a)
+                            },
+                        )),
+                        if ty == Type::F32 {
+                            f32::from_bits(b as u32) as f64
+                        } else {
+                            f64::from_bits(b)
+                        },
+                    );
                     let want = match cc {
                         FloatCC::Eq => x == y,
                         FloatCC::Ne => x != y,
@@ -606,7 +774,12 @@ fn float_binary_ops_and_comparisons() {
                         FloatCC::Gt => x > y,
                         FloatCC::Ge => x >= y,
                     };
-                    assert_eq!(run2(&mut p, ty, Type::I1, a, b).0, want as u64, "fcmp {} {x} {y}", cc.name());
+                    assert_eq!(
+                        run2(&mut p, ty, Type::I1, a, b).0,
+                        want as u64,
+                        "fcmp {} {x} {y}",
+                        cc.name()
+                    );
                 }
             }
         }

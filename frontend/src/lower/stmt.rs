@@ -397,11 +397,28 @@ impl<'s> BodyCx<'_, 's> {
         let i = self.load_place(&place);
         let next = self.b.binary(BinaryOp::Iadd, i, step);
         self.store_place(&place, next);
-        // Overflow: stepping up gave a smaller value, or down a larger one.
-        let wrapped_up = self.b.icmp(lt, next, i);
-        let wrapped_down = self.b.icmp(gt, next, i);
-        let wrapped = self.b.select(going_up, wrapped_up, wrapped_down);
-        self.b.brif(wrapped, exit, vec![], header, vec![]);
+        // With a constant end and step the last step cannot overflow when the end is
+        // at least one step inside the type's range: no check needed then.
+        let end_const = match self.l.const_eval(to, self.pou) {
+            Some((ConstVal::Int(v), _)) => Some(v),
+            _ => None,
+        };
+        let safe = match (end_const, step_const, crate::types::int_range(e)) {
+            (Some(end), Some(st), Some((lo, hi))) => {
+                (st > 0 && end.checked_add(st).is_some_and(|x| x <= hi))
+                    || (st < 0 && end.checked_add(st).is_some_and(|x| x >= lo))
+            }
+            _ => false,
+        };
+        if safe {
+            self.b.jump(header, vec![]);
+        } else {
+            // Overflow: stepping up gave a smaller value, or down a larger one.
+            let wrapped_up = self.b.icmp(lt, next, i);
+            let wrapped_down = self.b.icmp(gt, next, i);
+            let wrapped = self.b.select(going_up, wrapped_up, wrapped_down);
+            self.b.brif(wrapped, exit, vec![], header, vec![]);
+        }
         self.b.switch_to(exit);
     }
 }

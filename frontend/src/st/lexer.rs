@@ -254,6 +254,12 @@ pub const NEWLINE_BEFORE: u8 = 1;
 /// `Token::flags` bit: an unterminated literal that swallowed the rest of its line
 /// (already reported; the parser does not report what is missing after it).
 pub const SWALLOWED: u8 = 2;
+/// `Token::flags` bit: a [`Tok::Lit`] integer literal without prefix whose value,
+/// between 0 and `u32::MAX`, is `data` itself (most literals; no table entry).
+pub const INLINE_INT: u8 = 4;
+/// `Token::flags` bit: a [`Tok::Lit`] real literal without prefix; its value is the
+/// token's text without `_` (no table entry).
+pub const INLINE_REAL: u8 = 8;
 
 /// One token: 16 bytes, `Copy`.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -266,7 +272,8 @@ pub struct Token {
     pub start: u32,
     /// Byte offset one past its last byte.
     pub end: u32,
-    /// The symbol of an [`Tok::Ident`], the literal index of a [`Tok::Lit`], else 0.
+    /// The symbol of an [`Tok::Ident`]; for a [`Tok::Lit`] the index of its value in
+    /// [`Lexed::literals`], or the value itself with [`INLINE_INT`]; else 0.
     pub data: u32,
 }
 
@@ -287,6 +294,31 @@ pub struct Lexed {
     /// An unterminated comment, pragma or string ran into the end of the file (the
     /// parser then keeps quiet about what is missing at the end).
     pub eof_in_error: bool,
+}
+
+impl Lexed {
+    /// The value of the literal token `t` (`text` is the lexed source).
+    pub fn literal(&self, text: &str, t: Token) -> Literal {
+        let kind = if t.flags & INLINE_INT != 0 {
+            LiteralKind::Int(t.data as i128)
+        } else if t.flags & INLINE_REAL != 0 {
+            let s = text.get(t.start as usize..t.end as usize).unwrap_or("0.0");
+            LiteralKind::Real(s.chars().filter(|&c| c != '_').collect::<String>().into())
+        } else {
+            return self
+                .literals
+                .get(t.data as usize)
+                .cloned()
+                .unwrap_or(Literal {
+                    kind: LiteralKind::Int(0),
+                    type_prefix: None,
+                });
+        };
+        Literal {
+            kind,
+            type_prefix: None,
+        }
+    }
 }
 
 /// What the word before a `#` makes of the literal after it.
@@ -311,8 +343,8 @@ fn prefix_of(upper: &[u8]) -> Option<Prefix> {
         b"DT" | b"DATE_AND_TIME" => Prefix::Dt(false),
         b"LDT" | b"LDATE_AND_TIME" => Prefix::Dt(true),
         b"BOOL" | b"SINT" | b"INT" | b"DINT" | b"LINT" | b"USINT" | b"UINT" | b"UDINT"
-        | b"ULINT" | b"BYTE" | b"WORD" | b"DWORD" | b"LWORD" | b"REAL" | b"LREAL"
-        | b"STRING" | b"WSTRING" | b"CHAR" | b"WCHAR" => Prefix::Typed,
+        | b"ULINT" | b"BYTE" | b"WORD" | b"DWORD" | b"LWORD" | b"REAL" | b"LREAL" | b"STRING"
+        | b"WSTRING" | b"CHAR" | b"WCHAR" => Prefix::Typed,
         _ => return None,
     })
 }
@@ -342,7 +374,9 @@ pub fn lex(
         text,
         src: text.as_bytes(),
         pos: 0,
-        tokens: Vec::with_capacity(text.len() / 5 + 16),
+        // ST averages about 4 bytes per token; pages of the unused tail are never
+        // touched, while growing would copy the whole vector.
+        tokens: Vec::with_capacity(text.len() / 3 + 16),
         literals: Vec::new(),
         diags,
         interner,
@@ -351,6 +385,15 @@ pub fn lex(
         flags: 0,
         eof_in_error: false,
         swallowed: false,
+        word_cache: vec![
+            CachedWord {
+                start: 0,
+                len: 0,
+                kind: Tok::Ident,
+                data: 0,
+            };
+            1 << WORD_CACHE_BITS
+        ],
     };
     lx.run();
     Lexed {
@@ -358,6 +401,19 @@ pub fn lex(
         literals: lx.literals,
         eof_in_error: lx.eof_in_error,
     }
+}
+
+/// log2 of the number of entries of the lexer's word cache.
+const WORD_CACHE_BITS: u32 = 12;
+
+/// A word already lexed: where it is written, and its token.
+#[derive(Copy, Clone)]
+struct CachedWord {
+    start: u32,
+    /// 0: empty entry.
+    len: u32,
+    kind: Tok,
+    data: u32,
 }
 
 struct Lexer<'a> {
@@ -376,6 +432,7 @@ struct Lexer<'a> {
     eof_in_error: bool,
     /// The literal being lexed is an unterminated string.
     swallowed: bool,
+    word_cache: Vec<CachedWord>,
 }
 
 impl<'a> Lexer<'a> {
@@ -401,6 +458,12 @@ impl<'a> Lexer<'a> {
             data,
         });
         self.flags = 0;
+    }
+
+    fn flag_last(&mut self, flag: u8) {
+        if let Some(t) = self.tokens.last_mut() {
+            t.flags |= flag;
+        }
     }
 
     fn push_lit(&mut self, start: usize, kind: LiteralKind, type_prefix: Option<Ident>) {
@@ -439,8 +502,17 @@ impl<'a> Lexer<'a> {
                     continue;
                 }
                 b'0'..=b'9' => {
-                    let kind = self.number(false);
-                    self.push_lit(start, kind, None);
+                    match self.number(false, true) {
+                        LiteralKind::Int(v) if (0..=u32::MAX as i128).contains(&v) => {
+                            self.push(Tok::Lit, start, v as u32);
+                            self.flag_last(INLINE_INT);
+                        }
+                        LiteralKind::Real(_) => {
+                            self.push(Tok::Lit, start, 0);
+                            self.flag_last(INLINE_REAL);
+                        }
+                        kind => self.push_lit(start, kind, None),
+                    }
                     continue;
                 }
                 b'\'' | b'"' => {
@@ -645,7 +717,13 @@ impl<'a> Lexer<'a> {
         } else {
             format!("unexpected character `{shown}`")
         };
-        self.error(codes::UNEXPECTED_CHAR, msg, start, self.pos, "not valid here");
+        self.error(
+            codes::UNEXPECTED_CHAR,
+            msg,
+            start,
+            self.pos,
+            "not valid here",
+        );
         self.push(Tok::Error, start, 0);
     }
 
@@ -658,23 +736,46 @@ impl<'a> Lexer<'a> {
             i += 1;
         }
         self.pos = i;
-        self.upper.clear();
-        for &b in &src[start..i] {
-            self.upper.push(b.to_ascii_uppercase() as char);
-        }
+        let word = &src[start..i];
         if self.peek(0) == b'#' {
+            self.upper.clear();
+            self.upper
+                .extend(word.iter().map(|b| b.to_ascii_uppercase() as char));
             if let Some(p) = prefix_of(self.upper.as_bytes()) {
                 self.prefixed_literal(start, p);
                 return;
             }
         }
+        // Most words were met before, spelt the same way: find them by their bytes.
+        let mut h = word.len() as u32;
+        for &b in word {
+            h = h.wrapping_mul(31).wrapping_add(b as u32);
+        }
+        let slot = (h.wrapping_mul(0x9E37_79B9) >> (32 - WORD_CACHE_BITS)) as usize;
+        let e = self.word_cache[slot];
+        if e.len as usize == word.len()
+            && &src[e.start as usize..e.start as usize + word.len()] == word
+        {
+            self.push(e.kind, start, e.data);
+            return;
+        }
+        self.upper.clear();
+        self.upper
+            .extend(word.iter().map(|b| b.to_ascii_uppercase() as char));
         let sym = self.interner.intern_upper(&self.upper);
         let kind = self
             .keywords
             .get(sym.0 as usize)
             .copied()
             .unwrap_or(Tok::Ident);
-        self.push(kind, start, if kind == Tok::Ident { sym.0 } else { 0 });
+        let data = if kind == Tok::Ident { sym.0 } else { 0 };
+        self.word_cache[slot] = CachedWord {
+            start: start as u32,
+            len: word.len() as u32,
+            kind,
+            data,
+        };
+        self.push(kind, start, data);
     }
 
     /// After `PREFIX` and before its `#`.
@@ -746,7 +847,10 @@ impl<'a> Lexer<'a> {
                     Prefix::Duration(long) => LiteralKind::Duration { ns: 0, long },
                     Prefix::Date(long) => LiteralKind::Date { days: 0, long },
                     Prefix::Tod(long) => LiteralKind::TimeOfDay { ns: 0, long },
-                    _ => LiteralKind::DateTime { ns: 0, long: matches!(prefix, Prefix::Dt(true)) },
+                    _ => LiteralKind::DateTime {
+                        ns: 0,
+                        long: matches!(prefix, Prefix::Dt(true)),
+                    },
                 }
             }
         };
@@ -764,7 +868,7 @@ impl<'a> Lexer<'a> {
         let is_bool = &self.upper == "BOOL";
         let c = self.peek(0);
         let kind = if c.is_ascii_digit() {
-            self.number(neg)
+            self.number(neg, false)
         } else if c.is_ascii_alphabetic() && !neg {
             let ws = self.pos;
             while self.pos < src.len() && is_ident_byte(src[self.pos]) {
@@ -778,7 +882,13 @@ impl<'a> Lexer<'a> {
                         "malformed `{}#` literal: expected a number, TRUE or FALSE, found `{other}`",
                         &self.text[start..word_end]
                     );
-                    self.error(codes::MALFORMED_TYPED_LITERAL, msg, start, self.pos, "malformed literal");
+                    self.error(
+                        codes::MALFORMED_TYPED_LITERAL,
+                        msg,
+                        start,
+                        self.pos,
+                        "malformed literal",
+                    );
                     LiteralKind::Int(0)
                 }
             }
@@ -789,7 +899,13 @@ impl<'a> Lexer<'a> {
                 "malformed `{}#` literal: expected a value after `#`",
                 &self.text[start..word_end]
             );
-            self.error(codes::MALFORMED_TYPED_LITERAL, msg, start, self.pos, "value missing");
+            self.error(
+                codes::MALFORMED_TYPED_LITERAL,
+                msg,
+                start,
+                self.pos,
+                "value missing",
+            );
             LiteralKind::Int(0)
         };
         if is_bool {
@@ -798,8 +914,15 @@ impl<'a> Lexer<'a> {
                     0 => LiteralKind::Bool(false),
                     1 => LiteralKind::Bool(true),
                     _ => {
-                        let msg = "malformed `BOOL#` literal: the value must be 0, 1, TRUE or FALSE";
-                        self.error(codes::MALFORMED_TYPED_LITERAL, msg.into(), start, self.pos, "not a BOOL");
+                        let msg =
+                            "malformed `BOOL#` literal: the value must be 0, 1, TRUE or FALSE";
+                        self.error(
+                            codes::MALFORMED_TYPED_LITERAL,
+                            msg.into(),
+                            start,
+                            self.pos,
+                            "not a BOOL",
+                        );
                         LiteralKind::Bool(false)
                     }
                 };
@@ -809,8 +932,9 @@ impl<'a> Lexer<'a> {
     }
 
     /// A decimal, based or real number starting at a digit. `neg` negates it (for the
-    /// `-` of a typed literal).
-    fn number(&mut self, neg: bool) -> LiteralKind {
+    /// `-` of a typed literal). With `inline_real` the text of a real is left empty
+    /// (the token's text is the value).
+    fn number(&mut self, neg: bool, inline_real: bool) -> LiteralKind {
         let start = self.pos;
         let src = self.src;
         let mut i = start;
@@ -865,7 +989,9 @@ impl<'a> Lexer<'a> {
                 }
             }
             self.pos = i;
-            kind = if real {
+            kind = if real && inline_real {
+                LiteralKind::Real(Box::default())
+            } else if real {
                 let mut t = String::with_capacity(i - start + 1);
                 if neg {
                     t.push('-');
@@ -971,11 +1097,16 @@ impl<'a> Lexer<'a> {
             );
         }
         let mut errors = Vec::new();
-        let units =
-            literals::decode_string(&self.text[start + 1..content_end], wide, &mut errors);
+        let units = literals::decode_string(&self.text[start + 1..content_end], wide, &mut errors);
         for e in errors {
             let s = start + 1 + e.offset;
-            self.error(codes::INVALID_ESCAPE, e.message, s, s + e.len, "invalid escape");
+            self.error(
+                codes::INVALID_ESCAPE,
+                e.message,
+                s,
+                s + e.len,
+                "invalid escape",
+            );
         }
         LiteralKind::String { wide, units }
     }
@@ -1056,10 +1187,15 @@ mod tests {
     fn lit(src: &str) -> Literal {
         let (l, d, _) = lx(src);
         assert!(d.is_empty(), "unexpected diagnostics for {src:?}: {d:?}");
-        assert_eq!(l.tokens.len(), 2, "{src:?} should be one token: {:?}", l.tokens);
+        assert_eq!(
+            l.tokens.len(),
+            2,
+            "{src:?} should be one token: {:?}",
+            l.tokens
+        );
         assert_eq!(l.tokens[0].kind, Tok::Lit);
         assert_eq!(l.tokens[0].end as usize, src.len());
-        l.literals[l.tokens[0].data as usize].clone()
+        l.literal(src, l.tokens[0])
     }
 
     fn lit_kind(src: &str) -> LiteralKind {
@@ -1097,9 +1233,15 @@ mod tests {
     fn ranges_bits_and_members_are_not_reals() {
         assert_eq!(kinds("1..10"), vec![T::Lit, T::DotDot, T::Lit, T::Eof]);
         assert_eq!(kinds("x.3"), vec![T::Ident, T::Dot, T::Lit, T::Eof]);
-        assert_eq!(kinds("a.b.c"), vec![T::Ident, T::Dot, T::Ident, T::Dot, T::Ident, T::Eof]);
+        assert_eq!(
+            kinds("a.b.c"),
+            vec![T::Ident, T::Dot, T::Ident, T::Dot, T::Ident, T::Eof]
+        );
         assert_eq!(kinds("x.%X3"), vec![T::Ident, T::Dot, T::Address, T::Eof]);
-        assert_eq!(kinds("E1 := 1E1"), vec![T::Ident, T::Assign, T::Lit, T::Eof]);
+        assert_eq!(
+            kinds("E1 := 1E1"),
+            vec![T::Ident, T::Assign, T::Lit, T::Eof]
+        );
     }
 
     #[test]
@@ -1118,14 +1260,20 @@ mod tests {
         assert_eq!(lit_kind("UINT#2#1010"), L::Int(10));
         assert_eq!(
             lit_kind("STRING#'ABC'"),
-            L::String { wide: false, units: vec![65, 66, 67] }
+            L::String {
+                wide: false,
+                units: vec![65, 66, 67]
+            }
         );
         let (l, _, i) = lx("int#5");
         let p = l.literals[0].type_prefix.unwrap();
         assert_eq!(i.name(p.sym), "INT");
         assert_eq!((p.span.start, p.span.end), (0, 3));
         // Not an elementary type: an enumeration value, left to the parser.
-        assert_eq!(kinds("Color#Red"), vec![T::Ident, T::Hash, T::Ident, T::Eof]);
+        assert_eq!(
+            kinds("Color#Red"),
+            vec![T::Ident, T::Hash, T::Ident, T::Eof]
+        );
     }
 
     #[test]
@@ -1142,19 +1290,82 @@ mod tests {
         assert_eq!(lit_kind("T#1m_30s"), d(90 * S));
         assert_eq!(lit_kind("T#1.5h"), d(5400 * S));
         assert_eq!(lit_kind("LT#1s"), L::Duration { ns: S, long: true });
-        assert_eq!(lit_kind("LTIME#1ms"), L::Duration { ns: 1_000_000, long: true });
-        assert_eq!(lit_kind("D#2024-01-31"), L::Date { days: 19753, long: false });
-        assert_eq!(lit_kind("DATE#1970-01-01"), L::Date { days: 0, long: false });
-        assert_eq!(lit_kind("LDATE#1970-01-02"), L::Date { days: 1, long: true });
-        assert_eq!(lit_kind("LD#1970-01-02"), L::Date { days: 1, long: true });
+        assert_eq!(
+            lit_kind("LTIME#1ms"),
+            L::Duration {
+                ns: 1_000_000,
+                long: true
+            }
+        );
+        assert_eq!(
+            lit_kind("D#2024-01-31"),
+            L::Date {
+                days: 19753,
+                long: false
+            }
+        );
+        assert_eq!(
+            lit_kind("DATE#1970-01-01"),
+            L::Date {
+                days: 0,
+                long: false
+            }
+        );
+        assert_eq!(
+            lit_kind("LDATE#1970-01-02"),
+            L::Date {
+                days: 1,
+                long: true
+            }
+        );
+        assert_eq!(
+            lit_kind("LD#1970-01-02"),
+            L::Date {
+                days: 1,
+                long: true
+            }
+        );
         let tod = (12 * 3600 + 30 * 60 + 15) * 1_000_000_000 + 250_000_000;
-        assert_eq!(lit_kind("TOD#12:30:15.25"), L::TimeOfDay { ns: tod, long: false });
-        assert_eq!(lit_kind("TIME_OF_DAY#12:30:15.25"), L::TimeOfDay { ns: tod, long: false });
-        assert_eq!(lit_kind("LTOD#00:00:01"), L::TimeOfDay { ns: 1_000_000_000, long: true });
+        assert_eq!(
+            lit_kind("TOD#12:30:15.25"),
+            L::TimeOfDay {
+                ns: tod,
+                long: false
+            }
+        );
+        assert_eq!(
+            lit_kind("TIME_OF_DAY#12:30:15.25"),
+            L::TimeOfDay {
+                ns: tod,
+                long: false
+            }
+        );
+        assert_eq!(
+            lit_kind("LTOD#00:00:01"),
+            L::TimeOfDay {
+                ns: 1_000_000_000,
+                long: true
+            }
+        );
         let dt = 19753 * 86_400 * S + 45015 * S + 500_000_000;
-        assert_eq!(lit_kind("DT#2024-01-31-12:30:15.5"), L::DateTime { ns: dt, long: false });
-        assert_eq!(lit_kind("DATE_AND_TIME#2024-01-31-12:30:15.5"), L::DateTime { ns: dt, long: false });
-        assert_eq!(lit_kind("LDT#1970-01-01-00:00:00"), L::DateTime { ns: 0, long: true });
+        assert_eq!(
+            lit_kind("DT#2024-01-31-12:30:15.5"),
+            L::DateTime {
+                ns: dt,
+                long: false
+            }
+        );
+        assert_eq!(
+            lit_kind("DATE_AND_TIME#2024-01-31-12:30:15.5"),
+            L::DateTime {
+                ns: dt,
+                long: false
+            }
+        );
+        assert_eq!(
+            lit_kind("LDT#1970-01-01-00:00:00"),
+            L::DateTime { ns: 0, long: true }
+        );
         // A duration followed by an operator is not swallowed.
         assert_eq!(kinds("T#5s-x"), vec![T::Lit, T::Minus, T::Ident, T::Eof]);
         assert_eq!(errors("D#2024-01-31-x"), vec![codes::MALFORMED_DATE_TIME]);
@@ -1191,26 +1402,50 @@ mod tests {
     fn strings() {
         assert_eq!(
             lit_kind("'a$$b$'c$N$0A'"),
-            L::String { wide: false, units: vec![97, 36, 98, 39, 99, 10, 10] }
+            L::String {
+                wide: false,
+                units: vec![97, 36, 98, 39, 99, 10, 10]
+            }
         );
         assert_eq!(
             lit_kind("\"w$\"$0041\""),
-            L::String { wide: true, units: vec![119, 34, 0x41] }
+            L::String {
+                wide: true,
+                units: vec![119, 34, 0x41]
+            }
         );
-        assert_eq!(lit_kind("''"), L::String { wide: false, units: vec![] });
+        assert_eq!(
+            lit_kind("''"),
+            L::String {
+                wide: false,
+                units: vec![]
+            }
+        );
         assert_eq!(errors("'abc"), vec![codes::UNTERMINATED_STRING]);
         assert_eq!(errors("'abc\nx"), vec![codes::UNTERMINATED_STRING]);
-        assert_eq!(errors("\"abc$"), vec![codes::UNTERMINATED_STRING, codes::INVALID_ESCAPE]);
+        assert_eq!(
+            errors("\"abc$"),
+            vec![codes::UNTERMINATED_STRING, codes::INVALID_ESCAPE]
+        );
         // `$` before a multi-byte character must not split it.
-        assert_eq!(errors("'$\u{e4}"), vec![codes::UNTERMINATED_STRING, codes::INVALID_ESCAPE]);
+        assert_eq!(
+            errors("'$\u{e4}"),
+            vec![codes::UNTERMINATED_STRING, codes::INVALID_ESCAPE]
+        );
     }
 
     #[test]
     fn comments_and_pragmas() {
-        assert_eq!(kinds("a (* x (* nested *) y *) b"), vec![T::Ident, T::Ident, T::Eof]);
+        assert_eq!(
+            kinds("a (* x (* nested *) y *) b"),
+            vec![T::Ident, T::Ident, T::Eof]
+        );
         assert_eq!(kinds("a /* x (* y */ b"), vec![T::Ident, T::Ident, T::Eof]);
         assert_eq!(kinds("a // x *)\nb"), vec![T::Ident, T::Ident, T::Eof]);
-        assert_eq!(kinds("a {attribute 'x'} b"), vec![T::Ident, T::Ident, T::Eof]);
+        assert_eq!(
+            kinds("a {attribute 'x'} b"),
+            vec![T::Ident, T::Ident, T::Eof]
+        );
         assert_eq!(kinds("(*****)x(***)"), vec![T::Ident, T::Eof]);
         assert_eq!(errors("a (* x (* y *)"), vec![codes::UNTERMINATED_COMMENT]);
         assert_eq!(errors("/* x"), vec![codes::UNTERMINATED_COMMENT]);
@@ -1223,7 +1458,9 @@ mod tests {
 
     #[test]
     fn addresses() {
-        for a in ["%IX0.0", "%QW1", "%MD2", "%IB3", "%I*", "%Q*", "%Q0.0", "%MW1.2.3", "%ix1", "%QX0.1"] {
+        for a in [
+            "%IX0.0", "%QW1", "%MD2", "%IB3", "%I*", "%Q*", "%Q0.0", "%MW1.2.3", "%ix1", "%QX0.1",
+        ] {
             assert_eq!(kinds(a), vec![T::Address, T::Eof], "{a}");
         }
         assert_eq!(kinds("%IX0.0.."), vec![T::Address, T::DotDot, T::Eof]);
@@ -1234,15 +1471,46 @@ mod tests {
         assert_eq!(
             kinds(":= => = <> < <= > >= + - * / ** & ( ) [ ] , ; : . .. ^ #"),
             vec![
-                T::Assign, T::Arrow, T::Eq, T::Ne, T::Lt, T::Le, T::Gt, T::Ge, T::Plus,
-                T::Minus, T::Star, T::Slash, T::Pow, T::Amp, T::LParen, T::RParen,
-                T::LBracket, T::RBracket, T::Comma, T::Semi, T::Colon, T::Dot, T::DotDot,
-                T::Caret, T::Hash, T::Eof
+                T::Assign,
+                T::Arrow,
+                T::Eq,
+                T::Ne,
+                T::Lt,
+                T::Le,
+                T::Gt,
+                T::Ge,
+                T::Plus,
+                T::Minus,
+                T::Star,
+                T::Slash,
+                T::Pow,
+                T::Amp,
+                T::LParen,
+                T::RParen,
+                T::LBracket,
+                T::RBracket,
+                T::Comma,
+                T::Semi,
+                T::Colon,
+                T::Dot,
+                T::DotDot,
+                T::Caret,
+                T::Hash,
+                T::Eof
             ]
         );
-        assert_eq!(kinds("if Then end_IF"), vec![T::If, T::Then, T::EndIf, T::Eof]);
+        assert_eq!(
+            kinds("if Then end_IF"),
+            vec![T::If, T::Then, T::EndIf, T::Eof]
+        );
         // Contextual words stay names.
-        assert_eq!(kinds("on with step end method"), vec![T::Ident; 5].into_iter().chain([T::Eof]).collect::<Vec<_>>());
+        assert_eq!(
+            kinds("on with step end method"),
+            vec![T::Ident; 5]
+                .into_iter()
+                .chain([T::Eof])
+                .collect::<Vec<_>>()
+        );
         let (l, _, i) = lx("Motor_1 motor_1");
         assert_eq!(l.tokens[0].data, l.tokens[1].data);
         assert_eq!(i.name(sym(&l.tokens[0])), "MOTOR_1");
@@ -1253,7 +1521,10 @@ mod tests {
         let (l, d, _) = lx("a $?! b \u{20ac}\u{20ac} c");
         assert_eq!(d.len(), 2);
         let k: Vec<Tok> = l.tokens.iter().map(|t| t.kind).collect();
-        assert_eq!(k, vec![T::Ident, T::Error, T::Ident, T::Error, T::Ident, T::Eof]);
+        assert_eq!(
+            k,
+            vec![T::Ident, T::Error, T::Ident, T::Error, T::Ident, T::Eof]
+        );
     }
 
     #[test]
@@ -1272,7 +1543,10 @@ mod tests {
             let (l, _, _) = lx(&text);
             assert_eq!(l.tokens.last().map(|t| t.kind), Some(T::Eof));
             for t in &l.tokens {
-                assert!(text.is_char_boundary(t.start as usize) && text.is_char_boundary(t.end as usize));
+                assert!(
+                    text.is_char_boundary(t.start as usize)
+                        && text.is_char_boundary(t.end as usize)
+                );
             }
         }
     }

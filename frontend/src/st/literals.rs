@@ -124,9 +124,7 @@ pub fn duration(text: &str) -> Result<i128, String> {
         }
         last_rank = rank;
         let whole = parse_digits(int_digits, 10).map_err(|_| "duration out of range")?;
-        let mut value = whole
-            .checked_mul(unit_ns)
-            .ok_or("duration out of range")?;
+        let mut value = whole.checked_mul(unit_ns).ok_or("duration out of range")?;
         if !frac.is_empty() {
             value = value
                 .checked_add(fraction_of(frac, unit_ns))
@@ -193,7 +191,8 @@ fn small_number(s: &str, what: &str) -> Result<u64, String> {
 /// Days since 1970-01-01 of `YYYY-MM-DD`.
 pub fn date(text: &str) -> Result<i64, String> {
     let mut parts = text.split('-');
-    let (Some(y), Some(m), Some(d), None) = (parts.next(), parts.next(), parts.next(), parts.next())
+    let (Some(y), Some(m), Some(d), None) =
+        (parts.next(), parts.next(), parts.next(), parts.next())
     else {
         return Err(format!("expected a date as YYYY-MM-DD, found `{text}`"));
     };
@@ -205,7 +204,9 @@ pub fn date(text: &str) -> Result<i64, String> {
     }
     let dim = days_in_month(y, m);
     if d < 1 || d > dim {
-        return Err(format!("day {d} is not between 1 and {dim} for {y:04}-{m:02}"));
+        return Err(format!(
+            "day {d} is not between 1 and {dim} for {y:04}-{m:02}"
+        ));
     }
     Ok(days_from_civil(y, m, d))
 }
@@ -216,7 +217,9 @@ pub fn time_of_day(text: &str) -> Result<i64, String> {
     let mut parts = text.split(':');
     let (Some(h), Some(m), s, None) = (parts.next(), parts.next(), parts.next(), parts.next())
     else {
-        return Err(format!("expected a time of day as HH:MM:SS, found `{text}`"));
+        return Err(format!(
+            "expected a time of day as HH:MM:SS, found `{text}`"
+        ));
     };
     let s = s.unwrap_or("0");
     let h = small_number(h, "hour")?;
@@ -238,7 +241,9 @@ pub fn time_of_day(text: &str) -> Result<i64, String> {
     let mut ns = ((h * 60 + m) * 60 + s) as i64 * 1_000_000_000;
     if let Some(f) = frac {
         if f.is_empty() || !f.bytes().all(|c| c.is_ascii_digit()) {
-            return Err(format!("expected digits after `.` in the seconds, found `{f}`"));
+            return Err(format!(
+                "expected digits after `.` in the seconds, found `{f}`"
+            ));
         }
         ns += fraction_of(f.as_bytes(), 1_000_000_000) as i64;
     }
@@ -251,7 +256,9 @@ pub fn date_time(text: &str) -> Result<i128, String> {
         .match_indices('-')
         .nth(2)
         .map(|(i, _)| i)
-        .ok_or_else(|| format!("expected a date and time as YYYY-MM-DD-HH:MM:SS, found `{text}`"))?;
+        .ok_or_else(|| {
+            format!("expected a date and time as YYYY-MM-DD-HH:MM:SS, found `{text}`")
+        })?;
     let days = date(&text[..split])?;
     let tod = time_of_day(&text[split + 1..])?;
     Ok(days as i128 * NS_PER_DAY + tod as i128)
@@ -289,9 +296,9 @@ pub fn decode_string(content: &str, wide: bool, errors: &mut Vec<StringError>) -
                 let digits = b.get(i + 1..i + 1 + hex_len);
                 match digits {
                     Some(d) if d.iter().all(|c| c.is_ascii_hexdigit()) => {
-                        let v = d
-                            .iter()
-                            .fold(0u32, |acc, &c| acc * 16 + (c as char).to_digit(16).unwrap_or(0));
+                        let v = d.iter().fold(0u32, |acc, &c| {
+                            acc * 16 + (c as char).to_digit(16).unwrap_or(0)
+                        });
                         units.push(v as u16);
                         for _ in 0..hex_len {
                             chars.next();
@@ -385,12 +392,17 @@ mod tests {
         assert_eq!(duration("1H2M"), Ok(3720 * S));
         assert_eq!(duration("1_000ms"), Ok(S));
         assert_eq!(duration("1d2h3m4s5ms6us7ns"), Ok(93_784 * S + 5_006_007));
-        assert_eq!(duration("0.333333333333333333333333333333d"), Ok(28_799_999_999_999));
+        assert_eq!(
+            duration("0.333333333333333333333333333333d"),
+            Ok(28_799_999_999_999)
+        );
     }
 
     #[test]
     fn malformed_durations() {
-        for bad in ["", "-", "5", "5x", "1s2h", "1s1s", "1.s", "s", "1s_", "1m__2s", "1ms.5"] {
+        for bad in [
+            "", "-", "5", "5x", "1s2h", "1s1s", "1.s", "s", "1s_", "1m__2s", "1ms.5",
+        ] {
             assert!(duration(bad).is_err(), "{bad:?} should be rejected");
         }
         assert!(duration("99999999999999999999999999999999999999d").is_err());
@@ -406,11 +418,17 @@ mod tests {
         assert!(date("2024-13-01").is_err());
         assert!(date("2024-01").is_err());
         assert!(date("2024-01-01-").is_err());
-        assert_eq!(time_of_day("12:30:15.25"), Ok((12 * 3600 + 30 * 60 + 15) * 1_000_000_000 + 250_000_000));
+        assert_eq!(
+            time_of_day("12:30:15.25"),
+            Ok((12 * 3600 + 30 * 60 + 15) * 1_000_000_000 + 250_000_000)
+        );
         assert_eq!(time_of_day("00:00:00"), Ok(0));
         assert!(time_of_day("24:00:00").is_err());
         assert!(time_of_day("12:60:00").is_err());
-        assert_eq!(time_of_day("12:30"), Ok((12 * 60 + 30) * 60 * 1_000_000_000));
+        assert_eq!(
+            time_of_day("12:30"),
+            Ok((12 * 60 + 30) * 60 * 1_000_000_000)
+        );
         assert!(time_of_day("12").is_err());
         assert!(time_of_day("12:30:").is_err());
         assert!(time_of_day("12:30:1.").is_err());
@@ -424,13 +442,34 @@ mod tests {
     #[test]
     fn strings_and_escapes() {
         let mut e = Vec::new();
-        assert_eq!(decode_string("a$$b$'$L$N$P$R$T$0A", false, &mut e), vec![
-            b'a' as u16, b'$' as u16, b'b' as u16, b'\'' as u16, 10, 10, 12, 13, 9, 10
-        ]);
+        assert_eq!(
+            decode_string("a$$b$'$L$N$P$R$T$0A", false, &mut e),
+            vec![
+                b'a' as u16,
+                b'$' as u16,
+                b'b' as u16,
+                b'\'' as u16,
+                10,
+                10,
+                12,
+                13,
+                9,
+                10
+            ]
+        );
         assert!(e.is_empty());
-        assert_eq!(decode_string("$0041$\"\u{e4}", true, &mut e), vec![0x41, b'"' as u16, 0xe4]);
-        assert_eq!(decode_string("\u{e4}\u{20ac}", false, &mut e), vec![0xe4, 0xe2, 0x82, 0xac]);
-        assert_eq!(decode_string("\u{1F600}", true, &mut e), vec![0xD83D, 0xDE00]);
+        assert_eq!(
+            decode_string("$0041$\"\u{e4}", true, &mut e),
+            vec![0x41, b'"' as u16, 0xe4]
+        );
+        assert_eq!(
+            decode_string("\u{e4}\u{20ac}", false, &mut e),
+            vec![0xe4, 0xe2, 0x82, 0xac]
+        );
+        assert_eq!(
+            decode_string("\u{1F600}", true, &mut e),
+            vec![0xD83D, 0xDE00]
+        );
         assert!(e.is_empty());
         decode_string("$q", false, &mut e);
         decode_string("$4", false, &mut e);

@@ -14,7 +14,7 @@
 //! of an expression tree) so that no input can overflow the stack, here or in the
 //! passes that walk the tree.
 
-use super::lexer::{Lexed, Tok, Token, SWALLOWED};
+use super::lexer::{Lexed, Tok, Token, INLINE_INT, INLINE_REAL, SWALLOWED};
 use crate::ast::*;
 use crate::codes;
 use crate::intern::{Interner, Symbol};
@@ -39,6 +39,7 @@ pub fn parse_tokens(
         text,
         toks: &lexed.tokens,
         lits: &lexed.literals,
+        lexed,
         pos: 0,
         interner,
         diags,
@@ -49,10 +50,15 @@ pub fn parse_tokens(
         open: [0; 8],
         s,
         last_pou: None,
+        stmts: Vec::new(),
+        args: Vec::new(),
     };
     if p.toks.last().map(|t| t.kind) != Some(Tok::Eof) {
         // `lex` always ends with Eof; a hand-made token vector might not.
-        return SourceUnit { file, items: Vec::new() };
+        return SourceUnit {
+            file,
+            items: Vec::new(),
+        };
     }
     let items = p.unit();
     SourceUnit { file, items }
@@ -216,7 +222,10 @@ fn is_top_start(t: Tok) -> bool {
 }
 
 fn is_pou_end(t: Tok) -> bool {
-    matches!(t, Tok::EndProgram | Tok::EndFunction | Tok::EndFunctionBlock)
+    matches!(
+        t,
+        Tok::EndProgram | Tok::EndFunction | Tok::EndFunctionBlock
+    )
 }
 
 /// Tokens no statement list goes past: section keywords and END_s of non-statements.
@@ -303,6 +312,7 @@ struct Parser<'a> {
     text: &'a str,
     toks: &'a [Token],
     lits: &'a [Literal],
+    lexed: &'a Lexed,
     pos: usize,
     interner: &'a mut Interner,
     diags: &'a mut Vec<Diagnostic>,
@@ -317,6 +327,12 @@ struct Parser<'a> {
     s: Syms,
     /// The last POU parsed, owner of CODESYS-style actions that follow it.
     last_pou: Option<Ident>,
+    /// Statements of the lists being parsed, innermost last: each list is moved out
+    /// into a vector of exactly its size when it ends (growing a `Vec<Stmt>` by
+    /// doubling would touch twice the memory the tree needs).
+    stmts: Vec<Stmt>,
+    /// The same for call arguments.
+    args: Vec<Arg>,
 }
 
 impl<'a> Parser<'a> {
@@ -389,7 +405,9 @@ impl<'a> Parser<'a> {
     }
 
     fn slice(&self, t: Token) -> &'a str {
-        self.text.get(t.start as usize..t.end as usize).unwrap_or("")
+        self.text
+            .get(t.start as usize..t.end as usize)
+            .unwrap_or("")
     }
 
     // ---------------------------------------------------------------- errors
@@ -626,9 +644,13 @@ impl<'a> Parser<'a> {
             return true;
         }
         let t = self.tok();
-        let mismatched = is_end_closer(t.kind)
-            && closer_idx(t.kind).is_some_and(|i| self.open[i] == 0);
-        let msg = format!("expected `{}`, found {}", end.text(), self.describe(self.pos));
+        let mismatched =
+            is_end_closer(t.kind) && closer_idx(t.kind).is_some_and(|i| self.open[i] == 0);
+        let msg = format!(
+            "expected `{}`, found {}",
+            end.text(),
+            self.describe(self.pos)
+        );
         let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
             .with_label(format!("expected `{}`", end.text()))
             .with_secondary(
@@ -697,9 +719,10 @@ impl<'a> Parser<'a> {
                     }
                     if self.at(Tok::Eof) {
                         let msg = "expected `END_LIBRARY`, found end of file".to_string();
-                        let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(self.tok()))
-                            .with_label("expected `END_LIBRARY`")
-                            .with_secondary(self.tspan(t), "this LIBRARY list is not closed");
+                        let d =
+                            Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(self.tok()))
+                                .with_label("expected `END_LIBRARY`")
+                                .with_secondary(self.tspan(t), "this LIBRARY list is not closed");
                         self.emit(self.pos, d);
                     }
                     self.bump();
@@ -832,7 +855,12 @@ impl<'a> Parser<'a> {
         let mut header_end = kw.end;
         while self.at(Tok::Ident) && !self.tok().newline_before() {
             header_end = self.bump().end;
-            if self.at(Tok::Ident) && self.s.modifiers.contains(&Symbol(self.toks[self.pos - 1].data)) {
+            if self.at(Tok::Ident)
+                && self
+                    .s
+                    .modifiers
+                    .contains(&Symbol(self.toks[self.pos - 1].data))
+            {
                 continue;
             }
             break;
@@ -850,7 +878,11 @@ impl<'a> Parser<'a> {
                 break;
             }
             if t == Tok::Eof || is_pou_end(t) || is_top_start(t) {
-                let msg = format!("expected `{}`, found {}", end.text(), self.describe(self.pos));
+                let msg = format!(
+                    "expected `{}`, found {}",
+                    end.text(),
+                    self.describe(self.pos)
+                );
                 let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(self.tok()))
                     .with_label(format!("expected `{}`", end.text()))
                     .with_secondary(header, "this member is not closed");
@@ -932,7 +964,11 @@ impl<'a> Parser<'a> {
                     break;
                 }
                 k if is_pou_end(k) => {
-                    let msg = format!("expected `{}`, found {}", end_tok.text(), self.describe(self.pos));
+                    let msg = format!(
+                        "expected `{}`, found {}",
+                        end_tok.text(),
+                        self.describe(self.pos)
+                    );
                     let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
                         .with_label(format!("expected `{}`", end_tok.text()))
                         .with_secondary(self.tspan(kw), "this POU is closed by the wrong keyword");
@@ -941,7 +977,11 @@ impl<'a> Parser<'a> {
                     break;
                 }
                 k if k == Tok::Eof || is_top_start(k) => {
-                    let msg = format!("expected `{}`, found {}", end_tok.text(), self.describe(self.pos));
+                    let msg = format!(
+                        "expected `{}`, found {}",
+                        end_tok.text(),
+                        self.describe(self.pos)
+                    );
                     let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
                         .with_label(format!("expected `{}`", end_tok.text()))
                         .with_secondary(self.tspan(kw), "this POU is not closed");
@@ -957,7 +997,10 @@ impl<'a> Parser<'a> {
                     }
                 }
                 k if is_section_stop(k) => {
-                    let msg = format!("unexpected {}: it closes nothing here", self.describe(self.pos));
+                    let msg = format!(
+                        "unexpected {}: it closes nothing here",
+                        self.describe(self.pos)
+                    );
                     self.error_here(
                         codes::UNMATCHED_END,
                         msg,
@@ -1020,8 +1063,7 @@ impl<'a> Parser<'a> {
 
     /// After a broken POU header: skip what is left of its line.
     fn skip_header_rest(&mut self) {
-        while !self.tok().newline_before() && !is_section_stop(self.peek()) && !self.at(Tok::Semi)
-        {
+        while !self.tok().newline_before() && !is_section_stop(self.peek()) && !self.at(Tok::Semi) {
             self.bump();
         }
     }
@@ -1056,7 +1098,11 @@ impl<'a> Parser<'a> {
     }
 
     fn skip_member_body(&mut self, end: Tok) {
-        while !self.at(end) && !self.at(Tok::Eof) && !is_pou_end(self.peek()) && !is_top_start(self.peek()) {
+        while !self.at(end)
+            && !self.at(Tok::Eof)
+            && !is_pou_end(self.peek())
+            && !is_top_start(self.peek())
+        {
             self.bump();
         }
         if self.eat(end) {
@@ -1081,7 +1127,11 @@ impl<'a> Parser<'a> {
                 || var_kind(t.kind).is_some()
                 || self.member_at().is_some()
             {
-                let msg = format!("expected `{}`, found {}", end.text(), self.describe(self.pos));
+                let msg = format!(
+                    "expected `{}`, found {}",
+                    end.text(),
+                    self.describe(self.pos)
+                );
                 let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
                     .with_label(format!("expected `{}`", end.text()))
                     .with_secondary(self.tspan(opener), "this block is not closed");
@@ -1089,8 +1139,15 @@ impl<'a> Parser<'a> {
                 let span = self.span_from(start);
                 return Body { stmts, span };
             }
-            let msg = format!("unexpected {}: it closes nothing here", self.describe(self.pos));
-            self.error_here(codes::UNMATCHED_END, msg, format!("no {} is open", opener_of(t.kind)));
+            let msg = format!(
+                "unexpected {}: it closes nothing here",
+                self.describe(self.pos)
+            );
+            self.error_here(
+                codes::UNMATCHED_END,
+                msg,
+                format!("no {} is open", opener_of(t.kind)),
+            );
             self.bump();
         }
         let span = match (stmts.first(), stmts.last()) {
@@ -1161,6 +1218,7 @@ impl<'a> Parser<'a> {
                 }
             }
         }
+        decls.shrink_to_fit();
         Some(VarBlock {
             kind,
             constant,
@@ -1193,7 +1251,7 @@ impl<'a> Parser<'a> {
 
     fn var_decl_inner(&mut self, ctx: DeclCtx) -> Option<VarDecl> {
         let start = self.tok().start;
-        let mut names = Vec::new();
+        let mut names = Vec::with_capacity(1);
         if !self.at(Tok::At) {
             loop {
                 let name = if ctx == DeclCtx::Config {
@@ -1482,7 +1540,7 @@ impl<'a> Parser<'a> {
     #[allow(clippy::type_complexity)]
     fn array_dims(&mut self) -> Option<Vec<Option<(Expr, Expr)>>> {
         self.expect_tok(Tok::LBracket, "`[`")?;
-        let mut dims = Vec::new();
+        let mut dims = Vec::with_capacity(1);
         loop {
             if self.eat(Tok::Star) {
                 dims.push(None);
@@ -1498,6 +1556,7 @@ impl<'a> Parser<'a> {
         }
         self.expect_tok(Tok::RBracket, "`]` or `,`")?;
         self.expect_tok(Tok::Of, "`OF`")?;
+        dims.shrink_to_fit();
         Some(dims)
     }
 
@@ -1638,11 +1697,7 @@ impl<'a> Parser<'a> {
     /// `v`, `n(v)` or `n()`; `n` is an integer literal (so `3(0)` is no call).
     fn array_elem(&mut self) -> Option<ArrayInitElem> {
         let t = self.tok();
-        let plain_int = t.kind == Tok::Lit
-            && self.lits.get(t.data as usize).is_some_and(|l| {
-                l.type_prefix.is_none() && matches!(l.kind, LiteralKind::Int(_))
-            });
-        if plain_int && self.peek_at(1) == Tok::LParen {
+        if self.is_plain_int(t) && self.peek_at(1) == Tok::LParen {
             let count = self.literal_expr(t);
             self.bump();
             self.bump();
@@ -1735,7 +1790,9 @@ impl<'a> Parser<'a> {
                     break;
                 }
                 _ => {
-                    self.expected("`VAR_GLOBAL`, `RESOURCE`, `TASK`, `PROGRAM` or `END_CONFIGURATION`");
+                    self.expected(
+                        "`VAR_GLOBAL`, `RESOURCE`, `TASK`, `PROGRAM` or `END_CONFIGURATION`",
+                    );
                     self.bump();
                     self.skip_decl();
                 }
@@ -1909,7 +1966,7 @@ impl<'a> Parser<'a> {
     /// foreign END_ ends the list (the construct reports it). `case_arm`: also stop
     /// at the next CASE label.
     fn stmt_list(&mut self, stop: &[Tok], compound: bool, case_arm: bool) -> Vec<Stmt> {
-        let mut out = Vec::new();
+        let base = self.stmts.len();
         loop {
             let t = self.peek();
             if stop.contains(&t) || is_section_stop(t) {
@@ -1929,12 +1986,12 @@ impl<'a> Parser<'a> {
                 break;
             }
             let before = self.pos;
-            self.stmt(&mut out);
+            self.stmt();
             if self.pos == before {
                 self.bump();
             }
         }
-        out
+        self.stmts.drain(base..).collect()
     }
 
     /// An END_IF, ELSE, UNTIL... that no open construct accepts.
@@ -1983,19 +2040,17 @@ impl<'a> Parser<'a> {
     // builds keep a copy of it in every frame it passes through).
 
     /// One statement onto `out` (nothing if it is broken).
-    fn stmt(&mut self, out: &mut Vec<Stmt>) {
+    fn stmt(&mut self) {
         let t = self.tok();
         match t.kind {
             Tok::Semi => {
                 self.bump();
                 let span = self.sp(t.start, t.start);
-                push(out, StmtKind::Empty, span);
+                push(&mut self.stmts, StmtKind::Empty, span);
             }
-            Tok::If | Tok::Case | Tok::For | Tok::While | Tok::Repeat => {
-                self.compound_stmt(t, out)
-            }
-            Tok::Exit | Tok::Continue | Tok::Return => self.jump_stmt(t, out),
-            Tok::Ident | Tok::Address => self.simple_stmt(out),
+            Tok::If | Tok::Case | Tok::For | Tok::While | Tok::Repeat => self.compound_stmt(t),
+            Tok::Exit | Tok::Continue | Tok::Return => self.jump_stmt(t),
+            Tok::Ident | Tok::Address => self.simple_stmt(),
             _ => {
                 self.expected("a statement");
                 self.recover_stmt();
@@ -2003,17 +2058,17 @@ impl<'a> Parser<'a> {
         }
     }
 
-    fn compound_stmt(&mut self, t: Token, out: &mut Vec<Stmt>) {
+    fn compound_stmt(&mut self, t: Token) {
         if !self.enter() {
             self.skip_balanced_stmt();
             return;
         }
         match t.kind {
-            Tok::If => self.if_stmt(out),
-            Tok::Case => self.case_stmt(out),
-            Tok::For => self.for_stmt(out),
-            Tok::While => self.while_stmt(out),
-            _ => self.repeat_stmt(out),
+            Tok::If => self.if_stmt(),
+            Tok::Case => self.case_stmt(),
+            Tok::For => self.for_stmt(),
+            Tok::While => self.while_stmt(),
+            _ => self.repeat_stmt(),
         }
         self.leave();
         // IEC wants `END_IF;`, but CODESYS and RuSTy accept `END_IF` alone, and code
@@ -2021,7 +2076,7 @@ impl<'a> Parser<'a> {
         self.eat(Tok::Semi);
     }
 
-    fn jump_stmt(&mut self, t: Token, out: &mut Vec<Stmt>) {
+    fn jump_stmt(&mut self, t: Token) {
         self.bump();
         let kind = match t.kind {
             Tok::Exit => StmtKind::Exit,
@@ -2029,13 +2084,14 @@ impl<'a> Parser<'a> {
             _ => StmtKind::Return,
         };
         self.expect_semi();
-        push(out, kind, self.tspan(t));
+        let span = self.tspan(t);
+        push(&mut self.stmts, kind, span);
     }
 
     /// Assignment, reference assignment or call.
-    fn simple_stmt(&mut self, out: &mut Vec<Stmt>) {
+    fn simple_stmt(&mut self) {
         if let Some(s) = self.simple_stmt_inner() {
-            out.push(s);
+            self.stmts.push(s);
         }
     }
 
@@ -2084,11 +2140,11 @@ impl<'a> Parser<'a> {
         Some(Stmt { kind, span })
     }
 
-    fn if_stmt(&mut self, out: &mut Vec<Stmt>) {
+    fn if_stmt(&mut self) {
         let kw = self.bump();
         self.open_add(&[Tok::Elsif, Tok::Else, Tok::EndIf], 1);
         let mut ok = true;
-        let mut branches = Vec::new();
+        let mut branches = Vec::with_capacity(1);
         loop {
             let cond = self.expr();
             if cond.is_some() {
@@ -2115,11 +2171,12 @@ impl<'a> Parser<'a> {
         self.expect_end(Tok::EndIf, kw);
         if ok {
             let span = self.span_from(kw.start);
-            push_if(out, branches, else_body, span);
+            branches.shrink_to_fit();
+            push_if(&mut self.stmts, branches, else_body, span);
         }
     }
 
-    fn case_stmt(&mut self, out: &mut Vec<Stmt>) {
+    fn case_stmt(&mut self) {
         let kw = self.bump();
         self.open_add(&[Tok::Else, Tok::EndCase], 1);
         let mut ok = true;
@@ -2167,7 +2224,8 @@ impl<'a> Parser<'a> {
         self.expect_end(Tok::EndCase, kw);
         if ok {
             let span = self.span_from(kw.start);
-            push_case(out, selector, arms, else_body, span);
+            arms.shrink_to_fit();
+            push_case(&mut self.stmts, selector, arms, else_body, span);
         }
     }
 
@@ -2184,7 +2242,7 @@ impl<'a> Parser<'a> {
 
     fn case_labels_inner(&mut self) -> Option<(Vec<CaseLabel>, Span)> {
         let start = self.tok().start;
-        let mut labels = Vec::new();
+        let mut labels = Vec::with_capacity(1);
         loop {
             let lo = self.expr()?;
             if self.eat(Tok::DotDot) {
@@ -2198,10 +2256,11 @@ impl<'a> Parser<'a> {
             }
         }
         self.expect_tok(Tok::Colon, "`:`, `,` or `..` after a CASE label")?;
+        labels.shrink_to_fit();
         Some((labels, self.span_from(start)))
     }
 
-    fn for_stmt(&mut self, out: &mut Vec<Stmt>) {
+    fn for_stmt(&mut self) {
         let kw = self.bump();
         self.open_add(&[Tok::EndFor], 1);
         let header = self.for_header();
@@ -2213,7 +2272,7 @@ impl<'a> Parser<'a> {
         self.expect_end(Tok::EndFor, kw);
         if let Some(h) = header {
             let span = self.span_from(kw.start);
-            push_for(out, *h, body, span);
+            push_for(&mut self.stmts, *h, body, span);
         }
     }
 
@@ -2233,7 +2292,7 @@ impl<'a> Parser<'a> {
         Some(Box::new(ForHeader { var, from, to, by }))
     }
 
-    fn while_stmt(&mut self, out: &mut Vec<Stmt>) {
+    fn while_stmt(&mut self) {
         let kw = self.bump();
         self.open_add(&[Tok::EndWhile], 1);
         let cond = self.expr();
@@ -2247,11 +2306,11 @@ impl<'a> Parser<'a> {
         self.expect_end(Tok::EndWhile, kw);
         if let Some(cond) = cond {
             let span = self.span_from(kw.start);
-            push_while(out, cond, body, span);
+            push_while(&mut self.stmts, cond, body, span);
         }
     }
 
-    fn repeat_stmt(&mut self, out: &mut Vec<Stmt>) {
+    fn repeat_stmt(&mut self) {
         let kw = self.bump();
         self.open_add(&[Tok::Until, Tok::EndRepeat], 1);
         let body = self.stmt_list(&[Tok::Until], true, false);
@@ -2276,7 +2335,7 @@ impl<'a> Parser<'a> {
         self.expect_end(Tok::EndRepeat, kw);
         if let Some(until) = until {
             let span = self.span_from(kw.start);
-            push_repeat(out, body, until, span);
+            push_repeat(&mut self.stmts, body, until, span);
         }
     }
 
@@ -2368,10 +2427,10 @@ impl<'a> Parser<'a> {
         if !self.enter() {
             return None;
         }
-        let mut args = Vec::new();
-        let end = self.call_args_into(&mut args);
+        let end = self.call_args();
         self.leave();
-        Some(call(callee, args, end?, self.file))
+        let (args, end) = end?;
+        Some(call(callee, args, end, self.file))
     }
 
     fn index_suffix(&mut self, base: Expr) -> Option<Expr> {
@@ -2385,7 +2444,7 @@ impl<'a> Parser<'a> {
     }
 
     fn index_list(&mut self) -> Option<Vec<Expr>> {
-        let mut idx = Vec::new();
+        let mut idx = Vec::with_capacity(1);
         loop {
             idx.push(self.expr()?);
             if !self.eat(Tok::Comma) {
@@ -2393,6 +2452,7 @@ impl<'a> Parser<'a> {
             }
         }
         self.expect_tok(Tok::RBracket, "`,` or `]`")?;
+        idx.shrink_to_fit();
         Some(idx)
     }
 
@@ -2463,17 +2523,19 @@ impl<'a> Parser<'a> {
 
     /// After `(`: the arguments and the end offset of the `)`.
     fn call_args(&mut self) -> Option<(Vec<Arg>, u32)> {
-        let mut args = Vec::new();
-        let end = self.call_args_into(&mut args)?;
-        Some((args, end))
+        let base = self.args.len();
+        let end = self.call_args_into();
+        let args = self.args.drain(base..).collect();
+        Some((args, end?))
     }
 
-    fn call_args_into(&mut self, args: &mut Vec<Arg>) -> Option<u32> {
+    /// The arguments onto `self.args`.
+    fn call_args_into(&mut self) -> Option<u32> {
         if self.at(Tok::RParen) {
             return Some(self.bump().end);
         }
         loop {
-            if !self.arg(args) {
+            if !self.arg() {
                 return None;
             }
             if self.eat(Tok::Comma) {
@@ -2484,8 +2546,8 @@ impl<'a> Parser<'a> {
         }
     }
 
-    /// One argument onto `args`; false if it is broken.
-    fn arg(&mut self, args: &mut Vec<Arg>) -> bool {
+    /// One argument onto `self.args`; false if it is broken.
+    fn arg(&mut self) -> bool {
         let t = self.tok();
         let (n1, n2) = (self.peek_at(1), self.peek_at(2));
         let (negated, output) = match (t.kind, n1, n2) {
@@ -2493,7 +2555,7 @@ impl<'a> Parser<'a> {
                 self.bump();
                 self.bump();
                 let value = self.expr();
-                return self.push_arg(args, t, ArgShape::Input(t), value);
+                return self.push_arg(t, ArgShape::Input(t), value);
             }
             (Tok::Ident, Tok::Arrow, _) => (false, true),
             (Tok::Not, Tok::Ident, Tok::Arrow) => (true, true),
@@ -2501,7 +2563,7 @@ impl<'a> Parser<'a> {
         };
         if !output {
             let value = self.expr();
-            return self.push_arg(args, t, ArgShape::Positional, value);
+            return self.push_arg(t, ArgShape::Positional, value);
         }
         if negated {
             self.bump();
@@ -2516,18 +2578,12 @@ impl<'a> Parser<'a> {
                 None => return false,
             }
         };
-        self.push_arg(args, t, ArgShape::Output(n, negated), target)
+        self.push_arg(t, ArgShape::Output(n, negated), target)
     }
 
     /// `first` is the first token of the argument; `value` its value, or the target of
     /// an output. False if a needed value is missing.
-    fn push_arg(
-        &self,
-        args: &mut Vec<Arg>,
-        first: Token,
-        shape: ArgShape,
-        value: Option<Expr>,
-    ) -> bool {
+    fn push_arg(&mut self, first: Token, shape: ArgShape, value: Option<Expr>) -> bool {
         let kind = match shape {
             ArgShape::Output(n, negated) => ArgKind::Output {
                 name: self.ident(n),
@@ -2546,27 +2602,38 @@ impl<'a> Parser<'a> {
                 ArgKind::Positional(value)
             }
         };
-        args.push(Arg {
-            kind,
-            span: self.span_from(first.start),
-        });
+        let span = self.span_from(first.start);
+        self.args.push(Arg { kind, span });
         true
     }
 
+    /// An integer literal without type prefix.
     fn is_plain_int(&self, t: Token) -> bool {
         t.kind == Tok::Lit
-            && self.lits.get(t.data as usize).is_some_and(|l| {
-                l.type_prefix.is_none() && matches!(l.kind, LiteralKind::Int(_))
-            })
+            && (t.flags & INLINE_INT != 0
+                || t.flags & INLINE_REAL == 0
+                    && self.lits.get(t.data as usize).is_some_and(|l| {
+                        l.type_prefix.is_none() && matches!(l.kind, LiteralKind::Int(_))
+                    }))
+    }
+
+    /// A literal without type prefix.
+    fn is_plain_lit(&self, t: Token) -> bool {
+        t.kind == Tok::Lit
+            && (t.flags & (INLINE_INT | INLINE_REAL) != 0
+                || self
+                    .lits
+                    .get(t.data as usize)
+                    .is_some_and(|l| l.type_prefix.is_none()))
+    }
+
+    fn literal(&self, t: Token) -> Literal {
+        self.lexed.literal(self.text, t)
     }
 
     fn literal_expr(&self, t: Token) -> Expr {
-        let lit = self.lits.get(t.data as usize).cloned().unwrap_or(Literal {
-            kind: LiteralKind::Int(0),
-            type_prefix: None,
-        });
         Expr {
-            kind: ExprKind::Literal(lit),
+            kind: ExprKind::Literal(self.literal(t)),
             span: self.tspan(t),
         }
     }
@@ -2653,12 +2720,7 @@ impl<'a> Parser<'a> {
                     span: self.sp(t.start, n.end),
                 };
             }
-            let plain = n.kind == Tok::Lit
-                && self
-                    .lits
-                    .get(n.data as usize)
-                    .is_some_and(|l| l.type_prefix.is_none());
-            if plain {
+            if self.is_plain_lit(n) {
                 self.bump();
                 self.bump();
                 let mut e = self.literal_expr(n);
@@ -2682,7 +2744,11 @@ impl<'a> Parser<'a> {
             let msg = format!(
                 "`{text}` selects part of a variable: write it after one, as in `x.{text}`"
             );
-            self.error_here(codes::UNEXPECTED_TOKEN, msg, "partial access without a variable");
+            self.error_here(
+                codes::UNEXPECTED_TOKEN,
+                msg,
+                "partial access without a variable",
+            );
             return None;
         }
         self.bump();
@@ -2712,7 +2778,14 @@ fn push_if(
     else_body: Option<Vec<Stmt>>,
     span: Span,
 ) {
-    push(out, StmtKind::If { branches, else_body }, span);
+    push(
+        out,
+        StmtKind::If {
+            branches,
+            else_body,
+        },
+        span,
+    );
 }
 
 fn push_case(
@@ -2723,13 +2796,31 @@ fn push_case(
     span: Span,
 ) {
     if let Some(selector) = selector {
-        push(out, StmtKind::Case { selector, arms, else_body }, span);
+        push(
+            out,
+            StmtKind::Case {
+                selector,
+                arms,
+                else_body,
+            },
+            span,
+        );
     }
 }
 
 fn push_for(out: &mut Vec<Stmt>, h: ForHeader, body: Vec<Stmt>, span: Span) {
     let ForHeader { var, from, to, by } = h;
-    push(out, StmtKind::For { var, from, to, by, body }, span);
+    push(
+        out,
+        StmtKind::For {
+            var,
+            from,
+            to,
+            by,
+            body,
+        },
+        span,
+    );
 }
 
 fn push_while(out: &mut Vec<Stmt>, cond: Expr, body: Vec<Stmt>, span: Span) {

@@ -18,7 +18,11 @@ fn parse_str(src: &str) -> (SourceUnit, Vec<Diagnostic>, Interner) {
 /// Parses and asserts there is no diagnostic.
 fn ok(src: &str) -> (SourceUnit, Interner) {
     let (u, d, i) = parse_str(src);
-    assert!(d.is_empty(), "unexpected diagnostics for\n{src}\n{}", show(&d, src));
+    assert!(
+        d.is_empty(),
+        "unexpected diagnostics for\n{src}\n{}",
+        show(&d, src)
+    );
     (u, i)
 }
 
@@ -44,13 +48,22 @@ fn sx(e: &Expr, i: &Interner) -> String {
                 LiteralKind::Int(v) => v.to_string(),
                 LiteralKind::Real(t) => t.to_string(),
                 LiteralKind::Bool(b) => b.to_string().to_uppercase(),
-                LiteralKind::Duration { ns, long } => format!("{}#{ns}ns", if *long { "LT" } else { "T" }),
+                LiteralKind::Duration { ns, long } => {
+                    format!("{}#{ns}ns", if *long { "LT" } else { "T" })
+                }
                 LiteralKind::Date { days, .. } => format!("D#{days}"),
                 LiteralKind::TimeOfDay { ns, .. } => format!("TOD#{ns}"),
                 LiteralKind::DateTime { ns, .. } => format!("DT#{ns}"),
                 LiteralKind::String { units, wide } => {
-                    let s: String = units.iter().map(|&u| char::from_u32(u as u32).unwrap_or('?')).collect();
-                    if *wide { format!("\"{s}\"") } else { format!("'{s}'") }
+                    let s: String = units
+                        .iter()
+                        .map(|&u| char::from_u32(u as u32).unwrap_or('?'))
+                        .collect();
+                    if *wide {
+                        format!("\"{s}\"")
+                    } else {
+                        format!("'{s}'")
+                    }
                 }
             };
             match l.type_prefix {
@@ -83,8 +96,14 @@ fn sx(e: &Expr, i: &Interner) -> String {
                 .iter()
                 .map(|a| match &a.kind {
                     ArgKind::Positional(e) => sx(e, i),
-                    ArgKind::Input { name, value } => format!("{}:={}", i.name(name.sym), sx(value, i)),
-                    ArgKind::Output { name, negated, target } => format!(
+                    ArgKind::Input { name, value } => {
+                        format!("{}:={}", i.name(name.sym), sx(value, i))
+                    }
+                    ArgKind::Output {
+                        name,
+                        negated,
+                        target,
+                    } => format!(
                         "{}{}=>{}",
                         if *negated { "NOT " } else { "" },
                         i.name(name.sym),
@@ -103,20 +122,26 @@ fn expr(src: &str) -> String {
     let prog = format!("PROGRAM p x := {src}; END_PROGRAM");
     let (u, i) = ok(&prog);
     let Item::Pou(p) = &u.items[0] else { panic!() };
-    let StmtKind::Assign { value, .. } = &p.body.stmts[0].kind else { panic!() };
+    let StmtKind::Assign { value, .. } = &p.body.stmts[0].kind else {
+        panic!()
+    };
     sx(value, &i)
 }
 
 fn body(src: &str) -> (Vec<Stmt>, Interner) {
     let prog = format!("PROGRAM p\n{src}\nEND_PROGRAM");
     let (u, i) = ok(&prog);
-    let Item::Pou(p) = u.items.into_iter().next().unwrap() else { panic!() };
+    let Item::Pou(p) = u.items.into_iter().next().unwrap() else {
+        panic!()
+    };
     (p.body.stmts, i)
 }
 
 fn pou(src: &str) -> (Pou, Interner) {
     let (u, i) = ok(src);
-    let Item::Pou(p) = u.items.into_iter().next().unwrap() else { panic!() };
+    let Item::Pou(p) = u.items.into_iter().next().unwrap() else {
+        panic!()
+    };
     (p, i)
 }
 
@@ -126,7 +151,10 @@ fn pou(src: &str) -> (Pou, Interner) {
 fn precedence() {
     assert_eq!(expr("a OR b AND c"), "(OR A (AND B C))");
     assert_eq!(expr("a OR_ELSE b XOR c"), "(OR_ELSE A (XOR B C))");
-    assert_eq!(expr("a XOR b & c AND_THEN d"), "(XOR A (AND_THEN (AND B C) D))");
+    assert_eq!(
+        expr("a XOR b & c AND_THEN d"),
+        "(XOR A (AND_THEN (AND B C) D))"
+    );
     assert_eq!(expr("a = b < c"), "(= A (< B C))");
     assert_eq!(expr("a <> b + c * d"), "(<> A (+ B (* C D)))");
     assert_eq!(expr("a - b - c"), "(- (- A B) C)");
@@ -152,7 +180,10 @@ fn postfix_forms() {
     assert_eq!(expr("p^.x^"), "P^.X^");
     assert_eq!(expr("x.3"), "(bit X 3)");
     assert_eq!(expr("x.%X3"), "(bit X 3)");
-    assert_eq!(expr("w.%B1 + w.%W0 + d.%D0 + l.%L0"), "(+ (+ (+ (part8 W 1) (part16 W 0)) (part32 D 0)) (part64 L 0))");
+    assert_eq!(
+        expr("w.%B1 + w.%W0 + d.%D0 + l.%L0"),
+        "(+ (+ (+ (part8 W 1) (part16 W 0)) (part32 D 0)) (part64 L 0))"
+    );
     assert_eq!(expr("a.b[2].3"), "(bit A.B[2] 3)");
     assert_eq!(expr("f(1, 2)"), "F(1, 2)");
     assert_eq!(expr("f()"), "F()");
@@ -171,10 +202,17 @@ fn postfix_forms() {
 #[test]
 fn call_arguments() {
     let (s, i) = body("fb(IN := x, PT := T#5s, Q => y, NOT ET => z, CV =>);");
-    let StmtKind::Call(c) = &s[0].kind else { panic!() };
-    assert_eq!(sx(c, &i), "FB(IN:=X, PT:=T#5000000000ns, Q=>Y, NOT ET=>Z, CV=>)");
+    let StmtKind::Call(c) = &s[0].kind else {
+        panic!()
+    };
+    assert_eq!(
+        sx(c, &i),
+        "FB(IN:=X, PT:=T#5000000000ns, Q=>Y, NOT ET=>Z, CV=>)"
+    );
     let (s, i) = body("f(1, a + 2, g(h(3)));");
-    let StmtKind::Call(c) = &s[0].kind else { panic!() };
+    let StmtKind::Call(c) = &s[0].kind else {
+        panic!()
+    };
     assert_eq!(sx(c, &i), "F(1, (+ A 2), G(H(3)))");
 }
 
@@ -188,12 +226,20 @@ fn spans_are_tight() {
     assert_eq!(at(p.body.stmts[0].span), "x := (a + b) * c");
     assert_eq!(at(p.body.stmts[1].span), "t(IN := x)");
     assert_eq!(at(p.body.span), "x := (a + b) * c;\n  t(IN := x);");
-    let StmtKind::Assign { value, .. } = &p.body.stmts[0].kind else { panic!() };
+    let StmtKind::Assign { value, .. } = &p.body.stmts[0].kind else {
+        panic!()
+    };
     assert_eq!(at(value.span), "(a + b) * c");
-    let ExprKind::Binary(_, l, _) = &value.kind else { panic!() };
+    let ExprKind::Binary(_, l, _) = &value.kind else {
+        panic!()
+    };
     assert_eq!(at(l.span), "(a + b)");
-    let StmtKind::Call(c) = &p.body.stmts[1].kind else { panic!() };
-    let ExprKind::Call { args, .. } = &c.kind else { panic!() };
+    let StmtKind::Call(c) = &p.body.stmts[1].kind else {
+        panic!()
+    };
+    let ExprKind::Call { args, .. } = &c.kind else {
+        panic!()
+    };
     assert_eq!(at(args[0].span), "IN := x");
 }
 
@@ -202,13 +248,25 @@ fn spans_are_tight() {
 #[test]
 fn if_elsif_else() {
     let (s, i) = body("IF a THEN x := 1; ELSIF b THEN x := 2; y := 3; ELSE x := 4; END_IF;");
-    let StmtKind::If { branches, else_body } = &s[0].kind else { panic!() };
+    let StmtKind::If {
+        branches,
+        else_body,
+    } = &s[0].kind
+    else {
+        panic!()
+    };
     assert_eq!(branches.len(), 2);
     assert_eq!(sx(&branches[1].0, &i), "B");
     assert_eq!(branches[1].1.len(), 2);
     assert_eq!(else_body.as_ref().unwrap().len(), 1);
     let (s, _) = body("IF a THEN END_IF;");
-    let StmtKind::If { branches, else_body } = &s[0].kind else { panic!() };
+    let StmtKind::If {
+        branches,
+        else_body,
+    } = &s[0].kind
+    else {
+        panic!()
+    };
     assert!(branches[0].1.is_empty() && else_body.is_none());
 }
 
@@ -217,7 +275,14 @@ fn case_labels_and_arms() {
     let (s, i) = body(
         "CASE x OF\n 1, 2, 5..10: y := 1; z := 2;\n RED, -3: y := 3;\n Color#Green: ;\n -5..-1: y := 4;\n E.A: \nELSE y := 0; z := 0;\nEND_CASE;",
     );
-    let StmtKind::Case { selector, arms, else_body } = &s[0].kind else { panic!() };
+    let StmtKind::Case {
+        selector,
+        arms,
+        else_body,
+    } = &s[0].kind
+    else {
+        panic!()
+    };
     assert_eq!(sx(selector, &i), "X");
     assert_eq!(arms.len(), 5);
     let labels: Vec<String> = arms
@@ -233,7 +298,16 @@ fn case_labels_and_arms() {
                 .join(",")
         })
         .collect();
-    assert_eq!(labels, ["1,2,5..10", "RED,(neg 3)", "COLOR#GREEN", "(neg 5)..(neg 1)", "E.A"]);
+    assert_eq!(
+        labels,
+        [
+            "1,2,5..10",
+            "RED,(neg 3)",
+            "COLOR#GREEN",
+            "(neg 5)..(neg 1)",
+            "E.A"
+        ]
+    );
     assert_eq!(arms[0].body.len(), 2);
     assert_eq!(arms[2].body.len(), 1); // the empty statement
     assert!(arms[4].body.is_empty());
@@ -244,7 +318,9 @@ fn case_labels_and_arms() {
 fn case_arm_statements_that_look_like_labels() {
     // Calls, assignments to members and indexed targets are statements, not labels.
     let (s, _) = body("CASE x OF 1: f(a, b); s.a := 1; arr[1] := 2; 2: y := 1; END_CASE;");
-    let StmtKind::Case { arms, .. } = &s[0].kind else { panic!() };
+    let StmtKind::Case { arms, .. } = &s[0].kind else {
+        panic!()
+    };
     assert_eq!(arms.len(), 2);
     assert_eq!(arms[0].body.len(), 3);
 }
@@ -257,12 +333,26 @@ fn loops_and_jumps() {
          REPEAT a := a - 1; UNTIL a = 0 END_REPEAT;\n\
          RETURN; ;",
     );
-    let StmtKind::For { var, from, to, by, body } = &s[0].kind else { panic!() };
+    let StmtKind::For {
+        var,
+        from,
+        to,
+        by,
+        body,
+    } = &s[0].kind
+    else {
+        panic!()
+    };
     assert_eq!(i.name(var.sym), "I");
-    assert_eq!((sx(from, &i), sx(to, &i), sx(by.as_ref().unwrap(), &i)), ("10".into(), "1".into(), "(neg 1)".into()));
+    assert_eq!(
+        (sx(from, &i), sx(to, &i), sx(by.as_ref().unwrap(), &i)),
+        ("10".into(), "1".into(), "(neg 1)".into())
+    );
     assert_eq!(body.len(), 3);
     assert!(matches!(s[1].kind, StmtKind::While { .. }));
-    let StmtKind::Repeat { until, body } = &s[2].kind else { panic!() };
+    let StmtKind::Repeat { until, body } = &s[2].kind else {
+        panic!()
+    };
     assert_eq!((sx(until, &i), body.len()), ("(= A 0)".into(), 1));
     assert!(matches!(s[3].kind, StmtKind::Return));
     assert!(matches!(s[4].kind, StmtKind::Empty));
@@ -271,7 +361,9 @@ fn loops_and_jumps() {
 #[test]
 fn assignments() {
     let (s, i) = body("a.b[1]^ := 1; r REF= v; %QX0.1 := TRUE;");
-    let StmtKind::Assign { target, .. } = &s[0].kind else { panic!() };
+    let StmtKind::Assign { target, .. } = &s[0].kind else {
+        panic!()
+    };
     assert_eq!(sx(target, &i), "A.B[1]^");
     assert!(matches!(s[1].kind, StmtKind::RefAssign { .. }));
     assert!(matches!(s[2].kind, StmtKind::Assign { .. }));
@@ -311,19 +403,35 @@ fn corpus_parses_without_diagnostics() {
         return;
     }
     let mut files = Vec::new();
-    for dir in ["bulk/ironplc_e2e", "st", "libs/oscat_basic_333", "libs/matiec_stdlib"] {
-        let Ok(rd) = std::fs::read_dir(root.join(dir)) else { continue };
+    for dir in [
+        "bulk/ironplc_e2e",
+        "st",
+        "libs/oscat_basic_333",
+        "libs/matiec_stdlib",
+    ] {
+        let Ok(rd) = std::fs::read_dir(root.join(dir)) else {
+            continue;
+        };
         for e in rd.flatten() {
             let p = e.path();
-            let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-            let st = ext == "st" || (dir.starts_with("libs/") && ext == "txt" && !p.ends_with("COPYING.LESSER"));
+            let ext = p
+                .extension()
+                .and_then(|e| e.to_str())
+                .unwrap_or("")
+                .to_ascii_lowercase();
+            let st = ext == "st"
+                || (dir.starts_with("libs/") && ext == "txt" && !p.ends_with("COPYING.LESSER"));
             if st {
                 files.push(p);
             }
         }
     }
     files.sort();
-    assert!(files.len() > 300, "corpus looks incomplete: {} files", files.len());
+    assert!(
+        files.len() > 300,
+        "corpus looks incomplete: {} files",
+        files.len()
+    );
     let mut unexpected = Vec::new();
     let mut interner = Interner::new();
     for p in &files {
@@ -346,13 +454,28 @@ fn corpus_parses_without_diagnostics() {
             unexpected.push(format!("{name} (no items)"));
         }
         if name.starts_with("OSCAT_BASIC_333") {
-            let pous = unit.items.iter().filter(|i| matches!(i, Item::Pou(_))).count();
-            let types = unit.items.iter().filter(|i| matches!(i, Item::Type(_))).count();
-            let globals = unit.items.iter().filter(|i| matches!(i, Item::Globals(_))).count();
+            let pous = unit
+                .items
+                .iter()
+                .filter(|i| matches!(i, Item::Pou(_)))
+                .count();
+            let types = unit
+                .items
+                .iter()
+                .filter(|i| matches!(i, Item::Type(_)))
+                .count();
+            let globals = unit
+                .items
+                .iter()
+                .filter(|i| matches!(i, Item::Globals(_)))
+                .count();
             assert_eq!((pous, types, globals), (545, 14, 3), "{name}");
         }
     }
-    assert!(unexpected.is_empty(), "corpus files with diagnostics: {unexpected:#?}");
+    assert!(
+        unexpected.is_empty(),
+        "corpus files with diagnostics: {unexpected:#?}"
+    );
 }
 
 // ------------------------------------------------------------------ declarations
@@ -363,16 +486,22 @@ fn ty(t: &TypeSpec, i: &Interner) -> String {
         TypeSpec::String { wide, len, .. } => format!(
             "{}{}",
             if *wide { "WSTRING" } else { "STRING" },
-            len.as_ref().map_or(String::new(), |l| format!("[{}]", sx(l, i)))
+            len.as_ref()
+                .map_or(String::new(), |l| format!("[{}]", sx(l, i)))
         ),
         TypeSpec::Array { dims, elem, .. } => {
             let d: Vec<String> = dims
                 .iter()
-                .map(|d| d.as_ref().map_or("*".into(), |(a, b)| format!("{}..{}", sx(a, i), sx(b, i))))
+                .map(|d| {
+                    d.as_ref()
+                        .map_or("*".into(), |(a, b)| format!("{}..{}", sx(a, i), sx(b, i)))
+                })
                 .collect();
             format!("ARRAY[{}] OF {}", d.join(","), ty(elem, i))
         }
-        TypeSpec::Subrange { base, lo, hi, .. } => format!("{}({}..{})", i.name(base.sym), sx(lo, i), sx(hi, i)),
+        TypeSpec::Subrange { base, lo, hi, .. } => {
+            format!("{}({}..{})", i.name(base.sym), sx(lo, i), sx(hi, i))
+        }
         TypeSpec::Enum { values, base, .. } => {
             let v: Vec<String> = values
                 .iter()
@@ -381,7 +510,11 @@ fn ty(t: &TypeSpec, i: &Interner) -> String {
                     None => i.name(n.sym).to_string(),
                 })
                 .collect();
-            format!("({}){}", v.join(","), base.map_or(String::new(), |b| format!(" {}", i.name(b.sym))))
+            format!(
+                "({}){}",
+                v.join(","),
+                base.map_or(String::new(), |b| format!(" {}", i.name(b.sym)))
+            )
         }
         TypeSpec::Struct { fields, .. } => {
             let f: Vec<String> = fields.iter().map(|d| decl(d, i)).collect();
@@ -408,7 +541,10 @@ fn init(v: &Init, i: &Interner) -> String {
             format!("[{}]", e.join(","))
         }
         Init::Struct { fields, .. } => {
-            let f: Vec<String> = fields.iter().map(|(n, v)| format!("{}:={}", i.name(n.sym), init(v, i))).collect();
+            let f: Vec<String> = fields
+                .iter()
+                .map(|(n, v)| format!("{}:={}", i.name(n.sym), init(v, i)))
+                .collect();
             format!("({})", f.join(","))
         }
     }
@@ -498,7 +634,11 @@ fn var_block_kinds_and_qualifiers() {
          VAR RETAIN CONSTANT g : INT; END_VAR\n VAR CONSTANT PERSISTENT h : INT; END_VAR\n VAR NON_RETAIN i : INT; END_VAR\n\
          VAR_GLOBAL j : INT; END_VAR\nEND_FUNCTION_BLOCK",
     );
-    let kinds: Vec<(VarKind, bool, bool)> = p.var_blocks.iter().map(|b| (b.kind, b.constant, b.retain)).collect();
+    let kinds: Vec<(VarKind, bool, bool)> = p
+        .var_blocks
+        .iter()
+        .map(|b| (b.kind, b.constant, b.retain))
+        .collect();
     use VarKind::*;
     assert_eq!(
         kinds,
@@ -549,7 +689,10 @@ fn type_declarations() {
         ]
     );
     let Item::Type(t) = &u.items[0] else { panic!() };
-    assert_eq!(&src[t.span.start as usize..t.span.end as usize], "S : STRUCT a : INT := 1; b : ARRAY[1..2] OF BOOL; END_STRUCT");
+    assert_eq!(
+        &src[t.span.start as usize..t.span.end as usize],
+        "S : STRUCT a : INT := 1; b : ARRAY[1..2] OF BOOL; END_STRUCT"
+    );
 }
 
 #[test]
@@ -561,9 +704,16 @@ fn pou_headers() {
          FUNCTION_BLOCK fb EXTENDS base\n VAR x : INT; END_VAR\n x := 1;\nEND_FUNCTION_BLOCK\n\
          PROGRAM p; END_PROGRAM",
     );
-    let pous: Vec<&Pou> = u.items.iter().map(|it| if let Item::Pou(p) = it { p } else { panic!() }).collect();
+    let pous: Vec<&Pou> = u
+        .items
+        .iter()
+        .map(|it| if let Item::Pou(p) = it { p } else { panic!() })
+        .collect();
     assert_eq!(pous.len(), 5);
-    assert_eq!((pous[0].kind, i.name(pous[0].name.sym)), (PouKind::Function, "F"));
+    assert_eq!(
+        (pous[0].kind, i.name(pous[0].name.sym)),
+        (PouKind::Function, "F")
+    );
     assert_eq!(ty(pous[0].return_type.as_ref().unwrap(), &i), "INT");
     assert!(pous[1].return_type.is_none());
     assert_eq!(ty(pous[2].return_type.as_ref().unwrap(), &i), "STRING[10]");
@@ -582,14 +732,30 @@ fn object_oriented_members_are_recorded_not_parsed() {
                PROPERTY P : INT\n  GET P := 1; END_GET\nEND_PROPERTY\n\
                s := 'a';\nEND_FUNCTION_BLOCK";
     let (p, i) = pou(src);
-    let h: Vec<&str> = p.unsupported_members.iter().map(|s| &src[s.start as usize..s.end as usize]).collect();
-    assert_eq!(h, ["PUBLIC", "IMPLEMENTS I1, I2", "METHOD PUBLIC baz", "PROPERTY P"]);
+    let h: Vec<&str> = p
+        .unsupported_members
+        .iter()
+        .map(|s| &src[s.start as usize..s.end as usize])
+        .collect();
+    assert_eq!(
+        h,
+        [
+            "PUBLIC",
+            "IMPLEMENTS I1, I2",
+            "METHOD PUBLIC baz",
+            "PROPERTY P"
+        ]
+    );
     assert_eq!(p.body.stmts.len(), 1);
     assert_eq!(i.name(p.name.sym), "FB");
     // At top level they are reported and skipped, with no cascade.
-    let src = "INTERFACE I\n METHOD m : INT END_METHOD\nEND_INTERFACE\nPROGRAM p x := 1; END_PROGRAM";
+    let src =
+        "INTERFACE I\n METHOD m : INT END_METHOD\nEND_INTERFACE\nPROGRAM p x := 1; END_PROGRAM";
     let (u, d, _) = parse_str(src);
-    assert_eq!(d.iter().map(|d| d.code).collect::<Vec<_>>(), [crate::codes::SYNTAX_NOT_SUPPORTED]);
+    assert_eq!(
+        d.iter().map(|d| d.code).collect::<Vec<_>>(),
+        [crate::codes::SYNTAX_NOT_SUPPORTED]
+    );
     assert_eq!(u.items.len(), 1);
 }
 
@@ -623,7 +789,10 @@ fn actions() {
             (a.pou.map(|p| i.name(p.sym)), i.name(a.name.sym))
         })
         .collect();
-    assert_eq!(tops, [(Some("FB"), "A2"), (Some("FB"), "A3"), (Some("FB"), "A4")]);
+    assert_eq!(
+        tops,
+        [(Some("FB"), "A2"), (Some("FB"), "A3"), (Some("FB"), "A4")]
+    );
 }
 
 #[test]
@@ -634,18 +803,31 @@ fn configuration() {
                TASK t2(SINGLE := trig, PRIORITY := 2);\n PROGRAM RETAIN p2 WITH t2 : Prog2;\n\
                VAR_CONFIG inst.a.b AT %IX1.0 : BOOL; inst.fb : FBT := (ELEM := 1); END_VAR\nEND_CONFIGURATION";
     let (u, i) = ok(src);
-    let Item::Configuration(c) = &u.items[0] else { panic!() };
+    let Item::Configuration(c) = &u.items[0] else {
+        panic!()
+    };
     assert_eq!(i.name(c.name.sym), "CFG");
     assert_eq!(c.var_blocks.len(), 2);
     assert!(c.var_blocks[0].decls[1].names.is_empty());
-    let paths: Vec<&str> = c.var_blocks[1].decls.iter().map(|d| i.name(d.names[0].sym)).collect();
+    let paths: Vec<&str> = c.var_blocks[1]
+        .decls
+        .iter()
+        .map(|d| i.name(d.names[0].sym))
+        .collect();
     assert_eq!(paths, ["INST.A.B", "INST.FB"]);
     assert_eq!(c.resources.len(), 2);
     let r = &c.resources[0];
-    assert_eq!((i.name(r.name.sym), r.on.map(|o| i.name(o.sym))), ("RES", Some("PLC")));
+    assert_eq!(
+        (i.name(r.name.sym), r.on.map(|o| i.name(o.sym))),
+        ("RES", Some("PLC"))
+    );
     assert_eq!(r.var_blocks.len(), 1);
     assert_eq!(r.tasks.len(), 1);
-    let props: Vec<String> = r.tasks[0].props.iter().map(|(n, v)| format!("{}={}", i.name(n.sym), sx(v, &i))).collect();
+    let props: Vec<String> = r.tasks[0]
+        .props
+        .iter()
+        .map(|(n, v)| format!("{}={}", i.name(n.sym), sx(v, &i)))
+        .collect();
     assert_eq!(props, ["INTERVAL=T#10000000ns", "PRIORITY=1"]);
     assert_eq!(r.programs.len(), 2);
     assert_eq!(i.name(r.programs[0].task.unwrap().sym), "FAST");
@@ -656,7 +838,10 @@ fn configuration() {
     let imp = &c.resources[1];
     assert_eq!((i.name(imp.name.sym), imp.on), ("CFG", None));
     assert_eq!((imp.tasks.len(), imp.programs.len()), (1, 1));
-    assert_eq!(&src[imp.span.start as usize..imp.span.end as usize], "TASK t2(SINGLE := trig, PRIORITY := 2);\n PROGRAM RETAIN p2 WITH t2 : Prog2");
+    assert_eq!(
+        &src[imp.span.start as usize..imp.span.end as usize],
+        "TASK t2(SINGLE := trig, PRIORITY := 2);\n PROGRAM RETAIN p2 WITH t2 : Prog2"
+    );
 }
 
 #[test]
@@ -665,7 +850,10 @@ fn globals_and_comments_everywhere() {
         "(* header (* nested *) *)\n{attribute 'x'}\nVAR_GLOBAL CONSTANT\n  limit : INT := 10; // c\nEND_VAR\n\
          /* c */ PROGRAM p (* a *) VAR (* b *) x : INT; END_VAR x := (* c *) 1; END_PROGRAM",
     );
-    assert!(matches!(u.items[0], Item::Globals(VarBlock { constant: true, .. })));
+    assert!(matches!(
+        u.items[0],
+        Item::Globals(VarBlock { constant: true, .. })
+    ));
 }
 
 // ------------------------------------------------------------------ error recovery
@@ -732,7 +920,10 @@ fn unclosed_blocks_are_one_error() {
 fn stray_closers() {
     check_errors(
         "PROGRAM p\n x := 1;\n END_IF;\n ELSE\n y := 2;\nEND_PROGRAM",
-        &["error[E0103]: unexpected `END_IF`: no IF is open", "error[E0103]: unexpected `ELSE`: no IF or CASE is open"],
+        &[
+            "error[E0103]: unexpected `END_IF`: no IF is open",
+            "error[E0103]: unexpected `ELSE`: no IF or CASE is open",
+        ],
     );
     check_errors(
         "PROGRAM p\n WHILE a DO x := 1; ELSE y := 2; END_WHILE;\nEND_PROGRAM",
@@ -742,7 +933,10 @@ fn stray_closers() {
         "PROGRAM p\n IF a THEN x := 1; ELSE y := 1; ELSE z := 1; END_IF;\nEND_PROGRAM",
         &["error[E0103]: unexpected `ELSE`: no IF or CASE is open"],
     );
-    check_errors("END_IF; PROGRAM p END_PROGRAM", &["error[E0103]: unexpected `END_IF`: it closes nothing here"]);
+    check_errors(
+        "END_IF; PROGRAM p END_PROGRAM",
+        &["error[E0103]: unexpected `END_IF`: it closes nothing here"],
+    );
 }
 
 #[test]
@@ -767,13 +961,34 @@ fn header_errors() {
 
 #[test]
 fn expression_statement_errors() {
-    check_errors("PROGRAM p x = 5; y := 1; END_PROGRAM", &["error[E0108]: expected `:=` or a call, found `=`"]);
-    check_errors("PROGRAM p a + b; END_PROGRAM", &["error[E0108]: expected `:=` or a call, found `+`"]);
-    check_errors("PROGRAM p x := (a + ; y := 1; END_PROGRAM", &["error[E0101]: expected an expression, found `;`"]);
-    check_errors("PROGRAM p x := f(a b); END_PROGRAM", &["error[E0101]: expected `,` or `)`, found `b`"]);
-    check_errors("PROGRAM p x := 1 2 3; y := 4; END_PROGRAM", &["error[E0102]: expected `;`, found `2`"]);
-    check_errors("PROGRAM p ) := 1; y := 4; END_PROGRAM", &["error[E0101]: expected a statement, found `)`"]);
-    check_errors("PROGRAM p x := %X3; END_PROGRAM", &["error[E0101]: `%X3` selects part of a variable: write it after one, as in `x.%X3`"]);
+    check_errors(
+        "PROGRAM p x = 5; y := 1; END_PROGRAM",
+        &["error[E0108]: expected `:=` or a call, found `=`"],
+    );
+    check_errors(
+        "PROGRAM p a + b; END_PROGRAM",
+        &["error[E0108]: expected `:=` or a call, found `+`"],
+    );
+    check_errors(
+        "PROGRAM p x := (a + ; y := 1; END_PROGRAM",
+        &["error[E0101]: expected an expression, found `;`"],
+    );
+    check_errors(
+        "PROGRAM p x := f(a b); END_PROGRAM",
+        &["error[E0101]: expected `,` or `)`, found `b`"],
+    );
+    check_errors(
+        "PROGRAM p x := 1 2 3; y := 4; END_PROGRAM",
+        &["error[E0102]: expected `;`, found `2`"],
+    );
+    check_errors(
+        "PROGRAM p ) := 1; y := 4; END_PROGRAM",
+        &["error[E0101]: expected a statement, found `)`"],
+    );
+    check_errors(
+        "PROGRAM p x := %X3; END_PROGRAM",
+        &["error[E0101]: `%X3` selects part of a variable: write it after one, as in `x.%X3`"],
+    );
 }
 
 #[test]
@@ -812,18 +1027,30 @@ END_PROGRAM
         show(&d, src)
     );
     // The good parts are still there.
-    assert_eq!(u.items.iter().filter(|i| matches!(i, Item::Pou(_))).count(), 3);
+    assert_eq!(
+        u.items.iter().filter(|i| matches!(i, Item::Pou(_))).count(),
+        3
+    );
 }
 
 #[test]
 fn lexical_errors_are_not_repeated_by_the_parser() {
-    check_errors("PROGRAM p x := ?; y := 1; END_PROGRAM", &["error[E0001]: unexpected character `?`"]);
-    check_errors("PROGRAM p x := 1 ?; END_PROGRAM", &["error[E0001]: unexpected character `?`"]);
+    check_errors(
+        "PROGRAM p x := ?; y := 1; END_PROGRAM",
+        &["error[E0001]: unexpected character `?`"],
+    );
+    check_errors(
+        "PROGRAM p x := 1 ?; END_PROGRAM",
+        &["error[E0001]: unexpected character `?`"],
+    );
     check_errors(
         "PROGRAM p x := 1; (* open comment\n y := 2;",
         &["error[E0002]: unterminated comment: `(*` has no matching `*)`"],
     );
-    check_errors("PROGRAM p x := 'abc", &["error[E0003]: unterminated string literal: missing closing `'`"]);
+    check_errors(
+        "PROGRAM p x := 'abc",
+        &["error[E0003]: unterminated string literal: missing closing `'`"],
+    );
 }
 
 #[test]
@@ -869,11 +1096,65 @@ fn garbage_and_truncation_never_panic() {
     // Every prefix of a token soup, and random byte strings.
     let mut seed = 0x9e37_79b9_7f4a_7c15u64;
     let words = [
-        "IF", "THEN", "ELSE", "END_IF", "CASE", "OF", ":", ":=", ";", "(", ")", "[", "]", "x", "1", "..",
-        ",", "FOR", "TO", "DO", "END_FOR", "WHILE", "END_WHILE", "REPEAT", "UNTIL", "END_REPEAT", "VAR",
-        "END_VAR", "PROGRAM", "END_PROGRAM", "FUNCTION", "TYPE", "STRUCT", "END_STRUCT", "END_TYPE", "ARRAY",
-        "AT", "%IX0.0", ".", "^", "#", "=>", "NOT", "+", "-", "**", "'s'", "T#1s", "METHOD", "ACTION",
-        "CONFIGURATION", "RESOURCE", "TASK", "END_CONFIGURATION", "ELSIF", "EXIT", "$", "(*", "*)",
+        "IF",
+        "THEN",
+        "ELSE",
+        "END_IF",
+        "CASE",
+        "OF",
+        ":",
+        ":=",
+        ";",
+        "(",
+        ")",
+        "[",
+        "]",
+        "x",
+        "1",
+        "..",
+        ",",
+        "FOR",
+        "TO",
+        "DO",
+        "END_FOR",
+        "WHILE",
+        "END_WHILE",
+        "REPEAT",
+        "UNTIL",
+        "END_REPEAT",
+        "VAR",
+        "END_VAR",
+        "PROGRAM",
+        "END_PROGRAM",
+        "FUNCTION",
+        "TYPE",
+        "STRUCT",
+        "END_STRUCT",
+        "END_TYPE",
+        "ARRAY",
+        "AT",
+        "%IX0.0",
+        ".",
+        "^",
+        "#",
+        "=>",
+        "NOT",
+        "+",
+        "-",
+        "**",
+        "'s'",
+        "T#1s",
+        "METHOD",
+        "ACTION",
+        "CONFIGURATION",
+        "RESOURCE",
+        "TASK",
+        "END_CONFIGURATION",
+        "ELSIF",
+        "EXIT",
+        "$",
+        "(*",
+        "*)",
     ];
     for _ in 0..300 {
         let mut s = String::new();
@@ -904,7 +1185,11 @@ fn on_small_stack(f: impl FnOnce() + Send + 'static) {
 fn deep_nesting_is_one_error_and_no_overflow() {
     on_small_stack(|| {
         let n = 10_000;
-        let parens = format!("PROGRAM p x := {}1{}; y := 2; END_PROGRAM", "(".repeat(n), ")".repeat(n));
+        let parens = format!(
+            "PROGRAM p x := {}1{}; y := 2; END_PROGRAM",
+            "(".repeat(n),
+            ")".repeat(n)
+        );
         assert_eq!(codes_of(&parens), ["E0105"]);
         let ifs = format!(
             "PROGRAM p {} x := 1; {} y := 2; END_PROGRAM",
@@ -917,75 +1202,47 @@ fn deep_nesting_is_one_error_and_no_overflow() {
         assert_eq!(p.body.stmts.len(), 2);
         let nots = format!("PROGRAM p x := {}a; END_PROGRAM", "NOT ".repeat(n));
         assert_eq!(codes_of(&nots), ["E0105"]);
-        let arrays = format!("PROGRAM p VAR x : {}INT; y : INT; END_VAR END_PROGRAM", "ARRAY[1..2] OF ".repeat(n));
+        let arrays = format!(
+            "PROGRAM p VAR x : {}INT; y : INT; END_VAR END_PROGRAM",
+            "ARRAY[1..2] OF ".repeat(n)
+        );
         assert_eq!(codes_of(&arrays), ["E0105"]);
         let structs = format!("TYPE t : {} END_TYPE", "STRUCT a : ".repeat(n));
         assert!(codes_of(&structs).contains(&"E0105"));
-        let inits = format!("PROGRAM p VAR x : S := {}1{}; END_VAR END_PROGRAM", "(a := ".repeat(n), ")".repeat(n));
+        let inits = format!(
+            "PROGRAM p VAR x : S := {}1{}; END_VAR END_PROGRAM",
+            "(a := ".repeat(n),
+            ")".repeat(n)
+        );
         assert_eq!(codes_of(&inits), ["E0105"]);
-        let calls = format!("PROGRAM p x := {}1{}; END_PROGRAM", "f(".repeat(n), ")".repeat(n));
+        let calls = format!(
+            "PROGRAM p x := {}1{}; END_PROGRAM",
+            "f(".repeat(n),
+            ")".repeat(n)
+        );
         assert_eq!(codes_of(&calls), ["E0105"]);
-        let chain = format!("PROGRAM p x := 1{}; y := 1; END_PROGRAM", " + 1".repeat(100_000));
+        let chain = format!(
+            "PROGRAM p x := 1{}; y := 1; END_PROGRAM",
+            " + 1".repeat(100_000)
+        );
         assert_eq!(codes_of(&chain), ["E0105"]);
         let members = format!("PROGRAM p x := a{}; END_PROGRAM", ".b".repeat(100_000));
         assert_eq!(codes_of(&members), ["E0105"]);
         // Just below the limits everything parses (and the tree can be dropped).
         let d = (super::parser::MAX_DEPTH - 2) as usize;
-        ok(&format!("PROGRAM p x := {}1{}; END_PROGRAM", "(".repeat(d), ")".repeat(d)));
-        ok(&format!("PROGRAM p {} x := 1; {} END_PROGRAM", "IF a THEN ".repeat(d), "END_IF; ".repeat(d)));
-        ok(&format!("PROGRAM p x := 1{}; END_PROGRAM", " + 1".repeat(900)));
+        ok(&format!(
+            "PROGRAM p x := {}1{}; END_PROGRAM",
+            "(".repeat(d),
+            ")".repeat(d)
+        ));
+        ok(&format!(
+            "PROGRAM p {} x := 1; {} END_PROGRAM",
+            "IF a THEN ".repeat(d),
+            "END_IF; ".repeat(d)
+        ));
+        ok(&format!(
+            "PROGRAM p x := 1{}; END_PROGRAM",
+            " + 1".repeat(900)
+        ));
     });
-}
-
-#[test]
-#[ignore]
-fn zz_time() {
-    let text = std::fs::read_to_string("/tmp/synth.st").unwrap();
-    for _ in 0..5 {
-        let mut i = Interner::new();
-        let mut d = Vec::new();
-        let t0 = std::time::Instant::now();
-        let lexed = super::lexer::lex(FileId(0), &text, &mut i, &mut d);
-        let t1 = std::time::Instant::now();
-        let u = super::parser::parse_tokens(FileId(0), &text, &lexed, &mut i, &mut d);
-        let t2 = std::time::Instant::now();
-        drop(u);
-        let t3 = std::time::Instant::now();
-        eprintln!("tokens {} lex {:?} parse {:?} drop {:?} total {:?} diags {}", lexed.tokens.len(), t1 - t0, t2 - t1, t3 - t2, t2 - t0, d.len());
-    }
-}
-struct CountAlloc;
-static ALLOCS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-static BYTES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-unsafe impl std::alloc::GlobalAlloc for CountAlloc {
-    unsafe fn alloc(&self, l: std::alloc::Layout) -> *mut u8 {
-        ALLOCS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        BYTES.fetch_add(l.size(), std::sync::atomic::Ordering::Relaxed);
-        unsafe { std::alloc::System.alloc(l) }
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: std::alloc::Layout) {
-        unsafe { std::alloc::System.dealloc(p, l) }
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: std::alloc::Layout, n: usize) -> *mut u8 {
-        ALLOCS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        BYTES.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
-        unsafe { std::alloc::System.realloc(p, l, n) }
-    }
-}
-#[global_allocator]
-static GA: CountAlloc = CountAlloc;
-#[test]
-#[ignore]
-fn zz_allocs() {
-    let text = std::fs::read_to_string("/tmp/synth.st").unwrap();
-    let mut i = Interner::new();
-    let mut d = Vec::new();
-    let a0 = ALLOCS.load(std::sync::atomic::Ordering::Relaxed);
-    let lexed = super::lexer::lex(FileId(0), &text, &mut i, &mut d);
-    let a1 = ALLOCS.load(std::sync::atomic::Ordering::Relaxed);
-    let u = super::parser::parse_tokens(FileId(0), &text, &lexed, &mut i, &mut d);
-    let a2 = ALLOCS.load(std::sync::atomic::Ordering::Relaxed);
-    let b2 = BYTES.load(std::sync::atomic::Ordering::Relaxed);
-    eprintln!("lex allocs {} parse allocs {} lits {} bytes total {}", a1 - a0, a2 - a1, lexed.literals.len(), b2);
-    drop(u);
 }

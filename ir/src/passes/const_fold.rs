@@ -45,6 +45,7 @@ enum Fold {
 /// function changed.
 pub fn run(func: &mut Function) -> bool {
     let mut order = reverse_postorder(func);
+    let reachable = order.len();
     if order.len() != func.layout.len() {
         // Unreachable blocks are still valid code: fold them too, after the rest.
         let mut seen = vec![false; func.blocks.len()];
@@ -55,40 +56,52 @@ pub fn run(func: &mut Function) -> bool {
     }
     let mut vmap = ValueMap::new(func);
     let mut changed = false;
-    for b in order {
+    // Uses are rewritten as they are visited: in reverse postorder every use comes
+    // after its definition, so only substitutions found in unreachable blocks (which
+    // have no such order) need a final sweep.
+    let mut late_alias = false;
+    // Instruction lists are rebuilt through one spare vector, so that no block
+    // allocates.
+    let mut spare: Vec<Inst> = Vec::new();
+    for (k, b) in order.into_iter().enumerate() {
         let old = std::mem::take(&mut func.blocks[b.index()].insts);
-        let mut new = Vec::with_capacity(old.len());
-        for i in old {
+        spare.clear();
+        for &i in &old {
             if !vmap.is_empty() {
                 func.insts[i.index()].map_args(|a| vmap.resolve(a));
             }
-            match fold(func, i) {
-                Fold::Keep => new.push(i),
+            // A rewritten instruction may simplify further (`icmp eq x, 0` on a truth
+            // value becomes `bnot x`, which may invert a comparison): fold again.
+            let mut fold_result = fold(func, i);
+            for _ in 0..4 {
+                let Fold::Rewrite(data) = fold_result else {
+                    break;
+                };
+                func.insts[i.index()] = data;
+                changed = true;
+                fold_result = fold(func, i);
+            }
+            match fold_result {
+                Fold::Keep | Fold::Rewrite(_) => spare.push(i),
                 Fold::Int(imm) => {
                     let ty = result_type(func, i);
                     func.insts[i.index()] = InstData::Iconst {
                         ty,
                         imm: ty.canon_int(imm),
                     };
-                    new.push(i);
+                    spare.push(i);
                     changed = true;
                 }
                 Fold::Float(bits) => {
                     let ty = result_type(func, i);
                     func.insts[i.index()] = InstData::Fconst { ty, bits };
-                    new.push(i);
+                    spare.push(i);
                     changed = true;
                 }
                 Fold::Alias(v) => {
-                    vmap.set(
-                        func.result(i).expect("aliased instructions have results"),
-                        v,
-                    );
-                    changed = true;
-                }
-                Fold::Rewrite(data) => {
-                    func.insts[i.index()] = data;
-                    new.push(i);
+                    let r = func.result(i).expect("aliased instructions have results");
+                    vmap.set(r, v);
+                    late_alias |= k >= reachable;
                     changed = true;
                 }
                 Fold::WithConst(op, x, k) => {
@@ -103,16 +116,18 @@ pub fn run(func: &mut Function) -> bool {
                         span,
                     );
                     let cv = func.result(c).unwrap();
-                    new.push(c);
+                    spare.push(c);
                     func.insts[i.index()] = InstData::Binary { op, args: [x, cv] };
-                    new.push(i);
+                    spare.push(i);
                     changed = true;
                 }
             }
         }
-        func.blocks[b.index()].insts = new;
+        func.blocks[b.index()].insts = std::mem::replace(&mut spare, old);
     }
-    vmap.apply(func);
+    if late_alias {
+        vmap.apply(func);
+    }
     changed
 }
 

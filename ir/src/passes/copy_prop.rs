@@ -75,7 +75,6 @@ pub fn run(func: &mut Function) -> bool {
             }
         }
         changed |= swept_change;
-        if std::env::var("CP_DEBUG").is_ok() { eprintln!("sweep {} blocks {}", swept_change, order.len()); }
         if !swept_change {
             break;
         }

@@ -130,7 +130,8 @@ impl Prog {
             let mut b = FuncBuilder::new(&mut f);
             let inst = b.params()[0];
             for (i, t) in fields {
-                if let MemType::Scalar(ty) = t {
+                // The IR has no null pointer: pointer fields keep the garbage.
+                if let MemType::Scalar(ty) = t.filter_ptr() {
                     let z = zero(&mut b, ty);
                     let a = b.field_addr(inst, agg, i);
                     b.store(z, a);
@@ -157,14 +158,24 @@ impl Prog {
     }
 }
 
-/// A zero of any scalar type.
+trait FilterPtr {
+    fn filter_ptr(self) -> MemType;
+}
+
+impl FilterPtr for MemType {
+    /// Pointers become an aggregate type, so the caller skips them.
+    fn filter_ptr(self) -> MemType {
+        match self {
+            MemType::Scalar(Type::Ptr) => MemType::Agg(AggId::new(u32::MAX as usize)),
+            t => t,
+        }
+    }
+}
+
+/// A zero of any scalar type but `ptr`.
 pub fn zero(b: &mut FuncBuilder, ty: Type) -> Value {
     match ty {
         Type::F32 | Type::F64 => b.fconst(ty, 0.0),
-        Type::Ptr => {
-            let z = b.iconst(Type::I64, 0);
-            b.convert(plcc_ir::ConvOp::Bitcast, Type::Ptr, z)
-        }
         _ => b.iconst(ty, 0),
     }
 }
@@ -192,7 +203,13 @@ pub struct Pair {
 impl Pair {
     pub fn new(module: Module) -> Pair {
         let jit = Jit::new(&module).unwrap_or_else(|e| {
-            panic!("JIT compile failed: {}", e.iter().map(|d| format!("{d} {:?}", d.notes)).collect::<Vec<_>>().join("\n"))
+            panic!(
+                "JIT compile failed: {}",
+                e.iter()
+                    .map(|d| format!("{d} {:?}", d.notes))
+                    .collect::<Vec<_>>()
+                    .join("\n")
+            )
         });
         let interp = Interp::new(&module).expect("interpreter accepts the module");
         let mut p = Pair {

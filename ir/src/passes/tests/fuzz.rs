@@ -787,17 +787,28 @@ fn fuzz_stats() {
         total.2 += before.iter().filter(|o| o.1).count();
         total.3 += m.funcs[t.index()].layout.len();
         if seed == 7 {
-            println!("{}", crate::text::print_function(&m, &m.funcs[t.index()], &Default::default()));
-            println!("{}", crate::text::print_function(&opt, &opt.funcs[t.index()], &Default::default()));
+            println!(
+                "{}",
+                crate::text::print_function(&m, &m.funcs[t.index()], &Default::default())
+            );
+            println!(
+                "{}",
+                crate::text::print_function(&opt, &opt.funcs[t.index()], &Default::default())
+            );
             println!("{:?}", before);
         }
     }
-    println!("insts before {} after {} faults {} blocks {}", total.0, total.1, total.2, total.3);
+    println!(
+        "insts before {} after {} faults {} blocks {}",
+        total.0, total.1, total.2, total.3
+    );
 }
 
 #[test]
 fn fuzz_debug_seed() {
-    let Ok(seed) = std::env::var("FUZZ_SEED") else { return };
+    let Ok(seed) = std::env::var("FUZZ_SEED") else {
+        return;
+    };
     let seed: u64 = seed.parse().unwrap();
     let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15));
     let (mut m, cx, _init) = skeleton();
@@ -805,13 +816,17 @@ fn fuzz_debug_seed() {
     let mut cur = m.clone();
     for round in 0..2 {
         for (name, pass) in PASSES {
-            let before = crate::text::print_function(&cur, &cur.funcs[t.index()], &Default::default());
+            let before =
+                crate::text::print_function(&cur, &cur.funcs[t.index()], &Default::default());
             let mut f = cur.funcs[t.index()].clone();
             pass(&mut f);
             cur.funcs[t.index()] = f;
             if crate::verify::verify_function(&cur, &cur.funcs[t.index()]).is_err() {
                 println!("before {name} round {round}:\n{before}");
-                println!("after:\n{}", crate::text::print_function(&cur, &cur.funcs[t.index()], &Default::default()));
+                println!(
+                    "after:\n{}",
+                    crate::text::print_function(&cur, &cur.funcs[t.index()], &Default::default())
+                );
                 panic!();
             }
         }
@@ -824,35 +839,7 @@ fn fuzz_debug_seed() {
 #[ignore]
 fn passes_throughput() {
     for &stmts in &[100u32, 1000, 10000, 50000] {
-        let mut rng = Rng(stmts as u64 * 7919);
-        let (mut m, cx, _) = skeleton();
-        let mut f = Function::new(
-            "big",
-            FuncKind::Function,
-            vec![Type::I32, Type::I32, Type::Ptr, Type::Ptr],
-            Some(Type::I32),
-        );
-        {
-            let mut b = FuncBuilder::new(&mut f);
-            let params = b.params();
-            let local = b.slot("local", MemType::Agg(cx.s));
-            let ptr_var = b.slot("ptr", MemType::Scalar(Type::Ptr));
-            let mut g = Gen { rng: &mut rng, b, cx: &cx, slots: Vec::new(), local, ptr_var, params, depth: 0, budget: 12, early_return: false };
-            let p = g.params[2];
-            let a = g.b.slot_addr(ptr_var);
-            g.b.store(p, a);
-            for k in 0..16 {
-                let ty = TYPES[k % TYPES.len()];
-                let s = g.b.slot(format!("l{k}"), MemType::Scalar(ty));
-                g.slots.push((s, ty));
-                let v = g.konst(ty);
-                let a = g.b.slot_addr(s);
-                g.b.store(v, a);
-            }
-            g.stmts(stmts, 2);
-            let v = g.expr(Type::I32);
-            g.b.ret(Some(v));
-        }
+        let (mut m, f) = big_function(stmts);
         let n = f.live_inst_count();
         let nb = f.layout.len();
         let id = m.add_func(f);
@@ -884,5 +871,73 @@ fn passes_throughput() {
             dt,
             dt.as_nanos() as f64 / n as f64
         );
+    }
+}
+
+/// Not a test: many optimisations of mid-sized functions, for `perf`.
+#[test]
+#[ignore]
+fn passes_profile() {
+    let funcs: Vec<Function> = (0..20).map(|k| big_function(50 + k * 10).1).collect();
+    let total: usize = funcs.iter().map(|f| f.live_inst_count()).sum();
+    let reps: usize = std::env::var("PROFILE_REPS").ok().and_then(|s| s.parse().ok()).unwrap_or(200);
+    let t = std::time::Instant::now();
+    for _ in 0..reps {
+        for f in &funcs {
+            let mut f = f.clone();
+            crate::passes::optimize_function(&mut f);
+        }
+    }
+    let dt = t.elapsed();
+    println!(
+        "{:.0} ns/inst",
+        dt.as_nanos() as f64 / (total * reps) as f64
+    );
+}
+
+/// A function of `stmts` random statements without early returns, and its module.
+fn big_function(stmts: u32) -> (Module, Function) {
+    {
+        let mut rng = Rng(stmts as u64 * 7919);
+        let (m, cx, _) = skeleton();
+        let mut f = Function::new(
+            "big",
+            FuncKind::Function,
+            vec![Type::I32, Type::I32, Type::Ptr, Type::Ptr],
+            Some(Type::I32),
+        );
+        {
+            let mut b = FuncBuilder::new(&mut f);
+            let params = b.params();
+            let local = b.slot("local", MemType::Agg(cx.s));
+            let ptr_var = b.slot("ptr", MemType::Scalar(Type::Ptr));
+            let mut g = Gen {
+                rng: &mut rng,
+                b,
+                cx: &cx,
+                slots: Vec::new(),
+                local,
+                ptr_var,
+                params,
+                depth: 0,
+                budget: 12,
+                early_return: false,
+            };
+            let p = g.params[2];
+            let a = g.b.slot_addr(ptr_var);
+            g.b.store(p, a);
+            for k in 0..16 {
+                let ty = TYPES[k % TYPES.len()];
+                let s = g.b.slot(format!("l{k}"), MemType::Scalar(ty));
+                g.slots.push((s, ty));
+                let v = g.konst(ty);
+                let a = g.b.slot_addr(s);
+                g.b.store(v, a);
+            }
+            g.stmts(stmts, 2);
+            let v = g.expr(Type::I32);
+            g.b.ret(Some(v));
+        }
+        (m, f)
     }
 }

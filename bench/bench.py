@@ -1,0 +1,124 @@
+#!/usr/bin/env python3
+"""plcc benchmarks: compile throughput and JIT time per scan, printed as tables.
+
+usage: bench/bench.py [--quick] [--only compile|scan]
+
+(a) Compile throughput on ../shared/bench/gen_synth.py output (1,000 and 2,000 POUs):
+    `plcc check` (parse, check, lower to IR) and the whole path to JIT code
+    (`plcc run --scans 0`: parse, check, lower, verify, optimise, Cranelift, load).
+    Wall time of the whole process, median of N runs, lines/s = lines / median.
+(b) Time per scan of the JIT on lcg.st, control.st and sieve.st against ref.c built
+    with `gcc -O2`: `plcc run --timing` times the scan loop alone (no compilation),
+    ref.c times its own loop; checksums must be equal. Both sides run interleaved, N
+    sets each, and the ratio is taken per set (the machine is noisy: compare ratios).
+
+Needs ../shared/bench (skips with a notice otherwise), python3, gcc, and a release
+build (`cargo build --release`, done here).
+"""
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SHARED = os.path.join(ROOT, "..", "shared", "bench")
+PLCC = os.path.join(ROOT, "target", "release", "plcc")
+
+
+def run(cmd, **kw):
+    return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
+
+
+def wall(cmd, n):
+    times = []
+    for _ in range(n):
+        t0 = time.perf_counter()
+        r = run(cmd)
+        times.append(time.perf_counter() - t0)
+        if r.returncode != 0:
+            sys.exit(f"failed: {' '.join(cmd)}\n{r.stderr[-2000:]}")
+    return statistics.median(times)
+
+
+def compile_bench(tmp, reps):
+    print("\n(a) compile throughput (median of %d whole-process runs)\n" % reps)
+    print(f"{'program':<22} {'lines':>8} {'check s':>9} {'check lines/s':>14} {'to JIT s':>9} {'to JIT lines/s':>15}")
+    rows = []
+    for n in (1000, 2000):
+        src = os.path.join(tmp, f"synth{n}.st")
+        with open(src, "w") as f:
+            subprocess.run([sys.executable, os.path.join(SHARED, "gen_synth.py"), str(n)], stdout=f, check=True)
+        lines = sum(1 for _ in open(src))
+        t_check = wall([PLCC, "check", src], reps)
+        t_jit = wall([PLCC, "run", src, "--scans", "0"], reps)
+        rows.append((n, lines, t_check, t_jit))
+        print(f"{'gen_synth ' + str(n) + ' POUs':<22} {lines:>8} {t_check:>9.3f} {lines / t_check:>14,.0f} {t_jit:>9.3f} {lines / t_jit:>15,.0f}")
+    if len(rows) == 2:
+        (_, l1, c1, j1), (_, l2, c2, j2) = rows
+        print(f"\ngrowth from {l1} to {l2} lines ({l2 / l1:.2f}x): check {c2 / c1:.2f}x, to JIT {j2 / j1:.2f}x (linear = {l2 / l1:.2f}x)")
+
+
+PER_SCAN = re.compile(r"([0-9.]+) us per scan")
+REF_PER_SCAN = re.compile(r"in-process: ([0-9.]+) us/scan")
+
+
+def checksums_plcc(out, names):
+    vals = dict(re.findall(r"^(\w+) = (\S+)$", out, re.M))
+    return {k: vals.get(k) for k in names}
+
+
+def checksums_ref(out):
+    return dict(re.findall(r"(\w+)=(\S+)", out))
+
+
+def scan_bench(tmp, sets):
+    print(f"\n(b) JIT time per scan vs C (gcc -O2), {sets} interleaved sets, median\n")
+    ref = os.path.join(tmp, "ref")
+    r = run(["gcc", "-O2", "-o", ref, os.path.join(SHARED, "ref.c")])
+    if r.returncode != 0:
+        print("notice: gcc failed; skipping the per-scan benchmark\n" + r.stderr)
+        return
+    cases = [("lcg", 100, ["scans", "x", "acc", "hi", "lo"]),
+             ("control", 20000, ["scan", "qsum", "cvsum", "alarms"]),
+             ("sieve", 2000, ["scans", "total", "count", "last"])]
+    print(f"{'program':<10} {'scans':>7} {'plcc us/scan':>13} {'C us/scan':>10} {'ratio':>7}  checksums")
+    for name, scans, keys in cases:
+        st = os.path.join(SHARED, name + ".st")
+        p_times, c_times, ratios = [], [], []
+        same = True
+        for _ in range(sets):
+            rp = run([PLCC, "run", st, "--scans", str(scans), "--cycle-ms", "1", "--timing"])
+            rc = run([ref, name, str(scans)])
+            if rp.returncode != 0 or rc.returncode != 0:
+                sys.exit(f"{name} failed:\n{rp.stderr}\n{rc.stderr}")
+            tp = float(PER_SCAN.search(rp.stderr).group(1))
+            tc = float(REF_PER_SCAN.search(rc.stderr).group(1))
+            p_times.append(tp)
+            c_times.append(tc)
+            ratios.append(tp / tc)
+            mine = checksums_plcc(rp.stdout, keys)
+            theirs = checksums_ref(rc.stdout)
+            same = same and all(mine[k] == theirs.get(k) for k in keys)
+        print(f"{name:<10} {scans:>7} {statistics.median(p_times):>13.3f} {statistics.median(c_times):>10.3f} "
+              f"{statistics.median(ratios):>6.2f}x  {'equal' if same else 'DIFFER'}")
+
+
+def main():
+    if not os.path.isdir(SHARED):
+        print("notice: ../shared/bench not found; nothing to measure")
+        return
+    quick = "--quick" in sys.argv
+    only = sys.argv[sys.argv.index("--only") + 1] if "--only" in sys.argv else None
+    subprocess.run(["cargo", "build", "--release", "--quiet"], cwd=ROOT, check=True)
+    with tempfile.TemporaryDirectory() as tmp:
+        if only in (None, "compile"):
+            compile_bench(tmp, 3 if quick else 7)
+        if only in (None, "scan"):
+            scan_bench(tmp, 3 if quick else 9)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,444 @@
+//! End-to-end tests of plcc's own Structured Text programs.
+//!
+//! Every `tests/programs/**/*.st` has a scenario beside it (`NAME.expect`, the
+//! `corpus-expect v1` format of `../shared/corpus/README.md`) whose expected values were
+//! computed by hand from IEC 61131-3 and `DESIGN.md`, not copied from plcc's output.
+//! Every `examples/*.st` with an `.expect` runs too.
+//!
+//! - `programs_on_host`, `programs_on_interp`: every scenario passes on that machine.
+//! - `host_and_interp_agree`: the JIT and the IR interpreter hold the same value in
+//!   every variable (and the same fault flag) after every scan of every scenario.
+//!
+//! These tests never skip: a program without a scenario, a scenario without checks,
+//! a program that does not compile, or a panic is a failure. Failures are collected
+//! and reported together at the end.
+//!
+//! # Coverage checklist
+//!
+//! Construct → programs that cover it (paths under `tests/programs/st/`).
+//!
+//! POUs
+//! - PROGRAM: every file; VAR_INPUT/VAR_OUTPUT of a PROGRAM: apps/motor_starter,
+//!   apps/batching, apps/wash_cycle, apps/pump_alternation, stmt/if_elsif
+//! - FUNCTION: pou/function_basic, pou/function_outputs, pou/function_chain,
+//!   pou/function_types, pou/function_return, stmt/while_loop, stmt/repeat_loop
+//! - FUNCTION without a result type, called as a statement: pou/function_outputs
+//! - FUNCTION_BLOCK instances: pou/fb_instances, pou/fb_call_forms, apps/filters,
+//!   apps/pi_control, apps/alarm_handler
+//! - several instances of one FB, independent state: pou/fb_instances,
+//!   pou/fb_nested (left/right), arrays/array_of_fbs, apps/alarm_handler
+//! - FB instances nested in FBs (two levels): pou/fb_nested, pou/nested_initialisers,
+//!   apps/alarm_handler, apps/pump_alternation, apps/ramp_generator
+//! - formal calls: pou/function_basic, pou/fb_call_forms, stdfb/ton; positional
+//!   calls: pou/function_basic, pou/fb_call_forms (`w2(4, 0, 10)`),
+//!   pou/function_inout_swap
+//! - `=>` outputs: pou/function_outputs, pou/fb_call_forms, stdfb/ton,
+//!   stdfb/bistables, pou/function_types; `NOT q => x`: pou/function_outputs,
+//!   pou/fb_call_forms
+//! - reading `inst.Q` in expressions: pou/fb_call_forms, pou/fb_instances,
+//!   apps/motor_starter, apps/batching, stdfb/timers_one_clock (`NOT t.Q` as its own input)
+//! - `inst.IN := x;` then `inst();`: pou/fb_call_forms (`w3.x := -8; w3();`),
+//!   pou/nested_initialisers (`s1();`)
+//! - FB inputs keep their value between calls, FUNCTION inputs take their default:
+//!   pou/fb_input_retention, pou/fb_inout
+//! - VAR: every file; VAR_INPUT / VAR_OUTPUT: pou/function_outputs, pou/fb_call_forms
+//! - VAR_IN_OUT in FUNCTIONs: pou/function_inout_swap, pou/function_chain,
+//!   ops/short_circuit, bits/status_word, apps/sort_readings, apps/crc8,
+//!   arrays/array_inout; in FBs: pou/fb_inout, arrays/array_inout, apps/seven_segment
+//! - VAR_TEMP re-initialised at every call (FB and PROGRAM): pou/var_temp
+//! - FUNCTION locals re-initialised at every call: pou/function_basic,
+//!   pou/function_outputs (outputs restart at 0)
+//! - VAR CONSTANT (expressions, array bounds, CASE labels, FOR limits, NOT of a
+//!   constant): pou/var_constant, apps/wash_cycle, apps/recipe_steps,
+//!   apps/parking_garage, apps/frequency_meter
+//! - initial values of every elementary type: pou/initial_values; FB instance
+//!   initialisers `t : TON := (PT := T#2s)`: pou/initial_values, stdfb/tof,
+//!   pou/nested_initialisers, arrays/array_of_fbs (array of initialised TONs)
+//! - RETURN in FUNCTIONs: pou/function_return, pou/function_outputs; in FBs and
+//!   PROGRAMs (also from inside a loop): pou/return_program_fb, apps/seven_segment
+//!
+//! Elementary types
+//! - BOOL: types/bool_ops, literals/bool_literals, stdfn/conv_bool
+//! - SINT INT DINT LINT (wrap-around at each width): types/signed_wrap,
+//!   types/int_limits; USINT UINT UDINT ULINT: types/unsigned_wrap
+//! - unsigned compare and divide: types/unsigned_compare_div, stmt/case_unsigned
+//! - signed `/` toward zero, MOD with the sign of the dividend, MIN / -1:
+//!   types/signed_div_mod, ops/arith_functions
+//! - division and MOD by zero give 0 (no crash): types/div_by_zero
+//! - BYTE WORD DWORD LWORD: types/bitstrings, ops/bitwise, stdfn/shift_byte_word,
+//!   stdfn/shift_dword_lword, bits/bit_access
+//! - REAL: types/real_arith, stdfn/math_real, apps/pi_control, apps/filters;
+//!   LREAL: types/lreal_arith, stdfn/math_lreal, apps/ramp_generator
+//! - TIME (arithmetic, comparison, wrap): types/time_arith, literals/time_literals;
+//!   LTIME: types/ltime_arith, literals/time_literals
+//! - implicit widening of mixed operands: types/implicit_widening
+//!
+//! Statements
+//! - assignment: every file; IF/ELSIF/ELSE: stmt/if_elsif
+//! - CASE with lists, ranges, ELSE, no match: stmt/case_basic; unsigned and
+//!   bit-string selectors: stmt/case_unsigned; SINT/LINT/ULINT selectors:
+//!   stmt/case_wide; CASE with constant labels: pou/var_constant, apps/wash_cycle
+//! - FOR with BY (positive, negative, non-1, from a variable), the variable after
+//!   the loop, empty ranges: stmt/for_steps; FOR up to the type's maximum or
+//!   minimum terminates: stmt/for_type_max
+//! - WHILE: stmt/while_loop; REPEAT: stmt/repeat_loop
+//! - EXIT, CONTINUE (FOR, WHILE, REPEAT, nested): stmt/exit_continue,
+//!   stmt/nested_control, apps/sort_readings
+//! - nested control statements: stmt/nested_control
+//!
+//! Operators
+//! - IEC ed. 3 precedence (unary minus tighter than `**`, `**` left-associative,
+//!   NOT tightest, AND before XOR before OR, comparisons): ops/precedence
+//! - AND_THEN / OR_ELSE short-circuit, AND / OR evaluate both (a FUNCTION with a
+//!   side effect through VAR_IN_OUT): ops/short_circuit
+//! - comparisons (also NaN, TIME, extensible GT/EQ/LE): ops/comparisons
+//! - bitwise AND OR XOR NOT: ops/bitwise; unary + and -: ops/unary_ops
+//! - `**` on REAL and integers, EXPT: ops/power, ops/precedence
+//! - ADD MUL SUB DIV MOD MOVE as functions: ops/arith_functions
+//!
+//! Literals
+//! - `16#FF`, `2#1010_0101`, `8#17`, `INT#-5`, typed based literals: literals/int_literals
+//! - `T#1h2m3s4ms`, `T#1.5s`, `LT#…`, negative durations: literals/time_literals
+//! - `1.5E3`, REAL#/LREAL#, `_` in reals: literals/real_literals
+//! - `TRUE`, `BOOL#1`, `BOOL#0`, `BOOL#TRUE`: literals/bool_literals
+//!
+//! Standard functions
+//! - ABS SQRT LN LOG EXP SIN COS TAN ASIN ACOS ATAN: stdfn/math_real,
+//!   stdfn/math_lreal; ABS on integers: types/int_limits
+//! - EXPT and `**`: ops/power
+//! - SHL SHR ROL ROR on BYTE/WORD/DWORD/LWORD (shift >= width gives 0, rotate
+//!   modulo the width): stdfn/shift_byte_word, stdfn/shift_dword_lword
+//! - SEL MAX MIN LIMIT (also named arguments): stdfn/selection; MUX: stdfn/mux
+//! - REAL→integer rounds half to even and saturates, NaN → 0: stdfn/conv_real_to_int
+//! - narrowing integer conversions wrap, widening extends: stdfn/conv_int_narrow
+//! - BOOL ↔ numbers: stdfn/conv_bool; TIME ↔ integers in ms: stdfn/conv_time,
+//!   types/ltime_arith; REAL ↔ LREAL and integers → reals: stdfn/conv_real_lreal
+//! - TO_* conversions: stdfn/conv_generic; TRUNC, *_TRUNC_*: stdfn/trunc
+//!
+//! Standard function blocks
+//! - TON: stdfb/ton (IN dropping early), stdfb/timer_pt_zero (PT = 0),
+//!   stdfb/timers_one_clock (one clock per scan), apps/*
+//! - TOF: stdfb/tof, stdfb/timer_pt_zero; TP: stdfb/tp (no retrigger, IN dropping
+//!   early), stdfb/timer_pt_zero
+//! - CTU (at PV, past PV, reset wins): stdfb/ctu, apps/batching; CTD (at the INT
+//!   minimum): stdfb/ctd; CTUD (both edges, R over LD, INT maximum): stdfb/ctud,
+//!   apps/parking_garage; typed variants: stdfb/counters_typed
+//! - R_TRIG F_TRIG: stdfb/edge_triggers; SR RS (set vs reset dominance): stdfb/bistables
+//!
+//! Arrays
+//! - 1-D: arrays/array_1d; 2-D: arrays/array_2d, arrays/array_inout; negative
+//!   lower bounds: arrays/array_bounds, arrays/array_index_types; arrays of FB
+//!   instances: arrays/array_of_fbs, apps/alarm_handler, apps/pump_alternation;
+//!   initialisers `[1, 2, 3(0)]`: arrays/array_init, apps/crc8, apps/recipe_steps;
+//!   out-of-bounds (read 0, write dropped, FB call skipped): arrays/array_oob;
+//!   index types: arrays/array_index_types; arrays as VAR_IN_OUT: arrays/array_inout,
+//!   apps/sort_readings, apps/crc8, apps/seven_segment
+//!
+//! Bit access `w.3`: bits/bit_access, bits/status_word, apps/crc8 (`c.7`),
+//! apps/reject_tracking
+//!
+//! Real-world style programs (apps/): motor_starter (star-delta), batching
+//! (counter), pi_control (PI loop in REAL), sort_readings (sort via VAR_IN_OUT),
+//! filters (moving average, low-pass, rate limit), wash_cycle (state machine),
+//! alarm_handler, pump_alternation, analog_scaling, blinker, recipe_steps, crc8,
+//! seven_segment, parking_garage, frequency_meter, reject_tracking, ramp_generator.
+
+use plcc::driver::{build_sources, BuildOptions};
+use plcc::scenario::{self, Scenario, Step};
+use plcc::targets;
+use plcc_ir::machine::Machine;
+use plcc_ir::value::PlcValue;
+use plcc_ir::{ElemType, Module};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::{Path, PathBuf};
+
+/// The clock step of `run N`, as `plcc test` uses by default.
+const CYCLE_MS: u64 = 10;
+
+/// Fewer programs than this means the discovery is broken.
+const MIN_PROGRAMS: usize = 90;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Every `.st` under `dir`, recursively, sorted.
+fn st_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    for e in entries {
+        let p = e.expect("directory entry").path();
+        if p.is_dir() {
+            st_files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "st") {
+            out.push(p);
+        }
+    }
+}
+
+/// A program and its scenario, named by its path relative to the crate.
+struct Case {
+    name: String,
+    st: PathBuf,
+    expect: PathBuf,
+}
+
+/// Every test program (each must have a scenario) and every example with one.
+fn cases() -> (Vec<Case>, Vec<String>) {
+    let root = root();
+    let mut problems = Vec::new();
+    let mut programs = Vec::new();
+    st_files(&root.join("tests/programs"), &mut programs);
+    programs.sort();
+    let mut out = Vec::new();
+    for st in programs {
+        let expect = st.with_extension("expect");
+        let name = rel(&st);
+        if expect.exists() {
+            out.push(Case { name, st, expect });
+        } else {
+            problems.push(format!("{name}: no scenario (.expect) beside it"));
+        }
+    }
+    if out.len() < MIN_PROGRAMS {
+        problems.push(format!(
+            "only {} programs found under tests/programs (expected at least {MIN_PROGRAMS})",
+            out.len()
+        ));
+    }
+    let mut examples = Vec::new();
+    st_files(&root.join("examples"), &mut examples);
+    examples.sort();
+    for st in examples {
+        let expect = st.with_extension("expect");
+        if expect.exists() {
+            out.push(Case {
+                name: rel(&st),
+                st,
+                expect,
+            });
+        }
+    }
+    (out, problems)
+}
+
+fn rel(p: &Path) -> String {
+    p.strip_prefix(root())
+        .unwrap_or(p)
+        .to_string_lossy()
+        .replace('\\', "/")
+}
+
+/// A compiled case: its scenario, module and the program the scenario runs.
+struct Built {
+    scn: Scenario,
+    module: Module,
+    program: String,
+}
+
+fn build(case: &Case) -> Result<Built, String> {
+    let text = std::fs::read_to_string(&case.expect).map_err(|e| format!("cannot read the scenario: {e}"))?;
+    let scn = scenario::parse(&text).map_err(|e| format!("scenario: {e}"))?;
+    if let Some(why) = &scn.unsupported {
+        return Err(format!("scenario not supported: {why}"));
+    }
+    if !scn.steps.iter().any(|(_, s)| matches!(s, Step::Expect { .. })) {
+        return Err("the scenario checks nothing".into());
+    }
+    let bytes = std::fs::read(&case.st).map_err(|e| format!("cannot read the program: {e}"))?;
+    let opts = BuildOptions {
+        programs: scn.program.iter().cloned().collect(),
+        ..Default::default()
+    };
+    let b = build_sources(vec![(case.name.clone(), bytes)], &opts).map_err(|e| e.0)?;
+    let Some(module) = b.module else {
+        let errors: Vec<String> = b
+            .diagnostics
+            .iter()
+            .filter(|d| d.is_error())
+            .take(5)
+            .map(|d| d.to_string())
+            .collect();
+        return Err(format!("does not compile: {}", errors.join("; ")));
+    };
+    let program = match &scn.program {
+        Some(p) => p.clone(),
+        None => match module.programs.as_slice() {
+            [one] => one.name.clone(),
+            _ => return Err("the scenario names no program and there is not exactly one".into()),
+        },
+    };
+    Ok(Built { scn, module, program })
+}
+
+fn machine(target: &str, module: &Module) -> Result<Box<dyn Machine>, String> {
+    targets::machine(target, module).map_err(|d| {
+        let msgs: Vec<String> = d.iter().map(|x| x.to_string()).collect();
+        format!("no {target} machine: {}", msgs.join("; "))
+    })
+}
+
+fn panic_text(p: Box<dyn std::any::Any + Send>) -> String {
+    p.downcast_ref::<String>()
+        .cloned()
+        .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+        .unwrap_or_else(|| "(no message)".into())
+}
+
+/// Runs one case's scenario on one target; the failures as text.
+fn run_case(case: &Case, target: &str) -> Result<usize, String> {
+    let built = build(case)?;
+    let mut m = machine(target, &built.module)?;
+    let out = scenario::run(&built.scn, m.as_mut(), &built.program, CYCLE_MS);
+    if out.passed() {
+        return Ok(out.checks.len());
+    }
+    let mut why: Vec<String> = out
+        .checks
+        .iter()
+        .filter(|c| !c.ok)
+        .map(|c| format!("line {}: {}: {}", c.line, c.text, c.detail))
+        .collect();
+    why.extend(out.error.clone());
+    Err(why.join("\n    "))
+}
+
+fn run_all(target: &str) {
+    let (cases, mut failures) = cases();
+    let mut checks = 0;
+    for case in &cases {
+        match catch_unwind(AssertUnwindSafe(|| run_case(case, target))) {
+            Ok(Ok(n)) => checks += n,
+            Ok(Err(e)) => failures.push(format!("{}:\n    {e}", case.name)),
+            Err(p) => failures.push(format!("{}: PANIC: {}", case.name, panic_text(p))),
+        }
+    }
+    println!("{} programs, {checks} checks on {target}", cases.len());
+    assert!(
+        failures.is_empty(),
+        "{} of {} programs failed on {target}:\n{}",
+        failures.len(),
+        cases.len(),
+        failures.join("\n")
+    );
+}
+
+#[test]
+fn programs_on_host() {
+    run_all("host");
+}
+
+#[test]
+fn programs_on_interp() {
+    run_all("interp");
+}
+
+/// Two values are the same: bit for bit, except that any two NaNs are equal.
+fn same(a: PlcValue, b: PlcValue) -> bool {
+    if a.ty != b.ty {
+        return false;
+    }
+    match a.ty {
+        ElemType::Real | ElemType::LReal if a.as_f64().is_nan() => b.as_f64().is_nan(),
+        _ => a.bits == b.bits,
+    }
+}
+
+/// Runs the scenario's scans and writes on both machines, comparing every variable
+/// of the program and the fault flag after every scan (and after cold start).
+fn differential(case: &Case) -> Result<usize, String> {
+    let built = build(case)?;
+    let entry = built
+        .module
+        .program(&built.program)
+        .ok_or_else(|| format!("no program {}", built.program))?;
+    let vars = plcc_ir::vars::variables(&built.module, entry.data);
+    if vars.is_empty() {
+        return Err("the program has no variables to compare".into());
+    }
+    let mut host = machine("host", &built.module)?;
+    let mut interp = machine("interp", &built.module)?;
+    let mut scans = 0usize;
+    let compare = |host: &dyn Machine, interp: &dyn Machine, when: &str| -> Result<(), String> {
+        let mut diffs = Vec::new();
+        for v in &vars {
+            let a = host.read(&v.path).map_err(|e| format!("host: {}: {e}", v.path))?;
+            let b = interp.read(&v.path).map_err(|e| format!("interp: {}: {e}", v.path))?;
+            if !same(a, b) {
+                diffs.push(format!("{} host {a} interp {b}", v.path));
+            }
+        }
+        if host.fault() != interp.fault() {
+            diffs.push(format!("fault flag host {} interp {}", host.fault(), interp.fault()));
+        }
+        if diffs.is_empty() {
+            Ok(())
+        } else {
+            diffs.truncate(5);
+            Err(format!("{when}: {}", diffs.join(", ")))
+        }
+    };
+    host.cold_start().map_err(|e| format!("host cold start: {e}"))?;
+    interp.cold_start().map_err(|e| format!("interp cold start: {e}"))?;
+    compare(host.as_ref(), interp.as_ref(), "after cold start")?;
+    let mut now_us: i64 = 0;
+    let mut scan_at = |host: &mut dyn Machine, interp: &mut dyn Machine, t: i64, line: usize| {
+        scans += 1;
+        host.set_clock_us(t);
+        host.scan().map_err(|e| format!("line {line}: host scan failed: {e}"))?;
+        interp.set_clock_us(t);
+        interp.scan().map_err(|e| format!("line {line}: interp scan failed: {e}"))?;
+        compare(host, interp, &format!("line {line}, scan {scans} (t = {t} us)"))
+    };
+    for (line, step) in &built.scn.steps {
+        match step {
+            Step::Run(n) => {
+                for _ in 0..*n {
+                    now_us += CYCLE_MS as i64 * 1000;
+                    scan_at(host.as_mut(), interp.as_mut(), now_us, *line)?;
+                }
+            }
+            Step::Duration(secs) => {
+                let n = ((secs * 1000.0) / CYCLE_MS as f64).ceil().max(1.0) as u64;
+                for _ in 0..n {
+                    now_us += CYCLE_MS as i64 * 1000;
+                    scan_at(host.as_mut(), interp.as_mut(), now_us, *line)?;
+                }
+            }
+            Step::RunAt(t) => {
+                now_us = *t;
+                scan_at(host.as_mut(), interp.as_mut(), now_us, *line)?;
+            }
+            Step::Set { var, value } => {
+                let path = format!("{}.{var}", built.program);
+                for m in [&mut host, &mut interp] {
+                    let cur = m.read(&path).map_err(|e| format!("line {line}: {e}"))?;
+                    let v = PlcValue::parse(cur.ty, value).map_err(|e| format!("line {line}: {e}"))?;
+                    m.write(&path, v).map_err(|e| format!("line {line}: {e}"))?;
+                }
+            }
+            Step::Expect { .. } => {}
+        }
+    }
+    Ok(scans)
+}
+
+#[test]
+fn host_and_interp_agree() {
+    let (cases, mut failures) = cases();
+    let mut scans = 0;
+    for case in &cases {
+        match catch_unwind(AssertUnwindSafe(|| differential(case))) {
+            Ok(Ok(n)) => scans += n,
+            Ok(Err(e)) => failures.push(format!("{}: {e}", case.name)),
+            Err(p) => failures.push(format!("{}: PANIC: {}", case.name, panic_text(p))),
+        }
+    }
+    println!("{} programs, {scans} scans compared", cases.len());
+    assert!(
+        failures.is_empty(),
+        "host and interp disagree on {} of {} programs:\n{}",
+        failures.len(),
+        cases.len(),
+        failures.join("\n")
+    );
+}
