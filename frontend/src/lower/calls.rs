@@ -269,7 +269,15 @@ impl<'s> BodyCx<'_, 's> {
         if !self.check_writable(&p, e.span) {
             return None;
         }
-        Some(p.addr)
+        let Some(guard) = p.guard else { return Some(p.addr) };
+        // An array element whose index was out of bounds: the callee gets a scratch
+        // variable holding the type's zero instead of the stand-in element, so it
+        // reads 0 and its writes are dropped, as for any other access.
+        let (mt, _) = self.l.mem_type(p.ty)?;
+        let scratch = self.b.slot("out_of_bounds", mt);
+        let scratch_addr = self.b.slot_addr(scratch);
+        self.init_var(scratch_addr, p.ty, None);
+        Some(self.b.select(guard, p.addr, scratch_addr))
     }
 
     /// Calls a user FUNCTION; its result, if it has one.

@@ -13,8 +13,10 @@ pub mod const_fold;
 pub mod copy_prop;
 pub mod dce;
 pub mod domtree;
+pub mod inline;
 pub mod load_store;
 pub mod mem2reg;
+pub mod promote;
 pub mod simplify_cfg;
 mod util;
 
@@ -26,14 +28,48 @@ use crate::module::Module;
 
 pub use domtree::{DomTree, DominanceFrontiers};
 
-/// Rounds of the cleanup passes after which a function is left as it is (each round
-/// is linear; real code settles in two or three).
-const MAX_ROUNDS: usize = 8;
+/// The cleanup passes the driver repeats, in the order it runs them.
+const CLEANUP: [fn(&mut Function) -> bool; 5] = [
+    const_fold::run,
+    copy_prop::run,
+    load_store::run,
+    dce::run,
+    simplify_cfg::run,
+];
+
+const CF: u8 = 1;
+const CP: u8 = 2;
+const LS: u8 = 4;
+const DCE: u8 = 8;
+const CFG: u8 = 16;
+
+/// Which passes a change by each cleanup pass can give new work to. A pass is only
+/// rerun when one of these says so, which saves most of the confirmation runs of a
+/// plain "repeat everything until nothing changes" loop:
+/// - folding substitutes values and turns branches into jumps: everyone but itself
+///   (it revisits rewritten instructions and follows its own substitutions);
+/// - copy propagation substitutes values: the same;
+/// - forwarding substitutes values and removes memory operations: the same;
+/// - dead code elimination only removes things, which can only empty blocks
+///   (simplify_cfg) and remove loads that kept stores alive (load_store);
+/// - CFG simplification merges blocks (new constants, longer blocks), removes edges
+///   (trivial parameters) and can create new forwarders: everyone.
+const ENABLES: [u8; 5] = [
+    CP | LS | DCE | CFG,
+    CF | LS | DCE | CFG,
+    CF | CP | DCE | CFG,
+    LS | CFG,
+    CF | CP | LS | DCE | CFG,
+];
+
+/// Runs of cleanup passes after which a function is left as it is (each is linear;
+/// real code settles after a dozen or so).
+const MAX_RUNS: usize = 40;
 
 /// Optimises one function: CFG cleanup, promotion of stack slots, then constant
 /// folding, copy propagation, load/store forwarding, dead code elimination and CFG
-/// simplification until nothing changes (at most a few rounds). Returns true if the
-/// function changed.
+/// simplification until none has anything left to do (with a bound on the work).
+/// Returns true if the function changed.
 pub fn optimize_function(func: &mut Function) -> bool {
     if func.layout.is_empty() {
         return false;
@@ -42,15 +78,20 @@ pub fn optimize_function(func: &mut Function) -> bool {
     // would otherwise have kept in memory.
     let mut changed = simplify_cfg::run(func);
     changed |= mem2reg::run(func);
-    for _ in 0..MAX_ROUNDS {
-        let mut round = const_fold::run(func);
-        round |= copy_prop::run(func);
-        round |= load_store::run(func);
-        round |= dce::run(func);
-        round |= simplify_cfg::run(func);
-        changed |= round;
-        if !round {
-            break;
+    let mut dirty: u8 = CF | CP | LS | DCE | CFG;
+    let mut runs = 0;
+    while dirty != 0 && runs < MAX_RUNS {
+        for (k, pass) in CLEANUP.iter().enumerate() {
+            let bit = 1u8 << k;
+            if dirty & bit == 0 {
+                continue;
+            }
+            dirty &= !bit;
+            runs += 1;
+            if pass(func) {
+                changed = true;
+                dirty |= ENABLES[k];
+            }
         }
     }
     changed
