@@ -31,10 +31,12 @@
 //!   apps/alarm_handler, apps/pump_alternation, apps/ramp_generator
 //! - formal calls: pou/function_basic, pou/fb_call_forms, stdfb/ton; positional
 //!   calls: pou/function_basic, pou/fb_call_forms (`w2(4, 0, 10)`),
-//!   pou/function_inout_swap
+//!   pou/function_inout_swap, pou/call_binding (positional inputs and in-outs
+//!   across interleaved VAR_INPUT/VAR_OUTPUT blocks, case-insensitive names)
 //! - `=>` outputs: pou/function_outputs, pou/fb_call_forms, stdfb/ton,
-//!   stdfb/bistables, pou/function_types; `NOT q => x`: pou/function_outputs,
-//!   pou/fb_call_forms
+//!   stdfb/bistables, pou/function_types, pou/call_binding (into bits and array
+//!   elements); `NOT q => x`: pou/function_outputs, pou/fb_call_forms,
+//!   pou/call_binding
 //! - reading `inst.Q` in expressions: pou/fb_call_forms, pou/fb_instances,
 //!   apps/motor_starter, apps/batching, stdfb/timers_one_clock (`NOT t.Q` as its own input)
 //! - `inst.IN := x;` then `inst();`: pou/fb_call_forms (`w3.x := -8; w3();`),
@@ -47,13 +49,16 @@
 //!   arrays/array_inout; in FBs: pou/fb_inout, arrays/array_inout, apps/seven_segment
 //! - VAR_TEMP re-initialised at every call (FB and PROGRAM): pou/var_temp
 //! - FUNCTION locals re-initialised at every call: pou/function_basic,
-//!   pou/function_outputs (outputs restart at 0)
+//!   pou/function_outputs (outputs restart at 0), pou/function_locals_reset
+//!   (outputs with initial values, local arrays, a local FB instance)
 //! - VAR CONSTANT (expressions, array bounds, CASE labels, FOR limits, NOT of a
 //!   constant): pou/var_constant, apps/wash_cycle, apps/recipe_steps,
 //!   apps/parking_garage, apps/frequency_meter
 //! - initial values of every elementary type: pou/initial_values; FB instance
 //!   initialisers `t : TON := (PT := T#2s)`: pou/initial_values, stdfb/tof,
-//!   pou/nested_initialisers, arrays/array_of_fbs (array of initialised TONs)
+//!   pou/nested_initialisers, pou/located_io (two levels deep),
+//!   arrays/array_of_fbs (array of initialised TONs)
+//! - located variables AT %I/%Q/%M: pou/located_io
 //! - RETURN in FUNCTIONs: pou/function_return, pou/function_outputs; in FBs and
 //!   PROGRAMs (also from inside a loop): pou/return_program_fb, apps/seven_segment
 //!
@@ -117,7 +122,8 @@
 //!
 //! Standard function blocks
 //! - TON: stdfb/ton (IN dropping early), stdfb/timer_pt_zero (PT = 0),
-//!   stdfb/timers_one_clock (one clock per scan), apps/*
+//!   stdfb/timers_one_clock (one clock per scan), stdfb/timer_clock_wrap (the
+//!   32-bit ms clock wrapping, also TOF and TP), apps/*
 //! - TOF: stdfb/tof, stdfb/timer_pt_zero; TP: stdfb/tp (no retrigger, IN dropping
 //!   early), stdfb/timer_pt_zero
 //! - CTU (at PV, past PV, reset wins): stdfb/ctu, apps/batching; CTD (at the INT
@@ -130,7 +136,9 @@
 //!   lower bounds: arrays/array_bounds, arrays/array_index_types; arrays of FB
 //!   instances: arrays/array_of_fbs, apps/alarm_handler, apps/pump_alternation;
 //!   initialisers `[1, 2, 3(0)]`: arrays/array_init, apps/crc8, apps/recipe_steps;
-//!   out-of-bounds (read 0, write dropped, FB call skipped): arrays/array_oob;
+//!   out-of-bounds (read 0, write dropped, FB call skipped): arrays/array_oob,
+//!   arrays/array_oob_inout (an element out of bounds passed to VAR_IN_OUT);
+//!   ARRAY OF ARRAY (`a[i][j]`, nested initialisers): arrays/array_of_arrays;
 //!   index types: arrays/array_index_types; arrays as VAR_IN_OUT: arrays/array_inout,
 //!   apps/sort_readings, apps/crc8, apps/seven_segment
 //!
@@ -164,7 +172,9 @@ fn root() -> PathBuf {
 
 /// Every `.st` under `dir`, recursively, sorted.
 fn st_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
     for e in entries {
         let p = e.expect("directory entry").path();
         if p.is_dir() {
@@ -236,12 +246,17 @@ struct Built {
 }
 
 fn build(case: &Case) -> Result<Built, String> {
-    let text = std::fs::read_to_string(&case.expect).map_err(|e| format!("cannot read the scenario: {e}"))?;
+    let text = std::fs::read_to_string(&case.expect)
+        .map_err(|e| format!("cannot read the scenario: {e}"))?;
     let scn = scenario::parse(&text).map_err(|e| format!("scenario: {e}"))?;
     if let Some(why) = &scn.unsupported {
         return Err(format!("scenario not supported: {why}"));
     }
-    if !scn.steps.iter().any(|(_, s)| matches!(s, Step::Expect { .. })) {
+    if !scn
+        .steps
+        .iter()
+        .any(|(_, s)| matches!(s, Step::Expect { .. }))
+    {
         return Err("the scenario checks nothing".into());
     }
     let bytes = std::fs::read(&case.st).map_err(|e| format!("cannot read the program: {e}"))?;
@@ -267,7 +282,11 @@ fn build(case: &Case) -> Result<Built, String> {
             _ => return Err("the scenario names no program and there is not exactly one".into()),
         },
     };
-    Ok(Built { scn, module, program })
+    Ok(Built {
+        scn,
+        module,
+        program,
+    })
 }
 
 fn machine(target: &str, module: &Module) -> Result<Box<dyn Machine>, String> {
@@ -361,14 +380,22 @@ fn differential(case: &Case) -> Result<usize, String> {
     let compare = |host: &dyn Machine, interp: &dyn Machine, when: &str| -> Result<(), String> {
         let mut diffs = Vec::new();
         for v in &vars {
-            let a = host.read(&v.path).map_err(|e| format!("host: {}: {e}", v.path))?;
-            let b = interp.read(&v.path).map_err(|e| format!("interp: {}: {e}", v.path))?;
+            let a = host
+                .read(&v.path)
+                .map_err(|e| format!("host: {}: {e}", v.path))?;
+            let b = interp
+                .read(&v.path)
+                .map_err(|e| format!("interp: {}: {e}", v.path))?;
             if !same(a, b) {
                 diffs.push(format!("{} host {a} interp {b}", v.path));
             }
         }
         if host.fault() != interp.fault() {
-            diffs.push(format!("fault flag host {} interp {}", host.fault(), interp.fault()));
+            diffs.push(format!(
+                "fault flag host {} interp {}",
+                host.fault(),
+                interp.fault()
+            ));
         }
         if diffs.is_empty() {
             Ok(())
@@ -377,17 +404,27 @@ fn differential(case: &Case) -> Result<usize, String> {
             Err(format!("{when}: {}", diffs.join(", ")))
         }
     };
-    host.cold_start().map_err(|e| format!("host cold start: {e}"))?;
-    interp.cold_start().map_err(|e| format!("interp cold start: {e}"))?;
+    host.cold_start()
+        .map_err(|e| format!("host cold start: {e}"))?;
+    interp
+        .cold_start()
+        .map_err(|e| format!("interp cold start: {e}"))?;
     compare(host.as_ref(), interp.as_ref(), "after cold start")?;
     let mut now_us: i64 = 0;
     let mut scan_at = |host: &mut dyn Machine, interp: &mut dyn Machine, t: i64, line: usize| {
         scans += 1;
         host.set_clock_us(t);
-        host.scan().map_err(|e| format!("line {line}: host scan failed: {e}"))?;
+        host.scan()
+            .map_err(|e| format!("line {line}: host scan failed: {e}"))?;
         interp.set_clock_us(t);
-        interp.scan().map_err(|e| format!("line {line}: interp scan failed: {e}"))?;
-        compare(host, interp, &format!("line {line}, scan {scans} (t = {t} us)"))
+        interp
+            .scan()
+            .map_err(|e| format!("line {line}: interp scan failed: {e}"))?;
+        compare(
+            host,
+            interp,
+            &format!("line {line}, scan {scans} (t = {t} us)"),
+        )
     };
     for (line, step) in &built.scn.steps {
         match step {
@@ -412,7 +449,8 @@ fn differential(case: &Case) -> Result<usize, String> {
                 let path = format!("{}.{var}", built.program);
                 for m in [&mut host, &mut interp] {
                     let cur = m.read(&path).map_err(|e| format!("line {line}: {e}"))?;
-                    let v = PlcValue::parse(cur.ty, value).map_err(|e| format!("line {line}: {e}"))?;
+                    let v =
+                        PlcValue::parse(cur.ty, value).map_err(|e| format!("line {line}: {e}"))?;
                     m.write(&path, v).map_err(|e| format!("line {line}: {e}"))?;
                 }
             }

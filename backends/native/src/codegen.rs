@@ -31,6 +31,15 @@ impl DataLayout {
     /// Lays the data objects out one after the other, each at its alignment.
     pub fn compute(module: &Module) -> Result<DataLayout, Vec<Diagnostic>> {
         let layout = Layout::compute(module, LayoutRules::HOST);
+        if let Some(name) = overflowing_agg(module, &layout) {
+            return Err(vec![Diagnostic::error_nowhere(
+                codes::E_DATA_TOO_LARGE,
+                format!(
+                    "the type `{name}` takes more than 4 GiB, more than the native \
+                     backend's limit of {MAX_DATA_BYTES} bytes of data"
+                ),
+            )]);
+        }
         let mut offsets = Vec::with_capacity(module.data.len());
         let mut off: u64 = 0;
         let mut align: u32 = 8;
@@ -57,6 +66,31 @@ impl DataLayout {
             align,
         })
     }
+}
+
+/// An aggregate too large for `Layout`'s 32-bit sizes, whose offsets are then wrong.
+fn overflowing_agg(module: &Module, layout: &Layout) -> Option<String> {
+    for (i, agg) in module.aggs.iter().enumerate() {
+        let id = plcc_ir::AggId::new(i);
+        let al = layout.agg(id);
+        let too_big = match agg {
+            plcc_ir::AggDef::Array(a) => al.stride as u64 * a.len as u64 >= u32::MAX as u64,
+            plcc_ir::AggDef::Struct(s) => {
+                let mut end = 0u64;
+                let mut bad = false;
+                for (f, field) in s.fields.iter().enumerate() {
+                    let off = al.field_offsets[f] as u64;
+                    bad |= off < end;
+                    end = off + layout.size_of(field.ty) as u64;
+                }
+                bad || end > al.size as u64
+            }
+        };
+        if too_big {
+            return Some(agg.name().to_string());
+        }
+    }
+    None
 }
 
 /// Backend settings that shape code generation.
@@ -280,6 +314,10 @@ fn compile_parallel<M: ClModule>(
 ) -> Result<u64, Vec<Diagnostic>> {
     use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
     let n = env.module.funcs.len();
+    // Largest functions first, so that no big one is left to run alone at the end.
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by_key(|&i| std::cmp::Reverse(env.module.funcs[i].live_inst_count()));
+    let order = &order;
     let next = AtomicUsize::new(0);
     let stop = AtomicBool::new(false);
     let min_align = isa.function_alignment().minimum as u64;
@@ -296,10 +334,11 @@ fn compile_parallel<M: ClModule>(
                     if stop.load(Ordering::Relaxed) {
                         break;
                     }
-                    let i = next.fetch_add(1, Ordering::Relaxed);
-                    if i >= n {
+                    let k = next.fetch_add(1, Ordering::Relaxed);
+                    if k >= n {
                         break;
                     }
+                    let i = order[k];
                     let r = compile_one(env, isa, frontend, &mut ctx, &mut tr, i);
                     let failed = r.is_err();
                     if tx.send(r).is_err() || failed {

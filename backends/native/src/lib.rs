@@ -9,7 +9,21 @@
 //! small [`Runtime`] context. In the JIT both are at fixed addresses baked into the
 //! code; in objects they are the symbols `plcc_data` and `plcc_rt`.
 //!
+//! Semantics: the IR contract (`docs/ir.md`) holds bit for bit, as the differential
+//! tests against `plcc_ir::interp` check. Where Cranelift traps or masks, the code
+//! checks: a zero divisor raises the fault and gives 0 (no signal), `MIN / -1` wraps,
+//! shift counts at least the width give 0 or the sign, float-to-integer conversions
+//! saturate at the destination width. Math functions call the C library's (`sinf`,
+//! `pow`, ...): in the JIT through Rust's float methods, which the interpreter uses too.
+//!
+//! Compile speed: functions are translated and compiled on worker threads (largest
+//! first) and placed in module order, so objects are reproducible. Field and data
+//! offsets fold into the loads and stores, and divisions by constants skip their
+//! checks (Cranelift turns them into multiplications).
+//!
 //! [`Machine`]: plcc_ir::machine::Machine
+
+#![warn(missing_docs)]
 
 mod codegen;
 mod header;
@@ -66,8 +80,9 @@ for this machine.",
         title: "bad native backend setting",
         explanation: "A `key=value` setting given to the native backend is unknown or its \
 value is invalid. The backend knows `triple` (a target triple, default: this machine), \
-`opt_level` (`none`, `speed` or `speed_and_size`; default `speed`) and `threads` (worker \
-threads for compiling, 0 chooses; default 0). Example: `-s opt_level=fast` fails; write \
+`opt_level` (`none`, `speed` or `speed_and_size`; default `speed`), `regalloc` \
+(`backtracking` or `single_pass`; default `backtracking`) and `threads` (worker threads \
+for compiling, 0 chooses; default 0). Example: `-s opt_level=fast` fails; write \
 `-s opt_level=speed`.",
     },
     CodeInfo {
@@ -106,9 +121,11 @@ than meant, e.g. `ARRAY[0..999999999] OF LREAL`. Shrink the array bounds.",
 /// The `host` target: Cranelift JIT for running here, objects for any 64-bit triple
 /// Cranelift supports.
 ///
-/// Settings (`Options::settings`): `triple` (objects only; default: this machine),
-/// `opt_level` (`none`, `speed`, `speed_and_size`; default `speed`), `threads`
-/// (compile threads; 0, the default, picks by the number of cores).
+/// Settings (`Options::settings`): `triple` (objects only; default: this machine, with
+/// the baseline CPU features of its architecture), `opt_level` (`none`, `speed`,
+/// `speed_and_size`; default `speed`), `regalloc` (`backtracking`, `single_pass`;
+/// default `backtracking`), `threads` (compile threads; 0, the default, picks by the
+/// number of cores). Debug builds also run the IR verifier on every module.
 #[derive(Clone, Debug, Default)]
 pub struct NativeBackend;
 

@@ -549,8 +549,15 @@ impl Cx<'_, '_, '_> {
             &InstData::Binary { op, args } => {
                 let ty = self.ty(args[0]);
                 let a = self.val(args[0])?;
-                let b = self.val(args[1])?;
-                let v = self.binary(op, ty, a, b)?;
+                let v = match self.const_of(args[1]) {
+                    Some(c) if op.can_fault() && ty != Type::I1 => {
+                        self.const_division(op, ty, a, c)
+                    }
+                    _ => {
+                        let b = self.val(args[1])?;
+                        self.binary(op, ty, a, b)?
+                    }
+                };
                 self.set(inst, v);
             }
             &InstData::Icmp { cond, args } => {
@@ -830,6 +837,66 @@ impl Cx<'_, '_, '_> {
         })
     }
 
+    /// The value of an IR integer constant.
+    fn const_of(&self, v: Value) -> Option<i64> {
+        match self.f.value_def(v) {
+            plcc_ir::function::ValueDef::Result(i) => match self.f.inst(i) {
+                InstData::Iconst { imm, .. } => Some(*imm),
+                _ => None,
+            },
+            _ => None,
+        }
+    }
+
+    /// Division by a constant (most divisions in PLC code): no checks where the
+    /// divisor is known, so Cranelift can turn the division into a multiplication and
+    /// the function keeps its blocks.
+    fn const_division(&mut self, op: BinaryOp, ty: Type, a: ir::Value, c: i64) -> ir::Value {
+        let ct = cl_type(ty);
+        let signed = matches!(op, BinaryOp::Sdiv | BinaryOp::Srem);
+        let c = ty.canon_int(c);
+        if c == 0 {
+            self.raise_fault();
+            return self.iconst(ct, 0);
+        }
+        if signed && c == -1 {
+            // MIN / -1 wraps to MIN; x % -1 is 0.
+            return if op == BinaryOp::Sdiv {
+                self.b.ins().ineg(a)
+            } else {
+                self.iconst(ct, 0)
+            };
+        }
+        let (x, d) = if ct.bits() < 32 {
+            // As in `division`: narrow operations in 32 bits.
+            if signed {
+                (
+                    self.b.ins().sextend(types::I32, a),
+                    self.iconst(types::I32, c),
+                )
+            } else {
+                let d = ty.zext_bits(c) as i64;
+                (
+                    self.b.ins().uextend(types::I32, a),
+                    self.iconst(types::I32, d),
+                )
+            }
+        } else {
+            (a, self.iconst(ct, c))
+        };
+        let r = match op {
+            BinaryOp::Sdiv => self.b.ins().sdiv(x, d),
+            BinaryOp::Udiv => self.b.ins().udiv(x, d),
+            BinaryOp::Srem => self.b.ins().srem(x, d),
+            _ => self.b.ins().urem(x, d),
+        };
+        if ct.bits() < 32 {
+            self.b.ins().ireduce(ct, r)
+        } else {
+            r
+        }
+    }
+
     /// Division and remainder that never trap: a zero divisor branches to a cold block
     /// that raises the fault and yields 0; a divisor of -1 never reaches the hardware
     /// (`MIN / -1` traps on x86).
@@ -905,6 +972,16 @@ impl Cx<'_, '_, '_> {
     ) -> Result<ir::Value, TransError> {
         let (cf, ctt) = (cl_type(from), cl_type(to));
         let bad = || Err(format!("{}.{to} of {from} in `{}`", op.name(), self.f.name));
+        let ok = match op {
+            ConvOp::Fpromote => from == Type::F32 && to == Type::F64,
+            ConvOp::Fdemote => from == Type::F64 && to == Type::F32,
+            ConvOp::SiToF | ConvOp::UiToF => from.is_int() && to.is_float(),
+            ConvOp::FToSi | ConvOp::FToUi => from.is_float() && to.is_int(),
+            _ => true,
+        };
+        if !ok {
+            return bad();
+        }
         Ok(match op {
             ConvOp::Sext => {
                 if !from.is_int() || !to.is_int() {

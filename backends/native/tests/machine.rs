@@ -610,3 +610,37 @@ fn an_empty_module_runs() {
     assert!(j.read("x").is_err());
     assert_eq!(j.target(), "host");
 }
+
+#[test]
+fn oversized_data_is_refused() {
+    // Two 3 GiB arrays in one struct: Layout's 32-bit sizes would wrap.
+    let mut p = Prog::new(vec![]);
+    let big = p.module.add_agg(AggDef::Array(ArrayDef {
+        name: "big".into(),
+        elem: MemType::Scalar(Type::I64),
+        elem_type: Some(ElemType::LInt),
+        len: 400_000_000,
+        lower: 0,
+    }));
+    if let AggDef::Struct(s) = &mut p.module.aggs[0] {
+        s.fields = vec![agg_field("a", big), agg_field("b", big)];
+    }
+    let m = p.finish(|_, _, _| {});
+    let e = Jit::new(&m).err().expect("refused");
+    assert_eq!(e[0].code, plcc_native::codes::E_DATA_TOO_LARGE);
+    // 2 GiB is over the limit too.
+    let mut p = Prog::new(vec![]);
+    let big = p.module.add_agg(AggDef::Array(ArrayDef {
+        name: "big".into(),
+        elem: MemType::Scalar(Type::I64),
+        elem_type: Some(ElemType::LInt),
+        len: 250_000_000,
+        lower: 0,
+    }));
+    if let AggDef::Struct(s) = &mut p.module.aggs[0] {
+        s.fields = vec![agg_field("a", big)];
+    }
+    let m = p.finish(|_, _, _| {});
+    let e = Jit::new(&m).err().expect("refused");
+    assert_eq!(e[0].code, plcc_native::codes::E_DATA_TOO_LARGE);
+}

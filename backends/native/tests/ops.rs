@@ -799,3 +799,96 @@ fn f32_math_stays_in_f32() {
         x *= 1.37;
     }
 }
+
+#[test]
+fn other_settings_keep_the_semantics() {
+    use plcc_ir::backend::{Backend, Options};
+    use BinaryOp::*;
+    for (opt, ra) in [("none", "single_pass"), ("speed_and_size", "backtracking")] {
+        let opts = Options {
+            emit: None,
+            settings: vec![
+                ("opt_level".into(), opt.into()),
+                ("regalloc".into(), ra.into()),
+            ],
+        };
+        for op in [Sdiv, Srem, Udiv, Urem, Ishl, Ushr, Sshr, Rotl] {
+            for ty in INTS {
+                let m = binary_module(ty, ty, |b, x, y| b.binary(op, x, y));
+                let mut j = plcc_native::NativeBackend
+                    .machine(&m, &opts)
+                    .unwrap()
+                    .unwrap();
+                j.cold_start().unwrap();
+                let vals = interesting(ty);
+                for &a in &vals {
+                    for &b in &vals {
+                        j.clear_fault();
+                        j.write("main.a", val(ty, a)).unwrap();
+                        j.write("main.b", val(ty, b)).unwrap();
+                        j.scan().unwrap();
+                        let got = (j.read("main.r").unwrap().bits, j.fault());
+                        assert_eq!(
+                            got,
+                            oracle(op, ty, a, b),
+                            "{opt} {} {ty} {a} {b}",
+                            op.name()
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// `r_k := a op c_k` for every interesting constant `c_k` (constant divisors take
+/// another path through the backend than variable ones).
+#[test]
+fn division_by_constants() {
+    use BinaryOp::*;
+    for op in [Sdiv, Udiv, Srem, Urem] {
+        for ty in INTS {
+            let consts: Vec<u64> = interesting(ty).into_iter().filter(|&c| c != 0).collect();
+            let mut fields = vec![common::field("a", ty)];
+            for k in 0..consts.len() {
+                fields.push(common::field(&format!("r{k}"), ty));
+            }
+            let p = Prog::new(fields);
+            let fa = p.f("a");
+            let cs = consts.clone();
+            let m = p.finish(|b, inst, agg| {
+                let a = ld(b, inst, agg, fa, ty);
+                for (k, &c) in cs.iter().enumerate() {
+                    let cv = b.iconst(ty, c as i64);
+                    let r = b.binary(op, a, cv);
+                    st(b, r, inst, agg, k as u32 + 1);
+                }
+            });
+            let mut p = Pair::new(m);
+            for a in interesting(ty) {
+                p.write("main.a", val(ty, a));
+                p.scan();
+                for (k, &c) in consts.iter().enumerate() {
+                    let got = p.read(&format!("main.r{k}")).bits;
+                    assert_eq!(got, oracle(op, ty, a, c).0, "{} {ty} {a} by {c}", op.name());
+                }
+                assert!(!p.fault());
+            }
+            // By a constant 0: 0 and the fault.
+            let p = Prog::new(vec![common::field("a", ty), common::field("r", ty)]);
+            let (fa, fr) = (p.f("a"), p.f("r"));
+            let m = p.finish(|b, inst, agg| {
+                let a = ld(b, inst, agg, fa, ty);
+                let z = b.iconst(ty, 0);
+                let r = b.binary(op, a, z);
+                st(b, r, inst, agg, fr);
+            });
+            let mut p = Pair::new(m);
+            p.write("main.a", val(ty, 5));
+            p.write("main.r", val(ty, 9));
+            p.scan();
+            assert_eq!(p.read("main.r").bits, 0);
+            assert!(p.fault());
+        }
+    }
+}

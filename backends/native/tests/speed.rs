@@ -237,6 +237,9 @@ fn large_module_compiles_fast() {
             default = parallel;
         }
     }
+    let t = Instant::now();
+    plcc_ir::verify::verify_module(&m).unwrap();
+    println!("IR verifier: {:.3} s", t.elapsed().as_secs_f64());
     let (small, insts) = generate(1000, 25);
     let t = measure(&small, "0", "speed", "backtracking");
     println!(
@@ -287,4 +290,57 @@ fn scan_speed_by_setting() {
             t.elapsed().as_secs_f64() * 1e6 / 2000.0
         );
     }
+}
+
+/// Times the JIT on an IR file named by `PLCC_IR_FILE` (for example the optimised IR
+/// of a benchmark program, from `plcc FILE --emit ir`).
+#[test]
+#[ignore]
+fn ir_file_compile_time() {
+    let Ok(path) = std::env::var("PLCC_IR_FILE") else {
+        eprintln!("PLCC_IR_FILE is not set");
+        return;
+    };
+    let text = std::fs::read_to_string(&path).unwrap();
+    let m = plcc_ir::text::parse_module(&text).unwrap();
+    let insts: usize = m.funcs.iter().map(|f| f.live_inst_count()).sum();
+    let blocks: usize = m.funcs.iter().map(|f| f.layout.len()).sum();
+    println!(
+        "{} functions, {insts} instructions, {blocks} blocks",
+        m.funcs.len()
+    );
+    for _ in 0..3 {
+        let (c0, t0) = (cpu_seconds(), Instant::now());
+        let j = Jit::new(&m).unwrap();
+        let (c1, t1) = (cpu_seconds(), Instant::now());
+        drop(j);
+        println!(
+            "Jit::new: wall {:.3} s, CPU {:.3} s; drop: wall {:.3} s, CPU {:.3} s",
+            (t1 - t0).as_secs_f64(),
+            c1 - c0,
+            t1.elapsed().as_secs_f64(),
+            cpu_seconds() - c1
+        );
+    }
+    for threads in ["1", "0"] {
+        let _ = cranelift_codegen::timing::take_current();
+        let cpu0 = cpu_seconds();
+        let t = measure(&m, threads, "speed", "backtracking");
+        let cpu = (cpu_seconds() - cpu0) / 3.0;
+        println!("threads={threads}: {t:.3} s (CPU {cpu:.3} s per run)");
+        if threads == "1" {
+            println!("{}", cranelift_codegen::timing::take_current());
+        }
+    }
+}
+
+/// User + system CPU time of this process so far (Linux), 0 elsewhere.
+fn cpu_seconds() -> f64 {
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
+        return 0.0;
+    };
+    let after = &stat[stat.rfind(')').map_or(0, |i| i + 2)..];
+    let f: Vec<&str> = after.split_whitespace().collect();
+    let ticks = |i: usize| f.get(i).and_then(|x| x.parse::<f64>().ok()).unwrap_or(0.0);
+    (ticks(11) + ticks(12)) / 100.0
 }

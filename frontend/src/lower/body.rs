@@ -349,25 +349,7 @@ impl<'a, 's> BodyCx<'a, 's> {
             None => Vec::new(),
             Some(ast::Init::Array { elems, .. }) => {
                 let mut flat = Vec::new();
-                for el in elems {
-                    let count = match &el.repeat {
-                        None => 1,
-                        Some(r) => match self.l.const_eval(r, self.pou) {
-                            Some((ConstVal::Int(n), _)) if n >= 0 => n as u64,
-                            _ => {
-                                self.l.error(
-                                    codes::E_NOT_CONSTANT,
-                                    "a repetition count must be a non-negative integer constant",
-                                    r.span,
-                                );
-                                0
-                            }
-                        },
-                    };
-                    for _ in 0..count.min(at.total() + 1) {
-                        flat.push(el.value.as_ref());
-                    }
-                }
+                self.flatten_array_init(elems, &at, 0, &mut flat);
                 if flat.len() as u64 > at.total() {
                     self.l.error(
                         codes::E_TYPE_MISMATCH,
@@ -405,6 +387,64 @@ impl<'a, 's> BodyCx<'a, 's> {
                 p = self.b.elem_addr(p, agg, iv);
             }
             self.init_var(p, at.elem, Some(init));
+        }
+    }
+
+    /// Appends the values of an array initialiser in row-major order (`None` for a
+    /// default value). Values are listed flat (`[1, 2, 3, 4]` for `ARRAY[1..2, 1..2]`)
+    /// or nested per dimension (`[[1, 2], [3, 4]]`, also for ARRAY OF ARRAY, which is
+    /// one array with more dimensions): a nested list at dimension `dim` fills one
+    /// slice of the remaining dimensions, padded with default values.
+    fn flatten_array_init(
+        &mut self,
+        elems: &'s [ast::ArrayInitElem],
+        at: &crate::types::ArrayTy,
+        dim: usize,
+        out: &mut Vec<Option<&'s ast::Init>>,
+    ) {
+        let cap = at.total() + 1;
+        for el in elems {
+            let count = match &el.repeat {
+                None => 1,
+                Some(r) => match self.l.const_eval(r, self.pou) {
+                    Some((ConstVal::Int(n), _)) if n >= 0 => n as u64,
+                    _ => {
+                        self.l.error(
+                            codes::E_NOT_CONSTANT,
+                            "a repetition count must be a non-negative integer constant",
+                            r.span,
+                        );
+                        0
+                    }
+                },
+            };
+            match &el.value {
+                Some(ast::Init::Array { elems: inner, span }) if dim + 1 < at.dims.len() => {
+                    let slice: u64 = (dim + 1..at.dims.len()).map(|d| at.len(d)).product();
+                    let mut one = Vec::new();
+                    self.flatten_array_init(inner, at, dim + 1, &mut one);
+                    if one.len() as u64 > slice {
+                        self.l.error(
+                            codes::E_TYPE_MISMATCH,
+                            format!("{} initial values for a slice of {slice} elements", one.len()),
+                            *span,
+                        );
+                        one.truncate(slice as usize);
+                    }
+                    one.resize(slice as usize, None);
+                    for _ in 0..count.min(cap) {
+                        if out.len() as u64 >= cap {
+                            break;
+                        }
+                        out.extend(one.iter().copied());
+                    }
+                }
+                v => {
+                    for _ in 0..count.min(cap) {
+                        out.push(v.as_ref());
+                    }
+                }
+            }
         }
     }
 
@@ -576,12 +616,23 @@ impl<'a, 's> BodyCx<'a, 's> {
             );
             return None;
         }
+        if v.section == VarKind::InOut {
+            // The reference is bound by a call and means nothing outside one (before
+            // the first call it points nowhere), so it is not a member one can use.
+            let n = self.l.text(name.span).to_string();
+            self.l.error(
+                codes::E_NO_MEMBER,
+                format!(
+                    "`{n}` is a VAR_IN_OUT of `{}`: it refers to a variable only during a call, so it cannot be used from outside",
+                    self.l.pou(fb).display
+                ),
+                name.span,
+            );
+            return None;
+        }
         let Some(Storage::Field(fi)) = storage else { return None };
         let agg = self.l.ir[fb.0 as usize].agg?;
-        let mut addr = self.b.field_addr(base, agg, fi);
-        if v.section == VarKind::InOut {
-            addr = self.b.load(Type::Ptr, addr);
-        }
+        let addr = self.b.field_addr(base, agg, fi);
         let access = if v.section == VarKind::Output && !init {
             Access::OtherOutput
         } else {

@@ -284,7 +284,16 @@ impl<'s> BodyCx<'_, 's> {
                 _ => Ty::DINT,
             },
             Abs | Math(_) | Not | Move => arg_ty(self, 0),
-            Expt => arg_ty(self, 0),
+            Expt => {
+                // As emitted: an integer base with a real exponent computes in the
+                // exponent's type (LREAL for a literal).
+                let (base, exp) = (arg_ty(self, 0), arg_ty(self, 1));
+                if !base.is_real() && exp.is_real() {
+                    concretize(exp, None)
+                } else {
+                    base
+                }
+            }
             Shift(_) => arg_ty(self, 0),
             Compare(_) => Ty::BOOL,
             Sel | Limit => arg_ty(self, 1),
@@ -497,7 +506,7 @@ impl<'s> BodyCx<'_, 's> {
                         let n = self.emit(xs[1], None);
                         let v = match n.ty {
                             t if t.is_real() => {
-                                let nf = self.to_lreal(n);
+                                let nf = self.as_lreal(n);
                                 let xf = self.b.convert(ConvOp::SiToF, Type::F64, x);
                                 let fop = if op == Op::Mul { BinaryOp::Fmul } else { BinaryOp::Fdiv };
                                 let r = self.b.binary(fop, xf, nf);

@@ -35,7 +35,9 @@ impl ConstVal {
         };
         match (self, e) {
             (ConstVal::Bool(b), ElemType::Bool) => Ok(ConstVal::Bool(b)),
-            (ConstVal::Int(v), ElemType::Real | ElemType::LReal) => Ok(ConstVal::Real(v as f64)),
+            // Round once, straight to the target's precision.
+            (ConstVal::Int(v), ElemType::Real) => Ok(ConstVal::Real(v as f32 as f64)),
+            (ConstVal::Int(v), ElemType::LReal) => Ok(ConstVal::Real(v as f64)),
             (ConstVal::Real(r), ElemType::Real | ElemType::LReal) => Ok(ConstVal::Real(r)),
             (ConstVal::Int(v), e) => match int_range(e) {
                 Some((lo, hi)) if e != ElemType::Bool => {
@@ -97,7 +99,20 @@ fn eval_depth(e: &Expr, interner: &Interner, lookup: &Lookup<'_>, depth: u32, wa
                 .and_then(|p| ElemType::from_name(interner.name(p.sym)));
             let (v, t) = match &lit.kind {
                 LiteralKind::Int(v) => (ConstVal::Int(*v), Ty::AnyInt),
-                LiteralKind::Real(text) => (ConstVal::Real(text.parse().ok()?), Ty::AnyReal),
+                LiteralKind::Real(text) => {
+                    // A REAL literal rounds once, from its decimal text straight to
+                    // binary32 (through binary64 it could round twice).
+                    let single = match prefix {
+                        Some(p) => p == ElemType::Real,
+                        None => want == Some(Ty::Elem(ElemType::Real)),
+                    };
+                    let v = if single {
+                        text.parse::<f32>().ok()? as f64
+                    } else {
+                        text.parse::<f64>().ok()?
+                    };
+                    (ConstVal::Real(v), Ty::AnyReal)
+                }
                 LiteralKind::Bool(b) => (ConstVal::Bool(*b), Ty::BOOL),
                 LiteralKind::Duration { ns, long: false } => {
                     (ConstVal::Int(ns / 1_000_000), Ty::TIME)
@@ -176,6 +191,14 @@ fn eval_depth(e: &Expr, interner: &Interner, lookup: &Lookup<'_>, depth: u32, wa
                 _ => return None,
             };
             let ty = if matches!(v, ConstVal::Bool(_)) { Ty::BOOL } else { ty };
+            // REAL arithmetic rounds every result to binary32, as at run time (binary64
+            // arithmetic on binary32 operands, then one rounding, gives the same
+            // result for + - * /).
+            let single = ty == Ty::Elem(ElemType::Real) || (ty.is_literal() && want == Some(Ty::Elem(ElemType::Real)));
+            let v = match v {
+                ConstVal::Real(r) if single => ConstVal::Real(r as f32 as f64),
+                v => v,
+            };
             Some((v, ty))
         }
         _ => None,

@@ -38,20 +38,10 @@ pub(super) fn unify(a: Ty, b: Ty) -> Option<Ty> {
         (Error, _) | (_, Error) => Error,
         (x, y) if x == y => x,
         (AnyInt, AnyReal) | (AnyReal, AnyInt) => AnyReal,
-        (AnyInt, t) | (t, AnyInt) => {
-            if t.is_numeric() {
-                t
-            } else {
-                return None;
-            }
-        }
-        (AnyReal, t) | (t, AnyReal) => {
-            if t.is_real() {
-                t
-            } else {
-                return None;
-            }
-        }
+        (AnyInt, t) | (t, AnyInt) if t.is_numeric() => t,
+        (AnyInt, _) | (_, AnyInt) => return None,
+        (AnyReal, t) | (t, AnyReal) if t.is_real() => t,
+        (AnyReal, _) | (_, AnyReal) => return None,
         (Elem(x), Elem(y)) => {
             if implicit(x, y) {
                 Elem(y)
@@ -79,6 +69,20 @@ pub(super) fn concretize(t: Ty, want: Option<Ty>) -> Ty {
         },
         t => t,
     }
+}
+
+/// The array and every index of `a[i, j]`, `a[i][j]` or `a[i][j, k]`: ARRAY OF ARRAY
+/// is one array with more dimensions, so indexes of nested subscripts add up (an
+/// element is never itself an array).
+fn index_chain(e: &Expr) -> (&Expr, Vec<&Expr>) {
+    let mut base = e;
+    let mut lists = Vec::new();
+    while let ExprKind::Index(b, idx) = &base.kind {
+        lists.push(idx);
+        base = b;
+    }
+    let idx = lists.into_iter().rev().flat_map(|l| l.iter()).collect();
+    (base, idx)
 }
 
 fn is_duration(t: Ty) -> bool {
@@ -246,10 +250,13 @@ impl<'s> BodyCx<'_, 's> {
                 _ => Ty::Error,
             },
             ExprKind::Bit(..) => Ty::BOOL,
-            ExprKind::Index(base, idx) => match self.infer(base) {
-                Ty::Array(a) if self.l.types.get(a).dims.len() == idx.len() => self.l.types.get(a).elem,
-                _ => Ty::Error,
-            },
+            ExprKind::Index(..) => {
+                let (base, idx) = index_chain(e);
+                match self.infer(base) {
+                    Ty::Array(a) if self.l.types.get(a).dims.len() == idx.len() => self.l.types.get(a).elem,
+                    _ => Ty::Error,
+                }
+            }
             ExprKind::Unary(UOp::Not, x) | ExprKind::Unary(UOp::Neg, x) | ExprKind::Unary(UOp::Plus, x) => {
                 self.infer(x)
             }
@@ -636,7 +643,7 @@ impl<'s> BodyCx<'_, 's> {
         let v = match n.ty {
             Ty::Error => x,
             nt if nt.is_real() => {
-                let nf = self.to_lreal(n);
+                let nf = self.as_lreal(n);
                 let xf = self.b.convert(ConvOp::SiToF, Type::F64, x);
                 let r = self.b.binary(
                     if op == Op::Mul { BinaryOp::Fmul } else { BinaryOp::Fdiv },
@@ -655,7 +662,7 @@ impl<'s> BodyCx<'_, 's> {
     }
 
     /// A REAL or LREAL value as LREAL.
-    pub(super) fn to_lreal(&mut self, v: Val) -> Value {
+    pub(super) fn as_lreal(&mut self, v: Val) -> Value {
         match v.ty {
             Ty::Elem(ElemType::Real) => self.b.convert(ConvOp::Fpromote, Type::F64, v.v),
             _ => v.v,
@@ -926,7 +933,8 @@ impl<'s> BodyCx<'_, 's> {
                     guard: bp.guard,
                 })
             }
-            ExprKind::Index(base, idx) => {
+            ExprKind::Index(..) => {
+                let (base, idx) = index_chain(e);
                 let bp = self.place(base)?;
                 let Ty::Array(a) = bp.ty else {
                     if bp.ty != Ty::Error {
@@ -946,7 +954,7 @@ impl<'s> BodyCx<'_, 's> {
                 }
                 let mut addr = bp.addr;
                 let mut guard = bp.guard;
-                for (d, ie) in idx.iter().enumerate() {
+                for (d, &ie) in idx.iter().enumerate() {
                     let agg = self.l.array_agg(a, d as u32);
                     let (a2, g) = self.index(addr, agg, at.dims[d], ie)?;
                     addr = a2;

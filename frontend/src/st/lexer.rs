@@ -18,7 +18,6 @@ use plcc_ir::diag::{Diagnostic, FileId, Span};
 /// Token kinds. Only words the grammar needs to be reserved are keywords; others
 /// with a meaning in some context only (`ON`, `WITH`, `STEP`, `METHOD`, ...) are
 /// identifiers that the parser recognises by symbol where they matter.
-#[allow(missing_docs)]
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
 #[repr(u8)]
 pub enum Tok {
@@ -28,107 +27,201 @@ pub enum Tok {
     Error,
     /// A name; `data` is its [`Symbol`].
     Ident,
-    /// A literal; `data` indexes [`Lexed::literals`].
+    /// A literal; [`Lexed::literal`] gives its value.
     Lit,
     /// A direct address `%IX0.0`, `%QW1`, `%I*`, or a partial access `%X3`, `%B1`.
     Address,
-    // punctuation
+    /// `:=`
     Assign,
+    /// `=>`
     Arrow,
+    /// `=`
     Eq,
+    /// `<>`
     Ne,
+    /// `<`
     Lt,
+    /// `<=`
     Le,
+    /// `>`
     Gt,
+    /// `>=`
     Ge,
+    /// `+`
     Plus,
+    /// `-`
     Minus,
+    /// `*`
     Star,
+    /// `/`
     Slash,
+    /// `**`
     Pow,
+    /// `&`
     Amp,
+    /// `(`
     LParen,
+    /// `)`
     RParen,
+    /// `[`
     LBracket,
+    /// `]`
     RBracket,
+    /// `,`
     Comma,
+    /// `;`
     Semi,
+    /// `:`
     Colon,
+    /// `.`
     Dot,
+    /// `..`
     DotDot,
+    /// `^`
     Caret,
+    /// `#`
     Hash,
-    // keywords
+    /// `PROGRAM`
     Program,
+    /// `END_PROGRAM`
     EndProgram,
+    /// `FUNCTION`
     Function,
+    /// `END_FUNCTION`
     EndFunction,
+    /// `FUNCTION_BLOCK`
     FunctionBlock,
+    /// `END_FUNCTION_BLOCK`
     EndFunctionBlock,
+    /// `TYPE`
     Type,
+    /// `END_TYPE`
     EndType,
+    /// `STRUCT`
     Struct,
+    /// `END_STRUCT`
     EndStruct,
+    /// `VAR`
     Var,
+    /// `VAR_INPUT`
     VarInput,
+    /// `VAR_OUTPUT`
     VarOutput,
+    /// `VAR_IN_OUT`
     VarInOut,
+    /// `VAR_TEMP`
     VarTemp,
+    /// `VAR_GLOBAL`
     VarGlobal,
+    /// `VAR_EXTERNAL`
     VarExternal,
+    /// `VAR_ACCESS`
     VarAccess,
+    /// `VAR_CONFIG`
     VarConfig,
+    /// `VAR_STAT`
     VarStat,
+    /// `END_VAR`
     EndVar,
+    /// `CONSTANT`
     Constant,
+    /// `RETAIN`
     Retain,
+    /// `NON_RETAIN`
     NonRetain,
+    /// `PERSISTENT`
     Persistent,
+    /// `AT`
     At,
+    /// `ARRAY`
     Array,
+    /// `OF`
     Of,
+    /// `STRING`
     String,
+    /// `WSTRING`
     WString,
+    /// `REF_TO`
     RefTo,
+    /// `IF`
     If,
+    /// `THEN`
     Then,
+    /// `ELSIF`
     Elsif,
+    /// `ELSE`
     Else,
+    /// `END_IF`
     EndIf,
+    /// `CASE`
     Case,
+    /// `END_CASE`
     EndCase,
+    /// `FOR`
     For,
+    /// `TO`
     To,
+    /// `BY`
     By,
+    /// `DO`
     Do,
+    /// `END_FOR`
     EndFor,
+    /// `WHILE`
     While,
+    /// `END_WHILE`
     EndWhile,
+    /// `REPEAT`
     Repeat,
+    /// `UNTIL`
     Until,
+    /// `END_REPEAT`
     EndRepeat,
+    /// `EXIT`
     Exit,
+    /// `CONTINUE`
     Continue,
+    /// `RETURN`
     Return,
+    /// `AND`
     And,
+    /// `OR`
     Or,
+    /// `XOR`
     Xor,
+    /// `NOT`
     Not,
+    /// `MOD`
     Mod,
+    /// `AND_THEN`
     AndThen,
+    /// `OR_ELSE`
     OrElse,
+    /// `TRUE`
     True,
+    /// `FALSE`
     False,
+    /// `CONFIGURATION`
     Configuration,
+    /// `END_CONFIGURATION`
     EndConfiguration,
+    /// `END_RESOURCE`
     EndResource,
+    /// `END_ACTION`
     EndAction,
+    /// `END_METHOD`
     EndMethod,
+    /// `END_PROPERTY`
     EndProperty,
+    /// `END_INTERFACE`
     EndInterface,
+    /// `END_CLASS`
     EndClass,
+    /// `END_STEP`
     EndStep,
+    /// `END_TRANSITION`
     EndTransition,
+    /// `END_ACTIONS`
     EndActions,
 }
 
@@ -804,7 +897,11 @@ impl<'a> Lexer<'a> {
         if matches!(prefix, Prefix::Duration(_)) && matches!(src.get(i), Some(b'-' | b'+')) {
             i += 1;
         }
-        while i < src.len() && class(src[i]) {
+        // A `.` belongs to the literal only before a digit (`T#1s..T#2s` is a range).
+        while i < src.len()
+            && class(src[i])
+            && (src[i] != b'.' || src.get(i + 1).is_some_and(u8::is_ascii_digit))
+        {
             i += 1;
         }
         // Letters glued to a date belong to the (bad) literal, not to the next token.
@@ -1368,6 +1465,14 @@ mod tests {
         );
         // A duration followed by an operator is not swallowed.
         assert_eq!(kinds("T#5s-x"), vec![T::Lit, T::Minus, T::Ident, T::Eof]);
+        assert_eq!(
+            kinds("T#1s..T#2.5s"),
+            vec![T::Lit, T::DotDot, T::Lit, T::Eof]
+        );
+        assert_eq!(
+            kinds("TOD#12:00..TOD#13:00:00.5"),
+            vec![T::Lit, T::DotDot, T::Lit, T::Eof]
+        );
         assert_eq!(errors("D#2024-01-31-x"), vec![codes::MALFORMED_DATE_TIME]);
     }
 

@@ -1029,7 +1029,7 @@ impl<'a> Parser<'a> {
                     if let Some(first) = list.first() {
                         body_start.get_or_insert(first.span.start);
                         body_end = self.prev_end();
-                        stmts.extend(list);
+                        append(&mut stmts, list);
                     } else if self.pos > before && body_start.is_some() {
                         body_end = self.prev_end();
                     }
@@ -1116,7 +1116,7 @@ impl<'a> Parser<'a> {
         let mut stmts = Vec::new();
         loop {
             let list = self.stmt_list(&[end], false, false);
-            stmts.extend(list);
+            append(&mut stmts, list);
             let t = self.tok();
             if t.kind == end {
                 break;
@@ -1760,7 +1760,7 @@ impl<'a> Parser<'a> {
                         var_blocks.push(b);
                     }
                 }
-                Tok::Program => {
+                Tok::Program if self.at_program_config() => {
                     if let Some(p) = self.program_config() {
                         programs.push(p);
                     }
@@ -1779,6 +1779,7 @@ impl<'a> Parser<'a> {
                     }
                 }
                 k if k == Tok::Eof || is_top_start(k) || is_pou_end(k) => {
+                    // (a PROGRAM that is not `PROGRAM inst WITH t : T` starts a POU)
                     let msg = format!(
                         "expected `END_CONFIGURATION`, found {}",
                         self.describe(self.pos)
@@ -1849,7 +1850,7 @@ impl<'a> Parser<'a> {
                         var_blocks.push(b);
                     }
                 }
-                Tok::Program => {
+                Tok::Program if self.at_program_config() => {
                     if let Some(p) = self.program_config() {
                         programs.push(p);
                     }
@@ -1916,6 +1917,18 @@ impl<'a> Parser<'a> {
         let span = self.span_from(kw.start);
         self.expect_decl_semi();
         Some(TaskDecl { name, props, span })
+    }
+
+    /// `PROGRAM [RETAIN] inst WITH` or `PROGRAM inst :` (else a PROGRAM declaration
+    /// follows a configuration that was not closed).
+    fn at_program_config(&self) -> bool {
+        let n = if matches!(self.peek_at(1), Tok::Retain | Tok::NonRetain) {
+            2
+        } else {
+            1
+        };
+        self.peek_at(n) == Tok::Ident
+            && (self.peek_at(n + 1) == Tok::Colon || self.at_sym(n + 1, self.s.with))
     }
 
     fn program_config(&mut self) -> Option<ProgramConfig> {
@@ -2756,6 +2769,15 @@ impl<'a> Parser<'a> {
             kind: ExprKind::DirectAddress(text.into()),
             span: self.tspan(t),
         })
+    }
+}
+
+/// Appends `more` to `stmts` (taking it whole when `stmts` is empty, the usual case).
+fn append(stmts: &mut Vec<Stmt>, mut more: Vec<Stmt>) {
+    if stmts.is_empty() {
+        *stmts = more;
+    } else {
+        stmts.append(&mut more);
     }
 }
 

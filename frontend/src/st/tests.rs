@@ -1246,3 +1246,367 @@ fn deep_nesting_is_one_error_and_no_overflow() {
         ));
     });
 }
+
+// ------------------------------------------------------------------ snapshots
+
+fn dump_stmts(out: &mut String, stmts: &[Stmt], i: &Interner, ind: usize) {
+    let pad = "  ".repeat(ind);
+    for s in stmts {
+        match &s.kind {
+            StmtKind::Assign { target, value } => {
+                let _ = writeln!(out, "{pad}{} := {}", sx(target, i), sx(value, i));
+            }
+            StmtKind::RefAssign { target, value } => {
+                let _ = writeln!(out, "{pad}{} REF= {}", sx(target, i), sx(value, i));
+            }
+            StmtKind::Call(e) => {
+                let _ = writeln!(out, "{pad}call {}", sx(e, i));
+            }
+            StmtKind::If {
+                branches,
+                else_body,
+            } => {
+                for (n, (c, b)) in branches.iter().enumerate() {
+                    let _ = writeln!(
+                        out,
+                        "{pad}{} {}",
+                        if n == 0 { "IF" } else { "ELSIF" },
+                        sx(c, i)
+                    );
+                    dump_stmts(out, b, i, ind + 1);
+                }
+                if let Some(b) = else_body {
+                    let _ = writeln!(out, "{pad}ELSE");
+                    dump_stmts(out, b, i, ind + 1);
+                }
+            }
+            StmtKind::Case {
+                selector,
+                arms,
+                else_body,
+            } => {
+                let _ = writeln!(out, "{pad}CASE {}", sx(selector, i));
+                for a in arms {
+                    let l: Vec<String> = a
+                        .labels
+                        .iter()
+                        .map(|l| match l {
+                            CaseLabel::Value(e) => sx(e, i),
+                            CaseLabel::Range(a, b) => format!("{}..{}", sx(a, i), sx(b, i)),
+                        })
+                        .collect();
+                    let _ = writeln!(out, "{pad}  {}:", l.join(", "));
+                    dump_stmts(out, &a.body, i, ind + 2);
+                }
+                if let Some(b) = else_body {
+                    let _ = writeln!(out, "{pad}  ELSE");
+                    dump_stmts(out, b, i, ind + 2);
+                }
+            }
+            StmtKind::For {
+                var,
+                from,
+                to,
+                by,
+                body,
+            } => {
+                let by = by
+                    .as_ref()
+                    .map_or(String::new(), |b| format!(" BY {}", sx(b, i)));
+                let _ = writeln!(
+                    out,
+                    "{pad}FOR {} := {} TO {}{by}",
+                    i.name(var.sym),
+                    sx(from, i),
+                    sx(to, i)
+                );
+                dump_stmts(out, body, i, ind + 1);
+            }
+            StmtKind::While { cond, body } => {
+                let _ = writeln!(out, "{pad}WHILE {}", sx(cond, i));
+                dump_stmts(out, body, i, ind + 1);
+            }
+            StmtKind::Repeat { body, until } => {
+                let _ = writeln!(out, "{pad}REPEAT");
+                dump_stmts(out, body, i, ind + 1);
+                let _ = writeln!(out, "{pad}UNTIL {}", sx(until, i));
+            }
+            StmtKind::Exit => out.push_str(&format!("{pad}EXIT\n")),
+            StmtKind::Continue => out.push_str(&format!("{pad}CONTINUE\n")),
+            StmtKind::Return => out.push_str(&format!("{pad}RETURN\n")),
+            StmtKind::Empty => out.push_str(&format!("{pad};\n")),
+            StmtKind::Label(l) => out.push_str(&format!("{pad}{}:\n", i.name(l.sym))),
+            StmtKind::Goto(l) => out.push_str(&format!("{pad}GOTO {}\n", i.name(l.sym))),
+        }
+    }
+}
+
+fn dump_block(out: &mut String, b: &VarBlock, i: &Interner, pad: &str) {
+    let q = match (b.constant, b.retain) {
+        (true, true) => " CONSTANT RETAIN",
+        (true, false) => " CONSTANT",
+        (false, true) => " RETAIN",
+        _ => "",
+    };
+    let _ = writeln!(out, "{pad}{:?}{q}", b.kind);
+    for d in &b.decls {
+        let _ = writeln!(out, "{pad}  {}", decl(d, i));
+    }
+}
+
+/// A readable dump of a whole unit, for snapshots.
+fn dump(u: &SourceUnit, i: &Interner) -> String {
+    let mut out = String::new();
+    for item in &u.items {
+        match item {
+            Item::Pou(p) => {
+                let ret = p
+                    .return_type
+                    .as_ref()
+                    .map_or(String::new(), |t| format!(" : {}", ty(t, i)));
+                let ext = p
+                    .extends
+                    .map_or(String::new(), |e| format!(" EXTENDS {}", i.name(e.sym)));
+                let _ = writeln!(out, "{:?} {}{ret}{ext}", p.kind, i.name(p.name.sym));
+                for b in &p.var_blocks {
+                    dump_block(&mut out, b, i, "  ");
+                }
+                let _ = writeln!(out, "  BODY");
+                dump_stmts(&mut out, &p.body.stmts, i, 2);
+                for a in &p.actions {
+                    let _ = writeln!(out, "  ACTION {}", i.name(a.name.sym));
+                    dump_stmts(&mut out, &a.body.stmts, i, 2);
+                }
+                if !p.unsupported_members.is_empty() {
+                    let _ = writeln!(
+                        out,
+                        "  unsupported members: {}",
+                        p.unsupported_members.len()
+                    );
+                }
+            }
+            Item::Type(t) => {
+                let init = t
+                    .init
+                    .as_ref()
+                    .map_or(String::new(), |v| format!(" := {}", init(v, i)));
+                let _ = writeln!(
+                    out,
+                    "TYPE {} : {}{init}",
+                    i.name(t.name.sym),
+                    ty(&t.spec, i)
+                );
+            }
+            Item::Globals(b) => dump_block(&mut out, b, i, ""),
+            Item::Configuration(c) => {
+                let _ = writeln!(out, "CONFIGURATION {}", i.name(c.name.sym));
+                for b in &c.var_blocks {
+                    dump_block(&mut out, b, i, "  ");
+                }
+                for r in &c.resources {
+                    let on =
+                        r.on.map_or(String::new(), |o| format!(" ON {}", i.name(o.sym)));
+                    let _ = writeln!(out, "  RESOURCE {}{on}", i.name(r.name.sym));
+                    for b in &r.var_blocks {
+                        dump_block(&mut out, b, i, "    ");
+                    }
+                    for t in &r.tasks {
+                        let p: Vec<String> = t
+                            .props
+                            .iter()
+                            .map(|(n, v)| format!("{} := {}", i.name(n.sym), sx(v, i)))
+                            .collect();
+                        let _ = writeln!(out, "    TASK {}({})", i.name(t.name.sym), p.join(", "));
+                    }
+                    for p in &r.programs {
+                        let with = p
+                            .task
+                            .map_or(String::new(), |t| format!(" WITH {}", i.name(t.sym)));
+                        let callee = Expr {
+                            kind: ExprKind::Call {
+                                callee: Box::new(Expr {
+                                    kind: ExprKind::Name(p.pou),
+                                    span: p.pou.span,
+                                }),
+                                args: p.args.clone(),
+                            },
+                            span: p.span,
+                        };
+                        let _ = writeln!(
+                            out,
+                            "    PROGRAM {}{with} : {}",
+                            i.name(p.name.sym),
+                            sx(&callee, i)
+                        );
+                    }
+                }
+            }
+            Item::Action(a) => {
+                let owner = a
+                    .pou
+                    .map_or(String::new(), |p| format!("{}.", i.name(p.sym)));
+                let _ = writeln!(out, "ACTION {owner}{}", i.name(a.name.sym));
+                dump_stmts(&mut out, &a.body.stmts, i, 1);
+            }
+        }
+    }
+    out
+}
+
+/// Diagnostics as `line:col-line:col error[code]: message` with labels, for snapshots.
+fn render(src: &str, d: &[Diagnostic]) -> String {
+    let f = SourceFile::new("t.st", src);
+    let mut out = String::new();
+    for d in d {
+        let at = |s: plcc_ir::diag::Span| {
+            let (l1, c1) = f.line_col(s.start);
+            let (l2, c2) = f.line_col(s.end);
+            format!("{l1}:{c1}-{l2}:{c2}")
+        };
+        let _ = writeln!(out, "{} {d}", d.span.map_or("-".into(), at));
+        let _ = writeln!(out, "    label: {}", d.label);
+        for (s, l) in &d.secondary {
+            let _ = writeln!(out, "    also {}: {l}", at(*s));
+        }
+        for n in &d.notes {
+            let _ = writeln!(out, "    note: {n}");
+        }
+    }
+    out
+}
+
+#[test]
+fn snapshot_program() {
+    let src = r#"
+TYPE
+  Color : (Red, Green := 5, Blue) := Red;
+  Point : STRUCT x, y : REAL := 0.0; tag : STRING[8] := 'p'; END_STRUCT;
+  Grid : ARRAY[0..2, 0..2] OF INT := [3(1), 3(), 0, 1, 2];
+END_TYPE
+
+FUNCTION_BLOCK Blinker
+VAR_INPUT enable : BOOL; period : TIME := T#500ms; END_VAR
+VAR_OUTPUT lamp AT %QX0.1 : BOOL; END_VAR
+VAR t : TON; state : Color := Color#Red; n : INT(0..100); END_VAR
+  t(IN := enable AND NOT t.Q, PT := period, Q => lamp, ET =>);
+  IF t.Q THEN
+    n := (n + 1) MOD 10;
+  ELSIF NOT enable THEN
+    n := 0;
+  END_IF;
+  CASE n OF
+    0, 2..4: state := Green;
+    Color#Blue, -1: ;
+  ELSE
+    state := Red;
+  END_CASE;
+  FOR n := 10 TO 0 BY -2 DO
+    IF n.0 THEN CONTINUE; END_IF;
+  END_FOR;
+  WHILE n < 5 DO n := n + 1; END_WHILE;
+  REPEAT n := n - 1; UNTIL n <= 0 OR n ** 2 > 100 END_REPEAT;
+ACTION reset:
+  n := 0; RETURN;
+END_ACTION
+END_FUNCTION_BLOCK
+
+PROGRAM Main
+VAR b : Blinker; p : Point := (x := 1.5, tag := 'a$'b'); r : REF_TO INT; w : WORD; END_VAR
+  b(enable := TRUE);
+  r REF= p.x;
+  w.%B1 := 16#FF;
+  %QX0.0 := b.lamp XOR w.3;
+END_PROGRAM
+
+CONFIGURATION Cell
+  TASK cyclic(INTERVAL := T#10ms, PRIORITY := 1);
+  PROGRAM main WITH cyclic : Main;
+END_CONFIGURATION
+"#;
+    let (u, i) = ok(src);
+    insta::assert_snapshot!(dump(&u, &i));
+}
+
+#[test]
+fn snapshot_recovery_diagnostics() {
+    let src = "\
+FUNCTION_BLOCK Broken
+VAR
+  a : INT
+  b : ARRAY[1..3 OF INT;
+  AT %QX0.0 : BOOL;
+END_VAR
+  a := 3 +* 4;
+  IF a = 1
+    b[1] := 2;
+  END_IF;
+  WHILE a < 10 DO
+    a := a + 1
+  END_WHILE;
+  CASE a OF
+    1: a := 2;
+    2 a := 3;
+  END_CASE;
+  FOR i := 1 TO 3 DO
+    a := a + i;
+  END_WHILE;
+  x = 5;
+  s := 'abc$Q';
+  END_IF;
+END_FUNCTION_BLOCK
+";
+    let (_, d, _) = parse_str(src);
+    insta::assert_snapshot!(render(src, &d));
+}
+
+#[test]
+fn declaration_level_errors() {
+    check_errors(
+        "FUNCTION f : ;\n VAR x : INT; END_VAR\n f := 1;\nEND_FUNCTION\nPROGRAM q END_PROGRAM",
+        &["error[E0101]: expected a type, found `;`"],
+    );
+    check_errors(
+        "PROGRAM\n VAR x : INT; END_VAR\n x := 1;\nEND_PROGRAM\nPROGRAM q END_PROGRAM",
+        &["error[E0101]: expected a name, found `VAR`"],
+    );
+    check_errors(
+        "PROGRAM p VAR a : INT; VAR_INPUT b : INT; END_VAR END_PROGRAM",
+        &["error[E0104]: expected `END_VAR`, found `VAR_INPUT`"],
+    );
+    check_errors(
+        "CONFIGURATION c\n RESOURCE r ON p\n  TASK t(INTERVAL := T#1s);\nEND_CONFIGURATION",
+        &["error[E0104]: expected `END_RESOURCE`, found `END_CONFIGURATION`"],
+    );
+    check_errors(
+        "CONFIGURATION c\n TASK t(INTERVAL := T#1s);\nPROGRAM p END_PROGRAM",
+        &["error[E0104]: expected `END_CONFIGURATION`, found `PROGRAM`"],
+    );
+    check_errors(
+        "TYPE t : INT;\nFUNCTION f : INT f := 1; END_FUNCTION",
+        &["error[E0104]: expected `END_TYPE`, found `FUNCTION`"],
+    );
+    check_errors(
+        "PROGRAM p\n x := 1;",
+        &["error[E0104]: expected `END_PROGRAM`, found end of file"],
+    );
+    check_errors("x := 1;", &[
+        "error[E0101]: expected `PROGRAM`, `FUNCTION`, `FUNCTION_BLOCK`, `TYPE`, `VAR_GLOBAL` or `CONFIGURATION`, found `x`",
+    ]);
+    check_errors(
+        "PROGRAM p x := 'a very long string literal indeed' 1; END_PROGRAM",
+        &["error[E0102]: expected `;`, found `1`"],
+    );
+    check_errors(
+        "PROGRAM p x := 1 'a very long string literal indeed'; END_PROGRAM",
+        &["error[E0102]: expected `;`, found `'a very long string ...`"],
+    );
+}
+
+#[test]
+fn empty_and_comment_only_files() {
+    assert!(parse_str("").0.items.is_empty());
+    assert!(parse_str("  \n(* only a comment *)\n// and another\n")
+        .1
+        .is_empty());
+    assert_eq!(codes_of("(* never closed"), ["E0002"]);
+}

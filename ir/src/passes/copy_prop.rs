@@ -80,28 +80,30 @@ pub fn run(func: &mut Function) -> bool {
         }
     }
 
-    // Selects with equal arms (after the substitutions above).
-    for bi in 0..func.layout.len() {
-        let b = func.layout[bi];
-        let mut removed = false;
-        let insts = std::mem::take(&mut func.blocks[b.index()].insts);
-        let mut kept = Vec::with_capacity(insts.len());
-        for i in insts {
-            if let InstData::Select {
+    // Selects with equal arms (after the substitutions above), removed in place.
+    let Function {
+        layout,
+        blocks,
+        insts,
+        results,
+        ..
+    } = func;
+    for &b in layout.iter() {
+        blocks[b.index()].insts.retain(|&i| {
+            let InstData::Select {
                 if_true, if_false, ..
-            } = *func.inst(i)
-            {
-                let t = vmap.resolve(if_true);
-                if t == vmap.resolve(if_false) {
-                    vmap.set(func.result(i).expect("select has a result"), t);
-                    removed = true;
-                    continue;
-                }
+            } = insts[i.index()]
+            else {
+                return true;
+            };
+            let t = vmap.resolve(if_true);
+            if t != vmap.resolve(if_false) {
+                return true;
             }
-            kept.push(i);
-        }
-        func.blocks[b.index()].insts = kept;
-        changed |= removed;
+            vmap.set(results[i.index()].expect("select has a result"), t);
+            changed = true;
+            false
+        });
     }
     vmap.apply(func);
     changed

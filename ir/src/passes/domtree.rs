@@ -248,7 +248,10 @@ impl DomTree {
         let mut df: Vec<Vec<Block>> = vec![Vec::new(); n];
         for &b in &self.rpo {
             let preds = self.preds(b);
-            if preds.len() < 2 && !(b == self.rpo[0] && !preds.is_empty()) {
+            // A join point: two or more predecessors, or the entry with any (the
+            // function's start is an implicit extra one).
+            let join = preds.len() >= 2 || (b == self.rpo[0] && !preds.is_empty());
+            if !join {
                 continue;
             }
             let stop = self.idom[b.index()];

@@ -193,7 +193,8 @@ pub fn inline_call(caller: &mut Function, block: Block, inst: Inst, callee: &Fun
         }
         new_insts.push((nb, pairs));
     }
-    let map_v = |v: Value, vm: &Vec<Option<Value>>| vm.get(v.index()).copied().flatten().unwrap_or(v);
+    let map_v =
+        |v: Value, vm: &Vec<Option<Value>>| vm.get(v.index()).copied().flatten().unwrap_or(v);
     for (nb, pairs) in new_insts {
         for (_, ni) in pairs {
             let mut data = caller.insts[ni.index()].clone();

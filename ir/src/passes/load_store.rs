@@ -21,8 +21,9 @@
 use crate::entities::{AggId, DataId, Inst, SlotId, Value};
 use crate::function::{Function, ValueDef};
 use crate::inst::InstData;
-use crate::passes::util::{int_const, FxHashMap, ValueMap};
+use crate::passes::util::{int_const, ValueMap};
 use crate::types::Type;
+use rustc_hash::FxHashMap;
 
 /// At most this many known values and pending stores are tracked at a time (the
 /// oldest are forgotten first), which bounds the work per instruction.

@@ -26,10 +26,16 @@ type Path = Vec<u32>;
 pub fn run(module: &mut Module) -> bool {
     let mut changed = false;
     for fi in 0..module.funcs.len() {
-        if !matches!(module.funcs[fi].kind, FuncKind::ProgramBody | FuncKind::FbBody) {
+        if !matches!(
+            module.funcs[fi].kind,
+            FuncKind::ProgramBody | FuncKind::FbBody
+        ) {
             continue;
         }
-        let mut f = std::mem::replace(&mut module.funcs[fi], Function::new("", FuncKind::Helper, vec![], None));
+        let mut f = std::mem::replace(
+            &mut module.funcs[fi],
+            Function::new("", FuncKind::Helper, vec![], None),
+        );
         changed |= promote_function(module, &mut f);
         module.funcs[fi] = f;
     }
@@ -52,7 +58,9 @@ struct PathInfo {
 
 fn promote_function(module: &Module, f: &mut Function) -> bool {
     let Some(entry) = f.entry() else { return false };
-    let Some(&this) = f.block(entry).params.first() else { return false };
+    let Some(&this) = f.block(entry).params.first() else {
+        return false;
+    };
     // Map values that are paths from the instance pointer.
     let mut path_of: FxHashMap<Value, usize> = FxHashMap::default();
     let mut paths: Vec<PathInfo> = Vec::new();
@@ -74,7 +82,9 @@ fn promote_function(module: &Module, f: &mut Function) -> bool {
         grew = false;
         for (_, i) in f.inst_iter() {
             if let InstData::FieldAddr { base, agg, field } = f.inst(i) {
-                let (Some(&bp), Some(r)) = (path_of.get(base), f.result(i)) else { continue };
+                let (Some(&bp), Some(r)) = (path_of.get(base), f.result(i)) else {
+                    continue;
+                };
                 if path_of.contains_key(&r) {
                     continue;
                 }
@@ -137,7 +147,9 @@ fn promote_function(module: &Module, f: &mut Function) -> bool {
             continue;
         }
         let (agg, field) = *p.steps.last().expect("non-root path");
-        let AggDef::Struct(s) = module.agg(agg) else { continue };
+        let AggDef::Struct(s) = module.agg(agg) else {
+            continue;
+        };
         match s.fields.get(field as usize).map(|fd| fd.ty) {
             Some(MemType::Scalar(t)) if Some(t) == p.ty => promote.push(id),
             _ => {}
@@ -150,7 +162,10 @@ fn promote_function(module: &Module, f: &mut Function) -> bool {
     let mut slot_of: FxHashMap<usize, SlotId> = FxHashMap::default();
     for &id in &promote {
         let t = paths[id].ty.expect("typed");
-        slot_of.insert(id, f.create_slot(format!("promoted{id}"), MemType::Scalar(t)));
+        slot_of.insert(
+            id,
+            f.create_slot(format!("promoted{id}"), MemType::Scalar(t)),
+        );
     }
     let mut slot_addr_of: FxHashMap<usize, Value> = FxHashMap::default();
     // Prologue at the start of the entry block: slot_addr, field address, load, store.
@@ -167,16 +182,22 @@ fn promote_function(module: &Module, f: &mut Function) -> bool {
         let ld = f.create_inst(InstData::Load { ty: t, addr }, Some(t), None);
         prologue.push(ld);
         let v = f.result(ld).expect("loaded");
-        prologue.push(f.create_inst(InstData::Store { value: v, addr: sav }, None, None));
+        prologue.push(f.create_inst(
+            InstData::Store {
+                value: v,
+                addr: sav,
+            },
+            None,
+            None,
+        ));
     }
     // Redirect accesses.
     let live: Vec<crate::entities::Inst> = f.inst_iter().map(|(_, i)| i).collect();
     for i in live {
         let new_addr = match f.inst(i) {
-            InstData::Load { addr, .. } | InstData::Store { addr, .. } => path_of
-                .get(addr)
-                .and_then(|p| slot_addr_of.get(p))
-                .copied(),
+            InstData::Load { addr, .. } | InstData::Store { addr, .. } => {
+                path_of.get(addr).and_then(|p| slot_addr_of.get(p)).copied()
+            }
             _ => None,
         };
         if let Some(sa) = new_addr {
@@ -189,7 +210,9 @@ fn promote_function(module: &Module, f: &mut Function) -> bool {
     // Epilogue before every return: write back the fields that were written.
     let blocks: Vec<crate::entities::Block> = f.layout.clone();
     for b in blocks {
-        let Some(term) = f.terminator(b) else { continue };
+        let Some(term) = f.terminator(b) else {
+            continue;
+        };
         if !matches!(f.inst(term), InstData::Return { .. }) {
             continue;
         }
@@ -240,11 +263,23 @@ fn ancestor_escapes(paths: &[PathInfo], index: &FxHashMap<Path, usize>, id: usiz
 }
 
 /// Instructions computing the address of a path from the instance pointer.
-fn build_path(f: &mut Function, this: Value, steps: &[(AggId, u32)]) -> (Value, Vec<crate::entities::Inst>) {
+fn build_path(
+    f: &mut Function,
+    this: Value,
+    steps: &[(AggId, u32)],
+) -> (Value, Vec<crate::entities::Inst>) {
     let mut insts = Vec::new();
     let mut addr = this;
     for &(agg, field) in steps {
-        let i = f.create_inst(InstData::FieldAddr { base: addr, agg, field }, Some(Type::Ptr), None);
+        let i = f.create_inst(
+            InstData::FieldAddr {
+                base: addr,
+                agg,
+                field,
+            },
+            Some(Type::Ptr),
+            None,
+        );
         insts.push(i);
         addr = f.result(i).expect("address");
     }

@@ -65,7 +65,12 @@ fn fold_branches(func: &mut Function) -> bool {
 /// If `b` is an empty forwarder (`jump` only, not to itself) whose parameters only
 /// its own jump reads, its destination. (A parameter used further on, in a block `b`
 /// dominates, must keep being defined by `b`.)
-fn forwarder<'f>(func: &'f Function, b: Block, entry: Block, uses: &[u32]) -> Option<&'f BlockCall> {
+fn forwarder<'f>(
+    func: &'f Function,
+    b: Block,
+    entry: Block,
+    uses: &[u32],
+) -> Option<&'f BlockCall> {
     if b == entry {
         return None;
     }
@@ -103,7 +108,11 @@ fn thread_jumps(func: &mut Function, entry: Block) -> bool {
     let any_params = func.layout.iter().any(|&b| {
         !func.blocks[b.index()].params.is_empty() && func.blocks[b.index()].insts.len() == 1
     });
-    let uses = if any_params { use_counts(func) } else { Vec::new() };
+    let uses = if any_params {
+        use_counts(func)
+    } else {
+        Vec::new()
+    };
     for bi in 0..func.layout.len() {
         let b = func.layout[bi];
         let Some(t) = func.terminator(b) else {
@@ -182,10 +191,7 @@ fn merge_blocks(func: &mut Function, entry: Block) -> bool {
         if removed[p.index()] {
             continue;
         }
-        loop {
-            let Some(t) = func.terminator(p) else {
-                break;
-            };
+        while let Some(t) = func.terminator(p) {
             let InstData::Jump { dest } = func.inst(t) else {
                 break;
             };

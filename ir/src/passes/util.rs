@@ -1,5 +1,5 @@
-//! Helpers shared by the passes: value substitution, CFG edges, block-parameter removal
-//! and a fast hasher.
+//! Helpers shared by the passes: value substitution, CFG edges, block-parameter
+//! removal.
 //!
 //! Everything here is linear in the size of the function and uses vectors indexed by
 //! entity ids, because the passes run on every compile.
@@ -7,7 +7,6 @@
 use crate::entities::{Block, Inst, Value};
 use crate::function::{Function, ValueDef};
 use crate::inst::{BlockCall, InstData};
-use std::hash::{BuildHasherDefault, Hasher};
 
 /// A substitution of SSA values (`from -> to`), applied to every operand at the end of
 /// a pass. Chains are followed, so passes may record `a -> b` and later `b -> c`.
@@ -241,48 +240,3 @@ pub(crate) fn int_const(func: &Function, v: Value) -> Option<i64> {
         _ => None,
     }
 }
-
-/// The FxHash function (as in rustc): fast hashing of small keys made of ids, where
-/// SipHash's DoS resistance buys nothing.
-#[derive(Default, Clone, Copy)]
-pub(crate) struct FxHasher(u64);
-
-const FX_SEED: u64 = 0x51_7c_c1_b7_27_22_0a_95;
-
-impl FxHasher {
-    #[inline]
-    fn add(&mut self, x: u64) {
-        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(FX_SEED);
-    }
-}
-
-impl Hasher for FxHasher {
-    fn write(&mut self, bytes: &[u8]) {
-        for chunk in bytes.chunks(8) {
-            let mut buf = [0u8; 8];
-            buf[..chunk.len()].copy_from_slice(chunk);
-            self.add(u64::from_le_bytes(buf));
-        }
-    }
-    fn write_u8(&mut self, x: u8) {
-        self.add(x as u64)
-    }
-    fn write_u32(&mut self, x: u32) {
-        self.add(x as u64)
-    }
-    fn write_u64(&mut self, x: u64) {
-        self.add(x)
-    }
-    fn write_i64(&mut self, x: i64) {
-        self.add(x as u64)
-    }
-    fn write_usize(&mut self, x: usize) {
-        self.add(x as u64)
-    }
-    fn finish(&self) -> u64 {
-        self.0
-    }
-}
-
-/// A `HashMap` with [`FxHasher`].
-pub(crate) type FxHashMap<K, V> = std::collections::HashMap<K, V, BuildHasherDefault<FxHasher>>;

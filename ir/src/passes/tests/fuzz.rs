@@ -223,7 +223,7 @@ impl Gen<'_, '_> {
                 },
                 _ => {
                     let x = self.params[self.rng.below(2) as usize];
-                    self.from_i32(x, ty)
+                    self.of_i32(x, ty)
                 }
             };
         }
@@ -334,7 +334,7 @@ impl Gen<'_, '_> {
         self.b.select(c, x, y)
     }
 
-    fn from_i32(&mut self, x: Value, ty: Type) -> Value {
+    fn of_i32(&mut self, x: Value, ty: Type) -> Value {
         self.convert(x, Type::I32, ty)
     }
 
@@ -628,7 +628,7 @@ fn random_function(m: &mut Module, cx: &Ctx, rng: &mut Rng) -> FuncId {
                 g.konst(ty)
             } else {
                 let x = g.params[0];
-                g.from_i32(x, ty)
+                g.of_i32(x, ty)
             };
             let a = g.b.slot_addr(s);
             g.b.store(v, a);
@@ -880,7 +880,10 @@ fn passes_throughput() {
 fn passes_profile() {
     let funcs: Vec<Function> = (0..20).map(|k| big_function(50 + k * 10).1).collect();
     let total: usize = funcs.iter().map(|f| f.live_inst_count()).sum();
-    let reps: usize = std::env::var("PROFILE_REPS").ok().and_then(|s| s.parse().ok()).unwrap_or(200);
+    let reps: usize = std::env::var("PROFILE_REPS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(200);
     let t = std::time::Instant::now();
     for _ in 0..reps {
         for f in &funcs {
