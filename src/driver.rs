@@ -136,14 +136,17 @@ pub fn build_sources(texts: Vec<(String, Vec<u8>)>, opts: &BuildOptions) -> Resu
 /// single-use callees, promotion of instance variables to SSA values, and a last
 /// cleanup; functions nothing calls any more are dropped.
 pub fn optimise(m: &mut Module) {
-    use plcc_ir::passes::{inline, optimize_function, optimize_module, promote};
+    use plcc_ir::passes::{gvn, inline, optimize_function, optimize_module, promote};
     optimize_module(m);
     inline::run(m, &mut |f| {
         optimize_function(f);
     });
     inline::remove_unreachable_functions(m);
-    if promote::run(m) {
-        optimize_module(m);
+    promote::run(m);
+    for f in &mut m.funcs {
+        // After promotion every function needs mem2reg and a cleanup anyway.
+        gvn::run(f);
+        optimize_function(f);
     }
 }
 

@@ -210,3 +210,47 @@ fn corpus_on_interp() {
 fn corpus_on_host() {
     run_corpus("host");
 }
+
+/// Every ST source in the corpus (programs without scenarios, parser fixtures, the
+/// OSCAT and matiec libraries) goes through `check` without a panic; prints how many
+/// are accepted.
+#[test]
+fn corpus_never_panics() {
+    let Some(dir) = corpus_dir() else {
+        eprintln!("notice: ../shared/corpus not found; skipping the corpus test");
+        return;
+    };
+    let mut files = Vec::new();
+    let mut stack = vec![dir];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|e| e == "st" || e == "txt" || e == "il") {
+                files.push(p);
+            }
+        }
+    }
+    files.sort();
+    let (mut accepted, mut rejected, mut panicked) = (0, 0, Vec::new());
+    for f in &files {
+        let bytes = std::fs::read(f).unwrap();
+        let name = f.display().to_string();
+        let opts = BuildOptions {
+            lang: Some(plcc_frontend::Lang::St),
+            check_only: true,
+            ..Default::default()
+        };
+        match std::panic::catch_unwind(|| build_sources(vec![(name.clone(), bytes)], &opts)) {
+            Ok(Ok(b)) if !b.failed() => accepted += 1,
+            Ok(_) => rejected += 1,
+            Err(_) => panicked.push(name),
+        }
+    }
+    println!(
+        "corpus sources checked: {} ({accepted} accepted, {rejected} with diagnostics)",
+        files.len()
+    );
+    assert!(panicked.is_empty(), "plcc panicked on: {panicked:?}");
+}

@@ -180,8 +180,6 @@ codes! {
         "IEC 61131-3 forbids recursive calls, so that every frame can be allocated statically. The message shows the cycle of calls.";
     E_OUTSIDE_LOOP = "E0506", "EXIT or CONTINUE outside a loop",
         "EXIT and CONTINUE can only appear inside FOR, WHILE or REPEAT.";
-    E_NOT_A_STATEMENT = "E0507", "expression used as a statement",
-        "Only assignments and calls are statements; an expression on its own does nothing.\n\n    x + 1;   (* did you mean x := x + 1; ? *)";
 
     // ---- not supported yet (E06xx) ----
     E_UNSUPPORTED = "E0601", "not supported yet",

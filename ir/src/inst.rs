@@ -488,7 +488,7 @@ impl BlockCall {
 }
 
 /// One instruction: the operation and its operands. At most one result.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum InstData {
     /// An integer constant of type `ty`; `imm` is canonical (see [`Type::canon_int`]).
     Iconst {

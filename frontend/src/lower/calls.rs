@@ -46,7 +46,7 @@ impl<'s> BodyCx<'_, 's> {
     /// A call used as a statement.
     pub(super) fn call_stmt(&mut self, e: &'s Expr) {
         let ExprKind::Call { callee, args } = &e.kind else {
-            self.l.error(codes::E_NOT_A_STATEMENT, "this expression does nothing: only calls can be statements", e.span);
+            self.l.error(codes::NOT_A_STATEMENT, "this expression does nothing: only calls can be statements", e.span);
             return;
         };
         match self.classify(callee, false) {

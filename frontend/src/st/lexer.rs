@@ -301,6 +301,11 @@ const KEYWORDS: &[(&str, Tok)] = &[
 ];
 
 impl Tok {
+    /// True for reserved words (`IF`, `BY`, `AND`, ...), which cannot be names.
+    pub fn is_keyword(self) -> bool {
+        KEYWORDS.iter().any(|&(_, t)| t == self)
+    }
+
     /// How the token is written, for messages (keywords in upper case).
     pub fn text(self) -> &'static str {
         if let Some(&(name, _)) = KEYWORDS.iter().find(|&&(_, t)| t == self) {

@@ -449,10 +449,42 @@ impl<'a> Parser<'a> {
         self.emit(self.pos, d);
     }
 
-    /// "expected {what}, found ..." at the current token.
+    /// "expected {what}, found ..." at the current token. A keyword where a name is
+    /// expected gets a note: `BY`, `ON`, `STEP`... cannot name a variable.
     fn expected(&mut self, what: &str) {
+        let t = self.tok();
         let msg = format!("expected {what}, found {}", self.describe(self.pos));
-        self.error_here(codes::UNEXPECTED_TOKEN, msg, format!("expected {what}"));
+        let mut d = Diagnostic::error(codes::UNEXPECTED_TOKEN, msg, self.tspan(t))
+            .with_label(format!("expected {what}"));
+        if t.kind.is_keyword() && (what.contains("name") || what.contains("variable")) {
+            d = d.with_note(format!(
+                "`{}` is a keyword and cannot be used as a name",
+                self.slice(t)
+            ));
+        }
+        self.emit(self.pos, d);
+    }
+
+    /// Reports that `what` is missing before the current token. When that token starts
+    /// a new line, the caret goes just after the previous token, where the missing one
+    /// belongs, and the current token is shown as the one found; otherwise the caret is
+    /// on the current token, with `label`.
+    fn missing(&mut self, code: &'static str, what: &str, label: &str) {
+        let t = self.tok();
+        let msg = format!("expected {what}, found {}", self.describe(self.pos));
+        let d = if t.newline_before() && self.pos > 0 {
+            let end = self.prev_end();
+            let d = Diagnostic::error(code, msg, self.sp(end, end))
+                .with_label(format!("expected {what} here"));
+            if t.kind == Tok::Eof {
+                d
+            } else {
+                d.with_secondary(self.tspan(t), "unexpected token")
+            }
+        } else {
+            Diagnostic::error(code, msg, self.tspan(t)).with_label(label)
+        };
+        self.emit(self.pos, d);
     }
 
     fn expect_tok(&mut self, k: Tok, what: &str) -> Option<Token> {
@@ -462,6 +494,23 @@ impl<'a> Parser<'a> {
             self.expected(what);
             None
         }
+    }
+
+    /// Like [`Self::expect_tok`] for the closer `k` of the bracket `open`, which the
+    /// error shows.
+    fn expect_close(&mut self, k: Tok, what: &str, open: Token) -> Option<Token> {
+        if self.at(k) {
+            return Some(self.bump());
+        }
+        let msg = format!("expected {what}, found {}", self.describe(self.pos));
+        let d = Diagnostic::error(codes::UNEXPECTED_TOKEN, msg, self.tspan(self.tok()))
+            .with_label(format!("expected {what}"))
+            .with_secondary(
+                self.tspan(open),
+                format!("this `{}` is not closed", open.kind.text()),
+            );
+        self.emit(self.pos, d);
+        None
     }
 
     fn expect_ident(&mut self, what: &str) -> Option<Ident> {
@@ -593,8 +642,7 @@ impl<'a> Parser<'a> {
             return;
         }
         let t = self.tok();
-        let msg = format!("expected `;`, found {}", self.describe(self.pos));
-        self.error_here(codes::MISSING_SEMICOLON, msg, "expected `;` before this");
+        self.missing(codes::MISSING_SEMICOLON, "`;`", "expected `;` before this");
         let follows = (t.newline_before() && starts_stmt(t.kind))
             || is_stmt_keyword(t.kind)
             || closer_idx(t.kind).is_some()
@@ -610,8 +658,7 @@ impl<'a> Parser<'a> {
             return;
         }
         let t = self.tok();
-        let msg = format!("expected `;`, found {}", self.describe(self.pos));
-        self.error_here(codes::MISSING_SEMICOLON, msg, "expected `;` before this");
+        self.missing(codes::MISSING_SEMICOLON, "`;`", "expected `;` before this");
         let follows = (t.newline_before() && matches!(t.kind, Tok::Ident | Tok::At))
             || is_section_stop(t.kind);
         if !follows {
@@ -626,7 +673,8 @@ impl<'a> Parser<'a> {
             return true;
         }
         let t = self.tok();
-        self.expected(&format!("`{}`", kw.text()));
+        let what = format!("`{}`", kw.text());
+        self.missing(codes::UNEXPECTED_TOKEN, &what, &format!("expected {what}"));
         let follows = (t.newline_before() && starts_stmt(t.kind))
             || is_stmt_keyword(t.kind)
             || closer_idx(t.kind).is_some()
@@ -640,6 +688,11 @@ impl<'a> Parser<'a> {
     /// The END_ keyword of a compound statement opened by `opener`. Another
     /// statement END_ that nothing else is waiting for is taken as a misspelt one.
     fn expect_end(&mut self, end: Tok, opener: Token) -> bool {
+        self.expect_end_hint(end, opener, None)
+    }
+
+    /// [`Self::expect_end`], with a secondary label `hint` in the error.
+    fn expect_end_hint(&mut self, end: Tok, opener: Token, hint: Option<(Span, &str)>) -> bool {
         if self.eat(end) {
             return true;
         }
@@ -651,12 +704,15 @@ impl<'a> Parser<'a> {
             end.text(),
             self.describe(self.pos)
         );
-        let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
+        let mut d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
             .with_label(format!("expected `{}`", end.text()))
             .with_secondary(
                 self.tspan(opener),
                 format!("this `{}` is not closed", opener.kind.text()),
             );
+        if let Some((span, label)) = hint {
+            d = d.with_secondary(span, label);
+        }
         self.emit(self.pos, d);
         if mismatched {
             self.bump();
@@ -1953,11 +2009,12 @@ impl<'a> Parser<'a> {
         self.expect_tok(Tok::Colon, "`:`")?;
         let pou = self.expect_ident("a PROGRAM type name")?;
         let mut args = Vec::new();
-        if self.eat(Tok::LParen) {
+        if self.at(Tok::LParen) {
+            let open = self.bump();
             if !self.enter() {
                 return None;
             }
-            let a = self.call_args();
+            let a = self.call_args(open);
             self.leave();
             args = a?.0;
         }
@@ -2175,13 +2232,20 @@ impl<'a> Parser<'a> {
             }
         }
         self.open_add(&[Tok::Elsif, Tok::Else], -1);
-        let else_body = if self.eat(Tok::Else) {
+        // `ELSE IF` opens a nested IF, which needs an END_IF of its own.
+        let mut else_if = None;
+        let else_body = if self.at(Tok::Else) {
+            let e = self.bump();
+            if self.at(Tok::If) {
+                else_if = Some(self.sp(e.start, self.tok().end));
+            }
             Some(self.stmt_list(&[Tok::EndIf], true, false))
         } else {
             None
         };
         self.open_add(&[Tok::EndIf], -1);
-        self.expect_end(Tok::EndIf, kw);
+        let hint = else_if.map(|s| (s, "this opens a nested IF: did you mean `ELSIF`?"));
+        self.expect_end_hint(Tok::EndIf, kw, hint);
         if ok {
             let span = self.span_from(kw.start);
             branches.shrink_to_fit();
@@ -2436,11 +2500,11 @@ impl<'a> Parser<'a> {
     }
 
     fn call_suffix(&mut self, callee: Expr) -> Option<Expr> {
-        self.bump();
+        let open = self.bump();
         if !self.enter() {
             return None;
         }
-        let end = self.call_args();
+        let end = self.call_args(open);
         self.leave();
         let (args, end) = end?;
         Some(call(callee, args, end, self.file))
@@ -2534,16 +2598,16 @@ impl<'a> Parser<'a> {
         }
     }
 
-    /// After `(`: the arguments and the end offset of the `)`.
-    fn call_args(&mut self) -> Option<(Vec<Arg>, u32)> {
+    /// After `open`, a `(`: the arguments and the end offset of the `)`.
+    fn call_args(&mut self, open: Token) -> Option<(Vec<Arg>, u32)> {
         let base = self.args.len();
-        let end = self.call_args_into();
+        let end = self.call_args_into(open);
         let args = self.args.drain(base..).collect();
         Some((args, end?))
     }
 
     /// The arguments onto `self.args`.
-    fn call_args_into(&mut self) -> Option<u32> {
+    fn call_args_into(&mut self, open: Token) -> Option<u32> {
         if self.at(Tok::RParen) {
             return Some(self.bump().end);
         }
@@ -2554,8 +2618,7 @@ impl<'a> Parser<'a> {
             if self.eat(Tok::Comma) {
                 continue;
             }
-            let close = self.expect_tok(Tok::RParen, "`,` or `)`")?;
-            return Some(close.end);
+            return Some(self.expect_close(Tok::RParen, "`,` or `)`", open)?.end);
         }
     }
 
@@ -2709,7 +2772,7 @@ impl<'a> Parser<'a> {
 
     fn close_paren(&mut self, open: Token, inner: Option<Expr>) -> Option<Expr> {
         let inner = inner?;
-        let close = self.expect_tok(Tok::RParen, "`)`")?;
+        let close = self.expect_close(Tok::RParen, "`)`", open)?;
         Some(Expr {
             kind: ExprKind::Paren(Box::new(inner)),
             span: self.sp(open.start, close.end),

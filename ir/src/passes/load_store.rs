@@ -62,9 +62,6 @@ struct Addrs {
     ids: FxHashMap<Node, u32>,
     /// The id of each value used as an address (`u32::MAX` until computed).
     of_value: Vec<u32>,
-    /// Scratch paths for alias queries.
-    pa: Vec<u32>,
-    pb: Vec<u32>,
 }
 
 const UNSET: u32 = u32::MAX;
@@ -77,8 +74,6 @@ impl Addrs {
             root: Vec::new(),
             ids: FxHashMap::default(),
             of_value: vec![UNSET; func.values.len()],
-            pa: Vec::new(),
-            pb: Vec::new(),
         }
     }
 
@@ -142,7 +137,7 @@ impl Addrs {
     }
 
     /// True unless the addresses `a` and `b` provably do not overlap.
-    fn may_alias(&mut self, a: u32, b: u32) -> bool {
+    fn may_alias(&self, a: u32, b: u32) -> bool {
         if a == b {
             return true;
         }
@@ -152,67 +147,93 @@ impl Addrs {
             // Two different objects never overlap; an opaque pointer may point anywhere.
             return !(known(&self.nodes[ra as usize]) && known(&self.nodes[rb as usize]));
         }
-        // Same root: compare the paths step by step from the root.
-        let mut pa = std::mem::take(&mut self.pa);
-        let mut pb = std::mem::take(&mut self.pb);
-        self.path(a, &mut pa);
-        self.path(b, &mut pb);
-        let mut result = true; // a prefix of the other overlaps it
-        for (&x, &y) in pa.iter().zip(&pb) {
-            if x == y {
-                continue;
-            }
-            match (self.nodes[x as usize], self.nodes[y as usize]) {
-                (
-                    Node::Field {
-                        agg: g1, field: f1, ..
-                    },
-                    Node::Field {
-                        agg: g2, field: f2, ..
-                    },
-                ) if g1 == g2 => {
-                    debug_assert_ne!(f1, f2);
-                    result = false;
-                    break;
-                }
-                (
-                    Node::Elem {
-                        agg: g1, index: i1, ..
-                    },
-                    Node::Elem {
-                        agg: g2, index: i2, ..
-                    },
-                ) if g1 == g2 => {
-                    if let (Index::Const(c1), Index::Const(c2)) = (i1, i2) {
-                        if c1 != c2 {
-                            result = false;
-                            break;
-                        }
-                    }
-                    // The same array element or disjoint ones: the rest of the paths
-                    // decides under the "same element" assumption.
-                }
-                // Different aggregate types at one address: no knowledge.
-                _ => break,
-            }
+        // Same root: relate the paths level by level. The first level from the root
+        // that is decisive decides: different fields or constant elements are
+        // disjoint, different aggregate types are unknown. Levels that may be the
+        // same element pass the question down. Walking up from the bottom, the last
+        // decisive level seen is that first one. (One path a prefix of the other, or
+        // no decisive level: they may overlap.)
+        let (mut x, mut y) = (a, b);
+        while self.depth[x as usize] > self.depth[y as usize] {
+            x = self.parent(x);
         }
-        self.pa = pa;
-        self.pb = pb;
+        while self.depth[y as usize] > self.depth[x as usize] {
+            y = self.parent(y);
+        }
+        let mut result = true;
+        while x != y {
+            match self.step(x, y) {
+                Step::Disjoint => result = false,
+                Step::Unknown => result = true,
+                Step::Same | Step::SameOrDisjoint => {}
+            }
+            x = self.parent(x);
+            y = self.parent(y);
+        }
         result
     }
 
-    /// The nodes from the root's child down to `a` (the root itself excluded).
-    fn path(&self, mut a: u32, out: &mut Vec<u32>) {
-        out.clear();
-        while self.depth[a as usize] > 0 {
-            out.push(a);
-            a = match self.nodes[a as usize] {
-                Node::Field { parent, .. } | Node::Elem { parent, .. } => parent,
-                _ => unreachable!(),
-            };
+    /// The parent of a path node (itself for a root).
+    fn parent(&self, a: u32) -> u32 {
+        match self.nodes[a as usize] {
+            Node::Field { parent, .. } | Node::Elem { parent, .. } => parent,
+            _ => a,
         }
-        out.reverse();
     }
+
+    /// How the last steps of `x` and `y` relate, given that their parents are the same
+    /// place (or may be the same array element: then "same" means same under that
+    /// assumption).
+    fn step(&self, x: u32, y: u32) -> Step {
+        if x == y {
+            return Step::Same;
+        }
+        match (self.nodes[x as usize], self.nodes[y as usize]) {
+            (
+                Node::Field {
+                    agg: g1, field: f1, ..
+                },
+                Node::Field {
+                    agg: g2, field: f2, ..
+                },
+            ) if g1 == g2 => {
+                if f1 == f2 {
+                    Step::Same
+                } else {
+                    Step::Disjoint
+                }
+            }
+            (
+                Node::Elem {
+                    agg: g1, index: i1, ..
+                },
+                Node::Elem {
+                    agg: g2, index: i2, ..
+                },
+            ) if g1 == g2 => match (i1, i2) {
+                (Index::Const(c1), Index::Const(c2)) if c1 != c2 => Step::Disjoint,
+                _ if i1 == i2 => Step::Same,
+                // The same array element or disjoint ones: the rest of the paths
+                // decides under the "same element" assumption.
+                _ => Step::SameOrDisjoint,
+            },
+            // Different aggregate types at one address: no knowledge.
+            _ => Step::Unknown,
+        }
+    }
+}
+
+/// How two steps of address paths from the same place relate.
+#[derive(Copy, Clone, PartialEq, Eq, Debug)]
+enum Step {
+    /// The same step.
+    Same,
+    /// Provably different memory (different fields, different constant elements).
+    Disjoint,
+    /// Elements of one array at indexes that may or may not be equal.
+    SameOrDisjoint,
+    /// Nothing known (different aggregate types).
+    Unknown,
 }
 
 /// What an address is known to hold.
@@ -328,4 +349,68 @@ pub fn run(func: &mut Function) -> bool {
     }
     vmap.apply(func);
     changed
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::function::FuncKind;
+
+    #[test]
+    fn alias_oracle() {
+        let f = Function::new("f", FuncKind::Function, vec![], None);
+        let mut a = Addrs::new(&f);
+        let (s, s2, t, arr) = (AggId(0), AggId(1), AggId(2), AggId(3));
+        let r = a.intern(Node::Opaque(Value(0)));
+        let r2 = a.intern(Node::Opaque(Value(9)));
+        let g = a.intern(Node::Global(DataId(0)));
+        let h = a.intern(Node::Global(DataId(1)));
+        let sl = a.intern(Node::Slot(SlotId(0)));
+        let field =
+            |a: &mut Addrs, parent, agg, field| a.intern(Node::Field { parent, agg, field });
+        let elem = |a: &mut Addrs, parent, index| {
+            a.intern(Node::Elem {
+                parent,
+                agg: arr,
+                index,
+            })
+        };
+        let f0 = field(&mut a, r, s, 0);
+        let f1 = field(&mut a, r, s, 1);
+        let ei = elem(&mut a, f0, Index::Value(Value(1)));
+        let ej = elem(&mut a, f0, Index::Value(Value(2)));
+        let e0 = elem(&mut a, f0, Index::Const(0));
+        let e1 = elem(&mut a, f0, Index::Const(1));
+        let ei_x = field(&mut a, ei, t, 0);
+        let ej_x = field(&mut a, ej, t, 0);
+        let ej_y = field(&mut a, ej, t, 1);
+        let e0_x = field(&mut a, e0, t, 0);
+        let e1_x = field(&mut a, e1, t, 0);
+        let pun = field(&mut a, r, s2, 1);
+        let pun_y = field(&mut a, pun, t, 1);
+        let f0_x = field(&mut a, f0, t, 0);
+        let g0 = field(&mut a, g, s, 0);
+        let cases = [
+            (f0, f1, false),     // different fields
+            (f0, f0, true),      // the same
+            (ei, ej, true),      // unknown indexes
+            (ei_x, ej_y, false), // same element or not, different fields
+            (ei_x, ej_x, true),  // possibly the same element, same field
+            (e0, e1, false),     // different constant elements
+            (e0_x, e1_x, false), // inside different elements
+            (e0_x, e1, false),   // different depths, different elements
+            (ei_x, ej, true),    // inside a possibly equal element
+            (f0, ei_x, true),    // a prefix
+            (f0_x, pun_y, true), // different types at one address: no knowledge
+            (f0, r2, true),      // another opaque pointer
+            (g, h, false),       // different objects
+            (g0, sl, false),     // a global and a slot
+            (g0, f0, true),      // an opaque pointer may point into a global
+            (g0, field(&mut a, g, s, 1), false),
+        ];
+        for (k, &(x, y, expect)) in cases.iter().enumerate() {
+            assert_eq!(a.may_alias(x, y), expect, "case {k}");
+            assert_eq!(a.may_alias(y, x), expect, "case {k} swapped");
+        }
+    }
 }

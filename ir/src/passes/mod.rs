@@ -13,6 +13,7 @@ pub mod const_fold;
 pub mod copy_prop;
 pub mod dce;
 pub mod domtree;
+pub mod gvn;
 pub mod inline;
 pub mod load_store;
 pub mod mem2reg;

@@ -49,6 +49,11 @@ const FIELDS: [(Type, ElemType); 7] = [
     (Type::I32, ElemType::DInt),
 ];
 const ARR_FIELD: u32 = FIELDS.len() as u32;
+/// `recs: [2 x %R]` with `%R = { x: i32, y: i16 }`: an array of structs, where a
+/// variable index leaves only the field to tell two accesses apart.
+const RECS_FIELD: u32 = ARR_FIELD + 1;
+const RECS_LEN: u32 = 2;
+const REC_FIELDS: [Type; 2] = [Type::I32, Type::I16];
 const ARR_LEN: u32 = 4;
 const TYPES: [Type; 6] = [
     Type::I1,
@@ -81,11 +86,15 @@ enum Place {
     Slot(SlotId, Type),
     Field(Base, u32),
     Elem(Base, Option<u32>),
+    /// `recs[index].field`
+    Rec(Base, Option<u32>, u32),
 }
 
 struct Ctx {
     s: AggId,
     a: AggId,
+    r: AggId,
+    ra: AggId,
     g: DataId,
     bump: FuncId,
 }
@@ -112,6 +121,7 @@ impl Gen<'_, '_> {
             Place::Slot(_, t) => t,
             Place::Field(_, f) => FIELDS[f as usize].0,
             Place::Elem(..) => Type::I32,
+            Place::Rec(_, _, f) => REC_FIELDS[f as usize],
         }
     }
 
@@ -150,12 +160,35 @@ impl Gen<'_, '_> {
                 };
                 self.b.elem_addr(arr, self.cx.a, i)
             }
+            Place::Rec(base, idx, f) => {
+                let bv = self.base(base);
+                let recs = self.b.field_addr(bv, self.cx.s, RECS_FIELD);
+                let i = match idx {
+                    Some(k) => self.b.iconst(Type::I32, k as i64),
+                    None => {
+                        let x = self.expr(Type::I32);
+                        let n = self.b.iconst(Type::I32, RECS_LEN as i64);
+                        self.b.binary(BinaryOp::Urem, x, n)
+                    }
+                };
+                let rec = self.b.elem_addr(recs, self.cx.ra, i);
+                self.b.field_addr(rec, self.cx.r, f)
+            }
         }
     }
 
     fn random_place(&mut self, ty: Option<Type>) -> Option<Place> {
         for _ in 0..20 {
-            let p = match self.rng.below(4) {
+            let p = match self.rng.below(5) {
+                4 => Place::Rec(
+                    self.rng.pick(&BASES),
+                    if self.rng.chance(40) {
+                        Some(self.rng.below(RECS_LEN as u64) as u32)
+                    } else {
+                        None
+                    },
+                    self.rng.below(REC_FIELDS.len() as u64) as u32,
+                ),
                 0 if !self.slots.is_empty() => {
                     let (s, t) = self.rng.pick(&self.slots);
                     Place::Slot(s, t)
@@ -503,6 +536,40 @@ fn skeleton() -> (Module, Ctx, FuncId) {
         role: FieldRole::Var,
         location: None,
     });
+    let r = m.add_agg(AggDef::Struct(StructDef {
+        name: "R".into(),
+        kind: StructKind::Struct,
+        fields: vec![
+            Field {
+                name: "x".into(),
+                ty: MemType::Scalar(Type::I32),
+                elem: Some(ElemType::DInt),
+                role: FieldRole::Var,
+                location: None,
+            },
+            Field {
+                name: "y".into(),
+                ty: MemType::Scalar(Type::I16),
+                elem: Some(ElemType::Int),
+                role: FieldRole::Var,
+                location: None,
+            },
+        ],
+    }));
+    let ra = m.add_agg(AggDef::Array(ArrayDef {
+        name: "RA".into(),
+        elem: MemType::Agg(r),
+        elem_type: None,
+        len: RECS_LEN,
+        lower: 0,
+    }));
+    fields.push(Field {
+        name: "recs".into(),
+        ty: MemType::Agg(ra),
+        elem: None,
+        role: FieldRole::Var,
+        location: None,
+    });
     let s = m.add_agg(AggDef::Struct(StructDef {
         name: "S".into(),
         kind: StructKind::Struct,
@@ -569,10 +636,22 @@ fn skeleton() -> (Module, Ctx, FuncId) {
             let v = b.binary(BinaryOp::Imul, x, kk);
             b.store(v, e);
         }
+        let recs = b.field_addr(p, s, RECS_FIELD);
+        for k in 0..RECS_LEN {
+            let i = b.iconst(Type::I32, k as i64);
+            let rec = b.elem_addr(recs, ra, i);
+            let fx = b.field_addr(rec, r, 0);
+            let kk = b.iconst(Type::I32, k as i64 + 3);
+            let v = b.binary(BinaryOp::Iadd, y, kk);
+            b.store(v, fx);
+            let fy = b.field_addr(rec, r, 1);
+            let v = b.convert(ConvOp::Itrunc, Type::I16, x);
+            b.store(v, fy);
+        }
         b.ret(None);
     }
     let init = m.add_func(f);
-    (m, Ctx { s, a, g, bump }, init)
+    (m, Ctx { s, a, r, ra, g, bump }, init)
 }
 
 /// Adds a random `@t(a: i32, b: i32, p: ptr, q: ptr) -> i32`.
@@ -614,6 +693,17 @@ fn random_function(m: &mut Module, cx: &Ctx, rng: &mut Rng) -> FuncId {
             let i = g.b.iconst(Type::I32, k as i64);
             let a = g.b.elem_addr(arr, cx.a, i);
             g.b.store(v, a);
+        }
+        for k in 0..RECS_LEN {
+            for (fi, &ty) in REC_FIELDS.iter().enumerate() {
+                let v = g.konst(ty);
+                let base = g.b.slot_addr(local);
+                let recs = g.b.field_addr(base, cx.s, RECS_FIELD);
+                let i = g.b.iconst(Type::I32, k as i64);
+                let rec = g.b.elem_addr(recs, cx.ra, i);
+                let a = g.b.field_addr(rec, cx.r, fi as u32);
+                g.b.store(v, a);
+            }
         }
         let target = g.rng.pick(&[Base::P, Base::Q, Base::G, Base::L]);
         let p = g.base(target);

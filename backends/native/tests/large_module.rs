@@ -1,6 +1,6 @@
-//! Compile speed on a large generated module (the size of a 58,000-line program with
-//! about 1000 functions). `cargo test --release -p plcc-native --test speed -- --nocapture`
-//! prints the numbers; the assertion is loose so that debug builds pass.
+//! A large generated module (about the size of a 58,000-line program with 1000
+//! functions) compiles on the worker threads and runs; Cranelift folds field offsets
+//! into loads and stores.
 
 mod common;
 
@@ -8,7 +8,6 @@ use common::{field, Prog};
 use plcc_ir::machine::Machine;
 use plcc_ir::{BinaryOp, ConvOp, FuncId, FuncKind, Function, IntCC, Module, Type, UnaryOp};
 use plcc_native::Jit;
-use std::time::Instant;
 
 struct Rng(u64);
 
@@ -174,79 +173,14 @@ pub fn generate(nfuncs: usize, stmts: usize) -> (Module, usize) {
     (m, insts)
 }
 
-fn measure(m: &Module, threads: &str, opt: &str, regalloc: &str) -> f64 {
-    use plcc_ir::backend::{Backend, Options};
-    let opts = Options {
-        emit: None,
-        settings: vec![
-            ("threads".into(), threads.into()),
-            ("opt_level".into(), opt.into()),
-            ("regalloc".into(), regalloc.into()),
-        ],
-    };
-    // The best of a few runs: the machine may be busy with other work.
-    let mut best = f64::MAX;
-    for _ in 0..3 {
-        let t = Instant::now();
-        let mut jit = plcc_native::NativeBackend
-            .machine(m, &opts)
-            .unwrap()
-            .unwrap();
-        best = best.min(t.elapsed().as_secs_f64());
-        jit.cold_start().unwrap();
-        jit.scan().unwrap();
-    }
-    best
-}
-
 #[test]
-fn large_module_compiles_fast() {
-    if cfg!(debug_assertions) {
-        // Debug builds of Cranelift are slow: just check that a big module works.
-        let (m, _) = generate(200, 25);
-        let mut jit = Jit::new(&m).unwrap();
-        jit.cold_start().unwrap();
-        jit.scan().unwrap();
-        return;
-    }
-    let (m, insts) = generate(1000, 58);
-    let n = m.funcs.len();
-    println!(
-        "{n} functions, {insts} IR instructions, {} threads available",
-        std::thread::available_parallelism()
-            .map(|n| n.get())
-            .unwrap_or(1)
-    );
-    let _ = Jit::new(&m).unwrap(); // warm up (page faults, lazy statics)
-    let mut default = 0.0;
-    for (opt, ra) in [
-        ("speed", "backtracking"),
-        ("speed", "single_pass"),
-        ("none", "backtracking"),
-        ("none", "single_pass"),
-    ] {
-        let serial = measure(&m, "1", opt, ra);
-        let parallel = measure(&m, "0", opt, ra);
-        println!(
-            "opt_level={opt} regalloc={ra}: serial {serial:.3} s ({:.0} us/function), \
-             parallel {parallel:.3} s ({:.0} us/function)",
-            serial * 1e6 / n as f64,
-            parallel * 1e6 / n as f64,
-        );
-        if opt == "speed" && ra == "backtracking" {
-            default = parallel;
-        }
-    }
-    let t = Instant::now();
-    plcc_ir::verify::verify_module(&m).unwrap();
-    println!("IR verifier: {:.3} s", t.elapsed().as_secs_f64());
-    let (small, insts) = generate(1000, 25);
-    let t = measure(&small, "0", "speed", "backtracking");
-    println!(
-        "{} functions, {insts} IR instructions: parallel {t:.3} s (default settings)",
-        small.funcs.len()
-    );
-    assert!(default < 3.0, "compile too slow: {default} s");
+fn large_module_compiles_and_runs() {
+    // Compile speed is measured by bench/bench.py, not here: this only checks that a
+    // module of many functions builds on the worker threads and runs.
+    let (m, _) = generate(200, 25);
+    let mut jit = Jit::new(&m).unwrap();
+    jit.cold_start().unwrap();
+    jit.scan().unwrap();
 }
 
 #[test]
@@ -256,91 +190,4 @@ fn field_offsets_fold_into_loads_and_stores() {
     // Field addresses never materialise: every access is `base + offset`.
     assert!(text.contains("load.i16 notrap aligned v0+"), "{text}");
     assert!(!text.contains("iadd_imm"), "{text}");
-}
-
-#[test]
-#[ignore]
-fn scan_speed_by_setting() {
-    use plcc_ir::backend::{Backend, Options};
-    let (m, _) = generate(1000, 25);
-    for (opt, ra) in [
-        ("speed", "backtracking"),
-        ("speed", "single_pass"),
-        ("none", "backtracking"),
-        ("none", "single_pass"),
-    ] {
-        let opts = Options {
-            emit: None,
-            settings: vec![
-                ("opt_level".into(), opt.into()),
-                ("regalloc".into(), ra.into()),
-            ],
-        };
-        let mut jit = plcc_native::NativeBackend
-            .machine(&m, &opts)
-            .unwrap()
-            .unwrap();
-        jit.cold_start().unwrap();
-        let t = Instant::now();
-        for _ in 0..2000 {
-            jit.scan().unwrap();
-        }
-        println!(
-            "{opt} {ra}: {:.1} us/scan",
-            t.elapsed().as_secs_f64() * 1e6 / 2000.0
-        );
-    }
-}
-
-/// Times the JIT on an IR file named by `PLCC_IR_FILE` (for example the optimised IR
-/// of a benchmark program, from `plcc FILE --emit ir`).
-#[test]
-#[ignore]
-fn ir_file_compile_time() {
-    let Ok(path) = std::env::var("PLCC_IR_FILE") else {
-        eprintln!("PLCC_IR_FILE is not set");
-        return;
-    };
-    let text = std::fs::read_to_string(&path).unwrap();
-    let m = plcc_ir::text::parse_module(&text).unwrap();
-    let insts: usize = m.funcs.iter().map(|f| f.live_inst_count()).sum();
-    let blocks: usize = m.funcs.iter().map(|f| f.layout.len()).sum();
-    println!(
-        "{} functions, {insts} instructions, {blocks} blocks",
-        m.funcs.len()
-    );
-    for _ in 0..3 {
-        let (c0, t0) = (cpu_seconds(), Instant::now());
-        let j = Jit::new(&m).unwrap();
-        let (c1, t1) = (cpu_seconds(), Instant::now());
-        drop(j);
-        println!(
-            "Jit::new: wall {:.3} s, CPU {:.3} s; drop: wall {:.3} s, CPU {:.3} s",
-            (t1 - t0).as_secs_f64(),
-            c1 - c0,
-            t1.elapsed().as_secs_f64(),
-            cpu_seconds() - c1
-        );
-    }
-    for threads in ["1", "0"] {
-        let _ = cranelift_codegen::timing::take_current();
-        let cpu0 = cpu_seconds();
-        let t = measure(&m, threads, "speed", "backtracking");
-        let cpu = (cpu_seconds() - cpu0) / 3.0;
-        println!("threads={threads}: {t:.3} s (CPU {cpu:.3} s per run)");
-        if threads == "1" {
-            println!("{}", cranelift_codegen::timing::take_current());
-        }
-    }
-}
-
-/// User + system CPU time of this process so far (Linux), 0 elsewhere.
-fn cpu_seconds() -> f64 {
-    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
-        return 0.0;
-    };
-    let after = &stat[stat.rfind(')').map_or(0, |i| i + 2)..];
-    let f: Vec<&str> = after.split_whitespace().collect();
-    let ticks = |i: usize| f.get(i).and_then(|x| x.parse::<f64>().ok()).unwrap_or(0.0);
-    (ticks(11) + ticks(12)) / 100.0
 }

@@ -1,0 +1,429 @@
+//! Malformed programs and their diagnostics.
+//!
+//! Every `tests/bad/NAME.st` starts with a comment saying what is wrong and which
+//! diagnostic codes it must produce:
+//!
+//! ```text
+//! (* expect: E0102 x1, E0101 x2 — what is wrong *)
+//! (* with: other.st *)              (optional: files built together with this one)
+//! ```
+//!
+//! The codes before the `—` must be exactly the set of codes the build reports
+//! (errors and warnings); `xN` after a code says it is reported exactly N times. A
+//! file whose codes are all warnings must still compile. The rendered diagnostics are
+//! snapshotted as `snapshots/diagnostics__NAME.snap`, with the files named
+//! `tests/bad/NAME.st` so that the snapshots are the same on every machine.
+//!
+//! Review a change with `cargo insta review` (or `INSTA_UPDATE=always cargo test --test
+//! diagnostics`, then read the `.snap` files): each message must say what is wrong,
+//! each caret must point at the culprit, and no error may be a consequence of another.
+//!
+//! The last tests run the `plcc` binary and check its exit statuses: 0 when there are
+//! only warnings, 1 when the program has errors, 2 for usage errors.
+
+use plcc::driver::{build_sources, BuildOptions};
+use plcc_ir::diag::Severity;
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// What a file's `expect:` comment asks for.
+#[derive(Debug)]
+struct Expect {
+    /// The first line, shown in the snapshot.
+    header: String,
+    /// Every expected code with its count, if the comment gives one.
+    codes: BTreeMap<String, Option<usize>>,
+    /// Files built together with this one (`with:`).
+    with: Vec<String>,
+}
+
+fn is_code(s: &str) -> bool {
+    let b = s.as_bytes();
+    b.len() == 5 && (b[0] == b'E' || b[0] == b'W') && b[1..].iter().all(u8::is_ascii_digit)
+}
+
+/// Parses the `expect:` line (the first) and the optional `with:` line (the second).
+fn parse_expect(name: &str, text: &str) -> Expect {
+    let mut lines = text.lines();
+    let header = lines.next().unwrap_or("").trim().to_string();
+    let spec = header
+        .strip_prefix("(* expect:")
+        .unwrap_or_else(|| panic!("{name}: the first line must be `(* expect: CODES — what is wrong *)`"));
+    let spec = spec
+        .split_once('—')
+        .unwrap_or_else(|| panic!("{name}: the expect line needs `—` between the codes and the description"))
+        .0;
+    let mut codes = BTreeMap::new();
+    let mut last: Option<String> = None;
+    for tok in spec.split([' ', ',']).filter(|t| !t.is_empty()) {
+        if is_code(tok) {
+            assert!(codes.insert(tok.to_string(), None).is_none(), "{name}: {tok} is listed twice");
+            last = Some(tok.to_string());
+        } else if let Some(n) = tok.strip_prefix('x').and_then(|n| n.parse::<usize>().ok()) {
+            let code = last.take().unwrap_or_else(|| panic!("{name}: `{tok}` does not follow a code"));
+            codes.insert(code, Some(n));
+        } else {
+            panic!("{name}: `{tok}` in the expect line is neither a code nor a count `xN`");
+        }
+    }
+    assert!(!codes.is_empty(), "{name}: the expect line lists no code");
+    let with = match lines.next().map(str::trim).and_then(|l| l.strip_prefix("(* with:")) {
+        Some(rest) => rest
+            .trim_end_matches("*)")
+            .split([' ', ','])
+            .filter(|t| !t.is_empty())
+            .map(str::to_string)
+            .collect(),
+        None => Vec::new(),
+    };
+    Expect { header, codes, with }
+}
+
+fn read_bad(file: &str) -> (String, Vec<u8>) {
+    let rel = format!("tests/bad/{file}");
+    let bytes = std::fs::read(root().join(&rel)).unwrap_or_else(|e| panic!("cannot read {rel}: {e}"));
+    (rel, bytes)
+}
+
+/// Builds `tests/bad/NAME.st` (with its companions) and checks it against its
+/// `expect:` comment and its snapshot.
+fn check_bad(name: &str) {
+    let file = format!("{name}.st");
+    let (rel, bytes) = read_bad(&file);
+    let text = String::from_utf8_lossy(&bytes).into_owned();
+    let expect = parse_expect(&rel, &text);
+    let mut inputs = vec![(rel.clone(), bytes)];
+    inputs.extend(expect.with.iter().map(|f| read_bad(f)));
+
+    let build = std::panic::catch_unwind(|| build_sources(inputs, &BuildOptions::default()))
+        .unwrap_or_else(|_| panic!("{rel}: plcc panicked"))
+        .unwrap_or_else(|e| panic!("{rel}: {e}"));
+    let rendered = plcc::render::render(&build.sources, &build.diagnostics);
+
+    let mut got: BTreeMap<String, usize> = BTreeMap::new();
+    for d in &build.diagnostics {
+        *got.entry(d.code.to_string()).or_default() += 1;
+    }
+    let want: BTreeSet<&String> = expect.codes.keys().collect();
+    let have: BTreeSet<&String> = got.keys().collect();
+    assert_eq!(have, want, "{rel}: the codes reported differ from the expect line; the diagnostics:\n{rendered}");
+    for (code, count) in &expect.codes {
+        if let Some(n) = count {
+            assert_eq!(got[code], *n, "{rel}: {code} reported {} time(s), expected {n}:\n{rendered}", got[code]);
+        }
+    }
+    let errors = build.diagnostics.iter().any(|d| d.severity == Severity::Error);
+    assert_eq!(
+        build.failed(),
+        errors,
+        "{rel}: the build {} although there are {} errors",
+        if build.failed() { "failed" } else { "succeeded" },
+        if errors { "" } else { "no" }
+    );
+
+    insta::with_settings!({ description => expect.header.as_str(), omit_expression => true }, {
+        insta::assert_snapshot!(name, rendered);
+    });
+}
+
+macro_rules! bad {
+    ($($name:ident,)*) => {
+        $(
+            #[test]
+            fn $name() {
+                check_bad(stringify!($name));
+            }
+        )*
+        /// The names of all the tests above.
+        const ALL_BAD: &[&str] = &[$(stringify!($name)),*];
+    };
+}
+
+bad! {
+    // lexical
+    lex_bad_char,
+    lex_unterminated_comment,
+    lex_unterminated_string,
+    lex_bad_based_number,
+    lex_bad_duration,
+    lex_int_too_large,
+    lex_several_errors,
+    // syntax
+    syn_missing_semicolon,
+    syn_missing_end_if,
+    syn_missing_end_while,
+    syn_missing_end_var,
+    syn_missing_end_program,
+    syn_equals_for_assign,
+    syn_stray_end_for,
+    syn_garbage_expression,
+    syn_missing_then,
+    syn_missing_do,
+    syn_unbalanced_parens,
+    syn_keyword_as_name,
+    syn_several_errors,
+    syn_too_deep,
+    // names and declarations
+    name_undeclared_variable,
+    name_undeclared_function,
+    name_duplicate_variable,
+    name_duplicate_pou_a,
+    name_duplicate_pou_b,
+    name_unknown_type,
+    name_program_as_type,
+    name_fb_type_called,
+    name_unknown_fb_member,
+    name_fb_internal_var,
+    name_unknown_parameter,
+    // types
+    type_int_from_dint,
+    type_bool_arithmetic,
+    type_real_literal_to_int,
+    type_literal_out_of_range,
+    type_time_vs_int,
+    type_if_on_int,
+    type_case_on_real,
+    type_case_overlap,
+    type_for_real_var,
+    type_array_real_index,
+    type_array_index_count,
+    type_sqrt_int,
+    type_several_errors,
+    // calls
+    call_limit_too_many,
+    call_limit_too_few,
+    call_mixed_positional_named,
+    call_output_arrow_on_input,
+    call_assign_on_output,
+    call_missing_in_out,
+    call_expression_to_in_out,
+    call_fb_call_as_value,
+    call_no_result_as_value,
+    // writing, loops, recursion
+    write_constant,
+    write_fb_output,
+    write_exit_outside_loop,
+    write_for_step_zero,
+    write_recursion_direct,
+    write_recursion_mutual,
+    // not supported yet
+    unsup_string,
+    unsup_struct,
+    unsup_var_global,
+    unsup_var_global_in_pou,
+    unsup_configuration,
+    // warnings
+    warn_write_own_input,
+}
+
+/// Every file in `tests/bad/` has its test above, and every test its file.
+#[test]
+fn every_bad_file_is_tested() {
+    let mut files: Vec<String> = std::fs::read_dir(root().join("tests/bad"))
+        .expect("tests/bad")
+        .map(|e| e.expect("directory entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "st"))
+        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
+        .collect();
+    files.sort();
+    let mut listed: Vec<String> = ALL_BAD.iter().map(|s| s.to_string()).collect();
+    listed.sort();
+    assert_eq!(files, listed, "tests/bad/*.st and the list in tests/diagnostics.rs differ");
+}
+
+/// Every code a file expects is a code `plcc explain` knows.
+#[test]
+fn expected_codes_exist() {
+    for name in ALL_BAD {
+        let (rel, bytes) = read_bad(&format!("{name}.st"));
+        let expect = parse_expect(&rel, &String::from_utf8_lossy(&bytes));
+        for code in expect.codes.keys() {
+            assert!(plcc_frontend::codes::lookup(code).is_some(), "{rel}: no code {code} in the catalogue");
+        }
+    }
+}
+
+// ---------------------------------------------------------------- the binary
+
+/// Runs `plcc` in the crate's root, so that `tests/bad/...` paths work.
+fn plcc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_plcc"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("cannot run plcc")
+}
+
+fn status(o: &Output) -> i32 {
+    o.status.code().expect("plcc was killed by a signal")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A fresh directory for one test's files.
+fn scratch(test: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("diagnostics-{test}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("cannot create a scratch directory");
+    dir
+}
+
+const BAD: &str = "tests/bad/type_int_from_dint.st";
+const WARN_ONLY: &str = "tests/bad/warn_write_own_input.st";
+
+#[test]
+fn exit_1_on_errors() {
+    for args in [
+        &["check", BAD][..],
+        &["run", BAD, "--target", "interp"],
+        &["run", BAD],
+        &["--emit", "ir", BAD],
+        &["--target", "interp", BAD],
+        &[BAD, "-o", "-"],
+    ] {
+        let o = plcc(args);
+        let err = stderr(&o);
+        assert_eq!(status(&o), 1, "plcc {args:?}: stderr:\n{err}");
+        assert!(err.contains("error[E0301]"), "plcc {args:?}: stderr:\n{err}");
+        assert!(err.contains("could not compile: 1 error(s)"), "plcc {args:?}: stderr:\n{err}");
+        assert!(o.stdout.is_empty(), "plcc {args:?} printed to stdout");
+    }
+}
+
+#[test]
+fn exit_1_on_errors_in_test() {
+    let dir = scratch("exit_1_on_errors_in_test");
+    let scenario = dir.join("s.expect");
+    std::fs::write(&scenario, "# corpus-expect v1\nrun 1\n").unwrap();
+    let o = plcc(&["test", BAD, "--scenario", scenario.to_str().unwrap(), "--target", "interp"]);
+    assert_eq!(status(&o), 1, "stderr:\n{}", stderr(&o));
+    assert!(stderr(&o).contains("error[E0301]"), "stderr:\n{}", stderr(&o));
+}
+
+#[test]
+fn exit_0_with_only_warnings() {
+    for args in [&["check", WARN_ONLY][..], &["run", WARN_ONLY, "--target", "interp"], &["run", WARN_ONLY]] {
+        let o = plcc(args);
+        let err = stderr(&o);
+        assert_eq!(status(&o), 0, "plcc {args:?}: stderr:\n{err}");
+        assert!(err.contains("warning[W0502]"), "plcc {args:?}: stderr:\n{err}");
+        assert!(!err.contains("error"), "plcc {args:?}: stderr:\n{err}");
+    }
+    // The program ran: clamp_pos(-5) = 0.
+    let o = plcc(&["run", WARN_ONLY, "--target", "interp"]);
+    assert_eq!(String::from_utf8_lossy(&o.stdout).trim(), "r = 0");
+}
+
+#[test]
+fn exit_2_on_usage_errors() {
+    let cases: &[(&[&str], &str)] = &[
+        (&["check", "tests/bad/no_such_file.st"], "cannot read tests/bad/no_such_file.st"),
+        (&["tests/bad/no_such_file.st"], "cannot read"),
+        (&["run", "tests/bad/no_such_file.st"], "cannot read"),
+        (&["check", "--no-such-option", BAD], "--no-such-option"),
+        (&["--no-such-option", BAD], "--no-such-option"),
+        (&["check", "--lang", "cobol", BAD], "unknown language `cobol`"),
+        (&["--lang", "cobol", BAD], "unknown language `cobol`"),
+        (&["check"], "no input files"),
+        (&["explain", "E9999"], "no diagnostic code `E9999`"),
+    ];
+    for (args, msg) in cases {
+        let o = plcc(args);
+        let err = stderr(&o);
+        assert_eq!(status(&o), 2, "plcc {args:?}: stderr:\n{err}");
+        assert!(err.contains(msg), "plcc {args:?}: expected `{msg}` in stderr:\n{err}");
+    }
+    // A file whose language cannot be told from its extension.
+    let dir = scratch("exit_2_on_usage_errors");
+    let txt = dir.join("prog.txt");
+    std::fs::copy(root().join(BAD), &txt).unwrap();
+    let o = plcc(&["check", txt.to_str().unwrap()]);
+    assert_eq!(status(&o), 2, "stderr:\n{}", stderr(&o));
+    assert!(stderr(&o).contains("cannot tell the language"), "stderr:\n{}", stderr(&o));
+    // ... unless --lang tells it: then the file's errors give 1.
+    let o = plcc(&["check", "--lang", "st", txt.to_str().unwrap()]);
+    assert_eq!(status(&o), 1, "stderr:\n{}", stderr(&o));
+}
+
+#[test]
+fn explain_prints_the_explanation() {
+    let o = plcc(&["explain", "E0301"]);
+    assert_eq!(status(&o), 0, "stderr:\n{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.starts_with("E0301: type mismatch\n"), "stdout:\n{out}");
+    assert!(out.contains("DINT_TO_INT"), "stdout:\n{out}");
+    // Codes ignore case.
+    let o = plcc(&["explain", "w0502"]);
+    assert_eq!(status(&o), 0);
+    assert!(String::from_utf8_lossy(&o.stdout).starts_with("W0502: assignment to an input"));
+}
+
+/// Every code that a bad file expects can be explained by the binary.
+#[test]
+fn explain_knows_every_expected_code() {
+    let mut all = BTreeSet::new();
+    for name in ALL_BAD {
+        let (rel, bytes) = read_bad(&format!("{name}.st"));
+        all.extend(parse_expect(&rel, &String::from_utf8_lossy(&bytes)).codes.into_keys());
+    }
+    for code in all {
+        let o = plcc(&["explain", &code]);
+        assert_eq!(status(&o), 0, "plcc explain {code}");
+        assert!(String::from_utf8_lossy(&o.stdout).starts_with(&format!("{code}: ")));
+    }
+}
+
+/// A failed build writes nothing: an existing output file keeps its contents.
+#[test]
+fn failed_build_leaves_output_untouched() {
+    let dir = scratch("failed_build_leaves_output_untouched");
+    let before = b"previous contents\n";
+    for (emit, name) in [(Some("ir"), "out.ir"), (Some("ir-raw"), "raw.ir"), (None, "out.o")] {
+        let out = dir.join(name);
+        std::fs::write(&out, before).unwrap();
+        let mut args = Vec::new();
+        if let Some(e) = emit {
+            args.extend(["--emit", e]);
+        }
+        args.extend([BAD, "-o", out.to_str().unwrap()]);
+        let o = plcc(&args);
+        assert_eq!(status(&o), 1, "plcc {args:?}: stderr:\n{}", stderr(&o));
+        assert_eq!(std::fs::read(&out).unwrap(), before, "plcc {args:?} changed {name}");
+    }
+    // No temporary file is left behind either.
+    let names: BTreeSet<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["out.ir", "out.o", "raw.ir"].map(String::from).into());
+    // The same command on a good program does write the file.
+    let good = dir.join("good.st");
+    std::fs::write(&good, "PROGRAM main VAR n : INT; END_VAR n := n + 1; END_PROGRAM\n").unwrap();
+    let out = dir.join("out.ir");
+    let o = plcc(&["--emit", "ir", good.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(status(&o), 0, "stderr:\n{}", stderr(&o));
+    assert_ne!(std::fs::read(&out).unwrap(), before);
+}
+
+/// Files built together: the duplicate is reported once, in whichever order they come.
+#[test]
+fn binary_reports_duplicate_across_files() {
+    for files in [
+        ["tests/bad/name_duplicate_pou_a.st", "tests/bad/name_duplicate_pou_b.st"],
+        ["tests/bad/name_duplicate_pou_b.st", "tests/bad/name_duplicate_pou_a.st"],
+    ] {
+        let o = plcc(&["check", files[0], files[1]]);
+        let err = stderr(&o);
+        assert_eq!(status(&o), 1, "stderr:\n{err}");
+        assert_eq!(err.matches("error[E0202]").count(), 1, "stderr:\n{err}");
+        // Each file alone is fine.
+        assert_eq!(status(&plcc(&["check", files[0]])), 0);
+    }
+}
