@@ -178,7 +178,7 @@ pub fn run(a: &RunArgs) -> u8 {
         Err(s) => return s,
     };
     let t = std::time::Instant::now();
-    let mut m = match targets::machine(target, &module) {
+    let mut m = match targets::machine_owned(target, module.clone()) {
         Ok(m) => m,
         Err(diags) => {
             for d in diags {

@@ -53,18 +53,32 @@ pub fn backend(name: &str) -> Option<Box<dyn Backend>> {
     }
 }
 
-/// A machine running `module` on the target.
+/// How long one scan may run under `plcc run`/`plcc test` before the watchdog stops it.
+pub const WATCHDOG: std::time::Duration = std::time::Duration::from_secs(10);
+
+/// A machine running `module` on the target, with the scan watchdog armed.
 pub fn machine(name: &str, module: &Module) -> Result<Box<dyn Machine>, Vec<Diagnostic>> {
-    match name {
-        "interp" => plcc_ir::interp::Interp::new(module)
+    machine_owned(name, module.clone())
+}
+
+/// Like [`machine`], taking the module (saves a copy of a large one).
+pub fn machine_owned(name: &str, mut module: Module) -> Result<Box<dyn Machine>, Vec<Diagnostic>> {
+    // Loops check the watchdog, so an endless loop ends in an error, not a hang.
+    plcc_ir::passes::watchdog::run(&mut module);
+    let mut m = match name {
+        "interp" => plcc_ir::interp::Interp::new(&module)
             .map(|m| Box::new(m) as Box<dyn Machine>)
-            .map_err(|e| vec![Diagnostic::error_nowhere(crate::driver::E_INTERNAL, e.0)]),
-        _ => match backend(name).and_then(|b| b.machine(module, &Options::default())) {
-            Some(r) => r,
-            None => Err(vec![Diagnostic::error_nowhere(
-                "E9002",
-                format!("target `{name}` cannot run programs here"),
-            )]),
+            .map_err(|e| vec![Diagnostic::error_nowhere(crate::driver::E_INTERNAL, e.0)])?,
+        _ => match backend(name).and_then(|b| b.machine(&module, &Options::default())) {
+            Some(r) => r?,
+            None => {
+                return Err(vec![Diagnostic::error_nowhere(
+                    "E9002",
+                    format!("target `{name}` cannot run programs here"),
+                )])
+            }
         },
-    }
+    };
+    m.set_watchdog(Some(WATCHDOG));
+    Ok(m)
 }

@@ -51,28 +51,39 @@ fn is_code(s: &str) -> bool {
 fn parse_expect(name: &str, text: &str) -> Expect {
     let mut lines = text.lines();
     let header = lines.next().unwrap_or("").trim().to_string();
-    let spec = header
-        .strip_prefix("(* expect:")
-        .unwrap_or_else(|| panic!("{name}: the first line must be `(* expect: CODES — what is wrong *)`"));
+    let spec = header.strip_prefix("(* expect:").unwrap_or_else(|| {
+        panic!("{name}: the first line must be `(* expect: CODES — what is wrong *)`")
+    });
     let spec = spec
         .split_once('—')
-        .unwrap_or_else(|| panic!("{name}: the expect line needs `—` between the codes and the description"))
+        .unwrap_or_else(|| {
+            panic!("{name}: the expect line needs `—` between the codes and the description")
+        })
         .0;
     let mut codes = BTreeMap::new();
     let mut last: Option<String> = None;
     for tok in spec.split([' ', ',']).filter(|t| !t.is_empty()) {
         if is_code(tok) {
-            assert!(codes.insert(tok.to_string(), None).is_none(), "{name}: {tok} is listed twice");
+            assert!(
+                codes.insert(tok.to_string(), None).is_none(),
+                "{name}: {tok} is listed twice"
+            );
             last = Some(tok.to_string());
         } else if let Some(n) = tok.strip_prefix('x').and_then(|n| n.parse::<usize>().ok()) {
-            let code = last.take().unwrap_or_else(|| panic!("{name}: `{tok}` does not follow a code"));
+            let code = last
+                .take()
+                .unwrap_or_else(|| panic!("{name}: `{tok}` does not follow a code"));
             codes.insert(code, Some(n));
         } else {
             panic!("{name}: `{tok}` in the expect line is neither a code nor a count `xN`");
         }
     }
     assert!(!codes.is_empty(), "{name}: the expect line lists no code");
-    let with = match lines.next().map(str::trim).and_then(|l| l.strip_prefix("(* with:")) {
+    let with = match lines
+        .next()
+        .map(str::trim)
+        .and_then(|l| l.strip_prefix("(* with:"))
+    {
         Some(rest) => rest
             .trim_end_matches("*)")
             .split([' ', ','])
@@ -81,12 +92,17 @@ fn parse_expect(name: &str, text: &str) -> Expect {
             .collect(),
         None => Vec::new(),
     };
-    Expect { header, codes, with }
+    Expect {
+        header,
+        codes,
+        with,
+    }
 }
 
 fn read_bad(file: &str) -> (String, Vec<u8>) {
     let rel = format!("tests/bad/{file}");
-    let bytes = std::fs::read(root().join(&rel)).unwrap_or_else(|e| panic!("cannot read {rel}: {e}"));
+    let bytes =
+        std::fs::read(root().join(&rel)).unwrap_or_else(|e| panic!("cannot read {rel}: {e}"));
     (rel, bytes)
 }
 
@@ -111,19 +127,27 @@ fn check_bad(name: &str) {
     }
     let want: BTreeSet<&String> = expect.codes.keys().collect();
     let have: BTreeSet<&String> = got.keys().collect();
-    assert_eq!(have, want, "{rel}: the codes reported differ from the expect line; the diagnostics:\n{rendered}");
+    assert_eq!(
+        have, want,
+        "{rel}: the codes reported differ from the expect line; the diagnostics:\n{rendered}"
+    );
     for (code, count) in &expect.codes {
         if let Some(n) = count {
-            assert_eq!(got[code], *n, "{rel}: {code} reported {} time(s), expected {n}:\n{rendered}", got[code]);
+            assert_eq!(
+                got[code], *n,
+                "{rel}: {code} reported {} time(s), expected {n}:\n{rendered}",
+                got[code]
+            );
         }
     }
-    let errors = build.diagnostics.iter().any(|d| d.severity == Severity::Error);
+    let errors = build
+        .diagnostics
+        .iter()
+        .any(|d| d.severity == Severity::Error);
     assert_eq!(
         build.failed(),
         errors,
-        "{rel}: the build {} although there are {} errors",
-        if build.failed() { "failed" } else { "succeeded" },
-        if errors { "" } else { "no" }
+        "{rel}: the build must fail exactly when there are errors:\n{rendered}"
     );
 
     insta::with_settings!({ description => expect.header.as_str(), omit_expression => true }, {
@@ -165,6 +189,9 @@ bad! {
     syn_missing_then,
     syn_missing_do,
     syn_unbalanced_parens,
+    syn_call_missing_paren,
+    syn_extra_paren,
+    syn_else_if,
     syn_keyword_as_name,
     syn_several_errors,
     syn_too_deep,
@@ -180,6 +207,7 @@ bad! {
     name_unknown_fb_member,
     name_fb_internal_var,
     name_unknown_parameter,
+    name_assign_to_function,
     // types
     type_int_from_dint,
     type_bool_arithmetic,
@@ -194,6 +222,9 @@ bad! {
     type_array_index_count,
     type_sqrt_int,
     type_several_errors,
+    type_for_bad_header_body,
+    type_scalar_to_array,
+    type_int_literal_to_time,
     // calls
     call_limit_too_many,
     call_limit_too_few,
@@ -233,7 +264,27 @@ fn every_bad_file_is_tested() {
     files.sort();
     let mut listed: Vec<String> = ALL_BAD.iter().map(|s| s.to_string()).collect();
     listed.sort();
-    assert_eq!(files, listed, "tests/bad/*.st and the list in tests/diagnostics.rs differ");
+    assert_eq!(
+        files, listed,
+        "tests/bad/*.st and the list in tests/diagnostics.rs differ"
+    );
+    // No snapshot outlives its file.
+    for e in std::fs::read_dir(root().join("tests/snapshots")).expect("tests/snapshots") {
+        let name = e
+            .expect("directory entry")
+            .file_name()
+            .to_string_lossy()
+            .into_owned();
+        if let Some(stem) = name
+            .strip_prefix("diagnostics__")
+            .and_then(|n| n.strip_suffix(".snap"))
+        {
+            assert!(
+                listed.iter().any(|l| l == stem),
+                "tests/snapshots/{name} has no tests/bad/{stem}.st"
+            );
+        }
+    }
 }
 
 /// Every code a file expects is a code `plcc explain` knows.
@@ -243,7 +294,10 @@ fn expected_codes_exist() {
         let (rel, bytes) = read_bad(&format!("{name}.st"));
         let expect = parse_expect(&rel, &String::from_utf8_lossy(&bytes));
         for code in expect.codes.keys() {
-            assert!(plcc_frontend::codes::lookup(code).is_some(), "{rel}: no code {code} in the catalogue");
+            assert!(
+                plcc_frontend::codes::lookup(code).is_some(),
+                "{rel}: no code {code} in the catalogue"
+            );
         }
     }
 }
@@ -291,8 +345,14 @@ fn exit_1_on_errors() {
         let o = plcc(args);
         let err = stderr(&o);
         assert_eq!(status(&o), 1, "plcc {args:?}: stderr:\n{err}");
-        assert!(err.contains("error[E0301]"), "plcc {args:?}: stderr:\n{err}");
-        assert!(err.contains("could not compile: 1 error(s)"), "plcc {args:?}: stderr:\n{err}");
+        assert!(
+            err.contains("error[E0301]"),
+            "plcc {args:?}: stderr:\n{err}"
+        );
+        assert!(
+            err.contains("could not compile: 1 error(s)"),
+            "plcc {args:?}: stderr:\n{err}"
+        );
         assert!(o.stdout.is_empty(), "plcc {args:?} printed to stdout");
     }
 }
@@ -302,18 +362,36 @@ fn exit_1_on_errors_in_test() {
     let dir = scratch("exit_1_on_errors_in_test");
     let scenario = dir.join("s.expect");
     std::fs::write(&scenario, "# corpus-expect v1\nrun 1\n").unwrap();
-    let o = plcc(&["test", BAD, "--scenario", scenario.to_str().unwrap(), "--target", "interp"]);
+    let o = plcc(&[
+        "test",
+        BAD,
+        "--scenario",
+        scenario.to_str().unwrap(),
+        "--target",
+        "interp",
+    ]);
     assert_eq!(status(&o), 1, "stderr:\n{}", stderr(&o));
-    assert!(stderr(&o).contains("error[E0301]"), "stderr:\n{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("error[E0301]"),
+        "stderr:\n{}",
+        stderr(&o)
+    );
 }
 
 #[test]
 fn exit_0_with_only_warnings() {
-    for args in [&["check", WARN_ONLY][..], &["run", WARN_ONLY, "--target", "interp"], &["run", WARN_ONLY]] {
+    for args in [
+        &["check", WARN_ONLY][..],
+        &["run", WARN_ONLY, "--target", "interp"],
+        &["run", WARN_ONLY],
+    ] {
         let o = plcc(args);
         let err = stderr(&o);
         assert_eq!(status(&o), 0, "plcc {args:?}: stderr:\n{err}");
-        assert!(err.contains("warning[W0502]"), "plcc {args:?}: stderr:\n{err}");
+        assert!(
+            err.contains("warning[W0502]"),
+            "plcc {args:?}: stderr:\n{err}"
+        );
         assert!(!err.contains("error"), "plcc {args:?}: stderr:\n{err}");
     }
     // The program ran: clamp_pos(-5) = 0.
@@ -324,12 +402,18 @@ fn exit_0_with_only_warnings() {
 #[test]
 fn exit_2_on_usage_errors() {
     let cases: &[(&[&str], &str)] = &[
-        (&["check", "tests/bad/no_such_file.st"], "cannot read tests/bad/no_such_file.st"),
+        (
+            &["check", "tests/bad/no_such_file.st"],
+            "cannot read tests/bad/no_such_file.st",
+        ),
         (&["tests/bad/no_such_file.st"], "cannot read"),
         (&["run", "tests/bad/no_such_file.st"], "cannot read"),
         (&["check", "--no-such-option", BAD], "--no-such-option"),
         (&["--no-such-option", BAD], "--no-such-option"),
-        (&["check", "--lang", "cobol", BAD], "unknown language `cobol`"),
+        (
+            &["check", "--lang", "cobol", BAD],
+            "unknown language `cobol`",
+        ),
         (&["--lang", "cobol", BAD], "unknown language `cobol`"),
         (&["check"], "no input files"),
         (&["explain", "E9999"], "no diagnostic code `E9999`"),
@@ -338,7 +422,10 @@ fn exit_2_on_usage_errors() {
         let o = plcc(args);
         let err = stderr(&o);
         assert_eq!(status(&o), 2, "plcc {args:?}: stderr:\n{err}");
-        assert!(err.contains(msg), "plcc {args:?}: expected `{msg}` in stderr:\n{err}");
+        assert!(
+            err.contains(msg),
+            "plcc {args:?}: expected `{msg}` in stderr:\n{err}"
+        );
     }
     // A file whose language cannot be told from its extension.
     let dir = scratch("exit_2_on_usage_errors");
@@ -346,7 +433,11 @@ fn exit_2_on_usage_errors() {
     std::fs::copy(root().join(BAD), &txt).unwrap();
     let o = plcc(&["check", txt.to_str().unwrap()]);
     assert_eq!(status(&o), 2, "stderr:\n{}", stderr(&o));
-    assert!(stderr(&o).contains("cannot tell the language"), "stderr:\n{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("cannot tell the language"),
+        "stderr:\n{}",
+        stderr(&o)
+    );
     // ... unless --lang tells it: then the file's errors give 1.
     let o = plcc(&["check", "--lang", "st", txt.to_str().unwrap()]);
     assert_eq!(status(&o), 1, "stderr:\n{}", stderr(&o));
@@ -371,7 +462,11 @@ fn explain_knows_every_expected_code() {
     let mut all = BTreeSet::new();
     for name in ALL_BAD {
         let (rel, bytes) = read_bad(&format!("{name}.st"));
-        all.extend(parse_expect(&rel, &String::from_utf8_lossy(&bytes)).codes.into_keys());
+        all.extend(
+            parse_expect(&rel, &String::from_utf8_lossy(&bytes))
+                .codes
+                .into_keys(),
+        );
     }
     for code in all {
         let o = plcc(&["explain", &code]);
@@ -385,7 +480,11 @@ fn explain_knows_every_expected_code() {
 fn failed_build_leaves_output_untouched() {
     let dir = scratch("failed_build_leaves_output_untouched");
     let before = b"previous contents\n";
-    for (emit, name) in [(Some("ir"), "out.ir"), (Some("ir-raw"), "raw.ir"), (None, "out.o")] {
+    for (emit, name) in [
+        (Some("ir"), "out.ir"),
+        (Some("ir-raw"), "raw.ir"),
+        (None, "out.o"),
+    ] {
         let out = dir.join(name);
         std::fs::write(&out, before).unwrap();
         let mut args = Vec::new();
@@ -395,19 +494,36 @@ fn failed_build_leaves_output_untouched() {
         args.extend([BAD, "-o", out.to_str().unwrap()]);
         let o = plcc(&args);
         assert_eq!(status(&o), 1, "plcc {args:?}: stderr:\n{}", stderr(&o));
-        assert_eq!(std::fs::read(&out).unwrap(), before, "plcc {args:?} changed {name}");
+        assert_eq!(
+            std::fs::read(&out).unwrap(),
+            before,
+            "plcc {args:?} changed {name}"
+        );
     }
     // No temporary file is left behind either.
     let names: BTreeSet<String> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
-    assert_eq!(names, ["out.ir", "out.o", "raw.ir"].map(String::from).into());
+    assert_eq!(
+        names,
+        ["out.ir", "out.o", "raw.ir"].map(String::from).into()
+    );
     // The same command on a good program does write the file.
     let good = dir.join("good.st");
-    std::fs::write(&good, "PROGRAM main VAR n : INT; END_VAR n := n + 1; END_PROGRAM\n").unwrap();
+    std::fs::write(
+        &good,
+        "PROGRAM main VAR n : INT; END_VAR n := n + 1; END_PROGRAM\n",
+    )
+    .unwrap();
     let out = dir.join("out.ir");
-    let o = plcc(&["--emit", "ir", good.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let o = plcc(&[
+        "--emit",
+        "ir",
+        good.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
     assert_eq!(status(&o), 0, "stderr:\n{}", stderr(&o));
     assert_ne!(std::fs::read(&out).unwrap(), before);
 }
@@ -416,8 +532,14 @@ fn failed_build_leaves_output_untouched() {
 #[test]
 fn binary_reports_duplicate_across_files() {
     for files in [
-        ["tests/bad/name_duplicate_pou_a.st", "tests/bad/name_duplicate_pou_b.st"],
-        ["tests/bad/name_duplicate_pou_b.st", "tests/bad/name_duplicate_pou_a.st"],
+        [
+            "tests/bad/name_duplicate_pou_a.st",
+            "tests/bad/name_duplicate_pou_b.st",
+        ],
+        [
+            "tests/bad/name_duplicate_pou_b.st",
+            "tests/bad/name_duplicate_pou_a.st",
+        ],
     ] {
         let o = plcc(&["check", files[0], files[1]]);
         let err = stderr(&o);

@@ -442,14 +442,19 @@ pub enum Intrinsic {
     ClockNs,
     /// Raises the runtime fault flag (array index out of range, …).
     RaiseFault,
+    /// `-> i1`: TRUE when the machine running the code wants the current scan to stop
+    /// (its watchdog fired: the scan ran too long). Always FALSE on targets without a
+    /// watchdog. The `watchdog` pass puts it on loop back edges.
+    StopRequested,
 }
 
 impl Intrinsic {
     /// Every intrinsic.
-    pub const ALL: [Intrinsic; 3] = [
+    pub const ALL: [Intrinsic; 4] = [
         Intrinsic::ClockMs,
         Intrinsic::ClockNs,
         Intrinsic::RaiseFault,
+        Intrinsic::StopRequested,
     ];
 
     /// The mnemonic of the text form.
@@ -458,6 +463,7 @@ impl Intrinsic {
             Intrinsic::ClockMs => "clock_ms",
             Intrinsic::ClockNs => "clock_ns",
             Intrinsic::RaiseFault => "raise_fault",
+            Intrinsic::StopRequested => "stop_requested",
         }
     }
 
@@ -467,6 +473,7 @@ impl Intrinsic {
             Intrinsic::ClockMs => Some(Type::I32),
             Intrinsic::ClockNs => Some(Type::I64),
             Intrinsic::RaiseFault => None,
+            Intrinsic::StopRequested => Some(Type::I1),
         }
     }
 }

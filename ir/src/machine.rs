@@ -55,4 +55,11 @@ pub trait Machine {
 
     /// Clears the fault flag.
     fn clear_fault(&mut self);
+
+    /// Arms a watchdog: a scan that runs longer than `limit` is stopped and `scan`
+    /// returns an error (the module must contain `stop_requested` checks, see
+    /// `passes::watchdog`). `None` disarms it. Machines without one ignore this.
+    fn set_watchdog(&mut self, limit: Option<std::time::Duration>) {
+        let _ = limit;
+    }
 }

@@ -256,10 +256,12 @@ pub(crate) fn generate(module: &Module, dl: &DataLayout, triple: &str) -> String
          int32_t _plcc_pad0;\n    \
          int64_t clock_ns;    /* offset 8: the same instant in ns (LTIME) */\n    \
          uint8_t fault;       /* offset 16: set to 1 by a runtime fault; the host clears it */\n    \
-         uint8_t _plcc_pad1[7];\n\
+         uint8_t stop;        /* offset 17: nonzero asks a running scan to stop (watchdog) */\n    \
+         uint8_t _plcc_pad1[6];\n\
          }} plcc_runtime;\n\
          PLCC_ASSERT(offsetof(plcc_runtime, clock_ns) == 8, \"plcc layout\");\n\
          PLCC_ASSERT(offsetof(plcc_runtime, fault) == 16, \"plcc layout\");\n\
+         PLCC_ASSERT(offsetof(plcc_runtime, stop) == 17, \"plcc layout\");\n\
          PLCC_ASSERT(sizeof(plcc_runtime) == 24, \"plcc layout\");\n\
          extern plcc_runtime {RT_SYMBOL};\n"
     );

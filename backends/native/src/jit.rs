@@ -45,6 +45,8 @@ pub struct Jit {
     vars: Module,
     data_layout: DataLayout,
     code_size: u64,
+    /// Stops scans that run too long (dropped before the runtime it points into).
+    watchdog: Option<crate::watchdog::Watchdog>,
 }
 
 impl Jit {
@@ -77,6 +79,7 @@ impl Jit {
             },
             data_layout,
             code_size: 0,
+            watchdog: None,
         };
 
         let isa = codegen::host_isa(settings)?;
@@ -208,6 +211,8 @@ fn check_entries(module: &Module) -> Result<(), Vec<Diagnostic>> {
 
 impl Drop for Jit {
     fn drop(&mut self) {
+        // The watchdog thread points into the runtime context: stop it first.
+        self.watchdog = None;
         if let Some(m) = self.jit.take() {
             // SAFETY: the function pointers die with `self`; nothing runs any more.
             unsafe { m.free_memory() };
@@ -228,10 +233,13 @@ impl Machine for Jit {
     }
 
     fn cold_start(&mut self) -> Result<(), MachineError> {
-        // SAFETY: data and rt are valid and exclusively ours between scans; the entry
-        // points were compiled for exactly these arguments.
+        // SAFETY: data and rt are valid and exclusively ours between scans (the
+        // watchdog thread only writes the stop byte, atomically); the entry points were
+        // compiled for exactly these arguments.
         unsafe {
-            std::ptr::write(self.rt, Runtime::default());
+            (*self.rt).clock_ms = 0;
+            (*self.rt).clock_ns = 0;
+            (*self.rt).fault = 0;
             std::ptr::write_bytes(self.data_ptr(), GARBAGE, self.words * 8);
             if let Some(f) = self.init_globals {
                 f();
@@ -252,13 +260,34 @@ impl Machine for Jit {
     }
 
     fn scan(&mut self) -> Result<(), MachineError> {
+        if let Some(w) = &self.watchdog {
+            w.scan_begins();
+        }
         // SAFETY: see `cold_start`.
         unsafe {
             for p in &self.programs {
                 (p.body)(self.data_ptr().add(p.offset as usize));
             }
         }
+        if let Some(w) = &self.watchdog {
+            if w.scan_ends() {
+                return Err(MachineError(format!(
+                    "watchdog: a scan ran longer than {:?} and was stopped (an endless loop?)",
+                    w.limit()
+                )));
+            }
+        }
         Ok(())
+    }
+
+    fn set_watchdog(&mut self, limit: Option<std::time::Duration>) {
+        self.watchdog = None;
+        if let Some(limit) = limit {
+            // SAFETY: `rt` lives until `self` is dropped, and the watchdog is dropped
+            // first.
+            let stop = unsafe { std::ptr::addr_of_mut!((*self.rt).stop) };
+            self.watchdog = Some(crate::watchdog::Watchdog::start(stop, limit));
+        }
     }
 
     fn read(&self, path: &str) -> Result<PlcValue, MachineError> {

@@ -17,7 +17,10 @@ pub struct Runtime {
     pub clock_ns: i64,
     /// Nonzero once a runtime fault (division by zero, `raise_fault`) happened.
     pub fault: u8,
-    _pad1: [u8; 7],
+    /// Nonzero asks the running scan to stop: what `stop_requested` reads. The JIT's
+    /// watchdog thread sets it; a host runtime may too.
+    pub stop: u8,
+    _pad1: [u8; 6],
 }
 
 /// Byte offset of [`Runtime::clock_ms`].
@@ -26,6 +29,8 @@ pub const RT_CLOCK_MS: i32 = 0;
 pub const RT_CLOCK_NS: i32 = 8;
 /// Byte offset of [`Runtime::fault`].
 pub const RT_FAULT: i32 = 16;
+/// Byte offset of [`Runtime::stop`].
+pub const RT_STOP: i32 = 17;
 /// Size of [`Runtime`] in bytes.
 pub const RT_SIZE: usize = 24;
 /// The runtime context's symbol in object files.
@@ -36,6 +41,7 @@ pub const DATA_SYMBOL: &str = "plcc_data";
 const _: () = assert!(std::mem::size_of::<Runtime>() == RT_SIZE);
 const _: () = assert!(std::mem::offset_of!(Runtime, clock_ns) == RT_CLOCK_NS as usize);
 const _: () = assert!(std::mem::offset_of!(Runtime, fault) == RT_FAULT as usize);
+const _: () = assert!(std::mem::offset_of!(Runtime, stop) == RT_STOP as usize);
 
 /// A math function of the C library the IR's float operations call.
 #[derive(Copy, Clone, Debug)]

@@ -10,7 +10,7 @@
 //! division checks its divisor, shifts compare their count with the width, and
 //! float-to-integer conversions saturate at the destination width.
 
-use crate::runtime::{self, MATH, RT_CLOCK_MS, RT_CLOCK_NS, RT_FAULT};
+use crate::runtime::{self, MATH, RT_CLOCK_MS, RT_CLOCK_NS, RT_FAULT, RT_STOP};
 use cranelift_codegen::entity::packed_option::ReservedValue;
 use cranelift_codegen::ir::{
     self, condcodes, types, AbiParam, BlockArg, InstBuilder, MemFlagsData, Signature,
@@ -668,6 +668,14 @@ impl Cx<'_, '_, '_> {
                     self.set(inst, v);
                 }
                 Intrinsic::RaiseFault => self.raise_fault(),
+                Intrinsic::StopRequested => {
+                    // Another thread writes the flag: an atomic load, so that no
+                    // optimisation keeps an old value in a register.
+                    let rt = self.rt_addr();
+                    let at = self.b.ins().iadd_imm_s(rt, RT_STOP as i64);
+                    let v = self.b.ins().atomic_load(types::I8, trusted(), at);
+                    self.set(inst, v);
+                }
             },
             InstData::Jump { dest } => {
                 let target = self.block_args(dest, false)?;

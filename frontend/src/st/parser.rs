@@ -642,7 +642,9 @@ impl<'a> Parser<'a> {
             return;
         }
         let t = self.tok();
-        self.missing(codes::MISSING_SEMICOLON, "`;`", "expected `;` before this");
+        if !self.unmatched_closer() {
+            self.missing(codes::MISSING_SEMICOLON, "`;`", "expected `;` before this");
+        }
         let follows = (t.newline_before() && starts_stmt(t.kind))
             || is_stmt_keyword(t.kind)
             || closer_idx(t.kind).is_some()
@@ -650,6 +652,24 @@ impl<'a> Parser<'a> {
         if !follows {
             self.recover_stmt();
         }
+    }
+
+    /// At a `)` or `]` after a complete expression or statement, whose brackets are
+    /// balanced: reports it as closing nothing and returns true.
+    fn unmatched_closer(&mut self) -> bool {
+        let t = self.tok();
+        let open = match t.kind {
+            Tok::RParen => Tok::LParen,
+            Tok::RBracket => Tok::LBracket,
+            _ => return false,
+        };
+        let msg = format!(
+            "unmatched `{}`: no `{}` is open",
+            t.kind.text(),
+            open.text()
+        );
+        self.error_here(codes::UNEXPECTED_TOKEN, msg, "closes nothing");
+        true
     }
 
     /// After a declaration: its `;` (see [`Self::expect_semi`]).
@@ -2188,6 +2208,9 @@ impl<'a> Parser<'a> {
             StmtKind::RefAssign { target, value }
         } else if matches!(target.kind, ExprKind::Call { .. }) {
             StmtKind::Call(target)
+        } else if self.unmatched_closer() {
+            self.recover_stmt();
+            return None;
         } else {
             let found = self.describe(self.pos);
             let d = Diagnostic::error(
@@ -2460,10 +2483,11 @@ impl<'a> Parser<'a> {
             Tok::Not => UnaryOp::Not,
             _ => return self.postfix(),
         };
-        let start = self.bump().start;
+        // Too deep: the error points at the operator itself.
         if !self.enter() {
             return None;
         }
+        let start = self.bump().start;
         let e = self.unary();
         self.leave();
         unary(op, start, e, self.file)
@@ -2500,10 +2524,10 @@ impl<'a> Parser<'a> {
     }
 
     fn call_suffix(&mut self, callee: Expr) -> Option<Expr> {
-        let open = self.bump();
         if !self.enter() {
             return None;
         }
+        let open = self.bump();
         let end = self.call_args(open);
         self.leave();
         let (args, end) = end?;
@@ -2511,10 +2535,10 @@ impl<'a> Parser<'a> {
     }
 
     fn index_suffix(&mut self, base: Expr) -> Option<Expr> {
-        self.bump();
         if !self.enter() {
             return None;
         }
+        self.bump();
         let idx = self.index_list();
         self.leave();
         Some(self.wrap(base, Wrap::Index(idx?)))
@@ -2761,10 +2785,11 @@ impl<'a> Parser<'a> {
     }
 
     fn paren_expr(&mut self, open: Token) -> Option<Expr> {
-        self.bump();
+        // Too deep: the error points at this `(`.
         if !self.enter() {
             return None;
         }
+        self.bump();
         let inner = self.expr();
         self.leave();
         self.close_paren(open, inner)

@@ -595,6 +595,9 @@ impl Decoder<'_> {
                     Intrinsic::ClockMs => Op::ClockMs { dst },
                     Intrinsic::ClockNs => Op::ClockNs { dst },
                     Intrinsic::RaiseFault => Op::RaiseFault,
+                    // The interpreter's watchdog is its step limit, which stops a
+                    // scan wherever it is; loops never need to be asked.
+                    Intrinsic::StopRequested => Op::Const { dst, bits: 0 },
                 }
             }
             InstData::Jump { ref dest } => Op::Jump {

@@ -559,7 +559,7 @@ fn exec(
         *steps += 1;
         if *steps > limit {
             pc += 1;
-            bail!(format!("step limit exceeded ({limit} operations)"));
+            bail!(format!("step limit exceeded: the scan did not finish within {limit} operations (an endless loop?)"));
         }
         let op = f.code[pc];
         pc += 1;

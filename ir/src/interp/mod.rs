@@ -396,4 +396,12 @@ impl Machine for Interp {
     fn clear_fault(&mut self) {
         self.st.fault = false;
     }
+
+    /// The interpreter's watchdog is its step limit: 500 million IR instructions per
+    /// second of `limit`, faster than the interpreter runs, so a stopped scan has run
+    /// at least `limit` (and the limit does not depend on the machine's speed).
+    fn set_watchdog(&mut self, limit: Option<std::time::Duration>) {
+        let steps = limit.map(|d| (d.as_secs_f64() * 500e6) as u64);
+        self.set_step_limit(steps.or(Some(DEFAULT_STEP_LIMIT)));
+    }
 }

@@ -298,3 +298,61 @@ impl DominanceFrontiers {
         self.df.get(b.index()).map_or(&[], |v| v.as_slice())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::text::parse_module;
+
+    #[test]
+    fn diamond_in_a_loop() {
+        // 0 -> 1; 1 -> 2 | 3; 2 -> 4; 3 -> 4; 4 -> 1 | 5; 6 unreachable.
+        let m = parse_module(
+            r#"
+func @f(i1) function {
+block0(v0: i1):
+    jump block1
+block1:
+    brif v0, block2, block3
+block2:
+    jump block4
+block3:
+    jump block4
+block4:
+    brif v0, block1, block5
+block5:
+    return
+block6:
+    jump block5
+}
+"#,
+        )
+        .unwrap();
+        let f = &m.funcs[0];
+        let dt = DomTree::compute(f);
+        let b = Block;
+        assert_eq!(dt.rpo()[0], b(0));
+        assert_eq!(dt.rpo().len(), 6);
+        assert!(!dt.is_reachable(b(6)));
+        assert_eq!(dt.idom(b(0)), None);
+        assert_eq!(dt.idom(b(1)), Some(b(0)));
+        assert_eq!(dt.idom(b(2)), Some(b(1)));
+        assert_eq!(dt.idom(b(4)), Some(b(1)));
+        assert_eq!(dt.idom(b(5)), Some(b(4)));
+        assert!(dt.dominates(b(1), b(5)));
+        assert!(!dt.dominates(b(2), b(4)));
+        assert!(dt.dominates(b(4), b(4)));
+        assert!(!dt.strictly_dominates(b(4), b(4)));
+        assert!(!dt.dominates(b(0), b(6)));
+        let mut preds = dt.preds(b(4)).to_vec();
+        preds.sort();
+        assert_eq!(preds, vec![b(2), b(3)]);
+        let df = dt.frontiers();
+        assert_eq!(df.frontier(b(2)), &[b(4)][..]);
+        assert_eq!(df.frontier(b(3)), &[b(4)][..]);
+        assert_eq!(df.frontier(b(4)), &[b(1)][..]);
+        assert_eq!(df.frontier(b(1)), &[b(1)][..]);
+        assert!(df.frontier(b(0)).is_empty());
+        assert!(df.frontier(b(5)).is_empty());
+    }
+}

@@ -333,7 +333,8 @@ pub fn run(func: &mut Function) -> bool {
                 }
                 ref data if data.has_side_effects() && !data.is_terminator() => {
                     // Faults (division, raise_fault) end nothing in the IR, but a
-                    // runtime may stop the task on them: keep the stores before them.
+                    // runtime may stop the task on them, and a watchdog may end the
+                    // scan where `stop_requested` is read: keep the stores before.
                     pending.clear();
                 }
                 _ => {}

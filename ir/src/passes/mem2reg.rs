@@ -8,6 +8,10 @@
 //! some block before being stored there: "semi-pruned" SSA); the dead ones that remain
 //! are left to [`crate::passes::dce`].
 //!
+//! A load no store reaches reads an undefined value (front ends always initialise, so
+//! this is only robustness): it becomes a zero constant of its type, or for a `ptr`,
+//! which has no constant, the address of the slot itself (kept declared for that).
+//!
 //! Promoted slots (and slots no instruction refers to) are removed from the function
 //! and the remaining ones renumbered, so that static frames (PIC16) shrink too.
 

@@ -19,6 +19,7 @@ pub mod load_store;
 pub mod mem2reg;
 pub mod promote;
 pub mod simplify_cfg;
+pub mod watchdog;
 mod util;
 
 #[cfg(test)]

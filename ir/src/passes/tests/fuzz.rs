@@ -651,7 +651,18 @@ fn skeleton() -> (Module, Ctx, FuncId) {
         b.ret(None);
     }
     let init = m.add_func(f);
-    (m, Ctx { s, a, r, ra, g, bump }, init)
+    (
+        m,
+        Ctx {
+            s,
+            a,
+            r,
+            ra,
+            g,
+            bump,
+        },
+        init,
+    )
 }
 
 /// Adds a random `@t(a: i32, b: i32, p: ptr, q: ptr) -> i32`.

@@ -918,3 +918,133 @@ block2:
 "#;
     assert_eq!(got, expected);
 }
+
+// ---- regressions ----
+
+#[test]
+fn simplify_cfg_keeps_a_forwarder_whose_params_are_used_later() {
+    // block1 only jumps, but block2 (which it dominates) reads its parameter: edges
+    // into block1 must not bypass it.
+    check(
+        r#"
+func @f(i32, i1) -> i32 function {
+block0(v0: i32, v1: i1):
+    brif v1, block1(v0), block3
+block3:
+    v5 = iconst.i32 7
+    jump block1(v5)
+block1(v2: i32):
+    jump block2
+block2:
+    v3 = iadd v2, v2
+    brif v1, block4, block2
+block4:
+    return v3
+}
+"#,
+        simplify_cfg::run,
+        r#"
+func @f(i32, i1) -> i32 function {
+block0(v0: i32, v1: i1):
+    brif v1, block1(v0), block3
+
+block3:
+    v5 = iconst.i32 7
+    jump block1(v5)
+
+block1(v2: i32):
+    jump block2
+
+block2:
+    v3 = iadd v2, v2
+    brif v1, block4, block2
+
+block4:
+    return v3
+}
+"#,
+    );
+}
+
+#[test]
+fn load_store_same_field_of_possibly_equal_elements_aliases() {
+    // a[i].x := v1; r := a[j].x  -- i and j may be equal: no forwarding, and the store
+    // to a[j].y does not touch a[i].x.
+    check(
+        r#"
+struct %R struct {
+    var x: i32 DINT
+    var y: i32 DINT
+}
+array %RA = [4 x %R] lower 0
+func @f(ptr, i32, i32, i32) -> i32 function {
+block0(v0: ptr, v1: i32, v2: i32, v3: i32):
+    v4 = elem_addr v0, %RA, v2
+    v5 = field_addr v4, %R.x
+    store v1, v5
+    v6 = elem_addr v0, %RA, v3
+    v7 = field_addr v6, %R.y
+    store v2, v7
+    v8 = load.i32 v5
+    v9 = field_addr v6, %R.x
+    v10 = load.i32 v9
+    v11 = iadd v8, v10
+    return v11
+}
+"#,
+        load_store::run,
+        r#"
+func @f(ptr, i32, i32, i32) -> i32 function {
+block0(v0: ptr, v1: i32, v2: i32, v3: i32):
+    v4 = elem_addr v0, %RA, v2
+    v5 = field_addr v4, %R.x
+    store v1, v5
+    v6 = elem_addr v0, %RA, v3
+    v7 = field_addr v6, %R.y
+    store v2, v7
+    v9 = field_addr v6, %R.x
+    v10 = load.i32 v9
+    v11 = iadd v1, v10
+    return v11
+}
+"#,
+    );
+}
+
+#[test]
+fn mem2reg_undefined_pointer_uses_the_slot_address() {
+    // A pointer variable read before any write (a front-end bug) reads some valid
+    // address: its own slot's, which stays declared.
+    check(
+        r#"
+func @f(i1, ptr) -> ptr function {
+    ss0 = slot i32 "unused"
+    ss1 = slot ptr "p"
+block0(v0: i1, v1: ptr):
+    v2 = slot_addr ss1
+    brif v0, block1, block2
+block1:
+    store v1, v2
+    jump block2
+block2:
+    v3 = load.ptr v2
+    return v3
+}
+"#,
+        mem2reg::run,
+        r#"
+func @f(i1, ptr) -> ptr function {
+    ss0 = slot ptr "p"
+block0(v0: i1, v1: ptr):
+    v5 = slot_addr ss0
+    brif v0, block1, block2(v5)
+
+block1:
+    jump block2(v1)
+
+block2(v4: ptr):
+    return v4
+}
+"#,
+    );
+}
