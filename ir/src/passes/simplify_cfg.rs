@@ -1,11 +1,11 @@
 //! Control-flow graph simplification.
 //!
 //! - `brif` on a constant, or with two identical destinations, becomes a `jump`;
-//! - an edge into a block that only jumps on (an empty forwarder) goes straight to the
-//!   forwarder's destination, with the forwarder's arguments (its own parameters
-//!   replaced by the edge's arguments). The forwarder's non-parameter arguments are
-//!   defined in its strict dominators, which dominate all its predecessors, so they
-//!   stay valid at the new use;
+//! - an edge into a block that only jumps on (an empty forwarder, whose parameters
+//!   nothing but that jump reads) goes straight to the forwarder's destination, with
+//!   the forwarder's arguments (its own parameters replaced by the edge's arguments).
+//!   The forwarder's other arguments are defined in its strict dominators, which
+//!   dominate all its predecessors, so they stay valid at the new use;
 //! - blocks unreachable from the entry leave the layout;
 //! - a block whose only predecessor ends in a `jump` to it is appended to that
 //!   predecessor, its parameters replaced by the jump's arguments.
