@@ -49,7 +49,7 @@ impl<'s> BodyCx<'_, 's> {
             self.l.error(codes::NOT_A_STATEMENT, "this expression does nothing: only calls can be statements", e.span);
             return;
         };
-        match self.classify(callee, false) {
+        match self.classify(callee, args) {
             Callee::Instance(place, fb) => self.fb_call(place, fb, args, e.span),
             Callee::Function(p) => {
                 self.func_call(p, args, e.span);
@@ -63,7 +63,7 @@ impl<'s> BodyCx<'_, 's> {
 
     /// A call used as a value.
     pub(super) fn call_expr(&mut self, callee: &'s Expr, args: &'s [Arg], want: Option<Ty>, span: Span) -> Option<Val> {
-        match self.classify(callee, true) {
+        match self.classify(callee, args) {
             Callee::Instance(_, fb) => {
                 let n = self.l.pou(fb).display.clone();
                 self.l.error(
@@ -112,7 +112,7 @@ impl<'s> BodyCx<'_, 's> {
         }
     }
 
-    fn classify(&mut self, callee: &'s Expr, _in_expr: bool) -> Callee {
+    fn classify(&mut self, callee: &'s Expr, args: &'s [Arg]) -> Callee {
         match &callee.kind {
             ExprKind::Name(id) => {
                 if self.l.pou(self.pou).var(id.sym).is_some() {
@@ -156,7 +156,11 @@ impl<'s> BodyCx<'_, 's> {
                     return Callee::Builtin(b);
                 }
                 if let Some(what) = Builtin::unsupported(&name) {
-                    self.l.error(codes::E_UNSUPPORTED, format!("not supported yet: {what}"), id.span);
+                    // An argument of a type already reported (a STRING variable) makes
+                    // this a consequence: say nothing more.
+                    if !self.any_arg_failed(args) {
+                        self.l.error(codes::E_UNSUPPORTED, format!("not supported yet: {what}"), id.span);
+                    }
                     return Callee::Error;
                 }
                 if self.l.is_unsupported_name(id.sym) {
@@ -183,6 +187,17 @@ impl<'s> BodyCx<'_, 's> {
                 Callee::Error
             }
         }
+    }
+
+    /// True if some argument names a variable whose type was already rejected.
+    fn any_arg_failed(&mut self, args: &'s [Arg]) -> bool {
+        args.iter().any(|a| match &a.kind {
+            ArgKind::Positional(e) | ArgKind::Input { value: e, .. } => {
+                matches!(&e.kind, ExprKind::Name(id)
+                    if self.l.pou(self.pou).var(id.sym).is_some() && self.infer(e) == Ty::Error)
+            }
+            _ => false,
+        })
     }
 
     /// Matches call arguments to parameters: positional ones in declaration order

@@ -42,7 +42,7 @@ impl ConstVal {
             (ConstVal::Int(v), e) => match int_range(e) {
                 Some((lo, hi)) if e != ElemType::Bool => {
                     if v < lo || v > hi {
-                        Err(format!("{v} is out of the range of {}", e.name()))
+                        Err(format!("{v} is out of the range of {} ({lo}..{hi})", e.name()))
                     } else {
                         Ok(ConstVal::Int(v))
                     }

@@ -99,11 +99,8 @@ impl Lowerer<'_> {
                         VarKind::Config => "VAR_CONFIG",
                         _ => "VAR_STAT",
                     };
-                    self.error(
-                        codes::E_UNSUPPORTED,
-                        format!("not supported yet: {what}"),
-                        block.span,
-                    );
+                    let at = self.keyword_span(block.span);
+                    self.error(codes::E_UNSUPPORTED, format!("not supported yet: {what}"), at);
                     continue;
                 }
             }

@@ -286,6 +286,36 @@ impl<'s> BodyCx<'_, 's> {
     /// Emits an expression and converts it (implicitly, with checks) to `target`.
     pub(super) fn emit_as(&mut self, e: &'s Expr, target: Ty) -> Value {
         let v = self.emit(e, Some(target));
+        let fits = match (v.ty, target) {
+            (a, b) if a == b => true,
+            (Ty::Error, _) | (_, Ty::Error) => true,
+            (Ty::Elem(a), Ty::Elem(b)) => implicit(a, b),
+            _ => false,
+        };
+        if !fits {
+            // A literal that cannot take the wanted type: say so in source terms, not
+            // in terms of the type plcc picked for it.
+            let lit = self.infer(e);
+            if lit.is_literal() {
+                let what = if lit == Ty::AnyInt { "an integer literal" } else { "a real literal" };
+                let want = self.l.ty_name(target);
+                let mut d = plcc_ir::diag::Diagnostic::error(
+                    codes::E_TYPE_MISMATCH,
+                    format!("expected {want}, found {what}"),
+                    e.span,
+                );
+                d = match target {
+                    Ty::Elem(t) if t.is_duration() => d.with_note("write a duration literal, e.g. `T#5s`"),
+                    Ty::Elem(ElemType::Bool) => d.with_note("write TRUE or FALSE"),
+                    Ty::Elem(t) if t.is_integer() || t.is_bit_string() => {
+                        d.with_note(format!("{want} holds whole numbers; convert explicitly, e.g. `LREAL_TO_{want}(...)`"))
+                    }
+                    _ => d,
+                };
+                self.l.diags.push(d);
+                return self.zero(target);
+            }
+        }
         self.coerce(v, target, e.span)
     }
 

@@ -193,6 +193,15 @@ impl<'s> Lowerer<'s> {
         self.diags.push(Diagnostic::error(code, msg, span));
     }
 
+    /// The first word of a span: the keyword of a section that spans many lines.
+    pub(crate) fn keyword_span(&self, span: Span) -> Span {
+        let text = self.text(span);
+        let len = text
+            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .unwrap_or(text.len());
+        Span::new(span.file, span.start, span.start + len.max(1) as u32)
+    }
+
     pub(crate) fn text(&self, span: Span) -> &str {
         self.sources.get(span.file).slice(span)
     }
@@ -244,7 +253,10 @@ impl<'s> Lowerer<'s> {
                     for b in &p.var_blocks {
                         for d in &b.decls {
                             collect_enum_values(&d.ty, &mut self.unsupported_names);
-                            if matches!(b.kind, VarKind::External) {
+                            if matches!(
+                                b.kind,
+                                VarKind::External | VarKind::Global | VarKind::Access | VarKind::Config | VarKind::Stat
+                            ) {
                                 self.unsupported_names.extend(d.names.iter().map(|n| n.sym));
                             }
                         }
@@ -269,13 +281,22 @@ impl<'s> Lowerer<'s> {
                     ast::Item::Type(t) => {
                         self.unsupported_names.insert(t.name.sym);
                         collect_enum_values(&t.spec, &mut self.unsupported_names);
-                        ("TYPE declarations", t.name.span)
+                        let what = match &t.spec {
+                            ast::TypeSpec::Struct { .. } => "STRUCT types",
+                            ast::TypeSpec::Enum { .. } => "enumerations",
+                            ast::TypeSpec::Subrange { .. } => "subrange types",
+                            ast::TypeSpec::Array { .. } => "named array types",
+                            ast::TypeSpec::String { .. } => "STRING types",
+                            ast::TypeSpec::Ref { .. } | ast::TypeSpec::Pointer { .. } => "reference types",
+                            ast::TypeSpec::Named(_) => "type aliases",
+                        };
+                        (what, t.name.span)
                     }
                     ast::Item::Globals(b) => {
                         for d in &b.decls {
                             self.unsupported_names.extend(d.names.iter().map(|n| n.sym));
                         }
-                        ("VAR_GLOBAL", b.span)
+                        ("VAR_GLOBAL", self.keyword_span(b.span))
                     }
                     ast::Item::Configuration(c) => ("CONFIGURATION", c.name.span),
                     ast::Item::Action(a) => ("ACTIONs", a.span),

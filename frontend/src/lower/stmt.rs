@@ -2,7 +2,7 @@
 
 use super::body::{Access, BodyCx, LoopTargets};
 use super::consts::ConstVal;
-use crate::ast::{self, CaseLabel, Expr, Stmt, StmtKind};
+use crate::ast::{self, CaseLabel, Expr, ExprKind, Stmt, StmtKind};
 use crate::codes;
 use crate::types::Ty;
 use plcc_ir::diag::Span;
@@ -43,7 +43,7 @@ impl<'s> BodyCx<'_, 's> {
                 let exit = self.b.create_block();
                 self.b.jump(header, vec![]);
                 self.b.switch_to(header);
-                let c = self.cond(cond);
+                let c = self.cond(cond, "WHILE");
                 self.b.brif(c, body_b, vec![], exit, vec![]);
                 self.b.switch_to(body_b);
                 self.loops.push(LoopTargets { exit, cont: header });
@@ -64,7 +64,7 @@ impl<'s> BodyCx<'_, 's> {
                 self.b.jump(test, vec![]);
                 self.b.switch_to(test);
                 self.set_span(until.span);
-                let c = self.cond(until);
+                let c = self.cond(until, "UNTIL");
                 self.b.brif(c, exit, vec![], body_b, vec![]);
                 self.b.switch_to(exit);
             }
@@ -100,19 +100,75 @@ impl<'s> BodyCx<'_, 's> {
         }
     }
 
-    /// A BOOL condition.
-    pub(super) fn cond(&mut self, e: &'s Expr) -> Value {
+    /// A BOOL condition of the statement `what` (`IF`, `WHILE`, ...).
+    pub(super) fn cond(&mut self, e: &'s Expr, what: &str) -> Value {
+        let t = self.infer(e);
+        if t != Ty::BOOL && t != Ty::Error {
+            let v = self.emit(e, Some(Ty::BOOL));
+            if v.ty == Ty::BOOL || v.ty == Ty::Error {
+                return self.coerce(v, Ty::BOOL, e.span);
+            }
+            let found = self.l.ty_name(v.ty);
+            let mut d = plcc_ir::diag::Diagnostic::error(
+                codes::E_TYPE_MISMATCH,
+                format!("the {what} condition must be BOOL, found {found}"),
+                e.span,
+            );
+            if v.ty.is_numeric() {
+                d = d.with_note("compare the value, e.g. `x <> 0`");
+            }
+            self.l.diags.push(d);
+            return self.zero(Ty::BOOL);
+        }
         self.emit_as(e, Ty::BOOL)
     }
 
     fn assign(&mut self, target: &'s Expr, value: &'s Expr) {
+        // A FUNCTION's name outside the FUNCTION: the result cannot be assigned there.
+        if let ExprKind::Name(id) = &target.kind {
+            let is_local = self.l.pou(self.pou).var(id.sym).is_some()
+                || (self.l.pou(self.pou).name.sym == id.sym);
+            if !is_local {
+                if let Some(&p) = self.l.pou_by_name.get(&id.sym) {
+                    if self.l.pou(p).kind == crate::ast::PouKind::Function {
+                        let n = self.l.text(id.span).to_string();
+                        self.l.error(
+                            codes::E_NOT_A_PLACE,
+                            format!("`{n}` is a FUNCTION: its result can only be assigned inside `{n}`"),
+                            id.span,
+                        );
+                        let _ = self.emit(value, None);
+                        return;
+                    }
+                }
+            }
+        }
         let Some(place) = self.place(target) else {
             // Still check the value for errors of its own.
-            let _ = self.emit(value, None);
+            self.check_only(value);
             return;
         };
+        if place.access == Access::OtherOutput {
+            if let ExprKind::Member(base, name) = &target.kind {
+                let fb = match self.infer(base) {
+                    Ty::Fb(p) => self.l.pou(p).display.clone(),
+                    _ => String::new(),
+                };
+                let (n, inst) = (self.l.text(name.span).to_string(), self.l.text(base.span).to_string());
+                self.l.diags.push(
+                    plcc_ir::diag::Diagnostic::error(
+                        codes::E_WRITE_OUTPUT,
+                        format!("cannot assign to `{n}`: it is an output of the {fb} instance `{inst}`"),
+                        target.span,
+                    )
+                    .with_note("an instance writes its own outputs; outside code can only read them"),
+                );
+                self.check_only(value);
+                return;
+            }
+        }
         if !self.check_writable(&place, target.span) {
-            let _ = self.emit(value, None);
+            self.check_only(value);
             return;
         }
         match place.ty {
@@ -120,17 +176,38 @@ impl<'s> BodyCx<'_, 's> {
                 let v = self.emit_as(value, place.ty);
                 self.store_place(&place, v);
             }
-            Ty::Error => {
-                let _ = self.emit(value, None);
-            }
+            Ty::Error => self.check_only(value),
             _ => {
                 let what = self.l.ty_name(place.ty);
-                self.l.error(
-                    codes::E_UNSUPPORTED,
-                    format!("not supported yet: assigning a whole {what}"),
-                    target.span,
-                );
+                let vt = self.infer(value);
+                if vt == place.ty {
+                    self.l.error(
+                        codes::E_UNSUPPORTED,
+                        format!("not supported yet: assigning a whole {what}"),
+                        target.span,
+                    );
+                } else if vt != Ty::Error {
+                    let found = self.l.ty_name(vt);
+                    self.l.error(
+                        codes::E_TYPE_MISMATCH,
+                        format!("expected {what}, found {found}"),
+                        value.span,
+                    );
+                }
             }
+        }
+    }
+
+    /// Checks an expression whose value is not used (its target had an error):
+    /// reports its own errors, but not those its context caused (a lone literal of an
+    /// unsupported type for a variable of an unsupported type, say).
+    fn check_only(&mut self, value: &'s Expr) {
+        let mut e = value;
+        while let ExprKind::Paren(i) = &e.kind {
+            e = i;
+        }
+        if !matches!(e.kind, ExprKind::Literal(_)) {
+            let _ = self.emit(value, None);
         }
     }
 
@@ -159,9 +236,9 @@ impl<'s> BodyCx<'_, 's> {
 
     fn if_stmt(&mut self, branches: &'s [(Expr, Vec<Stmt>)], else_body: Option<&'s [Stmt]>) {
         let join = self.b.create_block();
-        for (cond, body) in branches {
+        for (k, (cond, body)) in branches.iter().enumerate() {
             self.set_span(cond.span);
-            let c = self.cond(cond);
+            let c = self.cond(cond, if k == 0 { "IF" } else { "ELSIF" });
             let then_b = self.b.create_block();
             let next = self.b.create_block();
             self.b.brif(c, then_b, vec![], next, vec![]);
@@ -317,23 +394,35 @@ impl<'s> BodyCx<'_, 's> {
             }
             super::body::Named::Error => None,
         };
-        let Some(place) = var_expr_place else {
-            let _ = self.emit(from, None);
-            let _ = self.emit(to, None);
-            return;
-        };
-        if !self.check_writable(&place, var.span) {
-            return;
-        }
-        let Some(e) = place.ty.elem().filter(|e| e.is_integer()) else {
-            if place.ty != Ty::Error {
-                let t = self.l.ty_name(place.ty);
+        let place = var_expr_place.filter(|p| self.check_writable(p, var.span));
+        let elem = place.and_then(|p| p.ty.elem().filter(|e| e.is_integer()));
+        if let (Some(p), None) = (place, elem) {
+            if p.ty != Ty::Error {
+                let t = self.l.ty_name(p.ty);
                 self.l.error(
                     codes::E_TYPE_MISMATCH,
                     format!("a FOR control variable must be an integer, not {t}"),
                     var.span,
                 );
             }
+        }
+        let (Some(place), Some(e)) = (place, elem) else {
+            // Still check the bounds and the body for errors of their own, in code that
+            // never runs.
+            let _ = self.emit(from, None);
+            let _ = self.emit(to, None);
+            if let Some(b) = by {
+                let _ = self.emit(b, None);
+            }
+            let dead = self.b.create_block();
+            let after = self.b.create_block();
+            self.b.jump(after, vec![]);
+            self.b.switch_to(dead);
+            self.loops.push(LoopTargets { exit: after, cont: after });
+            self.stmts(body);
+            self.loops.pop();
+            self.b.jump(after, vec![]);
+            self.b.switch_to(after);
             return;
         };
         let ty = place.ty;
