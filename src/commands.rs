@@ -122,8 +122,15 @@ pub struct RunArgs {
 fn runnable_target(name: &str) -> Result<&'static str, u8> {
     match targets::find(name) {
         Some(t) if t.runs => Ok(t.name),
-        Some(t) => Err(usage(format!("target `{}` cannot run programs here (targets that can: {})", t.name, targets::names(true)))),
-        None => Err(usage(format!("unknown target `{name}` (known: {})", targets::names(false)))),
+        Some(t) => Err(usage(format!(
+            "target `{}` cannot run programs here (targets that can: {})",
+            t.name,
+            targets::names(true)
+        ))),
+        None => Err(usage(format!(
+            "unknown target `{name}` (known: {})",
+            targets::names(false)
+        ))),
     }
 }
 
@@ -169,7 +176,8 @@ pub fn run(a: &RunArgs) -> u8 {
         Err(s) => return s,
     };
     let programs: Vec<String> = a.program.iter().cloned().collect();
-    let (build, module) = match build_and_report(&a.files, a.lang.as_deref(), programs, Mode::Full) {
+    let (build, module) = match build_and_report(&a.files, a.lang.as_deref(), programs, Mode::Full)
+    {
         Ok(b) => b,
         Err(s) => return s,
     };
@@ -334,16 +342,28 @@ pub fn compile(a: &CompileArgs) -> u8 {
         return usage("no input files (try `plcc --help`)");
     }
     let Some(target) = targets::find(&a.target) else {
-        return usage(format!("unknown target `{}` (known: {})", a.target, targets::names(false)));
+        return usage(format!(
+            "unknown target `{}` (known: {})",
+            a.target,
+            targets::names(false)
+        ));
     };
     let emit = a.emit.as_deref();
-    let mode = if emit == Some("ir-raw") { Mode::Unoptimised } else { Mode::Full };
-    let (build, module) = match build_and_report(&a.files, a.lang.as_deref(), a.programs.clone(), mode) {
-        Ok(b) => b,
-        Err(s) => return s,
+    let mode = if emit == Some("ir-raw") {
+        Mode::Unoptimised
+    } else {
+        Mode::Full
     };
+    let (build, module) =
+        match build_and_report(&a.files, a.lang.as_deref(), a.programs.clone(), mode) {
+            Ok(b) => b,
+            Err(s) => return s,
+        };
     let (bytes, ext) = match emit {
-        Some("ir") | Some("ir-raw") => (print_module(&module, &PrintOptions::default()).into_bytes(), "ir".to_string()),
+        Some("ir") | Some("ir-raw") => (
+            print_module(&module, &PrintOptions::default()).into_bytes(),
+            "ir".to_string(),
+        ),
         _ => {
             let Some(backend) = targets::backend(target.name) else {
                 return usage(format!(
@@ -364,7 +384,10 @@ pub fn compile(a: &CompileArgs) -> u8 {
                         eprintln!("{s}");
                     }
                     // Secondary files (a C header, a description) go beside the main one.
-                    let base = a.output.clone().unwrap_or_else(|| a.files[0].with_extension(&main.kind));
+                    let base = a
+                        .output
+                        .clone()
+                        .unwrap_or_else(|| a.files[0].with_extension(&main.kind));
                     for extra in &arts.files[1..] {
                         if base.as_os_str() == "-" {
                             continue;

@@ -85,7 +85,10 @@ pub fn build_files<P: AsRef<Path>>(files: &[P], opts: &BuildOptions) -> Result<B
 
 /// Builds sources given as (name, bytes); the language comes from the options or
 /// each name's extension.
-pub fn build_sources(texts: Vec<(String, Vec<u8>)>, opts: &BuildOptions) -> Result<Build, UsageError> {
+pub fn build_sources(
+    texts: Vec<(String, Vec<u8>)>,
+    opts: &BuildOptions,
+) -> Result<Build, UsageError> {
     let mut sources = SourceMap::new();
     let mut inputs: Vec<(FileId, Lang)> = Vec::new();
     for (name, bytes) in texts {
@@ -109,14 +112,18 @@ pub fn build_sources(texts: Vec<(String, Vec<u8>)>, opts: &BuildOptions) -> Resu
     let mut module = compiled.module;
     if let (Some(m), false) = (&mut module, opts.check_only) {
         let t = Instant::now();
-        let mut ok = check(m, "the front end").map_err(|e| diagnostics.extend(e)).is_ok();
+        let mut ok = check(m, "the front end")
+            .map_err(|e| diagnostics.extend(e))
+            .is_ok();
         timings.push(("verify", t.elapsed()));
         if ok && !opts.no_opt {
             let t = Instant::now();
             optimise(m);
             timings.push(("optimise", t.elapsed()));
             let t = Instant::now();
-            ok = check(m, "optimisation").map_err(|e| diagnostics.extend(e)).is_ok();
+            ok = check(m, "optimisation")
+                .map_err(|e| diagnostics.extend(e))
+                .is_ok();
             timings.push(("verify", t.elapsed()));
         }
         if !ok {
@@ -157,8 +164,11 @@ fn check(m: &Module, stage: &str) -> Result<(), Vec<Diagnostic>> {
         errs.iter()
             .take(10)
             .map(|e| {
-                Diagnostic::error_nowhere(E_INTERNAL, format!("internal error: invalid IR after {stage}: {e}"))
-                    .with_note("this is a bug in plcc; please report it with the program")
+                Diagnostic::error_nowhere(
+                    E_INTERNAL,
+                    format!("internal error: invalid IR after {stage}: {e}"),
+                )
+                .with_note("this is a bug in plcc; please report it with the program")
             })
             .collect()
     })

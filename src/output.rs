@@ -46,7 +46,9 @@ mod tests {
 
     #[test]
     fn failure_keeps_the_old_file() {
-        let missing = std::env::temp_dir().join("plcc-no-such-dir-xyz").join("a.txt");
+        let missing = std::env::temp_dir()
+            .join("plcc-no-such-dir-xyz")
+            .join("a.txt");
         assert!(write_atomic(&missing, b"x").is_err());
     }
 }

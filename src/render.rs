@@ -107,7 +107,10 @@ fn write(map: &SourceMap, diags: &[Diagnostic], out: &mut dyn termcolor::WriteCo
             );
         }
         for (s, m) in &d.secondary {
-            labels.push(Label::secondary(s.file.0, clamp(map, s.file.0, s.start, s.end)).with_message(m.clone()));
+            labels.push(
+                Label::secondary(s.file.0, clamp(map, s.file.0, s.start, s.end))
+                    .with_message(m.clone()),
+            );
         }
         let cs = CsDiagnostic::new(severity)
             .with_code(d.code)
@@ -120,4 +123,3 @@ fn write(map: &SourceMap, diags: &[Diagnostic], out: &mut dyn termcolor::WriteCo
         }
     }
 }
-

@@ -61,12 +61,15 @@ pub fn parse(text: &str) -> Result<Scenario, String> {
         let rest = rest.trim();
         match word {
             "program" | "entry" | "duration_s" => {
-                let Some(v) = rest.strip_prefix('=') else { return err("expected `=`") };
+                let Some(v) = rest.strip_prefix('=') else {
+                    return err("expected `=`");
+                };
                 let v = v.trim();
                 match word {
                     "program" => s.program = Some(v.to_string()),
                     "entry" => {
-                        s.unsupported = Some("RuSTy-style scenario (FUNCTION entry with printf checks)".into())
+                        s.unsupported =
+                            Some("RuSTy-style scenario (FUNCTION entry with printf checks)".into())
                     }
                     _ => match v.parse::<f64>() {
                         Ok(d) if d >= 0.0 => s.steps.push((line_no, Step::Duration(d))),
@@ -83,10 +86,13 @@ pub fn parse(text: &str) -> Result<Scenario, String> {
                 Err(_) => return err("expected `run_at_us T`"),
             },
             "run_once" | "check" | "check_next" => {
-                s.unsupported = Some("RuSTy-style scenario (FUNCTION entry with printf checks)".into())
+                s.unsupported =
+                    Some("RuSTy-style scenario (FUNCTION entry with printf checks)".into())
             }
             "set" => {
-                let Some((var, value)) = rest.split_once('=') else { return err("expected `set VAR = VALUE`") };
+                let Some((var, value)) = rest.split_once('=') else {
+                    return err("expected `set VAR = VALUE`");
+                };
                 s.steps.push((
                     line_no,
                     Step::Set {
@@ -101,7 +107,9 @@ pub fn parse(text: &str) -> Result<Scenario, String> {
                     let Some((value, tol)) = rhs.split_once(" tol ") else {
                         return err("expected `expect VAR ~= VALUE tol T`");
                     };
-                    let Ok(tol) = tol.trim().parse::<f64>() else { return err("bad tolerance") };
+                    let Ok(tol) = tol.trim().parse::<f64>() else {
+                        return err("bad tolerance");
+                    };
                     s.steps.push((
                         line_no,
                         Step::Expect {
@@ -237,7 +245,8 @@ fn set(m: &mut dyn Machine, path: &str, text: &str) -> Result<(), String> {
 fn expect(m: &mut dyn Machine, path: &str, text: &str, tol: Option<f64>) -> Result<(), String> {
     let got = m.read(path).map_err(|e| e.to_string())?;
     if let Some(tol) = tol {
-        let want = plcc_ir::value::parse_real(text).ok_or_else(|| format!("`{text}` is not a number"))?;
+        let want =
+            plcc_ir::value::parse_real(text).ok_or_else(|| format!("`{text}` is not a number"))?;
         let g = got.as_f64();
         return if (g - want).abs() <= tol {
             Ok(())

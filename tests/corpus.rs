@@ -75,7 +75,11 @@ fn judge(st: &Path, expect: &Path, target: &str) -> Verdict {
         // Errors after a construct plcc does not support yet are usually its
         // consequences; the unsupported construct is the reason.
         if errors.iter().any(|d| is_unsupported_code(d.code)) {
-            let mut codes: Vec<&str> = errors.iter().map(|d| d.code).filter(|c| is_unsupported_code(c)).collect();
+            let mut codes: Vec<&str> = errors
+                .iter()
+                .map(|d| d.code)
+                .filter(|c| is_unsupported_code(c))
+                .collect();
             codes.sort();
             codes.dedup();
             let first = errors
@@ -170,7 +174,11 @@ fn run_corpus(target: &str) {
     let (mut tp, mut tf, mut tu, mut te) = (0, 0, 0, 0);
     for (cat, row) in &table {
         let u: u32 = row.unsupported.values().sum();
-        let why: Vec<String> = row.unsupported.iter().map(|(k, v)| format!("{k}×{v}")).collect();
+        let why: Vec<String> = row
+            .unsupported
+            .iter()
+            .map(|(k, v)| format!("{k}×{v}"))
+            .collect();
         println!(
             "{:<40} {:>6} {:>6} {:>6} {:>6}  {}",
             cat,
@@ -198,7 +206,11 @@ fn run_corpus(target: &str) {
             println!("  {f}");
         }
     }
-    assert!(failures.is_empty(), "{} corpus program(s) failed on {target}", failures.len());
+    assert!(
+        failures.is_empty(),
+        "{} corpus program(s) failed on {target}",
+        failures.len()
+    );
 }
 
 #[test]
@@ -227,7 +239,10 @@ fn corpus_never_panics() {
             let p = e.unwrap().path();
             if p.is_dir() {
                 stack.push(p);
-            } else if p.extension().is_some_and(|e| e == "st" || e == "txt" || e == "il") {
+            } else if p
+                .extension()
+                .is_some_and(|e| e == "st" || e == "txt" || e == "il")
+            {
                 files.push(p);
             }
         }

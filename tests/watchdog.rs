@@ -22,7 +22,11 @@ END_PROGRAM
 
 #[test]
 fn endless_loops_are_stopped() {
-    let b = build_sources(vec![("spin.st".into(), ENDLESS.as_bytes().to_vec())], &BuildOptions::default()).unwrap();
+    let b = build_sources(
+        vec![("spin.st".into(), ENDLESS.as_bytes().to_vec())],
+        &BuildOptions::default(),
+    )
+    .unwrap();
     let module = b.module.expect("compiles");
     for target in ["host", "interp"] {
         let mut m = targets::machine(target, &module).unwrap();

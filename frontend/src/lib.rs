@@ -79,7 +79,11 @@ pub struct Compiled {
 
 /// Parses, checks and lowers the given files (already in `sources`) to one module.
 /// The standard library is added to `sources` so diagnostics can point into it.
-pub fn compile(sources: &mut SourceMap, inputs: &[(FileId, Lang)], opts: &LowerOptions) -> Compiled {
+pub fn compile(
+    sources: &mut SourceMap,
+    inputs: &[(FileId, Lang)],
+    opts: &LowerOptions,
+) -> Compiled {
     let started = std::time::Instant::now();
     let std_file = sources.add(SourceFile::new(STDLIB_NAME, lower::std_library_source()));
     let mut interner = intern::Interner::new();
@@ -93,7 +97,12 @@ pub fn compile(sources: &mut SourceMap, inputs: &[(FileId, Lang)], opts: &LowerO
     ));
     for &(file, lang) in inputs {
         match lang {
-            Lang::St => units.push(st::parse(file, &sources.get(file).text, &mut interner, &mut diagnostics)),
+            Lang::St => units.push(st::parse(
+                file,
+                &sources.get(file).text,
+                &mut interner,
+                &mut diagnostics,
+            )),
             other => diagnostics.push(
                 Diagnostic::error(
                     codes::E_LANGUAGE_UNSUPPORTED,

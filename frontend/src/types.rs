@@ -173,7 +173,11 @@ pub fn implicit(from: ElemType, to: ElemType) -> bool {
         return true;
     }
     if let (Some((sf, bf)), Some((st, bt))) = (int_rank(from), int_rank(to)) {
-        return if sf == st { bf < bt } else { !sf && st && bf < bt };
+        return if sf == st {
+            bf < bt
+        } else {
+            !sf && st && bf < bt
+        };
     }
     if let (Some(bf), Some(bt)) = (bits_rank(from), bits_rank(to)) {
         return bf < bt && from != Bool;

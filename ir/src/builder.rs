@@ -3,9 +3,7 @@
 use crate::diag::Span;
 use crate::entities::{AggId, Block, DataId, FuncId, SlotId, Value};
 use crate::function::Function;
-use crate::inst::{
-    BinaryOp, BlockCall, ConvOp, FloatCC, InstData, IntCC, Intrinsic, UnaryOp,
-};
+use crate::inst::{BinaryOp, BlockCall, ConvOp, FloatCC, InstData, IntCC, Intrinsic, UnaryOp};
 use crate::types::{MemType, Type};
 
 /// Appends instructions at the end of a current block.

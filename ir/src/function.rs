@@ -119,7 +119,12 @@ pub struct Function {
 
 impl Function {
     /// An empty function (no blocks yet).
-    pub fn new(name: impl Into<String>, kind: FuncKind, params: Vec<Type>, ret: Option<Type>) -> Function {
+    pub fn new(
+        name: impl Into<String>,
+        kind: FuncKind,
+        params: Vec<Type>,
+        ret: Option<Type>,
+    ) -> Function {
         Function {
             name: name.into(),
             kind,
@@ -199,7 +204,12 @@ impl Function {
 
     /// Creates an instruction (not placed in any block) and its result value, whose
     /// type is `result`.
-    pub fn create_inst(&mut self, data: InstData, result: Option<Type>, span: Option<Span>) -> Inst {
+    pub fn create_inst(
+        &mut self,
+        data: InstData,
+        result: Option<Type>,
+        span: Option<Span>,
+    ) -> Inst {
         let inst = Inst::new(self.insts.len());
         self.insts.push(data);
         self.spans.push(span);
@@ -224,12 +234,9 @@ impl Function {
 
     /// Live instructions in layout order, with their blocks.
     pub fn inst_iter(&self) -> impl Iterator<Item = (Block, Inst)> + '_ {
-        self.layout.iter().flat_map(move |&b| {
-            self.blocks[b.index()]
-                .insts
-                .iter()
-                .map(move |&i| (b, i))
-        })
+        self.layout
+            .iter()
+            .flat_map(move |&b| self.blocks[b.index()].insts.iter().map(move |&i| (b, i)))
     }
 
     /// The number of live instructions.

@@ -151,7 +151,9 @@ pub fn parse_int(text: &str) -> Option<i128> {
         if c == '_' {
             continue;
         }
-        v = v.checked_mul(radix as i128)?.checked_add(c.to_digit(radix)? as i128)?;
+        v = v
+            .checked_mul(radix as i128)?
+            .checked_add(c.to_digit(radix)? as i128)?;
     }
     Some(if neg { -v } else { v })
 }
@@ -300,7 +302,8 @@ impl fmt::Display for PlcValue {
             }
             Tod => {
                 let ms = self.bits as u32 as u64;
-                let (h, mi, s, frac) = (ms / 3_600_000, ms / 60_000 % 60, ms / 1000 % 60, ms % 1000);
+                let (h, mi, s, frac) =
+                    (ms / 3_600_000, ms / 60_000 % 60, ms / 1000 % 60, ms % 1000);
                 write!(f, "TOD#{h:02}:{mi:02}:{s:02}")?;
                 if frac != 0 {
                     write!(f, ".{frac:03}")?;
@@ -348,12 +351,30 @@ mod tests {
         assert_eq!(PlcValue::parse(ElemType::Byte, "16#FF").unwrap().bits, 255);
         assert_eq!(PlcValue::parse(ElemType::Int, "INT#7").unwrap().as_i64(), 7);
         assert!(PlcValue::parse(ElemType::SInt, "200").is_err());
-        assert_eq!(PlcValue::parse(ElemType::Time, "T#1s500ms").unwrap().as_i64(), 1500);
-        assert_eq!(PlcValue::parse(ElemType::Time, "T#1500ms").unwrap().as_i64(), 1500);
-        assert_eq!(PlcValue::parse(ElemType::Time, "250").unwrap().as_i64(), 250);
-        assert_eq!(PlcValue::parse(ElemType::Real, "2.5").unwrap().as_f64(), 2.5);
         assert_eq!(
-            PlcValue::parse(ElemType::ULInt, "18446744073709551615").unwrap().bits,
+            PlcValue::parse(ElemType::Time, "T#1s500ms")
+                .unwrap()
+                .as_i64(),
+            1500
+        );
+        assert_eq!(
+            PlcValue::parse(ElemType::Time, "T#1500ms")
+                .unwrap()
+                .as_i64(),
+            1500
+        );
+        assert_eq!(
+            PlcValue::parse(ElemType::Time, "250").unwrap().as_i64(),
+            250
+        );
+        assert_eq!(
+            PlcValue::parse(ElemType::Real, "2.5").unwrap().as_f64(),
+            2.5
+        );
+        assert_eq!(
+            PlcValue::parse(ElemType::ULInt, "18446744073709551615")
+                .unwrap()
+                .bits,
             u64::MAX
         );
     }
@@ -365,14 +386,23 @@ mod tests {
         assert_eq!(PlcValue::from_f32(3.0).to_string(), "3.0");
         assert_eq!(PlcValue::from_f32(2.5).to_string(), "2.5");
         assert_eq!(PlcValue::from_f64(1e20).to_string(), "1.0E20");
-        assert_eq!(PlcValue::from_i64(ElemType::Time, 1500).to_string(), "T#1500ms");
+        assert_eq!(
+            PlcValue::from_i64(ElemType::Time, 1500).to_string(),
+            "T#1500ms"
+        );
         assert_eq!(PlcValue::from_i64(ElemType::Byte, 255).to_string(), "16#FF");
-        assert_eq!(PlcValue::from_i64(ElemType::Date, 86_400 * 366).to_string(), "D#1971-01-02");
+        assert_eq!(
+            PlcValue::from_i64(ElemType::Date, 86_400 * 366).to_string(),
+            "D#1971-01-02"
+        );
     }
 
     #[test]
     fn durations_are_exact() {
-        assert_eq!(parse_duration_literal("T#1h2m3s4ms"), Some(3_723_004_000_000));
+        assert_eq!(
+            parse_duration_literal("T#1h2m3s4ms"),
+            Some(3_723_004_000_000)
+        );
         assert_eq!(parse_duration_literal("t#1.5s"), Some(1_500_000_000));
         assert_eq!(parse_duration_literal("TIME#-5s"), Some(-5_000_000_000));
         assert_eq!(parse_duration_literal("T#1m_30s"), Some(90_000_000_000));

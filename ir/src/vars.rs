@@ -48,9 +48,7 @@ impl std::error::Error for PathError {}
 pub fn resolve(module: &Module, path: &str) -> Result<VarRef, PathError> {
     let err = |m: String| Err(PathError(m));
     let mut rest = path.trim();
-    let root_len = rest
-        .find(['.', '['])
-        .unwrap_or(rest.len());
+    let root_len = rest.find(['.', '[']).unwrap_or(rest.len());
     let root_name = &rest[..root_len];
     rest = &rest[root_len..];
     let Some(root) = module.data_by_name(root_name) else {
@@ -72,7 +70,11 @@ pub fn resolve(module: &Module, path: &str) -> Result<VarRef, PathError> {
             let AggDef::Struct(s) = module.agg(agg) else {
                 return err(format!("`{canon}` is an array; index it with [..]"));
             };
-            let Some(fi) = s.fields.iter().position(|f| f.name.eq_ignore_ascii_case(name)) else {
+            let Some(fi) = s
+                .fields
+                .iter()
+                .position(|f| f.name.eq_ignore_ascii_case(name))
+            else {
                 return err(format!("`{canon}` has no member `{name}`"));
             };
             let f = &s.fields[fi];
@@ -133,7 +135,15 @@ pub fn variables(module: &Module, root: DataId) -> Vec<VarRef> {
     let data = &module.data[root.index()];
     let mut out = Vec::new();
     let mut steps = Vec::new();
-    walk(module, root, data.ty, data.elem, &data.name.clone(), &mut steps, &mut out);
+    walk(
+        module,
+        root,
+        data.ty,
+        data.elem,
+        &data.name.clone(),
+        &mut steps,
+        &mut out,
+    );
     out
 }
 
@@ -168,7 +178,15 @@ fn walk(
                         continue;
                     }
                     steps.push(PathStep::Field(agg, i as u32));
-                    walk(module, root, f.ty, f.elem, &format!("{path}.{}", f.name), steps, out);
+                    walk(
+                        module,
+                        root,
+                        f.ty,
+                        f.elem,
+                        &format!("{path}.{}", f.name),
+                        steps,
+                        out,
+                    );
                     steps.pop();
                 }
             }

@@ -54,9 +54,11 @@ impl Watchdog {
                 while !s.quit.load(Ordering::Acquire) {
                     std::thread::park_timeout(poll);
                     let started = s.scan_started.load(Ordering::Acquire);
-                    if started != 0 && now_ns().saturating_sub(started) >= s.limit.as_nanos() as u64 {
+                    if started != 0 && now_ns().saturating_sub(started) >= s.limit.as_nanos() as u64
+                    {
                         // SAFETY: the byte outlives the thread (joined on drop).
-                        unsafe { AtomicU8::from_ptr(s.stop as *mut u8) }.store(1, Ordering::Release);
+                        unsafe { AtomicU8::from_ptr(s.stop as *mut u8) }
+                            .store(1, Ordering::Release);
                     }
                 }
             })

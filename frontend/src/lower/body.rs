@@ -114,7 +114,11 @@ impl<'s> Lowerer<'s> {
 
     /// Takes a function out of the module while `f` builds it (so the builder and the
     /// lowerer can both be borrowed), then puts it back.
-    pub(super) fn with_function(&mut self, fid: FuncId, f: impl FnOnce(&mut Lowerer<'s>, &mut Function)) {
+    pub(super) fn with_function(
+        &mut self,
+        fid: FuncId,
+        f: impl FnOnce(&mut Lowerer<'s>, &mut Function),
+    ) {
         let shell = {
             let cur = &self.module.funcs[fid.index()];
             let mut s = Function::new(cur.name.clone(), cur.kind, cur.params.clone(), cur.ret);
@@ -128,7 +132,12 @@ impl<'s> Lowerer<'s> {
 }
 
 impl<'a, 's> BodyCx<'a, 's> {
-    pub(super) fn new(l: &'a mut Lowerer<'s>, func: &'a mut Function, pou: PouId, in_init: bool) -> Self {
+    pub(super) fn new(
+        l: &'a mut Lowerer<'s>,
+        func: &'a mut Function,
+        pou: PouId,
+        in_init: bool,
+    ) -> Self {
         let b = FuncBuilder::new(func);
         let params = b.params();
         let kind = l.pou(pou).kind;
@@ -188,7 +197,9 @@ impl<'a, 's> BodyCx<'a, 's> {
             if !local {
                 continue;
             }
-            let Some((mt, _)) = self.l.mem_type(v.ty) else { continue };
+            let Some((mt, _)) = self.l.mem_type(v.ty) else {
+                continue;
+            };
             let slot = self.b.slot(v.display.clone(), mt);
             self.l.ir[pou.0 as usize].storage[vi] = Some(Storage::Slot(slot));
             self.set_span(v.name.span);
@@ -303,7 +314,10 @@ impl<'a, 's> BodyCx<'a, 's> {
                     Some(other) => {
                         self.l.error(
                             codes::E_TYPE_MISMATCH,
-                            format!("a {} is initialised with a single value", self.l.ty_name(ty)),
+                            format!(
+                                "a {} is initialised with a single value",
+                                self.l.ty_name(ty)
+                            ),
                             other.span(),
                         );
                         self.zero(ty)
@@ -426,7 +440,10 @@ impl<'a, 's> BodyCx<'a, 's> {
                     if one.len() as u64 > slice {
                         self.l.error(
                             codes::E_TYPE_MISMATCH,
-                            format!("{} initial values for a slice of {slice} elements", one.len()),
+                            format!(
+                                "{} initial values for a slice of {slice} elements",
+                                one.len()
+                            ),
                             *span,
                         );
                         one.truncate(slice as usize);
@@ -459,7 +476,13 @@ impl<'a, 's> BodyCx<'a, 's> {
     }
 
     /// `for i in 0..len: init(elem i)`, nested per dimension.
-    fn array_default_loop(&mut self, addr: Value, a: crate::types::ArrayId, dim: u32, at: &crate::types::ArrayTy) {
+    fn array_default_loop(
+        &mut self,
+        addr: Value,
+        a: crate::types::ArrayId,
+        dim: u32,
+        at: &crate::types::ArrayTy,
+    ) {
         let agg = self.l.array_agg(a, dim);
         let len = at.len(dim as usize) as i64;
         let header = self.b.create_block();
@@ -556,15 +579,23 @@ impl<'a, 's> BodyCx<'a, 's> {
             return Named::Error;
         }
         if report && self.l.sym_name(id.sym) == "NULL" {
-            self.l.error(codes::E_UNSUPPORTED, "not supported yet: references (NULL)", id.span);
+            self.l.error(
+                codes::E_UNSUPPORTED,
+                "not supported yet: references (NULL)",
+                id.span,
+            );
             return Named::Error;
         }
         if report {
             let name = self.l.text(id.span).to_string();
             let msg = if let Some(&p) = self.l.pou_by_name.get(&id.sym) {
                 match self.l.pou(p).kind {
-                    PouKind::Function => format!("`{name}` is a FUNCTION: call it with `{name}(...)`"),
-                    PouKind::FunctionBlock => format!("`{name}` is a FUNCTION_BLOCK type: declare an instance of it"),
+                    PouKind::Function => {
+                        format!("`{name}` is a FUNCTION: call it with `{name}(...)`")
+                    }
+                    PouKind::FunctionBlock => {
+                        format!("`{name}` is a FUNCTION_BLOCK type: declare an instance of it")
+                    }
                     PouKind::Program => format!("`{name}` is a PROGRAM, not a variable"),
                 }
             } else {
@@ -578,7 +609,13 @@ impl<'a, 's> BodyCx<'a, 's> {
     /// The place of member `name` of the FB instance at `base`. `init` allows the
     /// internal variables (initialisers may set any member); otherwise only inputs and
     /// outputs are visible from outside.
-    pub(super) fn member_place(&mut self, base: Value, fb: PouId, name: ast::Ident, init: bool) -> Option<Place> {
+    pub(super) fn member_place(
+        &mut self,
+        base: Value,
+        fb: PouId,
+        name: ast::Ident,
+        init: bool,
+    ) -> Option<Place> {
         let Some(vi) = self.l.pou(fb).var(name.sym) else {
             let n = self.l.text(name.span).to_string();
             let fbn = self.l.pou(fb).display.clone();
@@ -591,14 +628,18 @@ impl<'a, 's> BodyCx<'a, 's> {
         };
         let vi = vi as usize;
         let v = self.l.pou(fb).vars[vi].clone();
-        let visible = matches!(v.section, VarKind::Input | VarKind::Output | VarKind::InOut) || init;
+        let visible =
+            matches!(v.section, VarKind::Input | VarKind::Output | VarKind::InOut) || init;
         let storage = self.l.ir[fb.0 as usize].storage[vi];
         if let Some(Storage::Const(_)) | None = storage {
             if !visible || storage.is_none() {
                 let n = self.l.text(name.span).to_string();
                 self.l.error(
                     codes::E_NO_MEMBER,
-                    format!("`{n}` is not an input or output of `{}`", self.l.pou(fb).display),
+                    format!(
+                        "`{n}` is not an input or output of `{}`",
+                        self.l.pou(fb).display
+                    ),
                     name.span,
                 );
                 return None;
@@ -630,7 +671,9 @@ impl<'a, 's> BodyCx<'a, 's> {
             );
             return None;
         }
-        let Some(Storage::Field(fi)) = storage else { return None };
+        let Some(Storage::Field(fi)) = storage else {
+            return None;
+        };
         let agg = self.l.ir[fb.0 as usize].agg?;
         let addr = self.b.field_addr(base, agg, fi);
         let access = if v.section == VarKind::Output && !init {

@@ -111,16 +111,27 @@ impl Builtin {
     /// the feature they belong to, for a not-supported diagnostic.
     pub(super) fn unsupported(name: &str) -> Option<&'static str> {
         Some(match name {
-            "LEN" | "LEFT" | "RIGHT" | "MID" | "CONCAT" | "INSERT" | "DELETE" | "REPLACE" | "FIND" => "string functions",
-            "ADD_TOD_TIME" | "ADD_DT_TIME" | "SUB_DATE_DATE" | "SUB_TOD_TIME" | "SUB_TOD_TOD" | "SUB_DT_TIME"
-            | "SUB_DT_DT" | "CONCAT_DATE_TOD" | "CONCAT_DATE" | "CONCAT_TOD" | "CONCAT_DT" | "SPLIT_DATE"
-            | "SPLIT_TOD" | "SPLIT_DT" | "DAY_OF_WEEK" => "date and time functions",
+            "LEN" | "LEFT" | "RIGHT" | "MID" | "CONCAT" | "INSERT" | "DELETE" | "REPLACE"
+            | "FIND" => "string functions",
+            "ADD_TOD_TIME" | "ADD_DT_TIME" | "SUB_DATE_DATE" | "SUB_TOD_TIME" | "SUB_TOD_TOD"
+            | "SUB_DT_TIME" | "SUB_DT_DT" | "CONCAT_DATE_TOD" | "CONCAT_DATE" | "CONCAT_TOD"
+            | "CONCAT_DT" | "SPLIT_DATE" | "SPLIT_TOD" | "SPLIT_DT" | "DAY_OF_WEEK" => {
+                "date and time functions"
+            }
             "REF" | "ADR" | "REFERENCE" => "references (REF, ADR)",
             "SIZEOF" => "SIZEOF",
             "PRINTF" => "printf (a RuSTy extension)",
             _ if name.contains("BCD") => "BCD conversions",
             _ if name.contains("STRING") || name.contains("CHAR") => "string conversions",
-            _ if name.starts_with("DATE_") || name.starts_with("DT_") || name.starts_with("TOD_") || name.contains("_TO_DATE") || name.contains("_TO_DT") || name.contains("_TO_TOD") => "date and time conversions",
+            _ if name.starts_with("DATE_")
+                || name.starts_with("DT_")
+                || name.starts_with("TOD_")
+                || name.contains("_TO_DATE")
+                || name.contains("_TO_DT")
+                || name.contains("_TO_TOD") =>
+            {
+                "date and time conversions"
+            }
             _ => return None,
         })
     }
@@ -195,8 +206,16 @@ impl Builtin {
 
 impl<'s> BodyCx<'_, 's> {
     /// Orders the arguments of a standard function by its formal parameter names.
-    fn builtin_args(&mut self, b: Builtin, name: &str, args: &'s [Arg], span: Span) -> Option<Vec<&'s Expr>> {
-        let positional = args.iter().all(|a| matches!(a.kind, ArgKind::Positional(_)));
+    fn builtin_args(
+        &mut self,
+        b: Builtin,
+        name: &str,
+        args: &'s [Arg],
+        span: Span,
+    ) -> Option<Vec<&'s Expr>> {
+        let positional = args
+            .iter()
+            .all(|a| matches!(a.kind, ArgKind::Positional(_)));
         let mut out: Vec<Option<&'s Expr>> = Vec::new();
         if positional {
             out = args
@@ -214,14 +233,22 @@ impl<'s> BodyCx<'_, 's> {
                         let idx = (0..args.len().max(3) + 1).find(|&i| b.param_name(i) == pname);
                         let Some(i) = idx else {
                             let n = self.l.text(pn.span).to_string();
-                            self.l.error(codes::E_NO_MEMBER, format!("`{name}` has no parameter named `{n}`"), pn.span);
+                            self.l.error(
+                                codes::E_NO_MEMBER,
+                                format!("`{name}` has no parameter named `{n}`"),
+                                pn.span,
+                            );
                             return None;
                         };
                         if out.len() <= i {
                             out.resize(i + 1, None);
                         }
                         if out[i].is_some() {
-                            self.l.error(codes::E_ARG_COUNT, "this parameter is given twice", a.span);
+                            self.l.error(
+                                codes::E_ARG_COUNT,
+                                "this parameter is given twice",
+                                a.span,
+                            );
                             return None;
                         }
                         out[i] = Some(value);
@@ -235,7 +262,11 @@ impl<'s> BodyCx<'_, 's> {
                         return None;
                     }
                     ArgKind::Output { .. } => {
-                        self.l.error(codes::E_ARG_DIRECTION, format!("`{name}` has no outputs besides its result"), a.span);
+                        self.l.error(
+                            codes::E_ARG_DIRECTION,
+                            format!("`{name}` has no outputs besides its result"),
+                            a.span,
+                        );
                         return None;
                     }
                 }
@@ -312,8 +343,21 @@ impl<'s> BodyCx<'_, 's> {
     }
 
     /// Emits a standard function call.
-    pub(super) fn builtin_call(&mut self, b: Builtin, args: &'s [Arg], want: Option<Ty>, span: Span) -> Option<Val> {
-        let name = self.l.text(span).split('(').next().unwrap_or("").trim().to_ascii_uppercase();
+    pub(super) fn builtin_call(
+        &mut self,
+        b: Builtin,
+        args: &'s [Arg],
+        want: Option<Ty>,
+        span: Span,
+    ) -> Option<Val> {
+        let name = self
+            .l
+            .text(span)
+            .split('(')
+            .next()
+            .unwrap_or("")
+            .trim()
+            .to_ascii_uppercase();
         let xs = self.builtin_args(b, &name, args, span)?;
         use Builtin::*;
         match b {
@@ -324,17 +368,28 @@ impl<'s> BodyCx<'_, 's> {
             Convert { from, to, trunc } => self.conversion_call(xs[0], from, to, trunc, &name),
             Trunc => {
                 let x = self.real_arg(xs[0], &name)?;
-                let to = if x.ty == Ty::Elem(ElemType::LReal) { ElemType::LInt } else { ElemType::DInt };
+                let to = if x.ty == Ty::Elem(ElemType::LReal) {
+                    ElemType::LInt
+                } else {
+                    ElemType::DInt
+                };
                 let v = self.b.convert(ConvOp::FToSi, to.ir_type(), x.v);
-                Some(Val { v, ty: Ty::Elem(to) })
+                Some(Val {
+                    v,
+                    ty: Ty::Elem(to),
+                })
             }
             Abs => {
                 let x = self.emit(xs[0], want);
                 match x.ty {
-                    t if t.is_real() => Some(Val { v: self.b.unary(UnaryOp::Fabs, x.v), ty: t }),
-                    t if t.is_signed() && t.elem().is_some_and(|e| e.is_integer()) => {
-                        Some(Val { v: self.b.unary(UnaryOp::Iabs, x.v), ty: t })
-                    }
+                    t if t.is_real() => Some(Val {
+                        v: self.b.unary(UnaryOp::Fabs, x.v),
+                        ty: t,
+                    }),
+                    t if t.is_signed() && t.elem().is_some_and(|e| e.is_integer()) => Some(Val {
+                        v: self.b.unary(UnaryOp::Iabs, x.v),
+                        ty: t,
+                    }),
                     t if t.is_int_like() => Some(x),
                     Ty::Error => None,
                     t => self.bad_arg(&name, "a number", t, xs[0].span),
@@ -342,7 +397,10 @@ impl<'s> BodyCx<'_, 's> {
             }
             Math(op) => {
                 let x = self.real_arg(xs[0], &name)?;
-                Some(Val { v: self.b.unary(op, x.v), ty: x.ty })
+                Some(Val {
+                    v: self.b.unary(op, x.v),
+                    ty: x.ty,
+                })
             }
             Expt => {
                 let x = self.emit(xs[0], want);
@@ -357,8 +415,13 @@ impl<'s> BodyCx<'_, 's> {
                     x
                 } else {
                     // An integer base with a real exponent: compute in the exponent's type.
-                    let (Some(f), Some(t)) = (x.ty.elem(), n.ty.elem()) else { return None };
-                    Val { v: self.convert(x.v, f, t), ty: n.ty }
+                    let (Some(f), Some(t)) = (x.ty.elem(), n.ty.elem()) else {
+                        return None;
+                    };
+                    Val {
+                        v: self.convert(x.v, f, t),
+                        ty: n.ty,
+                    }
                 };
                 let e = x.ty.elem()?;
                 let v = if e.is_real() {
@@ -368,7 +431,9 @@ impl<'s> BodyCx<'_, 's> {
                     };
                     self.b.binary(BinaryOp::Fpow, x.v, nv)
                 } else {
-                    let ne = n.ty.elem().filter(|ne| ne.is_integer() || ne.is_bit_string());
+                    let ne =
+                        n.ty.elem()
+                            .filter(|ne| ne.is_integer() || ne.is_bit_string());
                     let Some(ne) = ne else {
                         return self.bad_arg(&name, "an integer exponent", n.ty, xs[1].span);
                     };
@@ -409,12 +474,18 @@ impl<'s> BodyCx<'_, 's> {
                         None => c,
                     });
                 }
-                Some(Val { v: acc?, ty: Ty::BOOL })
+                Some(Val {
+                    v: acc?,
+                    ty: Ty::BOOL,
+                })
             }
             Not => {
                 let x = self.emit(xs[0], want);
                 match x.ty {
-                    t if t == Ty::BOOL || t.is_int_like() => Some(Val { v: self.b.unary(UnaryOp::Bnot, x.v), ty: t }),
+                    t if t == Ty::BOOL || t.is_int_like() => Some(Val {
+                        v: self.b.unary(UnaryOp::Bnot, x.v),
+                        ty: t,
+                    }),
                     Ty::Error => None,
                     t => self.bad_arg(&name, "BOOL or a bit string", t, xs[0].span),
                 }
@@ -428,10 +499,16 @@ impl<'s> BodyCx<'_, 's> {
                 let e = match x.ty.elem() {
                     Some(e) if x.ty.is_int_like() => e,
                     _ if x.ty == Ty::Error => return None,
-                    _ => return self.bad_arg(&name, "a bit string or an integer", x.ty, xs[0].span),
+                    _ => {
+                        return self.bad_arg(&name, "a bit string or an integer", x.ty, xs[0].span)
+                    }
                 };
                 let n = self.emit(xs[1], Some(Ty::Elem(ElemType::UDInt)));
-                let Some(ne) = n.ty.elem().filter(|ne| ne.is_integer() || (ne.is_bit_string() && *ne != ElemType::Bool)) else {
+                let Some(ne) = n
+                    .ty
+                    .elem()
+                    .filter(|ne| ne.is_integer() || (ne.is_bit_string() && *ne != ElemType::Bool))
+                else {
                     if n.ty == Ty::Error {
                         return None;
                     }
@@ -443,14 +520,20 @@ impl<'s> BodyCx<'_, 's> {
                 let t = e.ir_type();
                 let rotate = matches!(op, BinaryOp::Rotl | BinaryOp::Rotr);
                 let count = self.shift_count(n.v, ne, t, rotate);
-                Some(Val { v: self.b.binary(op, x.v, count), ty: x.ty })
+                Some(Val {
+                    v: self.b.binary(op, x.v, count),
+                    ty: x.ty,
+                })
             }
             Sel => {
                 let g = self.emit_as(xs[0], Ty::BOOL);
                 let t = self.common_type(&xs[1..], want, &name)?;
                 let a = self.emit_as(xs[1], t);
                 let c = self.emit_as(xs[2], t);
-                Some(Val { v: self.b.select(g, c, a), ty: t })
+                Some(Val {
+                    v: self.b.select(g, c, a),
+                    ty: t,
+                })
             }
             Max | Min => {
                 let t = self.common_type(&xs, want, &name)?;
@@ -473,7 +556,10 @@ impl<'s> BodyCx<'_, 's> {
                 let below = self.arith(Op::Lt, x, mn, e);
                 let lo = self.b.select(below, mn, x);
                 let above = self.arith(Op::Gt, lo, mx, e);
-                Some(Val { v: self.b.select(above, mx, lo), ty: t })
+                Some(Val {
+                    v: self.b.select(above, mx, lo),
+                    ty: t,
+                })
             }
             Mux => {
                 let k = self.emit(xs[0], Some(Ty::DINT));
@@ -500,7 +586,10 @@ impl<'s> BodyCx<'_, 's> {
                 match op {
                     Op::Add | Op::Sub => {
                         let y = self.emit_as(xs[1], Ty::TIME);
-                        Some(Val { v: self.arith(op, x, y, ElemType::Time), ty: Ty::TIME })
+                        Some(Val {
+                            v: self.arith(op, x, y, ElemType::Time),
+                            ty: Ty::TIME,
+                        })
                     }
                     _ => {
                         let n = self.emit(xs[1], None);
@@ -508,13 +597,21 @@ impl<'s> BodyCx<'_, 's> {
                             t if t.is_real() => {
                                 let nf = self.as_lreal(n);
                                 let xf = self.b.convert(ConvOp::SiToF, Type::F64, x);
-                                let fop = if op == Op::Mul { BinaryOp::Fmul } else { BinaryOp::Fdiv };
+                                let fop = if op == Op::Mul {
+                                    BinaryOp::Fmul
+                                } else {
+                                    BinaryOp::Fdiv
+                                };
                                 let r = self.b.binary(fop, xf, nf);
                                 self.b.convert(ConvOp::FToSi, Type::I32, r)
                             }
                             Ty::Elem(ne) if ne.is_integer() => {
                                 let nv = self.convert(n.v, ne, ElemType::DInt);
-                                let iop = if op == Op::Mul { BinaryOp::Imul } else { BinaryOp::Sdiv };
+                                let iop = if op == Op::Mul {
+                                    BinaryOp::Imul
+                                } else {
+                                    BinaryOp::Sdiv
+                                };
                                 self.b.binary(iop, x, nv)
                             }
                             Ty::Error => return None,
@@ -589,7 +686,11 @@ impl<'s> BodyCx<'_, 's> {
     /// An argument that must be REAL or LREAL (an untyped literal becomes LREAL).
     fn real_arg(&mut self, e: &'s Expr, name: &str) -> Option<Val> {
         let t = self.infer(e);
-        let target = if t.is_literal() { Ty::Elem(ElemType::LReal) } else { t };
+        let target = if t.is_literal() {
+            Ty::Elem(ElemType::LReal)
+        } else {
+            t
+        };
         let x = self.emit(e, Some(target));
         match x.ty {
             t if t.is_real() => Some(x),
@@ -600,12 +701,23 @@ impl<'s> BodyCx<'_, 's> {
 
     fn bad_arg(&mut self, name: &str, wants: &str, got: Ty, span: Span) -> Option<Val> {
         let g = self.l.ty_name(got);
-        self.l.error(codes::E_TYPE_MISMATCH, format!("`{name}` needs {wants}, not {g}"), span);
+        self.l.error(
+            codes::E_TYPE_MISMATCH,
+            format!("`{name}` needs {wants}, not {g}"),
+            span,
+        );
         None
     }
 
     /// `X_TO_Y(v)` and friends.
-    fn conversion_call(&mut self, e: &'s Expr, from: Option<ElemType>, to: ElemType, trunc: bool, name: &str) -> Option<Val> {
+    fn conversion_call(
+        &mut self,
+        e: &'s Expr,
+        from: Option<ElemType>,
+        to: ElemType,
+        trunc: bool,
+        name: &str,
+    ) -> Option<Val> {
         let inferred = self.infer(e);
         let want = match from {
             Some(f) => Ty::Elem(f),
@@ -625,7 +737,11 @@ impl<'s> BodyCx<'_, 's> {
                 } else {
                     let d = plcc_ir::diag::Diagnostic::error(
                         codes::E_TYPE_MISMATCH,
-                        format!("`{name}` converts from {}, not from {}", f.name(), xe.name()),
+                        format!(
+                            "`{name}` converts from {}, not from {}",
+                            f.name(),
+                            xe.name()
+                        ),
                         e.span,
                     );
                     self.l.diags.push(d);
@@ -635,21 +751,49 @@ impl<'s> BodyCx<'_, 's> {
             _ => x.v,
         };
         let from = from.unwrap_or(xe);
-        let convertible = |t: ElemType| t != ElemType::Ref && !matches!(t, ElemType::Char | ElemType::WChar | ElemType::Date | ElemType::Tod | ElemType::Dt);
+        let convertible = |t: ElemType| {
+            t != ElemType::Ref
+                && !matches!(
+                    t,
+                    ElemType::Char
+                        | ElemType::WChar
+                        | ElemType::Date
+                        | ElemType::Tod
+                        | ElemType::Dt
+                )
+        };
         if !convertible(from) || !convertible(to) {
-            self.l.error(codes::E_UNSUPPORTED, format!("not supported yet: `{name}`"), e.span);
+            self.l.error(
+                codes::E_UNSUPPORTED,
+                format!("not supported yet: `{name}`"),
+                e.span,
+            );
             return None;
         }
         if trunc {
             if !from.is_real() || !(to.is_integer() || to.is_bit_string()) || to == ElemType::Bool {
-                self.l.error(codes::E_TYPE_MISMATCH, format!("`{name}` truncates a REAL or LREAL to an integer"), e.span);
+                self.l.error(
+                    codes::E_TYPE_MISMATCH,
+                    format!("`{name}` truncates a REAL or LREAL to an integer"),
+                    e.span,
+                );
                 return None;
             }
-            let op = if to.is_signed() { ConvOp::FToSi } else { ConvOp::FToUi };
+            let op = if to.is_signed() {
+                ConvOp::FToSi
+            } else {
+                ConvOp::FToUi
+            };
             let v = self.b.convert(op, to.ir_type(), src);
-            return Some(Val { v, ty: Ty::Elem(to) });
+            return Some(Val {
+                v,
+                ty: Ty::Elem(to),
+            });
         }
         let v = self.convert(src, from, to);
-        Some(Val { v, ty: Ty::Elem(to) })
+        Some(Val {
+            v,
+            ty: Ty::Elem(to),
+        })
     }
 }

@@ -34,7 +34,9 @@ fn params_of(cx: &BodyCx<'_, '_>, p: PouId) -> Vec<Param> {
         .vars
         .iter()
         .enumerate()
-        .filter(|(_, v)| matches!(v.section, VarKind::Input | VarKind::InOut | VarKind::Output) && !v.constant)
+        .filter(|(_, v)| {
+            matches!(v.section, VarKind::Input | VarKind::InOut | VarKind::Output) && !v.constant
+        })
         .map(|(i, v)| Param {
             var: i,
             section: v.section,
@@ -46,7 +48,11 @@ impl<'s> BodyCx<'_, 's> {
     /// A call used as a statement.
     pub(super) fn call_stmt(&mut self, e: &'s Expr) {
         let ExprKind::Call { callee, args } = &e.kind else {
-            self.l.error(codes::NOT_A_STATEMENT, "this expression does nothing: only calls can be statements", e.span);
+            self.l.error(
+                codes::NOT_A_STATEMENT,
+                "this expression does nothing: only calls can be statements",
+                e.span,
+            );
             return;
         };
         match self.classify(callee, args) {
@@ -62,7 +68,13 @@ impl<'s> BodyCx<'_, 's> {
     }
 
     /// A call used as a value.
-    pub(super) fn call_expr(&mut self, callee: &'s Expr, args: &'s [Arg], want: Option<Ty>, span: Span) -> Option<Val> {
+    pub(super) fn call_expr(
+        &mut self,
+        callee: &'s Expr,
+        args: &'s [Arg],
+        want: Option<Ty>,
+        span: Span,
+    ) -> Option<Val> {
         match self.classify(callee, args) {
             Callee::Instance(_, fb) => {
                 let n = self.l.pou(fb).display.clone();
@@ -77,7 +89,11 @@ impl<'s> BodyCx<'_, 's> {
                 let v = self.func_call(p, args, span);
                 if v.is_none() {
                     let n = self.l.pou(p).display.clone();
-                    self.l.error(codes::E_NO_RESULT, format!("FUNCTION `{n}` has no result type, so it gives no value"), span);
+                    self.l.error(
+                        codes::E_NO_RESULT,
+                        format!("FUNCTION `{n}` has no result type, so it gives no value"),
+                        span,
+                    );
                 }
                 v
             }
@@ -95,7 +111,9 @@ impl<'s> BodyCx<'_, 's> {
 
     /// The result type of a call, without emitting anything.
     pub(super) fn infer_call(&mut self, callee: &Expr, args: &[Arg]) -> Ty {
-        let ExprKind::Name(id) = &callee.kind else { return Ty::Error };
+        let ExprKind::Name(id) = &callee.kind else {
+            return Ty::Error;
+        };
         if self.l.pou(self.pou).var(id.sym).is_some() {
             return Ty::Error;
         }
@@ -116,7 +134,9 @@ impl<'s> BodyCx<'_, 's> {
         match &callee.kind {
             ExprKind::Name(id) => {
                 if self.l.pou(self.pou).var(id.sym).is_some() {
-                    let Some(place) = self.place(callee) else { return Callee::Error };
+                    let Some(place) = self.place(callee) else {
+                        return Callee::Error;
+                    };
                     return match place.ty {
                         Ty::Fb(fb) => Callee::Instance(place, fb),
                         Ty::Error => Callee::Error,
@@ -146,7 +166,11 @@ impl<'s> BodyCx<'_, 's> {
                             Callee::Error
                         }
                         PouKind::Program => {
-                            self.l.error(codes::E_NOT_CALLABLE, format!("PROGRAM `{n}` cannot be called"), id.span);
+                            self.l.error(
+                                codes::E_NOT_CALLABLE,
+                                format!("PROGRAM `{n}` cannot be called"),
+                                id.span,
+                            );
                             Callee::Error
                         }
                     };
@@ -159,7 +183,11 @@ impl<'s> BodyCx<'_, 's> {
                     // An argument of a type already reported (a STRING variable) makes
                     // this a consequence: say nothing more.
                     if !self.any_arg_failed(args) {
-                        self.l.error(codes::E_UNSUPPORTED, format!("not supported yet: {what}"), id.span);
+                        self.l.error(
+                            codes::E_UNSUPPORTED,
+                            format!("not supported yet: {what}"),
+                            id.span,
+                        );
                     }
                     return Callee::Error;
                 }
@@ -167,23 +195,34 @@ impl<'s> BodyCx<'_, 's> {
                     return Callee::Error;
                 }
                 let n = self.l.text(id.span).to_string();
-                self.l.error(codes::E_UNDECLARED, format!("no FUNCTION or function block instance named `{n}`"), id.span);
+                self.l.error(
+                    codes::E_UNDECLARED,
+                    format!("no FUNCTION or function block instance named `{n}`"),
+                    id.span,
+                );
                 Callee::Error
             }
             ExprKind::Member(..) | ExprKind::Index(..) | ExprKind::Paren(_) => {
-                let Some(place) = self.place(callee) else { return Callee::Error };
+                let Some(place) = self.place(callee) else {
+                    return Callee::Error;
+                };
                 match place.ty {
                     Ty::Fb(fb) => Callee::Instance(place, fb),
                     Ty::Error => Callee::Error,
                     t => {
                         let tn = self.l.ty_name(t);
-                        self.l.error(codes::E_NOT_CALLABLE, format!("a value of type {tn} cannot be called"), callee.span);
+                        self.l.error(
+                            codes::E_NOT_CALLABLE,
+                            format!("a value of type {tn} cannot be called"),
+                            callee.span,
+                        );
                         Callee::Error
                     }
                 }
             }
             _ => {
-                self.l.error(codes::E_NOT_CALLABLE, "this cannot be called", callee.span);
+                self.l
+                    .error(codes::E_NOT_CALLABLE, "this cannot be called", callee.span);
                 Callee::Error
             }
         }
@@ -203,7 +242,12 @@ impl<'s> BodyCx<'_, 's> {
     /// Matches call arguments to parameters: positional ones in declaration order
     /// (inputs and in-outs), named ones by name. Reports unknown, duplicate and
     /// misdirected arguments.
-    fn bind_args(&mut self, callee: PouId, params: &[Param], args: &'s [Arg]) -> Vec<Option<&'s Arg>> {
+    fn bind_args(
+        &mut self,
+        callee: PouId,
+        params: &[Param],
+        args: &'s [Arg],
+    ) -> Vec<Option<&'s Arg>> {
         let mut bound: Vec<Option<&'s Arg>> = vec![None; params.len()];
         let mut next_pos = 0usize;
         let callee_name = self.l.pou(callee).display.clone();
@@ -214,7 +258,11 @@ impl<'s> BodyCx<'_, 's> {
                         next_pos += 1;
                     }
                     if next_pos >= params.len() {
-                        self.l.error(codes::E_ARG_COUNT, format!("too many arguments for `{callee_name}`"), a.span);
+                        self.l.error(
+                            codes::E_ARG_COUNT,
+                            format!("too many arguments for `{callee_name}`"),
+                            a.span,
+                        );
                         continue;
                     }
                     next_pos += 1;
@@ -223,7 +271,8 @@ impl<'s> BodyCx<'_, 's> {
                 ArgKind::Input { name, .. } | ArgKind::Output { name, .. } => {
                     let upper = self.l.sym_name(name.sym).to_string();
                     if upper == "EN" || upper == "ENO" {
-                        self.l.error(codes::E_UNSUPPORTED, "not supported yet: EN/ENO", name.span);
+                        self.l
+                            .error(codes::E_UNSUPPORTED, "not supported yet: EN/ENO", name.span);
                         continue;
                     }
                     let found = params
@@ -241,7 +290,9 @@ impl<'s> BodyCx<'_, 's> {
                     let is_out = matches!(a.kind, ArgKind::Output { .. });
                     if is_out != (params[i].section == VarKind::Output) {
                         let msg = if is_out {
-                            format!("`{n}` is an input of `{callee_name}`: pass it with `{n} := value`")
+                            format!(
+                                "`{n}` is an input of `{callee_name}`: pass it with `{n} := value`"
+                            )
                         } else {
                             format!("`{n}` is an output of `{callee_name}`: read it with `{n} => variable`")
                         };
@@ -252,7 +303,8 @@ impl<'s> BodyCx<'_, 's> {
                 }
             };
             if bound[slot].is_some() {
-                self.l.error(codes::E_ARG_COUNT, "this parameter is given twice", a.span);
+                self.l
+                    .error(codes::E_ARG_COUNT, "this parameter is given twice", a.span);
                 continue;
             }
             bound[slot] = Some(a);
@@ -273,18 +325,28 @@ impl<'s> BodyCx<'_, 's> {
     fn inout_arg(&mut self, e: &'s Expr, ty: Ty) -> Option<Value> {
         let p = self.place(e)?;
         if p.bit.is_some() {
-            self.l.error(codes::E_NOT_A_PLACE, "a single bit cannot be passed to a VAR_IN_OUT", e.span);
+            self.l.error(
+                codes::E_NOT_A_PLACE,
+                "a single bit cannot be passed to a VAR_IN_OUT",
+                e.span,
+            );
             return None;
         }
         if p.ty != ty && p.ty != Ty::Error {
             let (a, b) = (self.l.ty_name(ty), self.l.ty_name(p.ty));
-            self.l.error(codes::E_TYPE_MISMATCH, format!("a VAR_IN_OUT of type {a} needs a variable of exactly that type, not {b}"), e.span);
+            self.l.error(
+                codes::E_TYPE_MISMATCH,
+                format!("a VAR_IN_OUT of type {a} needs a variable of exactly that type, not {b}"),
+                e.span,
+            );
             return None;
         }
         if !self.check_writable(&p, e.span) {
             return None;
         }
-        let Some(guard) = p.guard else { return Some(p.addr) };
+        let Some(guard) = p.guard else {
+            return Some(p.addr);
+        };
         // An array element whose index was out of bounds: the callee gets a scratch
         // variable holding the type's zero instead of the stand-in element, so it
         // reads 0 and its writes are dropped, as for any other access.
@@ -319,7 +381,10 @@ impl<'s> BodyCx<'_, 's> {
                         None => {
                             self.l.error(
                                 codes::E_MISSING_ARG,
-                                format!("the VAR_IN_OUT `{}` of `{callee_name}` must be given", v.display),
+                                format!(
+                                    "the VAR_IN_OUT `{}` of `{callee_name}` must be given",
+                                    v.display
+                                ),
                                 span,
                             );
                             None
@@ -329,7 +394,11 @@ impl<'s> BodyCx<'_, 's> {
                         Some(a) => a,
                         None => {
                             // Keep the IR valid: point at a scratch slot.
-                            let mt = self.l.mem_type(v.ty).map(|m| m.0).unwrap_or(MemType::Scalar(Type::I64));
+                            let mt = self
+                                .l
+                                .mem_type(v.ty)
+                                .map(|m| m.0)
+                                .unwrap_or(MemType::Scalar(Type::I64));
                             let s = self.b.slot("scratch", mt);
                             self.b.slot_addr(s)
                         }
@@ -338,7 +407,9 @@ impl<'s> BodyCx<'_, 's> {
                 }
                 _ => {
                     let t = v.ty.ir().unwrap_or(Type::I32);
-                    let s = self.b.slot(format!("{callee_name}.{}", v.display), MemType::Scalar(t));
+                    let s = self
+                        .b
+                        .slot(format!("{callee_name}.{}", v.display), MemType::Scalar(t));
                     let addr = self.b.slot_addr(s);
                     ir_args.push(addr);
                     if let Some(a) = bound[i] {
@@ -360,17 +431,28 @@ impl<'s> BodyCx<'_, 's> {
 
     /// `name => target` after a call: stores an output into its target.
     fn assign_output(&mut self, out: Val, a: &'s Arg) {
-        let ArgKind::Output { negated, target, .. } = &a.kind else { return };
+        let ArgKind::Output {
+            negated, target, ..
+        } = &a.kind
+        else {
+            return;
+        };
         let Some(target) = target else { return };
         let mut out = out;
         if *negated {
             if out.ty != Ty::BOOL {
-                self.l.error(codes::E_TYPE_MISMATCH, "only a BOOL output can be negated", a.span);
+                self.l.error(
+                    codes::E_TYPE_MISMATCH,
+                    "only a BOOL output can be negated",
+                    a.span,
+                );
                 return;
             }
             out.v = self.b.unary(UnaryOp::Bnot, out.v);
         }
-        let Some(place) = self.place(target) else { return };
+        let Some(place) = self.place(target) else {
+            return;
+        };
         if !self.check_writable(&place, target.span) {
             return;
         }
@@ -383,7 +465,9 @@ impl<'s> BodyCx<'_, 's> {
     fn default_input(&mut self, p: PouId, vi: usize, span: Span) -> Value {
         let v = self.l.pou(p).vars[vi].clone();
         let ast = self.l.pou_ast(p);
-        let init = ast.var_blocks[v.decl.0 as usize].decls[v.decl.1 as usize].init.as_ref();
+        let init = ast.var_blocks[v.decl.0 as usize].decls[v.decl.1 as usize]
+            .init
+            .as_ref();
         if let Some(crate::ast::Init::Expr(e)) = init {
             if let Some((c, _)) = self.l.const_eval(e, p) {
                 return self.constant(c, v.ty, None, span).v;
@@ -410,7 +494,9 @@ impl<'s> BodyCx<'_, 's> {
         let mut outs: Vec<(usize, &'s Arg)> = Vec::new();
         for (i, prm) in params.iter().enumerate() {
             let v = self.l.pou(fb).vars[prm.var].clone();
-            let Some(Storage::Field(fi)) = self.l.ir[fb.0 as usize].storage[prm.var] else { continue };
+            let Some(Storage::Field(fi)) = self.l.ir[fb.0 as usize].storage[prm.var] else {
+                continue;
+            };
             let Some(agg) = agg else { continue };
             match prm.section {
                 VarKind::Input => {
@@ -420,21 +506,23 @@ impl<'s> BodyCx<'_, 's> {
                         self.b.store(val, addr);
                     }
                 }
-                VarKind::InOut => match bound[i].and_then(Self::arg_value) {
-                    Some(e) => {
-                        if let Some(p) = self.inout_arg(e, v.ty) {
-                            let addr = self.b.field_addr(inst.addr, agg, fi);
-                            self.b.store(p, addr);
+                VarKind::InOut => {
+                    match bound[i].and_then(Self::arg_value) {
+                        Some(e) => {
+                            if let Some(p) = self.inout_arg(e, v.ty) {
+                                let addr = self.b.field_addr(inst.addr, agg, fi);
+                                self.b.store(p, addr);
+                            }
                         }
-                    }
-                    None => {
-                        self.l.error(
+                        None => {
+                            self.l.error(
                             codes::E_MISSING_ARG,
                             format!("the VAR_IN_OUT `{}` of `{fb_name}` must be given at every call", v.display),
                             span,
                         );
+                        }
                     }
-                },
+                }
                 _ => {
                     if let Some(a) = bound[i] {
                         outs.push((prm.var, a));
@@ -447,7 +535,8 @@ impl<'s> BodyCx<'_, 's> {
         }
         for (vi, a) in outs {
             let v = self.l.pou(fb).vars[vi].clone();
-            let (Some(Storage::Field(fi)), Some(agg)) = (self.l.ir[fb.0 as usize].storage[vi], agg) else {
+            let (Some(Storage::Field(fi)), Some(agg)) = (self.l.ir[fb.0 as usize].storage[vi], agg)
+            else {
                 continue;
             };
             let addr = self.b.field_addr(inst.addr, agg, fi);

@@ -42,7 +42,10 @@ impl ConstVal {
             (ConstVal::Int(v), e) => match int_range(e) {
                 Some((lo, hi)) if e != ElemType::Bool => {
                     if v < lo || v > hi {
-                        Err(format!("{v} is out of the range of {} ({lo}..{hi})", e.name()))
+                        Err(format!(
+                            "{v} is out of the range of {} ({lo}..{hi})",
+                            e.name()
+                        ))
                     } else {
                         Ok(ConstVal::Int(v))
                     }
@@ -60,8 +63,12 @@ const MAX_DEPTH: u32 = 32;
 
 /// Resolves the name of a constant; it gets the evaluator back (expression, depth,
 /// wanted type) to evaluate the constant's initialiser.
-type Lookup<'a> =
-    dyn Fn(Symbol, u32, &dyn Fn(&Expr, u32, Option<Ty>) -> Option<(ConstVal, Ty)>) -> Option<(ConstVal, Ty)> + 'a;
+type Lookup<'a> = dyn Fn(
+        Symbol,
+        u32,
+        &dyn Fn(&Expr, u32, Option<Ty>) -> Option<(ConstVal, Ty)>,
+    ) -> Option<(ConstVal, Ty)>
+    + 'a;
 
 /// Evaluates a constant expression. `lookup` resolves names of constants (it gets the
 /// evaluator back to evaluate their initialisers). TIME literals evaluate to
@@ -70,7 +77,12 @@ type Lookup<'a> =
 ///
 /// `want` is the type the value is for (a constant's declared type), if known: `NOT`
 /// of an untyped integer literal needs a width (`NOT 16#00FF` is 16#FF00 as a WORD).
-pub fn eval(e: &Expr, interner: &Interner, lookup: &Lookup<'_>, want: Option<Ty>) -> Option<(ConstVal, Ty)> {
+pub fn eval(
+    e: &Expr,
+    interner: &Interner,
+    lookup: &Lookup<'_>,
+    want: Option<Ty>,
+) -> Option<(ConstVal, Ty)> {
     eval_depth(e, interner, lookup, 0, want)
 }
 
@@ -86,7 +98,13 @@ fn not_at_width(v: i128, e: ElemType) -> Option<i128> {
     Some(if lo < 0 && u > hi { u - modulus } else { u })
 }
 
-fn eval_depth(e: &Expr, interner: &Interner, lookup: &Lookup<'_>, depth: u32, want: Option<Ty>) -> Option<(ConstVal, Ty)> {
+fn eval_depth(
+    e: &Expr,
+    interner: &Interner,
+    lookup: &Lookup<'_>,
+    depth: u32,
+    want: Option<Ty>,
+) -> Option<(ConstVal, Ty)> {
     if depth > MAX_DEPTH {
         return None;
     }
@@ -127,7 +145,9 @@ fn eval_depth(e: &Expr, interner: &Interner, lookup: &Lookup<'_>, depth: u32, wa
                 None => Some((v, t)),
             }
         }
-        ExprKind::Name(id) => lookup(id.sym, depth, &|x, d, w| eval_depth(x, interner, lookup, d, w)),
+        ExprKind::Name(id) => lookup(id.sym, depth, &|x, d, w| {
+            eval_depth(x, interner, lookup, d, w)
+        }),
         ExprKind::Unary(op, inner) => {
             let (v, t) = rec(inner, depth + 1)?;
             let r = match (op, v) {
@@ -190,11 +210,16 @@ fn eval_depth(e: &Expr, interner: &Interner, lookup: &Lookup<'_>, depth: u32, wa
                 },
                 _ => return None,
             };
-            let ty = if matches!(v, ConstVal::Bool(_)) { Ty::BOOL } else { ty };
+            let ty = if matches!(v, ConstVal::Bool(_)) {
+                Ty::BOOL
+            } else {
+                ty
+            };
             // REAL arithmetic rounds every result to binary32, as at run time (binary64
             // arithmetic on binary32 operands, then one rounding, gives the same
             // result for + - * /).
-            let single = ty == Ty::Elem(ElemType::Real) || (ty.is_literal() && want == Some(Ty::Elem(ElemType::Real)));
+            let single = ty == Ty::Elem(ElemType::Real)
+                || (ty.is_literal() && want == Some(Ty::Elem(ElemType::Real)));
             let v = match v {
                 ConstVal::Real(r) if single => ConstVal::Real(r as f32 as f64),
                 v => v,

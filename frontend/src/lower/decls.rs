@@ -86,7 +86,11 @@ impl Lowerer<'_> {
         }
         for (bi, block) in pou.var_blocks.iter().enumerate() {
             match block.kind {
-                VarKind::Var | VarKind::Input | VarKind::Output | VarKind::InOut | VarKind::Temp => {}
+                VarKind::Var
+                | VarKind::Input
+                | VarKind::Output
+                | VarKind::InOut
+                | VarKind::Temp => {}
                 VarKind::Global
                 | VarKind::External
                 | VarKind::Access
@@ -100,7 +104,11 @@ impl Lowerer<'_> {
                         _ => "VAR_STAT",
                     };
                     let at = self.keyword_span(block.span);
-                    self.error(codes::E_UNSUPPORTED, format!("not supported yet: {what}"), at);
+                    self.error(
+                        codes::E_UNSUPPORTED,
+                        format!("not supported yet: {what}"),
+                        at,
+                    );
                     continue;
                 }
             }
@@ -114,7 +122,10 @@ impl Lowerer<'_> {
             for (di, decl) in block.decls.iter().enumerate() {
                 let ty = self.resolve_type(&decl.ty, id);
                 if let Ty::Fb(_) = ty {
-                    if matches!(block.kind, VarKind::Input | VarKind::Output | VarKind::InOut) {
+                    if matches!(
+                        block.kind,
+                        VarKind::Input | VarKind::Output | VarKind::InOut
+                    ) {
                         self.error(
                             codes::E_UNSUPPORTED,
                             "not supported yet: function block instances as inputs, outputs or in-outs",
@@ -186,12 +197,19 @@ impl Lowerer<'_> {
                 let name = self.sym_name(id.sym).to_string();
                 if let Some(e) = plcc_ir::ElemType::from_name(&name) {
                     if e == plcc_ir::ElemType::Ref {
-                        self.error(codes::E_UNKNOWN_TYPE, format!("unknown type `{}`", self.text(id.span)), id.span);
+                        self.error(
+                            codes::E_UNKNOWN_TYPE,
+                            format!("unknown type `{}`", self.text(id.span)),
+                            id.span,
+                        );
                         return Ty::Error;
                     }
                     return Ty::Elem(e);
                 }
-                if matches!(name.as_str(), "LDATE" | "LTOD" | "LTIME_OF_DAY" | "LDT" | "LDATE_AND_TIME") {
+                if matches!(
+                    name.as_str(),
+                    "LDATE" | "LTOD" | "LTIME_OF_DAY" | "LDT" | "LDATE_AND_TIME"
+                ) {
                     self.error(
                         codes::E_UNSUPPORTED,
                         format!("not supported yet: the type {name}"),
@@ -203,7 +221,11 @@ impl Lowerer<'_> {
                     return match self.pou(p).kind {
                         PouKind::FunctionBlock => Ty::Fb(p),
                         k => {
-                            let what = if k == PouKind::Program { "PROGRAM" } else { "FUNCTION" };
+                            let what = if k == PouKind::Program {
+                                "PROGRAM"
+                            } else {
+                                "FUNCTION"
+                            };
                             self.error(
                                 codes::E_NOT_A_TYPE,
                                 format!("`{}` is a {what}, not a type", self.text(id.span)),
@@ -247,7 +269,9 @@ impl Lowerer<'_> {
                     if h < l {
                         self.error(
                             codes::E_BAD_DECLARATION,
-                            format!("array bounds {l}..{h}: the upper bound is below the lower bound"),
+                            format!(
+                                "array bounds {l}..{h}: the upper bound is below the lower bound"
+                            ),
                             lo.span.to(hi.span),
                         );
                         return Ty::Error;
@@ -281,15 +305,27 @@ impl Lowerer<'_> {
             }
             TypeSpec::String { wide, span, .. } => {
                 let what = if *wide { "WSTRING" } else { "STRING" };
-                self.error(codes::E_UNSUPPORTED, format!("not supported yet: {what}"), *span);
+                self.error(
+                    codes::E_UNSUPPORTED,
+                    format!("not supported yet: {what}"),
+                    *span,
+                );
                 Ty::Error
             }
             TypeSpec::Subrange { span, .. } => {
-                self.error(codes::E_UNSUPPORTED, "not supported yet: subrange types", *span);
+                self.error(
+                    codes::E_UNSUPPORTED,
+                    "not supported yet: subrange types",
+                    *span,
+                );
                 Ty::Error
             }
             TypeSpec::Enum { span, .. } => {
-                self.error(codes::E_UNSUPPORTED, "not supported yet: enumerations", *span);
+                self.error(
+                    codes::E_UNSUPPORTED,
+                    "not supported yet: enumerations",
+                    *span,
+                );
                 Ty::Error
             }
             TypeSpec::Struct { span, .. } => {
@@ -320,7 +356,11 @@ impl Lowerer<'_> {
         match self.const_eval(e, pou) {
             Some((ConstVal::Int(v), _)) => Some(v),
             Some(_) => {
-                self.error(codes::E_NOT_CONSTANT, "expected an integer constant", e.span);
+                self.error(
+                    codes::E_NOT_CONSTANT,
+                    "expected an integer constant",
+                    e.span,
+                );
                 None
             }
             None => {
@@ -342,7 +382,12 @@ impl Lowerer<'_> {
 
     /// [`Self::const_eval`] for a value of type `want` (which gives untyped literals
     /// a width where one is needed).
-    pub(super) fn const_eval_as(&mut self, e: &ast::Expr, pou: PouId, want: Option<Ty>) -> Option<(ConstVal, Ty)> {
+    pub(super) fn const_eval_as(
+        &mut self,
+        e: &ast::Expr,
+        pou: PouId,
+        want: Option<Ty>,
+    ) -> Option<(ConstVal, Ty)> {
         let ast = self.pou_ast(pou);
         let interner = &*self.interner;
         type Eval<'e> = dyn Fn(&ast::Expr, u32, Option<Ty>) -> Option<(ConstVal, Ty)> + 'e;
@@ -353,10 +398,14 @@ impl Lowerer<'_> {
                 }
                 for decl in &block.decls {
                     if decl.names.iter().any(|n| n.sym == sym) {
-                        let Some(ast::Init::Expr(init)) = &decl.init else { return None };
+                        let Some(ast::Init::Expr(init)) = &decl.init else {
+                            return None;
+                        };
                         // The constant's declared type wins over the literal's.
                         let declared = match &decl.ty {
-                            TypeSpec::Named(id) => plcc_ir::ElemType::from_name(interner.name(id.sym)).map(Ty::Elem),
+                            TypeSpec::Named(id) => {
+                                plcc_ir::ElemType::from_name(interner.name(id.sym)).map(Ty::Elem)
+                            }
                             _ => None,
                         };
                         let (v, t) = this(init, depth + 1, declared)?;
@@ -446,7 +495,12 @@ impl Lowerer<'_> {
             params.push(ty);
         }
         let ret = self.pou(id).ret.ir();
-        let mut f = Function::new(self.pou(id).display.clone(), FuncKind::Function, params, ret);
+        let mut f = Function::new(
+            self.pou(id).display.clone(),
+            FuncKind::Function,
+            params,
+            ret,
+        );
         f.span = Some(self.pou(id).name.span);
         let fid = self.module.add_func(f);
         self.ir[id.0 as usize].body = Some(fid);
@@ -500,7 +554,12 @@ impl Lowerer<'_> {
         let mut body = Function::new(name.clone(), kind, vec![Type::Ptr], None);
         body.span = Some(self.pou(id).name.span);
         let body = self.module.add_func(body);
-        let mut init = Function::new(format!("{name}$init"), FuncKind::Init, vec![Type::Ptr], None);
+        let mut init = Function::new(
+            format!("{name}$init"),
+            FuncKind::Init,
+            vec![Type::Ptr],
+            None,
+        );
         init.span = Some(self.pou(id).name.span);
         let init = self.module.add_func(init);
         let ir = &mut self.ir[id.0 as usize];
@@ -575,9 +634,7 @@ impl Lowerer<'_> {
     pub(super) fn mem_type(&mut self, ty: Ty) -> Option<(MemType, Option<plcc_ir::ElemType>)> {
         match ty {
             Ty::Elem(e) => Some((MemType::Scalar(e.ir_type()), Some(e))),
-            Ty::Fb(p) => self.ir[p.0 as usize]
-                .agg
-                .map(|a| (MemType::Agg(a), None)),
+            Ty::Fb(p) => self.ir[p.0 as usize].agg.map(|a| (MemType::Agg(a), None)),
             Ty::Array(a) => Some((MemType::Agg(self.array_agg(a, 0)), None)),
             _ => None,
         }
@@ -592,7 +649,8 @@ impl Lowerer<'_> {
         let (elem, elem_type) = if (dim as usize) + 1 < at.dims.len() {
             (MemType::Agg(self.array_agg(a, dim + 1)), None)
         } else {
-            self.mem_type(at.elem).unwrap_or((MemType::Scalar(Type::I8), None))
+            self.mem_type(at.elem)
+                .unwrap_or((MemType::Scalar(Type::I8), None))
         };
         let (lo, hi) = at.dims[dim as usize];
         let name = format!("arr{}", self.module.aggs.len());

@@ -90,7 +90,12 @@ fn is_duration(t: Ty) -> bool {
 }
 
 /// Types a binary operator. The error text says what is wrong.
-pub(super) fn binary_typing(op: Op, l: Ty, r: Ty, names: &dyn Fn(Ty) -> String) -> Result<BinTyping, String> {
+pub(super) fn binary_typing(
+    op: Op,
+    l: Ty,
+    r: Ty,
+    names: &dyn Fn(Ty) -> String,
+) -> Result<BinTyping, String> {
     let mismatch = || {
         format!(
             "`{}` cannot combine {} and {}",
@@ -144,12 +149,18 @@ pub(super) fn binary_typing(op: Op, l: Ty, r: Ty, names: &dyn Fn(Ty) -> String) 
                     result: Ty::BOOL,
                 })
             } else {
-                Err(format!("`{}` cannot compare values of type {}", op.symbol(), names(t)))
+                Err(format!(
+                    "`{}` cannot compare values of type {}",
+                    op.symbol(),
+                    names(t)
+                ))
             }
         }
         Op::Add | Op::Sub => {
             if is_duration(l) || is_duration(r) {
-                let t = unify(l, r).filter(|t| is_duration(*t)).ok_or_else(mismatch)?;
+                let t = unify(l, r)
+                    .filter(|t| is_duration(*t))
+                    .ok_or_else(mismatch)?;
                 return Ok(same(t));
             }
             let t = unify(l, r).ok_or_else(mismatch)?;
@@ -201,7 +212,11 @@ pub(super) fn binary_typing(op: Op, l: Ty, r: Ty, names: &dyn Fn(Ty) -> String) 
                 })
             } else if r.is_real() {
                 // An integer base with a real exponent computes in the exponent's type.
-                let t = if r == Ty::AnyReal { Ty::Elem(ElemType::LReal) } else { r };
+                let t = if r == Ty::AnyReal {
+                    Ty::Elem(ElemType::LReal)
+                } else {
+                    r
+                };
                 Ok(BinTyping {
                     operand: t,
                     right: Some(r),
@@ -253,13 +268,15 @@ impl<'s> BodyCx<'_, 's> {
             ExprKind::Index(..) => {
                 let (base, idx) = index_chain(e);
                 match self.infer(base) {
-                    Ty::Array(a) if self.l.types.get(a).dims.len() == idx.len() => self.l.types.get(a).elem,
+                    Ty::Array(a) if self.l.types.get(a).dims.len() == idx.len() => {
+                        self.l.types.get(a).elem
+                    }
                     _ => Ty::Error,
                 }
             }
-            ExprKind::Unary(UOp::Not, x) | ExprKind::Unary(UOp::Neg, x) | ExprKind::Unary(UOp::Plus, x) => {
-                self.infer(x)
-            }
+            ExprKind::Unary(UOp::Not, x)
+            | ExprKind::Unary(UOp::Neg, x)
+            | ExprKind::Unary(UOp::Plus, x) => self.infer(x),
             ExprKind::Binary(op, a, b) => {
                 let (l, r) = (self.infer(a), self.infer(b));
                 binary_typing(*op, l, r, &|_| String::new())
@@ -297,7 +314,11 @@ impl<'s> BodyCx<'_, 's> {
             // in terms of the type plcc picked for it.
             let lit = self.infer(e);
             if lit.is_literal() {
-                let what = if lit == Ty::AnyInt { "an integer literal" } else { "a real literal" };
+                let what = if lit == Ty::AnyInt {
+                    "an integer literal"
+                } else {
+                    "a real literal"
+                };
                 let want = self.l.ty_name(target);
                 let mut d = plcc_ir::diag::Diagnostic::error(
                     codes::E_TYPE_MISMATCH,
@@ -346,7 +367,11 @@ impl<'s> BodyCx<'_, 's> {
             }
             _ => {
                 let (a, b) = (self.l.ty_name(target), self.l.ty_name(v.ty));
-                self.l.error(codes::E_TYPE_MISMATCH, format!("expected {a}, found {b}"), span);
+                self.l.error(
+                    codes::E_TYPE_MISMATCH,
+                    format!("expected {a}, found {b}"),
+                    span,
+                );
                 self.zero(target)
             }
         }
@@ -390,13 +415,19 @@ impl<'s> BodyCx<'_, 's> {
             },
             ExprKind::Deref(_) => self.unsupported("dereferencing with ^", e.span),
             ExprKind::EnumValue { .. } => self.unsupported("enumerations", e.span),
-            ExprKind::DirectAddress(_) => self.unsupported("direct addresses in expressions", e.span),
+            ExprKind::DirectAddress(_) => {
+                self.unsupported("direct addresses in expressions", e.span)
+            }
             ExprKind::Partial(..) => self.unsupported("partial access (.%B, .%W, .%D)", e.span),
         }
     }
 
     pub(super) fn unsupported(&mut self, what: &str, span: Span) -> Val {
-        self.l.error(codes::E_UNSUPPORTED, format!("not supported yet: {what}"), span);
+        self.l.error(
+            codes::E_UNSUPPORTED,
+            format!("not supported yet: {what}"),
+            span,
+        );
         self.error_val()
     }
 
@@ -408,13 +439,19 @@ impl<'s> BodyCx<'_, 's> {
 
     /// Emits a literal; `negate` folds a unary minus in (so `-128` is a SINT).
     fn literal(&mut self, e: &'s Expr, want: Option<Ty>, negate: bool) -> Val {
-        let ExprKind::Literal(lit) = &e.kind else { unreachable!() };
+        let ExprKind::Literal(lit) = &e.kind else {
+            unreachable!()
+        };
         let prefix = match lit.type_prefix {
             Some(p) => match ElemType::from_name(self.l.sym_name(p.sym)) {
                 Some(t) => Some(Ty::Elem(t)),
                 None => {
                     let n = self.l.text(p.span).to_string();
-                    self.l.error(codes::E_UNKNOWN_TYPE, format!("unknown type `{n}` in a typed literal"), p.span);
+                    self.l.error(
+                        codes::E_UNKNOWN_TYPE,
+                        format!("unknown type `{n}` in a typed literal"),
+                        p.span,
+                    );
                     return self.error_val();
                 }
             },
@@ -425,7 +462,11 @@ impl<'s> BodyCx<'_, 's> {
             LiteralKind::Real(text) => {
                 // Keep the text so REAL literals round once, straight to binary32.
                 let ty = concretize(prefix.unwrap_or(Ty::AnyReal), want);
-                let ty = if prefix.is_some() { prefix.unwrap_or(ty) } else { ty };
+                let ty = if prefix.is_some() {
+                    prefix.unwrap_or(ty)
+                } else {
+                    ty
+                };
                 return match ty {
                     Ty::Elem(ElemType::Real) => {
                         let f: f32 = text.parse().unwrap_or(0.0);
@@ -439,7 +480,11 @@ impl<'s> BodyCx<'_, 's> {
                     }
                     _ => {
                         let t = self.l.ty_name(ty);
-                        self.l.error(codes::E_TYPE_MISMATCH, format!("a real literal cannot be a {t}"), e.span);
+                        self.l.error(
+                            codes::E_TYPE_MISMATCH,
+                            format!("a real literal cannot be a {t}"),
+                            e.span,
+                        );
                         self.error_val()
                     }
                 };
@@ -600,9 +645,33 @@ impl<'s> BodyCx<'_, 's> {
         let signed = e.is_signed();
         let b = &mut self.b;
         match op {
-            Op::Add => b.binary(if float { BinaryOp::Fadd } else { BinaryOp::Iadd }, x, y),
-            Op::Sub => b.binary(if float { BinaryOp::Fsub } else { BinaryOp::Isub }, x, y),
-            Op::Mul => b.binary(if float { BinaryOp::Fmul } else { BinaryOp::Imul }, x, y),
+            Op::Add => b.binary(
+                if float {
+                    BinaryOp::Fadd
+                } else {
+                    BinaryOp::Iadd
+                },
+                x,
+                y,
+            ),
+            Op::Sub => b.binary(
+                if float {
+                    BinaryOp::Fsub
+                } else {
+                    BinaryOp::Isub
+                },
+                x,
+                y,
+            ),
+            Op::Mul => b.binary(
+                if float {
+                    BinaryOp::Fmul
+                } else {
+                    BinaryOp::Imul
+                },
+                x,
+                y,
+            ),
             Op::Div => b.binary(
                 if float {
                     BinaryOp::Fdiv
@@ -614,7 +683,15 @@ impl<'s> BodyCx<'_, 's> {
                 x,
                 y,
             ),
-            Op::Mod => b.binary(if signed { BinaryOp::Srem } else { BinaryOp::Urem }, x, y),
+            Op::Mod => b.binary(
+                if signed {
+                    BinaryOp::Srem
+                } else {
+                    BinaryOp::Urem
+                },
+                x,
+                y,
+            ),
             Op::And | Op::AndThen => b.binary(BinaryOp::Band, x, y),
             Op::Or | Op::OrElse => b.binary(BinaryOp::Bor, x, y),
             Op::Xor => b.binary(BinaryOp::Bxor, x, y),
@@ -650,7 +727,15 @@ impl<'s> BodyCx<'_, 's> {
     }
 
     /// Operators whose right operand keeps its own type: TIME * n, TIME / n, and `**`.
-    fn mixed_binary(&mut self, op: Op, a: &'s Expr, b: &'s Expr, operand: Ty, right: Ty, span: Span) -> Val {
+    fn mixed_binary(
+        &mut self,
+        op: Op,
+        a: &'s Expr,
+        b: &'s Expr,
+        operand: Ty,
+        right: Ty,
+        span: Span,
+    ) -> Val {
         let (left_e, right_e, right_ty, time_on_right) =
             if op == Op::Mul && is_duration(self.infer(b)) && !is_duration(self.infer(a)) {
                 (b, a, self.infer(a), true)
@@ -676,7 +761,11 @@ impl<'s> BodyCx<'_, 's> {
                 let nf = self.as_lreal(n);
                 let xf = self.b.convert(ConvOp::SiToF, Type::F64, x);
                 let r = self.b.binary(
-                    if op == Op::Mul { BinaryOp::Fmul } else { BinaryOp::Fdiv },
+                    if op == Op::Mul {
+                        BinaryOp::Fmul
+                    } else {
+                        BinaryOp::Fdiv
+                    },
                     xf,
                     nf,
                 );
@@ -684,7 +773,15 @@ impl<'s> BodyCx<'_, 's> {
             }
             Ty::Elem(ne) => {
                 let nv = self.convert(n.v, ne, e);
-                self.b.binary(if op == Op::Mul { BinaryOp::Imul } else { BinaryOp::Sdiv }, x, nv)
+                self.b.binary(
+                    if op == Op::Mul {
+                        BinaryOp::Imul
+                    } else {
+                        BinaryOp::Sdiv
+                    },
+                    x,
+                    nv,
+                )
             }
             _ => x,
         };
@@ -715,7 +812,11 @@ impl<'s> BodyCx<'_, 's> {
                 Ty::Error => self.b.fconst(t, 1.0),
                 other => {
                     let name = self.l.ty_name(other);
-                    self.l.error(codes::E_TYPE_MISMATCH, format!("an exponent cannot be {name}"), span);
+                    self.l.error(
+                        codes::E_TYPE_MISMATCH,
+                        format!("an exponent cannot be {name}"),
+                        span,
+                    );
                     self.b.fconst(t, 1.0)
                 }
             };
@@ -723,11 +824,17 @@ impl<'s> BodyCx<'_, 's> {
         }
         // Integer power by repeated squaring (a helper function).
         let exp = match n.ty {
-            Ty::Elem(ne) if ne.is_integer() || ne.is_bit_string() => self.convert(n.v, ne, ElemType::LInt),
+            Ty::Elem(ne) if ne.is_integer() || ne.is_bit_string() => {
+                self.convert(n.v, ne, ElemType::LInt)
+            }
             Ty::Error => self.b.iconst(Type::I64, 1),
             other => {
                 let name = self.l.ty_name(other);
-                self.l.error(codes::E_TYPE_MISMATCH, format!("an integer power needs an integer exponent, not {name}"), span);
+                self.l.error(
+                    codes::E_TYPE_MISMATCH,
+                    format!("an integer power needs an integer exponent, not {name}"),
+                    span,
+                );
                 self.b.iconst(Type::I64, 1)
             }
         };
@@ -806,12 +913,20 @@ impl<'s> BodyCx<'_, 's> {
                 }
             }
             (false, true) => {
-                let op = if from.is_signed() { ConvOp::SiToF } else { ConvOp::UiToF };
+                let op = if from.is_signed() {
+                    ConvOp::SiToF
+                } else {
+                    ConvOp::UiToF
+                };
                 self.b.convert(op, tt, v)
             }
             (true, false) => {
                 let r = self.b.unary(UnaryOp::Fnearest, v);
-                let op = if to.is_signed() { ConvOp::FToSi } else { ConvOp::FToUi };
+                let op = if to.is_signed() {
+                    ConvOp::FToSi
+                } else {
+                    ConvOp::FToUi
+                };
                 self.b.convert(op, tt, r)
             }
             (false, false) => {
@@ -901,7 +1016,11 @@ impl<'s> BodyCx<'_, 's> {
                 Named::Place(p) => Some(p),
                 Named::Const(..) => {
                     let n = self.l.text(id.span).to_string();
-                    self.l.error(codes::E_WRITE_CONSTANT, format!("`{n}` is a constant"), id.span);
+                    self.l.error(
+                        codes::E_WRITE_CONSTANT,
+                        format!("`{n}` is a constant"),
+                        id.span,
+                    );
                     None
                 }
                 Named::Error => None,
@@ -914,7 +1033,9 @@ impl<'s> BodyCx<'_, 's> {
                         p.guard = bp.guard;
                         // Writing an input of a member instance of an instance we may
                         // not write is still not allowed.
-                        if bp.access != super::body::Access::ReadWrite && p.access == super::body::Access::ReadWrite {
+                        if bp.access != super::body::Access::ReadWrite
+                            && p.access == super::body::Access::ReadWrite
+                        {
                             p.access = bp.access;
                         }
                         Some(p)
@@ -935,11 +1056,17 @@ impl<'s> BodyCx<'_, 's> {
             ExprKind::Bit(base, bit) => {
                 let bp = self.place(base)?;
                 let bits = match bp.ty.elem() {
-                    Some(e) if e != ElemType::Bool && (e.is_bit_string() || e.is_integer()) => e.ir_type().bits(),
+                    Some(e) if e != ElemType::Bool && (e.is_bit_string() || e.is_integer()) => {
+                        e.ir_type().bits()
+                    }
                     _ => {
                         if bp.ty != Ty::Error {
                             let tn = self.l.ty_name(bp.ty);
-                            self.l.error(codes::E_TYPE_MISMATCH, format!("bit access needs a bit string or an integer, not {tn}"), e.span);
+                            self.l.error(
+                                codes::E_TYPE_MISMATCH,
+                                format!("bit access needs a bit string or an integer, not {tn}"),
+                                e.span,
+                            );
                         }
                         return None;
                     }
@@ -969,7 +1096,11 @@ impl<'s> BodyCx<'_, 's> {
                 let Ty::Array(a) = bp.ty else {
                     if bp.ty != Ty::Error {
                         let tn = self.l.ty_name(bp.ty);
-                        self.l.error(codes::E_BAD_INDEX, format!("a value of type {tn} cannot be indexed"), e.span);
+                        self.l.error(
+                            codes::E_BAD_INDEX,
+                            format!("a value of type {tn} cannot be indexed"),
+                            e.span,
+                        );
                     }
                     return None;
                 };
@@ -977,7 +1108,11 @@ impl<'s> BodyCx<'_, 's> {
                 if idx.len() != at.dims.len() {
                     self.l.error(
                         codes::E_BAD_INDEX,
-                        format!("this array has {} dimension(s), not {}", at.dims.len(), idx.len()),
+                        format!(
+                            "this array has {} dimension(s), not {}",
+                            at.dims.len(),
+                            idx.len()
+                        ),
                         e.span,
                     );
                     return None;
@@ -1002,11 +1137,19 @@ impl<'s> BodyCx<'_, 's> {
                 })
             }
             ExprKind::Call { .. } => {
-                self.l.error(codes::E_NOT_A_PLACE, "a call result cannot be assigned or passed by reference", e.span);
+                self.l.error(
+                    codes::E_NOT_A_PLACE,
+                    "a call result cannot be assigned or passed by reference",
+                    e.span,
+                );
                 None
             }
             _ => {
-                self.l.error(codes::E_NOT_A_PLACE, "this expression is not a variable", e.span);
+                self.l.error(
+                    codes::E_NOT_A_PLACE,
+                    "this expression is not a variable",
+                    e.span,
+                );
                 None
             }
         }
@@ -1016,16 +1159,32 @@ impl<'s> BodyCx<'_, 's> {
     /// and an `i1` that says whether the index was in bounds. An index outside raises
     /// the fault flag and addresses element `lo` instead, so every target stays
     /// memory-safe; the caller's guard makes the read 0 and drops the write.
-    fn index(&mut self, base: Value, agg: plcc_ir::AggId, (lo, hi): (i64, i64), ie: &'s Expr) -> Option<(Value, Value)> {
+    fn index(
+        &mut self,
+        base: Value,
+        agg: plcc_ir::AggId,
+        (lo, hi): (i64, i64),
+        ie: &'s Expr,
+    ) -> Option<(Value, Value)> {
         let it = self.infer(ie);
-        let want = if it.is_literal() || it == Ty::Error { Ty::DINT } else { it };
+        let want = if it.is_literal() || it == Ty::Error {
+            Ty::DINT
+        } else {
+            it
+        };
         let iv = self.emit(ie, Some(want));
         let (v, e) = match iv.ty {
-            Ty::Elem(e) if e.is_integer() || (e.is_bit_string() && e != ElemType::Bool) => (iv.v, e),
+            Ty::Elem(e) if e.is_integer() || (e.is_bit_string() && e != ElemType::Bool) => {
+                (iv.v, e)
+            }
             Ty::Error => return None,
             t => {
                 let tn = self.l.ty_name(t);
-                self.l.error(codes::E_BAD_INDEX, format!("an array index must be an integer, not {tn}"), ie.span);
+                self.l.error(
+                    codes::E_BAD_INDEX,
+                    format!("an array index must be an integer, not {tn}"),
+                    ie.span,
+                );
                 return None;
             }
         };

@@ -22,7 +22,9 @@ impl Lowerer<'_> {
         } else {
             for name in &opts.programs {
                 let found = self.pous.iter().enumerate().position(|(i, p)| {
-                    p.kind == PouKind::Program && self.used[i] && p.display.eq_ignore_ascii_case(name)
+                    p.kind == PouKind::Program
+                        && self.used[i]
+                        && p.display.eq_ignore_ascii_case(name)
                 });
                 match found {
                     Some(i) => chosen.push(i),
@@ -35,7 +37,9 @@ impl Lowerer<'_> {
         }
         for i in chosen {
             let ir = &self.ir[i];
-            let (Some(agg), Some(body), Some(init)) = (ir.agg, ir.body, ir.init) else { continue };
+            let (Some(agg), Some(body), Some(init)) = (ir.agg, ir.body, ir.init) else {
+                continue;
+            };
             let name = self.pous[i].display.clone();
             let data = self.module.add_data(DataDef {
                 name: name.clone(),

@@ -169,7 +169,11 @@ impl<'s> Lowerer<'s> {
     /// Runs every phase. `std_units` is the number of leading units that hold the
     /// standard library. Returns the module (if there were no errors) and every
     /// diagnostic.
-    pub fn run(mut self, std_units: usize, opts: &LowerOptions) -> (Option<Module>, Vec<Diagnostic>) {
+    pub fn run(
+        mut self,
+        std_units: usize,
+        opts: &LowerOptions,
+    ) -> (Option<Module>, Vec<Diagnostic>) {
         self.collect_pous(std_units);
         self.report_unsupported_items();
         for i in 0..self.pous.len() {
@@ -255,7 +259,11 @@ impl<'s> Lowerer<'s> {
                             collect_enum_values(&d.ty, &mut self.unsupported_names);
                             if matches!(
                                 b.kind,
-                                VarKind::External | VarKind::Global | VarKind::Access | VarKind::Config | VarKind::Stat
+                                VarKind::External
+                                    | VarKind::Global
+                                    | VarKind::Access
+                                    | VarKind::Config
+                                    | VarKind::Stat
                             ) {
                                 self.unsupported_names.extend(d.names.iter().map(|n| n.sym));
                             }
@@ -265,10 +273,7 @@ impl<'s> Lowerer<'s> {
                 let (what, span) = match item {
                     ast::Item::Pou(p) => {
                         if let Some(b) = &p.extends {
-                            errs.push((
-                                "EXTENDS (inheritance between function blocks)",
-                                b.span,
-                            ));
+                            errs.push(("EXTENDS (inheritance between function blocks)", b.span));
                         }
                         for &m in &p.unsupported_members {
                             errs.push(("METHOD and other object-oriented members", m));
@@ -287,7 +292,9 @@ impl<'s> Lowerer<'s> {
                             ast::TypeSpec::Subrange { .. } => "subrange types",
                             ast::TypeSpec::Array { .. } => "named array types",
                             ast::TypeSpec::String { .. } => "STRING types",
-                            ast::TypeSpec::Ref { .. } | ast::TypeSpec::Pointer { .. } => "reference types",
+                            ast::TypeSpec::Ref { .. } | ast::TypeSpec::Pointer { .. } => {
+                                "reference types"
+                            }
                             ast::TypeSpec::Named(_) => "type aliases",
                         };
                         (what, t.name.span)

@@ -21,10 +21,14 @@ impl<'s> BodyCx<'_, 's> {
         match &s.kind {
             StmtKind::Assign { target, value } => self.assign(target, value),
             StmtKind::RefAssign { target, .. } => {
-                self.l.error(codes::E_UNSUPPORTED, "not supported yet: REF=", target.span);
+                self.l
+                    .error(codes::E_UNSUPPORTED, "not supported yet: REF=", target.span);
             }
             StmtKind::Call(e) => self.call_stmt(e),
-            StmtKind::If { branches, else_body } => self.if_stmt(branches, else_body.as_deref()),
+            StmtKind::If {
+                branches,
+                else_body,
+            } => self.if_stmt(branches, else_body.as_deref()),
             StmtKind::Case {
                 selector,
                 arms,
@@ -134,7 +138,9 @@ impl<'s> BodyCx<'_, 's> {
                         let n = self.l.text(id.span).to_string();
                         self.l.error(
                             codes::E_NOT_A_PLACE,
-                            format!("`{n}` is a FUNCTION: its result can only be assigned inside `{n}`"),
+                            format!(
+                                "`{n}` is a FUNCTION: its result can only be assigned inside `{n}`"
+                            ),
                             id.span,
                         );
                         let _ = self.emit(value, None);
@@ -154,14 +160,21 @@ impl<'s> BodyCx<'_, 's> {
                     Ty::Fb(p) => self.l.pou(p).display.clone(),
                     _ => String::new(),
                 };
-                let (n, inst) = (self.l.text(name.span).to_string(), self.l.text(base.span).to_string());
+                let (n, inst) = (
+                    self.l.text(name.span).to_string(),
+                    self.l.text(base.span).to_string(),
+                );
                 self.l.diags.push(
                     plcc_ir::diag::Diagnostic::error(
                         codes::E_WRITE_OUTPUT,
-                        format!("cannot assign to `{n}`: it is an output of the {fb} instance `{inst}`"),
+                        format!(
+                            "cannot assign to `{n}`: it is an output of the {fb} instance `{inst}`"
+                        ),
                         target.span,
                     )
-                    .with_note("an instance writes its own outputs; outside code can only read them"),
+                    .with_note(
+                        "an instance writes its own outputs; outside code can only read them",
+                    ),
                 );
                 self.check_only(value);
                 return;
@@ -218,11 +231,14 @@ impl<'s> BodyCx<'_, 's> {
             Access::OwnInput => {
                 // Common practice (matiec, CODESYS) allows it, and for a FUNCTION the
                 // input is a copy; but the caller's value is lost: warn.
-                self.l.diags.push(plcc_ir::diag::Diagnostic::warning(
-                    codes::W_WRITE_INPUT,
-                    "assignment to an input (VAR_INPUT) inside its own POU",
-                    span,
-                ).with_note("the caller's value is overwritten; a local copy in VAR is clearer"));
+                self.l.diags.push(
+                    plcc_ir::diag::Diagnostic::warning(
+                        codes::W_WRITE_INPUT,
+                        "assignment to an input (VAR_INPUT) inside its own POU",
+                        span,
+                    )
+                    .with_note("the caller's value is overwritten; a local copy in VAR is clearer"),
+                );
                 return true;
             }
             Access::OtherOutput => (
@@ -254,7 +270,12 @@ impl<'s> BodyCx<'_, 's> {
         self.b.switch_to(join);
     }
 
-    fn case_stmt(&mut self, selector: &'s Expr, arms: &'s [ast::CaseArm], else_body: Option<&'s [Stmt]>) {
+    fn case_stmt(
+        &mut self,
+        selector: &'s Expr,
+        arms: &'s [ast::CaseArm],
+        else_body: Option<&'s [Stmt]>,
+    ) {
         self.set_span(selector.span);
         let sel = self.emit(selector, None);
         let ok_type = matches!(sel.ty, Ty::Error) || sel.ty.is_int_like();
@@ -282,7 +303,9 @@ impl<'s> BodyCx<'_, 's> {
                 } else {
                     self.case_label_value(hi_e, sel_elem)
                 };
-                let (Some(lo), Some(hi)) = (lo, hi) else { continue };
+                let (Some(lo), Some(hi)) = (lo, hi) else {
+                    continue;
+                };
                 let span = lo_e.span.to(hi_e.span);
                 if hi < lo {
                     self.l.error(
@@ -356,9 +379,15 @@ impl<'s> BodyCx<'_, 's> {
             }
             _ => {
                 match &e.kind {
-                    crate::ast::ExprKind::Name(id) if self.l.is_unsupported_name(id.sym) => return None,
+                    crate::ast::ExprKind::Name(id) if self.l.is_unsupported_name(id.sym) => {
+                        return None
+                    }
                     crate::ast::ExprKind::EnumValue { .. } => {
-                        self.l.error(codes::E_UNSUPPORTED, "not supported yet: enumerations", e.span);
+                        self.l.error(
+                            codes::E_UNSUPPORTED,
+                            "not supported yet: enumerations",
+                            e.span,
+                        );
                         return None;
                     }
                     _ => {}
@@ -389,7 +418,11 @@ impl<'s> BodyCx<'_, 's> {
         let var_expr_place = match self.resolve_name(var, true) {
             super::body::Named::Place(p) => Some(p),
             super::body::Named::Const(..) => {
-                self.l.error(codes::E_WRITE_CONSTANT, "a FOR control variable cannot be a constant", var.span);
+                self.l.error(
+                    codes::E_WRITE_CONSTANT,
+                    "a FOR control variable cannot be a constant",
+                    var.span,
+                );
                 None
             }
             super::body::Named::Error => None,
@@ -418,7 +451,10 @@ impl<'s> BodyCx<'_, 's> {
             let after = self.b.create_block();
             self.b.jump(after, vec![]);
             self.b.switch_to(dead);
-            self.loops.push(LoopTargets { exit: after, cont: after });
+            self.loops.push(LoopTargets {
+                exit: after,
+                cont: after,
+            });
             self.stmts(body);
             self.loops.pop();
             self.b.jump(after, vec![]);
@@ -446,7 +482,11 @@ impl<'s> BodyCx<'_, 's> {
                     _ => None,
                 };
                 if c == Some(0) {
-                    self.l.error(codes::E_BAD_FOR, "a FOR loop with step 0 never ends", b.span);
+                    self.l.error(
+                        codes::E_BAD_FOR,
+                        "a FOR loop with step 0 never ends",
+                        b.span,
+                    );
                 }
                 (self.emit_as(b, ty), c)
             }

@@ -18,7 +18,9 @@ use rustc_hash::FxHashMap;
 
 /// Runs value numbering on `func`; returns true if any use was redirected.
 pub fn run(func: &mut Function) -> bool {
-    let Some(entry) = func.entry() else { return false };
+    let Some(entry) = func.entry() else {
+        return false;
+    };
     let dom = DomTree::compute(func);
     let mut table: FxHashMap<InstData, Value> = FxHashMap::default();
     // Undo log: keys inserted in each open dominator-tree scope.
@@ -27,7 +29,13 @@ pub fn run(func: &mut Function) -> bool {
     let mut changed = false;
     // Explicit DFS: (block, next child index).
     let mut stack: Vec<(Block, usize)> = vec![(entry, 0)];
-    scopes.push(visit_block(func, entry, &mut table, &mut replace, &mut changed));
+    scopes.push(visit_block(
+        func,
+        entry,
+        &mut table,
+        &mut replace,
+        &mut changed,
+    ));
     while let Some(top) = stack.last_mut() {
         let (b, next) = *top;
         let children = dom.children(b);
@@ -69,8 +77,12 @@ fn visit_block(
 ) -> Vec<InstData> {
     let mut added = Vec::new();
     for &i in &func.block(b).insts {
-        let Some(result) = func.result(i) else { continue };
-        let Some(mut key) = pure_key(func.inst(i)) else { continue };
+        let Some(result) = func.result(i) else {
+            continue;
+        };
+        let Some(mut key) = pure_key(func.inst(i)) else {
+            continue;
+        };
         // Operands already known equal to earlier values make equal keys.
         key.map_args(|v| {
             let mut v = v;
@@ -121,7 +133,9 @@ fn pure_key(data: &InstData) -> Option<InstData> {
 /// Orders the operands of commutative operations so `a+b` and `b+a` meet.
 fn canonicalise(key: &mut InstData) {
     match key {
-        InstData::Binary { op, args } if op.is_commutative() && args[1] < args[0] => args.swap(0, 1),
+        InstData::Binary { op, args } if op.is_commutative() && args[1] < args[0] => {
+            args.swap(0, 1)
+        }
         InstData::Icmp { cond, args } if args[1] < args[0] => {
             args.swap(0, 1);
             *cond = cond.swapped();

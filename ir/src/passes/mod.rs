@@ -19,8 +19,8 @@ pub mod load_store;
 pub mod mem2reg;
 pub mod promote;
 pub mod simplify_cfg;
-pub mod watchdog;
 mod util;
+pub mod watchdog;
 
 #[cfg(test)]
 mod tests;
