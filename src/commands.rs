@@ -185,8 +185,9 @@ pub fn run(a: &RunArgs) -> u8 {
         Ok(p) => p,
         Err(s) => return s,
     };
+    let copy = module.clone();
     let t = std::time::Instant::now();
-    let mut m = match targets::machine_owned(target, module.clone()) {
+    let mut m = match targets::machine_owned(target, copy) {
         Ok(m) => m,
         Err(diags) => {
             for d in diags {

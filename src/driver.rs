@@ -118,8 +118,15 @@ pub fn build_sources(
         timings.push(("verify", t.elapsed()));
         if ok && !opts.no_opt {
             let t = Instant::now();
-            optimise(m);
+            plcc_ir::passes::optimize_program(m);
             timings.push(("optimise", t.elapsed()));
+            if std::env::var_os("PLCC_TIME_PASSES").is_some() {
+                let insts: usize = m.funcs.iter().map(|f| f.live_inst_count()).sum();
+                eprintln!(
+                    "optimised IR: {} functions, {insts} instructions",
+                    m.funcs.len()
+                );
+            }
             let t = Instant::now();
             ok = check(m, "optimisation")
                 .map_err(|e| diagnostics.extend(e))
@@ -137,24 +144,6 @@ pub fn build_sources(
         timings,
         syntax: compiled.syntax,
     })
-}
-
-/// The optimisation pipeline: every function on its own, then inlining of small and
-/// single-use callees, promotion of instance variables to SSA values, and a last
-/// cleanup; functions nothing calls any more are dropped.
-pub fn optimise(m: &mut Module) {
-    use plcc_ir::passes::{gvn, inline, optimize_function, optimize_module, promote};
-    optimize_module(m);
-    inline::run(m, &mut |f| {
-        optimize_function(f);
-    });
-    inline::remove_unreachable_functions(m);
-    promote::run(m);
-    for f in &mut m.funcs {
-        // After promotion every function needs mem2reg and a cleanup anyway.
-        gvn::run(f);
-        optimize_function(f);
-    }
 }
 
 /// Verifies a module; failures are internal errors (bugs in plcc), reported as

@@ -64,7 +64,14 @@ pub fn machine(name: &str, module: &Module) -> Result<Box<dyn Machine>, Vec<Diag
 /// Like [`machine`], taking the module (saves a copy of a large one).
 pub fn machine_owned(name: &str, mut module: Module) -> Result<Box<dyn Machine>, Vec<Diagnostic>> {
     // Loops check the watchdog, so an endless loop ends in an error, not a hang.
+    let t = std::time::Instant::now();
     plcc_ir::passes::watchdog::run(&mut module);
+    if std::env::var_os("PLCC_TIME_PASSES").is_some() {
+        eprintln!(
+            "time: {:>9.3} ms  watchdog checks",
+            t.elapsed().as_secs_f64() * 1e3
+        );
+    }
     let mut m = match name {
         "interp" => plcc_ir::interp::Interp::new(&module)
             .map(|m| Box::new(m) as Box<dyn Machine>)

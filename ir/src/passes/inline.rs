@@ -22,10 +22,10 @@ pub const SMALL_CALLEE: usize = 40;
 /// Inline a callee called from one place only if it has at most this many live
 /// instructions (inlining it adds no code, but very large bodies slow the backend's
 /// register allocation down more than the call costs).
-pub const SINGLE_SITE_CALLEE: usize = 120;
+pub const SINGLE_SITE_CALLEE: usize = 40;
 
 /// Stop growing a caller past this many live instructions.
-pub const MAX_CALLER: usize = 6000;
+pub const MAX_CALLER: usize = 2000;
 
 /// Inlines small callees everywhere and single-call-site callees into their only
 /// caller, callees first. Returns true if anything was inlined. `optimize` runs on

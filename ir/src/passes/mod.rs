@@ -7,7 +7,8 @@
 //! included) and leaves valid SSA. All of them are linear or close to it in the size
 //! of the function, since they run on every compile.
 //!
-//! [`optimize_module`] / [`optimize_function`] run them in a sensible order.
+//! [`optimize_program`] is the whole pipeline; [`optimize_module`] /
+//! [`optimize_function`] run the per-function passes in a sensible order.
 
 pub mod const_fold;
 pub mod copy_prop;
@@ -44,14 +45,14 @@ const CP: u8 = 2;
 const LS: u8 = 4;
 const DCE: u8 = 8;
 const CFG: u8 = 16;
+const ALL: u8 = CF | CP | LS | DCE | CFG;
 
 /// Which passes a change by each cleanup pass can give new work to. A pass is only
 /// rerun when one of these says so, which saves most of the confirmation runs of a
 /// plain "repeat everything until nothing changes" loop:
 /// - folding substitutes values and turns branches into jumps: everyone but itself
 ///   (it revisits rewritten instructions and follows its own substitutions);
-/// - copy propagation substitutes values: the same;
-/// - forwarding substitutes values and removes memory operations: the same;
+/// - copy propagation and forwarding substitute values: the same;
 /// - dead code elimination only removes things, which can only empty blocks
 ///   (simplify_cfg) and remove loads that kept stores alive (load_store);
 /// - CFG simplification merges blocks (new constants, longer blocks), removes edges
@@ -61,8 +62,11 @@ const ENABLES: [u8; 5] = [
     CF | LS | DCE | CFG,
     CF | CP | DCE | CFG,
     LS | CFG,
-    CF | CP | LS | DCE | CFG,
+    ALL,
 ];
+
+/// Rounds of value numbering and cleanup after which a function is left as it is.
+const MAX_GVN_ROUNDS: usize = 4;
 
 /// Runs of cleanup passes after which a function is left as it is (each is linear;
 /// real code settles after a dozen or so).
@@ -70,7 +74,8 @@ const MAX_RUNS: usize = 40;
 
 /// Optimises one function: CFG cleanup, promotion of stack slots, then constant
 /// folding, copy propagation, load/store forwarding, dead code elimination and CFG
-/// simplification until none has anything left to do (with a bound on the work).
+/// simplification until none has anything left to do (with a bound on the work), then
+/// global value numbering and, if it found repeats, the cleanup again.
 /// Returns true if the function changed.
 pub fn optimize_function(func: &mut Function) -> bool {
     if func.layout.is_empty() {
@@ -80,7 +85,23 @@ pub fn optimize_function(func: &mut Function) -> bool {
     // would otherwise have kept in memory.
     let mut changed = simplify_cfg::run(func);
     changed |= mem2reg::run(func);
-    let mut dirty: u8 = CF | CP | LS | DCE | CFG;
+    changed |= cleanup(func, ALL);
+    // Value numbering is the costliest pass (a dominator tree and a hash table): it
+    // runs once the cheap passes have settled, and again only while it finds repeats
+    // (the cleanup after it can expose more).
+    for _ in 0..MAX_GVN_ROUNDS {
+        if !gvn::run(func) {
+            break;
+        }
+        changed = true;
+        cleanup(func, ALL);
+    }
+    changed
+}
+
+/// Runs the cleanup passes, starting with the `dirty` ones, until none has work left.
+fn cleanup(func: &mut Function, mut dirty: u8) -> bool {
+    let mut changed = false;
     let mut runs = 0;
     while dirty != 0 && runs < MAX_RUNS {
         for (k, pass) in CLEANUP.iter().enumerate() {
@@ -99,9 +120,66 @@ pub fn optimize_function(func: &mut Function) -> bool {
     changed
 }
 
-/// Optimises every function of `module` (see [`optimize_function`]).
+/// Optimises every function of `module` (see [`optimize_function`]), on several
+/// threads when the machine has several cores (functions are independent here).
 pub fn optimize_module(module: &mut Module) {
-    for func in &mut module.funcs {
-        optimize_function(func);
+    let all: Vec<&mut Function> = module.funcs.iter_mut().collect();
+    optimize_in_parallel(all);
+}
+
+/// Runs [`optimize_function`] on each function, spreading them over the available
+/// cores by size (largest first, each to the least loaded thread).
+fn optimize_in_parallel(mut funcs: Vec<&mut Function>) {
+    let threads = std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1)
+        .min(8);
+    let total: usize = funcs.iter().map(|f| f.insts.len()).sum();
+    if threads < 2 || total < 20_000 {
+        for f in funcs {
+            optimize_function(f);
+        }
+        return;
     }
+    funcs.sort_by_key(|f| std::cmp::Reverse(f.insts.len()));
+    let mut groups: Vec<(usize, Vec<&mut Function>)> =
+        (0..threads).map(|_| (0, Vec::new())).collect();
+    for f in funcs {
+        let g = groups
+            .iter_mut()
+            .min_by_key(|(load, _)| *load)
+            .expect("at least one group");
+        g.0 += f.insts.len();
+        g.1.push(f);
+    }
+    std::thread::scope(|scope| {
+        for (_, group) in groups {
+            scope.spawn(move || {
+                for f in group {
+                    optimize_function(f);
+                }
+            });
+        }
+    });
+}
+
+/// The whole-program pipeline the driver runs: every function on its own, then
+/// inlining of small and single-use callees (callees first, each caller cleaned up
+/// after), removal of functions nothing calls any more, and promotion of instance
+/// variables to SSA values within each PROGRAM and FB body followed by a last cleanup
+/// of the bodies it changed.
+pub fn optimize_program(module: &mut Module) {
+    optimize_module(module);
+    inline::run(module, &mut |f| {
+        optimize_function(f);
+    });
+    inline::remove_unreachable_functions(module);
+    let changed = promote::run(module);
+    let promoted: Vec<&mut Function> = module
+        .funcs
+        .iter_mut()
+        .zip(changed)
+        .filter_map(|(f, c)| c.then_some(f))
+        .collect();
+    optimize_in_parallel(promoted);
 }

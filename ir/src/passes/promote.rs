@@ -22,21 +22,19 @@ use rustc_hash::FxHashMap;
 type Path = Vec<u32>;
 
 /// Promotes the non-escaping scalar instance fields of every PROGRAM and FB body of
-/// `module`. Returns true if anything changed. Run `mem2reg` afterwards.
-pub fn run(module: &mut Module) -> bool {
-    let mut changed = false;
-    for fi in 0..module.funcs.len() {
+/// `module`. Says for each function whether it changed; run `mem2reg` on those.
+pub fn run(module: &mut Module) -> Vec<bool> {
+    let mut changed = vec![false; module.funcs.len()];
+    for (fi, flag) in changed.iter_mut().enumerate() {
         if !matches!(
             module.funcs[fi].kind,
             FuncKind::ProgramBody | FuncKind::FbBody
         ) {
             continue;
         }
-        let mut f = std::mem::replace(
-            &mut module.funcs[fi],
-            Function::new("", FuncKind::Helper, vec![], None),
-        );
-        changed |= promote_function(module, &mut f);
+        let placeholder = Function::new("", FuncKind::Helper, vec![], None);
+        let mut f = std::mem::replace(&mut module.funcs[fi], placeholder);
+        *flag = promote_function(module, &mut f);
         module.funcs[fi] = f;
     }
     changed
@@ -54,6 +52,10 @@ struct PathInfo {
     written: bool,
     /// Accessed by a load or store at all.
     accessed: bool,
+    /// Accessed inside a loop.
+    in_loop: bool,
+    /// Distinct blocks with an access (counted up to a few).
+    blocks: Vec<crate::entities::Block>,
 }
 
 fn promote_function(module: &Module, f: &mut Function) -> bool {
@@ -72,6 +74,8 @@ fn promote_function(module: &Module, f: &mut Function) -> bool {
         escapes: false,
         written: false,
         accessed: false,
+        in_loop: false,
+        blocks: Vec::new(),
     });
     path_of.insert(this, 0);
     // Layout order visits definitions before uses within a block; a field_addr whose
@@ -99,6 +103,8 @@ fn promote_function(module: &Module, f: &mut Function) -> bool {
                         escapes: false,
                         written: false,
                         accessed: false,
+                        in_loop: false,
+                        blocks: Vec::new(),
                     });
                     paths.len() - 1
                 });
@@ -108,7 +114,8 @@ fn promote_function(module: &Module, f: &mut Function) -> bool {
         }
     }
     // Classify every use of a path value.
-    for (_, i) in f.inst_iter() {
+    let looped = loop_blocks(f);
+    for (b, i) in f.inst_iter() {
         let data = f.inst(i);
         match data {
             InstData::FieldAddr { .. } => {
@@ -118,6 +125,7 @@ fn promote_function(module: &Module, f: &mut Function) -> bool {
             InstData::Load { ty, addr } => {
                 if let Some(&p) = path_of.get(addr) {
                     note_access(&mut paths[p], *ty, false);
+                    note_block(&mut paths[p], b, looped[b.index()]);
                 }
             }
             InstData::Store { value, addr } => {
@@ -127,6 +135,7 @@ fn promote_function(module: &Module, f: &mut Function) -> bool {
                 if let Some(&p) = path_of.get(addr) {
                     let ty = f.value_type(*value);
                     note_access(&mut paths[p], ty, true);
+                    note_block(&mut paths[p], b, looped[b.index()]);
                 }
             }
             other => other.for_each_arg(|v| {
@@ -137,10 +146,15 @@ fn promote_function(module: &Module, f: &mut Function) -> bool {
         }
     }
     // A path is promotable if it is a scalar field, accessed, and neither it nor any
-    // ancestor escapes.
+    // ancestor escapes. It is worth promoting when it is used in a loop or in several
+    // blocks: within one block, load/store forwarding already keeps it in a register,
+    // and promotion would only add the entry load and the exit store.
     let mut promote: Vec<usize> = Vec::new();
     for (id, p) in paths.iter().enumerate() {
         if id == 0 || p.escapes || !p.accessed || p.ty.is_none() {
+            continue;
+        }
+        if !p.in_loop && p.blocks.len() < MIN_BLOCKS {
             continue;
         }
         if ancestor_escapes(&paths, &index, id) {
@@ -241,6 +255,44 @@ fn promote_function(module: &Module, f: &mut Function) -> bool {
     entry_insts.splice(0..0, prologue);
     debug_assert!(matches!(f.value_def(this), ValueDef::Param(..)));
     true
+}
+
+/// A variable used in this many blocks (outside loops) is promoted.
+const MIN_BLOCKS: usize = 3;
+
+fn note_block(p: &mut PathInfo, b: crate::entities::Block, in_loop: bool) {
+    p.in_loop |= in_loop;
+    if p.blocks.len() < MIN_BLOCKS && !p.blocks.contains(&b) {
+        p.blocks.push(b);
+    }
+}
+
+/// Which blocks lie on a cycle: the natural loops of the back edges (an edge to a
+/// block that dominates its source), found by walking predecessors from the source
+/// back to the header.
+fn loop_blocks(f: &Function) -> Vec<bool> {
+    let dom = super::domtree::DomTree::compute(f);
+    let mut in_loop = vec![false; f.blocks.len()];
+    for &b in dom.rpo() {
+        for h in f.successors(b) {
+            if !dom.dominates(h, b) {
+                continue;
+            }
+            in_loop[h.index()] = true;
+            let mut stack = vec![b];
+            while let Some(x) = stack.pop() {
+                if in_loop[x.index()] && x != b {
+                    continue;
+                }
+                in_loop[x.index()] = true;
+                if x == h {
+                    continue;
+                }
+                stack.extend(dom.preds(x).iter().copied().filter(|p| !in_loop[p.index()]));
+            }
+        }
+    }
+    in_loop
 }
 
 fn paths_key(p: &PathInfo) -> Path {

@@ -906,8 +906,7 @@ block0(v0: i16):
     brif v10, block1, block2
 
 block1:
-    v13 = iconst.i16 10
-    v14 = isub v5, v13
+    v14 = isub v5, v9
     return v14
 
 block2:
