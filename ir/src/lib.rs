@@ -9,6 +9,7 @@
 pub mod backend;
 pub mod builder;
 pub mod diag;
+pub mod dominators;
 pub mod entities;
 pub mod function;
 pub mod inst;

@@ -18,10 +18,10 @@
 //! Blocks are visited in reverse postorder, so an operand is simplified before its
 //! uses and one run reaches every chain in the dominator tree.
 
+use crate::dominators::reverse_postorder;
 use crate::entities::{Inst, Value};
 use crate::function::Function;
 use crate::inst::{BinaryOp, ConvOp, FloatCC, InstData, IntCC, UnaryOp};
-use crate::passes::domtree::reverse_postorder;
 use crate::passes::util::{def_inst, ValueMap};
 use crate::types::Type;
 

@@ -7,9 +7,9 @@
 //! sweep; each further sweep only follows loop back edges). A `select` whose two arms
 //! are the same value is a copy too.
 
+use crate::dominators::reverse_postorder;
 use crate::function::Function;
 use crate::inst::InstData;
-use crate::passes::domtree::reverse_postorder;
 use crate::passes::util::{dest_ref, remove_block_params, Incoming, ValueMap};
 
 /// Sweeps beyond which the remaining trivial parameters are left to the next run.

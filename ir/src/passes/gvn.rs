@@ -10,7 +10,7 @@
 //! removed when the first one dominates it, so the flag was raised already. Loads are
 //! left to `load_store`, which knows about memory.
 
-use super::domtree::DomTree;
+use crate::dominators::DomTree;
 use crate::entities::{Block, Value};
 use crate::function::Function;
 use crate::inst::{InstData, Intrinsic};

@@ -15,10 +15,10 @@
 //! Promoted slots (and slots no instruction refers to) are removed from the function
 //! and the remaining ones renumbered, so that static frames (PIC16) shrink too.
 
+use crate::dominators::DomTree;
 use crate::entities::{Block, Inst, SlotId, Value};
 use crate::function::Function;
 use crate::inst::{BlockCall, InstData};
-use crate::passes::domtree::DomTree;
 use crate::passes::util::{dest_mut, dests, ValueMap};
 use crate::types::{MemType, Type};
 

@@ -13,7 +13,6 @@
 pub mod const_fold;
 pub mod copy_prop;
 pub mod dce;
-pub mod domtree;
 pub mod gvn;
 pub mod inline;
 pub mod load_store;
@@ -29,7 +28,7 @@ mod tests;
 use crate::function::Function;
 use crate::module::Module;
 
-pub use domtree::{DomTree, DominanceFrontiers};
+pub use crate::dominators::{DomTree, DominanceFrontiers};
 
 /// The cleanup passes the driver repeats, in the order it runs them.
 const CLEANUP: [fn(&mut Function) -> bool; 5] = [

@@ -271,7 +271,7 @@ fn note_block(p: &mut PathInfo, b: crate::entities::Block, in_loop: bool) {
 /// block that dominates its source), found by walking predecessors from the source
 /// back to the header.
 fn loop_blocks(f: &Function) -> Vec<bool> {
-    let dom = super::domtree::DomTree::compute(f);
+    let dom = crate::dominators::DomTree::compute(f);
     let mut in_loop = vec![false; f.blocks.len()];
     for &b in dom.rpo() {
         for h in f.successors(b) {

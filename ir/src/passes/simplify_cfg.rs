@@ -12,10 +12,10 @@
 //!
 //! The entry block stays first and is never merged into another block.
 
+use crate::dominators::reverse_postorder;
 use crate::entities::{Block, Value};
 use crate::function::Function;
 use crate::inst::{BlockCall, InstData};
-use crate::passes::domtree::reverse_postorder;
 use crate::passes::util::{dest_mut, dests, int_const, ValueMap};
 
 /// How many forwarders one edge is threaded through per run (cycles of empty blocks

@@ -7,7 +7,7 @@
 //! can report the overrun. It is for running code under the runner (`plcc run`,
 //! `plcc test`); code for a real controller is built without it.
 
-use super::domtree::DomTree;
+use crate::dominators::DomTree;
 use crate::entities::Block;
 use crate::function::Function;
 use crate::inst::{BlockCall, InstData, Intrinsic};

@@ -1,20 +1,66 @@
 //! Dominator tree (Cooper, Harvey & Kennedy, "A Simple, Fast Dominance Algorithm") and
 //! dominance frontiers.
 //!
-//! Only blocks reachable from the entry take part; unreachable blocks have no immediate
-//! dominator and dominate nothing. Side tables are vectors indexed by block id.
+//! Only blocks of the layout reachable from the entry take part; unreachable blocks
+//! have no immediate dominator and dominate nothing but themselves. Branches to blocks
+//! that do not exist or are not in the layout are ignored, so the tree can be computed
+//! for any function, valid or not (the verifier uses it too). Side tables are vectors
+//! indexed by block id.
 
 use crate::entities::Block;
 use crate::function::Function;
-use crate::passes::util::dests;
+use crate::inst::InstData;
 
 const NONE: u32 = u32::MAX;
+
+/// The destinations of `b`'s terminator that exist and are in the layout (`in_layout`
+/// indexed by block). Tolerates malformed functions.
+fn successors(func: &Function, in_layout: &[bool], b: Block) -> [Option<Block>; 2] {
+    let valid = |d: Block| {
+        in_layout
+            .get(d.index())
+            .copied()
+            .unwrap_or(false)
+            .then_some(d)
+    };
+    let last = func
+        .blocks
+        .get(b.index())
+        .and_then(|bd| bd.insts.last())
+        .and_then(|i| func.insts.get(i.index()));
+    match last {
+        Some(InstData::Jump { dest }) => [valid(dest.block), None],
+        Some(InstData::Brif {
+            then_dest,
+            else_dest,
+            ..
+        }) => [valid(then_dest.block), valid(else_dest.block)],
+        _ => [None, None],
+    }
+}
+
+fn layout_mask(func: &Function) -> Vec<bool> {
+    let mut in_layout = vec![false; func.blocks.len()];
+    for &b in &func.layout {
+        if let Some(x) = in_layout.get_mut(b.index()) {
+            *x = true;
+        }
+    }
+    in_layout
+}
 
 /// Blocks reachable from the entry, in reverse postorder (the entry first; every block
 /// comes after its dominators). Follows the terminators of the blocks, so it is correct
 /// for any layout order.
 pub fn reverse_postorder(func: &Function) -> Vec<Block> {
-    let Some(entry) = func.entry() else {
+    rpo_with(func, &layout_mask(func))
+}
+
+fn rpo_with(func: &Function, in_layout: &[bool]) -> Vec<Block> {
+    let Some(entry) = func
+        .entry()
+        .filter(|e| in_layout.get(e.index()) == Some(&true))
+    else {
         return Vec::new();
     };
     let mut visited = vec![false; func.blocks.len()];
@@ -26,10 +72,7 @@ pub fn reverse_postorder(func: &Function) -> Vec<Block> {
         let (b, next) = *top;
         if next < 2 {
             top.1 += 1;
-            let succ = func
-                .terminator(b)
-                .and_then(|t| dests(func.inst(t))[next as usize].map(|d| d.block));
-            if let Some(s) = succ {
+            if let Some(s) = successors(func, in_layout, b)[next as usize] {
                 if !visited[s.index()] {
                     visited[s.index()] = true;
                     stack.push((s, 0));
@@ -68,7 +111,8 @@ impl DomTree {
     /// Computes the dominator tree of `func` (blocks reachable from the entry).
     pub fn compute(func: &Function) -> DomTree {
         let n = func.blocks.len();
-        let rpo = reverse_postorder(func);
+        let in_layout = layout_mask(func);
+        let rpo = rpo_with(func, &in_layout);
         let mut rpo_num = vec![NONE; n];
         for (k, b) in rpo.iter().enumerate() {
             rpo_num[b.index()] = k as u32;
@@ -77,10 +121,8 @@ impl DomTree {
         // Predecessors among reachable blocks (compressed rows).
         let mut pred_start = vec![0u32; n + 1];
         for &b in &rpo {
-            if let Some(t) = func.terminator(b) {
-                for d in dests(func.inst(t)).into_iter().flatten() {
-                    pred_start[d.block.index() + 1] += 1;
-                }
+            for d in successors(func, &in_layout, b).into_iter().flatten() {
+                pred_start[d.index() + 1] += 1;
             }
         }
         for i in 0..n {
@@ -89,12 +131,10 @@ impl DomTree {
         let mut fill = pred_start.clone();
         let mut preds = vec![Block(0); pred_start[n] as usize];
         for &b in &rpo {
-            if let Some(t) = func.terminator(b) {
-                for d in dests(func.inst(t)).into_iter().flatten() {
-                    let s = &mut fill[d.block.index()];
-                    preds[*s as usize] = b;
-                    *s += 1;
-                }
+            for d in successors(func, &in_layout, b).into_iter().flatten() {
+                let s = &mut fill[d.index()];
+                preds[*s as usize] = b;
+                *s += 1;
             }
         }
 
@@ -227,10 +267,14 @@ impl DomTree {
         &self.children[self.child_start[i] as usize..self.child_start[i + 1] as usize]
     }
 
-    /// True if `a` dominates `b` (every block dominates itself). False if either is
-    /// unreachable.
+    /// True if every path from the entry to `b` goes through `a`. Every block
+    /// dominates itself; otherwise unreachable blocks dominate nothing and are
+    /// dominated by nothing. Constant time.
     #[inline]
     pub fn dominates(&self, a: Block, b: Block) -> bool {
+        if a == b {
+            return true;
+        }
         if !self.is_reachable(a) || !self.is_reachable(b) {
             return false;
         }
