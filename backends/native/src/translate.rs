@@ -302,6 +302,20 @@ impl Cx<'_, '_, '_> {
             let ib = self.st.order[i];
             let cb = self.b.create_block();
             self.st.blocks[ib.index()] = cb;
+            // Blocks that raise the fault flag are the out-of-bounds and error paths:
+            // lay them out of line.
+            let raises = f.block(ib).insts.iter().any(|&i| {
+                matches!(
+                    f.inst(i),
+                    InstData::Intrinsic {
+                        op: Intrinsic::RaiseFault,
+                        ..
+                    }
+                )
+            });
+            if raises {
+                self.b.set_cold_block(cb);
+            }
             for &p in &f.block(ib).params {
                 let v = self.b.append_block_param(cb, cl_type(f.value_type(p)));
                 self.st.values[p.index()] = v;

@@ -77,6 +77,10 @@ pub(super) struct BodyCx<'a, 's> {
     pub self_ptr: Option<Value>,
     /// Innermost loop last.
     pub loops: Vec<LoopTargets>,
+    /// FOR control variables whose value is known to stay within `[lo, hi]` in the
+    /// body being lowered (constant bounds, never written in the body): array indexes
+    /// by them need no bounds check.
+    pub known_ranges: Vec<(crate::intern::Symbol, i128, i128)>,
     /// A FUNCTION's epilogue (copies outputs, returns the result).
     pub ret_block: Option<Block>,
     /// A FUNCTION's result variable.
@@ -148,6 +152,7 @@ impl<'a, 's> BodyCx<'a, 's> {
             pou,
             self_ptr,
             loops: Vec::new(),
+            known_ranges: Vec::new(),
             ret_block: None,
             result_slot: None,
             in_init,

@@ -1123,10 +1123,10 @@ impl<'s> BodyCx<'_, 's> {
                     let agg = self.l.array_agg(a, d as u32);
                     let (a2, g) = self.index(addr, agg, at.dims[d], ie)?;
                     addr = a2;
-                    guard = Some(match guard {
-                        Some(prev) => self.b.binary(BinaryOp::Band, prev, g),
-                        None => g,
-                    });
+                    guard = match (guard, g) {
+                        (Some(prev), Some(g)) => Some(self.b.binary(BinaryOp::Band, prev, g)),
+                        (prev, g) => prev.or(g),
+                    };
                 }
                 Some(Place {
                     addr,
@@ -1165,7 +1165,7 @@ impl<'s> BodyCx<'_, 's> {
         agg: plcc_ir::AggId,
         (lo, hi): (i64, i64),
         ie: &'s Expr,
-    ) -> Option<(Value, Value)> {
+    ) -> Option<(Value, Option<Value>)> {
         let it = self.infer(ie);
         let want = if it.is_literal() || it == Ty::Error {
             Ty::DINT
@@ -1194,6 +1194,9 @@ impl<'s> BodyCx<'_, 's> {
         let w = self.convert(v, e, if wide { ElemType::LInt } else { ElemType::DInt });
         let lo_c = self.b.iconst(t, lo);
         let zero_based = self.b.binary(BinaryOp::Isub, w, lo_c);
+        if self.index_in_bounds(ie, lo, hi) {
+            return Some((self.b.elem_addr(base, agg, zero_based), None));
+        }
         let len = self.b.iconst(t, hi - lo + 1);
         let inside = self.b.icmp(IntCC::Ult, zero_based, len);
         // Out of range: raise the fault and use element 0 (stays memory-safe).
@@ -1206,6 +1209,29 @@ impl<'s> BodyCx<'_, 's> {
         let z = self.b.iconst(t, 0);
         self.b.jump(join, vec![z]);
         self.b.switch_to(join);
-        Some((self.b.elem_addr(base, agg, p), inside))
+        Some((self.b.elem_addr(base, agg, p), Some(inside)))
+    }
+
+    /// True if an index expression is known to lie in `lo..=hi`: a constant, or a FOR
+    /// control variable with constant bounds that its body never writes.
+    fn index_in_bounds(&mut self, ie: &'s Expr, lo: i64, hi: i64) -> bool {
+        let mut e = ie;
+        while let ExprKind::Paren(x) = &e.kind {
+            e = x;
+        }
+        let range = match &e.kind {
+            ExprKind::Name(id) => self
+                .known_ranges
+                .iter()
+                .rev()
+                .find(|(s, _, _)| *s == id.sym)
+                .map(|&(_, a, b)| (a, b)),
+            _ => None,
+        };
+        let range = range.or_else(|| match self.l.const_eval(ie, self.pou) {
+            Some((ConstVal::Int(v), _)) => Some((v, v)),
+            _ => None,
+        });
+        range.is_some_and(|(a, b)| a >= lo as i128 && b <= hi as i128)
     }
 }

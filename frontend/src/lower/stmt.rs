@@ -492,6 +492,20 @@ impl<'s> BodyCx<'_, 's> {
             }
             None => (self.b.iconst(t, 1), Some(1)),
         };
+        // With constant bounds and a body that never writes the variable, the body
+        // sees only values from..=to: indexes by it need no bounds check.
+        let range = match (
+            self.l.const_eval(from, self.pou),
+            self.l.const_eval(to, self.pou),
+            step_const,
+        ) {
+            (Some((ConstVal::Int(a), _)), Some((ConstVal::Int(z), _)), Some(st))
+                if st != 0 && !writes_var(body, var.sym) =>
+            {
+                Some(if st > 0 { (a, z) } else { (z, a) })
+            }
+            _ => None,
+        };
         let header = self.b.create_block();
         let body_b = self.b.create_block();
         let latch = self.b.create_block();
@@ -518,7 +532,13 @@ impl<'s> BodyCx<'_, 's> {
         self.b.brif(past, exit, vec![], body_b, vec![]);
         self.b.switch_to(body_b);
         self.loops.push(LoopTargets { exit, cont: latch });
+        if let Some((a, z)) = range {
+            self.known_ranges.push((var.sym, a, z));
+        }
         self.stmts(body);
+        if range.is_some() {
+            self.known_ranges.pop();
+        }
         self.loops.pop();
         self.b.jump(latch, vec![]);
         self.b.switch_to(latch);
@@ -550,4 +570,85 @@ impl<'s> BodyCx<'_, 's> {
         }
         self.b.switch_to(exit);
     }
+}
+
+/// True if the statements may write the variable `sym`: assign it (or a bit of it),
+/// use it as a FOR variable, or pass it to a call (where it could be a VAR_IN_OUT or
+/// an output target). Nothing else can reach a POU's own variables (there are no
+/// globals or references yet; when they come, calls must count as writes of them).
+fn writes_var(stmts: &[Stmt], sym: crate::intern::Symbol) -> bool {
+    fn root_is(e: &Expr, sym: crate::intern::Symbol) -> bool {
+        match &e.kind {
+            ExprKind::Name(id) => id.sym == sym,
+            ExprKind::Paren(x) | ExprKind::Bit(x, _) | ExprKind::Partial(x, _, _) => {
+                root_is(x, sym)
+            }
+            _ => false,
+        }
+    }
+    fn in_call_args(e: &Expr, sym: crate::intern::Symbol) -> bool {
+        match &e.kind {
+            ExprKind::Call { callee, args } => {
+                args.iter().any(|a| match &a.kind {
+                    ast::ArgKind::Positional(x) | ast::ArgKind::Input { value: x, .. } => {
+                        root_is(x, sym) || in_call_args(x, sym)
+                    }
+                    ast::ArgKind::Output { target, .. } => {
+                        target.as_ref().is_some_and(|t| root_is(t, sym))
+                    }
+                }) || in_call_args(callee, sym)
+            }
+            ExprKind::Paren(x)
+            | ExprKind::Unary(_, x)
+            | ExprKind::Member(x, _)
+            | ExprKind::Deref(x) => in_call_args(x, sym),
+            ExprKind::Bit(x, y) | ExprKind::Binary(_, x, y) => {
+                in_call_args(x, sym) || in_call_args(y, sym)
+            }
+            ExprKind::Index(x, ys) => {
+                in_call_args(x, sym) || ys.iter().any(|y| in_call_args(y, sym))
+            }
+            _ => false,
+        }
+    }
+    stmts.iter().any(|s| match &s.kind {
+        StmtKind::Assign { target, value } | StmtKind::RefAssign { target, value } => {
+            root_is(target, sym) || in_call_args(target, sym) || in_call_args(value, sym)
+        }
+        StmtKind::Call(e) => in_call_args(e, sym),
+        StmtKind::If {
+            branches,
+            else_body,
+        } => {
+            branches
+                .iter()
+                .any(|(c, b)| in_call_args(c, sym) || writes_var(b, sym))
+                || else_body.as_deref().is_some_and(|b| writes_var(b, sym))
+        }
+        StmtKind::Case {
+            selector,
+            arms,
+            else_body,
+        } => {
+            in_call_args(selector, sym)
+                || arms.iter().any(|a| writes_var(&a.body, sym))
+                || else_body.as_deref().is_some_and(|b| writes_var(b, sym))
+        }
+        StmtKind::For {
+            var,
+            from,
+            to,
+            by,
+            body,
+        } => {
+            var.sym == sym
+                || in_call_args(from, sym)
+                || in_call_args(to, sym)
+                || by.as_ref().is_some_and(|b| in_call_args(b, sym))
+                || writes_var(body, sym)
+        }
+        StmtKind::While { cond, body } => in_call_args(cond, sym) || writes_var(body, sym),
+        StmtKind::Repeat { body, until } => writes_var(body, sym) || in_call_args(until, sym),
+        _ => false,
+    })
 }
