@@ -190,9 +190,7 @@ pub fn run(a: &RunArgs) -> u8 {
     let mut m = match targets::machine_owned(target, copy) {
         Ok(m) => m,
         Err(diags) => {
-            for d in diags {
-                eprintln!("{d}");
-            }
+            render::to_stderr(&plcc_frontend::source::SourceMap::new(), &diags);
             return EXIT_FAIL;
         }
     };
@@ -289,9 +287,7 @@ pub fn test(a: &TestArgs) -> u8 {
     let mut m = match targets::machine(target, &module) {
         Ok(m) => m,
         Err(diags) => {
-            for d in diags {
-                eprintln!("{d}");
-            }
+            render::to_stderr(&plcc_frontend::source::SourceMap::new(), &diags);
             return EXIT_FAIL;
         }
     };

@@ -302,17 +302,21 @@ impl Cx<'_, '_, '_> {
             let ib = self.st.order[i];
             let cb = self.b.create_block();
             self.st.blocks[ib.index()] = cb;
-            // Blocks that raise the fault flag are the out-of-bounds and error paths:
-            // lay them out of line.
-            let raises = f.block(ib).insts.iter().any(|&i| {
-                matches!(
-                    f.inst(i),
-                    InstData::Intrinsic {
-                        op: Intrinsic::RaiseFault,
-                        ..
-                    }
-                )
-            });
+            // Small blocks that raise the fault flag are the out-of-bounds and error
+            // paths: lay them out of line (never the entry, which Cranelift keeps
+            // first, nor a block doing real work besides).
+            let insts = &f.block(ib).insts;
+            let raises = i > 0
+                && insts.len() <= 4
+                && insts.iter().any(|&i| {
+                    matches!(
+                        f.inst(i),
+                        InstData::Intrinsic {
+                            op: Intrinsic::RaiseFault,
+                            ..
+                        }
+                    )
+                });
             if raises {
                 self.b.set_cold_block(cb);
             }
