@@ -1,3 +1,4 @@
+#![warn(missing_docs)]
 //! The `plcc` driver: the command line, the target registry, and the runner that
 //! executes programs scan by scan on any machine (`plcc run`, `plcc test`).
 //!

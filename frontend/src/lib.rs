@@ -1,3 +1,4 @@
+#![warn(missing_docs)]
 //! plcc's front ends: source files, the shared syntax tree, the Structured Text parser,
 //! semantic analysis and lowering to the IR.
 //!

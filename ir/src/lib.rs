@@ -1,3 +1,4 @@
+#![warn(missing_docs)]
 //! plcc's SSA intermediate representation: the one language between every front end
 //! and every backend.
 //!
