@@ -1,4 +1,3 @@
-#![warn(missing_docs)]
 //! plcc's native backend: the IR translated to Cranelift IR, then either compiled into
 //! this process (the [`Jit`], the `host` target's [`Machine`]) or into a relocatable
 //! object for a target triple with a C header of its memory layout
