@@ -82,22 +82,30 @@ pub fn check(files: &[PathBuf], lang: Option<&str>) -> u8 {
     }
 }
 
-/// `plcc explain CODE`
-pub fn explain(code: &str) -> u8 {
-    let all = plcc_frontend::codes::ALL
+/// Every documented diagnostic code: the front end's, the backends', the driver's.
+fn all_codes() -> impl Iterator<Item = &'static plcc_ir::diag::CodeInfo> {
+    plcc_frontend::codes::ALL
         .iter()
         .chain(plcc_native::CODES.iter())
-        .find(|c| c.code.eq_ignore_ascii_case(code));
-    match all {
+        .chain(driver::CODES.iter())
+}
+
+/// `plcc explain CODE`, or the list of codes without one.
+pub fn explain(code: Option<&str>) -> u8 {
+    let Some(code) = code else {
+        for c in all_codes() {
+            println!("{}  {}", c.code, c.title);
+        }
+        return 0;
+    };
+    match all_codes().find(|c| c.code.eq_ignore_ascii_case(code)) {
         Some(c) => {
             println!("{}: {}\n\n{}", c.code, c.title, c.explanation);
             0
         }
-        None if code.eq_ignore_ascii_case(driver::E_INTERNAL) => {
-            println!("{}: internal compiler error\n\nplcc produced invalid IR: a bug in plcc. Please report it with the program.", driver::E_INTERNAL);
-            0
-        }
-        None => usage(format!("no diagnostic code `{code}`")),
+        None => usage(format!(
+            "no diagnostic code `{code}` (`plcc explain` lists them)"
+        )),
     }
 }
 

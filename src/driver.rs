@@ -9,6 +9,22 @@ use std::time::{Duration, Instant};
 
 /// Code of the diagnostic for an internal compiler error (a bug in plcc).
 pub const E_INTERNAL: &str = "E9001";
+/// Code of the diagnostic for a target that cannot run programs on this machine.
+pub const E_CANNOT_RUN: &str = "E9002";
+
+/// The driver's own diagnostic codes.
+pub const CODES: &[plcc_ir::diag::CodeInfo] = &[
+    plcc_ir::diag::CodeInfo {
+        code: E_INTERNAL,
+        title: "internal compiler error",
+        explanation: "plcc produced invalid IR, or a machine could not be set up for a valid module: a bug in plcc. Please report it with the program that shows it.",
+    },
+    plcc_ir::diag::CodeInfo {
+        code: E_CANNOT_RUN,
+        title: "target cannot run programs here",
+        explanation: "`plcc run` and `plcc test` need a machine for the target: the JIT (`host`) or the interpreter (`interp`). Other targets only produce files.",
+    },
+];
 
 /// A failure that is not a diagnostic of the program: a file that cannot be read, a
 /// language that cannot be told (exit status 2).

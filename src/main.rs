@@ -96,10 +96,10 @@ enum Command {
         #[command(flatten)]
         common: Common,
     },
-    /// Explain a diagnostic code (e.g. E0301)
+    /// Explain a diagnostic code (e.g. E0301); without one, list every code
     Explain {
         /// The code
-        code: String,
+        code: Option<String>,
     },
 }
 
@@ -135,7 +135,7 @@ fn main() -> ExitCode {
             cycle_ms,
         }),
         Some(Command::Check { common }) => commands::check(&common.files, common.lang.as_deref()),
-        Some(Command::Explain { code }) => commands::explain(&code),
+        Some(Command::Explain { code }) => commands::explain(code.as_deref()),
         None => commands::compile(&commands::CompileArgs {
             files: cli.build.common.files,
             lang: cli.build.common.lang,

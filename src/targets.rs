@@ -80,7 +80,7 @@ pub fn machine_owned(name: &str, mut module: Module) -> Result<Box<dyn Machine>,
             Some(r) => r?,
             None => {
                 return Err(vec![Diagnostic::error_nowhere(
-                    "E9002",
+                    crate::driver::E_CANNOT_RUN,
                     format!("target `{name}` cannot run programs here"),
                 )])
             }
