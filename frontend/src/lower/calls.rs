@@ -354,6 +354,7 @@ impl<'s> BodyCx<'_, 's> {
         let scratch = self.b.slot("out_of_bounds", mt);
         let scratch_addr = self.b.slot_addr(scratch);
         self.init_var(scratch_addr, p.ty, None);
+        self.guarded(Some(guard), |_| {});
         Some(self.b.select(guard, p.addr, scratch_addr))
     }
 
@@ -482,10 +483,16 @@ impl<'s> BodyCx<'_, 's> {
         self.l.calls.push((self.pou, fb, span));
         let params = params_of(self, fb);
         let bound = self.bind_args(fb, &params, args);
+        // A call on an element whose index was out of bounds is skipped (and raises
+        // the fault flag).
         let skip = inst.guard.map(|g| {
             let call = self.b.create_block();
+            let bad = self.b.create_block();
             let join = self.b.create_block();
-            self.b.brif(g, call, vec![], join, vec![]);
+            self.b.brif(g, call, vec![], bad, vec![]);
+            self.b.switch_to(bad);
+            self.b.intrinsic(plcc_ir::Intrinsic::RaiseFault, vec![]);
+            self.b.jump(join, vec![]);
             self.b.switch_to(call);
             join
         });

@@ -944,17 +944,48 @@ impl<'s> BodyCx<'_, 's> {
         }
     }
 
-    /// Reads a place (a whole variable or one bit of it); an element whose index was
-    /// out of bounds reads as 0.
+    /// Reads a place (a whole variable or one bit of it). An element whose index was
+    /// out of bounds reads as 0 and raises the fault flag: one branch, the read on one
+    /// side and the fault on the other.
     pub(super) fn load_place(&mut self, p: &Place) -> Value {
+        let Some(g) = p.guard else {
+            return self.load_unguarded(p);
+        };
+        let ok = self.b.create_block();
+        let bad = self.b.create_block();
+        let join = self.b.create_block();
+        let t = p.ty.ir().unwrap_or(Type::I32);
+        let r = self.b.block_param(join, t);
+        self.b.brif(g, ok, vec![], bad, vec![]);
+        self.b.switch_to(ok);
         let v = self.load_unguarded(p);
-        match p.guard {
-            Some(g) => {
-                let z = self.zero(p.ty);
-                self.b.select(g, v, z)
-            }
-            None => v,
-        }
+        self.b.jump(join, vec![v]);
+        self.b.switch_to(bad);
+        self.b.intrinsic(plcc_ir::Intrinsic::RaiseFault, vec![]);
+        let z = self.zero(p.ty);
+        self.b.jump(join, vec![z]);
+        self.b.switch_to(join);
+        r
+    }
+
+    /// Runs `body` only when the guard (an in-bounds flag) holds; otherwise raises the
+    /// fault flag. Without a guard, just runs `body`.
+    pub(super) fn guarded(&mut self, guard: Option<Value>, body: impl FnOnce(&mut Self)) {
+        let Some(g) = guard else {
+            body(self);
+            return;
+        };
+        let ok = self.b.create_block();
+        let bad = self.b.create_block();
+        let join = self.b.create_block();
+        self.b.brif(g, ok, vec![], bad, vec![]);
+        self.b.switch_to(ok);
+        body(self);
+        self.b.jump(join, vec![]);
+        self.b.switch_to(bad);
+        self.b.intrinsic(plcc_ir::Intrinsic::RaiseFault, vec![]);
+        self.b.jump(join, vec![]);
+        self.b.switch_to(join);
     }
 
     fn load_unguarded(&mut self, p: &Place) -> Value {
@@ -975,19 +1006,10 @@ impl<'s> BodyCx<'_, 's> {
     }
 
     /// Writes a place (a read-modify-write for a single bit); a write to an element
-    /// whose index was out of bounds is dropped.
+    /// whose index was out of bounds is dropped and raises the fault flag.
     pub(super) fn store_place(&mut self, p: &Place, v: Value) {
-        let Some(g) = p.guard else {
-            self.store_unguarded(p, v);
-            return;
-        };
-        let store = self.b.create_block();
-        let join = self.b.create_block();
-        self.b.brif(g, store, vec![], join, vec![]);
-        self.b.switch_to(store);
-        self.store_unguarded(p, v);
-        self.b.jump(join, vec![]);
-        self.b.switch_to(join);
+        let p = *p;
+        self.guarded(p.guard, |cx| cx.store_unguarded(&p, v));
     }
 
     fn store_unguarded(&mut self, p: &Place, v: Value) {
@@ -1156,9 +1178,10 @@ impl<'s> BodyCx<'_, 's> {
     }
 
     /// The address of element `ie` of the array `agg` with source bounds `(lo, hi)`,
-    /// and an `i1` that says whether the index was in bounds. An index outside raises
-    /// the fault flag and addresses element `lo` instead, so every target stays
-    /// memory-safe; the caller's guard makes the read 0 and drops the write.
+    /// and an `i1` that says whether the index was in bounds (`None` when it is known
+    /// to be). An index outside addresses element `lo` instead, so every target stays
+    /// memory-safe; the access through the place then reads 0 or drops the write, and
+    /// raises the fault flag.
     fn index(
         &mut self,
         base: Value,
@@ -1199,17 +1222,9 @@ impl<'s> BodyCx<'_, 's> {
         }
         let len = self.b.iconst(t, hi - lo + 1);
         let inside = self.b.icmp(IntCC::Ult, zero_based, len);
-        // Out of range: raise the fault and use element 0 (stays memory-safe).
-        let bad = self.b.create_block();
-        let join = self.b.create_block();
-        let p = self.b.block_param(join, t);
-        self.b.brif(inside, join, vec![zero_based], bad, vec![]);
-        self.b.switch_to(bad);
-        self.b.intrinsic(plcc_ir::Intrinsic::RaiseFault, vec![]);
         let z = self.b.iconst(t, 0);
-        self.b.jump(join, vec![z]);
-        self.b.switch_to(join);
-        Some((self.b.elem_addr(base, agg, p), Some(inside)))
+        let clamped = self.b.select(inside, zero_based, z);
+        Some((self.b.elem_addr(base, agg, clamped), Some(inside)))
     }
 
     /// True if an index expression is known to lie in `lo..=hi`: a constant, or a FOR
