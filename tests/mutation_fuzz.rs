@@ -1,0 +1,196 @@
+//! Mutated programs never make plcc panic: every ST file of the project (and of the
+//! corpus, when present) is mutated with a fixed seed (bytes deleted, duplicated,
+//! replaced by tokens), then built end to end and, if it compiles, run for a few scans
+//! on the interpreter. A panic anywhere fails the test and prints the input.
+
+use plcc::driver::{build_sources, BuildOptions};
+use plcc::targets;
+use std::path::{Path, PathBuf};
+
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n.max(1) as u64) as usize
+    }
+}
+
+const TOKENS: &[&str] = &[
+    ";",
+    ":=",
+    "(",
+    ")",
+    "[",
+    "]",
+    ",",
+    ".",
+    "..",
+    "#",
+    "^",
+    "END_IF",
+    "IF",
+    "THEN",
+    "ELSE",
+    "FOR",
+    "TO",
+    "BY",
+    "DO",
+    "END_FOR",
+    "WHILE",
+    "END_WHILE",
+    "CASE",
+    "OF",
+    "END_CASE",
+    "VAR",
+    "END_VAR",
+    "VAR_INPUT",
+    "VAR_IN_OUT",
+    "FUNCTION",
+    "END_FUNCTION",
+    "TON",
+    "INT",
+    "DINT",
+    "REAL",
+    "BOOL",
+    "TIME",
+    "ARRAY[1..3] OF INT",
+    "T#5s",
+    "16#FF",
+    "1.5E3",
+    "-",
+    "*",
+    "/",
+    "MOD",
+    "**",
+    "AND",
+    "NOT",
+    "TRUE",
+    "x",
+    "i",
+    "0",
+    "1",
+    "-2147483648",
+    "32767",
+    "RETURN",
+    "EXIT",
+    "(*",
+    "*)",
+    "'",
+    "\"",
+    "%IX0.0",
+    "LREAL#1.0",
+    "SINT#200",
+];
+
+fn mutate(src: &[u8], rng: &mut Rng) -> Vec<u8> {
+    let mut v = src.to_vec();
+    for _ in 0..1 + rng.below(4) {
+        if v.is_empty() {
+            break;
+        }
+        let at = rng.below(v.len());
+        match rng.below(4) {
+            0 => {
+                let n = rng.below(16).min(v.len() - at);
+                v.drain(at..at + n);
+            }
+            1 => {
+                let n = rng.below(24).min(v.len() - at);
+                let chunk: Vec<u8> = v[at..at + n].to_vec();
+                let to = rng.below(v.len());
+                v.splice(to..to, chunk);
+            }
+            2 => {
+                let t = TOKENS[rng.below(TOKENS.len())];
+                let bytes = format!(" {t} ");
+                v.splice(at..at, bytes.bytes());
+            }
+            _ => v[at] = (rng.next() & 0xFF) as u8,
+        }
+    }
+    v
+}
+
+fn sources() -> Vec<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut out = Vec::new();
+    let mut stack = vec![root.join("tests/programs"), root.join("examples")];
+    let corpus = root.join("../shared/corpus/st");
+    if corpus.is_dir() {
+        stack.push(corpus);
+    }
+    while let Some(d) = stack.pop() {
+        let Ok(rd) = std::fs::read_dir(&d) else {
+            continue;
+        };
+        for e in rd {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|e| e == "st") {
+                out.push(p);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+fn try_one(name: &str, bytes: Vec<u8>) {
+    let b = match build_sources(vec![(name.to_string(), bytes)], &BuildOptions::default()) {
+        Ok(b) => b,
+        Err(_) => return,
+    };
+    let _ = plcc::render::render(&b.sources, &b.diagnostics);
+    let Some(module) = b.module else { return };
+    if let Ok(mut m) = targets::machine("interp", &module) {
+        m.set_watchdog(Some(std::time::Duration::from_millis(200)));
+        if m.cold_start().is_ok() {
+            for k in 0..3 {
+                m.set_clock_us(k * 10_000);
+                if m.scan().is_err() {
+                    break;
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn mutated_programs_never_panic() {
+    let files = sources();
+    let per_file: usize = std::env::var("PLCC_FUZZ_PER_FILE")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(4);
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    let mut failures = Vec::new();
+    let mut n = 0;
+    for f in &files {
+        let src = std::fs::read(f).unwrap();
+        for _ in 0..per_file {
+            let m = mutate(&src, &mut rng);
+            n += 1;
+            let name = f.file_name().unwrap().to_string_lossy().into_owned();
+            let input = m.clone();
+            if std::panic::catch_unwind(|| try_one(&name, input)).is_err() {
+                failures.push((name, String::from_utf8_lossy(&m).into_owned()));
+            }
+        }
+    }
+    println!("{n} mutated programs from {} files", files.len());
+    for (name, text) in failures.iter().take(3) {
+        println!("--- panic on a mutation of {name}:\n{text}\n");
+    }
+    assert!(
+        failures.is_empty(),
+        "{} mutated programs made plcc panic",
+        failures.len()
+    );
+}
