@@ -139,8 +139,7 @@ pub struct Lowerer<'s> {
 }
 
 impl<'s> Lowerer<'s> {
-    /// A lowerer over parsed units. `std_units` marks which units are the standard
-    /// library.
+    /// A lowerer over parsed units (the standard library's first; see [`Lowerer::run`]).
     pub fn new(
         sources: &'s SourceMap,
         interner: &'s mut Interner,
@@ -336,8 +335,8 @@ fn collect_enum_values(spec: &ast::TypeSpec, out: &mut rustc_hash::FxHashSet<Sym
     }
 }
 
-/// Describes where the standard library starts and stops among the units, so callers
-/// can build the unit list.
+/// The source of the standard function blocks (TON, CTU, R_TRIG, ...), written in ST
+/// and parsed as the first unit of every build.
 pub fn std_library_source() -> &'static str {
     include_str!("../stdlib/std_fbs.st")
 }
