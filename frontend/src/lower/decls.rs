@@ -54,7 +54,6 @@ impl Lowerer<'_> {
                     lookup: FxHashMap::default(),
                     ret: Ty::Void,
                     std: is_std,
-                    resolved: false,
                 });
                 self.ir.push(PouIr::default());
                 self.used.push(false);
@@ -66,7 +65,6 @@ impl Lowerer<'_> {
     /// Resolves the variables and result type of a POU.
     pub(super) fn resolve_interface(&mut self, id: PouId) {
         let pou = self.pou_ast(id);
-        let is_std = self.pou(id).std;
         let mut vars: Vec<VarInfo> = Vec::new();
         let mut lookup = FxHashMap::default();
         let kind = pou.kind;
@@ -180,11 +178,9 @@ impl Lowerer<'_> {
                 }
             }
         }
-        let _ = is_std;
         let info = &mut self.pous[id.0 as usize];
         info.vars = vars;
         info.lookup = lookup;
-        info.resolved = true;
         let n = self.pous[id.0 as usize].vars.len();
         self.ir[id.0 as usize].storage = vec![None; n];
         self.ir[id.0 as usize].param_of = vec![None; n];

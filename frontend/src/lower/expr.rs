@@ -736,13 +736,12 @@ impl<'s> BodyCx<'_, 's> {
         right: Ty,
         span: Span,
     ) -> Val {
-        let (left_e, right_e, right_ty, time_on_right) =
+        let (left_e, right_e, right_ty) =
             if op == Op::Mul && is_duration(self.infer(b)) && !is_duration(self.infer(a)) {
-                (b, a, self.infer(a), true)
+                (b, a, self.infer(a))
             } else {
-                (a, b, right, false)
+                (a, b, right)
             };
-        let _ = time_on_right;
         let x = self.emit_as(left_e, operand);
         let n = self.emit(right_e, Some(concretize(right_ty, None)));
         let Some(e) = operand.elem() else {

@@ -87,8 +87,6 @@ pub struct PouInfo {
     pub ret: Ty,
     /// Part of the built-in standard library.
     pub std: bool,
-    /// True once its interface has been resolved.
-    pub resolved: bool,
 }
 
 impl PouInfo {
