@@ -31,60 +31,113 @@ pub const MAX_CALLER: usize = 2000;
 /// caller, callees first. Returns true if anything was inlined. `optimize` runs on
 /// every function after its own callees were inlined into it, so that size estimates
 /// are of optimised code.
-pub fn run(module: &mut Module, optimize: &mut dyn FnMut(&mut Function)) -> bool {
+///
+/// Functions are processed level by level of the call graph (a function's level is
+/// one more than its callees' highest): the functions of one level never call each
+/// other, so they are inlined into and optimised on all cores at once.
+pub fn run(module: &mut Module, optimize: &(dyn Fn(&mut Function) + Sync)) -> bool {
     let n = module.funcs.len();
-    let order = callees_first(module);
     let mut sites = vec![0usize; n];
     for f in &module.funcs {
         for (_, i) in f.inst_iter() {
             if let InstData::Call { func, .. } = f.inst(i) {
-                sites[func.index()] += 1;
+                if func.index() < n {
+                    sites[func.index()] += 1;
+                }
             }
         }
     }
+    let mut level = vec![0usize; n];
+    for fid in callees_first(module) {
+        let l = callees(module, fid.index())
+            .into_iter()
+            .filter(|&c| c != fid.index())
+            .map(|c| level[c] + 1)
+            .max()
+            .unwrap_or(0);
+        level[fid.index()] = l;
+    }
+    let top = level.iter().copied().max().unwrap_or(0);
+    let threads = std::thread::available_parallelism()
+        .map(|t| t.get())
+        .unwrap_or(1)
+        .min(8);
     let mut changed = false;
-    for fid in order {
-        let calls: Vec<(Block, Inst, FuncId)> = {
-            let f = &module.funcs[fid.index()];
-            f.inst_iter()
-                .filter_map(|(b, i)| match f.inst(i) {
-                    InstData::Call { func, .. } => Some((b, i, *func)),
-                    _ => None,
-                })
-                .collect()
+    for l in 1..=top {
+        // Take this level's functions out of the module; their callees stay in it.
+        let placeholder = || Function::new("", FuncKind::Helper, Vec::new(), None);
+        let mut batch: Vec<(usize, Function)> = (0..n)
+            .filter(|&i| level[i] == l)
+            .map(|i| (i, std::mem::replace(&mut module.funcs[i], placeholder())))
+            .collect();
+        let funcs = &module.funcs;
+        let sites = &sites;
+        let work = |(fid, f): &mut (usize, Function)| inline_into(*fid, f, funcs, sites, optimize);
+        let any = if threads < 2 || batch.len() < 8 {
+            batch.iter_mut().map(work).fold(false, |a, b| a | b)
+        } else {
+            let chunk = batch.len().div_ceil(threads);
+            std::thread::scope(|scope| {
+                let handles: Vec<_> = batch
+                    .chunks_mut(chunk)
+                    .map(|part| {
+                        scope.spawn(move || part.iter_mut().map(work).fold(false, |a, b| a | b))
+                    })
+                    .collect();
+                handles
+                    .into_iter()
+                    .map(|h| h.join().unwrap_or(false))
+                    .fold(false, |a, b| a | b)
+            })
         };
-        let mut did = false;
-        // Last call first: splitting a block at a later call leaves the earlier calls
-        // in the blocks recorded for them.
-        for (block, inst, callee) in calls.into_iter().rev() {
-            if callee == fid {
-                continue;
-            }
-            let size = module.funcs[callee.index()].live_inst_count();
-            let caller_size = module.funcs[fid.index()].live_inst_count();
-            let small = size <= SMALL_CALLEE;
-            let single = sites[callee.index()] == 1 && size <= SINGLE_SITE_CALLEE;
-            if !(small || single) || caller_size + size > MAX_CALLER {
-                continue;
-            }
-            let callee_ref = &module.funcs[callee.index()];
-            if callee_ref.layout.is_empty() || !inlinable_kind(callee_ref.kind) {
-                continue;
-            }
-            // Borrow the callee out of the module while the caller grows.
-            let placeholder = Function::new("", FuncKind::Helper, Vec::new(), None);
-            let callee_fn = std::mem::replace(&mut module.funcs[callee.index()], placeholder);
-            inline_call(&mut module.funcs[fid.index()], block, inst, &callee_fn);
-            module.funcs[callee.index()] = callee_fn;
-            sites[callee.index()] -= 1;
-            did = true;
-        }
-        if did {
-            optimize(&mut module.funcs[fid.index()]);
-            changed = true;
+        changed |= any;
+        for (i, f) in batch {
+            module.funcs[i] = f;
         }
     }
     changed
+}
+
+/// Inlines the chosen callees of one caller (`funcs` holds the callees, final by now)
+/// and optimises it if anything was inlined.
+fn inline_into(
+    fid: usize,
+    caller: &mut Function,
+    funcs: &[Function],
+    sites: &[usize],
+    optimize: &(dyn Fn(&mut Function) + Sync),
+) -> bool {
+    let calls: Vec<(Block, Inst, FuncId)> = caller
+        .inst_iter()
+        .filter_map(|(b, i)| match caller.inst(i) {
+            InstData::Call { func, .. } => Some((b, i, *func)),
+            _ => None,
+        })
+        .collect();
+    let mut did = false;
+    // Last call first: splitting a block at a later call leaves the earlier calls in
+    // the blocks recorded for them.
+    for (block, inst, callee) in calls.into_iter().rev() {
+        if callee.index() == fid || callee.index() >= funcs.len() {
+            continue;
+        }
+        let callee_fn = &funcs[callee.index()];
+        let size = callee_fn.live_inst_count();
+        let small = size <= SMALL_CALLEE;
+        let single = sites[callee.index()] == 1 && size <= SINGLE_SITE_CALLEE;
+        if !(small || single) || caller.live_inst_count() + size > MAX_CALLER {
+            continue;
+        }
+        if callee_fn.layout.is_empty() || !inlinable_kind(callee_fn.kind) {
+            continue;
+        }
+        inline_call(caller, block, inst, callee_fn);
+        did = true;
+    }
+    if did {
+        optimize(caller);
+    }
+    did
 }
 
 /// Function ids ordered so that every callee comes before its callers.
@@ -116,6 +169,7 @@ fn callees_first(module: &Module) -> Vec<FuncId> {
     order
 }
 
+/// The functions `f` calls, each once.
 fn callees(module: &Module, f: usize) -> Vec<usize> {
     let func = &module.funcs[f];
     let mut out: Vec<usize> = func

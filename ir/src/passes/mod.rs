@@ -169,7 +169,7 @@ fn optimize_in_parallel(mut funcs: Vec<&mut Function>) {
 /// of the bodies it changed.
 pub fn optimize_program(module: &mut Module) {
     optimize_module(module);
-    inline::run(module, &mut |f| {
+    inline::run(module, &|f| {
         optimize_function(f);
     });
     inline::remove_unreachable_functions(module);
