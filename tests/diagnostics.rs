@@ -202,6 +202,7 @@ bad! {
     name_duplicate_pou_a,
     name_duplicate_pou_b,
     name_unknown_type,
+    name_fb_contains_itself,
     name_program_as_type,
     name_fb_type_called,
     name_unknown_fb_member,

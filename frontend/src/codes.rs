@@ -140,6 +140,8 @@ codes! {
         "Array bounds, CASE labels, repetition counts, initial values and CONSTANT values must be computable at compile time from literals and constants.\n\n    VAR CONSTANT n : INT := x; END_VAR   (* x is a variable *)";
     E_NO_MEMBER = "E0207", "no such member or parameter",
         "A member access or named argument names something the function block or function does not have, or an internal variable that is not visible from outside.\n\n    t(IN := x, TIME := T#1s);   (* TON's preset is PT *)";
+    E_CONTAINS_ITSELF = "E0209", "function block contains itself",
+        "A FUNCTION_BLOCK has an instance of itself among its variables, directly or through other function blocks; its instances would be infinitely large. The message shows the chain.\n\n    FUNCTION_BLOCK A VAR b : B; END_VAR END_FUNCTION_BLOCK\n    FUNCTION_BLOCK B VAR a : A; END_VAR END_FUNCTION_BLOCK";
     E_NO_PROGRAM = "E0208", "no such PROGRAM",
         "The PROGRAM asked for on the command line or in a scenario (`program = NAME`) is not declared in the given files.";
 

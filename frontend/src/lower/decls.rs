@@ -414,6 +414,72 @@ impl Lowerer<'_> {
         consts::eval(e, interner, &lookup, want)
     }
 
+    /// Reports function blocks that contain an instance of themselves (directly, in
+    /// an array, or through other function blocks): they would be infinitely large.
+    /// Returns false if there is one (no IR can be built then).
+    pub(super) fn check_containment(&mut self) -> bool {
+        let n = self.pous.len();
+        // Edges: POU -> (FB type of a variable, the variable's name span).
+        let mut edges: Vec<Vec<(usize, Span)>> = vec![Vec::new(); n];
+        for (i, p) in self.pous.iter().enumerate() {
+            for v in &p.vars {
+                if v.section == VarKind::InOut {
+                    continue;
+                }
+                let t = match v.ty {
+                    Ty::Array(a) => self.types.get(a).elem,
+                    t => t,
+                };
+                if let Ty::Fb(fb) = t {
+                    edges[i].push((fb.0 as usize, v.name.span));
+                }
+            }
+        }
+        let mut colour = vec![0u8; n];
+        let mut ok = true;
+        for start in 0..n {
+            if colour[start] != 0 {
+                continue;
+            }
+            let mut stack: Vec<(usize, usize)> = vec![(start, 0)];
+            colour[start] = 1;
+            while let Some(&mut (node, ref mut next)) = stack.last_mut() {
+                if *next < edges[node].len() {
+                    let (to, span) = edges[node][*next];
+                    *next += 1;
+                    if colour[to] == 1 {
+                        let chain: Vec<String> = stack
+                            .iter()
+                            .skip_while(|(x, _)| *x != to)
+                            .map(|(x, _)| self.pous[*x].display.clone())
+                            .chain(std::iter::once(self.pous[to].display.clone()))
+                            .collect();
+                        self.diags.push(
+                            plcc_ir::diag::Diagnostic::error(
+                                codes::E_CONTAINS_ITSELF,
+                                format!(
+                                    "`{}` contains an instance of itself: {}",
+                                    self.pous[to].display,
+                                    chain.join(" -> ")
+                                ),
+                                span,
+                            )
+                            .with_label("this instance closes the chain"),
+                        );
+                        ok = false;
+                    } else if colour[to] == 0 {
+                        colour[to] = 1;
+                        stack.push((to, 0));
+                    }
+                } else {
+                    colour[node] = 2;
+                    stack.pop();
+                }
+            }
+        }
+        ok
+    }
+
     /// Marks the POUs whose IR is wanted: every user POU and the standard FBs they use.
     pub(super) fn mark_used(&mut self) {
         let mut stack: Vec<PouId> = Vec::new();

@@ -176,6 +176,9 @@ impl<'s> Lowerer<'s> {
         for i in 0..self.pous.len() {
             self.resolve_interface(PouId(i as u32));
         }
+        if !self.check_containment() {
+            return (None, self.diags);
+        }
         self.mark_used();
         self.create_shells();
         for i in 0..self.pous.len() {
