@@ -1,7 +1,8 @@
 //! Mutated programs never make plcc panic: every ST file of the project (and of the
 //! corpus, when present) is mutated with a fixed seed (bytes deleted, duplicated,
 //! replaced by tokens), then built end to end and, if it compiles, run for a few scans
-//! on the interpreter. A panic anywhere fails the test and prints the input.
+//! on the interpreter. A panic anywhere, or an internal compiler error (E9001: the
+//! front end made invalid IR), fails the test and prints the input.
 
 use plcc::driver::{build_sources, BuildOptions};
 use plcc::targets;
@@ -88,6 +89,24 @@ const TOKENS: &[&str] = &[
     "SINT#200",
 ];
 
+/// Byte ranges of the words (identifiers, keywords, numbers) of a source.
+fn words(v: &[u8]) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < v.len() {
+        if v[i].is_ascii_alphanumeric() || v[i] == b'_' {
+            let s = i;
+            while i < v.len() && (v[i].is_ascii_alphanumeric() || v[i] == b'_' || v[i] == b'#') {
+                i += 1;
+            }
+            out.push((s, i));
+        } else {
+            i += 1;
+        }
+    }
+    out
+}
+
 fn mutate(src: &[u8], rng: &mut Rng) -> Vec<u8> {
     let mut v = src.to_vec();
     for _ in 0..1 + rng.below(4) {
@@ -95,6 +114,18 @@ fn mutate(src: &[u8], rng: &mut Rng) -> Vec<u8> {
             break;
         }
         let at = rng.below(v.len());
+        if rng.below(2) == 0 {
+            // Swap one word for another word of the file: the syntax usually stays
+            // valid, so the checks and the lowering get exercised.
+            let ws = words(&v);
+            if ws.len() >= 2 {
+                let (a0, a1) = ws[rng.below(ws.len())];
+                let (b0, b1) = ws[rng.below(ws.len())];
+                let word: Vec<u8> = v[b0..b1].to_vec();
+                v.splice(a0..a1, word);
+                continue;
+            }
+        }
         match rng.below(4) {
             0 => {
                 let n = rng.below(16).min(v.len() - at);
@@ -147,7 +178,13 @@ fn try_one(name: &str, bytes: Vec<u8>) {
         Ok(b) => b,
         Err(_) => return,
     };
-    let _ = plcc::render::render(&b.sources, &b.diagnostics);
+    let rendered = plcc::render::render(&b.sources, &b.diagnostics);
+    assert!(
+        !b.diagnostics
+            .iter()
+            .any(|d| d.code == plcc::driver::E_INTERNAL),
+        "internal error:\n{rendered}"
+    );
     let Some(module) = b.module else { return };
     if let Ok(mut m) = targets::machine("interp", &module) {
         m.set_watchdog(Some(std::time::Duration::from_millis(200)));
