@@ -434,6 +434,16 @@ pub enum StmtKind {
     Label(Ident),
     /// An unconditional jump to a label in the same body (from IL or ladder).
     Goto(Ident),
+    /// A compiler temporary (from IL's current result): declares `name` with the
+    /// type of `value`, assigns it, and makes it readable by name for the rest of the
+    /// body. Front ends choose names no user can write (`__cr1`: IEC identifiers
+    /// cannot contain two underscores in a row).
+    Let {
+        /// The temporary's name.
+        name: Ident,
+        /// Its value.
+        value: Expr,
+    },
 }
 
 /// One arm of a CASE statement.

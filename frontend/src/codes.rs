@@ -182,6 +182,10 @@ codes! {
         "IEC 61131-3 forbids recursive calls, so that every frame can be allocated statically. The message shows the cycle of calls.";
     E_OUTSIDE_LOOP = "E0506", "EXIT or CONTINUE outside a loop",
         "EXIT and CONTINUE can only appear inside FOR, WHILE or REPEAT.";
+    E_DUPLICATE_LABEL = "E0508", "label defined twice",
+        "Two labels of one body (Instruction List, ladder) have the same name, so a jump to it would be ambiguous.\n\n    start: LD a\n    start: ST b   (* rename one *)";
+    E_UNKNOWN_LABEL = "E0509", "jump to an unknown label",
+        "A jump (JMP, JMPC, JMPCN) names a label that does not exist in the same body: the jump would go nowhere.\n\n    JMPC fnish   (* the label is `finish:` *)";
 
     // ---- not supported yet (E06xx) ----
     E_UNSUPPORTED = "E0601", "not supported yet",

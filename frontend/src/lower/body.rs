@@ -81,6 +81,10 @@ pub(super) struct BodyCx<'a, 's> {
     /// body being lowered (constant bounds, never written in the body): array indexes
     /// by them need no bounds check.
     pub known_ranges: Vec<(crate::intern::Symbol, i128, i128)>,
+    /// Compiler temporaries (`Let` statements): name, slot, type.
+    pub temps: Vec<(crate::intern::Symbol, SlotId, Ty)>,
+    /// The labels of the body (IL, ladder) and the blocks they start.
+    pub labels: rustc_hash::FxHashMap<crate::intern::Symbol, Block>,
     /// A FUNCTION's epilogue (copies outputs, returns the result).
     pub ret_block: Option<Block>,
     /// A FUNCTION's result variable.
@@ -103,6 +107,7 @@ impl<'s> Lowerer<'s> {
             let mut cx = BodyCx::new(l, func, id, false);
             cx.prologue();
             let stmts = &cx.l.pou_ast(id).body.stmts;
+            cx.collect_labels(stmts);
             cx.stmts(stmts);
             cx.epilogue();
         });
@@ -153,6 +158,8 @@ impl<'a, 's> BodyCx<'a, 's> {
             self_ptr,
             loops: Vec::new(),
             known_ranges: Vec::new(),
+            temps: Vec::new(),
+            labels: Default::default(),
             ret_block: None,
             result_slot: None,
             in_init,
@@ -513,10 +520,58 @@ impl<'a, 's> BodyCx<'a, 's> {
         self.b.switch_to(exit);
     }
 
-    /// Resolves a plain name: a variable of this POU, the FUNCTION's result, a
-    /// constant.
+    /// Gives every label of the body (at any depth) a block; reports duplicates.
+    fn collect_labels(&mut self, stmts: &'s [ast::Stmt]) {
+        for s in stmts {
+            match &s.kind {
+                ast::StmtKind::Label(id) => {
+                    if self.labels.contains_key(&id.sym) {
+                        let n = self.l.text(id.span).to_string();
+                        self.l.error(
+                            codes::E_DUPLICATE_LABEL,
+                            format!("label `{n}` is defined twice in this body"),
+                            id.span,
+                        );
+                        continue;
+                    }
+                    let b = self.b.create_block();
+                    self.labels.insert(id.sym, b);
+                }
+                ast::StmtKind::If { branches, else_body } => {
+                    for (_, body) in branches {
+                        self.collect_labels(body);
+                    }
+                    if let Some(e) = else_body {
+                        self.collect_labels(e);
+                    }
+                }
+                ast::StmtKind::Case { arms, else_body, .. } => {
+                    for a in arms {
+                        self.collect_labels(&a.body);
+                    }
+                    if let Some(e) = else_body {
+                        self.collect_labels(e);
+                    }
+                }
+                ast::StmtKind::For { body, .. }
+                | ast::StmtKind::While { body, .. }
+                | ast::StmtKind::Repeat { body, .. } => self.collect_labels(body),
+                _ => {}
+            }
+        }
+    }
+
+    /// Resolves a plain name: a compiler temporary, a variable of this POU, the
+    /// FUNCTION's result, a constant, a global.
     pub(super) fn resolve_name(&mut self, id: ast::Ident, report: bool) -> Named {
         let pou = self.pou;
+        if let Some(&(_, slot, ty)) = self.temps.iter().rev().find(|(s, _, _)| *s == id.sym) {
+            if ty == Ty::Error {
+                return Named::Error;
+            }
+            let addr = self.b.slot_addr(slot);
+            return Named::Place(Place::new(addr, ty));
+        }
         if let Some(vi) = self.l.pou(pou).var(id.sym) {
             let vi = vi as usize;
             let v = &self.l.pou(pou).vars[vi];

@@ -290,6 +290,9 @@ impl<'s> BodyCx<'_, 's> {
 
     /// The type of a plain name (without emitting code).
     fn name_type(&self, sym: crate::intern::Symbol) -> Ty {
+        if let Some(&(_, _, ty)) = self.temps.iter().rev().find(|(s, _, _)| *s == sym) {
+            return ty;
+        }
         let pou = self.l.pou(self.pou);
         if let Some(vi) = pou.var(sym) {
             return pou.vars[vi as usize].ty;

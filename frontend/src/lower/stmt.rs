@@ -94,12 +94,35 @@ impl<'s> BodyCx<'_, 's> {
                 None => self.b.ret(None),
             },
             StmtKind::Empty => {}
-            StmtKind::Label(id) | StmtKind::Goto(id) => {
-                self.l.error(
-                    codes::E_UNSUPPORTED,
-                    "not supported yet: labels and jumps in this language",
-                    id.span,
-                );
+            StmtKind::Label(id) => {
+                if let Some(&b) = self.labels.get(&id.sym) {
+                    self.b.jump(b, vec![]);
+                    self.b.switch_to(b);
+                }
+            }
+            StmtKind::Goto(id) => match self.labels.get(&id.sym) {
+                Some(&b) => self.b.jump(b, vec![]),
+                None => {
+                    let n = self.l.text(id.span).to_string();
+                    self.l.error(
+                        codes::E_UNKNOWN_LABEL,
+                        format!("there is no label `{n}` in this body: the jump goes nowhere"),
+                        id.span,
+                    );
+                }
+            },
+            StmtKind::Let { name, value } => {
+                let v = self.emit(value, None);
+                // A temporary whose value had an error stays known (as an error), so
+                // its uses report nothing more.
+                let t = v.ty.ir().unwrap_or(plcc_ir::Type::I32);
+                let ty = if v.ty.ir().is_some() { v.ty } else { Ty::Error };
+                let slot = self.b.slot(self.l.sym_name(name.sym).to_string(), plcc_ir::MemType::Scalar(t));
+                if ty != Ty::Error {
+                    let addr = self.b.slot_addr(slot);
+                    self.b.store(v.v, addr);
+                }
+                self.temps.push((name.sym, slot, ty));
             }
         }
     }
@@ -615,7 +638,7 @@ fn writes_var(stmts: &[Stmt], sym: crate::intern::Symbol) -> bool {
         StmtKind::Assign { target, value } | StmtKind::RefAssign { target, value } => {
             root_is(target, sym) || in_call_args(target, sym) || in_call_args(value, sym)
         }
-        StmtKind::Call(e) => in_call_args(e, sym),
+        StmtKind::Call(e) | StmtKind::Let { value: e, .. } => in_call_args(e, sym),
         StmtKind::If {
             branches,
             else_body,
