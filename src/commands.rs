@@ -245,6 +245,22 @@ pub fn run(a: &RunArgs) -> u8 {
             }
         }
     }
+    // Globals after the programs' variables, by their plain names.
+    if let Some(g) = module.data_by_name(plcc_frontend::GLOBALS_DATA) {
+        let prefix = format!("{}.", plcc_frontend::GLOBALS_DATA);
+        for var in plcc_ir::vars::variables(&module, g) {
+            match m.read(&var.path) {
+                Ok(v) => println!(
+                    "{} = {v}",
+                    var.path.strip_prefix(&prefix).unwrap_or(&var.path)
+                ),
+                Err(e) => {
+                    eprintln!("error: reading {}: {e}", var.path);
+                    return EXIT_FAIL;
+                }
+            }
+        }
+    }
     if m.fault() {
         eprintln!("warning: the runtime fault flag is set (a division by zero or an array index out of bounds happened)");
     }

@@ -204,13 +204,17 @@ pub fn run(s: &Scenario, m: &mut dyn Machine, program: &str, cycle_ms: u64) -> O
                     scan(m, t)
                 })
             }
-            Step::Set { var, value } => set(m, &format!("{program}.{var}"), value),
+            Step::Set { var, value } => {
+                let path = path_of(m, program, var);
+                set(m, &path, value)
+            }
             Step::Expect { var, value, tol } => {
                 let text = match tol {
                     Some(t) => format!("expect {var} ~= {value} tol {t}"),
                     None => format!("expect {var} = {value}"),
                 };
-                match expect(m, &format!("{program}.{var}"), value, *tol) {
+                let path = path_of(m, program, var);
+                match expect(m, &path, value, *tol) {
                     Ok(()) => out.checks.push(Check {
                         line: *line,
                         text,
@@ -234,6 +238,19 @@ pub fn run(s: &Scenario, m: &mut dyn Machine, program: &str, cycle_ms: u64) -> O
         }
     }
     out
+}
+
+/// The path of a scenario variable: the program's, else a global's.
+fn path_of(m: &dyn Machine, program: &str, var: &str) -> String {
+    let own = format!("{program}.{var}");
+    if m.read(&own).is_ok() {
+        return own;
+    }
+    let global = format!("{}.{var}", plcc_frontend::GLOBALS_DATA);
+    if m.read(&global).is_ok() {
+        return global;
+    }
+    own
 }
 
 fn set(m: &mut dyn Machine, path: &str, text: &str) -> Result<(), String> {

@@ -202,6 +202,8 @@ bad! {
     name_duplicate_pou_a,
     name_duplicate_pou_b,
     name_unknown_type,
+    name_external_without_global,
+    type_external_mismatch,
     name_fb_contains_itself,
     name_program_as_type,
     name_fb_type_called,
@@ -246,7 +248,6 @@ bad! {
     // not supported yet
     unsup_string,
     unsup_struct,
-    unsup_var_global,
     unsup_var_global_in_pou,
     unsup_configuration,
     // warnings

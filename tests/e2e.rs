@@ -48,6 +48,8 @@
 //!   ops/short_circuit, bits/status_word, apps/sort_readings, apps/crc8,
 //!   arrays/array_inout; in FBs: pou/fb_inout, arrays/array_inout, apps/seven_segment
 //! - VAR_TEMP re-initialised at every call (FB and PROGRAM): pou/var_temp
+//! - VAR_GLOBAL (scalars, arrays, an FB instance, CONSTANTs as array bounds), used
+//!   directly from a FUNCTION and through VAR_EXTERNAL from a PROGRAM: pou/globals
 //! - FUNCTION locals re-initialised at every call: pou/function_basic,
 //!   pou/function_outputs (outputs restart at 0), pou/function_locals_reset
 //!   (outputs with initial values, local arrays, a local FB instance)

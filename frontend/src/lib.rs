@@ -114,6 +114,9 @@ pub fn compile(
             ),
         }
     }
+    if let Some(g) = globals_unit(&mut units, &mut interner) {
+        units.push(g);
+    }
     let mut timings = vec![("parse", started.elapsed())];
     if diagnostics.iter().any(|d| d.is_error()) {
         return Compiled {
@@ -134,4 +137,70 @@ pub fn compile(
         timings,
         syntax: units,
     }
+}
+
+/// The name of the synthetic POU that holds every `VAR_GLOBAL` of a build (no user
+/// can write it: IEC names cannot contain two underscores in a row).
+pub const GLOBALS_POU: &str = "__GLOBALS";
+
+/// The name of the data object that holds the globals (variable paths start with it:
+/// `$globals.x`).
+pub const GLOBALS_DATA: &str = "$globals";
+
+/// Moves every top-level `VAR_GLOBAL` block of the user's units into one synthetic POU
+/// (a unit of its own), so that globals get the same declarations, types, constants
+/// and initial values as the variables of any POU.
+fn globals_unit(
+    units: &mut [ast::SourceUnit],
+    interner: &mut intern::Interner,
+) -> Option<ast::SourceUnit> {
+    let mut blocks = Vec::new();
+    // The standard library (unit 0) declares no globals.
+    for unit in units.iter_mut().skip(1) {
+        let items = std::mem::take(&mut unit.items);
+        for item in items {
+            match item {
+                ast::Item::Globals(mut b) => {
+                    b.kind = ast::VarKind::Var;
+                    blocks.push(b);
+                }
+                ast::Item::Configuration(mut c) => {
+                    // The globals of a configuration and its resources are globals
+                    // too (the configuration itself is reported elsewhere).
+                    let own = std::mem::take(&mut c.var_blocks);
+                    let res = c
+                        .resources
+                        .iter_mut()
+                        .flat_map(|r| std::mem::take(&mut r.var_blocks));
+                    for mut b in own.into_iter().chain(res.collect::<Vec<_>>()) {
+                        if b.kind == ast::VarKind::Global {
+                            b.kind = ast::VarKind::Var;
+                            blocks.push(b);
+                        }
+                    }
+                    unit.items.push(ast::Item::Configuration(c));
+                }
+                other => unit.items.push(other),
+            }
+        }
+    }
+    let first = blocks.first()?.span;
+    let name = ast::Ident {
+        sym: interner.intern(GLOBALS_POU),
+        span: plcc_ir::diag::Span::new(first.file, first.start, first.start),
+    };
+    Some(ast::SourceUnit {
+        file: first.file,
+        items: vec![ast::Item::Pou(ast::Pou {
+            kind: ast::PouKind::Program,
+            name,
+            return_type: None,
+            extends: None,
+            var_blocks: blocks,
+            body: ast::Body::default(),
+            actions: Vec::new(),
+            unsupported_members: Vec::new(),
+            span: first,
+        })],
+    })
 }

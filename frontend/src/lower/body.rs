@@ -203,7 +203,7 @@ impl<'a, 's> BodyCx<'a, 's> {
                 continue;
             }
             let local = match kind {
-                PouKind::Function => v.section != VarKind::InOut,
+                PouKind::Function => !matches!(v.section, VarKind::InOut | VarKind::External),
                 _ => v.section == VarKind::Temp,
             };
             if !local {
@@ -537,7 +537,10 @@ impl<'a, 's> BodyCx<'a, 's> {
                     let b = self.b.create_block();
                     self.labels.insert(id.sym, b);
                 }
-                ast::StmtKind::If { branches, else_body } => {
+                ast::StmtKind::If {
+                    branches,
+                    else_body,
+                } => {
                     for (_, body) in branches {
                         self.collect_labels(body);
                     }
@@ -545,7 +548,9 @@ impl<'a, 's> BodyCx<'a, 's> {
                         self.collect_labels(e);
                     }
                 }
-                ast::StmtKind::Case { arms, else_body, .. } => {
+                ast::StmtKind::Case {
+                    arms, else_body, ..
+                } => {
                     for a in arms {
                         self.collect_labels(&a.body);
                     }
@@ -576,6 +581,14 @@ impl<'a, 's> BodyCx<'a, 's> {
             let vi = vi as usize;
             let v = &self.l.pou(pou).vars[vi];
             let (ty, section) = (v.ty, v.section);
+            if section == VarKind::External {
+                // Checked against the global already (`check_externals`), which made
+                // a broken one's type an error.
+                if ty == Ty::Error {
+                    return Named::Error;
+                }
+                return self.resolve_global(id, report).unwrap_or(Named::Error);
+            }
             let storage = self.l.ir[pou.0 as usize].storage[vi];
             if let Some(Storage::Const(c)) = storage {
                 let val = self.l.ir[pou.0 as usize].consts[c as usize];
@@ -633,9 +646,12 @@ impl<'a, 's> BodyCx<'a, 's> {
                 return Named::Place(Place::new(addr, ty));
             }
         }
+        if let Some(named) = self.resolve_global(id, report) {
+            return named;
+        }
         if self.l.is_unsupported_name(id.sym) {
             // Declared by something already reported as not supported (an
-            // enumeration value, a global): no second error.
+            // enumeration value, a user type): no second error.
             return Named::Error;
         }
         if report && self.l.sym_name(id.sym) == "NULL" {
@@ -664,6 +680,38 @@ impl<'a, 's> BodyCx<'a, 's> {
             self.l.error(codes::E_UNDECLARED, msg, id.span);
         }
         Named::Error
+    }
+
+    /// A global variable or constant (VAR_GLOBAL), if there is one by this name.
+    fn resolve_global(&mut self, id: ast::Ident, report: bool) -> Option<Named> {
+        let g = self.l.globals_pou.filter(|&g| g != self.pou)?;
+        let vi = self.l.pou(g).var(id.sym)? as usize;
+        let v = &self.l.pou(g).vars[vi];
+        let ty = v.ty;
+        match self.l.ir[g.0 as usize].storage[vi] {
+            Some(Storage::Const(c)) => {
+                Some(Named::Const(self.l.ir[g.0 as usize].consts[c as usize], ty))
+            }
+            _ if v.constant => Some(Named::Error),
+            _ if self.in_init => {
+                if report {
+                    self.l.error(
+                        codes::E_NOT_CONSTANT,
+                        "an initial value can only use literals and constants",
+                        id.span,
+                    );
+                }
+                Some(Named::Error)
+            }
+            Some(Storage::Field(fi)) => {
+                let agg = self.l.ir[g.0 as usize].agg?;
+                let data = self.l.globals_data?;
+                let base = self.b.global_addr(data);
+                let addr = self.b.field_addr(base, agg, fi);
+                Some(Named::Place(Place::new(addr, ty)))
+            }
+            _ => Some(Named::Error),
+        }
     }
 
     /// The place of member `name` of the FB instance at `base`. `init` allows the

@@ -133,7 +133,11 @@ impl<'s> BodyCx<'_, 's> {
     fn classify(&mut self, callee: &'s Expr, args: &'s [Arg]) -> Callee {
         match &callee.kind {
             ExprKind::Name(id) => {
-                if self.l.pou(self.pou).var(id.sym).is_some() {
+                let is_global = self
+                    .l
+                    .globals_pou
+                    .is_some_and(|g| self.l.pou(g).var(id.sym).is_some());
+                if self.l.pou(self.pou).var(id.sym).is_some() || is_global {
                     let Some(place) = self.place(callee) else {
                         return Callee::Error;
                     };

@@ -43,7 +43,15 @@ impl Lowerer<'_> {
                         continue;
                     }
                 }
-                let display = self.text(p.name.span).to_string();
+                let is_globals = self.interner.name(p.name.sym) == crate::GLOBALS_POU;
+                let display = if is_globals {
+                    crate::GLOBALS_POU.to_string()
+                } else {
+                    self.text(p.name.span).to_string()
+                };
+                if is_globals {
+                    self.globals_pou = Some(id);
+                }
                 self.pous.push(PouInfo {
                     name: p.name,
                     display,
@@ -88,15 +96,11 @@ impl Lowerer<'_> {
                 | VarKind::Input
                 | VarKind::Output
                 | VarKind::InOut
-                | VarKind::Temp => {}
-                VarKind::Global
-                | VarKind::External
-                | VarKind::Access
-                | VarKind::Config
-                | VarKind::Stat => {
+                | VarKind::Temp
+                | VarKind::External => {}
+                VarKind::Global | VarKind::Access | VarKind::Config | VarKind::Stat => {
                     let what = match block.kind {
                         VarKind::Global => "VAR_GLOBAL inside a POU",
-                        VarKind::External => "VAR_EXTERNAL",
                         VarKind::Access => "VAR_ACCESS",
                         VarKind::Config => "VAR_CONFIG",
                         _ => "VAR_STAT",
@@ -385,10 +389,16 @@ impl Lowerer<'_> {
         want: Option<Ty>,
     ) -> Option<(ConstVal, Ty)> {
         let ast = self.pou_ast(pou);
+        // A POU's own constants first, then the global ones.
+        let globals = self
+            .globals_pou
+            .filter(|&g| g != pou)
+            .map(|g| self.pou_ast(g));
         let interner = &*self.interner;
         type Eval<'e> = dyn Fn(&ast::Expr, u32, Option<Ty>) -> Option<(ConstVal, Ty)> + 'e;
         let lookup = |sym: crate::intern::Symbol, depth: u32, this: &Eval<'_>| {
-            for block in &ast.var_blocks {
+            let scopes = std::iter::once(ast).chain(globals);
+            for block in scopes.flat_map(|a| a.var_blocks.iter()) {
                 if !block.constant {
                     continue;
                 }
@@ -412,6 +422,85 @@ impl Lowerer<'_> {
             None
         };
         consts::eval(e, interner, &lookup, want)
+    }
+
+    /// Checks every VAR_EXTERNAL against the global it names: it must exist and have
+    /// the same type.
+    pub(super) fn check_externals(&mut self) {
+        let g = self.globals_pou;
+        let mut errs = Vec::new();
+        let mut broken = Vec::new();
+        for (pi, p) in self.pous.iter().enumerate() {
+            for (vi, v) in p
+                .vars
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| v.section == VarKind::External)
+            {
+                let before = errs.len();
+                let global = g.and_then(|g| {
+                    let gp = &self.pous[g.0 as usize];
+                    gp.var(v.name.sym).map(|i| gp.vars[i as usize].ty)
+                });
+                match global {
+                    None => errs.push((
+                        codes::E_UNDECLARED,
+                        format!(
+                            "there is no global variable (VAR_GLOBAL) named `{}`",
+                            v.display
+                        ),
+                        v.name.span,
+                    )),
+                    Some(t) if t != v.ty && t != Ty::Error && v.ty != Ty::Error => errs.push((
+                        codes::E_TYPE_MISMATCH,
+                        format!(
+                            "`{}` is declared here as {}, but the global is {}",
+                            v.display,
+                            self.ty_name(v.ty),
+                            self.ty_name(t)
+                        ),
+                        v.name.span,
+                    )),
+                    _ => {}
+                }
+                if errs.len() > before {
+                    broken.push((pi, vi));
+                }
+            }
+        }
+        for (code, msg, span) in errs {
+            self.error(code, msg, span);
+        }
+        // Uses of a broken external report nothing more.
+        for (pi, vi) in broken {
+            self.pous[pi].vars[vi].ty = Ty::Error;
+        }
+    }
+
+    /// The data object of the globals and `init_globals`, which cold start runs
+    /// first.
+    pub(super) fn create_globals(&mut self) {
+        let Some(g) = self.globals_pou else { return };
+        let ir = &self.ir[g.0 as usize];
+        let (Some(agg), Some(init)) = (ir.agg, ir.init) else {
+            return;
+        };
+        let data = self.module.add_data(plcc_ir::DataDef {
+            name: crate::GLOBALS_DATA.to_string(),
+            ty: MemType::Agg(agg),
+            elem: None,
+            kind: plcc_ir::DataKind::Global,
+            location: None,
+        });
+        self.globals_data = Some(data);
+        let mut f = Function::new("$globals$cold_start", FuncKind::Init, vec![], None);
+        {
+            let mut b = plcc_ir::FuncBuilder::new(&mut f);
+            let addr = b.global_addr(data);
+            b.call(init, None, vec![addr]);
+            b.ret(None);
+        }
+        self.module.init_globals = Some(self.module.add_func(f));
     }
 
     /// Reports function blocks that contain an instance of themselves (directly, in
@@ -579,7 +668,7 @@ impl Lowerer<'_> {
                 self.fold_constant(id, vi);
                 continue;
             }
-            if v.section == VarKind::Temp {
+            if matches!(v.section, VarKind::Temp | VarKind::External) {
                 continue;
             }
             let role = match v.section {

@@ -300,6 +300,12 @@ impl<'s> BodyCx<'_, 's> {
         if pou.kind == crate::ast::PouKind::Function && pou.name.sym == sym {
             return pou.ret;
         }
+        if let Some(g) = self.l.globals_pou {
+            let gp = self.l.pou(g);
+            if let Some(vi) = gp.var(sym) {
+                return gp.vars[vi as usize].ty;
+            }
+        }
         Ty::Error
     }
 

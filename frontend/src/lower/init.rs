@@ -3,6 +3,7 @@
 use super::Lowerer;
 use crate::ast::PouKind;
 use crate::codes;
+use crate::types::PouId;
 use plcc_ir::{
     BinaryOp, DataDef, DataKind, FuncBuilder, FuncId, FuncKind, Function, IntCC, MemType,
     ProgramEntry, Type,
@@ -15,7 +16,10 @@ impl Lowerer<'_> {
         let mut chosen = Vec::new();
         if opts.programs.is_empty() {
             for (i, p) in self.pous.iter().enumerate() {
-                if p.kind == PouKind::Program && self.used[i] {
+                if p.kind == PouKind::Program
+                    && self.used[i]
+                    && Some(PouId(i as u32)) != self.globals_pou
+                {
                     chosen.push(i);
                 }
             }

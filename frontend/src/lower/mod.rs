@@ -132,8 +132,12 @@ pub struct Lowerer<'s> {
     /// POUs whose IR is wanted (user POUs, and standard FBs that are used).
     used: Vec<bool>,
     /// Names declared by constructs reported as not supported (enumeration values,
-    /// globals, user types): using them gives no second error.
+    /// user types): using them gives no second error.
     unsupported_names: rustc_hash::FxHashSet<Symbol>,
+    /// The synthetic POU holding every VAR_GLOBAL (see `crate::GLOBALS_POU`).
+    pub(crate) globals_pou: Option<PouId>,
+    /// The data object of the globals.
+    pub(crate) globals_data: Option<plcc_ir::DataId>,
 }
 
 impl<'s> Lowerer<'s> {
@@ -160,6 +164,8 @@ impl<'s> Lowerer<'s> {
             calls: Vec::new(),
             used: Vec::new(),
             unsupported_names: Default::default(),
+            globals_pou: None,
+            globals_data: None,
         }
     }
 
@@ -179,8 +185,10 @@ impl<'s> Lowerer<'s> {
         if !self.check_containment() {
             return (None, self.diags);
         }
+        self.check_externals();
         self.mark_used();
         self.create_shells();
+        self.create_globals();
         for i in 0..self.pous.len() {
             if self.used[i] {
                 self.lower_pou(PouId(i as u32));

@@ -117,7 +117,10 @@ impl<'s> BodyCx<'_, 's> {
                 // its uses report nothing more.
                 let t = v.ty.ir().unwrap_or(plcc_ir::Type::I32);
                 let ty = if v.ty.ir().is_some() { v.ty } else { Ty::Error };
-                let slot = self.b.slot(self.l.sym_name(name.sym).to_string(), plcc_ir::MemType::Scalar(t));
+                let slot = self.b.slot(
+                    self.l.sym_name(name.sym).to_string(),
+                    plcc_ir::MemType::Scalar(t),
+                );
                 if ty != Ty::Error {
                     let addr = self.b.slot_addr(slot);
                     self.b.store(v.v, addr);
@@ -425,6 +428,14 @@ impl<'s> BodyCx<'_, 's> {
         }
     }
 
+    /// True for a variable of this POU itself (not a global, which a call could
+    /// change behind the body's back).
+    fn is_own_variable(&self, sym: crate::intern::Symbol) -> bool {
+        let p = self.l.pou(self.pou);
+        p.var(sym)
+            .is_some_and(|vi| p.vars[vi as usize].section != crate::ast::VarKind::External)
+    }
+
     /// `FOR v := from TO to BY by DO body END_FOR`. The end and step are evaluated
     /// once. The loop stops when the control variable passes the end, and also when
     /// the next step would overflow the variable's type (so `FOR i := 0 TO 32767` on an
@@ -523,7 +534,7 @@ impl<'s> BodyCx<'_, 's> {
             step_const,
         ) {
             (Some((ConstVal::Int(a), _)), Some((ConstVal::Int(z), _)), Some(st))
-                if st != 0 && !writes_var(body, var.sym) =>
+                if st != 0 && self.is_own_variable(var.sym) && !writes_var(body, var.sym) =>
             {
                 Some(if st > 0 { (a, z) } else { (z, a) })
             }
