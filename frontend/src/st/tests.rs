@@ -1337,6 +1337,9 @@ fn dump_stmts(out: &mut String, stmts: &[Stmt], i: &Interner, ind: usize) {
             StmtKind::Empty => out.push_str(&format!("{pad};\n")),
             StmtKind::Label(l) => out.push_str(&format!("{pad}{}:\n", i.name(l.sym))),
             StmtKind::Goto(l) => out.push_str(&format!("{pad}GOTO {}\n", i.name(l.sym))),
+            StmtKind::Let { name, value } => {
+                let _ = writeln!(out, "{pad}LET {} := {}", i.name(name.sym), sx(value, i));
+            }
         }
     }
 }
