@@ -53,6 +53,24 @@ pub(super) enum Builtin {
     TimeOp(Op),
     /// `__PLC_CLOCK()`: the PLC clock (TIME), used by the standard timers.
     Clock,
+    /// The PLC-UD STL's standard operations (`INC DEC SWAP SET CLR`), which the STL
+    /// front end calls by internal names (`__STL_INC`, ...).
+    Stl(StlOp),
+}
+
+/// The standard operations of the PLC-UD STL that IEC 61131-3 does not have.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(super) enum StlOp {
+    /// `INC(x)`: x + 1
+    Inc,
+    /// `DEC(x)`: x - 1
+    Dec,
+    /// `SWAP(x)`: the two halves of x exchanged (the nibbles of a byte)
+    Swap,
+    /// `SET(x, n)`: x with bit n set
+    Set,
+    /// `CLR(x, n)`: x with bit n cleared
+    Clr,
 }
 
 impl Builtin {
@@ -103,6 +121,11 @@ impl Builtin {
             "MUL_TIME" => TimeOp(Op::Mul),
             "DIV_TIME" => TimeOp(Op::Div),
             "__PLC_CLOCK" => Clock,
+            "__STL_INC" => Stl(StlOp::Inc),
+            "__STL_DEC" => Stl(StlOp::Dec),
+            "__STL_SWAP" => Stl(StlOp::Swap),
+            "__STL_SET" => Stl(StlOp::Set),
+            "__STL_CLR" => Stl(StlOp::Clr),
             _ => return Self::conversion(name),
         })
     }
@@ -174,6 +197,7 @@ impl Builtin {
         use Builtin::*;
         match self {
             Convert { .. } | Trunc | Abs | Math(_) | Not | Move => "IN".into(),
+            Stl(_) => ["IN", "N"].get(i).unwrap_or(&"?").to_string(),
             Shift(_) => ["IN", "N"].get(i).unwrap_or(&"?").to_string(),
             Sel => ["G", "IN0", "IN1"].get(i).unwrap_or(&"?").to_string(),
             Limit => ["MN", "IN", "MX"].get(i).unwrap_or(&"?").to_string(),
@@ -194,6 +218,8 @@ impl Builtin {
         match self {
             Convert { .. } | Trunc | Abs | Math(_) | Not | Move => (1, 1),
             Clock => (0, 0),
+            Stl(StlOp::Set) | Stl(StlOp::Clr) => (2, 2),
+            Stl(_) => (1, 1),
             Expt | Shift(_) | TimeOp(_) => (2, 2),
             Arith(Op::Add) | Arith(Op::Mul) | Logic(_) | Max | Min => (2, usize::MAX),
             Arith(_) | Compare(Op::Ne) => (2, 2),
@@ -331,6 +357,7 @@ impl<'s> BodyCx<'_, 's> {
             Mux => arg_ty(self, 1),
             TimeOp(_) => Ty::TIME,
             Clock => Ty::TIME,
+            Stl(_) => arg_ty(self, 0),
             Arith(_) | Logic(_) | Max | Min => {
                 let mut t = arg_ty(self, 0);
                 for i in 1..args.len() {
@@ -365,6 +392,7 @@ impl<'s> BodyCx<'_, 's> {
                 let v = self.b.intrinsic(Intrinsic::ClockMs, vec![])?;
                 Some(Val { v, ty: Ty::TIME })
             }
+            Stl(op) => self.stl_op(op, &xs, want, &name),
             Convert { from, to, trunc } => self.conversion_call(xs[0], from, to, trunc, &name),
             Trunc => {
                 let x = self.real_arg(xs[0], &name)?;
@@ -622,6 +650,55 @@ impl<'s> BodyCx<'_, 's> {
                 }
             }
         }
+    }
+
+    /// The STL's INC, DEC, SWAP, SET and CLR on an integer or bit string.
+    fn stl_op(&mut self, op: StlOp, xs: &[&'s Expr], want: Option<Ty>, name: &str) -> Option<Val> {
+        let name = name.trim_start_matches("__STL_");
+        let x = self.emit(xs[0], want);
+        let e = match x.ty.elem() {
+            Some(e) if x.ty.is_int_like() => e,
+            _ if x.ty == Ty::Error => return None,
+            _ => return self.bad_arg(name, "an integer or a bit string", x.ty, xs[0].span),
+        };
+        let t = e.ir_type();
+        let v =
+            match op {
+                StlOp::Inc | StlOp::Dec => {
+                    let one = self.b.iconst(t, 1);
+                    let bop = if op == StlOp::Inc {
+                        BinaryOp::Iadd
+                    } else {
+                        BinaryOp::Isub
+                    };
+                    self.b.binary(bop, x.v, one)
+                }
+                StlOp::Swap => {
+                    let half = self.b.iconst(t, t.bits() as i64 / 2);
+                    self.b.binary(BinaryOp::Rotl, x.v, half)
+                }
+                StlOp::Set | StlOp::Clr => {
+                    let n = self.emit(xs[1], Some(Ty::Elem(ElemType::UDInt)));
+                    let Some(ne) = n.ty.elem().filter(|ne| {
+                        ne.is_integer() || (ne.is_bit_string() && *ne != ElemType::Bool)
+                    }) else {
+                        if n.ty == Ty::Error {
+                            return None;
+                        }
+                        return self.bad_arg(name, "an integer bit number", n.ty, xs[1].span);
+                    };
+                    let count = self.shift_count(n.v, ne, t, false);
+                    let one = self.b.iconst(t, 1);
+                    let mask = self.b.binary(BinaryOp::Ishl, one, count);
+                    if op == StlOp::Set {
+                        self.b.binary(BinaryOp::Bor, x.v, mask)
+                    } else {
+                        let inv = self.b.unary(UnaryOp::Bnot, mask);
+                        self.b.binary(BinaryOp::Band, x.v, inv)
+                    }
+                }
+            };
+        Some(Val { v, ty: x.ty })
     }
 
     /// A shift count converted to type `t`: saturated to `t`'s width when wider (for
