@@ -172,26 +172,49 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// Every `.st` under `dir`, recursively, sorted.
-fn st_files(dir: &Path, out: &mut Vec<PathBuf>) {
+/// The source languages the suite covers, by extension.
+const SOURCE_EXTENSIONS: [&str; 3] = ["st", "il", "stl"];
+
+/// Every source file (ST, IL, STL) under `dir`, recursively.
+fn source_files(dir: &Path, out: &mut Vec<PathBuf>) {
     let Ok(entries) = std::fs::read_dir(dir) else {
         return;
     };
     for e in entries {
         let p = e.expect("directory entry").path();
         if p.is_dir() {
-            st_files(&p, out);
-        } else if p.extension().is_some_and(|x| x == "st") {
+            source_files(&p, out);
+        } else if p
+            .extension()
+            .is_some_and(|x| SOURCE_EXTENSIONS.iter().any(|e| x == *e))
+        {
             out.push(p);
         }
     }
 }
 
-/// A program and its scenario, named by its path relative to the crate.
+/// A program and its scenario, named by its path relative to the crate. A scenario
+/// may name more source files to build with the program, in a comment line
+/// `# with: lib.st other.il` (paths relative to the scenario): that is how the
+/// mixed-language cases are written.
 struct Case {
     name: String,
-    st: PathBuf,
+    sources: Vec<PathBuf>,
     expect: PathBuf,
+}
+
+/// The files a scenario's `# with:` lines add, resolved beside the scenario.
+fn with_files(expect: &Path) -> Vec<PathBuf> {
+    let text = std::fs::read_to_string(expect).unwrap_or_default();
+    let dir = expect.parent().map(Path::to_path_buf).unwrap_or_default();
+    text.lines()
+        .filter_map(|l| l.trim().strip_prefix("# with:"))
+        .flat_map(|rest| {
+            rest.split_whitespace()
+                .map(|f| dir.join(f))
+                .collect::<Vec<_>>()
+        })
+        .collect()
 }
 
 /// Every test program (each must have a scenario) and every example with one.
@@ -199,14 +222,32 @@ fn cases() -> (Vec<Case>, Vec<String>) {
     let root = root();
     let mut problems = Vec::new();
     let mut programs = Vec::new();
-    st_files(&root.join("tests/programs"), &mut programs);
+    source_files(&root.join("tests/programs"), &mut programs);
     programs.sort();
+    // Files a scenario builds together with its program are not cases of their own.
+    let helpers: Vec<PathBuf> = programs
+        .iter()
+        .filter_map(|p| {
+            let e = p.with_extension("expect");
+            e.exists().then(|| with_files(&e))
+        })
+        .flatten()
+        .collect();
     let mut out = Vec::new();
-    for st in programs {
-        let expect = st.with_extension("expect");
-        let name = rel(&st);
+    for src in programs {
+        if helpers.contains(&src) {
+            continue;
+        }
+        let expect = src.with_extension("expect");
+        let name = rel(&src);
         if expect.exists() {
-            out.push(Case { name, st, expect });
+            let mut sources = vec![src];
+            sources.extend(with_files(&expect));
+            out.push(Case {
+                name,
+                sources,
+                expect,
+            });
         } else {
             problems.push(format!("{name}: no scenario (.expect) beside it"));
         }
@@ -218,14 +259,16 @@ fn cases() -> (Vec<Case>, Vec<String>) {
         ));
     }
     let mut examples = Vec::new();
-    st_files(&root.join("examples"), &mut examples);
+    source_files(&root.join("examples"), &mut examples);
     examples.sort();
-    for st in examples {
-        let expect = st.with_extension("expect");
+    for src in examples {
+        let expect = src.with_extension("expect");
         if expect.exists() {
+            let mut sources = vec![src.clone()];
+            sources.extend(with_files(&expect));
             out.push(Case {
-                name: rel(&st),
-                st,
+                name: rel(&src),
+                sources,
                 expect,
             });
         }
@@ -261,12 +304,17 @@ fn build(case: &Case) -> Result<Built, String> {
     {
         return Err("the scenario checks nothing".into());
     }
-    let bytes = std::fs::read(&case.st).map_err(|e| format!("cannot read the program: {e}"))?;
+    let mut texts = Vec::new();
+    for src in &case.sources {
+        let bytes =
+            std::fs::read(src).map_err(|e| format!("cannot read {}: {e}", src.display()))?;
+        texts.push((rel(src), bytes));
+    }
     let opts = BuildOptions {
         programs: scn.program.iter().cloned().collect(),
         ..Default::default()
     };
-    let b = build_sources(vec![(case.name.clone(), bytes)], &opts).map_err(|e| e.0)?;
+    let b = build_sources(texts, &opts).map_err(|e| e.0)?;
     let Some(module) = b.module else {
         let errors: Vec<String> = b
             .diagnostics
