@@ -1,9 +1,9 @@
 //! End-to-end tests of plcc's own Structured Text programs.
 //!
-//! Every `tests/programs/**/*.st` has a scenario beside it (`NAME.expect`, the
+//! Every `tests/programs/**/*.{st,il,stl}` has a scenario beside it (`NAME.expect`, the
 //! `corpus-expect v1` format of `../shared/corpus/README.md`) whose expected values were
 //! computed by hand from IEC 61131-3 and `DESIGN.md`, not copied from plcc's output.
-//! Every `examples/*.st` with an `.expect` runs too.
+//! Every example (`examples/**`, any language) with an `.expect` runs too.
 //!
 //! - `programs_on_host`, `programs_on_interp`: every scenario passes on that machine.
 //! - `host_and_interp_agree`: the JIT and the IR interpreter hold the same value in
