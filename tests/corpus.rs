@@ -47,7 +47,7 @@ enum Verdict {
 }
 
 fn category(name: &str) -> String {
-    let stem = name.trim_end_matches(".st");
+    let stem = name.trim_end_matches(".st").trim_end_matches(".il");
     let base = stem.split("__").next().unwrap_or(stem);
     base.to_string()
 }
@@ -128,11 +128,11 @@ fn run_corpus(target: &str) {
     let mut failures = Vec::new();
     let excluded = exclusions();
     let mut excluded_seen = Vec::new();
-    for sub in ["bulk/ironplc_e2e", "st"] {
+    for sub in ["bulk/ironplc_e2e", "st", "il"] {
         let mut entries: Vec<PathBuf> = std::fs::read_dir(dir.join(sub))
             .unwrap()
             .map(|e| e.unwrap().path())
-            .filter(|p| p.extension().is_some_and(|e| e == "st"))
+            .filter(|p| p.extension().is_some_and(|e| e == "st" || e == "il"))
             .collect();
         entries.sort();
         for st in entries {
@@ -252,8 +252,13 @@ fn corpus_never_panics() {
     for f in &files {
         let bytes = std::fs::read(f).unwrap();
         let name = f.display().to_string();
+        let lang = if f.extension().is_some_and(|e| e == "il") {
+            plcc_frontend::Lang::Il
+        } else {
+            plcc_frontend::Lang::St
+        };
         let opts = BuildOptions {
-            lang: Some(plcc_frontend::Lang::St),
+            lang: Some(lang),
             check_only: true,
             ..Default::default()
         };
