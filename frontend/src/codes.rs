@@ -4,7 +4,8 @@
 //! and `plcc explain CODE` can describe each one. Ranges:
 //! `E00xx` lexical, `E01xx` syntax, `E02xx` names and declarations, `E03xx` types,
 //! `E04xx` calls, `E05xx` rules about writing and recursion, `E06xx` constructs not
-//! supported yet, `W0xxx` warnings.
+//! supported yet, `E070x`–`E071x` Instruction List, `E072x`–`E073x` PLC-UD STL,
+//! `W0xxx` warnings.
 
 use plcc_ir::diag::CodeInfo;
 
@@ -191,11 +192,167 @@ codes! {
     E_UNSUPPORTED = "E0601", "not supported yet",
         "The construct is valid IEC 61131-3 (or a common dialect) but plcc does not compile it yet. The message names the construct.";
     E_LANGUAGE_UNSUPPORTED = "E0602", "language not supported yet",
-        "The file's language (from its extension or --lang) has no front end yet: Instruction List (.il), PLC-UD STL (.stl) and PLCopen XML ladder (.xml) are planned.";
+        "The file's language (from its extension or --lang) has no front end yet: ladder diagrams in PLCopen XML (.xml) are planned.";
+
+    // ---- PLC-UD STL (E072x) ----
+    STL_UNEXPECTED_CHAR = "E0720", "unexpected character in STL",
+        "The character cannot start any token of the PLC-UD STL. Outside comments, STL \
+         uses ASCII letters, digits, `_` and the operators `:= + - * / % = <> < > <= >= ( ) \
+         , ; : .`; it has no strings, arrays or `&`.\n\
+         \n    x := a & b;     (* error: `&` is not an operator *)\n\
+         \n    x := a and b;   (* fix *)";
+    STL_UNTERMINATED_COMMENT = "E0721", "unterminated comment in STL",
+        "A comment `(* ... *)` runs to the end of the file. Comments nest, so every `(*` \
+         inside one needs its own `*)`.\n\
+         \n    (* outer (* inner *)   x := 1;   (* error: the outer comment is never closed *)\n\
+         \n    (* outer (* inner *) *) x := 1;  (* fix *)";
+    STL_MALFORMED_NUMBER = "E0722", "malformed number in STL",
+        "A number is decimal (`42`), based (`2#1010`, `8#17`, `16#FF`: base 2, 8 or 16) or \
+         written with the PLC-UD constant marker (`#30`); it must fit in 128 bits and have \
+         no letters glued to it.\n\
+         \n    x := 16#FG;   y := 12abc;   (* errors *)\n\
+         \n    x := 16#FF;   y := 12;      (* fixes *)";
+    STL_UNEXPECTED_TOKEN = "E0723", "unexpected token in STL",
+        "The parser found something the STL grammar does not allow here (a malformed \
+         statement, a missing `then`/`do`/`)`, a keyword used as a name, an `else` \
+         without its `if`, ...); the message says what it expected.\n\
+         \n    if a > 1 x := 0;        (* error: expected `then`, found `x` *)\n\
+         \n    if a > 1 then x := 0;   (* fix *)";
+    STL_MISSING_SEMICOLON = "E0724", "missing `;` in STL",
+        "Every simple statement (assignment, procedure call, `repeat ... until c`), every \
+         declaration, `end_var`, `uses` and the `program NAME` header end with `;`. Only a \
+         `begin ... end` block needs none, and the `;` before `else` may be left out.\n\
+         \n    x := 1\n    y := 2;    (* error: expected `;` after `x := 1` *)\n\
+         \n    x := 1;\n    y := 2;    (* fix *)";
+    STL_ASSIGN_WITHOUT_COLON = "E0725", "assignment written without `:=`",
+        "STL assigns with `:=`; `=` compares two values (its result is BOOL), so \
+         `x = 5;` is a comparison used as a statement. `: =` with a space is not `:=` \
+         either.\n\
+         \n    x = 5;    (* error: use `:=` to assign *)\n\
+         \n    x := 5;   (* fix *)";
+    STL_DECLARATION_ORDER = "E0726", "declarations out of order",
+        "An STL program is, in this order: `pragma` lines and `uses`, `program NAME;`, the \
+         global `var ... end_var;` blocks, the global `constant`s, the functions and \
+         procedures, then the main body `begin ... end.`. Inside the main body and inside \
+         a subprogram, the local `var` blocks come first, then the local `constant`s, \
+         then the statements.\n\
+         \n    program p;\n    constant k : INT := 5;\n    var x : INT; end_var;   (* error: a var block after a constant *)\n\
+         \n    program p;\n    var x : INT; end_var;\n    constant k : INT := 5;  (* fix *)";
+    STL_MISSING_END_DOT = "E0727", "missing `end.`",
+        "The main body of an STL program is `begin ... end.`: it ends with `end` and a \
+         dot, and the file must have one.\n\
+         \n    begin\n      x := 1;\n    end;     (* error: expected `end.` *)\n\
+         \n    begin\n      x := 1;\n    end.     (* fix *)";
+    STL_UNCLOSED_BLOCK = "E0728", "block not closed",
+        "A `begin` has no `end`, a `repeat` no `until`, or a `var` block no `end_var` before \
+         something that cannot be inside it. (The `end.` of the main body closes only the \
+         main body.)\n\
+         \n    if a then begin x := 1;\n    end.          (* error: the inner `begin` is not closed *)\n\
+         \n    if a then begin x := 1; end\n    end.          (* fix *)";
+    STL_NESTING_TOO_DEEP = "E0729", "nesting too deep in STL",
+        "Parentheses or statements are nested deeper than the compiler allows (about 200 \
+         levels), or one expression is extremely long. Split the code: put parts of the \
+         expression in variables, or move nested statements into a procedure.\n\
+         \n    x := ((((((...))))));   (* error when nested hundreds of levels deep *)\n\
+         \n    t := (...); x := (t);   (* fix: name an intermediate result *)";
+    STL_CHAINED_COMPARISON = "E0730", "chained comparison",
+        "In STL a comparison relates two expressions (`a < b`); comparisons do not chain, \
+         so `a < b < c` has no meaning. Combine two comparisons with `and`, or parenthesise \
+         a comparison used as a BOOL operand.\n\
+         \n    if 0 < x < 10 then ...           (* error *)\n\
+         \n    if 0 < x and x < 10 then ...     (* fix *)";
+    STL_CONSTANT_WITHOUT_VALUE = "E0731", "constant without a value",
+        "An STL constant is `constant NAME : TYPE := value;`: the value is mandatory, and \
+         each constant has its own `constant` keyword.\n\
+         \n    constant limit : INT;         (* error *)\n\
+         \n    constant limit : INT := 100;  (* fix *)";
+    STL_RESULT_TYPE = "E0732", "function without a result type, or procedure with one",
+        "A `function` returns a value, so its header names the result type; a \
+         `procedure` returns nothing and has none.\n\
+         \n    function twice(a : INT);          (* error: no result type *)\n\
+         \n    function twice(a : INT) INT;      (* fix; or make it a procedure *)";
+    STL_TEXT_AFTER_END = "E0733", "text after `end.`",
+        "The `end.` of the main body ends the program; nothing but comments may follow. \
+         Functions and procedures are declared before the main body.\n\
+         \n    begin x := f(1); end.\n    function f(a : INT) INT; begin f := a; end;   (* error *)\n\
+         \n    function f(a : INT) INT; begin f := a; end;\n    begin x := f(1); end.   (* fix *)";
+
+    // ---- Instruction List (E07xx) ----
+    IL_MALFORMED = "E0701", "malformed IL instruction",
+        "An Instruction List body holds one instruction per line: an optional label \
+         `name:`, an operator (LD, ST, AND, ADD, JMP, CAL, ... or a function name), its \
+         modifiers and its operands separated by commas. The line does not start with an \
+         operator, or something follows the operands. Structured Text statements cannot \
+         be mixed into an IL body (a POU body is either IL or ST).\n\
+         \n    LD a + b      (* error: operands are single values *)\n\
+         \n    LD a          (* fix *)\n    ADD b";
+    IL_MISSING_OPERAND = "E0702", "missing operand",
+        "The operator needs an operand on the same line: LD, LDN, ST, STN, S, R, JMP, CAL, \
+         the FB input operators (S1, R1, CLK, CU, CD, PV, IN, PT) and the arithmetic, \
+         logic and comparison operators (except after `(`, whose operand may follow on \
+         the next lines).\n\
+         \n    LD            (* error: load what? *)\n\
+         \n    LD start      (* fix *)";
+    IL_OPERAND_NOT_ALLOWED = "E0703", "operand where none is allowed",
+        "NOT, RET, RETC, RETCN and `)` work on the current result alone and take no \
+         operand.\n\
+         \n    NOT x         (* error *)\n\
+         \n    LD x          (* fix: load x, then negate the current result *)\n    NOT";
+    IL_BAD_MODIFIER = "E0704", "modifier not allowed with this operator",
+        "IL modifiers are `N` (negate the operand: LDN, STN, ANDN, ORN, XORN, &N), `C` and \
+         `CN` (only if the current result is TRUE / FALSE: JMPC, JMPCN, CALC, CALCN, RETC, \
+         RETCN) and `(` (defer the operator: AND(, ADD(, GT(, ...). Other combinations \
+         have no meaning.\n\
+         \n    JMPN skip     (* error: jumps take C or CN *)\n    LDN( a        (* error: LD cannot be deferred *)\n\
+         \n    JMPCN skip    (* fix *)\n    LDN a";
+    IL_UNMATCHED_CLOSE = "E0705", "`)` without `(`",
+        "A `)` ends a deferred operation opened by an operator with the `(` modifier; no \
+         such operation is open here.\n\
+         \n    LD a\n    AND b\n    )             (* error *)\n\
+         \n    LD a\n    AND( b\n    OR c\n    )             (* fix: a AND (b OR c) *)";
+    IL_UNCLOSED_PAREN = "E0706", "`(` not closed",
+        "An operator with the `(` modifier (AND(, ADD(, ...) defers its operation until the \
+         matching `)`; the body, or a label, jump, return or CAL, comes before it.\n\
+         \n    LD a\n    AND( b\n    OR c\n    ST x          (* error: the AND( is still open *)\n\
+         \n    LD a\n    AND( b\n    OR c\n    )\n    ST x          (* fix *)";
+    IL_NESTING_TOO_DEEP = "E0707", "IL parentheses nested too deeply",
+        "Deferred operations `op(` ... `)` are nested deeper than plcc allows (200 levels). \
+         Store intermediate results in variables instead.\n\
+         \n    LD a\n    AND( b\n    AND( c        (* ... hundreds of levels *)\n\
+         \n    LD b\n    AND c\n    ST t          (* fix: name an intermediate result *)\n    LD a\n    AND t";
+    IL_BAD_OPERAND = "E0708", "invalid operand",
+        "IL operands are single values: a literal, a variable, a member `a.b`, an array \
+         element `a[i]`, a bit `w.3` or a direct address. A jump needs a label name, CAL \
+         and the FB input operators a function block instance; a function is called by \
+         writing its name as the operator, not inside an operand.\n\
+         \n    LD (a)        (* error *)\n    LD ABS(x)     (* error *)\n    JMP 10        (* error *)\n\
+         \n    LD a\n    LD x\n    ABS           (* fix: ABS of the current result *)";
+    IL_NOT_IN_PARENS = "E0709", "instruction not allowed inside `(` ... `)`",
+        "Between an operator with the `(` modifier and its `)` only instructions that \
+         compute a value are allowed: no label, jump, return or CAL (the deferred \
+         operation would be left half done).\n\
+         \n    LD a\n    AND( b\n    JMPC out      (* error *)\n    )\n\
+         \n    LD b\n    JMPC out\n    LD a\n    AND b         (* fix: jump before or after *)";
+    IL_CR_UNDEFINED = "W0701", "the current result is undefined here",
+        "An instruction uses the current result (CR) where no value has been loaded: at the \
+         start of a body or right after a label (control can reach a label from anywhere, \
+         so the CR is undefined there). plcc warns and uses a neutral value of the \
+         operand's type (0, FALSE, T#0s): the code is compiled, but its result means \
+         nothing, so it is not used as a FUNCTION's result either. Start with LD.\n\
+         \n    next:\n    ADD 1         (* warning: add 1 to what? *)\n\
+         \n    next:\n    LD count\n    ADD 1         (* fix *)";
+    IL_CR_NOT_RESULT = "W0702", "the current result is not used as the FUNCTION result",
+        "In a FUNCTION that never stores to its own name, the current result at RET and at \
+         the end of the body is the function's result. Here it is a BOOL (a BOOL literal, \
+         a comparison, ...) while the function returns another type, so it is taken as \
+         left over rather than as the result, and the result keeps its initial value. \
+         Store the result explicitly.\n\
+         \n    FUNCTION f : INT\n    LD x\n    GT 5          (* warning: a BOOL, not the INT result *)\n\
+         \n    FUNCTION f : INT\n    LD x\n    ST f          (* fix *)";
 
     // ---- warnings (W0xxx) ----
-    W_WRITE_INPUT = "W0502", "assignment to an input",
-        "A POU assigns its own VAR_INPUT. It compiles (for a FUNCTION the input is a copy), but the value the caller passed is lost, which is usually a mistake; IEC 61131-3 readers expect inputs to be read-only. Copy the input into a VAR instead.\n\n    FUNCTION f : INT VAR_INPUT x : INT; END_VAR x := x + 1; f := x; END_FUNCTION";
+    W_WRITE_INPUT = "W0502", "assignment to an input of an instance",
+        "A FUNCTION_BLOCK or PROGRAM assigns its own VAR_INPUT. It compiles, but the input belongs to the caller: the value it set is lost until its next call, which is usually a mistake. Copy the input into a VAR instead. (A FUNCTION's inputs are its own copies and may be assigned freely.)\n\n    FUNCTION_BLOCK F VAR_INPUT x : INT; END_VAR VAR y : INT; END_VAR\n    x := x + 1;   (* warning: write y := x + 1 *)";
 }
 
 /// The description of a code, if it is a front-end code.

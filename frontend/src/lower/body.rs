@@ -607,7 +607,9 @@ impl<'a, 's> BodyCx<'a, 's> {
                 }
                 return Named::Error;
             }
-            let access = if section == VarKind::Input {
+            // A FUNCTION's inputs are its own copies (writing them is ordinary Pascal
+            // and STL style); an instance's inputs belong to its caller.
+            let access = if section == VarKind::Input && self.kind() != PouKind::Function {
                 Access::OwnInput
             } else {
                 Access::ReadWrite

@@ -255,12 +255,12 @@ impl<'s> BodyCx<'_, 's> {
         let (code, msg) = match place.access {
             Access::ReadWrite => return true,
             Access::OwnInput => {
-                // Common practice (matiec, CODESYS) allows it, and for a FUNCTION the
-                // input is a copy; but the caller's value is lost: warn.
+                // Common practice (matiec, CODESYS) allows it; but the value the
+                // caller set on the instance is lost until its next call: warn.
                 self.l.diags.push(
                     plcc_ir::diag::Diagnostic::warning(
                         codes::W_WRITE_INPUT,
-                        "assignment to an input (VAR_INPUT) inside its own POU",
+                        "assignment to an input (VAR_INPUT) of this instance",
                         span,
                     )
                     .with_note("the caller's value is overwritten; a local copy in VAR is clearer"),
@@ -522,10 +522,19 @@ impl<'s> BodyCx<'_, 's> {
                         b.span,
                     );
                 }
-                (self.emit_as(b, ty), c)
+                match c {
+                    // An unsigned variable counts down by the step's size (`BY -1`,
+                    // STL's `downto`): the step itself does not fit the type.
+                    Some(v) if v < 0 && !signed => match crate::types::int_range(e) {
+                        Some((_, hi)) if -v <= hi => (self.b.iconst(t, (-v) as i64), c),
+                        _ => (self.emit_as(b, ty), c),
+                    },
+                    _ => (self.emit_as(b, ty), c),
+                }
             }
             None => (self.b.iconst(t, 1), Some(1)),
         };
+        let counts_down_unsigned = !signed && step_const.is_some_and(|c| c < 0);
         // With constant bounds and a body that never writes the variable, the body
         // sees only values from..=to: indexes by it need no bounds check.
         let range = match (
@@ -551,7 +560,7 @@ impl<'s> BodyCx<'_, 's> {
         // Counting down only for a negative step (signed types only).
         let going_up = match step_const {
             Some(c) => {
-                let up = c >= 0 || !signed;
+                let up = c >= 0;
                 self.b.iconst(Type::I1, up as i64)
             }
             None if signed => {
@@ -578,7 +587,11 @@ impl<'s> BodyCx<'_, 's> {
         self.b.switch_to(latch);
         self.set_span(span);
         let i = self.load_place(&place);
-        let next = self.b.binary(BinaryOp::Iadd, i, step);
+        let next = if counts_down_unsigned {
+            self.b.binary(BinaryOp::Isub, i, step)
+        } else {
+            self.b.binary(BinaryOp::Iadd, i, step)
+        };
         self.store_place(&place, next);
         // With a constant end and step the last step cannot overflow when the end is
         // at least one step inside the type's range: no check needed then.
