@@ -7,10 +7,12 @@
 
 pub mod ast;
 pub mod codes;
+pub mod il;
 pub mod intern;
 pub mod lower;
 pub mod source;
 pub mod st;
+pub mod stl;
 pub mod types;
 
 use plcc_ir::diag::{Diagnostic, FileId};
@@ -104,13 +106,25 @@ pub fn compile(
                 &mut interner,
                 &mut diagnostics,
             )),
+            Lang::Il => units.push(il::parse(
+                file,
+                &sources.get(file).text,
+                &mut interner,
+                &mut diagnostics,
+            )),
+            Lang::Stl => units.push(stl::parse(
+                file,
+                &sources.get(file).text,
+                &mut interner,
+                &mut diagnostics,
+            )),
             other => diagnostics.push(
                 Diagnostic::error(
                     codes::E_LANGUAGE_UNSUPPORTED,
                     format!("not supported yet: {} files", other.name()),
                     plcc_ir::diag::Span::new(file, 0, 0),
                 )
-                .with_note("plcc compiles Structured Text (.st) so far"),
+                .with_note("plcc compiles Structured Text (.st), Instruction List (.il) and PLC-UD STL (.stl)"),
             ),
         }
     }

@@ -33,6 +33,44 @@ pub fn parse_tokens(
     interner: &mut Interner,
     diags: &mut Vec<Diagnostic>,
 ) -> SourceUnit {
+    parse_tokens_with(file, text, lexed, interner, diags, None)
+}
+
+/// A parser of POU and ACTION bodies written in another language than ST (the IL
+/// front end): files of that language share ST's declarations, only bodies differ.
+pub(crate) trait BodyHook {
+    /// Called where a body starts (after the declarations). Returns `None`, having
+    /// consumed nothing, if the body is Structured Text; otherwise parses the body up
+    /// to (not including) the next section stop (END_ keyword, VAR block, POU
+    /// keyword, member such as `ACTION a:`) and returns its statements.
+    fn body(&mut self, p: &mut Parser<'_>, ctx: &BodyCtx<'_>) -> Option<Vec<Stmt>>;
+}
+
+/// What a [`BodyHook`] knows about the body it is asked to parse.
+pub(crate) struct BodyCtx<'b> {
+    /// The kind of POU, `None` for an ACTION.
+    pub kind: Option<PouKind>,
+    /// The POU's name (`None` for an ACTION or a POU whose name is missing).
+    pub name: Option<Ident>,
+    /// A FUNCTION's result type.
+    pub return_type: Option<&'b TypeSpec>,
+    /// The declaration blocks of the POU (of the enclosing POU for an ACTION
+    /// declared inside one; empty for an ACTION declared outside).
+    pub var_blocks: &'b [VarBlock],
+    /// The hook already parsed code of this body (code resumes after a VAR block
+    /// written in the middle of it): it must not give it back to ST.
+    pub continuing: bool,
+}
+
+/// [`parse_tokens`] with a parser for bodies in another language.
+pub(crate) fn parse_tokens_with<'a>(
+    file: FileId,
+    text: &'a str,
+    lexed: &'a Lexed,
+    interner: &'a mut Interner,
+    diags: &'a mut Vec<Diagnostic>,
+    hook: Option<&'a mut dyn BodyHook>,
+) -> SourceUnit {
     let s = Syms::new(interner);
     let mut p = Parser {
         file,
@@ -52,6 +90,8 @@ pub fn parse_tokens(
         last_pou: None,
         stmts: Vec::new(),
         args: Vec::new(),
+        hook,
+        line_postfix: None,
     };
     if p.toks.last().map(|t| t.kind) != Some(Tok::Eof) {
         // `lex` always ends with Eof; a hand-made token vector might not.
@@ -307,7 +347,9 @@ fn opener_of(t: Tok) -> &'static str {
     }
 }
 
-struct Parser<'a> {
+/// The parser's state (visible in the crate for [`BodyHook`]s, which use its token
+/// access, error reporting and operand parsing).
+pub(crate) struct Parser<'a> {
     file: FileId,
     text: &'a str,
     toks: &'a [Token],
@@ -333,28 +375,76 @@ struct Parser<'a> {
     stmts: Vec<Stmt>,
     /// The same for call arguments.
     args: Vec<Arg>,
+    /// The parser of bodies written in another language, if any.
+    hook: Option<&'a mut dyn BodyHook>,
+    /// While an IL operand is parsed ([`Self::line_operand`]): the nesting depth at
+    /// which a postfix on a new line ends the operand.
+    line_postfix: Option<u32>,
 }
 
 impl<'a> Parser<'a> {
     // ---------------------------------------------------------------- tokens
 
-    fn tok(&self) -> Token {
+    /// The index of the current token.
+    pub(crate) fn pos(&self) -> usize {
+        self.pos
+    }
+
+    /// The token at `idx` (the last one, Eof, past the end).
+    pub(crate) fn token(&self, idx: usize) -> Token {
+        self.toks
+            .get(idx)
+            .copied()
+            .unwrap_or(self.toks[self.toks.len() - 1])
+    }
+
+    /// The file being parsed.
+    pub(crate) fn file(&self) -> FileId {
+        self.file
+    }
+
+    /// The build's name table.
+    pub(crate) fn interner(&mut self) -> &mut Interner {
+        self.interner
+    }
+
+    /// Reports a diagnostic as it is, bypassing the one-error-per-token rule of
+    /// [`Self::emit`] (for warnings, and for errors found after a body was parsed).
+    pub(crate) fn report(&mut self, d: Diagnostic) {
+        self.diags.push(d);
+    }
+
+    /// True at a token no body goes past: an END_ keyword of a POU or section, a
+    /// VAR block, a POU keyword, the end of the file, or a member (`ACTION a:`).
+    pub(crate) fn at_body_stop(&self) -> bool {
+        is_section_stop(self.peek()) || self.member_at().is_some()
+    }
+
+    /// Asks the [`BodyHook`], if any, to parse the body that starts here.
+    fn foreign_body(&mut self, ctx: &BodyCtx<'_>) -> Option<Vec<Stmt>> {
+        let hook = self.hook.take()?;
+        let stmts = hook.body(self, ctx);
+        self.hook = Some(hook);
+        stmts
+    }
+
+    pub(crate) fn tok(&self) -> Token {
         self.toks[self.pos]
     }
 
-    fn peek(&self) -> Tok {
+    pub(crate) fn peek(&self) -> Tok {
         self.toks[self.pos].kind
     }
 
-    fn peek_at(&self, n: usize) -> Tok {
+    pub(crate) fn peek_at(&self, n: usize) -> Tok {
         self.toks.get(self.pos + n).map_or(Tok::Eof, |t| t.kind)
     }
 
-    fn at(&self, k: Tok) -> bool {
+    pub(crate) fn at(&self, k: Tok) -> bool {
         self.peek() == k
     }
 
-    fn bump(&mut self) -> Token {
+    pub(crate) fn bump(&mut self) -> Token {
         let t = self.toks[self.pos];
         if t.kind != Tok::Eof {
             self.pos += 1;
@@ -362,7 +452,7 @@ impl<'a> Parser<'a> {
         t
     }
 
-    fn eat(&mut self, k: Tok) -> bool {
+    pub(crate) fn eat(&mut self, k: Tok) -> bool {
         if self.at(k) {
             self.bump();
             true
@@ -371,15 +461,15 @@ impl<'a> Parser<'a> {
         }
     }
 
-    fn sp(&self, start: u32, end: u32) -> Span {
+    pub(crate) fn sp(&self, start: u32, end: u32) -> Span {
         Span::new(self.file, start, end)
     }
 
-    fn tspan(&self, t: Token) -> Span {
+    pub(crate) fn tspan(&self, t: Token) -> Span {
         Span::new(self.file, t.start, t.end)
     }
 
-    fn prev_end(&self) -> u32 {
+    pub(crate) fn prev_end(&self) -> u32 {
         if self.pos == 0 {
             0
         } else {
@@ -387,11 +477,11 @@ impl<'a> Parser<'a> {
         }
     }
 
-    fn span_from(&self, start: u32) -> Span {
+    pub(crate) fn span_from(&self, start: u32) -> Span {
         self.sp(start, self.prev_end().max(start))
     }
 
-    fn ident(&self, t: Token) -> Ident {
+    pub(crate) fn ident(&self, t: Token) -> Ident {
         Ident {
             sym: Symbol(t.data),
             span: self.tspan(t),
@@ -404,7 +494,7 @@ impl<'a> Parser<'a> {
             .is_some_and(|t| t.kind == Tok::Ident && t.data == sym.0)
     }
 
-    fn slice(&self, t: Token) -> &'a str {
+    pub(crate) fn slice(&self, t: Token) -> &'a str {
         self.text
             .get(t.start as usize..t.end as usize)
             .unwrap_or("")
@@ -413,7 +503,7 @@ impl<'a> Parser<'a> {
     // ---------------------------------------------------------------- errors
 
     /// How the token at `idx` is shown in "found ..." messages.
-    fn describe(&self, idx: usize) -> String {
+    pub(crate) fn describe(&self, idx: usize) -> String {
         let t = self.toks[idx];
         match t.kind {
             Tok::Eof => "end of file".into(),
@@ -431,7 +521,7 @@ impl<'a> Parser<'a> {
 
     /// Reports `d`, attributed to the token at `idx`, unless an error was already
     /// reported at or after it, or the token is one the lexer reported.
-    fn emit(&mut self, idx: usize, d: Diagnostic) {
+    pub(crate) fn emit(&mut self, idx: usize, d: Diagnostic) {
         if self.last_err.is_some_and(|l| idx <= l) {
             return;
         }
@@ -805,7 +895,7 @@ impl<'a> Parser<'a> {
                 }
                 _ => match self.member_at() {
                     Some(Member::Action) => {
-                        if let Some(a) = self.action(true) {
+                        if let Some(a) = self.action(true, &[]) {
                             items.push(Item::Action(a));
                         }
                     }
@@ -858,7 +948,7 @@ impl<'a> Parser<'a> {
                     self.bump();
                 }
                 _ if self.member_at() == Some(Member::Action) => {
-                    if let Some(mut a) = self.action(false) {
+                    if let Some(mut a) = self.action(false, &[]) {
                         a.pou = a.pou.or(owner);
                         items.push(Item::Action(a));
                     }
@@ -1032,6 +1122,8 @@ impl<'a> Parser<'a> {
         let mut body_end = self.prev_end();
         let mut decl_end = self.prev_end();
         let mut actions = Vec::new();
+        // The body was parsed by the hook (IL): what follows belongs to it too.
+        let mut foreign = false;
         loop {
             let t = self.tok();
             match t.kind {
@@ -1088,7 +1180,7 @@ impl<'a> Parser<'a> {
                     if let Some(m) = self.member_at() {
                         match m {
                             Member::Action => {
-                                if let Some(a) = self.action(false) {
+                                if let Some(a) = self.action(false, &var_blocks) {
                                     actions.push(a);
                                 }
                             }
@@ -1101,7 +1193,22 @@ impl<'a> Parser<'a> {
                         continue;
                     }
                     let before = self.pos;
-                    let list = self.stmt_list(&[], false, false);
+                    let mut list = None;
+                    if self.hook.is_some() && (body_start.is_none() || foreign) {
+                        let ctx = BodyCtx {
+                            kind: Some(kind),
+                            name,
+                            return_type: return_type.as_ref(),
+                            var_blocks: &var_blocks,
+                            continuing: foreign,
+                        };
+                        list = self.foreign_body(&ctx);
+                        foreign |= list.is_some();
+                    }
+                    let list = match list {
+                        Some(l) => l,
+                        None => self.stmt_list(&[], false, false),
+                    };
                     if let Some(first) = list.first() {
                         body_start.get_or_insert(first.span.start);
                         body_end = self.prev_end();
@@ -1144,8 +1251,9 @@ impl<'a> Parser<'a> {
         }
     }
 
-    /// `ACTION name: ... END_ACTION`, `ACTION pou.name: ...`.
-    fn action(&mut self, top_level: bool) -> Option<Action> {
+    /// `ACTION name: ... END_ACTION`, `ACTION pou.name: ...`. `decls` are the
+    /// declarations of the POU it is written in, if any (for a [`BodyHook`]).
+    fn action(&mut self, top_level: bool, decls: &[VarBlock]) -> Option<Action> {
         let kw = self.bump();
         let first = self.expect_ident("an action name");
         let mut pou = None;
@@ -1162,7 +1270,7 @@ impl<'a> Parser<'a> {
             pou = self.last_pou;
         }
         self.eat(Tok::Colon);
-        let body = self.code_body(Tok::EndAction, kw);
+        let body = self.code_body(Tok::EndAction, kw, decls);
         let span = self.span_from(kw.start);
         self.eat(Tok::Semi);
         Some(Action {
@@ -1187,11 +1295,27 @@ impl<'a> Parser<'a> {
     }
 
     /// Statements up to `end` (consumed), for ACTION bodies.
-    fn code_body(&mut self, end: Tok, opener: Token) -> Body {
+    fn code_body(&mut self, end: Tok, opener: Token, decls: &[VarBlock]) -> Body {
         let start = self.tok().start;
         let mut stmts = Vec::new();
+        let mut foreign = false;
         loop {
-            let list = self.stmt_list(&[end], false, false);
+            let mut list = None;
+            if self.hook.is_some() && (stmts.is_empty() || foreign) && !self.at(end) {
+                let ctx = BodyCtx {
+                    kind: None,
+                    name: None,
+                    return_type: None,
+                    var_blocks: decls,
+                    continuing: foreign,
+                };
+                list = self.foreign_body(&ctx);
+                foreign |= list.is_some();
+            }
+            let list = match list {
+                Some(l) => l,
+                None => self.stmt_list(&[end], false, false),
+            };
             append(&mut stmts, list);
             let t = self.tok();
             if t.kind == end {
@@ -2493,10 +2617,24 @@ impl<'a> Parser<'a> {
         unary(op, start, e, self.file)
     }
 
+    /// An IL operand: a primary and its postfixes, which must be on the same line as
+    /// what precedes them (an IL instruction ends with its line; inside brackets and
+    /// call arguments line breaks are free).
+    pub(crate) fn line_operand(&mut self) -> Option<Expr> {
+        let saved = self.line_postfix.replace(self.depth);
+        let e = self.postfix();
+        self.line_postfix = saved;
+        e
+    }
+
     fn postfix(&mut self) -> Option<Expr> {
         let saved = self.height;
         let mut e = self.primary();
         while let Some(base) = e.take() {
+            if self.line_postfix == Some(self.depth) && self.tok().newline_before() {
+                e = Some(base);
+                break;
+            }
             e = match self.peek() {
                 Tok::LParen => self.call_suffix(base),
                 Tok::LBracket => self.index_suffix(base),
@@ -2623,7 +2761,7 @@ impl<'a> Parser<'a> {
     }
 
     /// After `open`, a `(`: the arguments and the end offset of the `)`.
-    fn call_args(&mut self, open: Token) -> Option<(Vec<Arg>, u32)> {
+    pub(crate) fn call_args(&mut self, open: Token) -> Option<(Vec<Arg>, u32)> {
         let base = self.args.len();
         let end = self.call_args_into(open);
         let args = self.args.drain(base..).collect();
