@@ -289,9 +289,8 @@ fn skip_line(p: &mut Parser<'_>, first: usize) {
 }
 
 fn line(p: &mut Parser<'_>, w: &Words, out: &mut Vec<Instr>) {
-    let t = p.tok();
-    if t.kind == Tok::Ident && p.token(p.pos() + 1).kind == Tok::Colon {
-        p.bump();
+    while p.tok().kind == Tok::Ident && p.token(p.pos() + 1).kind == Tok::Colon {
+        let t = p.bump();
         let colon = p.bump();
         out.push(Instr {
             op: Op::Label(p.ident(t)),
@@ -472,7 +471,7 @@ fn instruction(p: &mut Parser<'_>, w: &Words, out: &mut Vec<Instr>) {
                 operands.truncate(1);
             }
             if let Some(first) = operands.first_mut() {
-                if !operand_shape(p, idx, word, &what, first) {
+                if !operand_shape(p, idx, word, &what, first, span) {
                     broken = true;
                 }
             }
@@ -513,14 +512,22 @@ fn instr_of(word: Word, name: Ident, paren: bool, operands: Vec<Expr>, span: Spa
 
 /// Checks the operand of JMP (a label), CAL (an instance, or a call of one) and the
 /// FB input operators (an instance); makes CAL's operand a call.
-fn operand_shape(p: &mut Parser<'_>, idx: usize, word: Word, what: &str, e: &mut Expr) -> bool {
+/// `span` is the instruction's, given to the call made from a bare `CAL inst`.
+fn operand_shape(
+    p: &mut Parser<'_>,
+    idx: usize,
+    word: Word,
+    what: &str,
+    e: &mut Expr,
+    span: Span,
+) -> bool {
     let is_instance = |e: &Expr| matches!(e.kind, ExprKind::Name(_) | ExprKind::Member(..));
     let (ok, expected) = match word {
         Word::Jmp(_) => (matches!(e.kind, ExprKind::Name(_)), "a label name"),
         Word::Cal(_) => {
             if is_instance(e) {
                 *e = Expr {
-                    span: e.span,
+                    span,
                     kind: ExprKind::Call {
                         callee: Box::new(e.clone()),
                         args: Vec::new(),

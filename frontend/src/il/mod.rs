@@ -2,17 +2,17 @@
 //!
 //! An `.il` file has the declarations of ST (POU headers, VAR blocks, TYPE,
 //! CONFIGURATION...), so the ST parser reads it; only POU and ACTION bodies differ. The
-//! ST parser asks this module (through [`crate::st::parser::BodyHook`]) about every
+//! ST parser asks this module (through its `BodyHook`) about every
 //! body: a body is IL if its first line starts with an IL operator or a label `name:`
-//! (see [`looks_like_il`]), otherwise it is ST, so the two can be mixed in one file as
+//! (see `looks_like_il`), otherwise it is ST, so the two can be mixed in one file as
 //! matiec's tests do.
 //!
-//! An IL body is read line by line ([`instr`]): one instruction per line, `[label:]
+//! An IL body is read line by line (`instr`): one instruction per line, `[label:]
 //! operator[modifiers] [operand {, operand}]`; the lexer's NEWLINE_BEFORE flag tells
 //! where lines end. Operands are ST primaries with their postfixes (`a.b`, `a[i]`,
 //! `w.3`, literals, direct addresses), parsed by the ST parser itself.
 //!
-//! The instructions are then turned into ST statements ([`translate`]) by the CPDev
+//! The instructions are then turned into ST statements (`translate`) by the CPDev
 //! method: the current result (CR) is kept as an expression tree over the operands
 //! rather than as a value, so `LD A / MUL 4 / ADD B / ST C` becomes the statement
 //! `C := A * 4 + B`, the very tree ST gives. Type checking, lowering and every backend
@@ -71,7 +71,10 @@ impl BodyHook for IlBodies {
             return None;
         }
         let instrs = instr::parse_body(p, &self.words);
-        let env = environment(ctx, &self.words);
+        let mut env = environment(ctx, &self.words);
+        if let Some(name) = env.result {
+            env.result_text = p.source(name.span).to_string();
+        }
         let file = p.file();
         let mut diags = Vec::new();
         let stmts = translate::translate(
@@ -92,13 +95,20 @@ impl BodyHook for IlBodies {
 /// True if the body starting at the current token is IL: its first line starts with a
 /// label `name:`, or with an IL operator that is not the start of an ST statement
 /// (`ST := 5;` assigns a variable named ST; `R(S := x);` calls an instance named R;
-/// but `AND(`, `ADD(` are IL, an ST statement cannot start with them).
+/// but `AND(`, `ADD(` are IL, an ST statement cannot start with them), or it is a
+/// formal function call `f(...)` without `;` followed by a line that starts with an
+/// IL operator.
 fn looks_like_il(p: &Parser<'_>, w: &Words) -> bool {
-    let t = p.tok();
+    starts_il_line(p, w, p.pos()) || formal_call_then_il(p, w)
+}
+
+/// True if the line starting at token `at` starts with an IL operator or a label.
+fn starts_il_line(p: &Parser<'_>, w: &Words, at: usize) -> bool {
+    let t = p.token(at);
     match t.kind {
         Tok::And | Tok::Or | Tok::Xor | Tok::Mod | Tok::Not | Tok::Amp | Tok::RParen => true,
         Tok::Ident => {
-            let next = p.token(p.pos() + 1);
+            let next = p.token(at + 1);
             if next.kind == Tok::Colon {
                 return true;
             }
@@ -116,11 +126,47 @@ fn looks_like_il(p: &Parser<'_>, w: &Words) -> bool {
                     false
                 }
                 Tok::LParen => matches!(word, Some(Word::Bin(..))),
-                Tok::Ident if next.data == w.ref_.0 => p.token(p.pos() + 2).kind != Tok::Eq,
+                Tok::Ident if next.data == w.ref_.0 => p.token(at + 2).kind != Tok::Eq,
                 _ => true,
             }
         }
         _ => false,
+    }
+}
+
+/// `f(...)` on the first line, then an IL instruction on the next one.
+fn formal_call_then_il(p: &Parser<'_>, w: &Words) -> bool {
+    let at = p.pos();
+    if p.tok().kind != Tok::Ident || p.token(at + 1).kind != Tok::LParen {
+        return false;
+    }
+    let mut depth = 0u32;
+    let mut i = at + 1;
+    loop {
+        let t = p.token(i);
+        match t.kind {
+            Tok::LParen => depth += 1,
+            Tok::RParen => {
+                depth -= 1;
+                if depth == 0 {
+                    let next = p.token(i + 1);
+                    return next.newline_before() && starts_il_line(p, w, i + 1);
+                }
+            }
+            Tok::Eof | Tok::Semi => return false,
+            // Only operators and TRUE/FALSE among the keywords belong in arguments:
+            // another one ends the search (the scan stays inside the body).
+            k if k.is_keyword()
+                && !matches!(
+                    k,
+                    Tok::And | Tok::Or | Tok::Xor | Tok::Not | Tok::Mod | Tok::True | Tok::False
+                ) =>
+            {
+                return false
+            }
+            _ => {}
+        }
+        i += 1;
     }
 }
 

@@ -10,8 +10,10 @@
 //! evaluated twice. Hence the compiler temporaries (`StmtKind::Let`, named `__CR1`,
 //! `__CR2`... which no user can write): the CR is evaluated into one ("spilled")
 //! - when a statement uses it and it is used again later, unless it is a plain
-//!   operand (a literal or a variable, whose reading has no effect): `LD a / ADD b /
-//!   ST x / ST y` gives `__CR1 := a + b; x := __CR1; y := __CR1`;
+//!   operand (a literal or a variable, whose reading has no effect) or a constant
+//!   expression (a temporary would fix its type: `LD 5 / ADD 3 / ST s / ST l` must
+//!   work for a SINT `s` as `s := 5 + 3` does): `LD a / ADD b / ST x / ST y` gives
+//!   `__CR1 := a + b; x := __CR1; y := __CR1`;
 //! - before an instruction that may change what it reads (a store to a variable it
 //!   reads, a call of a function block) when it is used after that instruction: in
 //!   `LD x / STN x / ST y`, `y` gets the old `x`;
@@ -63,6 +65,8 @@ pub(crate) enum Class {
 pub(crate) struct Env {
     /// A FUNCTION with a result type: its name.
     pub result: Option<Ident>,
+    /// That name as written, for messages.
+    pub result_text: String,
     /// The class of that result type, if elementary.
     pub result_class: Option<Class>,
     /// Variables declared with a named, non-elementary type (possibly FB instances,
@@ -139,6 +143,8 @@ pub(crate) fn translate(
         made: FxHashSet::default(),
         bool_temps: FxHashSet::default(),
         result_warned: false,
+        dropped: 0,
+        aborted: false,
     };
     t.run();
     t.out
@@ -167,6 +173,10 @@ struct Tr<'a> {
     bool_temps: FxHashSet<Symbol>,
     /// W0702 was reported in this body.
     result_warned: bool,
+    /// Deferred operations dropped at an error (E0709): their `)` are ignored.
+    dropped: usize,
+    /// Deferred operations are nested too deeply (E0707): translation stopped.
+    aborted: bool,
     sym_s: Symbol,
     sym_r: Symbol,
     sym_pt: Symbol,
@@ -219,8 +229,20 @@ fn used_after(instrs: &[Instr], implicit: bool) -> Vec<bool> {
 
 impl Tr<'_> {
     fn run(&mut self) {
+        self.body();
+        if !self.aborted {
+            self.finish();
+        }
+    }
+
+    /// Translates the instructions in order.
+    fn body(&mut self) {
         let instrs = self.instrs;
         for (i, ins) in instrs.iter().enumerate() {
+            if self.aborted {
+                // Nested too deeply (reported): the rest of the body is not read.
+                return;
+            }
             if ins.broken {
                 self.broken(i);
                 continue;
@@ -277,9 +299,7 @@ impl Tr<'_> {
                     word,
                 } => {
                     if *paren {
-                        if !self.open(i, *op, *neg, *word) {
-                            return;
-                        }
+                        self.open(i, *op, *neg, *word);
                     } else {
                         self.binary(i, *op, *neg, *word);
                     }
@@ -371,7 +391,6 @@ impl Tr<'_> {
                 }
             }
         }
-        self.finish();
     }
 
     // ---------------------------------------------------------------- instructions
@@ -387,10 +406,7 @@ impl Tr<'_> {
                 word,
             } => {
                 self.quiet = true;
-                if !self.open(i, op, neg, word) {
-                    // Too deep: stop here (reported).
-                    self.stack.clear();
-                }
+                self.open(i, op, neg, word);
                 self.quiet = true;
             }
             Op::St { .. } | Op::Set | Op::Reset | Op::Cal(_) | Op::FbInput(_) | Op::Jmp(_) => {}
@@ -455,8 +471,8 @@ impl Tr<'_> {
     }
 
     /// `op( [x]`: saves the CR and the operation; the CR becomes `x` (or undefined).
-    /// False if nested too deeply (reported: the body is abandoned).
-    fn open(&mut self, i: usize, op: BinaryOp, neg: bool, word: Ident) -> bool {
+    /// Nested too deeply, it reports it and abandons the body.
+    fn open(&mut self, i: usize, op: BinaryOp, neg: bool, word: Ident) {
         let ins = &self.instrs[i];
         let span = ins.span;
         if self.stack.len() >= MAX_PAREN_DEPTH {
@@ -470,7 +486,8 @@ impl Tr<'_> {
                 )
                 .with_label("too deep here"),
             );
-            return false;
+            self.aborted = true;
+            return;
         }
         let hint = ins
             .operands
@@ -487,13 +504,19 @@ impl Tr<'_> {
         });
         self.cr = ins.operands.first().map(|x| fresh(x.clone(), 1, false));
         self.quiet = false;
-        true
     }
 
     /// `)`: CR := saved op (CR).
     fn close(&mut self, i: usize) {
         let span = self.instrs[i].span;
         let Some(f) = self.stack.pop() else {
+            if self.dropped > 0 {
+                // Closes a deferred operation dropped at an error (reported).
+                self.dropped -= 1;
+                self.cr = None;
+                self.quiet = true;
+                return;
+            }
             self.diags.push(
                 Diagnostic::error(
                     codes::IL_UNMATCHED_CLOSE,
@@ -564,7 +587,7 @@ impl Tr<'_> {
         self.prepare(i, Effect::Write(&target), true);
         // Read twice (the condition and the result).
         if let Some(cr) = self.cr.take() {
-            let cr = if is_plain(&cr.e) {
+            let cr = if duplicable(&cr.e) {
                 cr
             } else {
                 self.spill(cr, span)
@@ -598,7 +621,7 @@ impl Tr<'_> {
         self.prepare(i, Effect::Call, true);
         let value = self.value(i, class);
         let arg = Arg {
-            span: input.span.to(value.span),
+            span,
             kind: ArgKind::Input { name: input, value },
         };
         let call = call_expr(instance, vec![arg], span);
@@ -738,7 +761,7 @@ impl Tr<'_> {
             return;
         };
         let need =
-            self.used_after[i] && ((reads && !is_plain(&cr.e)) || self.affected(&cr.e, &eff));
+            self.used_after[i] && ((reads && !duplicable(&cr.e)) || self.affected(&cr.e, &eff));
         if need {
             if let Some(cr) = self.cr.take() {
                 let cr = self.spill(cr, span);
@@ -773,7 +796,7 @@ impl Tr<'_> {
         if mismatch && self.obviously_bool(&cr.e) {
             if !self.result_warned {
                 self.result_warned = true;
-                let n = self.interner.name(name.sym).to_string();
+                let n = &self.env.result_text;
                 self.diags.push(
                     Diagnostic::warning(
                         codes::IL_CR_NOT_RESULT,
@@ -896,6 +919,7 @@ impl Tr<'_> {
             d = d.with_secondary(f.span, "this `(` is still open");
         }
         self.diags.push(d);
+        self.dropped += self.stack.len();
         self.stack.clear();
     }
 }
@@ -995,6 +1019,13 @@ fn is_plain(e: &Expr) -> bool {
         ExprKind::Index(b, ix) => is_plain(b) && ix.iter().all(is_constant),
         _ => false,
     }
+}
+
+/// True if `e` can be written twice instead of being computed once into a
+/// temporary: a plain operand, or a constant expression (which, unlike a temporary,
+/// takes the type its use needs: `x := 5 + 3` is fine for a SINT `x`).
+fn duplicable(e: &Expr) -> bool {
+    is_plain(e) || is_constant(e)
 }
 
 /// True if `e` is computed from literals alone.

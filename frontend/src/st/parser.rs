@@ -403,6 +403,13 @@ impl<'a> Parser<'a> {
         self.file
     }
 
+    /// The source text of `span` (empty if it is not in the text).
+    pub(crate) fn source(&self, span: Span) -> &'a str {
+        self.text
+            .get(span.start as usize..span.end as usize)
+            .unwrap_or("")
+    }
+
     /// The build's name table.
     pub(crate) fn interner(&mut self) -> &mut Interner {
         self.interner
@@ -1205,12 +1212,18 @@ impl<'a> Parser<'a> {
                         list = self.foreign_body(&ctx);
                         foreign |= list.is_some();
                     }
+                    // A foreign body starts at its first token, which may give no
+                    // statement (or a later one).
+                    let hook_start = list
+                        .as_ref()
+                        .filter(|_| self.pos > before)
+                        .map(|_| self.toks[before].start);
                     let list = match list {
                         Some(l) => l,
                         None => self.stmt_list(&[], false, false),
                     };
-                    if let Some(first) = list.first() {
-                        body_start.get_or_insert(first.span.start);
+                    if let Some(start) = hook_start.or_else(|| list.first().map(|s| s.span.start)) {
+                        body_start.get_or_insert(start);
                         body_end = self.prev_end();
                         append(&mut stmts, list);
                     } else if self.pos > before && body_start.is_some() {
@@ -1299,6 +1312,7 @@ impl<'a> Parser<'a> {
         let start = self.tok().start;
         let mut stmts = Vec::new();
         let mut foreign = false;
+        let mut hook_start = None;
         loop {
             let mut list = None;
             if self.hook.is_some() && (stmts.is_empty() || foreign) && !self.at(end) {
@@ -1309,8 +1323,12 @@ impl<'a> Parser<'a> {
                     var_blocks: decls,
                     continuing: foreign,
                 };
+                let before = self.pos;
                 list = self.foreign_body(&ctx);
                 foreign |= list.is_some();
+                if list.is_some() && self.pos > before && hook_start.is_none() {
+                    hook_start = Some(self.toks[before].start);
+                }
             }
             let list = match list {
                 Some(l) => l,
@@ -1350,9 +1368,9 @@ impl<'a> Parser<'a> {
             );
             self.bump();
         }
-        let span = match (stmts.first(), stmts.last()) {
-            (Some(f), Some(_)) => self.sp(f.span.start, self.prev_end()),
-            _ => self.sp(start, start),
+        let span = match hook_start.or_else(|| stmts.first().map(|f| f.span.start)) {
+            Some(s) => self.sp(s, self.prev_end()),
+            None => self.sp(start, start),
         };
         self.bump();
         Body { stmts, span }
@@ -2640,7 +2658,14 @@ impl<'a> Parser<'a> {
                 Tok::LBracket => self.index_suffix(base),
                 Tok::Dot => {
                     self.bump();
-                    self.member_access(base)
+                    if self.line_postfix == Some(self.depth) && self.tok().newline_before() {
+                        // An IL operand ends with its line.
+                        let what = "a member name or a bit number after `.`";
+                        self.missing(codes::UNEXPECTED_TOKEN, what, what);
+                        None
+                    } else {
+                        self.member_access(base)
+                    }
                 }
                 Tok::Caret => self.deref_suffix(base),
                 _ => {
