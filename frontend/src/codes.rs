@@ -154,7 +154,7 @@ codes! {
     E_BAD_INDEX = "E0303", "invalid index or bit access",
         "An array is indexed with the wrong number of indexes or a non-integer, something that is not an array is indexed, or a bit number is out of the word.\n\n    VAR a : ARRAY[1..3] OF INT; w : WORD; END_VAR\n    a[1, 2] := 0;   (* one dimension *)\n    w.16 := TRUE;   (* bits 0..15 *)";
     E_BAD_CASE_LABEL = "E0304", "invalid CASE label",
-        "CASE labels must be integer constants in the selector's range, ranges must not be empty, and labels must not overlap.\n\n    CASE x OF 1..5: a := 1; 3: a := 2; END_CASE   (* 3 is already in 1..5 *)";
+        "CASE labels must be integer constants in the selector's range, and ranges must not be empty.\n\n    CASE x OF 5..1: a := 1; END_CASE   (* write 1..5 *)";
     E_BAD_FOR = "E0305", "invalid FOR loop",
         "A FOR loop whose step is the constant 0 never ends.\n\n    FOR i := 1 TO 10 BY 0 DO ... END_FOR";
 
@@ -349,8 +349,12 @@ codes! {
          Store the result explicitly.\n\
          \n    FUNCTION f : INT\n    LD x\n    GT 5          (* warning: a BOOL, not the INT result *)\n\
          \n    FUNCTION f : INT\n    LD x\n    ST f          (* fix *)";
+    IL_NOT_WITH_OPERAND = "W0703", "`NOT` with an operand",
+        "IEC 61131-3's NOT takes no operand: it negates the current result. Some compilers (matiec) accept `NOT x`; plcc reads it as `LDN x` (load the negation of x) and says so.\n\n    NOT TRUE   (* read as LDN TRUE *)";
 
     // ---- warnings (W0xxx) ----
+    W_CASE_OVERLAP = "W0304", "overlapping CASE labels",
+        "A CASE label covers values an earlier label already covers. The arms are tried in order, so for those values the earlier arm runs and the later label is (partly) dead: usually a mistake.\n\n    CASE x OF 1..5: a := 1; 3: a := 2; END_CASE   (* 3 never reaches `a := 2` *)";
     W_WRITE_INPUT = "W0502", "assignment to an input of an instance",
         "A FUNCTION_BLOCK or PROGRAM assigns its own VAR_INPUT. It compiles, but the input belongs to the caller: the value it set is lost until its next call, which is usually a mistake. Copy the input into a VAR instead. (A FUNCTION's inputs are its own copies and may be assigned freely.)\n\n    FUNCTION_BLOCK F VAR_INPUT x : INT; END_VAR VAR y : INT; END_VAR\n    x := x + 1;   (* warning: write y := x + 1 *)";
 }

@@ -431,7 +431,19 @@ fn instruction(p: &mut Parser<'_>, w: &Words, out: &mut Vec<Instr>) {
     let span = p.span_from(t.start);
     let what = format!("`{op_text}{}`", if paren { "(" } else { "" });
     let mut broken = false;
+    let mut word = word;
     match word {
+        Word::Not if operands.len() == 1 && !paren => {
+            // matiec's `NOT x`: read as `LDN x`, with a warning.
+            let d = Diagnostic::warning(
+                codes::IL_NOT_WITH_OPERAND,
+                "`NOT` with an operand: read as `LDN` of it",
+                span,
+            )
+            .with_note("IEC 61131-3's NOT negates the current result and takes no operand");
+            p.emit(idx, d);
+            word = Word::Ld(true);
+        }
         Word::Not | Word::Ret(_) => {
             if let Some(first) = operands.first() {
                 operand_not_allowed(p, idx, &what, first.span);

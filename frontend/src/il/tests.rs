@@ -690,7 +690,7 @@ fn each_malformed_instruction_is_one_diagnostic() {
         ("ADD", "E0702"),
         ("CAL", "E0702"),
         ("LD a,", "E0702"),
-        ("NOT p", "E0703"),
+        ("NOT p", "W0703"),
         ("RET 1", "E0703"),
         ("JMPN l", "E0704"),
         ("LDC a", "E0704"),
@@ -738,7 +738,7 @@ fn each_malformed_instruction_is_one_diagnostic() {
 
 #[test]
 fn several_independent_errors() {
-    let body = "LD\nLD a\nNOT p\nST x\nJMPN l\nl: LD a b\nLD 1\n)\nST y";
+    let body = "LD\nLD a\nRET p\nST x\nJMPN l\nl: LD a b\nLD 1\n)\nST y";
     assert_eq!(codes(body), ["E0702", "E0703", "E0704", "E0701", "E0705"]);
 }
 

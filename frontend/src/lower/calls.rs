@@ -253,24 +253,28 @@ impl<'s> BodyCx<'_, 's> {
         args: &'s [Arg],
     ) -> Vec<Option<&'s Arg>> {
         let mut bound: Vec<Option<&'s Arg>> = vec![None; params.len()];
+        // Positional arguments fill the inputs and in-outs in declaration order; any
+        // beyond those receive the outputs, in order (matiec's non-formal calls list
+        // the outputs too).
+        let order: Vec<usize> = (0..params.len())
+            .filter(|&i| params[i].section != VarKind::Output)
+            .chain((0..params.len()).filter(|&i| params[i].section == VarKind::Output))
+            .collect();
         let mut next_pos = 0usize;
         let callee_name = self.l.pou(callee).display.clone();
         for a in args {
             let slot = match &a.kind {
                 ArgKind::Positional(_) => {
-                    while next_pos < params.len() && params[next_pos].section == VarKind::Output {
-                        next_pos += 1;
-                    }
-                    if next_pos >= params.len() {
+                    let Some(&slot) = order.get(next_pos) else {
                         self.l.error(
                             codes::E_ARG_COUNT,
                             format!("too many arguments for `{callee_name}`"),
                             a.span,
                         );
                         continue;
-                    }
+                    };
                     next_pos += 1;
-                    next_pos - 1
+                    slot
                 }
                 ArgKind::Input { name, .. } | ArgKind::Output { name, .. } => {
                     let upper = self.l.sym_name(name.sym).to_string();
@@ -436,15 +440,17 @@ impl<'s> BodyCx<'_, 's> {
 
     /// `name => target` after a call: stores an output into its target.
     fn assign_output(&mut self, out: Val, a: &'s Arg) {
-        let ArgKind::Output {
-            negated, target, ..
-        } = &a.kind
-        else {
-            return;
+        let (negated, target) = match &a.kind {
+            ArgKind::Output {
+                negated, target, ..
+            } => (*negated, target.as_ref()),
+            // A positional argument in an output's place receives the output.
+            ArgKind::Positional(e) => (false, Some(e)),
+            ArgKind::Input { .. } => return,
         };
         let Some(target) = target else { return };
         let mut out = out;
-        if *negated {
+        if negated {
             if out.ty != Ty::BOOL {
                 self.l.error(
                     codes::E_TYPE_MISMATCH,

@@ -35,6 +35,8 @@ impl ConstVal {
         };
         match (self, e) {
             (ConstVal::Bool(b), ElemType::Bool) => Ok(ConstVal::Bool(b)),
+            // IEC 61131-3's boolean literals include plain 0 and 1.
+            (ConstVal::Int(v @ (0 | 1)), ElemType::Bool) => Ok(ConstVal::Bool(v == 1)),
             // Round once, straight to the target's precision.
             (ConstVal::Int(v), ElemType::Real) => Ok(ConstVal::Real(v as f32 as f64)),
             (ConstVal::Int(v), ElemType::LReal) => Ok(ConstVal::Real(v as f64)),

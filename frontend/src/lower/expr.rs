@@ -520,6 +520,13 @@ impl<'s> BodyCx<'_, 's> {
                 }
                 p
             }
+            // IEC 61131-3's boolean literals include plain 0 and 1.
+            None if lit_ty == Ty::AnyInt
+                && want == Some(Ty::BOOL)
+                && matches!(value, ConstVal::Int(0 | 1)) =>
+            {
+                Ty::BOOL
+            }
             None => concretize(lit_ty, want),
         };
         self.constant(value, ty, None, e.span)

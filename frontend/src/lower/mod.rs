@@ -283,11 +283,25 @@ impl<'s> Lowerer<'s> {
                         if let Some(b) = &p.extends {
                             errs.push(("EXTENDS (inheritance between function blocks)", b.span));
                         }
+                        // One error per kind of member and POU.
+                        let mut seen: Vec<&str> = Vec::new();
                         for &m in &p.unsupported_members {
-                            errs.push(("METHOD and other object-oriented members", m));
+                            let word = self.text(m).split_whitespace().next().unwrap_or("");
+                            let what = match word.to_ascii_uppercase().as_str() {
+                                "STEP" | "INITIAL_STEP" | "TRANSITION" => {
+                                    "sequential function charts (STEP, TRANSITION)"
+                                }
+                                "METHOD" => "METHODs",
+                                "PROPERTY" => "PROPERTYs",
+                                _ => "object-oriented members (INTERFACE, CLASS)",
+                            };
+                            if !seen.contains(&what) {
+                                seen.push(what);
+                                errs.push((what, m));
+                            }
                         }
                         if !p.actions.is_empty() {
-                            errs.push(("ACTIONs", p.actions[0].span));
+                            errs.push(("ACTIONs", self.keyword_span(p.actions[0].span)));
                         }
                         continue;
                     }

@@ -342,15 +342,17 @@ impl<'s> BodyCx<'_, 's> {
                     continue;
                 }
                 if let Some(&(_, _, prev)) = seen.iter().find(|(a, b, _)| lo <= *b && *a <= hi) {
+                    // Arms are tried in order, so the earlier one wins for the values
+                    // both cover: legal, but rarely meant.
                     self.l.diags.push(
-                        plcc_ir::diag::Diagnostic::error(
-                            codes::E_BAD_CASE_LABEL,
+                        plcc_ir::diag::Diagnostic::warning(
+                            codes::W_CASE_OVERLAP,
                             "this CASE label overlaps an earlier one",
                             span,
                         )
-                        .with_secondary(prev, "earlier label"),
+                        .with_secondary(prev, "earlier label")
+                        .with_note("for the values both cover, the earlier arm runs"),
                     );
-                    continue;
                 }
                 seen.push((lo, hi, span));
                 let Some(e) = sel_elem else { continue };

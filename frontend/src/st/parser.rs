@@ -979,10 +979,16 @@ impl<'a> Parser<'a> {
     /// A member keyword at the current token (`METHOD m`, `ACTION a:`, `STEP s:`).
     fn member_at(&self) -> Option<Member> {
         let t = self.tok();
-        if t.kind != Tok::Ident || self.peek_at(1) != Tok::Ident {
+        if t.kind != Tok::Ident {
             return None;
         }
         let s = Symbol(t.data);
+        // `TRANSITION (PRIORITY := 4) FROM a TO b`: the only member whose name may be
+        // left out, with properties in parentheses.
+        let next = self.peek_at(1);
+        if next != Tok::Ident && !(s == self.s.transition && next == Tok::LParen) {
+            return None;
+        }
         let m = &self.s;
         Some(if s == m.action {
             Member::Action
