@@ -14,7 +14,7 @@ static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 #[command(
     name = "plcc",
     version,
-    about = "A compiler for IEC 61131-3 PLC programs (Structured Text)",
+    about = "A compiler for PLC programs: IEC 61131-3 Structured Text and Instruction List, PLC-UD STL",
     args_conflicts_with_subcommands = true,
     after_help = "Examples:\n  plcc run examples/traffic_light.st --scans 100 --cycle-ms 100\n  plcc test prog.st --scenario prog.expect --target interp\n  plcc --emit ir prog.st\n  plcc --target host prog.st -o prog.o"
 )]

@@ -81,8 +81,9 @@ pub(super) struct BodyCx<'a, 's> {
     /// body being lowered (constant bounds, never written in the body): array indexes
     /// by them need no bounds check.
     pub known_ranges: Vec<(crate::intern::Symbol, i128, i128)>,
-    /// Compiler temporaries (`Let` statements): name, slot, type.
-    pub temps: Vec<(crate::intern::Symbol, SlotId, Ty)>,
+    /// Compiler temporaries (`Let` statements) by name: slot and type. A later `Let`
+    /// of the same name replaces the earlier one.
+    pub temps: rustc_hash::FxHashMap<crate::intern::Symbol, (SlotId, Ty)>,
     /// The labels of the body (IL, ladder) and the blocks they start.
     pub labels: rustc_hash::FxHashMap<crate::intern::Symbol, Block>,
     /// A FUNCTION's epilogue (copies outputs, returns the result).
@@ -158,7 +159,7 @@ impl<'a, 's> BodyCx<'a, 's> {
             self_ptr,
             loops: Vec::new(),
             known_ranges: Vec::new(),
-            temps: Vec::new(),
+            temps: Default::default(),
             labels: Default::default(),
             ret_block: None,
             result_slot: None,
@@ -570,7 +571,7 @@ impl<'a, 's> BodyCx<'a, 's> {
     /// FUNCTION's result, a constant, a global.
     pub(super) fn resolve_name(&mut self, id: ast::Ident, report: bool) -> Named {
         let pou = self.pou;
-        if let Some(&(_, slot, ty)) = self.temps.iter().rev().find(|(s, _, _)| *s == id.sym) {
+        if let Some(&(slot, ty)) = self.temps.get(&id.sym) {
             if ty == Ty::Error {
                 return Named::Error;
             }

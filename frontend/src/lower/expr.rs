@@ -290,7 +290,7 @@ impl<'s> BodyCx<'_, 's> {
 
     /// The type of a plain name (without emitting code).
     fn name_type(&self, sym: crate::intern::Symbol) -> Ty {
-        if let Some(&(_, _, ty)) = self.temps.iter().rev().find(|(s, _, _)| *s == sym) {
+        if let Some(&(_, ty)) = self.temps.get(&sym) {
             return ty;
         }
         let pou = self.l.pou(self.pou);

@@ -125,7 +125,7 @@ impl<'s> BodyCx<'_, 's> {
                     let addr = self.b.slot_addr(slot);
                     self.b.store(v.v, addr);
                 }
-                self.temps.push((name.sym, slot, ty));
+                self.temps.insert(name.sym, (slot, ty));
             }
         }
     }
