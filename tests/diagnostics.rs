@@ -1,7 +1,12 @@
 //! Malformed programs and their diagnostics.
 //!
-//! Every `tests/bad/NAME.st` starts with a comment saying what is wrong and which
-//! diagnostic codes it must produce:
+//! Every file in `tests/bad/` is a malformed program in one of three languages, told by
+//! its extension (as `plcc` tells it): `NAME.st` Structured Text, `il_NAME.il`
+//! Instruction List, `stl_NAME.stl` PLC-UD STL. The `il_` and `stl_` prefixes are
+//! required, so that a test's name (the file's stem) says which file it builds and no
+//! two files share a snapshot. All three languages have `(* *)` comments, and every
+//! file starts with one saying what is wrong and which diagnostic codes it must
+//! produce:
 //!
 //! ```text
 //! (* expect: E0102 x1, E0101 x2 — what is wrong *)
@@ -11,8 +16,12 @@
 //! The codes before the `—` must be exactly the set of codes the build reports
 //! (errors and warnings); `xN` after a code says it is reported exactly N times. A
 //! file whose codes are all warnings must still compile. The rendered diagnostics are
-//! snapshotted as `snapshots/diagnostics__NAME.snap`, with the files named
-//! `tests/bad/NAME.st` so that the snapshots are the same on every machine.
+//! snapshotted as `snapshots/diagnostics__STEM.snap`, with the files named
+//! `tests/bad/STEM.EXT` so that the snapshots are the same on every machine.
+//!
+//! Every code of the IL and STL front ends (`E070x`–`E071x`, `E072x`–`E073x`,
+//! `W070x`) must be expected by at least one file, except those listed in
+//! [`UNTRIGGERABLE`].
 //!
 //! Review a change with `cargo insta review` (or `INSTA_UPDATE=always cargo test --test
 //! diagnostics`, then read the `.snap` files): each message must say what is wrong,
@@ -99,6 +108,22 @@ fn parse_expect(name: &str, text: &str) -> Expect {
     }
 }
 
+/// The file of the test `name`: `il_*` is Instruction List, `stl_*` PLC-UD STL,
+/// anything else Structured Text.
+fn bad_file(name: &str) -> String {
+    let ext = if name.starts_with("il_") {
+        "il"
+    } else if name.starts_with("stl_") {
+        "stl"
+    } else {
+        "st"
+    };
+    format!("{name}.{ext}")
+}
+
+/// The extensions of the files in `tests/bad/`, one per language.
+const EXTENSIONS: &[&str] = &["st", "il", "stl"];
+
 fn read_bad(file: &str) -> (String, Vec<u8>) {
     let rel = format!("tests/bad/{file}");
     let bytes =
@@ -106,11 +131,10 @@ fn read_bad(file: &str) -> (String, Vec<u8>) {
     (rel, bytes)
 }
 
-/// Builds `tests/bad/NAME.st` (with its companions) and checks it against its
+/// Builds the file of the test `name` (with its companions) and checks it against its
 /// `expect:` comment and its snapshot.
 fn check_bad(name: &str) {
-    let file = format!("{name}.st");
-    let (rel, bytes) = read_bad(&file);
+    let (rel, bytes) = read_bad(&bad_file(name));
     let text = String::from_utf8_lossy(&bytes).into_owned();
     let expect = parse_expect(&rel, &text);
     let mut inputs = vec![(rel.clone(), bytes)];
@@ -252,23 +276,93 @@ bad! {
     unsup_configuration,
     // warnings
     warn_write_own_input,
+    // Instruction List: instructions and their operands
+    il_malformed,
+    il_missing_operand,
+    il_operand_not_allowed,
+    il_not_with_operand,
+    il_bad_modifier,
+    il_bad_operand,
+    il_unknown_operator,
+    // Instruction List: deferred operations `op(` ... `)`
+    il_unmatched_close,
+    il_unclosed_paren,
+    il_not_in_parens,
+    il_too_deep,
+    // Instruction List: the current result
+    il_and_on_int,
+    il_add_on_bool,
+    il_cr_undefined,
+    il_function_result_not_set,
+    // Instruction List: labels, names, calls, stores
+    il_unknown_label,
+    il_duplicate_label,
+    il_undeclared_variable,
+    il_cal_not_instance,
+    il_wrong_parameter_name,
+    il_store_to_constant,
+    il_store_to_input,
+    il_store_to_fb_output,
+    il_several_errors,
+    il_several_type_errors,
+    // PLC-UD STL: lexical
+    stl_lexical,
+    stl_unterminated_comment,
+    // PLC-UD STL: syntax
+    stl_missing_semicolon,
+    stl_equals_for_assign,
+    stl_missing_then,
+    stl_chained_comparison,
+    stl_missing_begin,
+    stl_missing_end_dot,
+    stl_unclosed_block,
+    stl_text_after_end,
+    stl_too_deep,
+    stl_several_errors,
+    // PLC-UD STL: declarations
+    stl_constant_before_var,
+    stl_var_after_statement,
+    stl_subprogram_after_begin,
+    stl_constant_without_value,
+    stl_result_type,
+    stl_unknown_type,
+    // PLC-UD STL: names, types, calls
+    stl_undeclared_variable,
+    stl_bool_to_int,
+    stl_wrong_arg_count,
+    stl_procedure_as_value,
+    stl_several_type_errors,
 }
 
 /// Every file in `tests/bad/` has its test above, and every test its file.
 #[test]
 fn every_bad_file_is_tested() {
-    let mut files: Vec<String> = std::fs::read_dir(root().join("tests/bad"))
-        .expect("tests/bad")
-        .map(|e| e.expect("directory entry").path())
-        .filter(|p| p.extension().is_some_and(|x| x == "st"))
-        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
-        .collect();
+    let mut files: Vec<String> = Vec::new();
+    for e in std::fs::read_dir(root().join("tests/bad")).expect("tests/bad") {
+        let path = e.expect("directory entry").path();
+        let Some(ext) = path.extension().and_then(|x| x.to_str()) else {
+            continue;
+        };
+        if !EXTENSIONS.contains(&ext) {
+            continue;
+        }
+        let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
+        // The stem tells the language: `il_` for .il, `stl_` for .stl, neither for
+        // .st. So no two files share a stem, hence a test or a snapshot.
+        assert_eq!(
+            bad_file(&stem),
+            format!("{stem}.{ext}"),
+            "tests/bad/{stem}.{ext}: .il files are named il_*, .stl files stl_*, \
+             and .st files neither"
+        );
+        files.push(stem);
+    }
     files.sort();
     let mut listed: Vec<String> = ALL_BAD.iter().map(|s| s.to_string()).collect();
     listed.sort();
     assert_eq!(
         files, listed,
-        "tests/bad/*.st and the list in tests/diagnostics.rs differ"
+        "tests/bad/*.{{st,il,stl}} and the list in tests/diagnostics.rs differ"
     );
     // No snapshot outlives its file.
     for e in std::fs::read_dir(root().join("tests/snapshots")).expect("tests/snapshots") {
@@ -283,17 +377,53 @@ fn every_bad_file_is_tested() {
         {
             assert!(
                 listed.iter().any(|l| l == stem),
-                "tests/snapshots/{name} has no tests/bad/{stem}.st"
+                "tests/snapshots/{name} has no tests/bad/{}",
+                bad_file(stem)
             );
         }
     }
+}
+
+/// Codes of the IL and STL front ends that no program can trigger (none today).
+const UNTRIGGERABLE: &[&str] = &[];
+
+/// True for a code of the IL front end (`E070x`, `E071x`, `W070x`) or of the STL
+/// front end (`E072x`, `E073x`).
+fn is_il_or_stl_code(code: &str) -> bool {
+    ["E070", "E071", "E072", "E073", "W070"]
+        .iter()
+        .any(|p| code.starts_with(p))
+}
+
+/// Every code of the IL and STL front ends is expected by some file of `tests/bad/`.
+#[test]
+fn every_il_and_stl_code_is_covered() {
+    let mut expected = BTreeSet::new();
+    for name in ALL_BAD {
+        let (rel, bytes) = read_bad(&bad_file(name));
+        expected.extend(
+            parse_expect(&rel, &String::from_utf8_lossy(&bytes))
+                .codes
+                .into_keys(),
+        );
+    }
+    let missing: Vec<&str> = plcc_frontend::codes::ALL
+        .iter()
+        .map(|c| c.code)
+        .filter(|c| is_il_or_stl_code(c) && !UNTRIGGERABLE.contains(c))
+        .filter(|c| !expected.contains(*c))
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "no file in tests/bad/ expects {missing:?}: add one, or list the code in UNTRIGGERABLE"
+    );
 }
 
 /// Every code a file expects is a code `plcc explain` knows.
 #[test]
 fn expected_codes_exist() {
     for name in ALL_BAD {
-        let (rel, bytes) = read_bad(&format!("{name}.st"));
+        let (rel, bytes) = read_bad(&bad_file(name));
         let expect = parse_expect(&rel, &String::from_utf8_lossy(&bytes));
         for code in expect.codes.keys() {
             assert!(
@@ -403,6 +533,21 @@ fn exit_0_with_only_warnings() {
     assert!(out.lines().any(|l| l == "s = 0"), "{out}");
 }
 
+/// The binary tells IL and STL files by their extension and exits as for ST.
+#[test]
+fn exit_statuses_of_il_and_stl() {
+    for (file, status_want, code) in [
+        ("tests/bad/il_and_on_int.il", 1, "error[E0301]"),
+        ("tests/bad/stl_missing_semicolon.stl", 1, "error[E0724]"),
+        ("tests/bad/il_not_with_operand.il", 0, "warning[W0703]"),
+    ] {
+        let o = plcc(&["check", file]);
+        let err = stderr(&o);
+        assert_eq!(status(&o), status_want, "plcc check {file}: stderr:\n{err}");
+        assert!(err.contains(code), "plcc check {file}: stderr:\n{err}");
+    }
+}
+
 #[test]
 fn exit_2_on_usage_errors() {
     let cases: &[(&[&str], &str)] = &[
@@ -465,7 +610,7 @@ fn explain_prints_the_explanation() {
 fn explain_knows_every_expected_code() {
     let mut all = BTreeSet::new();
     for name in ALL_BAD {
-        let (rel, bytes) = read_bad(&format!("{name}.st"));
+        let (rel, bytes) = read_bad(&bad_file(name));
         all.extend(
             parse_expect(&rel, &String::from_utf8_lossy(&bytes))
                 .codes
