@@ -300,6 +300,9 @@ bad! {
     il_undeclared_variable,
     il_cal_not_instance,
     il_wrong_parameter_name,
+    il_test_not_bool,
+    il_set_not_bool,
+    il_cal_function,
     il_store_to_constant,
     il_store_to_input,
     il_store_to_fb_output,
@@ -330,6 +333,7 @@ bad! {
     stl_undeclared_variable,
     stl_bool_to_int,
     stl_wrong_arg_count,
+    stl_procedure_in_expression,
     stl_procedure_as_value,
     stl_several_type_errors,
 }

@@ -514,6 +514,16 @@ pub enum ExprKind {
     },
     /// `(e)`, kept so that diagnostics and printers can see the parentheses.
     Paren(Box<Expr>),
+    /// A value as an IL instruction uses it, so that diagnostics name the
+    /// instruction, at this node's span: the condition `JMPC`, `CALCN`, `RETC`, `S`
+    /// or `R` tests (it must be BOOL), or the call `CAL` makes (of a function block
+    /// instance, not a FUNCTION). Anywhere else it reads as `value`.
+    UsedBy {
+        /// The instruction as messages name it (`JMPC`).
+        instr: Box<str>,
+        /// The value it uses.
+        value: Box<Expr>,
+    },
 }
 
 /// Prefix operators.

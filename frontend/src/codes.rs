@@ -160,7 +160,7 @@ codes! {
 
     // ---- calls (E04xx) ----
     E_NOT_CALLABLE = "E0401", "cannot be called",
-        "Only FUNCTIONs, standard functions and function block instances can be called; a FUNCTION_BLOCK type or a PROGRAM cannot.\n\n    TON(IN := x, PT := T#1s);   (* call an instance: t(IN := x, PT := T#1s) *)";
+        "Only FUNCTIONs, standard functions and function block instances can be called; a FUNCTION_BLOCK type or a PROGRAM cannot. IL's CAL calls function block instances only: a FUNCTION is called with its name as the operator.\n\n    TON(IN := x, PT := T#1s);   (* call an instance: t(IN := x, PT := T#1s) *)\n    CAL ABS                     (* IL: LD x, then ABS *)";
     E_ARG_COUNT = "E0402", "wrong arguments",
         "A call has too many or too few arguments, gives one parameter twice, or mixes positional and named arguments where that is not allowed.\n\n    y := LIMIT(0, x);   (* LIMIT(MN, IN, MX) takes three *)";
     E_ARG_DIRECTION = "E0403", "argument in the wrong direction",
@@ -276,6 +276,12 @@ codes! {
          Functions and procedures are declared before the main body.\n\
          \n    begin x := f(1); end.\n    function f(a : INT) INT; begin f := a; end;   (* error *)\n\
          \n    function f(a : INT) INT; begin f := a; end;\n    begin x := f(1); end.   (* fix *)";
+    STL_TYPE = "E0734", "not a type of STL",
+        "PLC-UD STL has five types: BOOL (1 bit), SINT and USINT (8 bits), INT and UINT \
+         (16 bits). Other IEC 61131-3 types (DINT, REAL, TIME, ...) are for Structured \
+         Text or Instruction List files, whose FUNCTIONs an STL program can call.\n\
+         \n    var total : DINT; end_var;   (* error *)\n\
+         \n    var total : INT; end_var;    (* fix; or move the wide arithmetic to a .st file *)";
 
     // ---- Instruction List (E07xx) ----
     IL_MALFORMED = "E0701", "malformed IL instruction",
@@ -325,8 +331,8 @@ codes! {
          element `a[i]`, a bit `w.3` or a direct address. A jump needs a label name, CAL \
          and the FB input operators a function block instance; a function is called by \
          writing its name as the operator, not inside an operand.\n\
-         \n    LD (a)        (* error *)\n    LD ABS(x)     (* error *)\n    JMP 10        (* error *)\n\
-         \n    LD a\n    LD x\n    ABS           (* fix: ABS of the current result *)";
+         \n    LD -a         (* error *)\n    LD ABS(x)     (* error *)\n    JMP 10        (* error *)\n\
+         \n    LD x\n    ABS           (* fix: ABS of the current result *)";
     IL_NOT_IN_PARENS = "E0709", "instruction not allowed inside `(` ... `)`",
         "Between an operator with the `(` modifier and its `)` only instructions that \
          compute a value are allowed: no label, jump, return or CAL (the deferred \

@@ -184,6 +184,8 @@ fn ex(e: &Expr, i: &Interner) -> String {
             format!("{}({})", ex(callee, i), args.join(", "))
         }
         ExprKind::Paren(a) => format!("({})", ex(a, i)),
+        // The instruction that tests a value is not part of the ST it reads as.
+        ExprKind::UsedBy { value, .. } => ex(value, i),
     }
 }
 
@@ -406,7 +408,7 @@ fn unbalanced_parentheses() {
     assert_eq!(d.len(), 1);
     assert_eq!(text(&src, d[0].span.unwrap()), "OR( r");
     assert!(
-        d[0].notes.iter().any(|n| n.contains("1 more")),
+        d[0].notes.iter().any(|n| n.contains("the `(` before it")),
         "{:?}",
         d[0].notes
     );

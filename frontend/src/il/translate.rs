@@ -273,15 +273,38 @@ impl Tr<'_> {
                         ExprKind::Name(id) => self.env.fb_vars.contains(&id.sym),
                         _ => false,
                     };
+                    let not_bool = match &target.kind {
+                        ExprKind::Name(id) => self
+                            .env
+                            .classes
+                            .get(&id.sym)
+                            .is_some_and(|c| *c != Class::Bool),
+                        _ => false,
+                    };
+                    let word = if set { "S" } else { "R" };
                     if instance {
                         let input = Ident {
                             sym: if set { self.sym_s } else { self.sym_r },
                             span: Span::new(self.file, span.start, span.start + 1),
                         };
                         self.fb_input(i, input, target.clone());
+                    } else if not_bool {
+                        let verb = if set { "sets" } else { "resets" };
+                        self.diags.push(
+                            Diagnostic::error(
+                                codes::E_TYPE_MISMATCH,
+                                format!(
+                                    "`{word}` {verb} a BOOL (or an input of a function \
+                                     block instance), and this is not a BOOL"
+                                ),
+                                target.span,
+                            )
+                            .with_label("not a BOOL"),
+                        );
                     } else {
                         self.prepare(i, Effect::Write(target), true);
-                        let c = self.value(i, Class::Bool);
+                        let v = self.value(i, Class::Bool);
+                        let c = used_by(word, v, span);
                         let assign = Stmt {
                             kind: StmtKind::Assign {
                                 target: target.clone(),
@@ -344,8 +367,13 @@ impl Tr<'_> {
                     if !self.stack.is_empty() {
                         self.not_in_parens(i, "CAL");
                     }
+                    let word = match cond {
+                        Cond::Always => "CAL",
+                        Cond::IfTrue => "CALC",
+                        Cond::IfFalse => "CALCN",
+                    };
                     let call = Stmt {
-                        kind: StmtKind::Call(ins.operands[0].clone()),
+                        kind: StmtKind::Call(used_by(word, ins.operands[0].clone(), span)),
                         span,
                     };
                     if *cond == Cond::Always {
@@ -638,11 +666,10 @@ impl Tr<'_> {
                 f.span,
             )
             .with_label("this `(` is not closed");
-            if self.stack.len() > 1 {
-                d = d.with_note(format!(
-                    "{} more `(` before it are not closed either",
-                    self.stack.len() - 1
-                ));
+            match self.stack.len() - 1 {
+                0 => {}
+                1 => d = d.with_note("the `(` before it is not closed either"),
+                n => d = d.with_note(format!("the {n} `(` before it are not closed either")),
             }
             self.diags.push(d);
             return;
@@ -706,14 +733,23 @@ impl Tr<'_> {
         }
     }
 
-    /// The condition of a C or CN modifier.
+    /// The condition of a C or CN modifier, marked as tested by instruction `i` (so a
+    /// current result that is not BOOL is reported there, as `JMPC`'s error).
     fn condition(&mut self, i: usize, cond: Cond) -> Expr {
+        let span = self.instrs[i].span;
         let v = self.value(i, Class::Bool);
-        if cond == Cond::IfFalse {
-            not(v, self.instrs[i].span)
+        let v = if cond == Cond::IfFalse {
+            not(v, span)
         } else {
             v
-        }
+        };
+        let base = match self.instrs[i].op {
+            Op::Jmp(_) => "JMP",
+            Op::Cal(_) => "CAL",
+            _ => "RET",
+        };
+        let suffix = if cond == Cond::IfFalse { "CN" } else { "C" };
+        used_by(&format!("{base}{suffix}"), v, span)
     }
 
     /// Makes `cr` the CR, spilling it if its tree is too tall.
@@ -1028,6 +1064,17 @@ fn duplicable(e: &Expr) -> bool {
     is_plain(e) || is_constant(e)
 }
 
+/// `value` as instruction `instr` (at `span`) uses it.
+fn used_by(instr: &str, value: Expr, span: Span) -> Expr {
+    Expr {
+        kind: ExprKind::UsedBy {
+            instr: instr.into(),
+            value: Box::new(value),
+        },
+        span,
+    }
+}
+
 /// True if `e` is computed from literals alone.
 fn is_constant(e: &Expr) -> bool {
     match &e.kind {
@@ -1066,7 +1113,8 @@ fn any(e: &Expr, f: &dyn Fn(&Expr) -> bool) -> bool {
         | ExprKind::Partial(b, ..)
         | ExprKind::Deref(b)
         | ExprKind::Unary(_, b)
-        | ExprKind::Paren(b) => any(b, f),
+        | ExprKind::Paren(b)
+        | ExprKind::UsedBy { value: b, .. } => any(b, f),
         ExprKind::Bit(a, b) | ExprKind::Binary(_, a, b) => any(a, f) || any(b, f),
         ExprKind::Index(b, ix) => any(b, f) || ix.iter().any(|x| any(x, f)),
         ExprKind::Call { callee, args } => {

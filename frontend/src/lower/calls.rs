@@ -47,6 +47,11 @@ fn params_of(cx: &BodyCx<'_, '_>, p: PouId) -> Vec<Param> {
 impl<'s> BodyCx<'_, 's> {
     /// A call used as a statement.
     pub(super) fn call_stmt(&mut self, e: &'s Expr) {
+        // IL's CAL calls function block instances only.
+        let (e, cal) = match &e.kind {
+            ExprKind::UsedBy { instr, value } => (&**value, Some(&**instr)),
+            _ => (e, None),
+        };
         let ExprKind::Call { callee, args } = &e.kind else {
             self.l.error(
                 codes::NOT_A_STATEMENT,
@@ -55,7 +60,32 @@ impl<'s> BodyCx<'_, 's> {
             );
             return;
         };
-        match self.classify(callee, args) {
+        let callee_kind = self.classify(callee, args);
+        if let Some(instr) = cal {
+            let what = match &callee_kind {
+                Callee::Function(p) => Some(format!("FUNCTION `{}`", self.l.pou(*p).display)),
+                Callee::Builtin(_) => Some(format!(
+                    "the standard function `{}`",
+                    self.l.text(callee.span)
+                )),
+                Callee::Instance(..) | Callee::Error => None,
+            };
+            if let Some(what) = what {
+                self.l.diags.push(
+                    plcc_ir::diag::Diagnostic::error(
+                        codes::E_NOT_CALLABLE,
+                        format!("`{instr}` calls a function block instance; {what} is not one"),
+                        callee.span,
+                    )
+                    .with_label(format!("not a function block instance: `{instr}` cannot call it"))
+                    .with_note(
+                        "call a FUNCTION with its name as the operator: `LD x` then `NAME arg, ...`",
+                    ),
+                );
+                return;
+            }
+        }
+        match callee_kind {
             Callee::Instance(place, fb) => self.fb_call(place, fb, args, e.span),
             Callee::Function(p) => {
                 self.func_call(p, args, e.span);
@@ -119,7 +149,12 @@ impl<'s> BodyCx<'_, 's> {
         }
         if let Some(&p) = self.l.pou_by_name.get(&id.sym) {
             if self.l.pou(p).kind == PouKind::Function {
-                return self.l.pou(p).ret;
+                // A FUNCTION without a result is reported (E0405) where it is
+                // emitted; as an operand it must not cause a second error.
+                return match self.l.pou(p).ret {
+                    Ty::Void => Ty::Error,
+                    t => t,
+                };
             }
             return Ty::Error;
         }

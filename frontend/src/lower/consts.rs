@@ -112,7 +112,7 @@ fn eval_depth(
     }
     let rec = |x: &Expr, d: u32| eval_depth(x, interner, lookup, d, want);
     match &e.kind {
-        ExprKind::Paren(inner) => rec(inner, depth),
+        ExprKind::Paren(inner) | ExprKind::UsedBy { value: inner, .. } => rec(inner, depth),
         ExprKind::Literal(lit) => {
             let prefix = lit
                 .type_prefix

@@ -237,7 +237,7 @@ impl<'s> BodyCx<'_, 's> {
     /// The type of an expression, without emitting anything or reporting errors.
     pub(super) fn infer(&mut self, e: &Expr) -> Ty {
         match &e.kind {
-            ExprKind::Paren(x) => self.infer(x),
+            ExprKind::Paren(x) | ExprKind::UsedBy { value: x, .. } => self.infer(x),
             ExprKind::Literal(lit) => {
                 if let Some(p) = lit.type_prefix {
                     if let Some(t) = ElemType::from_name(self.l.sym_name(p.sym)) {
@@ -390,7 +390,7 @@ impl<'s> BodyCx<'_, 's> {
     /// type of untyped literals); the result may still have another type.
     pub(super) fn emit(&mut self, e: &'s Expr, want: Option<Ty>) -> Val {
         match &e.kind {
-            ExprKind::Paren(x) => self.emit(x, want),
+            ExprKind::Paren(x) | ExprKind::UsedBy { value: x, .. } => self.emit(x, want),
             ExprKind::Literal(_) => self.literal(e, want, false),
             ExprKind::Name(id) => match self.resolve_name(*id, true) {
                 Named::Place(p) => {

@@ -132,20 +132,33 @@ impl<'s> BodyCx<'_, 's> {
 
     /// A BOOL condition of the statement `what` (`IF`, `WHILE`, ...).
     pub(super) fn cond(&mut self, e: &'s Expr, what: &str) -> Value {
+        // An instruction's test is reported at the instruction, in its words.
+        let (e, span, tested_by) = match &e.kind {
+            ExprKind::UsedBy { instr, value } => (&**value, e.span, Some(&**instr)),
+            _ => (e, e.span, None),
+        };
         let t = self.infer(e);
         if t != Ty::BOOL && t != Ty::Error {
             let v = self.emit(e, Some(Ty::BOOL));
             if v.ty == Ty::BOOL || v.ty == Ty::Error {
                 return self.coerce(v, Ty::BOOL, e.span);
             }
-            let found = self.l.ty_name(v.ty);
-            let mut d = plcc_ir::diag::Diagnostic::error(
-                codes::E_TYPE_MISMATCH,
-                format!("the {what} condition must be BOOL, found {found}"),
-                e.span,
-            );
+            // A literal is named as such (`an integer literal`), not by the type
+            // it was given.
+            let found = self.l.ty_name(if t.is_literal() { t } else { v.ty });
+            let (message, note) = match tested_by {
+                Some(op) => (
+                    format!("`{op}` tests the current result, which must be BOOL; it is {found}"),
+                    "compare it first, e.g. `NE 0`",
+                ),
+                None => (
+                    format!("the {what} condition must be BOOL, found {found}"),
+                    "compare the value, e.g. `x <> 0`",
+                ),
+            };
+            let mut d = plcc_ir::diag::Diagnostic::error(codes::E_TYPE_MISMATCH, message, span);
             if v.ty.is_numeric() {
-                d = d.with_note("compare the value, e.g. `x <> 0`");
+                d = d.with_note(note);
             }
             self.l.diags.push(d);
             return self.zero(Ty::BOOL);
@@ -648,6 +661,7 @@ fn writes_var(stmts: &[Stmt], sym: crate::intern::Symbol) -> bool {
                 }) || in_call_args(callee, sym)
             }
             ExprKind::Paren(x)
+            | ExprKind::UsedBy { value: x, .. }
             | ExprKind::Unary(_, x)
             | ExprKind::Member(x, _)
             | ExprKind::Deref(x) => in_call_args(x, sym),

@@ -114,6 +114,7 @@ fn sx(e: &Expr, i: &Interner) -> String {
             format!("{}({})", sx(callee, i), a.join(", "))
         }
         ExprKind::Paren(e) => format!("[{}]", sx(e, i)),
+        ExprKind::UsedBy { instr, value } => format!("{instr}?{}", sx(value, i)),
     }
 }
 

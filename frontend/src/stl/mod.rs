@@ -20,6 +20,7 @@
 //! | `INC(x);` ... as a statement | `x := __STL_INC(x);` (in place, like the quadruple `INC x x`) |
 //! | `SHL(x)` `SHR(x)` `ROL(x)` `ROR(x)` (one argument) | `SHL(x, 1)` ...: one bit, as in the quadruples |
 //! | `#30` (the paper's constant marker) | the literal 30 |
+//! | types BOOL, INT, UINT, SINT, USINT | the IEC types of those names (any other: E0734) |
 //!
 //! # Expression precedence
 //!

@@ -25,6 +25,8 @@ use plcc_ir::diag::{Diagnostic, FileId, Span};
 
 /// The deepest nesting of parentheses, statements and operators accepted.
 pub const MAX_DEPTH: u32 = 200;
+/// The types of PLC-UD STL, which are the IEC 61131-3 types of the same names.
+const STL_TYPES: [&str; 5] = ["BOOL", "INT", "UINT", "SINT", "USINT"];
 /// The greatest height of an expression tree (nesting plus chained operators).
 pub const MAX_HEIGHT: u32 = 1000;
 
@@ -989,8 +991,21 @@ impl Parser<'_> {
     /// A type: an elementary type name (BOOL, INT, UINT, SINT, USINT, or any other
     /// IEC name; the lowering checks it).
     fn type_name(&mut self) -> Option<TypeSpec> {
-        self.expect_ident("a type name (BOOL, INT, UINT, SINT, USINT)")
-            .map(TypeSpec::Named)
+        let at = self.pos;
+        let id = self.expect_ident("a type name (BOOL, INT, UINT, SINT, USINT)")?;
+        let name = self.slice(self.toks[at]);
+        // Not a syntax error: reported without entering error recovery.
+        if !self.bailed && !STL_TYPES.iter().any(|t| t.eq_ignore_ascii_case(name)) {
+            let d = Diagnostic::error(
+                codes::STL_TYPE,
+                format!("`{name}` is not a type of STL"),
+                id.span,
+            )
+            .with_label("not BOOL, INT, UINT, SINT or USINT")
+            .with_note("STL has five types: BOOL, SINT, USINT (8 bits), INT, UINT (16 bits)");
+            self.diags.push(d);
+        }
+        Some(TypeSpec::Named(id))
     }
 
     /// `function NAME(params) TYPE; <locals> begin <locals> <statements> end;` or

@@ -860,7 +860,7 @@ fn every_stl_code_is_tested_and_documented() {
         .iter()
         .filter(|c| ("E0720".."E0740").contains(&c.code))
         .collect();
-    assert_eq!(all.len(), 14);
+    assert_eq!(all.len(), 15);
     let samples = [
         "program p; begin x := a & b; end.",
         "program p; (* open",
@@ -880,6 +880,7 @@ fn every_stl_code_is_tested_and_documented() {
         "program p; constant k : INT; begin end.",
         "program p; function f; begin end; begin end.",
         "program p; begin end. x",
+        "program p; var x : DINT; end_var; begin end.",
     ];
     for (c, src) in all.iter().zip(samples) {
         assert!(c.explanation.contains("    "), "{} has no example", c.code);
