@@ -334,6 +334,8 @@ bad! {
     stl_bool_to_int,
     stl_wrong_arg_count,
     stl_procedure_in_expression,
+    stl_too_few_arguments,
+    call_too_few_positional,
     stl_procedure_as_value,
     stl_several_type_errors,
 }

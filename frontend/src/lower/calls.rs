@@ -352,6 +352,33 @@ impl<'s> BodyCx<'_, 's> {
             }
             bound[slot] = Some(a);
         }
+        // IEC 61131-3 (6.6.1.4.2): a non-formal call of a FUNCTION gives every input
+        // and in-out, in order; a missing one is a mistake, not a default.
+        let wanted = order.len()
+            - params
+                .iter()
+                .filter(|p| p.section == VarKind::Output)
+                .count();
+        let non_formal = args
+            .iter()
+            .all(|a| matches!(a.kind, ArgKind::Positional(_)));
+        if self.l.pou(callee).kind == PouKind::Function
+            && non_formal
+            && next_pos > 0
+            && next_pos < wanted
+        {
+            let span = args[args.len() - 1].span;
+            let missing = &self.l.pou(callee).vars[params[order[next_pos]].var].name;
+            let missing = self.l.text(missing.span).to_string();
+            self.l.diags.push(
+                plcc_ir::diag::Diagnostic::error(
+                    codes::E_ARG_COUNT,
+                    format!("`{callee_name}` takes {wanted} argument(s), {next_pos} given"),
+                    span,
+                )
+                .with_label(format!("`{missing}` is missing after this")),
+            );
+        }
         bound
     }
 
