@@ -84,8 +84,8 @@ pub(super) struct BodyCx<'a, 's> {
     /// Compiler temporaries (`Let` statements) by name: slot and type. A later `Let`
     /// of the same name replaces the earlier one.
     pub temps: rustc_hash::FxHashMap<crate::intern::Symbol, (SlotId, Ty)>,
-    /// The labels of the body (IL, ladder) and the blocks they start.
-    pub labels: rustc_hash::FxHashMap<crate::intern::Symbol, Block>,
+    /// The labels of the body (IL, ladder): the blocks they start, where they are.
+    pub labels: rustc_hash::FxHashMap<crate::intern::Symbol, (Block, Span)>,
     /// A FUNCTION's epilogue (copies outputs, returns the result).
     pub ret_block: Option<Block>,
     /// A FUNCTION's result variable.
@@ -526,17 +526,20 @@ impl<'a, 's> BodyCx<'a, 's> {
         for s in stmts {
             match &s.kind {
                 ast::StmtKind::Label(id) => {
-                    if self.labels.contains_key(&id.sym) {
+                    if let Some(&(_, first)) = self.labels.get(&id.sym) {
                         let n = self.l.text(id.span).to_string();
-                        self.l.error(
-                            codes::E_DUPLICATE_LABEL,
-                            format!("label `{n}` is defined twice in this body"),
-                            id.span,
+                        self.l.diags.push(
+                            plcc_ir::diag::Diagnostic::error(
+                                codes::E_DUPLICATE_LABEL,
+                                format!("label `{n}` is defined twice in this body"),
+                                id.span,
+                            )
+                            .with_secondary(first, "first defined here"),
                         );
                         continue;
                     }
                     let b = self.b.create_block();
-                    self.labels.insert(id.sym, b);
+                    self.labels.insert(id.sym, (b, id.span));
                 }
                 ast::StmtKind::If {
                     branches,

@@ -95,13 +95,13 @@ impl<'s> BodyCx<'_, 's> {
             },
             StmtKind::Empty => {}
             StmtKind::Label(id) => {
-                if let Some(&b) = self.labels.get(&id.sym) {
+                if let Some(&(b, _)) = self.labels.get(&id.sym) {
                     self.b.jump(b, vec![]);
                     self.b.switch_to(b);
                 }
             }
             StmtKind::Goto(id) => match self.labels.get(&id.sym) {
-                Some(&b) => self.b.jump(b, vec![]),
+                Some(&(b, _)) => self.b.jump(b, vec![]),
                 None => {
                     let n = self.l.text(id.span).to_string();
                     self.l.error(

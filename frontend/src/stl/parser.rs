@@ -1013,6 +1013,7 @@ impl Parser<'_> {
     fn subprogram(&mut self) -> Option<Pou> {
         let kw = self.bump();
         let is_fn = kw.kind == Tok::Function;
+        let name_at = self.pos;
         let name = self.expect_ident(if is_fn {
             "the function's name"
         } else {
@@ -1046,12 +1047,21 @@ impl Parser<'_> {
                 }
                 self.eat(Tok::Semi);
             } else if is_fn {
+                let fname = if name.is_some() {
+                    self.slice(self.toks[name_at])
+                } else {
+                    ""
+                };
                 let d = Diagnostic::error(
                     codes::STL_RESULT_TYPE,
-                    format!("the function has no result type, found {}", self.describe()),
+                    format!(
+                        "function `{fname}` has no result type, found {}",
+                        self.describe()
+                    ),
                     self.tspan(self.tok()),
                 )
                 .with_label("expected the result type")
+                .with_secondary(params_span, "after the parameters")
                 .with_note(
                     "write `function NAME(a : INT) INT;`, or declare a subprogram without a \
                      result with `procedure`",
