@@ -303,6 +303,8 @@ bad! {
     il_test_not_bool,
     il_set_not_bool,
     il_cal_function,
+    il_void_result_read,
+    il_result_after_label,
     il_store_to_constant,
     il_store_to_input,
     il_store_to_fb_output,

@@ -351,7 +351,7 @@ const FUZZ_SEEDS: &[&str] = &["FUNCTION f : INT
        ADD 1
        ST a
        ST arr[2]
-       f
+       f x
        ST b
        LD x
        ANDN y

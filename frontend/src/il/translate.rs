@@ -796,8 +796,15 @@ impl Tr<'_> {
         let Some(cr) = &self.cr else {
             return;
         };
-        let need =
-            self.used_after[i] && ((reads && !duplicable(&cr.e)) || self.affected(&cr.e, &eff));
+        // A call in a CR that this instruction does not read must still happen before
+        // the instruction's own call (IL runs in order), whether or not the CR is
+        // used later.
+        let pending_call = !reads
+            && matches!(eff, Effect::Call)
+            && !cr.consumed
+            && any(&cr.e, &|e| matches!(e.kind, ExprKind::Call { .. }));
+        let need = pending_call
+            || self.used_after[i] && ((reads && !duplicable(&cr.e)) || self.affected(&cr.e, &eff));
         if need {
             if let Some(cr) = self.cr.take() {
                 let cr = self.spill(cr, span);
@@ -823,6 +830,24 @@ impl Tr<'_> {
             return;
         };
         let Some(cr) = &self.cr else {
+            // The result would be the CR, which has no value here (after a label):
+            // the FUNCTION would silently return its result variable's initial value.
+            if !self.quiet && !self.result_warned {
+                self.result_warned = true;
+                let n = &self.env.result_text;
+                self.diags.push(
+                    Diagnostic::warning(
+                        codes::IL_CR_UNDEFINED,
+                        "the current result is undefined here",
+                        span,
+                    )
+                    .with_label(format!("FUNCTION `{n}` returns here with no result"))
+                    .with_note(format!(
+                        "after a label the current result has no value: store the result \
+                         with `ST {n}` on every path before it reaches the label"
+                    )),
+                );
+            }
             return;
         };
         if cr.tainted {

@@ -84,6 +84,10 @@ pub(super) struct BodyCx<'a, 's> {
     /// Compiler temporaries (`Let` statements) by name: slot and type. A later `Let`
     /// of the same name replaces the earlier one.
     pub temps: rustc_hash::FxHashMap<crate::intern::Symbol, (SlotId, Ty)>,
+    /// Compiler temporaries that hold the "value" of a call of a FUNCTION without a
+    /// result (IL: such a call leaves the current result undefined): the FUNCTION.
+    /// Reading one is E0405 at the call (reported once: the flag).
+    pub void_temps: rustc_hash::FxHashMap<crate::intern::Symbol, (PouId, bool)>,
     /// The labels of the body (IL, ladder): the blocks they start, where they are.
     pub labels: rustc_hash::FxHashMap<crate::intern::Symbol, (Block, Span)>,
     /// A FUNCTION's epilogue (copies outputs, returns the result).
@@ -160,6 +164,7 @@ impl<'a, 's> BodyCx<'a, 's> {
             loops: Vec::new(),
             known_ranges: Vec::new(),
             temps: Default::default(),
+            void_temps: Default::default(),
             labels: Default::default(),
             ret_block: None,
             result_slot: None,
@@ -574,6 +579,19 @@ impl<'a, 's> BodyCx<'a, 's> {
     /// FUNCTION's result, a constant, a global.
     pub(super) fn resolve_name(&mut self, id: ast::Ident, report: bool) -> Named {
         let pou = self.pou;
+        if let Some(&(p, reported)) = self.void_temps.get(&id.sym) {
+            // Once per temporary: every read of it is the same mistake.
+            if report && !reported {
+                self.void_temps.insert(id.sym, (p, true));
+                let n = self.l.pou(p).display.clone();
+                self.l.error(
+                    codes::E_NO_RESULT,
+                    format!("FUNCTION `{n}` has no result type, so it gives no value"),
+                    id.span,
+                );
+            }
+            return Named::Error;
+        }
         if let Some(&(slot, ty)) = self.temps.get(&id.sym) {
             if ty == Ty::Error {
                 return Named::Error;

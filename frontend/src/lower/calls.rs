@@ -97,6 +97,22 @@ impl<'s> BodyCx<'_, 's> {
         }
     }
 
+    /// The FUNCTION `e` calls if it is a call of a FUNCTION without a result type.
+    pub(super) fn void_call(&self, e: &Expr) -> Option<PouId> {
+        let ExprKind::Call { callee, .. } = &e.kind else {
+            return None;
+        };
+        let ExprKind::Name(id) = &callee.kind else {
+            return None;
+        };
+        if self.l.pou(self.pou).var(id.sym).is_some() {
+            return None;
+        }
+        let &p = self.l.pou_by_name.get(&id.sym)?;
+        let pou = self.l.pou(p);
+        (pou.kind == PouKind::Function && pou.ret == Ty::Void).then_some(p)
+    }
+
     /// A call used as a value.
     pub(super) fn call_expr(
         &mut self,

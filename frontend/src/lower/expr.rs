@@ -290,6 +290,9 @@ impl<'s> BodyCx<'_, 's> {
 
     /// The type of a plain name (without emitting code).
     fn name_type(&self, sym: crate::intern::Symbol) -> Ty {
+        if self.void_temps.contains_key(&sym) {
+            return Ty::Error;
+        }
         if let Some(&(_, ty)) = self.temps.get(&sym) {
             return ty;
         }

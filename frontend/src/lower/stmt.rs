@@ -112,6 +112,13 @@ impl<'s> BodyCx<'_, 's> {
                 }
             },
             StmtKind::Let { name, value } => {
+                // IL keeps a call whose current result is dropped, even one that gives
+                // no value: the call is made, and only reading its value is an error.
+                if let Some(p) = self.void_call(value) {
+                    self.call_stmt(value);
+                    self.void_temps.insert(name.sym, (p, false));
+                    return;
+                }
                 let v = self.emit(value, None);
                 // A temporary whose value had an error stays known (as an error), so
                 // its uses report nothing more.
