@@ -1,4 +1,7 @@
-//! End-to-end tests of plcc's own Structured Text programs.
+//! End-to-end tests of plcc's own programs, in every language: `tests/programs/st/`
+//! (Structured Text, the checklist below), `il/` (Instruction List), `stl/` (PLC-UD
+//! STL), `equiv/` (the same logic in ST, IL and STL; `tests/equivalence.rs` compares
+//! their IR), mixed-language builds among them (`# with:`).
 //!
 //! Every `tests/programs/**/*.{st,il,stl}` has a scenario beside it (`NAME.expect`, the
 //! `corpus-expect v1` format of `../shared/corpus/README.md`) whose expected values were
@@ -168,6 +171,9 @@ const CYCLE_MS: u64 = 10;
 /// Fewer programs than this means the discovery is broken.
 const MIN_PROGRAMS: usize = 90;
 
+/// The fewest programs (with their scenarios) each language other than ST must have.
+const MIN_PER_LANGUAGE: [(&str, usize); 2] = [("il", 30), ("stl", 20)];
+
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
@@ -257,6 +263,17 @@ fn cases() -> (Vec<Case>, Vec<String>) {
             "only {} programs found under tests/programs (expected at least {MIN_PROGRAMS})",
             out.len()
         ));
+    }
+    for (ext, min) in MIN_PER_LANGUAGE {
+        let n = out
+            .iter()
+            .filter(|c| c.sources[0].extension().is_some_and(|x| x == ext))
+            .count();
+        if n < min {
+            problems.push(format!(
+                "only {n} .{ext} programs under tests/programs (expected at least {min})"
+            ));
+        }
     }
     let mut examples = Vec::new();
     source_files(&root.join("examples"), &mut examples);
