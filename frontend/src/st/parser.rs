@@ -1968,64 +1968,16 @@ impl<'a> Parser<'a> {
         let kw = self.bump();
         let name = self.expect_ident("a configuration name");
         self.eat(Tok::Semi);
-        let mut var_blocks = Vec::new();
-        let mut resources = Vec::new();
-        let mut tasks = Vec::new();
-        let mut programs = Vec::new();
-        loop {
-            let t = self.tok();
-            match t.kind {
-                Tok::EndConfiguration => {
-                    self.bump();
-                    break;
-                }
-                Tok::VarGlobal | Tok::VarAccess | Tok::VarConfig => {
-                    if let Some(b) = self.var_block(DeclCtx::Global) {
-                        var_blocks.push(b);
-                    }
-                }
-                Tok::Program if self.at_program_config() => {
-                    if let Some(p) = self.program_config() {
-                        programs.push(p);
-                    }
-                }
-                Tok::Semi => {
-                    self.bump();
-                }
-                Tok::Ident if self.at_sym(0, self.s.resource) && self.peek_at(1) == Tok::Ident => {
-                    if let Some(r) = self.resource() {
-                        resources.push(r);
-                    }
-                }
-                Tok::Ident if self.at_sym(0, self.s.task) && self.peek_at(1) == Tok::Ident => {
-                    if let Some(task) = self.task() {
-                        tasks.push(task);
-                    }
-                }
-                k if k == Tok::Eof || is_top_start(k) || is_pou_end(k) => {
-                    // (a PROGRAM that is not `PROGRAM inst WITH t : T` starts a POU)
-                    let msg = format!(
-                        "expected `END_CONFIGURATION`, found {}",
-                        self.describe(self.pos)
-                    );
-                    let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
-                        .with_label("expected `END_CONFIGURATION`")
-                        .with_secondary(self.tspan(kw), "this CONFIGURATION is not closed");
-                    self.emit(self.pos, d);
-                    break;
-                }
-                _ => {
-                    self.expected(
-                        "`VAR_GLOBAL`, `RESOURCE`, `TASK`, `PROGRAM` or `END_CONFIGURATION`",
-                    );
-                    self.bump();
-                    self.skip_decl();
-                }
-            }
-        }
+        let items = self.config_items(kw, true);
         let span = self.span_from(kw.start);
         self.eat(Tok::Semi);
         let name = name?;
+        let ConfigItems {
+            var_blocks,
+            mut resources,
+            tasks,
+            programs,
+        } = items;
         if !tasks.is_empty() || !programs.is_empty() {
             let implicit_span = tasks
                 .iter()
@@ -2059,59 +2011,90 @@ impl<'a> Parser<'a> {
             on = self.expect_ident("a processor type after `ON`");
         }
         self.eat(Tok::Semi);
-        let mut var_blocks = Vec::new();
-        let mut tasks = Vec::new();
-        let mut programs = Vec::new();
-        loop {
-            let t = self.tok();
-            match t.kind {
-                Tok::EndResource => {
-                    self.bump();
-                    break;
-                }
-                Tok::VarGlobal | Tok::VarAccess | Tok::VarConfig => {
-                    if let Some(b) = self.var_block(DeclCtx::Global) {
-                        var_blocks.push(b);
-                    }
-                }
-                Tok::Program if self.at_program_config() => {
-                    if let Some(p) = self.program_config() {
-                        programs.push(p);
-                    }
-                }
-                Tok::Semi => {
-                    self.bump();
-                }
-                Tok::Ident if self.at_sym(0, self.s.task) && self.peek_at(1) == Tok::Ident => {
-                    if let Some(task) = self.task() {
-                        tasks.push(task);
-                    }
-                }
-                k if k == Tok::Eof || is_section_stop(k) => {
-                    let msg = format!("expected `END_RESOURCE`, found {}", self.describe(self.pos));
-                    let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
-                        .with_label("expected `END_RESOURCE`")
-                        .with_secondary(self.tspan(kw), "this RESOURCE is not closed");
-                    self.emit(self.pos, d);
-                    break;
-                }
-                _ => {
-                    self.expected("`VAR_GLOBAL`, `TASK`, `PROGRAM` or `END_RESOURCE`");
-                    self.bump();
-                    self.skip_decl();
-                }
-            }
-        }
+        let items = self.config_items(kw, false);
         let span = self.span_from(kw.start);
         self.eat(Tok::Semi);
         Some(Resource {
             name: name?,
             on,
-            var_blocks,
-            tasks,
-            programs,
+            var_blocks: items.var_blocks,
+            tasks: items.tasks,
+            programs: items.programs,
             span,
         })
+    }
+
+    /// The declarations of a CONFIGURATION (`in_config`: it may hold RESOURCEs) or of a
+    /// RESOURCE (`kw`: its keyword), up to and including the END keyword.
+    fn config_items(&mut self, kw: Token, in_config: bool) -> ConfigItems {
+        let (end, what, allowed) = if in_config {
+            (
+                Tok::EndConfiguration,
+                "CONFIGURATION",
+                "`VAR_GLOBAL`, `RESOURCE`, `TASK`, `PROGRAM` or `END_CONFIGURATION`",
+            )
+        } else {
+            (
+                Tok::EndResource,
+                "RESOURCE",
+                "`VAR_GLOBAL`, `TASK`, `PROGRAM` or `END_RESOURCE`",
+            )
+        };
+        let mut items = ConfigItems::default();
+        loop {
+            let t = self.tok();
+            match t.kind {
+                k if k == end => {
+                    self.bump();
+                    break;
+                }
+                Tok::VarGlobal | Tok::VarAccess | Tok::VarConfig => {
+                    if let Some(b) = self.var_block(DeclCtx::Global) {
+                        items.var_blocks.push(b);
+                    }
+                }
+                Tok::Program if self.at_program_config() => {
+                    if let Some(p) = self.program_config() {
+                        items.programs.push(p);
+                    }
+                }
+                Tok::Semi => {
+                    self.bump();
+                }
+                Tok::Ident
+                    if in_config
+                        && self.at_sym(0, self.s.resource)
+                        && self.peek_at(1) == Tok::Ident =>
+                {
+                    if let Some(r) = self.resource() {
+                        items.resources.push(r);
+                    }
+                }
+                Tok::Ident if self.at_sym(0, self.s.task) && self.peek_at(1) == Tok::Ident => {
+                    if let Some(task) = self.task() {
+                        items.tasks.push(task);
+                    }
+                }
+                // (a PROGRAM that is not `PROGRAM inst WITH t : T` starts a POU)
+                k if k == Tok::Eof
+                    || (in_config && (is_top_start(k) || is_pou_end(k)))
+                    || (!in_config && is_section_stop(k)) =>
+                {
+                    let msg = format!("expected `END_{what}`, found {}", self.describe(self.pos));
+                    let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
+                        .with_label(format!("expected `END_{what}`"))
+                        .with_secondary(self.tspan(kw), format!("this {what} is not closed"));
+                    self.emit(self.pos, d);
+                    break;
+                }
+                _ => {
+                    self.expected(allowed);
+                    self.bump();
+                    self.skip_decl();
+                }
+            }
+        }
+        items
     }
 
     fn task(&mut self) -> Option<TaskDecl> {
@@ -3154,4 +3137,13 @@ fn unary(op: UnaryOp, start: u32, e: Option<Expr>, file: FileId) -> Option<Expr>
         kind: ExprKind::Unary(op, Box::new(e)),
         span,
     })
+}
+
+/// What a CONFIGURATION or RESOURCE declares (see `Parser::config_items`).
+#[derive(Default)]
+struct ConfigItems {
+    var_blocks: Vec<VarBlock>,
+    resources: Vec<Resource>,
+    tasks: Vec<TaskDecl>,
+    programs: Vec<ProgramConfig>,
 }
