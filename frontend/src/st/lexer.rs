@@ -744,38 +744,33 @@ impl<'a> Lexer<'a> {
 
     /// `/* ... */` (not nested, as in C).
     fn c_comment(&mut self) {
-        let start = self.pos;
-        let src = self.src;
-        let mut i = self.pos + 2;
-        while i < src.len() {
-            if src[i] == b'*' && src.get(i + 1) == Some(&b'/') {
-                self.pos = i + 2;
-                return;
-            }
-            if src[i] == b'\n' {
-                self.flags |= NEWLINE_BEFORE;
-            }
-            i += 1;
-        }
-        self.pos = src.len();
-        self.eof_in_error = true;
-        self.error(
-            codes::UNTERMINATED_COMMENT,
-            "unterminated comment: `/*` has no matching `*/`".into(),
-            start,
-            start + 2,
-            "this comment is never closed",
+        self.skip_to(
+            2,
+            b"*/",
+            "unterminated comment: `/*` has no matching `*/`",
+            "comment",
         );
     }
 
     /// `{ ... }`: pragmas and attributes are ignored.
     fn pragma(&mut self) {
+        self.skip_to(
+            1,
+            b"}",
+            "unterminated pragma: `{` has no matching `}`",
+            "pragma",
+        );
+    }
+
+    /// Skips from an opener of `open` bytes through the first `close` (not nested),
+    /// noting newlines; at the end of input, reports `message` at the opener.
+    fn skip_to(&mut self, open: usize, close: &[u8], message: &str, what: &str) {
         let start = self.pos;
         let src = self.src;
-        let mut i = self.pos + 1;
+        let mut i = self.pos + open;
         while i < src.len() {
-            if src[i] == b'}' {
-                self.pos = i + 1;
+            if src[i..].starts_with(close) {
+                self.pos = i + close.len();
                 return;
             }
             if src[i] == b'\n' {
@@ -787,10 +782,10 @@ impl<'a> Lexer<'a> {
         self.eof_in_error = true;
         self.error(
             codes::UNTERMINATED_COMMENT,
-            "unterminated pragma: `{` has no matching `}`".into(),
+            message.into(),
             start,
-            start + 1,
-            "this pragma is never closed",
+            start + open,
+            &format!("this {what} is never closed"),
         );
     }
 
