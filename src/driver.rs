@@ -178,3 +178,17 @@ fn check(m: &Module, stage: &str) -> Result<(), Vec<Diagnostic>> {
             .collect()
     })
 }
+
+/// The text of every file of `module`, for listings with source lines.
+pub fn source_texts(sources: &SourceMap, module: &Module) -> Vec<Option<String>> {
+    module
+        .files
+        .iter()
+        .map(|name| {
+            sources
+                .iter()
+                .find(|(_, f)| &f.name == name)
+                .map(|(_, f)| f.text.clone())
+        })
+        .collect()
+}

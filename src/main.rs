@@ -53,6 +53,15 @@ struct BuildArgs {
     /// PROGRAMs to instantiate (default: all)
     #[arg(long)]
     program: Vec<String>,
+    /// A target setting KEY=VALUE (pic16f876a: pin.%IX0.0=RA2; host: triple=...)
+    #[arg(short = 's', long = "set", value_parser = parse_setting)]
+    set: Vec<(String, String)>,
+}
+
+fn parse_setting(s: &str) -> Result<(String, String), String> {
+    s.split_once('=')
+        .map(|(k, v)| (k.trim().to_string(), v.trim().to_string()))
+        .ok_or_else(|| format!("`{s}` is not KEY=VALUE"))
 }
 
 #[derive(Subcommand)]
@@ -143,6 +152,7 @@ fn main() -> ExitCode {
             output: cli.build.output,
             emit: cli.build.emit,
             programs: cli.build.program,
+            settings: cli.build.set,
         }),
     };
     ExitCode::from(status)

@@ -27,6 +27,9 @@ pub struct Options {
     pub emit: Option<String>,
     /// Target-specific settings (`key=value` from the command line).
     pub settings: Vec<(String, String)>,
+    /// The text of each source file of the module (indexed like `Module::files`),
+    /// where known, for listings that show source lines.
+    pub sources: Vec<Option<String>>,
 }
 
 /// One output file of a compilation.

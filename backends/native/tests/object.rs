@@ -74,6 +74,7 @@ fn options(settings: &[(&str, &str)]) -> Options {
             .iter()
             .map(|(k, v)| (k.to_string(), v.to_string()))
             .collect(),
+        sources: Vec::new(),
     }
 }
 

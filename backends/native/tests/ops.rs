@@ -811,6 +811,7 @@ fn other_settings_keep_the_semantics() {
                 ("opt_level".into(), opt.into()),
                 ("regalloc".into(), ra.into()),
             ],
+            sources: Vec::new(),
         };
         for op in [Sdiv, Srem, Udiv, Urem, Ishl, Ushr, Sshr, Rotl] {
             for ty in INTS {
