@@ -87,6 +87,7 @@ fn all_codes() -> impl Iterator<Item = &'static plcc_ir::diag::CodeInfo> {
     plcc_frontend::codes::ALL
         .iter()
         .chain(plcc_native::CODES.iter())
+        .chain(plcc_pic16::CODES.iter())
         .chain(driver::CODES.iter())
 }
 
@@ -198,7 +199,7 @@ pub fn run(a: &RunArgs) -> u8 {
     let mut m = match targets::machine_owned(target, copy) {
         Ok(m) => m,
         Err(diags) => {
-            render::to_stderr(&plcc_frontend::source::SourceMap::new(), &diags);
+            render::to_stderr(&build.sources, &diags);
             return EXIT_FAIL;
         }
     };
@@ -300,7 +301,8 @@ pub fn test(a: &TestArgs) -> u8 {
         return EXIT_FAIL;
     }
     let programs: Vec<String> = scn.program.iter().cloned().collect();
-    let (_, module) = match build_and_report(&a.files, a.lang.as_deref(), programs, Mode::Full) {
+    let (build, module) = match build_and_report(&a.files, a.lang.as_deref(), programs, Mode::Full)
+    {
         Ok(b) => b,
         Err(s) => return s,
     };
@@ -311,7 +313,7 @@ pub fn test(a: &TestArgs) -> u8 {
     let mut m = match targets::machine(target, &module) {
         Ok(m) => m,
         Err(diags) => {
-            render::to_stderr(&plcc_frontend::source::SourceMap::new(), &diags);
+            render::to_stderr(&build.sources, &diags);
             return EXIT_FAIL;
         }
     };
@@ -355,6 +357,8 @@ pub struct CompileArgs {
     pub emit: Option<String>,
     /// `--program`
     pub programs: Vec<String>,
+    /// `-s KEY=VALUE` target settings.
+    pub settings: Vec<(String, String)>,
 }
 
 /// `plcc [--target T] [--emit KIND] FILE... [-o OUT]`
@@ -394,7 +398,8 @@ pub fn compile(a: &CompileArgs) -> u8 {
             };
             let opts = plcc_ir::backend::Options {
                 emit: a.emit.clone(),
-                settings: Vec::new(),
+                settings: a.settings.clone(),
+                sources: driver::source_texts(&build.sources, &module),
             };
             match backend.compile(&module, &opts) {
                 Ok(arts) => {
@@ -421,8 +426,7 @@ pub fn compile(a: &CompileArgs) -> u8 {
                     (main.bytes.clone(), main.kind.clone())
                 }
                 Err(diags) => {
-                    let sources = plcc_frontend::source::SourceMap::new();
-                    render::to_stderr(&sources, &diags);
+                    render::to_stderr(&build.sources, &diags);
                     return EXIT_FAIL;
                 }
             }

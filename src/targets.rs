@@ -24,6 +24,11 @@ pub const TARGETS: &[TargetInfo] = &[
         runs: true,
     },
     TargetInfo {
+        name: "pic16f876a",
+        about: "the PIC16F876A: MPASM assembly (--emit hex: Intel HEX); run/test on plcc's simulator of the chip",
+        runs: true,
+    },
+    TargetInfo {
         name: "interp",
         about: "plcc's reference IR interpreter (run/test only)",
         runs: true,
@@ -49,6 +54,7 @@ pub fn names(runnable_only: bool) -> String {
 pub fn backend(name: &str) -> Option<Box<dyn Backend>> {
     match name {
         "host" => Some(Box::new(plcc_native::NativeBackend::new())),
+        "pic16f876a" => Some(Box::new(plcc_pic16::Pic16Backend::new())),
         _ => None,
     }
 }

@@ -1,0 +1,946 @@
+//! plcc's PIC16F876A backend: the IR to MPASM assembly and Intel HEX for the chip of
+//! the PLC-UD controller, and a simulator of the chip that runs the result.
+//!
+//! The path (see [`build`]): aggregates are laid out with BOOLs packed into bits
+//! ([`ram`]); pointer parameters that every caller passes the same address become
+//! constants ([`frame::param_consensus`]); every other SSA value gets a home in its
+//! function's static frame, overlaid by liveness, and frames are overlaid through the
+//! call graph ([`frame`], [`build`]); [`isel`] emits code with full data addresses;
+//! [`banks`] inserts the bank selects the control flow needs; [`asm`] assembles words
+//! and prints the listing; [`sim`] runs the words.
+
+#![warn(missing_docs)]
+
+pub mod asm;
+pub mod banks;
+pub mod frame;
+pub mod helpers;
+pub mod isa;
+pub mod isel;
+pub mod machine;
+pub mod ram;
+pub mod runtime;
+pub mod sim;
+
+use asm::{DataSymbol, Image, Item, Label, Program, Unit};
+use frame::{FrameInfo, Ptr, Sym};
+use helpers::{HelperSet, Workspace};
+use isel::{Emitter, Placement};
+use plcc_ir::backend::{Artifact, Artifacts, Backend, Options, Symbol, TargetFacts};
+use plcc_ir::diag::{CodeInfo, Diagnostic};
+use plcc_ir::inst::{BinaryOp, InstData, Intrinsic};
+use plcc_ir::machine::Machine;
+use plcc_ir::{ElemType, FuncId, MemType, Module, Type};
+use ram::{PicLayout, RamMap};
+use runtime::{PinBinding, Rt};
+use rustc_hash::{FxHashMap, FxHashSet};
+
+/// Diagnostic codes of the PIC16 backend.
+pub mod codes {
+    /// An operation or type the chip cannot do (yet).
+    pub const E_UNSUPPORTED: &str = "E9001";
+    /// Program memory is full.
+    pub const E_FLASH: &str = "E9002";
+    /// RAM is full.
+    pub const E_RAM: &str = "E9003";
+    /// The hardware stack is too shallow for the call depth.
+    pub const E_STACK: &str = "E9004";
+    /// A backend setting is unknown or has a bad value.
+    pub const E_BAD_SETTING: &str = "E9005";
+    /// A bug of this backend (an internal rule was broken).
+    pub const E_INTERNAL: &str = "E9006";
+}
+
+/// Every code the PIC16 backend reports, for `plcc explain`.
+pub const CODES: &[CodeInfo] = &[
+    CodeInfo {
+        code: codes::E_UNSUPPORTED,
+        title: "not supported on the PIC16F876A",
+        explanation: "The program uses an operation or a type that the pic16f876a target \
+cannot compile yet: REAL and LREAL arithmetic and conversions (the chip has no floating \
+point; software routines are not written yet), or a data type it cannot hold. The message \
+names the operation and points at it. Example: `x := y * 1.5;` with REAL variables. Use \
+integer arithmetic (fixed point, e.g. tenths in an INT) or another target.",
+    },
+    CodeInfo {
+        code: codes::E_FLASH,
+        title: "program memory full",
+        explanation: "The generated code does not fit the chip's 8192 words of program memory \
+(or, for now, the first 2048-word page: code that needs PCLATH paging is not generated yet). \
+The message says how many words the program needs. Split the program, or move work out of \
+large loops that are unrolled.",
+    },
+    CodeInfo {
+        code: codes::E_RAM,
+        title: "data memory full",
+        explanation: "The variables, the frames of the functions and the runtime need more than \
+the chip's 368 bytes of RAM, or one object (an array, an FB instance, a program's \
+variables) is larger than a RAM bank (80 or 96 bytes), which it must fit in. The message \
+names what did not fit and by how much. Use smaller types (SINT, BOOL), fewer or smaller \
+arrays, or split a program's variables into several programs.",
+    },
+    CodeInfo {
+        code: codes::E_STACK,
+        title: "hardware stack too shallow",
+        explanation: "The PIC16's return stack has 8 levels and one is kept for the interrupt. \
+The deepest chain of calls (programs, function blocks, functions, runtime helpers for \
+multiply and divide) needs more. The message gives the depth. Calls that the optimiser \
+inlines do not count; flatten the deepest chain of FB or FUNCTION calls.",
+    },
+    CodeInfo {
+        code: codes::E_BAD_SETTING,
+        title: "bad pic16f876a setting",
+        explanation: "A `-s key=value` setting of the pic16f876a target is not understood. The \
+target knows `pin.LOCATION=PIN`, which binds a located BOOL to a pin, for example \
+`-s pin.%IX0.0=RA2` or `-s pin.%QX0.1=RB7`.",
+    },
+    CodeInfo {
+        code: codes::E_INTERNAL,
+        title: "internal error of the PIC16 backend",
+        explanation: "The backend broke one of its own rules while generating code (for example \
+a bank select between a skip and the instruction it skips). This is a bug in plcc; please \
+report it with the program.",
+    },
+];
+
+/// The PIC16F876A backend.
+#[derive(Clone, Debug, Default)]
+pub struct Pic16Backend;
+
+impl Pic16Backend {
+    /// The backend.
+    pub fn new() -> Pic16Backend {
+        Pic16Backend
+    }
+}
+
+/// Elementary types the chip holds (everything but strings).
+const ELEM_TYPES: &[ElemType] = &ElemType::ALL;
+
+impl Backend for Pic16Backend {
+    fn facts(&self) -> TargetFacts {
+        TargetFacts {
+            name: "pic16f876a",
+            pointer_bits: 16,
+            little_endian: true,
+            elem_types: ELEM_TYPES,
+        }
+    }
+
+    /// MPASM assembly (`asm`, the default) or Intel HEX (`--emit hex`).
+    fn compile(&self, module: &Module, options: &Options) -> Result<Artifacts, Vec<Diagnostic>> {
+        let b = build(module, options)?;
+        let file = match options.emit.as_deref() {
+            None | Some("asm") => Artifact {
+                kind: "asm".into(),
+                bytes: b.program.mpasm().into_bytes(),
+            },
+            Some("hex") => Artifact {
+                kind: "hex".into(),
+                bytes: asm::intel_hex(&b.image).into_bytes(),
+            },
+            Some(other) => {
+                return Err(vec![Diagnostic::error_nowhere(
+                    codes::E_BAD_SETTING,
+                    format!("pic16f876a cannot emit `{other}` (it emits asm or hex)"),
+                )])
+            }
+        };
+        Ok(Artifacts {
+            files: vec![file],
+            symbols: b.symbols.clone(),
+            summary: Some(b.summary()),
+        })
+    }
+
+    fn machine(
+        &self,
+        module: &Module,
+        options: &Options,
+    ) -> Option<Result<Box<dyn Machine>, Vec<Diagnostic>>> {
+        Some(
+            build(module, options)
+                .map(|b| Box::new(machine::PicMachine::new(module, b)) as Box<dyn Machine>),
+        )
+    }
+}
+
+/// Everything a build produces.
+#[derive(Clone, Debug)]
+pub struct Build {
+    /// The code.
+    pub program: Program,
+    /// The assembled words.
+    pub image: Image,
+    /// Program variables and their addresses.
+    pub symbols: Vec<Symbol>,
+    /// The bit of every BOOL variable symbol, by symbol index.
+    pub bits: Vec<Option<u8>>,
+    /// The listing's name of every variable symbol (`main_count`), by symbol index.
+    pub asm_names: Vec<String>,
+    /// Bound pins.
+    pub pins: Vec<PinBinding>,
+    /// Runtime addresses.
+    pub rt: Rt,
+    /// RAM bytes used (common RAM included).
+    pub ram_used: u32,
+    /// Deepest use of the hardware stack (interrupt included).
+    pub stack_depth: u32,
+    /// Bank select instructions inserted.
+    pub bank_selects: u32,
+    /// Address of the top of the scan loop.
+    pub scan_addr: u16,
+    /// Address of `plc_scan_end`.
+    pub scan_end_addr: u16,
+    /// Where each data object is.
+    pub data: ram::DataMap,
+    /// The layout of aggregates.
+    pub layout: PicLayout,
+}
+
+impl Build {
+    /// `flash N/8192 words, ram N/368 bytes, stack N/8`
+    pub fn summary(&self) -> String {
+        format!(
+            "flash {}/{} words, ram {}/{} bytes, stack {}/8",
+            self.image.used_words(),
+            asm::FLASH_WORDS,
+            self.ram_used,
+            ram::RAM_BYTES,
+            self.stack_depth
+        )
+    }
+}
+
+fn setting_pins(options: &Options) -> Result<FxHashMap<String, runtime::Pin>, Vec<Diagnostic>> {
+    let mut m = FxHashMap::default();
+    for (k, v) in &options.settings {
+        let bad = |msg: String| vec![Diagnostic::error_nowhere(codes::E_BAD_SETTING, msg)];
+        let Some(loc) = k.strip_prefix("pin.") else {
+            return Err(bad(format!(
+                "unknown pic16f876a setting `{k}` (known: pin.LOCATION)"
+            )));
+        };
+        if runtime::parse_bit_location(loc).is_none() {
+            return Err(bad(format!(
+                "`{loc}` is not a bit location such as %IX0.0 or %QX0.1"
+            )));
+        }
+        let Some(pin) = runtime::Pin::parse(v) else {
+            return Err(bad(format!(
+                "`{v}` is not a pin (RA0-RA5, RB0-RB7, RC0-RC7)"
+            )));
+        };
+        m.insert(loc.trim().to_ascii_uppercase(), pin);
+    }
+    Ok(m)
+}
+
+/// Assembler-safe name of a source path: `main.timer.Q` → `main_timer_Q`.
+fn asm_name(path: &str, taken: &mut FxHashSet<String>) -> String {
+    let mut s: String = path
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    while s.contains("__") {
+        s = s.replace("__", "_");
+    }
+    let s = s.trim_end_matches('_').to_string();
+    let s = if s.chars().next().is_some_and(|c| c.is_ascii_digit()) || s.is_empty() {
+        format!("v_{s}")
+    } else {
+        s
+    };
+    let mut name = s.clone();
+    let mut n = 1;
+    while !taken.insert(name.to_ascii_lowercase()) {
+        n += 1;
+        name = format!("{s}_{n}");
+    }
+    name
+}
+
+/// Compiles a verified module for the chip.
+pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic>> {
+    let pin_over = setting_pins(options)?;
+    let layout = PicLayout::compute(module);
+    let nf = module.funcs.len();
+
+    // Call graph from the roots.
+    let callees: Vec<Vec<FuncId>> = module
+        .funcs
+        .iter()
+        .map(|f| {
+            let mut v = Vec::new();
+            for (_, i) in f.inst_iter() {
+                if let InstData::Call { func, .. } = f.inst(i) {
+                    if !v.contains(func) {
+                        v.push(*func);
+                    }
+                }
+            }
+            v
+        })
+        .collect();
+    let mut roots: Vec<FuncId> = Vec::new();
+    roots.extend(module.init_globals);
+    for p in &module.programs {
+        roots.push(p.init);
+        roots.push(p.body);
+    }
+    // Reverse post-order = callers before callees.
+    let mut order = Vec::new();
+    let mut state = vec![0u8; nf];
+    fn dfs(f: FuncId, c: &[Vec<FuncId>], st: &mut [u8], out: &mut Vec<FuncId>) {
+        if st[f.index()] != 0 {
+            return;
+        }
+        st[f.index()] = 1;
+        for &g in &c[f.index()] {
+            dfs(g, c, st, out);
+        }
+        out.push(f);
+    }
+    for &r in &roots {
+        dfs(r, &callees, &mut state, &mut order);
+    }
+    order.reverse();
+
+    // Pointers every caller agrees on.
+    let mut root_params: FxHashMap<FuncId, Vec<Option<Ptr>>> = FxHashMap::default();
+    let merge_root = |f: FuncId, p: Option<Ptr>, m: &mut FxHashMap<FuncId, Vec<Option<Ptr>>>| {
+        let e = m.entry(f).or_insert_with(|| vec![p]);
+        if e[0] != p {
+            e[0] = None;
+        }
+    };
+    for p in &module.programs {
+        let ptr = Some(Ptr::Known(Sym::Data(p.data), 0, 0));
+        merge_root(p.body, ptr, &mut root_params);
+        merge_root(p.init, ptr, &mut root_params);
+    }
+    let consensus = frame::param_consensus(&module.funcs, &order, &root_params);
+
+    // Frames.
+    let mut frames: Vec<FrameInfo> = vec![FrameInfo::default(); nf];
+    // The data objects each function reads and writes directly, with a count.
+    let mut touches: Vec<FxHashMap<plcc_ir::DataId, u32>> = vec![FxHashMap::default(); nf];
+    for &fid in &order {
+        let f = &module.funcs[fid.index()];
+        let mut ptrs = frame::pointer_facts(f, fid, &consensus[fid.index()]);
+        frame::derive_pointers(f, &layout, &mut ptrs);
+        for (_, i) in f.inst_iter() {
+            if let InstData::Load { addr, .. } | InstData::Store { addr, .. } = f.inst(i) {
+                if let Some(Ptr::Known(Sym::Data(d), _, _)) = ptrs.get(addr) {
+                    *touches[fid.index()].entry(*d).or_default() += 1;
+                }
+            }
+        }
+        let slot_sizes: Vec<u32> = f.slots.iter().map(|s| layout.size(s.ty)).collect();
+        frames[fid.index()] = frame::build_frame(f, &ptrs, &slot_sizes);
+    }
+
+    // What the runtime needs.
+    let mut uses_ns = false;
+    let mut widest_muldiv = 0u16;
+    for &fid in &order {
+        let f = &module.funcs[fid.index()];
+        for (_, i) in f.inst_iter() {
+            match f.inst(i) {
+                InstData::Intrinsic {
+                    op: Intrinsic::ClockNs,
+                    ..
+                } => uses_ns = true,
+                InstData::Binary {
+                    op:
+                        BinaryOp::Imul
+                        | BinaryOp::Sdiv
+                        | BinaryOp::Udiv
+                        | BinaryOp::Srem
+                        | BinaryOp::Urem,
+                    args,
+                } => {
+                    let t = f.value_type(args[0]);
+                    if t.is_int() && t != Type::I1 {
+                        widest_muldiv = widest_muldiv.max(ram::scalar_bytes(t) as u16);
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+
+    // RAM: runtime block, helpers' workspace, data objects, then frames.
+    let mut map = RamMap::new();
+    let ram_err = |what: String| vec![Diagnostic::error_nowhere(codes::E_RAM, what)];
+    let rt_size: u16 = if uses_ns { 24 } else { 8 };
+    let rt_at = map
+        .find(rt_size, &[], Some(0))
+        .ok_or_else(|| ram_err("no RAM for the runtime".into()))?;
+    map.take(rt_at, rt_size);
+    let rt = Rt {
+        flags: runtime::FLAGS,
+        clk_ms: rt_at,
+        now_ms: rt_at + 4,
+        clk_ns: uses_ns.then_some(rt_at + 8),
+        now_ns: if uses_ns { rt_at + 16 } else { rt_at },
+    };
+    let ws = if widest_muldiv > 0 {
+        let size = helpers::workspace_bytes(widest_muldiv);
+        let at = map.find(size, &[], None).ok_or_else(|| {
+            ram_err(format!(
+                "no room for the {size} bytes of the multiply/divide workspace"
+            ))
+        })?;
+        map.take(at, size);
+        Workspace {
+            a: at,
+            b: at + widest_muldiv,
+            r: at + 2 * widest_muldiv,
+        }
+    } else {
+        Workspace::default()
+    };
+    let data = place_data(module, &layout, &consensus, &order, &mut map)?;
+    // Ancestors of every function (all functions that can be active while it runs).
+    let mut ancestors: Vec<FxHashSet<FuncId>> = vec![FxHashSet::default(); nf];
+    for &f in &order {
+        for &g in &callees[f.index()] {
+            let mut add: FxHashSet<FuncId> = ancestors[f.index()].clone();
+            add.insert(f);
+            ancestors[g.index()].extend(add);
+        }
+    }
+    let mut frame_base = vec![0u16; nf];
+    let mut placed: Vec<Option<(u16, u16)>> = vec![None; nf];
+    let mut frame_bytes: FxHashSet<u16> = FxHashSet::default();
+    for &f in &order {
+        let size = frames[f.index()].size;
+        if size == 0 {
+            continue;
+        }
+        let avoid: Vec<(u16, u16)> = ancestors[f.index()]
+            .iter()
+            .filter_map(|a| placed[a.index()])
+            .collect();
+        // Beside the variables the function uses most, so that working on both
+        // needs no bank switch.
+        let mut per_bank = [0u32; 4];
+        for (d, n) in &touches[f.index()] {
+            per_bank[((data.addr(*d, 0) >> 7) & 3) as usize] += n;
+        }
+        let prefer = (0..4u8).max_by_key(|&b| (per_bank[b as usize], std::cmp::Reverse(b)));
+        let Some(at) = map.find(size, &avoid, prefer) else {
+            let fname = &module.funcs[f.index()].name;
+            return Err(vec![Diagnostic::error_nowhere(
+                codes::E_RAM,
+                format!(
+                    "`{fname}` needs {size} bytes for its temporaries and locals, but no RAM bank has that much free beside the variables and the frames of its callers (largest free block: {} bytes)",
+                    map.largest_free()
+                ),
+            )]);
+        };
+        frame_base[f.index()] = at;
+        placed[f.index()] = Some((at, at + size));
+        frame_bytes.extend(at..at + size);
+    }
+    let ram_used = map.used_bytes() + frame_bytes.len() as u32 + 16;
+
+    // Labels and code.
+    let mut program = Program {
+        config: 0x3F32,
+        ..Default::default()
+    };
+    let mut taken: FxHashSet<String> = asm::reserved_names()
+        .map(|s| s.to_ascii_lowercase())
+        .collect();
+    for (n, _, _) in runtime::common_symbols() {
+        taken.insert(n.to_string());
+    }
+    let rl = runtime::labels(&mut program.labels);
+    let mut func_label = vec![Label(u32::MAX); nf];
+    for &f in &order {
+        let name = asm_name(&format!("f_{}", module.funcs[f.index()].name), &mut taken);
+        program.labels.push(name);
+        func_label[f.index()] = Label(program.labels.len() as u32 - 1);
+    }
+    let placement = Placement {
+        module,
+        layout: &layout,
+        data: data.clone(),
+        frame_base: frame_base.clone(),
+        frames: &frames,
+        func_label: func_label.clone(),
+        rt,
+        ws,
+    };
+    let sources: Vec<Option<String>> = options.sources.clone();
+    let mut helper_set = HelperSet::default();
+    let mut units: Vec<Unit> = Vec::new();
+    let mut diags = Vec::new();
+    let mut helper_users: FxHashSet<FuncId> = FxHashSet::default();
+    for &f in &order {
+        let prefix = program.labels[func_label[f.index()].0 as usize].clone();
+        let before = helper_set.clone();
+        let em = Emitter::new(
+            &placement,
+            f,
+            &mut program.labels,
+            &mut helper_set,
+            prefix.clone(),
+            &sources,
+        );
+        let (items, d) = em.run(func_label[f.index()]);
+        if format!("{before:?}") != format!("{helper_set:?}")
+            || uses_helper(&items, &program.labels)
+        {
+            helper_users.insert(f);
+        }
+        diags.extend(d);
+        let frame = placed[f.index()].map(|(s, e)| (s, e, format!("{prefix}_fr")));
+        units.push(Unit {
+            name: format!(
+                "{} `{}`",
+                module.funcs[f.index()].kind.name(),
+                module.funcs[f.index()].name
+            ),
+            org: None,
+            items,
+            frame,
+        });
+    }
+    if diags.iter().any(|d| d.is_error()) {
+        return Err(diags);
+    }
+    // Pins.
+    let mut pins = Vec::new();
+    let bind = |path: String, addr: u16, bit: u8, loc: &str, pins: &mut Vec<PinBinding>| {
+        let key = loc.trim().to_ascii_uppercase();
+        let pin = pin_over
+            .get(&key)
+            .copied()
+            .or_else(|| runtime::default_pin(&key));
+        if let (Some(pin), Some((input, _, _))) = (pin, runtime::parse_bit_location(&key)) {
+            pins.push(PinBinding {
+                path,
+                addr,
+                bit,
+                pin,
+                input,
+            });
+        }
+    };
+    for (i, d) in module.data.iter().enumerate() {
+        match d.ty {
+            MemType::Scalar(Type::I1) => {
+                if let Some(loc) = &d.location {
+                    bind(
+                        d.name.clone(),
+                        data.addr(plcc_ir::DataId::new(i), 0),
+                        0,
+                        loc,
+                        &mut pins,
+                    );
+                }
+            }
+            MemType::Agg(a) => {
+                if let plcc_ir::module::AggDef::Struct(s) = module.agg(a) {
+                    for (fi, fld) in s.fields.iter().enumerate() {
+                        if let (Some(loc), MemType::Scalar(Type::I1)) = (&fld.location, fld.ty) {
+                            let p = layout.agg(a).fields[fi];
+                            bind(
+                                format!("{}.{}", d.name, fld.name),
+                                data.addr(plcc_ir::DataId::new(i), p.offset),
+                                p.bit,
+                                loc,
+                                &mut pins,
+                            );
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    let mut inits = Vec::new();
+    inits.extend(module.init_globals.map(|f| func_label[f.index()]));
+    let mut bodies = Vec::new();
+    for p in &module.programs {
+        inits.push(func_label[p.init.index()]);
+        bodies.push(func_label[p.body.index()]);
+    }
+    let plan = runtime::RuntimePlan {
+        rt,
+        inits,
+        bodies,
+        pins: &pins,
+    };
+    let mut all = vec![
+        runtime::reset_unit(&rl),
+        runtime::isr_unit(&rt, &mut program.labels),
+        runtime::main_unit(&plan, &rl),
+    ];
+    all.extend(units);
+    for mut u in helper_set.units(ws) {
+        helpers::resolve_local(&mut u, &mut program.labels);
+        all.push(u);
+    }
+    // Callees first, so that callers know the banks a call returns with.
+    let mut bank_selects = 0;
+    let mut exits: FxHashMap<Label, banks::State> = FxHashMap::default();
+    for u in all.iter_mut().rev() {
+        let entry = u.items.iter().find_map(|it| match it {
+            Item::Label(l) => Some(*l),
+            _ => None,
+        });
+        match banks::insert_selects(u, &|l| exits.get(&l).copied()) {
+            Ok(s) => {
+                bank_selects += s.selects;
+                if let (Some(l), Some(x)) = (entry, s.exit) {
+                    exits.insert(l, x);
+                }
+            }
+            Err(e) => return Err(vec![Diagnostic::error_nowhere(codes::E_INTERNAL, e)]),
+        }
+    }
+    program.units = all;
+
+    // Stack depth: the scan loop's calls, plus one level for the interrupt.
+    let mut depth: Vec<u32> = vec![0; nf];
+    for &f in order.iter().rev() {
+        let mut d = 1;
+        for &g in &callees[f.index()] {
+            d = d.max(1 + depth[g.index()]);
+        }
+        if helper_users.contains(&f) {
+            d = d.max(2);
+        }
+        depth[f.index()] = d;
+    }
+    let stack_depth = roots.iter().map(|r| depth[r.index()]).max().unwrap_or(0) + 1;
+    if stack_depth > 8 {
+        return Err(vec![Diagnostic::error_nowhere(
+            codes::E_STACK,
+            format!(
+                "the deepest chain of calls needs {stack_depth} levels of the 8-level hardware stack (the interrupt included): {} too many",
+                stack_depth - 8
+            ),
+        )]);
+    }
+
+    // Symbols for the listing and the runner.
+    let mut symbols = Vec::new();
+    let mut bits = Vec::new();
+    let mut asm_names = Vec::new();
+    for (n, a, c) in runtime::common_symbols() {
+        program.symbols.push(DataSymbol {
+            name: n.into(),
+            addr: a,
+            size: match n {
+                "plc_t" => isel::SCRATCH.len() as u16,
+                "plc_h" => 2,
+                _ => 1,
+            },
+            bit: None,
+            comment: c.into(),
+        });
+    }
+    for (n, a, s, c) in [
+        ("plc_clock_ms", rt.clk_ms, 4, "running clock, ms"),
+        (
+            "plc_now_ms",
+            rt.now_ms,
+            4,
+            "clock sampled at scan start, ms",
+        ),
+    ] {
+        program.symbols.push(DataSymbol {
+            name: n.into(),
+            addr: a,
+            size: s,
+            bit: None,
+            comment: c.into(),
+        });
+    }
+    if let Some(ns) = rt.clk_ns {
+        for (n, a, c) in [
+            ("plc_clock_ns", ns, "running clock, ns"),
+            ("plc_now_ns", rt.now_ns, "clock sampled at scan start, ns"),
+        ] {
+            program.symbols.push(DataSymbol {
+                name: n.into(),
+                addr: a,
+                size: 8,
+                bit: None,
+                comment: c.into(),
+            });
+        }
+    }
+    if widest_muldiv > 0 {
+        program.symbols.push(DataSymbol {
+            name: "plc_ws".into(),
+            addr: ws.a,
+            size: 3 * widest_muldiv,
+            bit: None,
+            comment: "multiply/divide workspace".into(),
+        });
+    }
+    for i in 0..module.data.len() {
+        for v in plcc_ir::vars::variables(module, plcc_ir::DataId::new(i)) {
+            let place = layout.place_of(&v.steps);
+            let addr = data.addr(plcc_ir::DataId::new(i), place.offset);
+            let is_bool = v.ty == Type::I1;
+            symbols.push(Symbol {
+                path: v.path.clone(),
+                address: addr as u64,
+                size: ram::scalar_bytes(v.ty),
+                elem: v.elem,
+            });
+            bits.push(is_bool.then_some(place.bit));
+            let name = asm_name(&v.path, &mut taken);
+            asm_names.push(name.clone());
+            program.symbols.push(DataSymbol {
+                name,
+                addr,
+                size: ram::scalar_bytes(v.ty) as u16,
+                bit: is_bool.then_some(place.bit),
+                comment: if is_bool {
+                    format!("{} : {} (bit {})", v.path, v.elem.name(), place.bit)
+                } else {
+                    format!("{} : {}", v.path, v.elem.name())
+                },
+            });
+        }
+    }
+    for (u, &f) in program.units.iter().skip(3).zip(&order) {
+        if let Some((s, _, n)) = &u.frame {
+            let _ = f;
+            program.symbols.push(DataSymbol {
+                name: n.clone(),
+                addr: *s,
+                size: 0,
+                bit: None,
+                comment: format!("frame of {}", u.name),
+            });
+        }
+    }
+    program.header = vec![
+        "PIC16F876A assembly generated by plcc".into(),
+        "assemble with: gpasm FILE.asm (MPASM syntax)".into(),
+        "pins: %IX0.0-7 = RB0-7, %IX1.0-5 = RA0-5, %QX0.0-7 = RC0-7 (unless overridden)".into(),
+    ];
+    for p in &pins {
+        program.header.push(format!(
+            "  {} {} {}",
+            p.path,
+            if p.input { "<-" } else { "->" },
+            p.pin.name()
+        ));
+    }
+    program
+        .paginate()
+        .map_err(|e| vec![Diagnostic::error_nowhere(codes::E_FLASH, e)])?;
+    let image = program.assemble().map_err(|e| {
+        let code = if e.contains("program memory") {
+            codes::E_FLASH
+        } else {
+            codes::E_INTERNAL
+        };
+        vec![Diagnostic::error_nowhere(code, e)]
+    })?;
+    let scan_addr = image.label_addr[rl.scan.0 as usize];
+    let scan_end_addr = image.label_addr[rl.scan_end.0 as usize];
+    program.header.insert(
+        1,
+        format!(
+            "flash {}/{} words, ram {}/{} bytes, stack {}/8, bank selects {}",
+            image.used_words(),
+            asm::FLASH_WORDS,
+            ram_used,
+            ram::RAM_BYTES,
+            stack_depth,
+            bank_selects
+        ),
+    );
+    Ok(Build {
+        program,
+        image,
+        symbols,
+        bits,
+        asm_names,
+        pins,
+        rt,
+        ram_used,
+        stack_depth,
+        bank_selects,
+        scan_addr,
+        scan_end_addr,
+        data,
+        layout,
+    })
+}
+
+fn uses_helper(items: &[Item], labels: &[String]) -> bool {
+    items.iter().any(
+        |it| matches!(it, Item::Op(asm::Op::Call(l)) if labels[l.0 as usize].starts_with("plc_")),
+    )
+}
+
+/// Places every data object: whole in one bank when it fits, else (a program's or a
+/// global struct's variables) split between its fields, which is only done when no
+/// code reaches the object through a computed pointer.
+fn place_data(
+    module: &Module,
+    layout: &PicLayout,
+    consensus: &[Vec<Option<Ptr>>],
+    order: &[FuncId],
+    map: &mut RamMap,
+) -> Result<ram::DataMap, Vec<Diagnostic>> {
+    let ram_err = |what: String| vec![Diagnostic::error_nowhere(codes::E_RAM, what)];
+    let full = |map: &RamMap, d: &plcc_ir::module::DataDef, size: u32| {
+        ram_err(format!(
+            "`{}` needs {size} bytes but the largest free block left is {} bytes ({} of {} bytes used)",
+            d.name,
+            map.largest_free(),
+            map.used_bytes() + 16,
+            ram::RAM_BYTES
+        ))
+    };
+    let escapes = escaping_objects(module, layout, consensus, order);
+    let mut pieces = vec![Vec::new(); module.data.len()];
+    for (i, d) in module.data.iter().enumerate() {
+        let size = layout.size(d.ty);
+        if size <= 96 {
+            let s = size as u16;
+            let at = map
+                .find(s.max(1), &[], Some(0))
+                .ok_or_else(|| full(map, d, size))?;
+            map.take(at, s.max(1));
+            pieces[i] = vec![(0, s.max(1), at)];
+            continue;
+        }
+        let MemType::Agg(agg) = d.ty else {
+            unreachable!("scalars are small")
+        };
+        let splittable = matches!(module.agg(agg), plcc_ir::module::AggDef::Struct(_))
+            && !escapes.contains(&plcc_ir::DataId::new(i));
+        let ranges = ram::field_ranges(layout, module, agg);
+        if !splittable || ranges.iter().any(|(a, b)| b - a > 96) {
+            return Err(ram_err(format!(
+                "`{}` needs {size} bytes in one piece{}; a RAM bank holds at most 96 bytes",
+                d.name,
+                if splittable {
+                    " (one of its members is larger than a bank)"
+                } else {
+                    " (it is an array, or code reaches it through a pointer)"
+                }
+            )));
+        }
+        // Runs of whole fields, each in the first bank with room.
+        let mut bank = Some(0u8);
+        for (a, b) in ranges {
+            let at = map
+                .find(b - a, &[], bank)
+                .ok_or_else(|| full(map, d, size))?;
+            map.take(at, b - a);
+            bank = Some(((at >> 7) & 3) as u8);
+            match pieces[i].last_mut() {
+                Some((s0, e, pa)) if *e == a && *pa + (a - *s0) == at => *e = b,
+                _ => pieces[i].push((a, b, at)),
+            }
+        }
+    }
+    Ok(ram::DataMap { pieces })
+}
+
+/// Data objects whose address may reach code as a computed pointer: passed to a
+/// function whose parameter is not the same known address at every call, stored,
+/// or passed between blocks.
+fn escaping_objects(
+    module: &Module,
+    layout: &PicLayout,
+    consensus: &[Vec<Option<Ptr>>],
+    order: &[FuncId],
+) -> FxHashSet<plcc_ir::DataId> {
+    let mut out = FxHashSet::default();
+    for p in &module.programs {
+        if consensus[p.body.index()]
+            .first()
+            .copied()
+            .flatten()
+            .is_none()
+            || consensus[p.init.index()]
+                .first()
+                .copied()
+                .flatten()
+                .is_none()
+        {
+            out.insert(p.data);
+        }
+    }
+    for &fid in order {
+        let f = &module.funcs[fid.index()];
+        let mut ptrs = frame::pointer_facts(f, fid, &consensus[fid.index()]);
+        frame::derive_pointers(f, layout, &mut ptrs);
+        // A pointer to one member stays inside that member, which is never split;
+        // only the address of the whole object matters.
+        let data_of = |v: plcc_ir::Value| match (ptrs.get(&v), f.value_def(v)) {
+            (Some(Ptr::Known(Sym::Data(d), 0, _)), plcc_ir::function::ValueDef::Result(i))
+                if matches!(f.inst(i), InstData::GlobalAddr { .. }) =>
+            {
+                Some(*d)
+            }
+            (Some(Ptr::Known(Sym::Data(d), 0, _)), plcc_ir::function::ValueDef::Param(..)) => {
+                Some(*d)
+            }
+            _ => None,
+        };
+        for (_, inst) in f.inst_iter() {
+            match f.inst(inst) {
+                InstData::Call { func, args } => {
+                    for (k, a) in args.iter().enumerate() {
+                        if let Some(d) = data_of(*a) {
+                            if consensus[func.index()].get(k).copied().flatten().is_none() {
+                                out.insert(d);
+                            }
+                        }
+                    }
+                }
+                InstData::Store { value, .. } => {
+                    if let Some(d) = data_of(*value) {
+                        out.insert(d);
+                    }
+                }
+                InstData::Jump { dest } => {
+                    for a in &dest.args {
+                        out.extend(data_of(*a));
+                    }
+                }
+                InstData::Brif {
+                    then_dest,
+                    else_dest,
+                    ..
+                } => {
+                    for a in then_dest.args.iter().chain(&else_dest.args) {
+                        out.extend(data_of(*a));
+                    }
+                }
+                InstData::Select {
+                    if_true, if_false, ..
+                } => {
+                    out.extend(data_of(*if_true));
+                    out.extend(data_of(*if_false));
+                }
+                InstData::Return { value: Some(v) } => out.extend(data_of(*v)),
+                _ => {}
+            }
+        }
+    }
+    out
+}
