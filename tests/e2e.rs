@@ -431,7 +431,7 @@ fn same(a: PlcValue, b: PlcValue) -> bool {
 
 /// Runs the scenario's scans and writes on both machines, comparing every variable
 /// of the program and the fault flag after every scan (and after cold start).
-fn differential(case: &Case) -> Result<usize, String> {
+fn differential(case: &Case, first: &str, second: &str) -> Result<usize, String> {
     let built = build(case)?;
     let entry = built
         .module
@@ -441,25 +441,29 @@ fn differential(case: &Case) -> Result<usize, String> {
     if vars.is_empty() {
         return Err("the program has no variables to compare".into());
     }
-    let mut host = machine("host", &built.module)?;
-    let mut interp = machine("interp", &built.module)?;
+    let mut host = machine(first, &built.module)?;
+    let mut interp = match machine(second, &built.module) {
+        Ok(m) => m,
+        Err(e) if does_not_fit(&e) => return Ok(0),
+        Err(e) => return Err(e),
+    };
     let mut scans = 0usize;
     let compare = |host: &dyn Machine, interp: &dyn Machine, when: &str| -> Result<(), String> {
         let mut diffs = Vec::new();
         for v in &vars {
             let a = host
                 .read(&v.path)
-                .map_err(|e| format!("host: {}: {e}", v.path))?;
+                .map_err(|e| format!("{first}: {}: {e}", v.path))?;
             let b = interp
                 .read(&v.path)
-                .map_err(|e| format!("interp: {}: {e}", v.path))?;
+                .map_err(|e| format!("{second}: {}: {e}", v.path))?;
             if !same(a, b) {
-                diffs.push(format!("{} host {a} interp {b}", v.path));
+                diffs.push(format!("{} {first} {a} {second} {b}", v.path));
             }
         }
         if host.fault() != interp.fault() {
             diffs.push(format!(
-                "fault flag host {} interp {}",
+                "fault flag {first} {} {second} {}",
                 host.fault(),
                 interp.fault()
             ));
@@ -472,21 +476,21 @@ fn differential(case: &Case) -> Result<usize, String> {
         }
     };
     host.cold_start()
-        .map_err(|e| format!("host cold start: {e}"))?;
+        .map_err(|e| format!("{first} cold start: {e}"))?;
     interp
         .cold_start()
-        .map_err(|e| format!("interp cold start: {e}"))?;
+        .map_err(|e| format!("{second} cold start: {e}"))?;
     compare(host.as_ref(), interp.as_ref(), "after cold start")?;
     let mut now_us: i64 = 0;
     let mut scan_at = |host: &mut dyn Machine, interp: &mut dyn Machine, t: i64, line: usize| {
         scans += 1;
         host.set_clock_us(t);
         host.scan()
-            .map_err(|e| format!("line {line}: host scan failed: {e}"))?;
+            .map_err(|e| format!("line {line}: {first} scan failed: {e}"))?;
         interp.set_clock_us(t);
         interp
             .scan()
-            .map_err(|e| format!("line {line}: interp scan failed: {e}"))?;
+            .map_err(|e| format!("line {line}: {second} scan failed: {e}"))?;
         compare(
             host,
             interp,
@@ -527,12 +531,11 @@ fn differential(case: &Case) -> Result<usize, String> {
     Ok(scans)
 }
 
-#[test]
-fn host_and_interp_agree() {
+fn agree(first: &str, second: &str) {
     let (cases, mut failures) = cases();
     let mut scans = 0;
     for case in &cases {
-        match catch_unwind(AssertUnwindSafe(|| differential(case))) {
+        match catch_unwind(AssertUnwindSafe(|| differential(case, first, second))) {
             Ok(Ok(n)) => scans += n,
             Ok(Err(e)) => failures.push(format!("{}: {e}", case.name)),
             Err(p) => failures.push(format!("{}: PANIC: {}", case.name, panic_text(p))),
@@ -541,9 +544,119 @@ fn host_and_interp_agree() {
     println!("{} programs, {scans} scans compared", cases.len());
     assert!(
         failures.is_empty(),
-        "host and interp disagree on {} of {} programs:\n{}",
+        "{first} and {second} disagree on {} of {} programs:\n{}",
         failures.len(),
         cases.len(),
+        failures.join("\n")
+    );
+}
+
+#[test]
+fn host_and_interp_agree() {
+    agree("host", "interp");
+}
+
+#[test]
+fn host_and_pic16_agree() {
+    agree("host", "pic16f876a");
+}
+
+/// The backend codes that mean "the program does not fit the target" rather than a bug.
+const UNFIT_CODES: [&str; 4] = ["E9001", "E9002", "E9003", "E9004"];
+
+fn does_not_fit(message: &str) -> bool {
+    UNFIT_CODES.iter().any(|c| message.contains(c))
+}
+
+/// Programs that do not fit the PIC16F876A and why, one per line (`NAME: reason`);
+/// `programs_on_pic16` checks that this list is exactly what the backend reports.
+const PIC16_UNFIT: &str = include_str!("pic16_unfit.txt");
+
+#[test]
+fn programs_on_pic16() {
+    let (cases, mut failures) = cases();
+    let mut checks = 0;
+    let mut unfit: Vec<String> = Vec::new();
+    let mut ran = 0;
+    for case in &cases {
+        let r = catch_unwind(AssertUnwindSafe(|| -> Result<Option<usize>, String> {
+            let built = build(case)?;
+            let mut m = match targets::machine("pic16f876a", &built.module) {
+                Ok(m) => m,
+                Err(d) => {
+                    let first = d.iter().find(|x| x.is_error());
+                    return match first {
+                        Some(x) if UNFIT_CODES.contains(&x.code) => {
+                            Err(format!("UNFIT {} {}", x.code, x.message))
+                        }
+                        _ => Err(format!(
+                            "no pic16f876a machine: {}",
+                            d.iter()
+                                .map(|x| x.to_string())
+                                .collect::<Vec<_>>()
+                                .join("; ")
+                        )),
+                    };
+                }
+            };
+            let out = scenario::run(&built.scn, m.as_mut(), &built.program, CYCLE_MS);
+            if out.passed() {
+                return Ok(Some(out.checks.len()));
+            }
+            let mut why: Vec<String> = out
+                .checks
+                .iter()
+                .filter(|c| !c.ok)
+                .map(|c| format!("line {}: {}: {}", c.line, c.text, c.detail))
+                .collect();
+            why.extend(out.error.clone());
+            Err(why.join("\n    "))
+        }));
+        match r {
+            Ok(Ok(Some(n))) => {
+                checks += n;
+                ran += 1;
+            }
+            Ok(Ok(None)) => {}
+            Ok(Err(e)) if e.starts_with("UNFIT ") => {
+                unfit.push(format!("{}: {}", case.name, &e["UNFIT ".len()..]))
+            }
+            Ok(Err(e)) => failures.push(format!("{}:\n    {e}", case.name)),
+            Err(p) => failures.push(format!("{}: PANIC: {}", case.name, panic_text(p))),
+        }
+    }
+    println!(
+        "{ran} of {} programs ran on pic16f876a with {checks} checks; {} do not fit:",
+        cases.len(),
+        unfit.len()
+    );
+    for u in &unfit {
+        println!("  {u}");
+    }
+    let listed: Vec<&str> = PIC16_UNFIT
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with('#'))
+        .collect();
+    let now: Vec<&str> = unfit.iter().map(String::as_str).collect();
+    for u in &now {
+        if !listed.contains(u) {
+            failures.push(format!(
+                "does not fit, but tests/pic16_unfit.txt does not say so: {u}"
+            ));
+        }
+    }
+    for l in &listed {
+        if !now.contains(l) {
+            failures.push(format!(
+                "tests/pic16_unfit.txt lists what no longer happens: {l}"
+            ));
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} problems on pic16f876a:\n{}",
+        failures.len(),
         failures.join("\n")
     );
 }
