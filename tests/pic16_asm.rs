@@ -96,3 +96,79 @@ snap!(
     sub32,
     ton_timer,
 );
+
+/// A program over one 2K page: units are placed so none crosses a page, calls between
+/// pages set PCLATH, and the program computes what the host computes.
+#[test]
+fn programs_over_one_page_run() {
+    use plcc_ir::machine::Machine;
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/pic16/paging/big.st");
+    let b = build_sources(
+        vec![("big.st".into(), std::fs::read(&path).unwrap())],
+        &BuildOptions::default(),
+    )
+    .unwrap();
+    let module = b.module.expect("compiles");
+    let build = plcc_pic16::build(&module, &Options::default()).expect("fits the chip");
+    assert!(build.image.words.len() > 2 * 2048, "the program spans three pages or more");
+    let asm = build.program.mpasm();
+    assert!(asm.contains("ORG\t0x800") && asm.contains("ORG\t0x1000"));
+    assert!(asm.contains("bsf\tPCLATH,3"), "calls into page 1 select it");
+    let mut host = plcc::targets::machine("host", &module).unwrap();
+    let mut pic = plcc::targets::machine("pic16f876a", &module).unwrap();
+    host.cold_start().unwrap();
+    pic.cold_start().unwrap();
+    for scan in 1..=3 {
+        host.scan().unwrap();
+        pic.scan().unwrap();
+        for v in ["main.x", "main.y", "main.acc"] {
+            assert_eq!(host.read(v).unwrap(), pic.read(v).unwrap(), "{v} after scan {scan}");
+        }
+    }
+}
+
+/// Located BOOLs drive and read pins: by default `%IX0.n` = RBn and `%QX0.n` = RCn;
+/// a setting moves one. Inputs are latched at scan start, outputs written at its end.
+#[test]
+fn located_bools_are_pins() {
+    use plcc_ir::machine::Machine;
+    use plcc_ir::value::PlcValue;
+    use plcc_pic16::sim::Port;
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/pic16/io_pins.st");
+    let b = build_sources(
+        vec![("io_pins.st".into(), std::fs::read(&path).unwrap())],
+        &BuildOptions::default(),
+    )
+    .unwrap();
+    let module = b.module.expect("compiles");
+    let moved = Options {
+        settings: vec![("pin.%QX0.0".into(), "RB7".into())],
+        ..Default::default()
+    };
+    for (opts, out_port, out_bit) in [(Options::default(), Port::C, 0), (moved, Port::B, 7)] {
+        let build = plcc_pic16::build(&module, &opts).expect("builds");
+        let listing = build.program.mpasm();
+        let pin = if out_port == Port::C { "RC0" } else { "RB7" };
+        assert!(listing.contains(&format!("main.motor -> {pin}")), "{listing}");
+        let mut m = plcc_pic16::machine::PicMachine::new(&module, build);
+        m.cold_start().unwrap();
+        m.scan().unwrap();
+        assert!(!m.sim().output(out_port, out_bit));
+        // start is %IX0.0 = RB0: the write drives the pin, the next scan latches it.
+        m.write("main.start", PlcValue::from_bool(true)).unwrap();
+        assert_eq!(m.read("main.start").unwrap(), PlcValue::from_bool(false));
+        m.scan().unwrap();
+        assert_eq!(m.read("main.motor").unwrap(), PlcValue::from_bool(true));
+        assert!(m.sim().output(out_port, out_bit), "motor drives {pin}");
+        m.write("main.start", PlcValue::from_bool(false)).unwrap();
+        m.write("main.stop", PlcValue::from_bool(true)).unwrap();
+        m.scan().unwrap();
+        assert!(!m.sim().output(out_port, out_bit), "stop releases {pin}");
+    }
+    let bad = Options {
+        settings: vec![("pin.%QX0.0".into(), "RD1".into())],
+        ..Default::default()
+    };
+    let err = plcc_pic16::build(&module, &bad).err().expect("a bad pin is an error");
+    assert_eq!(err[0].code, "E9005");
+}
