@@ -101,7 +101,6 @@ snap!(
 /// pages set PCLATH, and the program computes what the host computes.
 #[test]
 fn programs_over_one_page_run() {
-    use plcc_ir::machine::Machine;
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/pic16/paging/big.st");
     let b = build_sources(
         vec![("big.st".into(), std::fs::read(&path).unwrap())],
@@ -110,7 +109,10 @@ fn programs_over_one_page_run() {
     .unwrap();
     let module = b.module.expect("compiles");
     let build = plcc_pic16::build(&module, &Options::default()).expect("fits the chip");
-    assert!(build.image.words.len() > 2 * 2048, "the program spans three pages or more");
+    assert!(
+        build.image.words.len() > 2 * 2048,
+        "the program spans three pages or more"
+    );
     let asm = build.program.mpasm();
     assert!(asm.contains("ORG\t0x800") && asm.contains("ORG\t0x1000"));
     assert!(asm.contains("bsf\tPCLATH,3"), "calls into page 1 select it");
@@ -122,7 +124,11 @@ fn programs_over_one_page_run() {
         host.scan().unwrap();
         pic.scan().unwrap();
         for v in ["main.x", "main.y", "main.acc"] {
-            assert_eq!(host.read(v).unwrap(), pic.read(v).unwrap(), "{v} after scan {scan}");
+            assert_eq!(
+                host.read(v).unwrap(),
+                pic.read(v).unwrap(),
+                "{v} after scan {scan}"
+            );
         }
     }
 }
@@ -149,7 +155,10 @@ fn located_bools_are_pins() {
         let build = plcc_pic16::build(&module, &opts).expect("builds");
         let listing = build.program.mpasm();
         let pin = if out_port == Port::C { "RC0" } else { "RB7" };
-        assert!(listing.contains(&format!("main.motor -> {pin}")), "{listing}");
+        assert!(
+            listing.contains(&format!("main.motor -> {pin}")),
+            "{listing}"
+        );
         let mut m = plcc_pic16::machine::PicMachine::new(&module, build);
         m.cold_start().unwrap();
         m.scan().unwrap();
@@ -169,6 +178,94 @@ fn located_bools_are_pins() {
         settings: vec![("pin.%QX0.0".into(), "RD1".into())],
         ..Default::default()
     };
-    let err = plcc_pic16::build(&module, &bad).err().expect("a bad pin is an error");
+    let Err(err) = plcc_pic16::build(&module, &bad) else {
+        panic!("a bad pin is an error");
+    };
     assert_eq!(err[0].code, "E9005");
+}
+
+fn pic16_errors(src: &str) -> Vec<plcc_ir::diag::Diagnostic> {
+    let b = build_sources(
+        vec![("gen.st".into(), src.as_bytes().to_vec())],
+        &BuildOptions::default(),
+    )
+    .unwrap();
+    let module = b.module.expect("compiles");
+    match plcc_pic16::build(&module, &Options::default()) {
+        Ok(_) => panic!("expected the chip to run out"),
+        Err(d) => d,
+    }
+}
+
+/// Running out of RAM, stack or program memory is an error that says which and by
+/// how much, never a silent overflow.
+#[test]
+fn resources_that_run_out_are_errors() {
+    let ram = "PROGRAM main
+VAR a, b, c, d, e : ARRAY[0..39] OF INT; i : INT; END_VAR
+a[i] := b[i] + c[i] + d[i] + e[i];
+i := (i + 1) MOD 40;
+END_PROGRAM";
+    let d = pic16_errors(ram);
+    assert_eq!(d[0].code, "E9003");
+    assert!(
+        d[0].message.contains("402 bytes") && d[0].message.contains("64 too many"),
+        "{}",
+        d[0].message
+    );
+
+    // Nine FUNCTIONs too big to inline, each calling the next: 9 levels + the interrupt.
+    let mut deep = String::new();
+    for i in 0..9 {
+        deep += &format!("FUNCTION f{i} : DINT\nVAR_INPUT a : DINT; END_VAR\nVAR t : DINT; END_VAR\nt := a * {};\n", i + 3);
+        for j in 0..12 {
+            deep += &format!("t := t XOR SHR(t, {}) + {j};\n", j + 1);
+        }
+        if i < 8 {
+            deep += &format!("t := t + f{}(t) - f{}(a);\n", i + 1, i + 1);
+        }
+        deep += &format!("f{i} := t;\nEND_FUNCTION\n");
+    }
+    deep += "PROGRAM main\nVAR x : DINT := 1; END_VAR\nx := f0(x) + f0(x + 1);\nEND_PROGRAM\n";
+    let d = pic16_errors(&deep);
+    assert_eq!(d[0].code, "E9004");
+    assert!(
+        d[0].message.contains("12 levels") && d[0].message.contains("4 too many"),
+        "{}",
+        d[0].message
+    );
+
+    // Sixteen big FUNCTIONs, each called twice: more than 8K words.
+    let mut big = String::new();
+    for i in 0..16 {
+        big += &format!("FUNCTION f{i} : DINT\nVAR_INPUT a : DINT; b : DINT; END_VAR\nVAR t : DINT; u : DINT; END_VAR\n");
+        big += &format!(
+            "t := a * {} + b;\nIF t > {} THEN t := t - a / {}; ELSE t := t + (b MOD {}); END_IF;\n",
+            i + 3,
+            i * 100,
+            i + 2,
+            i + 5
+        );
+        for j in 0..12 {
+            big += &format!(
+                "u := u + (t AND {}) - SHR(t, {}); t := t XOR u;\n",
+                j * 7 + 1,
+                j % 7 + 1
+            );
+        }
+        big += &format!("f{i} := t;\nEND_FUNCTION\n");
+    }
+    big += "PROGRAM main\nVAR x : DINT := 7; y : DINT := 3; acc : DINT; END_VAR\n";
+    for i in 0..16 {
+        big += &format!("acc := acc + f{i}(x, y) - f{i}(y, x);\n");
+    }
+    big += "END_PROGRAM\n";
+    let d = pic16_errors(&big);
+    assert_eq!(d[0].code, "E9002");
+    assert!(
+        d[0].message.contains("of the chip's") || d[0].message.contains("the chip has 8192"),
+        "{}",
+        d[0].message
+    );
+    assert!(d[0].message.contains("too many"), "{}", d[0].message);
 }

@@ -1460,7 +1460,8 @@ impl<'a> Emitter<'a> {
         let m = self.bytes(from);
         let la = self.loc(a);
         match op {
-            ConvOp::Itrunc => self.copy_bytes(d, la, n),
+            // REAL bits as DWORD and back, once REAL is an integer (see `softfloat`).
+            ConvOp::Itrunc | ConvOp::Bitcast => self.copy_bytes(d, la, n),
             ConvOp::Uext | ConvOp::Sext => {
                 self.copy_bytes(d, la, m);
                 if op == ConvOp::Sext {

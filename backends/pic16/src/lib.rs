@@ -21,6 +21,7 @@ pub mod machine;
 pub mod ram;
 pub mod runtime;
 pub mod sim;
+pub mod softfloat;
 
 use asm::{DataSymbol, Image, Item, Label, Program, Unit};
 use frame::{FrameInfo, Ptr, Sym};
@@ -56,11 +57,14 @@ pub const CODES: &[CodeInfo] = &[
     CodeInfo {
         code: codes::E_UNSUPPORTED,
         title: "not supported on the PIC16F876A",
-        explanation: "The program uses an operation or a type that the pic16f876a target \
-cannot compile yet: REAL and LREAL arithmetic and conversions (the chip has no floating \
-point; software routines are not written yet), or a data type it cannot hold. The message \
-names the operation and points at it. Example: `x := y * 1.5;` with REAL variables. Use \
-integer arithmetic (fixed point, e.g. tenths in an INT) or another target.",
+        explanation: "The program uses an operation that the pic16f876a target cannot \
+compile: arithmetic, comparisons or conversions on LREAL (64-bit floating point; LREAL \
+variables can still be held, copied and stored), or a transcendental function of REAL \
+(SIN, COS, TAN, ASIN, ACOS, ATAN, LN, LOG, EXP, EXPT). REAL addition, subtraction, \
+multiplication, division, comparisons, SQRT, TRUNC, rounding and every conversion between \
+REAL and the integers are supported (a software library, bit-exact with other targets). The \
+message names the operation and points at it. Example: `y := EXPT(x, 2.0);` on REALs; \
+write `y := x * x;`.",
     },
     CodeInfo {
         code: codes::E_FLASH,
@@ -269,6 +273,10 @@ fn asm_name(path: &str, taken: &mut FxHashSet<String>) -> String {
 /// Compiles a verified module for the chip.
 pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic>> {
     let pin_over = setting_pins(options)?;
+    // REAL becomes integers and calls of the soft-float routines.
+    let mut legal = module.clone();
+    softfloat::legalize(&mut legal)?;
+    let module = &legal;
     let layout = PicLayout::compute(module);
     let nf = module.funcs.len();
 
@@ -812,6 +820,16 @@ fn place_data(
             ram::RAM_BYTES
         ))
     };
+    let total: u32 = module.data.iter().map(|d| layout.size(d.ty)).sum();
+    let free = ram::RAM_BYTES - 16 - map.used_bytes();
+    if total > free {
+        return Err(ram_err(format!(
+            "the variables need {total} bytes of RAM but {free} are left beside the runtime ({} of the chip's {} bytes): {} too many",
+            16 + map.used_bytes(),
+            ram::RAM_BYTES,
+            total - free
+        )));
+    }
     let escapes = escaping_objects(module, layout, consensus, order);
     let mut pieces = vec![Vec::new(); module.data.len()];
     for (i, d) in module.data.iter().enumerate() {

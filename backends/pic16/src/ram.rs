@@ -270,7 +270,8 @@ mod tests {
         assert_eq!(c, 0x20 + 70);
         assert_eq!(m.find(90, &[], None), Some(0x110));
         assert_eq!(m.find(97, &[], None), None);
-        assert_eq!(m.find(4, &[(0x110, 0x16E)], Some(2)), Some(0x190));
+        // Bank 2 blocked: the first other bank with room.
+        assert_eq!(m.find(4, &[(0x110, 0x16E)], Some(2)), Some(0x20 + 70));
     }
 }
 
