@@ -480,7 +480,7 @@ def sim_section(names, opts):
             print("| **all** | %d | %d | **%.2f%%** | | | **%.1f** (geometric mean) |" % (
                 tot_ex, tot_sel, 100.0 * tot_sel / max(1, tot_ex), g))
         print()
-        print("Targets: bank selects at most 5%% of executed instructions; plcc's simulator at "
+        print("Targets: bank selects at most 5% of executed instructions; plcc's simulator at "
               "least 10x gpsim in simulated cycles per second.")
         print()
     finally:

@@ -16,13 +16,15 @@ pub struct State {
 }
 
 impl State {
-    const UNKNOWN: State = State {
+    /// Nothing known.
+    pub const UNKNOWN: State = State {
         rp0: None,
         rp1: None,
         irp: None,
     };
 
-    fn meet(a: Option<State>, b: Option<State>) -> Option<State> {
+    /// What is known on both paths (`None`: a path that does not reach here).
+    pub fn meet(a: Option<State>, b: Option<State>) -> Option<State> {
         let m = |x: Option<bool>, y: Option<bool>| if x == y { x } else { None };
         match (a, b) {
             (None, x) | (x, None) => x,
@@ -134,20 +136,24 @@ fn selects(s: State, n: Need, out: &mut Vec<Op>) -> State {
 }
 
 /// Statistics of one run.
-#[derive(Copy, Clone, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct BankStats {
     /// Select instructions inserted.
     pub selects: u32,
     /// What is known when the unit returns (the meet over its returns), if it does.
     pub exit: Option<State>,
+    /// What is known at each call the unit makes.
+    pub calls: Vec<(Label, State)>,
 }
 
 /// Inserts the bank selects a unit needs. `entry` is the state when the unit starts
 /// (unknown for functions). Fails if a skip and the instruction it skips need
 /// different banks (a bug of instruction selection).
 /// `exits` gives the state a called unit returns with, where known.
+/// `entry` is what is known when the unit starts.
 pub fn insert_selects(
     unit: &mut Unit,
+    entry: State,
     exits: &dyn Fn(Label) -> Option<State>,
 ) -> Result<BankStats, String> {
     // Groups: index ranges [start, end) of ops that must share one bank.
@@ -189,7 +195,7 @@ pub fn insert_selects(
     let mut label_in: FxHashMap<Label, Option<State>> = FxHashMap::default();
     for _round in 0..64 {
         let mut changed = false;
-        let mut cur: Option<State> = Some(State::UNKNOWN);
+        let mut cur: Option<State> = Some(entry);
         let mut skip_pending: Option<Option<State>> = None;
         let mut opi = 0;
         for it in &unit.items {
@@ -237,7 +243,7 @@ pub fn insert_selects(
     // Emit.
     let mut out = Vec::with_capacity(unit.items.len() + 16);
     let mut stats = BankStats::default();
-    let mut cur: Option<State> = Some(State::UNKNOWN);
+    let mut cur: Option<State> = Some(entry);
     let mut skip_pending: Option<Option<State>> = None;
     let mut opi = 0;
     for it in std::mem::take(&mut unit.items) {
@@ -258,6 +264,9 @@ pub fn insert_selects(
                 let before = cur;
                 if matches!(op, Op::I(Inst::Return) | Op::I(Inst::Retlw(_))) {
                     stats.exit = State::meet(stats.exit, cur);
+                }
+                if let Op::Call(l) = op {
+                    stats.calls.push((l, cur.unwrap_or(State::UNKNOWN)));
                 }
                 cur = cur.map(|s| after(&op, s, exits));
                 if ends_flow(&op) {
@@ -317,7 +326,7 @@ mod tests {
             Item::Op(Op::I(Inst::Movwf(0x70))),
             Item::Op(Op::I(Inst::Movwf(0xA1))),
         ]);
-        let st = insert_selects(&mut u, &|_| None).unwrap();
+        let st = insert_selects(&mut u, State::UNKNOWN, &|_| None).unwrap();
         assert_eq!(st.selects, 3); // rp0=0, rp1=0 at entry, then rp0=1
         let o = ops(&u);
         assert_eq!(o[0], Op::I(Inst::Bcf(reg::STATUS, reg::RP0)));
@@ -334,7 +343,7 @@ mod tests {
             Item::Op(Op::I(Inst::Btfsc(reg::STATUS, reg::C))),
             Item::Op(Op::I(Inst::Incf(0xA0, Dest::F))),
         ]);
-        insert_selects(&mut u, &|_| None).unwrap();
+        insert_selects(&mut u, State::UNKNOWN, &|_| None).unwrap();
         let o = ops(&u);
         assert_eq!(o[2], Op::I(Inst::Bsf(reg::STATUS, reg::RP0)));
         assert_eq!(o[3], Op::I(Inst::Btfsc(reg::STATUS, reg::C)));
@@ -351,7 +360,7 @@ mod tests {
             Item::Label(l),
             Item::Op(Op::I(Inst::Movwf(0x21))),
         ]);
-        insert_selects(&mut u, &|_| None).unwrap();
+        insert_selects(&mut u, State::UNKNOWN, &|_| None).unwrap();
         let o = ops(&u);
         // After the label RP0 is unknown (1 on the jump, 0 on the fall-through).
         let tail = &o[o.len() - 2..];
@@ -364,6 +373,6 @@ mod tests {
             Item::Op(Op::I(Inst::Btfsc(0x20, 0))),
             Item::Op(Op::I(Inst::Incf(0xA0, Dest::F))),
         ]);
-        assert!(insert_selects(&mut u, &|_| None).is_err());
+        assert!(insert_selects(&mut u, State::UNKNOWN, &|_| None).is_err());
     }
 }

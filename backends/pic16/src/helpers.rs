@@ -20,9 +20,12 @@ pub enum Helper {
     BitMask,
 }
 
-/// Where the helpers' operands live: three blocks of 8 bytes, in one bank.
+/// Where the helpers' operands live: three blocks of up to 8 bytes and a loop
+/// counter, in one bank.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 pub struct Workspace {
+    /// Loop counter.
+    pub cnt: u16,
     /// First operand (the quotient after a division).
     pub a: u16,
     /// Second operand.
@@ -33,12 +36,12 @@ pub struct Workspace {
 
 /// Bytes the workspace needs for operands of `n` bytes.
 pub fn workspace_bytes(n: u16) -> u16 {
-    3 * n
+    3 * n + 1
 }
 
-/// Loop counters of the helpers (common RAM).
-const H0: u16 = 0x7B;
-const H1: u16 = 0x7C;
+/// The bit-mask helper's scratch (common RAM, never live across its call).
+const H0: u16 = crate::isel::SCRATCH[4];
+const H1: u16 = crate::isel::SCRATCH[5];
 
 /// The helpers a program uses and their labels.
 #[derive(Clone, Debug, Default)]
@@ -126,7 +129,7 @@ impl Code<'_> {
             self.i(Inst::Clrf(r + k));
         }
         self.i(Inst::Movlw((8 * n) as u8));
-        self.i(Inst::Movwf(H0));
+        self.i(Inst::Movwf(ws.cnt));
         let top = self.local();
         // B >>= 1; C = the bit shifted out.
         self.i(Inst::Bcf(reg::STATUS, reg::C));
@@ -142,7 +145,7 @@ impl Code<'_> {
         for k in 0..n {
             self.i(Inst::Rlf(a + k, Dest::F));
         }
-        self.i(Inst::Decfsz(H0, Dest::F));
+        self.i(Inst::Decfsz(ws.cnt, Dest::F));
         self.0.push(Item::Comment(String::new())); // placeholder for `goto top`
         let back = self.0.len() - 1;
         self.i(Inst::Return);
@@ -156,7 +159,7 @@ impl Code<'_> {
             self.i(Inst::Clrf(r + k));
         }
         self.i(Inst::Movlw((8 * n) as u8));
-        self.i(Inst::Movwf(H0));
+        self.i(Inst::Movwf(ws.cnt));
         let top = self.local();
         // R:A <<= 1
         self.i(Inst::Bcf(reg::STATUS, reg::C));
@@ -179,7 +182,7 @@ impl Code<'_> {
         let keep = self.local();
         self.i(Inst::Bsf(a, 0));
         let next = self.local();
-        self.i(Inst::Decfsz(H0, Dest::F));
+        self.i(Inst::Decfsz(ws.cnt, Dest::F));
         let back = self.placeholder();
         self.i(Inst::Return);
         self.patch(to_force, force);

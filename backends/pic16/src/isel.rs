@@ -119,7 +119,7 @@ struct FlagCond {
 }
 
 /// Common-RAM scratch bytes instruction selection may use within one IR instruction.
-pub const SCRATCH: [u16; 6] = [0x75, 0x76, 0x77, 0x78, 0x79, 0x7A];
+pub const SCRATCH: [u16; 6] = [0x71, 0x72, 0x73, 0x74, 0x75, 0x76];
 
 /// Emits the code of one function.
 pub struct Emitter<'a> {
@@ -1834,19 +1834,28 @@ impl<'a> Emitter<'a> {
                 c @ BitLoc::Bit(..) => c.skip_if_true(),
             },
         };
-        // skip_if_true skips the next instruction when the condition is TRUE... the
-        // naming: Btfss x skips when x is set (true).
         let (tm, em) = (self.has_moves(t), self.has_moves(e));
+        if !em && !tm && Some(e.block) == next && Some(t.block) != next {
+            // The false side follows: test the other way and jump only when true.
+            let skip_if_false = match skip_if_true {
+                Inst::Btfss(f, b) => Inst::Btfsc(f, b),
+                Inst::Btfsc(f, b) => Inst::Btfss(f, b),
+                other => unreachable!("a bit test, not {other:?}"),
+            };
+            self.i(skip_if_false);
+            let l = self.block_label(t.block);
+            self.goto(l);
+            return;
+        }
         let else_target = if em {
             self.new_label("else")
         } else {
             self.block_label(e.block)
         };
-        // condition false -> falls into `goto else`; true -> skips it.
+        // False falls into `goto else`; true skips it.
         self.i(skip_if_true);
         self.goto(else_target);
         self.jump(t, if em { None } else { next });
-        let _ = tm;
         if em {
             self.label(else_target);
             self.jump(e, next);

@@ -387,17 +387,19 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
     // RAM: runtime block, helpers' workspace, data objects, then frames.
     let mut map = RamMap::new();
     let ram_err = |what: String| vec![Diagnostic::error_nowhere(codes::E_RAM, what)];
-    let rt_size: u16 = if uses_ns { 24 } else { 8 };
+    // clock (4), sampled clock (4), flags (1), interrupt context (3), ns clocks (16).
+    let rt_size: u16 = if uses_ns { 28 } else { 12 };
     let rt_at = map
         .find(rt_size, &[], Some(0))
         .ok_or_else(|| ram_err("no RAM for the runtime".into()))?;
     map.take(rt_at, rt_size);
     let rt = Rt {
-        flags: runtime::FLAGS,
         clk_ms: rt_at,
         now_ms: rt_at + 4,
-        clk_ns: uses_ns.then_some(rt_at + 8),
-        now_ns: if uses_ns { rt_at + 16 } else { rt_at },
+        flags: rt_at + 8,
+        isr_save: rt_at + 9,
+        clk_ns: uses_ns.then_some(rt_at + 12),
+        now_ns: if uses_ns { rt_at + 20 } else { rt_at },
     };
     let ws = if widest_muldiv > 0 {
         let size = helpers::workspace_bytes(widest_muldiv);
@@ -411,6 +413,7 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
             a: at,
             b: at + widest_muldiv,
             r: at + 2 * widest_muldiv,
+            cnt: at + 3 * widest_muldiv,
         }
     } else {
         Workspace::default()
@@ -444,7 +447,11 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
             per_bank[((data.addr(*d, 0) >> 7) & 3) as usize] += n;
         }
         let prefer = (0..4u8).max_by_key(|&b| (per_bank[b as usize], std::cmp::Reverse(b)));
-        let Some(at) = map.find(size, &avoid, prefer) else {
+        // A hot function (a program body, or one with a loop) whose frame fits goes
+        // to common RAM, where it needs no bank selects at all.
+        let hot = module.programs.iter().any(|p| p.body == f) || has_loop(&module.funcs[f.index()]);
+        let common = hot.then(|| find_common(size, &avoid)).flatten();
+        let Some(at) = common.or_else(|| map.find(size, &avoid, prefer)) else {
             let fname = &module.funcs[f.index()].name;
             return Err(vec![Diagnostic::error_nowhere(
                 codes::E_RAM,
@@ -456,7 +463,7 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
         };
         frame_base[f.index()] = at;
         placed[f.index()] = Some((at, at + size));
-        frame_bytes.extend(at..at + size);
+        frame_bytes.extend((at..at + size).filter(|a| !(0x70..0x80).contains(a)));
     }
     let ram_used = map.used_bytes() + frame_bytes.len() as u32 + 16;
 
@@ -468,7 +475,18 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
     let mut taken: FxHashSet<String> = asm::reserved_names()
         .map(|s| s.to_ascii_lowercase())
         .collect();
-    for (n, _, _) in runtime::common_symbols() {
+    for (n, ..) in runtime::common_symbols() {
+        taken.insert(n.to_string());
+    }
+    for n in [
+        "plc_flags",
+        "plc_isr_save",
+        "plc_clock_ms",
+        "plc_now_ms",
+        "plc_clock_ns",
+        "plc_now_ns",
+        "plc_ws",
+    ] {
         taken.insert(n.to_string());
     }
     let rl = runtime::labels(&mut program.labels);
@@ -599,23 +617,46 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
         helpers::resolve_local(&mut u, &mut program.labels);
         all.push(u);
     }
-    // Callees first, so that callers know the banks a call returns with.
-    let mut bank_selects = 0;
-    let mut exits: FxHashMap<Label, banks::State> = FxHashMap::default();
-    for u in all.iter_mut().rev() {
-        let entry = u.items.iter().find_map(|it| match it {
+    // Bank selects. Round one, callees first and entries unknown: the bank each unit
+    // returns with and the banks known at every call. Round two: each unit starts
+    // with what all its callers agree on. (Round one's facts hold in round two, as
+    // knowing more at an entry only ever adds to what is known.)
+    let entry_label = |u: &Unit| {
+        u.items.iter().find_map(|it| match it {
             Item::Label(l) => Some(*l),
             _ => None,
-        });
-        match banks::insert_selects(u, &|l| exits.get(&l).copied()) {
-            Ok(s) => {
-                bank_selects += s.selects;
-                if let (Some(l), Some(x)) = (entry, s.exit) {
-                    exits.insert(l, x);
-                }
-            }
-            Err(e) => return Err(vec![Diagnostic::error_nowhere(codes::E_INTERNAL, e)]),
+        })
+    };
+    let mut exits: FxHashMap<Label, banks::State> = FxHashMap::default();
+    let mut entries: FxHashMap<Label, Option<banks::State>> = FxHashMap::default();
+    for u in all.iter().rev() {
+        let mut probe = u.clone();
+        let st = banks::insert_selects(&mut probe, banks::State::UNKNOWN, &|l| {
+            exits.get(&l).copied()
+        })
+        .map_err(|e| vec![Diagnostic::error_nowhere(codes::E_INTERNAL, e)])?;
+        if let (Some(l), Some(x)) = (entry_label(u), st.exit) {
+            exits.insert(l, x);
         }
+        for (callee, state) in st.calls {
+            let e = entries.entry(callee).or_insert(None);
+            *e = banks::State::meet(*e, Some(state));
+        }
+    }
+    let mut bank_selects = 0;
+    for (i, u) in all.iter_mut().enumerate() {
+        // The vectors and the scan loop are entered by reset, interrupt or jump.
+        let entry = match entry_label(u) {
+            Some(l) if i > 2 => entries
+                .get(&l)
+                .copied()
+                .flatten()
+                .unwrap_or(banks::State::UNKNOWN),
+            _ => banks::State::UNKNOWN,
+        };
+        let st = banks::insert_selects(u, entry, &|l| exits.get(&l).copied())
+            .map_err(|e| vec![Diagnostic::error_nowhere(codes::E_INTERNAL, e)])?;
+        bank_selects += st.selects;
     }
     program.units = all;
 
@@ -646,15 +687,11 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
     let mut symbols = Vec::new();
     let mut bits = Vec::new();
     let mut asm_names = Vec::new();
-    for (n, a, c) in runtime::common_symbols() {
+    for (n, a, size, c) in runtime::common_symbols() {
         program.symbols.push(DataSymbol {
             name: n.into(),
             addr: a,
-            size: match n {
-                "plc_t" => isel::SCRATCH.len() as u16,
-                "plc_h" => 2,
-                _ => 1,
-            },
+            size,
             bit: None,
             comment: c.into(),
         });
@@ -666,6 +703,13 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
             rt.now_ms,
             4,
             "clock sampled at scan start, ms",
+        ),
+        ("plc_flags", rt.flags, 1, "bit 0: fault"),
+        (
+            "plc_isr_save",
+            rt.isr_save,
+            3,
+            "interrupt: saved STATUS, PCLATH, FSR",
         ),
     ] {
         program.symbols.push(DataSymbol {
@@ -694,7 +738,7 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
         program.symbols.push(DataSymbol {
             name: "plc_ws".into(),
             addr: ws.a,
-            size: 3 * widest_muldiv,
+            size: helpers::workspace_bytes(widest_muldiv),
             bit: None,
             comment: "multiply/divide workspace".into(),
         });
@@ -961,4 +1005,21 @@ fn escaping_objects(
         }
     }
     out
+}
+
+/// A place for `size` bytes in the free part of common RAM, away from `avoid`.
+fn find_common(size: u16, avoid: &[(u16, u16)]) -> Option<u16> {
+    let (lo, hi) = runtime::COMMON_FREE;
+    (lo..=hi.saturating_sub(size)).find(|&at| avoid.iter().all(|&(s, e)| at + size <= s || at >= e))
+}
+
+/// True if the function has a back edge in its layout (a loop).
+fn has_loop(f: &plcc_ir::function::Function) -> bool {
+    let pos: FxHashMap<plcc_ir::Block, usize> =
+        f.layout.iter().enumerate().map(|(i, b)| (*b, i)).collect();
+    f.layout.iter().enumerate().any(|(i, &b)| {
+        f.successors(b)
+            .iter()
+            .any(|s| pos.get(s).is_some_and(|&j| j <= i))
+    })
 }

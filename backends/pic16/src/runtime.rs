@@ -20,8 +20,10 @@ pub const CYCLES_PER_MS: u16 = 5000;
 /// Fixed runtime addresses.
 #[derive(Copy, Clone, Debug, Default)]
 pub struct Rt {
-    /// Flags byte (common RAM): bit 0 is the fault flag.
+    /// Flags byte: bit 0 is the fault flag.
     pub flags: u16,
+    /// Where the interrupt saves STATUS, PCLATH and FSR (3 bytes, bank 0).
+    pub isr_save: u16,
     /// The running clock in ms (4 bytes), advanced by the interrupt.
     pub clk_ms: u16,
     /// The running clock in ns (8 bytes), if the program reads LTIME.
@@ -32,13 +34,9 @@ pub struct Rt {
     pub now_ns: u16,
 }
 
-/// Interrupt context save (common RAM).
-const ISR_W: u16 = 0x70;
-const ISR_STATUS: u16 = 0x71;
-const ISR_PCLATH: u16 = 0x72;
-const ISR_FSR: u16 = 0x73;
-/// The flags byte.
-pub const FLAGS: u16 = 0x74;
+/// Where the interrupt saves W: the one byte it must reach before it can select a
+/// bank (common RAM); the rest of its context goes to bank 0.
+pub const ISR_W: u16 = 0x70;
 
 /// A port pin.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -230,15 +228,16 @@ pub fn isr_unit(rt: &Rt, labels: &mut Vec<String>) -> Unit {
     let out = Label(labels.len() as u32 - 1);
     let mut c = Code(Vec::new());
     c.c("save W, STATUS, PCLATH, FSR; select bank 0");
+    let (isr_status, isr_pclath, isr_fsr) = (rt.isr_save, rt.isr_save + 1, rt.isr_save + 2);
     c.i(Inst::Movwf(ISR_W));
     c.i(Inst::Swapf(reg::STATUS, Dest::W));
-    c.i(Inst::Movwf(ISR_STATUS));
     c.i(Inst::Clrf(reg::STATUS));
+    c.i(Inst::Movwf(isr_status));
     c.i(Inst::Movf(reg::PCLATH, Dest::W));
-    c.i(Inst::Movwf(ISR_PCLATH));
+    c.i(Inst::Movwf(isr_pclath));
     c.i(Inst::Clrf(reg::PCLATH));
     c.i(Inst::Movf(reg::FSR, Dest::W));
-    c.i(Inst::Movwf(ISR_FSR));
+    c.i(Inst::Movwf(isr_fsr));
     c.i(Inst::Btfss(reg::PIR1, reg::CCP1IF));
     c.0.push(Item::Op(Op::Goto(out)));
     c.i(Inst::Bcf(reg::PIR1, reg::CCP1IF));
@@ -248,11 +247,11 @@ pub fn isr_unit(rt: &Rt, labels: &mut Vec<String>) -> Unit {
         c.add_const(ns, 1_000_000, 8);
     }
     c.0.push(Item::Label(out));
-    c.i(Inst::Movf(ISR_FSR, Dest::W));
+    c.i(Inst::Movf(isr_fsr, Dest::W));
     c.i(Inst::Movwf(reg::FSR));
-    c.i(Inst::Movf(ISR_PCLATH, Dest::W));
+    c.i(Inst::Movf(isr_pclath, Dest::W));
     c.i(Inst::Movwf(reg::PCLATH));
-    c.i(Inst::Swapf(ISR_STATUS, Dest::W));
+    c.i(Inst::Swapf(isr_status, Dest::W));
     c.i(Inst::Movwf(reg::STATUS));
     c.i(Inst::Swapf(ISR_W, Dest::F));
     c.i(Inst::Swapf(ISR_W, Dest::W));
@@ -351,18 +350,22 @@ pub fn main_unit(plan: &RuntimePlan, l: &RuntimeLabels) -> Unit {
     }
 }
 
-/// Common-RAM addresses the runtime reserves, with their names for the listing.
-pub fn common_symbols() -> Vec<(&'static str, u16, &'static str)> {
+/// Common-RAM addresses the runtime reserves, with their names, sizes and comments
+/// for the listing. The rest of common RAM (`COMMON_FREE`) takes hot frames.
+pub fn common_symbols() -> Vec<(&'static str, u16, u16, &'static str)> {
     vec![
-        ("plc_isr_w", ISR_W, "interrupt: saved W"),
-        ("plc_isr_status", ISR_STATUS, "interrupt: saved STATUS"),
-        ("plc_isr_pclath", ISR_PCLATH, "interrupt: saved PCLATH"),
-        ("plc_isr_fsr", ISR_FSR, "interrupt: saved FSR"),
-        ("plc_flags", FLAGS, "bit 0: fault"),
-        ("plc_t", 0x75, "scratch of the generated code (6 bytes)"),
-        ("plc_h", 0x7B, "helper loop counters (2 bytes)"),
+        ("plc_isr_w", ISR_W, 1, "interrupt: saved W"),
+        (
+            "plc_t",
+            crate::isel::SCRATCH[0],
+            crate::isel::SCRATCH.len() as u16,
+            "scratch of the generated code",
+        ),
     ]
 }
+
+/// Common RAM left for the frames of hot functions.
+pub const COMMON_FREE: (u16, u16) = (0x77, 0x80);
 
 #[cfg(test)]
 mod tests {
