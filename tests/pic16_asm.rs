@@ -209,7 +209,7 @@ END_PROGRAM";
     let d = pic16_errors(ram);
     assert_eq!(d[0].code, "E9003");
     assert!(
-        d[0].message.contains("402 bytes") && d[0].message.contains("64 too many"),
+        d[0].message.contains("402 bytes") && d[0].message.contains("69 too many"),
         "{}",
         d[0].message
     );
