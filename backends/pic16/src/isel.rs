@@ -1009,6 +1009,21 @@ impl<'a> Emitter<'a> {
                 }
                 return;
             }
+            let positive = k < 1u64 << (8 * n as u32 - 1);
+            if signed && !want_rem && positive && k.is_power_of_two() {
+                // Toward zero: a negative dividend is biased by k - 1 before the
+                // arithmetic shift.
+                self.copy_bytes(d, a, n);
+                if k > 1 {
+                    let pos = self.new_label("pos");
+                    self.i(Inst::Btfss(d + n - 1, 7));
+                    self.goto(pos);
+                    self.add_in_place(d, Loc::Lit(k - 1), n);
+                    self.label(pos);
+                    self.shift_const(BinaryOp::Sshr, d, Loc::Mem(d), n, k.trailing_zeros());
+                }
+                return;
+            }
         }
         let done = self.new_label("div");
         if !matches!(b, Loc::Lit(_)) {
