@@ -1010,6 +1010,22 @@ impl<'a> Emitter<'a> {
                 return;
             }
             let positive = k < 1u64 << (8 * n as u32 - 1);
+            if signed && want_rem && positive && k.is_power_of_two() {
+                // The remainder takes the dividend's sign: mask |a|, then restore it.
+                self.copy_bytes(d, a, n);
+                let pos = self.new_label("pos");
+                let done = self.new_label("rem");
+                self.i(Inst::Btfss(d + n - 1, 7));
+                self.goto(pos);
+                self.negate_in_place(d, n);
+                self.binary_const_and(d, Loc::Mem(d), n, k - 1);
+                self.negate_in_place(d, n);
+                self.goto(done);
+                self.label(pos);
+                self.binary_const_and(d, Loc::Mem(d), n, k - 1);
+                self.label(done);
+                return;
+            }
             if signed && !want_rem && positive && k.is_power_of_two() {
                 // Toward zero: a negative dividend is biased by k - 1 before the
                 // arithmetic shift.
