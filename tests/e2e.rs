@@ -374,7 +374,16 @@ fn panic_text(p: Box<dyn std::any::Any + Send>) -> String {
 fn run_case(case: &Case, target: &str) -> Result<usize, String> {
     let built = build(case)?;
     let mut m = machine(target, &built.module)?;
-    let out = scenario::run(&built.scn, m.as_mut(), &built.program, CYCLE_MS);
+    checked(scenario::run(
+        &built.scn,
+        m.as_mut(),
+        &built.program,
+        CYCLE_MS,
+    ))
+}
+
+/// The number of checks of a scenario that passed, or its failed checks as text.
+fn checked(out: scenario::Outcome) -> Result<usize, String> {
     if out.passed() {
         return Ok(out.checks.len());
     }
@@ -599,18 +608,13 @@ fn programs_on_pic16() {
                     };
                 }
             };
-            let out = scenario::run(&built.scn, m.as_mut(), &built.program, CYCLE_MS);
-            if out.passed() {
-                return Ok(Some(out.checks.len()));
-            }
-            let mut why: Vec<String> = out
-                .checks
-                .iter()
-                .filter(|c| !c.ok)
-                .map(|c| format!("line {}: {}: {}", c.line, c.text, c.detail))
-                .collect();
-            why.extend(out.error.clone());
-            Err(why.join("\n    "))
+            checked(scenario::run(
+                &built.scn,
+                m.as_mut(),
+                &built.program,
+                CYCLE_MS,
+            ))
+            .map(Some)
         }));
         match r {
             Ok(Ok(Some(n))) => {

@@ -123,14 +123,19 @@ impl Code<'_> {
         }
     }
 
-    fn mul(&mut self, ws: Workspace, n: u16) {
-        let (a, b, r) = (ws.a, ws.b, ws.r);
+    /// R := 0 and the counter := one round per bit; the loop's top.
+    fn start_loop(&mut self, ws: Workspace, n: u16) -> LocalLabel {
         for k in 0..n {
-            self.i(Inst::Clrf(r + k));
+            self.i(Inst::Clrf(ws.r + k));
         }
         self.i(Inst::Movlw((8 * n) as u8));
         self.i(Inst::Movwf(ws.cnt));
-        let top = self.local();
+        self.local()
+    }
+
+    fn mul(&mut self, ws: Workspace, n: u16) {
+        let (a, b, r) = (ws.a, ws.b, ws.r);
+        let top = self.start_loop(ws, n);
         // B >>= 1; C = the bit shifted out.
         self.i(Inst::Bcf(reg::STATUS, reg::C));
         for k in (0..n).rev() {
@@ -155,12 +160,7 @@ impl Code<'_> {
 
     fn div(&mut self, ws: Workspace, n: u16) {
         let (a, b, r) = (ws.a, ws.b, ws.r);
-        for k in 0..n {
-            self.i(Inst::Clrf(r + k));
-        }
-        self.i(Inst::Movlw((8 * n) as u8));
-        self.i(Inst::Movwf(ws.cnt));
-        let top = self.local();
+        let top = self.start_loop(ws, n);
         // R:A <<= 1
         self.i(Inst::Bcf(reg::STATUS, reg::C));
         for k in 0..n {

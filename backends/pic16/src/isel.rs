@@ -654,8 +654,14 @@ impl<'a> Emitter<'a> {
             self.i(Inst::Incf(d + 1, Dest::F));
             return;
         }
+        self.carry_chain(d, 0, n);
+    }
+
+    /// Adds one to bytes `from..n` of `d` as one number, stopping at the first byte
+    /// that does not wrap to zero.
+    fn carry_chain(&mut self, d: u16, from: u16, n: u16) {
         let done = self.new_label("inc");
-        for i in 0..n {
+        for i in from..n {
             if i + 1 == n {
                 self.i(Inst::Incf(d + i, Dest::F));
             } else {
@@ -686,18 +692,11 @@ impl<'a> Emitter<'a> {
                     self.i(Inst::Incf(d + 1, Dest::F));
                     return;
                 }
-                let done = self.new_label("cy");
+                let no_carry = self.new_label("cy");
                 self.i(Inst::Btfss(reg::STATUS, reg::C));
-                self.goto(done);
-                for i in 1..n {
-                    if i + 1 == n {
-                        self.i(Inst::Incf(d + i, Dest::F));
-                    } else {
-                        self.i(Inst::Incfsz(d + i, Dest::F));
-                        self.goto(done);
-                    }
-                }
-                self.label(done);
+                self.goto(no_carry);
+                self.carry_chain(d, 1, n);
+                self.label(no_carry);
                 return;
             }
         }
