@@ -319,6 +319,9 @@ pub fn build_frame(f: &Function, ptrs: &FxHashMap<Value, Ptr>, slot_sizes: &[u32
     // Interference.
     let mut adj: Vec<Vec<Value>> = vec![Vec::new(); nv];
     let mut hint: Vec<Option<Value>> = vec![None; nv];
+    // A result and the dying first operand it may share RAM with: they do not
+    // interfere, but may only overlap exactly (same first byte), never in part.
+    let mut shared: Vec<Option<Value>> = vec![None; nv];
     // Block arguments prefer their parameter's place (and the other way round), so
     // that most edges copy nothing.
     for &b in &f.layout {
@@ -368,6 +371,7 @@ pub fn build_frame(f: &Function, ptrs: &FxHashMap<Value, Ptr>, slot_sizes: &[u32
                     });
                     if let Some(a) = share {
                         hint[r.index()] = Some(a);
+                        shared[r.index()] = Some(a);
                     }
                     for &o in &operands {
                         if Some(o) != share {
@@ -394,6 +398,12 @@ pub fn build_frame(f: &Function, ptrs: &FxHashMap<Value, Ptr>, slot_sizes: &[u32
             }
         }
     }
+    let mut sharers: Vec<Vec<Value>> = vec![Vec::new(); nv];
+    for (r, a) in shared.iter().enumerate() {
+        if let Some(a) = a {
+            sharers[a.index()].push(Value::new(r));
+        }
+    }
     // Colouring: bytes first-fit, bits as colours packed eight to a byte.
     let mut byte_off: Vec<Option<(u16, u16)>> = vec![None; nv];
     let mut bit_color: Vec<Option<u32>> = vec![None; nv];
@@ -417,12 +427,24 @@ pub fn build_frame(f: &Function, ptrs: &FxHashMap<Value, Ptr>, slot_sizes: &[u32
             let size = scalar_bytes(ty) as u16;
             let mut busy: Vec<(u16, u16)> =
                 adj[v].iter().filter_map(|n| byte_off[n.index()]).collect();
-            busy.sort();
-            let free = |at: u16| busy.iter().all(|&(s, e)| at + size <= s || at >= e);
+            // Values it may share with (see `shared`), already placed.
+            let soft: Vec<(u16, u16)> = shared[v]
+                .into_iter()
+                .chain(sharers[v].iter().copied())
+                .filter_map(|n| byte_off[n.index()])
+                .collect();
+            let free = |at: u16| {
+                busy.iter().all(|&(s, e)| at + size <= s || at >= e)
+                    && soft
+                        .iter()
+                        .all(|&(s, e)| at == s || at + size <= s || at >= e)
+            };
             let hinted = hint[v]
                 .and_then(|h| byte_off[h.index()])
                 .map(|(s, _)| s)
                 .filter(|&s| free(s));
+            busy.extend(soft.iter().copied());
+            busy.sort();
             let mut at = 0u16;
             for &(s, e) in &busy {
                 if s >= at + size {

@@ -59,12 +59,11 @@ pub const CODES: &[CodeInfo] = &[
         title: "not supported on the PIC16F876A",
         explanation: "The program uses an operation that the pic16f876a target cannot \
 compile: arithmetic, comparisons or conversions on LREAL (64-bit floating point; LREAL \
-variables can still be held, copied and stored), or a transcendental function of REAL \
-(SIN, COS, TAN, ASIN, ACOS, ATAN, LN, LOG, EXP, EXPT). REAL addition, subtraction, \
-multiplication, division, comparisons, SQRT, TRUNC, rounding and every conversion between \
-REAL and the integers are supported (a software library, bit-exact with other targets). The \
-message names the operation and points at it. Example: `y := EXPT(x, 2.0);` on REALs; \
-write `y := x * x;`.",
+variables can still be held, copied and stored). REAL is supported in software: the four \
+operations, comparisons, SQRT, TRUNC and rounding, the conversions to and from integers \
+(all bit-exact with other targets) and the transcendental functions SIN, COS, TAN, ASIN, \
+ACOS, ATAN, LN, LOG, EXP and EXPT (within 2 ulp). The message names the operation and \
+points at it. Example: `y := x * 2.5;` on LREALs; declare them REAL.",
     },
     CodeInfo {
         code: codes::E_FLASH,
@@ -453,11 +452,25 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
         let common = hot.then(|| find_common(size, &avoid)).flatten();
         let Some(at) = common.or_else(|| map.find(size, &avoid, prefer)) else {
             let fname = &module.funcs[f.index()].name;
+            // The deepest chain of frames down to this one (they all coexist).
+            let mut chain = vec![0u32; nf];
+            for &g in &order {
+                let own = frames[g.index()].size as u32;
+                let up = (0..nf)
+                    .filter(|&c| callees[c].contains(&g))
+                    .map(|c| chain[c])
+                    .max()
+                    .unwrap_or(0);
+                chain[g.index()] = up + own;
+            }
+            let chain = chain[f.index()];
             return Err(vec![Diagnostic::error_nowhere(
                 codes::E_RAM,
                 format!(
-                    "`{fname}` needs {size} bytes for its temporaries and locals, but no RAM bank has that much free beside the variables and the frames of its callers (largest free block: {} bytes)",
-                    map.largest_free()
+                    "`{fname}` needs {size} bytes for its temporaries and locals, but no bank has that much free beside the variables ({} bytes) and the frames of the functions that call it (the deepest chain down to it needs {} bytes); the chip has {} bytes",
+                    map.used_bytes(),
+                    chain,
+                    ram::RAM_BYTES
                 ),
             )]);
         };
