@@ -140,31 +140,11 @@ fn test_program(lanes: usize) -> String {
     s
 }
 
-/// xorshift64*: a small fixed-seed generator.
-struct Rng(u64);
+#[path = "common/rng.rs"]
+mod rng;
+use rng::Rng;
 
 impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-
-    fn word(&mut self) -> u32 {
-        (self.next() >> 32) as u32
-    }
-
-    /// Uniform in `0..n`.
-    fn below(&mut self, n: u32) -> u32 {
-        ((self.word() as u64 * n as u64) >> 32) as u32
-    }
-
-    /// Uniform in `lo..=hi`.
-    fn range(&mut self, lo: i32, hi: i32) -> i32 {
-        lo + self.below((hi - lo + 1) as u32) as i32
-    }
-
     /// A random float with biased exponent `e` (clamped to 0..=254), a random sign,
     /// and a fraction that is either full or has only its top few bits random (so
     /// that sums and products can be exact or exact ties).
