@@ -397,8 +397,8 @@ pub fn reserved_names() -> impl Iterator<Item = &'static str> {
 struct Names {
     /// (start, end, name) of data symbols, sorted by start.
     data: Vec<(u16, u16, String)>,
-    /// Frames of every unit.
-    frames: Vec<(u16, u16, String)>,
+    /// Frames of every unit, with the unit's entry label.
+    frames: Vec<(u16, u16, String, Option<Label>)>,
 }
 
 impl Names {
@@ -409,7 +409,17 @@ impl Names {
             .map(|d| (d.addr, d.addr + d.size.max(1), d.name.clone()))
             .collect();
         data.sort_by_key(|d| (d.0, std::cmp::Reverse(d.1)));
-        let frames = p.units.iter().filter_map(|u| u.frame.clone()).collect();
+        let frames = p
+            .units
+            .iter()
+            .filter_map(|u| {
+                let entry = u.items.iter().find_map(|it| match it {
+                    Item::Label(l) => Some(*l),
+                    _ => None,
+                });
+                u.frame.clone().map(|(s, e, n)| (s, e, n, entry))
+            })
+            .collect();
         Names { data, frames }
     }
 
@@ -441,7 +451,19 @@ impl Names {
         if let Some((s, _, n)) = self.data.iter().find(|(s, e, _)| f >= *s && f < *e) {
             return rel(*s, n);
         }
-        if let Some((s, _, n)) = self.frames.iter().find(|(s, e, _)| f >= *s && f < *e) {
+        // Frames overlap: the frame of a function this unit calls (its arguments and
+        // result) before any other.
+        let called = |l: &Label| {
+            u.items
+                .iter()
+                .any(|it| matches!(it, Item::Op(Op::Call(c)) if c == l))
+        };
+        let frame = self
+            .frames
+            .iter()
+            .filter(|(s, e, _, _)| f >= *s && f < *e)
+            .min_by_key(|(_, _, _, entry)| !entry.as_ref().is_some_and(called));
+        if let Some((s, _, n, _)) = frame {
             return rel(*s, n);
         }
         format!("0x{f:03X}")
