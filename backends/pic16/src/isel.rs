@@ -16,7 +16,7 @@ use crate::helpers::{HelperSet, Workspace};
 use crate::isa::{bank_of, reg, Dest, Inst};
 use crate::ram::{scalar_bytes, PicLayout};
 use crate::runtime::Rt;
-use plcc_ir::diag::{Diagnostic, Span};
+use plcc_ir::diag::Diagnostic;
 use plcc_ir::function::Function;
 use plcc_ir::inst::{BinaryOp, BlockCall, ConvOp, InstData, IntCC, Intrinsic, UnaryOp};
 use plcc_ir::{Block, FuncId, Module, Type, Value};
@@ -1899,9 +1899,4 @@ fn mask(n: u16) -> u64 {
     } else {
         (1u64 << (8 * n)) - 1
     }
-}
-
-/// The span of a function (for errors about it as a whole).
-pub fn func_span(f: &Function) -> Option<Span> {
-    f.span
 }

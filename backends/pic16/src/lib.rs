@@ -783,9 +783,8 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
             });
         }
     }
-    for (u, &f) in program.units.iter().skip(3).zip(&order) {
+    for u in &program.units {
         if let Some((s, _, n)) = &u.frame {
-            let _ = f;
             program.symbols.push(DataSymbol {
                 name: n.clone(),
                 addr: *s,

@@ -153,7 +153,6 @@ fn legalize_function(
     let mut edits: Vec<(plcc_ir::Block, Inst, Vec<InstData>, InstData)> = Vec::new();
     for (b, inst) in work {
         let data = f.inst(inst).clone();
-        let res = f.result(inst);
         let mut before: Vec<InstData> = Vec::new();
         let call = |name: &str,
                     args: Vec<Value>,
@@ -376,7 +375,6 @@ fn legalize_function(
             }
             _ => continue,
         };
-        let _ = res;
         edits.push((b, inst, before, last));
     }
     // Types: every f32 is an i32 from here on, every f64 an i64.
