@@ -88,6 +88,7 @@ fn all_codes() -> impl Iterator<Item = &'static plcc_ir::diag::CodeInfo> {
         .iter()
         .chain(plcc_native::CODES.iter())
         .chain(plcc_pic16::CODES.iter())
+        .chain(plcc_vmasm::CODES.iter())
         .chain(driver::CODES.iter())
 }
 
@@ -400,6 +401,13 @@ pub fn compile(a: &CompileArgs) -> u8 {
                 emit: a.emit.clone(),
                 settings: a.settings.clone(),
                 sources: driver::source_texts(&build.sources, &module),
+                output_stem: a
+                    .output
+                    .as_deref()
+                    .filter(|o| o.as_os_str() != "-")
+                    .unwrap_or(&a.files[0])
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned()),
             };
             match backend.compile(&module, &opts) {
                 Ok(arts) => {

@@ -39,7 +39,7 @@ struct Common {
 struct BuildArgs {
     #[command(flatten)]
     common: Common,
-    /// The target: host (object file), interp
+    /// The target: host (object file), pic16f876a (MPASM/HEX), vmasm (CPDev XCP + DCP), interp
     #[arg(long, default_value = "host")]
     target: String,
     /// Output file (default: the first input with the target's extension; `-` for
@@ -47,13 +47,14 @@ struct BuildArgs {
     #[arg(short, long)]
     output: Option<PathBuf>,
     /// What to produce: ir (optimised IR), ir-raw (unoptimised), or a target output
-    /// (host: obj, header)
+    /// (host: obj, header; pic16f876a: asm, hex; vmasm: xcp, asm)
     #[arg(long)]
     emit: Option<String>,
     /// PROGRAMs to instantiate (default: all)
     #[arg(long)]
     program: Vec<String>,
-    /// A target setting KEY=VALUE (pic16f876a: pin.%IX0.0=RA2; host: triple=...)
+    /// A target setting KEY=VALUE (pic16f876a: pin.%IX0.0=RA2; vmasm: mode=16|32|32a,
+    /// cycle=MS; host: triple=...)
     #[arg(short = 's', long = "set", value_parser = parse_setting)]
     set: Vec<(String, String)>,
 }
@@ -70,7 +71,7 @@ enum Command {
     Run {
         #[command(flatten)]
         common: Common,
-        /// Where to run it: host (JIT) or interp
+        /// Where to run it: host (JIT), interp, pic16f876a (simulator), vmasm (plcc's VM)
         #[arg(long, default_value = "host")]
         target: String,
         /// The PROGRAM to run (needed when the files have several)
@@ -93,7 +94,7 @@ enum Command {
         /// The scenario file
         #[arg(long)]
         scenario: PathBuf,
-        /// Where to run it: host (JIT) or interp
+        /// Where to run it: host (JIT), interp, pic16f876a (simulator), vmasm (plcc's VM)
         #[arg(long, default_value = "host")]
         target: String,
         /// Clock step of `run N` in milliseconds

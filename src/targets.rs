@@ -29,6 +29,11 @@ pub const TARGETS: &[TargetInfo] = &[
         runs: true,
     },
     TargetInfo {
+        name: "vmasm",
+        about: "the CPDev virtual machine: XCP code image and DCP description (--emit asm: the VMASM listing); run/test on plcc's VM",
+        runs: true,
+    },
+    TargetInfo {
         name: "interp",
         about: "plcc's reference IR interpreter (run/test only)",
         runs: true,
@@ -55,6 +60,7 @@ pub fn backend(name: &str) -> Option<Box<dyn Backend>> {
     match name {
         "host" => Some(Box::new(plcc_native::NativeBackend::new())),
         "pic16f876a" => Some(Box::new(plcc_pic16::Pic16Backend::new())),
+        "vmasm" => Some(Box::new(plcc_vmasm::VmasmBackend::new())),
         _ => None,
     }
 }

@@ -427,6 +427,11 @@ fn programs_on_interp() {
     run_all("interp");
 }
 
+#[test]
+fn programs_on_vmasm() {
+    run_all("vmasm");
+}
+
 /// Two values are the same: bit for bit, except that any two NaNs are equal.
 fn same(a: PlcValue, b: PlcValue) -> bool {
     if a.ty != b.ty {
@@ -603,6 +608,11 @@ fn agree(first: &str, second: &str) {
 #[test]
 fn host_and_interp_agree() {
     agree("host", "interp");
+}
+
+#[test]
+fn host_and_vmasm_agree() {
+    agree("host", "vmasm");
 }
 
 #[test]

@@ -30,6 +30,9 @@ pub struct Options {
     /// The text of each source file of the module (indexed like `Module::files`),
     /// where known, for listings that show source lines.
     pub sources: Vec<Option<String>>,
+    /// The main output file's name without its extension, for outputs that refer to
+    /// each other (a description naming its code image); `None` when unknown.
+    pub output_stem: Option<String>,
 }
 
 /// One output file of a compilation.

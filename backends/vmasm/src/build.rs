@@ -1,0 +1,356 @@
+//! A whole build: calling conventions, the layout fixpoint, data placement, the task
+//! code, assembly and the variables' addresses.
+//!
+//! Instances carry their functions' temporaries, and a function's call area is as
+//! large as its callees' frames, so sizes depend on code and code on sizes (offsets
+//! of fields after an instance grow with its temporaries). The build generates all
+//! code with the sizes of the previous round until nothing changes; the dependencies
+//! are acyclic (no recursion, no struct containing itself), so this ends after at most
+//! as many rounds as the deepest nesting.
+
+use crate::code::{Arg, Image, Item, Program, Unit, VInst};
+use crate::codes;
+use crate::isa::{op, Mode};
+use crate::isel::{self, Conv, Cx};
+use crate::layout::VmLayout;
+use plcc_ir::backend::{Options, Symbol};
+use plcc_ir::diag::Diagnostic;
+use plcc_ir::entities::{AggId, DataId, FuncId};
+use plcc_ir::function::{FuncKind, ValueDef};
+use plcc_ir::inst::InstData;
+use plcc_ir::types::{MemType, Type};
+use plcc_ir::Module;
+use rustc_hash::FxHashMap;
+
+/// Settings of the vmasm target (`-s key=value`).
+#[derive(Clone, Debug)]
+pub struct Settings {
+    /// The addressing mode (`mode=16|32|32a`).
+    pub mode: Mode,
+    /// The task cycle written to the DCP, in ms (`cycle=…`).
+    pub cycle_ms: u32,
+}
+
+impl Settings {
+    /// Reads the settings of `options`.
+    pub fn from_options(options: &Options) -> Result<Settings, Diagnostic> {
+        let mut s = Settings {
+            mode: Mode::M16,
+            cycle_ms: 100,
+        };
+        for (k, v) in &options.settings {
+            match k.to_ascii_lowercase().as_str() {
+                "mode" => {
+                    s.mode = Mode::parse(v).ok_or_else(|| {
+                        Diagnostic::error_nowhere(
+                            codes::E_BAD_SETTING,
+                            format!("vmasm: unknown mode `{v}` (modes: 16, 32, 32a)"),
+                        )
+                    })?
+                }
+                "cycle" => {
+                    s.cycle_ms = v.parse().ok().filter(|&c| c > 0).ok_or_else(|| {
+                        Diagnostic::error_nowhere(
+                            codes::E_BAD_SETTING,
+                            format!("vmasm: `cycle` must be a positive number of ms, not `{v}`"),
+                        )
+                    })?
+                }
+                _ => {
+                    return Err(Diagnostic::error_nowhere(
+                        codes::E_BAD_SETTING,
+                        format!("vmasm: unknown setting `{k}` (settings: mode, cycle)"),
+                    ))
+                }
+            }
+        }
+        Ok(s)
+    }
+}
+
+/// A program instance the task runs.
+#[derive(Clone, Debug)]
+pub struct TaskProgram {
+    /// Its name.
+    pub name: String,
+    /// Absolute address of its instance.
+    pub addr: u32,
+    /// Its data object.
+    pub data: DataId,
+}
+
+/// Everything a build produces.
+#[derive(Clone, Debug)]
+pub struct Build {
+    /// The settings it was made with.
+    pub settings: Settings,
+    /// The assembled code and listing.
+    pub image: Image,
+    /// Bytes of data memory the program needs.
+    pub data_size: u32,
+    /// Absolute address of every data object.
+    pub data_addrs: Vec<u32>,
+    /// The layout of aggregates.
+    pub layout: VmLayout,
+    /// Where the task body starts (the scan loop's top, `TSKLOOP`).
+    pub loop_addr: u32,
+    /// The programs, in the order the task runs them.
+    pub programs: Vec<TaskProgram>,
+    /// Every variable and its address.
+    pub symbols: Vec<Symbol>,
+}
+
+/// The struct a function with an instance runs on, if it has one.
+fn instance_agg(module: &Module, id: FuncId) -> Option<AggId> {
+    let f = module.func(id);
+    if !matches!(
+        f.kind,
+        FuncKind::FbBody | FuncKind::ProgramBody | FuncKind::Init
+    ) || f.params.first() != Some(&Type::Ptr)
+    {
+        return None;
+    }
+    for p in &module.programs {
+        if p.body == id || p.init == id {
+            if let MemType::Agg(a) = module.data[p.data.index()].ty {
+                return Some(a);
+            }
+        }
+    }
+    let entry = f.entry()?;
+    let this = *f.block(entry).params.first()?;
+    for (_, i) in f.inst_iter() {
+        if let InstData::FieldAddr { base, agg, .. } = f.inst(i) {
+            if *base == this {
+                return Some(*agg);
+            }
+        }
+    }
+    let _ = ValueDef::Param;
+    None
+}
+
+fn label_name(module: &Module, id: FuncId) -> String {
+    let f = module.func(id);
+    let what = if f.kind == FuncKind::Init {
+        "INIT"
+    } else {
+        "CODE"
+    };
+    format!("?plcc.{}?{what}", f.name)
+}
+
+/// Compiles a verified module.
+pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic>> {
+    let settings = Settings::from_options(options).map_err(|d| vec![d])?;
+    let mode = settings.mode;
+    let ptr_bytes = mode.addr_bytes() as u32;
+    let max_align = if mode == Mode::M32A { 4 } else { 1 };
+    let nf = module.funcs.len();
+    let selfs: Vec<Option<AggId>> = (0..nf)
+        .map(|i| instance_agg(module, FuncId::new(i)))
+        .collect();
+    let mut frame_sizes = vec![0u32; nf];
+    let mut round = 0;
+    loop {
+        round += 1;
+        // Temporaries of every instance: its functions' frames one after another.
+        let mut temps = vec![0u32; module.aggs.len()];
+        for (i, s) in selfs.iter().enumerate() {
+            if let Some(a) = s {
+                temps[a.index()] += frame_sizes[i];
+            }
+        }
+        let layout = VmLayout::compute(module, ptr_bytes, max_align, &temps);
+        let mut used = vec![0u32; module.aggs.len()];
+        let convs: Vec<Conv> = selfs
+            .iter()
+            .enumerate()
+            .map(|(i, s)| match s {
+                Some(a) => {
+                    let base = layout.agg(*a).fields_end + used[a.index()];
+                    used[a.index()] += frame_sizes[i];
+                    Conv::Instance {
+                        agg: *a,
+                        temp_base: base,
+                    }
+                }
+                None => Conv::Area,
+            })
+            .collect();
+        let mut data_addrs = Vec::with_capacity(module.data.len());
+        let mut at: u64 = 0;
+        for d in &module.data {
+            let a = layout.align_of(d.ty) as u64;
+            at = at.div_ceil(a) * a;
+            data_addrs.push(at as u32);
+            at += layout.size_of(d.ty) as u64;
+        }
+        let mut prog = Program::default();
+        let entry_labels: Vec<_> = (0..nf)
+            .map(|i| prog.label(label_name(module, FuncId::new(i))))
+            .collect();
+        let cx = Cx {
+            module,
+            layout: &layout,
+            mode,
+            convs: &convs,
+            frame_sizes: &frame_sizes,
+            data_addrs: &data_addrs,
+            entry_labels: &entry_labels,
+            sources: &options.sources,
+        };
+        let mut units = Vec::with_capacity(nf);
+        let mut new_sizes = vec![0u32; nf];
+        let mut errors = Vec::new();
+        for i in 0..nf {
+            match isel::gen_function(&cx, &mut prog, FuncId::new(i)) {
+                Ok(fc) => {
+                    new_sizes[i] = fc.frame_size;
+                    units.push(fc.unit);
+                }
+                Err(d) => errors.push(d),
+            }
+        }
+        if !errors.is_empty() {
+            return Err(errors);
+        }
+        if new_sizes != frame_sizes {
+            if round > 64 {
+                return Err(vec![Diagnostic::error_nowhere(
+                    codes::E_INTERNAL,
+                    "vmasm: frame sizes do not settle",
+                )]);
+            }
+            frame_sizes = new_sizes;
+            continue;
+        }
+        // The area the task's own calls use (functions without an instance).
+        let mut top_area_size = 0;
+        let top_calls: Vec<FuncId> = module
+            .init_globals
+            .into_iter()
+            .chain(module.programs.iter().flat_map(|p| [p.init, p.body]))
+            .collect();
+        for g in &top_calls {
+            if convs[g.index()] == Conv::Area {
+                top_area_size = top_area_size.max(frame_sizes[g.index()]);
+            }
+        }
+        let top_area = at.div_ceil(max_align as u64) * max_align as u64;
+        let data_size = top_area + top_area_size as u64;
+        if data_size > mode.max_addr() + 1 {
+            return Err(vec![Diagnostic::error_nowhere(
+                codes::E_MEMORY,
+                format!(
+                    "vmasm: the program needs {data_size} bytes of data memory; {}-bit addresses reach {}",
+                    if mode == Mode::M16 { 16 } else { 32 },
+                    mode.max_addr() + 1
+                ),
+            )]);
+        }
+        let top_area = top_area as u32;
+        let programs: Vec<TaskProgram> = module
+            .programs
+            .iter()
+            .map(|p| TaskProgram {
+                name: p.name.clone(),
+                addr: data_addrs[p.data.index()],
+                data: p.data,
+            })
+            .collect();
+        let mut task = Unit::default();
+        let tskstr = prog.label("?plcc.TASK?TSKSTR");
+        let tskloop = prog.label("?plcc.TASK?TSKLOOP");
+        task.items.push(Item::Label(tskstr));
+        let call = |task: &mut Unit, g: FuncId, inst: Option<u32>| {
+            let label = entry_labels[g.index()];
+            match (convs[g.index()], inst) {
+                (Conv::Instance { .. }, Some(a)) => task.items.push(Item::Inst(VInst {
+                    opcode: op::CALB,
+                    args: vec![Arg::Abs(a), Arg::Label(label)],
+                })),
+                (_, inst) => {
+                    if let Some(a) = inst {
+                        // The instance's address is the callee's first parameter.
+                        let (params, _, _) =
+                            isel::signature(&layout, module.func(g), Conv::Area, mode);
+                        let p = params[0].unwrap_or(0);
+                        let opcode = if mode == Mode::M32A {
+                            op::MCD4A
+                        } else {
+                            op::MCD
+                        };
+                        task.items.push(Item::Inst(VInst {
+                            opcode,
+                            args: vec![
+                                Arg::Abs(top_area + p),
+                                Arg::Bytes(a.to_le_bytes()[..mode.addr_bytes()].to_vec()),
+                            ],
+                        }));
+                    }
+                    task.items.push(Item::Inst(VInst {
+                        opcode: op::CALF,
+                        args: vec![Arg::Abs(top_area), Arg::Label(label)],
+                    }));
+                }
+            }
+        };
+        if let Some(g) = module.init_globals {
+            call(&mut task, g, None);
+        }
+        for p in &module.programs {
+            call(&mut task, p.init, Some(data_addrs[p.data.index()]));
+        }
+        task.items.push(Item::Label(tskloop));
+        for p in &module.programs {
+            call(&mut task, p.body, Some(data_addrs[p.data.index()]));
+        }
+        task.items.push(Item::Inst(VInst {
+            opcode: op::TRML,
+            args: vec![Arg::Label(tskloop)],
+        }));
+        let mut names = FxHashMap::default();
+        for (d, &a) in module.data.iter().zip(&data_addrs) {
+            names.entry(a).or_insert_with(|| d.name.clone());
+        }
+        names
+            .entry(top_area)
+            .or_insert_with(|| "?TASK?AREA".to_string());
+        task.abs_names = names.clone();
+        for u in &mut units {
+            u.abs_names = names.clone();
+        }
+        prog.units.push(task);
+        prog.units.append(&mut units);
+        let image = prog.assemble(mode).map_err(|m| {
+            vec![Diagnostic::error_nowhere(
+                codes::E_MEMORY,
+                format!("vmasm: {m}"),
+            )]
+        })?;
+        let loop_addr = image.label_addrs[tskloop.0 as usize];
+        let mut symbols = Vec::new();
+        for (i, d) in module.data.iter().enumerate() {
+            let _ = d;
+            for v in plcc_ir::vars::variables(module, DataId::new(i)) {
+                symbols.push(Symbol {
+                    path: v.path.clone(),
+                    address: data_addrs[i] as u64 + layout.offset_of(&v.steps),
+                    size: layout.scalar_size(v.ty),
+                    elem: v.elem,
+                });
+            }
+        }
+        return Ok(Build {
+            settings,
+            image,
+            data_size: data_size as u32,
+            data_addrs,
+            layout,
+            loop_addr,
+            programs,
+            symbols,
+        });
+    }
+}
