@@ -92,6 +92,53 @@ fn all_codes() -> impl Iterator<Item = &'static plcc_ir::diag::CodeInfo> {
         .chain(driver::CODES.iter())
 }
 
+/// `plcc disasm IMAGE.xcp [--mode M] [--dcp FILE]`: the VMASM listing of a CPDev code
+/// image. Names and the mode come from the description (`IMAGE.dcp` beside the image
+/// unless `--dcp` says otherwise) when there is one.
+pub fn disasm(xcp: &Path, mode: Option<&str>, dcp: Option<&Path>) -> u8 {
+    use plcc_vmasm::{asm::Symbols, dcp_read, disasm, isa::Mode};
+    let code = match std::fs::read(xcp) {
+        Ok(c) => c,
+        Err(e) => return usage(format!("cannot read {}: {e}", xcp.display())),
+    };
+    let beside = xcp.with_extension("dcp");
+    let dcp_path = dcp
+        .map(Path::to_path_buf)
+        .or(beside.exists().then_some(beside));
+    let desc = match &dcp_path {
+        Some(p) => match std::fs::read_to_string(p) {
+            Ok(t) => match dcp_read::parse(&t) {
+                Ok(d) => Some(d),
+                Err(e) => {
+                    eprintln!("error: {}: {e}", p.display());
+                    return EXIT_FAIL;
+                }
+            },
+            Err(e) => return usage(format!("cannot read {}: {e}", p.display())),
+        },
+        None => None,
+    };
+    let mode = match mode {
+        Some(m) => match Mode::parse(m) {
+            Some(m) => m,
+            None => return usage(format!("unknown mode `{m}` (modes: 16, 32, 32a)")),
+        },
+        None => desc.as_ref().and_then(|d| d.mode).unwrap_or(Mode::M16),
+    };
+    let syms = desc.as_ref().map(Symbols::from_dcp);
+    let names = syms.as_ref().map(|s| s as &dyn disasm::Names);
+    match disasm::disassemble(&code, mode, names) {
+        Ok(text) => {
+            print!("{text}");
+            0
+        }
+        Err(e) => {
+            eprintln!("error: {}: {e}", xcp.display());
+            EXIT_FAIL
+        }
+    }
+}
+
 /// `plcc explain CODE`, or the list of codes without one.
 pub fn explain(code: Option<&str>) -> u8 {
     let Some(code) = code else {

@@ -106,6 +106,17 @@ enum Command {
         #[command(flatten)]
         common: Common,
     },
+    /// Print the VMASM listing of a CPDev code image (.xcp)
+    Disasm {
+        /// The code image
+        xcp: PathBuf,
+        /// Addressing mode: 16, 32 or 32a (default: from the .dcp beside the image, else 16)
+        #[arg(long)]
+        mode: Option<String>,
+        /// The project description giving names (default: the .dcp beside the image)
+        #[arg(long)]
+        dcp: Option<PathBuf>,
+    },
     /// Explain a diagnostic code (e.g. E0301); without one, list every code
     Explain {
         /// The code
@@ -146,6 +157,9 @@ fn main() -> ExitCode {
         }),
         Some(Command::Check { common }) => commands::check(&common.files, common.lang.as_deref()),
         Some(Command::Explain { code }) => commands::explain(code.as_deref()),
+        Some(Command::Disasm { xcp, mode, dcp }) => {
+            commands::disasm(&xcp, mode.as_deref(), dcp.as_deref())
+        }
         None => commands::compile(&commands::CompileArgs {
             files: cli.build.common.files,
             lang: cli.build.common.lang,

@@ -33,7 +33,7 @@ pub struct Settings {
 
 impl Settings {
     /// Reads the settings of `options`.
-    pub fn from_options(options: &Options) -> Result<Settings, Diagnostic> {
+    pub fn from_options(options: &Options) -> Result<Settings, Box<Diagnostic>> {
         let mut s = Settings {
             mode: Mode::M16,
             cycle_ms: 100,
@@ -42,25 +42,25 @@ impl Settings {
             match k.to_ascii_lowercase().as_str() {
                 "mode" => {
                     s.mode = Mode::parse(v).ok_or_else(|| {
-                        Diagnostic::error_nowhere(
+                        Box::new(Diagnostic::error_nowhere(
                             codes::E_BAD_SETTING,
                             format!("vmasm: unknown mode `{v}` (modes: 16, 32, 32a)"),
-                        )
+                        ))
                     })?
                 }
                 "cycle" => {
                     s.cycle_ms = v.parse().ok().filter(|&c| c > 0).ok_or_else(|| {
-                        Diagnostic::error_nowhere(
+                        Box::new(Diagnostic::error_nowhere(
                             codes::E_BAD_SETTING,
                             format!("vmasm: `cycle` must be a positive number of ms, not `{v}`"),
-                        )
+                        ))
                     })?
                 }
                 _ => {
-                    return Err(Diagnostic::error_nowhere(
+                    return Err(Box::new(Diagnostic::error_nowhere(
                         codes::E_BAD_SETTING,
                         format!("vmasm: unknown setting `{k}` (settings: mode, cycle)"),
-                    ))
+                    )))
                 }
             }
         }
@@ -142,7 +142,7 @@ fn label_name(module: &Module, id: FuncId) -> String {
 
 /// Compiles a verified module.
 pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic>> {
-    let settings = Settings::from_options(options).map_err(|d| vec![d])?;
+    let settings = Settings::from_options(options).map_err(|d| vec![*d])?;
     let mode = settings.mode;
     let ptr_bytes = mode.addr_bytes() as u32;
     let max_align = if mode == Mode::M32A { 4 } else { 1 };
@@ -203,13 +203,13 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
         let mut units = Vec::with_capacity(nf);
         let mut new_sizes = vec![0u32; nf];
         let mut errors = Vec::new();
-        for i in 0..nf {
+        for (i, size) in new_sizes.iter_mut().enumerate() {
             match isel::gen_function(&cx, &mut prog, FuncId::new(i)) {
                 Ok(fc) => {
-                    new_sizes[i] = fc.frame_size;
+                    *size = fc.frame_size;
                     units.push(fc.unit);
                 }
-                Err(d) => errors.push(d),
+                Err(d) => errors.push(*d),
             }
         }
         if !errors.is_empty() {

@@ -135,6 +135,9 @@ pub struct FuncCode {
 
 const SCRATCH: u32 = 64;
 
+/// Results of code generation; the error is boxed because diagnostics are large.
+pub type Res<T> = Result<T, Box<Diagnostic>>;
+
 struct Fx<'a, 'p> {
     cx: &'a Cx<'a>,
     f: &'a Function,
@@ -158,6 +161,10 @@ struct Fx<'a, 'p> {
     fname: String,
     slot_offsets: Vec<u32>,
     ret_home: Option<u32>,
+    /// Array indexes `sext(i) - low` (with `i` an INT) that CEAC computes itself.
+    folded_index: FxHashMap<Value, (Value, i64)>,
+    /// Values whose only uses were folded into CEAC: not computed at all.
+    skip: Vec<bool>,
 }
 
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -173,7 +180,7 @@ enum UseKind {
 }
 
 /// Generates the code of function `id`.
-pub fn gen_function(cx: &Cx<'_>, prog: &mut Program, id: FuncId) -> Result<FuncCode, Diagnostic> {
+pub fn gen_function(cx: &Cx<'_>, prog: &mut Program, id: FuncId) -> Res<FuncCode> {
     let f = cx.module.func(id);
     let conv = cx.convs[id.index()];
     let base = match conv {
@@ -207,6 +214,8 @@ pub fn gen_function(cx: &Cx<'_>, prog: &mut Program, id: FuncId) -> Result<FuncC
         fname: f.name.clone(),
         slot_offsets: Vec::new(),
         ret_home: None,
+        folded_index: FxHashMap::default(),
+        skip: vec![false; f.values.len()],
     };
     fx.run(id)?;
     let frame_size = fx.next - base;
@@ -280,11 +289,11 @@ impl<'a, 'p> Fx<'a, 'p> {
         }
     }
 
-    fn internal(&self, msg: impl Into<String>) -> Diagnostic {
-        Diagnostic::error_nowhere(
+    fn internal(&self, msg: impl Into<String>) -> Box<Diagnostic> {
+        Box::new(Diagnostic::error_nowhere(
             crate::codes::E_INTERNAL,
             format!("vmasm: {} (in `{}`)", msg.into(), self.fname),
-        )
+        ))
     }
 
     /// A new frame variable.
@@ -302,7 +311,7 @@ impl<'a, 'p> Fx<'a, 'p> {
     }
 
     /// Scratch memory for the duration of one IR instruction.
-    fn scratch(&mut self, size: u32) -> Result<u32, Diagnostic> {
+    fn scratch(&mut self, size: u32) -> Res<u32> {
         let base = match self.scratch {
             Some(b) => b,
             None => {
@@ -411,7 +420,7 @@ impl<'a, 'p> Fx<'a, 'p> {
     }
 
     /// Raises the fault flag: CEAC on an index below its range sets ARRAYBOUND.
-    fn raise_fault(&mut self) -> Result<(), Diagnostic> {
+    fn raise_fault(&mut self) -> Res<()> {
         let zero = self.konst(Type::I16, 0);
         let t = self.scratch(2)?;
         self.mcd(t, vec![0xFF, 0xFF]);
@@ -491,7 +500,7 @@ impl<'a, 'p> Fx<'a, 'p> {
                     let stride = self.cx.layout.stride(*agg);
                     let bc = self.class_of(*base);
                     if let Some(k) = self.iconst(*index) {
-                        let off = (k as i64 * stride as i64) as u32;
+                        let off = (k * stride as i64) as u32;
                         return match bc {
                             PtrClass::Rel(b) => PtrClass::Rel(b.wrapping_add(off)),
                             PtrClass::Abs(b) => PtrClass::Abs(b.wrapping_add(off)),
@@ -600,7 +609,7 @@ fn fbits(t: Type, x: f64) -> u64 {
 }
 
 impl Fx<'_, '_> {
-    fn run(&mut self, id: FuncId) -> Result<(), Diagnostic> {
+    fn run(&mut self, id: FuncId) -> Res<()> {
         let f = self.f;
         let Some(entry) = f.entry() else {
             return Err(self.internal("function without blocks"));
@@ -645,6 +654,8 @@ impl Fx<'_, '_> {
         }
         self.record_uses();
         let _ = id;
+        self.plan_in_place();
+        self.fold_indexes();
         // The instance pointer itself, where it is needed as a value.
         if matches!(self.conv, Conv::Instance { .. }) {
             let p = entry_params[0];
@@ -758,15 +769,85 @@ impl Fx<'_, '_> {
     }
 
     /// The copied, checked index for an A?RD/A?WR access.
-    fn lac(&mut self, index: Value, len: u32) -> Result<u32, Diagnostic> {
+    fn lac(&mut self, index: Value, len: u32) -> Res<u32> {
         let s = self.scratch(2)?;
-        let ih = self.home(index);
-        let isz = self.size(self.vty(index));
+        let (src, low) = self.folded_index.get(&index).copied().unwrap_or((index, 0));
+        let ih = self.home(src);
+        let isz = self.size(self.vty(src));
         self.resize(s, 2, ih, isz);
-        let zero = self.konst(Type::I16, 0);
+        let low = self.konst(Type::I16, low as u64);
         let span = self.konst(Type::I16, len.saturating_sub(1) as u64);
-        self.rrr(op::CEAC, &[s, zero, span]);
+        self.rrr(op::CEAC, &[s, low, span]);
         Ok(s)
+    }
+
+    /// Finds the array indexes of the form `sext(i) - low` or `sext(i)` with `i` an
+    /// INT: the copied index is then `i` and CEAC subtracts `low` (the CPDev shape), and
+    /// the widening and subtraction are not computed when nothing else uses them.
+    fn fold_indexes(&mut self) {
+        let f = self.f;
+        let def_of = |v: Value| match f.value_def(v) {
+            ValueDef::Result(i) => Some(f.inst(i).clone()),
+            _ => None,
+        };
+        let mut idx_values = Vec::new();
+        for (_, i) in f.inst_iter() {
+            if let (InstData::ElemAddr { .. }, Some(v)) = (f.inst(i), f.result(i)) {
+                if let PtrClass::Idx { index, len, .. } = self.class_of(v) {
+                    idx_values.push((index, len));
+                }
+            }
+        }
+        for (index, len) in idx_values {
+            if self.folded_index.contains_key(&index) {
+                continue;
+            }
+            let (x, low) = match def_of(index) {
+                Some(InstData::Binary {
+                    op: BinaryOp::Isub,
+                    args,
+                }) => match self.iconst(args[1]) {
+                    Some(l) => (args[0], l),
+                    None => continue,
+                },
+                _ => (index, 0),
+            };
+            let Some(InstData::Convert {
+                op: ConvOp::Sext,
+                arg: y,
+                ..
+            }) = def_of(x)
+            else {
+                continue;
+            };
+            let hi = low + len as i64 - 1;
+            if self.vty(y) != Type::I16 || low < i16::MIN as i64 || hi > i16::MAX as i64 {
+                continue;
+            }
+            self.folded_index.insert(index, (y, low));
+        }
+        // A folded index (and its widening) is computed only if something else uses it.
+        let folded: Vec<Value> = self.folded_index.keys().copied().collect();
+        for index in folded {
+            let only_arrays = self.uses[index.index()].iter().all(|&(k, _)| {
+                let i = f.inst_iter().nth(k).map(|(_, i)| i);
+                i.and_then(|i| f.result(i))
+                    .is_some_and(|r| matches!(self.class[r.index()], Some(PtrClass::Idx { .. })))
+            });
+            if !only_arrays {
+                continue;
+            }
+            self.skip[index.index()] = true;
+            if let Some(InstData::Binary {
+                op: BinaryOp::Isub,
+                args,
+            }) = def_of(index)
+            {
+                if self.uses[args[0].index()].len() == 1 {
+                    self.skip[args[0].index()] = true;
+                }
+            }
+        }
     }
 
     fn dp_op(&self, write: bool) -> Opcode {
@@ -778,7 +859,7 @@ impl Fx<'_, '_> {
         }
     }
 
-    fn load(&mut self, dst: u32, addr: Value, n: u32) -> Result<(), Diagnostic> {
+    fn load(&mut self, dst: u32, addr: Value, n: u32) -> Res<()> {
         match self.class_of(addr) {
             PtrClass::Rel(o) => self.copy(dst, o, n),
             PtrClass::Abs(a) => {
@@ -803,7 +884,7 @@ impl Fx<'_, '_> {
         Ok(())
     }
 
-    fn store(&mut self, src: u32, addr: Value, n: u32) -> Result<(), Diagnostic> {
+    fn store(&mut self, src: u32, addr: Value, n: u32) -> Res<()> {
         match self.class_of(addr) {
             PtrClass::Rel(o) => self.copy(o, src, n),
             PtrClass::Abs(a) => self.emit(op::mmv(n as u8, true), vec![Arg::Abs(a), Arg::Rel(src)]),
@@ -823,11 +904,14 @@ impl Fx<'_, '_> {
         Ok(())
     }
 
-    fn inst(&mut self, i: plcc_ir::entities::Inst, next: Option<Block>) -> Result<(), Diagnostic> {
+    fn inst(&mut self, i: plcc_ir::entities::Inst, next: Option<Block>) -> Res<()> {
         let f = self.f;
         let data = f.inst(i).clone();
         let res = f.result(i);
         let span = f.spans[i.index()];
+        if res.is_some_and(|v| self.skip[v.index()]) {
+            return Ok(());
+        }
         match data {
             InstData::Iconst { .. } | InstData::Fconst { .. } => {
                 if let Some(v) = res {
@@ -968,6 +1052,18 @@ impl Fx<'_, '_> {
                             self.jmp(el);
                         }
                     }
+                } else if !t_copies {
+                    self.jnz(c, tl);
+                    self.edge(&else_dest)?;
+                    if Some(else_dest.block) != next {
+                        self.jmp(el);
+                    }
+                } else if !e_copies {
+                    self.jz(c, el);
+                    self.edge(&then_dest)?;
+                    if Some(then_dest.block) != next {
+                        self.jmp(tl);
+                    }
                 } else {
                     let le = self.new_label("E");
                     self.jz(c, le);
@@ -1003,7 +1099,7 @@ impl Fx<'_, '_> {
 
     /// The copies of a branch's arguments into the destination's parameters, as one
     /// parallel copy.
-    fn edge(&mut self, bc: &BlockCall) -> Result<(), Diagnostic> {
+    fn edge(&mut self, bc: &BlockCall) -> Res<()> {
         let params = self.f.block(bc.block).params.clone();
         let mut moves = Vec::new();
         for (p, a) in params.iter().zip(&bc.args) {
@@ -1042,7 +1138,7 @@ impl Fx<'_, '_> {
         Ok(())
     }
 
-    fn dyn_addr(&mut self, v: Value, data: &InstData) -> Result<(), Diagnostic> {
+    fn dyn_addr(&mut self, v: Value, data: &InstData) -> Res<()> {
         let pt = self.ptr_type();
         let pty = self.ptr_ty();
         let h = self.home(v);
@@ -1084,7 +1180,7 @@ impl Fx<'_, '_> {
         self.home(v)
     }
 
-    fn call(&mut self, g: FuncId, args: &[Value], res: Option<Value>) -> Result<(), Diagnostic> {
+    fn call(&mut self, g: FuncId, args: &[Value], res: Option<Value>) -> Res<()> {
         let callee = self.cx.module.func(g);
         let conv = self.cx.convs[g.index()];
         let (params, ret, _) = signature(self.cx.layout, callee, conv, self.mode());
@@ -1155,21 +1251,15 @@ impl Fx<'_, '_> {
 }
 
 impl Fx<'_, '_> {
-    fn unsupported(&self, what: &str, span: Option<Span>) -> Diagnostic {
+    fn unsupported(&self, what: &str, span: Option<Span>) -> Box<Diagnostic> {
         let msg = format!("{what} is not supported on the vmasm target");
-        match span {
+        Box::new(match span {
             Some(s) => Diagnostic::error(crate::codes::E_UNSUPPORTED, msg, s),
             None => Diagnostic::error_nowhere(crate::codes::E_UNSUPPORTED, msg),
-        }
+        })
     }
 
-    fn unary(
-        &mut self,
-        uop: UnaryOp,
-        arg: Value,
-        v: Value,
-        span: Option<Span>,
-    ) -> Result<(), Diagnostic> {
+    fn unary(&mut self, uop: UnaryOp, arg: Value, v: Value, span: Option<Span>) -> Res<()> {
         let t = self.vty(arg);
         let d = self.home(v);
         let a = self.home(arg);
@@ -1203,7 +1293,7 @@ impl Fx<'_, '_> {
 
     /// Float rounding to an integral float: through TRUNC where the value has a
     /// fraction, keeping the sign of zero.
-    fn round(&mut self, uop: UnaryOp, t: Type, x: u32, d: u32) -> Result<(), Diagnostic> {
+    fn round(&mut self, uop: UnaryOp, t: Type, x: u32, d: u32) -> Res<()> {
         let ft = float_ty(t);
         let n = self.size(t);
         let it = if t == Type::F64 { Type::I64 } else { Type::I32 };
@@ -1300,7 +1390,7 @@ impl Fx<'_, '_> {
         bv: Value,
         v: Value,
         span: Option<Span>,
-    ) -> Result<(), Diagnostic> {
+    ) -> Res<()> {
         let t = self.vty(av);
         let d = self.home(v);
         let a = self.home(av);
@@ -1339,15 +1429,7 @@ impl Fx<'_, '_> {
 
     /// Division and remainder with the IR's guards: by zero gives 0 and the fault
     /// flag; `MIN / -1` wraps (the C VM would trap on both).
-    fn divide(
-        &mut self,
-        bop: BinaryOp,
-        t: Type,
-        d: u32,
-        a: u32,
-        b: u32,
-        bv: Value,
-    ) -> Result<(), Diagnostic> {
+    fn divide(&mut self, bop: BinaryOp, t: Type, d: u32, a: u32, b: u32, bv: Value) -> Res<()> {
         let signed = matches!(bop, BinaryOp::Sdiv | BinaryOp::Srem);
         let rem = matches!(bop, BinaryOp::Srem | BinaryOp::Urem);
         let ty = int_ty(t, signed);
@@ -1398,15 +1480,7 @@ impl Fx<'_, '_> {
 
     /// Shifts and rotates with the IR's rules for counts of at least the width, and
     /// the arithmetic right shift the VM lacks (through XOR with the sign mask).
-    fn shift(
-        &mut self,
-        bop: BinaryOp,
-        t: Type,
-        d: u32,
-        a: u32,
-        cnt: u32,
-        cv: Value,
-    ) -> Result<(), Diagnostic> {
+    fn shift(&mut self, bop: BinaryOp, t: Type, d: u32, a: u32, cnt: u32, cv: Value) -> Res<()> {
         let n = self.size(t);
         let w = bits_of(t) as u64;
         let code = logic_code(n, false);
@@ -1513,7 +1587,7 @@ impl Fx<'_, '_> {
         self.rrr(op::sub(u), &[dst, dst, m]);
     }
 
-    fn convert(&mut self, cop: ConvOp, to: Type, arg: Value, v: Value) -> Result<(), Diagnostic> {
+    fn convert(&mut self, cop: ConvOp, to: Type, arg: Value, v: Value) -> Res<()> {
         let from = self.vty(arg);
         let d = self.home(v);
         let a = self.home(arg);
@@ -1553,7 +1627,7 @@ impl Fx<'_, '_> {
         a: u32,
         from: Type,
         signed: bool,
-    ) -> Result<Option<u32>, Diagnostic> {
+    ) -> Res<Option<u32>> {
         let conv = |f: u8| Opcode::new(op::group::CONV, f);
         let sn = self.size(from);
         if to == Type::F32 {
@@ -1628,7 +1702,7 @@ impl Fx<'_, '_> {
     /// For a 64-bit integer going to REAL through LREAL: where it has more than 53
     /// significant bits, replaces its low 12 bits by one marker bit, so that the
     /// LREAL is exact and the one rounding to REAL is the correct one.
-    fn sticky_low_bits(&mut self, a: u32, signed: bool) -> Result<u32, Diagnostic> {
+    fn sticky_low_bits(&mut self, a: u32, signed: bool) -> Res<u32> {
         let x = self.scratch(8)?;
         self.copy(x, a, 8);
         let c = self.scratch(1)?;
@@ -1660,14 +1734,7 @@ impl Fx<'_, '_> {
 
     /// Float to integer: toward zero, saturating, NaN gives 0 (the VM's conversions
     /// are C casts, undefined out of range, so the range is checked first).
-    fn float_to_int(
-        &mut self,
-        d: u32,
-        to: Type,
-        x: u32,
-        from: Type,
-        signed: bool,
-    ) -> Result<(), Diagnostic> {
+    fn float_to_int(&mut self, d: u32, to: Type, x: u32, from: Type, signed: bool) -> Res<()> {
         let ft = float_ty(from);
         let dn = self.size(to);
         let w = bits_of(to);
@@ -1745,5 +1812,222 @@ impl Fx<'_, '_> {
         self.fill(d, 0, dn);
         self.label(lend);
         Ok(())
+    }
+}
+
+/// Variables used in place: a load whose value is used only in its block before
+/// anything may write the variable reads the variable itself (no copy), and a value
+/// computed by one VM instruction and then only stored to a variable is computed
+/// straight into it. This is what makes `x := x + 1` one `ADD x, x, ?L?CST`.
+impl Fx<'_, '_> {
+    /// Where an instruction may write memory other than its result's home.
+    fn writes(&mut self, data: &InstData) -> Option<Option<(u32, u32)>> {
+        match data {
+            InstData::Store { value, addr } => {
+                let n = self.size(self.vty(*value));
+                match self.class_of(*addr) {
+                    PtrClass::Rel(o) => Some(Some((o, n))),
+                    _ => Some(None),
+                }
+            }
+            InstData::Call { .. } => Some(None),
+            _ => None,
+        }
+    }
+
+    fn overlaps(a: (u32, u32), b: (u32, u32)) -> bool {
+        a.0 < b.0 + b.1 && b.0 < a.0 + a.1
+    }
+
+    fn single_vm_inst(&self, data: &InstData) -> bool {
+        match data {
+            InstData::Binary { op, .. } => matches!(
+                op,
+                BinaryOp::Iadd
+                    | BinaryOp::Isub
+                    | BinaryOp::Imul
+                    | BinaryOp::Band
+                    | BinaryOp::Bor
+                    | BinaryOp::Bxor
+                    | BinaryOp::Fadd
+                    | BinaryOp::Fsub
+                    | BinaryOp::Fmul
+                    | BinaryOp::Fdiv
+                    | BinaryOp::Fpow
+            ),
+            InstData::Unary { op, .. } => !matches!(
+                op,
+                UnaryOp::Fnearest | UnaryOp::Ftrunc | UnaryOp::Ffloor | UnaryOp::Fceil
+            ),
+            InstData::Icmp { .. } | InstData::Fcmp { .. } | InstData::Select { .. } => true,
+            InstData::Load { .. } => true,
+            InstData::Convert { op, .. } => matches!(
+                op,
+                ConvOp::Itrunc | ConvOp::Bitcast | ConvOp::Fpromote | ConvOp::Fdemote
+            ),
+            _ => false,
+        }
+    }
+
+    fn plan_in_place(&mut self) {
+        let f = self.f;
+        let layout = f.layout.clone();
+        for b in layout {
+            let insts = f.block(b).insts.clone();
+            let pos_of = |v: Value| -> Option<usize> {
+                match f.value_def(v) {
+                    ValueDef::Result(i) => insts.iter().position(|&x| x == i),
+                    _ => None,
+                }
+            };
+            let _ = pos_of;
+            // Uses of each value within this block, by position.
+            let mut local_uses: FxHashMap<Value, Vec<usize>> = FxHashMap::default();
+            let mut all_uses: FxHashMap<Value, usize> = FxHashMap::default();
+            for (p, &i) in insts.iter().enumerate() {
+                f.inst(i)
+                    .for_each_arg(|v| local_uses.entry(v).or_default().push(p));
+            }
+            for (v, us) in &local_uses {
+                all_uses.insert(*v, us.len());
+            }
+            // Loads read in place.
+            for (p, &i) in insts.iter().enumerate() {
+                let InstData::Load { ty, addr } = f.inst(i) else {
+                    continue;
+                };
+                let Some(v) = f.result(i) else { continue };
+                let PtrClass::Rel(o) = self.class_of(*addr) else {
+                    continue;
+                };
+                let n = self.size(*ty);
+                let total = self.uses[v.index()].len();
+                let Some(local) = local_uses.get(&v) else {
+                    continue;
+                };
+                if local.len() != total || total == 0 {
+                    continue;
+                }
+                let last = *local.iter().max().expect("a use");
+                let mut ok = true;
+                for &j in &insts[p + 1..last] {
+                    let d = f.inst(j).clone();
+                    match self.writes(&d) {
+                        Some(Some(w)) if Self::overlaps(w, (o, n)) => ok = false,
+                        Some(None) => ok = false,
+                        _ => {}
+                    }
+                    if !ok {
+                        break;
+                    }
+                }
+                if ok {
+                    self.homes[v.index()] = Some(o);
+                }
+            }
+            // Values computed straight into the variable they are stored to.
+            for (p, &i) in insts.iter().enumerate() {
+                let InstData::Store { value, addr } = f.inst(i).clone() else {
+                    continue;
+                };
+                let PtrClass::Rel(o) = self.class_of(addr) else {
+                    continue;
+                };
+                if self.homes[value.index()].is_some() || self.uses[value.index()].len() != 1 {
+                    continue;
+                }
+                let ValueDef::Result(def) = f.value_def(value) else {
+                    continue;
+                };
+                let Some(dp) = insts.iter().position(|&x| x == def) else {
+                    continue;
+                };
+                let data = f.inst(def).clone();
+                if !self.single_vm_inst(&data) {
+                    continue;
+                }
+                let n = self.size(self.vty(value));
+                let mut ok = true;
+                for &j in &insts[dp + 1..p] {
+                    let d = f.inst(j).clone();
+                    match self.writes(&d) {
+                        Some(Some(w)) if Self::overlaps(w, (o, n)) => ok = false,
+                        Some(None) => ok = false,
+                        _ => {}
+                    }
+                    if let InstData::Load { addr, ty } = &d {
+                        match self.class_of(*addr) {
+                            PtrClass::Rel(q) if Self::overlaps((q, self.size(*ty)), (o, n)) => {
+                                ok = false
+                            }
+                            PtrClass::Rel(_) | PtrClass::Abs(_) => {}
+                            _ => ok = false,
+                        }
+                    }
+                    let homes = &self.homes;
+                    let size = |t: Type| self.cx.layout.scalar_size(t);
+                    d.for_each_arg(|u| {
+                        if let Some(h) = homes[u.index()] {
+                            if Self::overlaps((h, size(f.value_type(u))), (o, n)) {
+                                ok = false;
+                            }
+                        }
+                    });
+                    if !ok {
+                        break;
+                    }
+                }
+                if ok {
+                    self.homes[value.index()] = Some(o);
+                }
+            }
+            self.coalesce_loop_args(b, &insts);
+        }
+    }
+
+    /// A value computed by one VM instruction whose only use is as the argument of a
+    /// block parameter on this block's jump is computed straight into the parameter's
+    /// home (`i := i + 1` at the end of a loop body), when nothing between reads the
+    /// parameter and no other argument of that jump does.
+    fn coalesce_loop_args(&mut self, b: Block, insts: &[plcc_ir::entities::Inst]) {
+        let f = self.f;
+        let Some(&term) = insts.last() else { return };
+        let InstData::Jump { dest } = f.inst(term).clone() else {
+            return;
+        };
+        let params = f.block(dest.block).params.clone();
+        for (k, (&p, &a)) in params.iter().zip(&dest.args).enumerate() {
+            if self.homes[a.index()].is_some() || self.uses[a.index()].len() != 1 {
+                continue;
+            }
+            let ValueDef::Result(def) = f.value_def(a) else {
+                continue;
+            };
+            let Some(dp) = insts.iter().position(|&x| x == def) else {
+                continue;
+            };
+            if !self.single_vm_inst(f.inst(def)) || params.contains(&a) {
+                continue;
+            }
+            // The other arguments must not read the parameter.
+            if dest.args.iter().enumerate().any(|(j, &x)| {
+                j != k
+                    && (x == p
+                        || self.homes[x.index()].is_some()
+                            && self.homes[x.index()] == self.homes[p.index()])
+            }) {
+                continue;
+            }
+            let mut used_between = false;
+            for &j in &insts[dp + 1..insts.len() - 1] {
+                f.inst(j).for_each_arg(|u| used_between |= u == p);
+            }
+            if used_between {
+                continue;
+            }
+            let ph = self.home(p);
+            self.homes[a.index()] = Some(ph);
+            let _ = b;
+        }
     }
 }
