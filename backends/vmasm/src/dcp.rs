@@ -115,6 +115,31 @@ fn obj(
     }
 }
 
+/// The global variables: each field of a global data object of struct type (the
+/// front ends gather the VAR_GLOBALs in one), else the object itself.
+fn globals(module: &Module, b: &Build) -> Vec<(String, MemType, Option<plcc_ir::ElemType>, u64)> {
+    let mut v = Vec::new();
+    for (i, d) in module.data.iter().enumerate() {
+        if d.kind != DataKind::Global {
+            continue;
+        }
+        let base = b.data_addrs[i] as u64;
+        match d.ty {
+            MemType::Agg(a) if matches!(module.agg(a), AggDef::Struct(_)) => {
+                let AggDef::Struct(s) = module.agg(a) else {
+                    continue;
+                };
+                for (k, f) in s.fields.iter().enumerate() {
+                    let off = b.layout.field_offset(a, k as u32) as u64;
+                    v.push((f.name.clone(), f.ty, f.elem, base + off));
+                }
+            }
+            _ => v.push((d.name.clone(), d.ty, d.elem, base)),
+        }
+    }
+    v
+}
+
 /// The DCP of a build.
 pub fn write(module: &Module, b: &Build, options: &Options) -> String {
     let mode = b.settings.mode;
@@ -136,18 +161,15 @@ pub fn write(module: &Module, b: &Build, options: &Options) -> String {
         }
     );
     o.push_str("    <GLOBAL>\n");
-    for (i, d) in module.data.iter().enumerate() {
-        if d.kind != DataKind::Global {
-            continue;
-        }
-        let (ty, pty) = type_names(module, d.ty, d.elem);
+    for (name, t, elem, a) in globals(module, b) {
+        let (ty, pty) = type_names(module, t, elem);
         let _ = writeln!(
             o,
             "      <VAR LName=\"{}\" PName=\"plcc.{}\" Addr=\"{}\" AdrType=\"gdlabel\" Size=\"{}\" Type=\"{}\" PType=\"{}\" VarFlags=\"00000000\" />",
-            escape(&d.name),
-            escape(&d.name),
-            addr(b.data_addrs[i] as u64, mode),
-            b.layout.size_of(d.ty),
+            escape(&name),
+            escape(&name),
+            addr(a, mode),
+            b.layout.size_of(t),
             escape(&ty),
             escape(&pty)
         );
@@ -177,6 +199,20 @@ pub fn write(module: &Module, b: &Build, options: &Options) -> String {
     o.push_str(&escape(&b.image.listing));
     o.push_str("</MNEMONIC_MAP>\n");
     o.push_str("    <DATA_MAP>\n");
+    for (name, t, elem, a) in globals(module, b) {
+        obj(
+            &mut o,
+            module,
+            b,
+            &name,
+            &format!("plcc.{name}"),
+            t,
+            elem,
+            a,
+            a,
+            3,
+        );
+    }
     let _ = writeln!(
         o,
         "      <OBJ ObjType=\"TASK\" LName=\"TASK\" PName=\"plcc.TASK\" Addr=\"{}\" AdrType=\"gdlabel\" Size=\"{}\">",

@@ -1,0 +1,187 @@
+//! The vmasm target's files: `plcc --target vmasm prog.st -o prog.xcp` writes the
+//! image and its description, the description says where every variable is and where
+//! the task body starts, the listing matches the image, and `plcc disasm` reads it back.
+
+use plcc::driver::{build_sources, BuildOptions};
+use plcc_ir::backend::{Backend, Options};
+use plcc_vmasm::dcp_read;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn plcc(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_plcc"))
+        .args(args)
+        .output()
+        .expect("plcc runs")
+}
+
+fn example() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/traffic_light.st")
+}
+
+fn scratch_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("plcc-vmasm-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn writes_the_image_and_its_description() {
+    let dir = scratch_dir("out");
+    let xcp = dir.join("light.xcp");
+    for mode in ["16", "32", "32a"] {
+        let out = plcc(&[
+            "--target",
+            "vmasm",
+            "-s",
+            &format!("mode={mode}"),
+            "-s",
+            "cycle=50",
+            example().to_str().unwrap(),
+            "-o",
+            xcp.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(String::from_utf8_lossy(&out.stderr).contains("vmasm ("));
+        let code = std::fs::read(&xcp).unwrap();
+        let dcp = dcp_read::Dcp::read(&xcp.with_extension("dcp")).unwrap();
+        assert_eq!(dcp.code_size, Some(code.len() as u32));
+        assert_eq!(dcp.mode.map(|m| m.name()), Some(mode));
+        assert_eq!(dcp.tasks.len(), 1);
+        assert_eq!(dcp.tasks[0].cycle_ms, 50);
+        let text = std::fs::read_to_string(xcp.with_extension("dcp")).unwrap();
+        assert!(
+            text.contains(">light.xcp</file>"),
+            "the description names the image"
+        );
+        // The listing in the description is the image, byte for byte.
+        let mut listed = Vec::new();
+        for l in &dcp.listing {
+            if !l.bytes.is_empty() {
+                assert_eq!(l.addr as usize, listed.len(), "{l:?}");
+                listed.extend_from_slice(&l.bytes);
+            }
+        }
+        assert_eq!(listed, code, "mode {mode}");
+        // The task body address is the TSKLOOP label's.
+        let tskloop = dcp
+            .labels()
+            .into_iter()
+            .find(|(_, n)| n.ends_with("TSKLOOP"))
+            .expect("a TSKLOOP label")
+            .0;
+        assert_eq!(tskloop, dcp.tasks[0].body_addr);
+    }
+}
+
+#[test]
+fn the_data_map_gives_the_addresses_plcc_uses() {
+    let texts = vec![(
+        "traffic_light.st".to_string(),
+        std::fs::read(example()).unwrap(),
+    )];
+    let module = build_sources(texts, &BuildOptions::default())
+        .unwrap()
+        .module
+        .unwrap();
+    let backend = plcc_vmasm::VmasmBackend::new();
+    let arts = backend.compile(&module, &Options::default()).unwrap();
+    let dcp_text = String::from_utf8(arts.files[1].bytes.clone()).unwrap();
+    let dcp = dcp_read::parse(&dcp_text).unwrap();
+    assert!(!arts.symbols.is_empty());
+    for s in &arts.symbols {
+        let v = dcp
+            .find_var(&format!("plcc.TASK.{}", s.path))
+            .unwrap_or_else(|| panic!("the data map has no {}", s.path));
+        assert_eq!(v.addr as u64, s.address, "{}", s.path);
+        assert_eq!(v.size, s.size, "{}", s.path);
+    }
+}
+
+#[test]
+fn emits_the_listing_and_disassembles_the_image() {
+    let dir = scratch_dir("asm");
+    let xcp = dir.join("t.xcp");
+    let asm = plcc(&[
+        "--target",
+        "vmasm",
+        "--emit",
+        "asm",
+        example().to_str().unwrap(),
+        "-o",
+        "-",
+    ]);
+    assert!(asm.status.success());
+    let listing = String::from_utf8(asm.stdout).unwrap();
+    assert!(listing.contains("$VMSYS.TRML :?plcc.TASK?TSKLOOP"));
+    assert!(listing.contains("$VMSYS.CALB traffic_light, :?plcc.traffic_light?CODE"));
+    let out = plcc(&[
+        "--target",
+        "vmasm",
+        example().to_str().unwrap(),
+        "-o",
+        xcp.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let dis = plcc(&["disasm", xcp.to_str().unwrap()]);
+    assert!(
+        dis.status.success(),
+        "{}",
+        String::from_utf8_lossy(&dis.stderr)
+    );
+    let text = String::from_utf8(dis.stdout).unwrap();
+    // Every instruction line of the listing comes back with the same bytes.
+    let hex = |s: &str| -> Vec<(String, String)> {
+        s.lines()
+            .filter_map(|l| {
+                let mut p = l.split('|');
+                let addr = p.next()?.trim().to_string();
+                let bytes = p.next()?.trim().to_string();
+                (addr.starts_with(':') && !bytes.is_empty()).then_some((addr, bytes))
+            })
+            .collect()
+    };
+    assert_eq!(hex(&text), hex(&listing));
+    assert!(
+        text.contains(":?plcc.traffic_light?CODE"),
+        "labels come from the dcp"
+    );
+}
+
+#[test]
+fn bad_settings_and_images_are_errors() {
+    let out = plcc(&[
+        "--target",
+        "vmasm",
+        "-s",
+        "mode=8",
+        example().to_str().unwrap(),
+        "-o",
+        "-",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("E9103"));
+    let out = plcc(&[
+        "--target",
+        "vmasm",
+        "-s",
+        "speed=9",
+        example().to_str().unwrap(),
+        "-o",
+        "-",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let dir = scratch_dir("bad");
+    let bad = dir.join("bad.xcp");
+    std::fs::write(&bad, [0x1C, 0x15, 0x00]).unwrap();
+    let out = plcc(&["disasm", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("bad.xcp"));
+    let out = plcc(&["disasm", dir.join("missing.xcp").to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+}
