@@ -226,6 +226,7 @@ bad! {
     name_duplicate_pou_a,
     name_duplicate_pou_b,
     name_unknown_type,
+    name_unknown_library_type,
     name_external_without_global,
     type_external_mismatch,
     name_fb_contains_itself,
@@ -245,9 +246,12 @@ bad! {
     type_case_on_real,
     type_case_overlap,
     type_for_real_var,
+    type_for_bool_var,
     type_array_real_index,
     type_array_index_count,
     type_sqrt_int,
+    type_real_function_of_literal_to_int,
+    type_cur_time_to_dint,
     type_several_errors,
     type_for_bad_header_body,
     type_scalar_to_array,
@@ -541,13 +545,14 @@ fn exit_0_with_only_warnings() {
     assert!(out.lines().any(|l| l == "s = 0"), "{out}");
 }
 
-/// The binary tells IL and STL files by their extension and exits as for ST.
+/// The binary tells IL, STL and CPDev ST files by their extension and exits as for ST.
 #[test]
 fn exit_statuses_of_il_and_stl() {
     for (file, status_want, code) in [
         ("tests/bad/il_and_on_int.il", 1, "error[E0301]"),
         ("tests/bad/stl_missing_semicolon.stl", 1, "error[E0724]"),
         ("tests/bad/il_not_with_operand.il", 0, "warning[W0703]"),
+        ("tests/programs/st/cpdev/dialect.cst", 0, "warning[W0208]"),
     ] {
         let o = plcc(&["check", file]);
         let err = stderr(&o);

@@ -150,6 +150,16 @@
 //! Bit access `w.3`: bits/bit_access, bits/status_word, apps/crc8 (`c.7`),
 //! apps/reject_tracking
 //!
+//! CPDev's ST (the `.cst` files its compiler consumed)
+//! - `CUR_TIME()`, the timers' clock (also in a FUNCTION_BLOCK): cpdev/cur_time
+//! - FOR over BYTE, WORD, DWORD, LWORD (unsigned, down with `BY -1`, to the type's
+//!   maximum, a step variable, as an array index): cpdev/for_bitstring
+//! - library-qualified types `IEC_61131.TON`, `Basic_blocks.TFF` (scalars, array
+//!   elements, with an initialiser): cpdev/library_types
+//! - generic functions of untyped literals typed by their context (`SQRT(2.0) * r`,
+//!   `4.0 * ATAN(1.0)` in REAL, `ABS(-5) * x`, `TRUNC(2.7) * x` in INT, EXPT):
+//!   cpdev/generic_literals, cpdev/generic_literals_expt
+//!
 //! Real-world style programs (apps/): motor_starter (star-delta), batching
 //! (counter), pi_control (PI loop in REAL), sort_readings (sort via VAR_IN_OUT),
 //! filters (moving average, low-pass, rate limit), wash_cycle (state machine),
@@ -178,8 +188,9 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// The source languages the suite covers, by extension.
-const SOURCE_EXTENSIONS: [&str; 3] = ["st", "il", "stl"];
+/// The source languages the suite covers, by extension (`.cst`: ST in the CPDev
+/// dialect).
+const SOURCE_EXTENSIONS: [&str; 4] = ["st", "il", "stl", "cst"];
 
 /// Every source file (ST, IL, STL) under `dir`, recursively.
 fn source_files(dir: &Path, out: &mut Vec<PathBuf>) {

@@ -361,6 +361,8 @@ codes! {
     // ---- warnings (W0xxx) ----
     W_CASE_OVERLAP = "W0304", "overlapping CASE labels",
         "A CASE label covers values an earlier label already covers. The arms are tried in order, so for those values the earlier arm runs and the later label is (partly) dead: usually a mistake.\n\n    CASE x OF 1..5: a := 1; 3: a := 2; END_CASE   (* 3 never reaches `a := 2` *)";
+    W_CPDEV_INTERNAL = "W0208", "an FB instance's internal variable used from outside (CPDev dialect)",
+        "In a `.cst` file (Structured Text as the CPDev compiler reads it), a program may use an internal VAR of a function block instance from outside, as CPDev allows; IEC 61131-3 allows only inputs and outputs (error E0207 in `.st` files). It compiles, but the program now depends on the block's insides.\n\n    ship(rudder := r);\n    heading := ship.psi_internal;   (* W0208 in a .cst file, E0207 in a .st file *)";
     W_WRITE_INPUT = "W0502", "assignment to an input of an instance",
         "A FUNCTION_BLOCK or PROGRAM assigns its own VAR_INPUT. It compiles, but the input belongs to the caller: the value it set is lost until its next call, which is usually a mistake. Copy the input into a VAR instead. (A FUNCTION's inputs are its own copies and may be assigned freely.)\n\n    FUNCTION_BLOCK F VAR_INPUT x : INT; END_VAR VAR y : INT; END_VAR\n    x := x + 1;   (* warning: write y := x + 1 *)";
 }

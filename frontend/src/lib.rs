@@ -26,6 +26,10 @@ pub use lower::LowerOptions;
 pub enum Lang {
     /// IEC 61131-3 Structured Text (`.st`).
     St,
+    /// Structured Text in the dialect of the CPDev compiler (`.cst`, the text it
+    /// consumes): ST, where an FB instance's internal variables may be used from
+    /// outside (warning W0208) and REAL to integer conversions truncate, as CPDev's do.
+    Cst,
     /// IEC 61131-3 Instruction List (`.il`).
     Il,
     /// The STL of the PLC-UD controller (`.stl`).
@@ -45,6 +49,7 @@ impl Lang {
     pub fn from_name(name: &str) -> Option<Lang> {
         Some(match name.to_ascii_lowercase().as_str() {
             "st" => Lang::St,
+            "cst" => Lang::Cst,
             "il" => Lang::Il,
             "stl" => Lang::Stl,
             "xml" | "ld" => Lang::Ld,
@@ -56,6 +61,7 @@ impl Lang {
     pub fn name(self) -> &'static str {
         match self {
             Lang::St => "Structured Text",
+            Lang::Cst => "CPDev Structured Text",
             Lang::Il => "Instruction List",
             Lang::Stl => "PLC-UD STL",
             Lang::Ld => "ladder (PLCopen XML)",
@@ -100,7 +106,7 @@ pub fn compile(
     ));
     for &(file, lang) in inputs {
         match lang {
-            Lang::St => units.push(st::parse(
+            Lang::St | Lang::Cst => units.push(st::parse(
                 file,
                 &sources.get(file).text,
                 &mut interner,
@@ -141,7 +147,12 @@ pub fn compile(
         };
     }
     let started = std::time::Instant::now();
-    let lowerer = lower::Lowerer::new(sources, &mut interner, &units);
+    let mut lowerer = lower::Lowerer::new(sources, &mut interner, &units);
+    lowerer.cpdev_files = inputs
+        .iter()
+        .filter(|(_, l)| *l == Lang::Cst)
+        .map(|(f, _)| *f)
+        .collect();
     let (module, mut more) = lowerer.run(1, opts);
     diagnostics.append(&mut more);
     timings.push(("check and lower", started.elapsed()));

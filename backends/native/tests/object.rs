@@ -75,6 +75,7 @@ fn options(settings: &[(&str, &str)]) -> Options {
             .map(|(k, v)| (k.to_string(), v.to_string()))
             .collect(),
         sources: Vec::new(),
+        output_stem: None,
     }
 }
 

@@ -812,6 +812,7 @@ fn other_settings_keep_the_semantics() {
                 ("regalloc".into(), ra.into()),
             ],
             sources: Vec::new(),
+            output_stem: None,
         };
         for op in [Sdiv, Srem, Udiv, Urem, Ishl, Ushr, Sshr, Rotl] {
             for ty in INTS {

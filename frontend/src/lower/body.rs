@@ -777,7 +777,17 @@ impl<'a, 's> BodyCx<'a, 's> {
                 return None;
             }
         }
-        if !visible {
+        if !visible && v.section == VarKind::Var && self.l.cpdev_files.contains(&name.span.file) {
+            let n = self.l.text(name.span).to_string();
+            let fbn = self.l.pou(fb).display.clone();
+            self.l.diags.push(plcc_ir::diag::Diagnostic::warning(
+                codes::W_CPDEV_INTERNAL,
+                format!(
+                    "`{n}` is internal to `{fbn}`; the CPDev dialect lets it be used from outside"
+                ),
+                name.span,
+            ));
+        } else if !visible {
             let n = self.l.text(name.span).to_string();
             self.l.error(
                 codes::E_NO_MEMBER,

@@ -51,7 +51,9 @@ pub(super) enum Builtin {
     Mux,
     /// `ADD_TIME SUB_TIME MUL_TIME DIV_TIME`
     TimeOp(Op),
-    /// `__PLC_CLOCK()`: the PLC clock (TIME), used by the standard timers.
+    /// `__PLC_CLOCK()`: the PLC clock (TIME), used by the standard timers; also
+    /// CPDev's `CUR_TIME()`, so user code reads the same clock the timers do (sampled
+    /// once per scan).
     Clock,
     /// The PLC-UD STL's standard operations (`INC DEC SWAP SET CLR`), which the STL
     /// front end calls by internal names (`__STL_INC`, ...).
@@ -120,7 +122,7 @@ impl Builtin {
             "SUB_TIME" => TimeOp(Op::Sub),
             "MUL_TIME" => TimeOp(Op::Mul),
             "DIV_TIME" => TimeOp(Op::Div),
-            "__PLC_CLOCK" => Clock,
+            "__PLC_CLOCK" | "CUR_TIME" => Clock,
             "__STL_INC" => Stl(StlOp::Inc),
             "__STL_DEC" => Stl(StlOp::Dec),
             "__STL_SWAP" => Stl(StlOp::Swap),
@@ -336,16 +338,26 @@ impl<'s> BodyCx<'_, 's> {
         use Builtin::*;
         match b {
             Convert { to, .. } => Ty::Elem(to),
+            // On an untyped literal these give an untyped result, which takes its type
+            // from the context as a literal would (see `builtin_call`).
             Trunc => match arg_ty(self, 0) {
                 Ty::Elem(ElemType::LReal) => Ty::Elem(ElemType::LInt),
+                t if t.is_literal() => Ty::AnyInt,
                 _ => Ty::DINT,
             },
-            Abs | Math(_) | Not | Move => arg_ty(self, 0),
+            Math(_) => match arg_ty(self, 0) {
+                Ty::AnyInt => Ty::AnyReal,
+                t => t,
+            },
+            Abs | Not | Move => arg_ty(self, 0),
             Expt => {
                 // As emitted: an integer base with a real exponent computes in the
-                // exponent's type (LREAL for a literal).
+                // exponent's type (LREAL for a literal, unless the base is a literal
+                // too: then both follow the context).
                 let (base, exp) = (arg_ty(self, 0), arg_ty(self, 1));
-                if !base.is_real() && exp.is_real() {
+                if base == Ty::AnyInt && exp == Ty::AnyReal {
+                    Ty::AnyReal
+                } else if !base.is_real() && exp.is_real() {
                     concretize(exp, None)
                 } else {
                     base
@@ -395,13 +407,21 @@ impl<'s> BodyCx<'_, 's> {
             Stl(op) => self.stl_op(op, &xs, want, &name),
             Convert { from, to, trunc } => self.conversion_call(xs[0], from, to, trunc, &name),
             Trunc => {
-                let x = self.real_arg(xs[0], &name)?;
-                let to = if x.ty == Ty::Elem(ElemType::LReal) {
-                    ElemType::LInt
-                } else {
-                    ElemType::DInt
+                let literal = self.infer(xs[0]).is_literal();
+                let x = self.real_arg(xs[0], &name, None)?;
+                let to = match want {
+                    // An untyped result (`TRUNC(2.5)`) takes the integer or bit-string
+                    // type the context wants, as an integer literal would.
+                    Some(w @ Ty::Elem(we)) if literal && w.is_int_like() => we,
+                    _ if x.ty == Ty::Elem(ElemType::LReal) && !literal => ElemType::LInt,
+                    _ => ElemType::DInt,
                 };
-                let v = self.b.convert(ConvOp::FToSi, to.ir_type(), x.v);
+                let op = if to.is_signed() {
+                    ConvOp::FToSi
+                } else {
+                    ConvOp::FToUi
+                };
+                let v = self.b.convert(op, to.ir_type(), x.v);
                 Some(Val {
                     v,
                     ty: Ty::Elem(to),
@@ -424,7 +444,7 @@ impl<'s> BodyCx<'_, 's> {
                 }
             }
             Math(op) => {
-                let x = self.real_arg(xs[0], &name)?;
+                let x = self.real_arg(xs[0], &name, want)?;
                 Some(Val {
                     v: self.b.unary(op, x.v),
                     ty: x.ty,
@@ -438,7 +458,10 @@ impl<'s> BodyCx<'_, 's> {
                 if !x.ty.is_numeric() {
                     return self.bad_arg(&name, "a number", x.ty, xs[0].span);
                 }
-                let n = self.emit(xs[1], None);
+                // A real literal exponent of a real base takes the base's type (one
+                // rounding, straight to REAL).
+                let exp_want = (x.ty.is_real() && self.infer(xs[1]) == Ty::AnyReal).then_some(x.ty);
+                let n = self.emit(xs[1], exp_want);
                 let x = if x.ty.is_real() || !n.ty.is_real() {
                     x
                 } else {
@@ -760,11 +783,16 @@ impl<'s> BodyCx<'_, 's> {
         Some(concretize(t, want))
     }
 
-    /// An argument that must be REAL or LREAL (an untyped literal becomes LREAL).
-    fn real_arg(&mut self, e: &'s Expr, name: &str) -> Option<Val> {
+    /// An argument that must be REAL or LREAL. An untyped literal takes the type
+    /// the context `want`s for the function's result when that is REAL or LREAL (so
+    /// `SQRT(2.0) * r` computes in REAL, as `1.414 * r` would), else LREAL.
+    fn real_arg(&mut self, e: &'s Expr, name: &str, want: Option<Ty>) -> Option<Val> {
         let t = self.infer(e);
         let target = if t.is_literal() {
-            Ty::Elem(ElemType::LReal)
+            match want {
+                Some(w @ Ty::Elem(we)) if we.is_real() => w,
+                _ => Ty::Elem(ElemType::LReal),
+            }
         } else {
             t
         };

@@ -239,11 +239,20 @@ impl Lowerer<'_> {
                     // Its TYPE declaration was already reported as unsupported.
                     return Ty::Error;
                 }
-                self.error(
+                let written = self.text(id.span).to_string();
+                let mut d = plcc_ir::diag::Diagnostic::error(
                     codes::E_UNKNOWN_TYPE,
-                    format!("unknown type `{}`", self.text(id.span)),
+                    format!("unknown type `{written}`"),
                     id.span,
                 );
+                if let Some((lib, _)) = written.split_once('.') {
+                    // A CPDev `LIBRARY.TYPE`: say that the library is not the problem.
+                    d = d.with_note(format!(
+                        "the qualifier `{lib}` names the library the type comes from; \
+                         plcc looks the type up as `{name}` and knows no such type"
+                    ));
+                }
+                self.diags.push(d);
                 Ty::Error
             }
             TypeSpec::Array { dims, elem, span } => {

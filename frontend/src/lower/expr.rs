@@ -939,7 +939,14 @@ impl<'s> BodyCx<'_, 's> {
                 self.b.convert(op, tt, v)
             }
             (true, false) => {
-                let r = self.b.unary(UnaryOp::Fnearest, v);
+                // IEC 61131-3 rounds; the CPDev compiler truncates (its REAL_TO_DINT is
+                // the VM's TRUNC), so a `.cst` file gets CPDev's meaning.
+                let file = self.l.pou_ast(self.pou).span.file;
+                let r = if self.l.cpdev_files.contains(&file) {
+                    v
+                } else {
+                    self.b.unary(UnaryOp::Fnearest, v)
+                };
                 let op = if to.is_signed() {
                     ConvOp::FToSi
                 } else {

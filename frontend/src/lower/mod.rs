@@ -138,6 +138,8 @@ pub struct Lowerer<'s> {
     pub(crate) globals_pou: Option<PouId>,
     /// The data object of the globals.
     pub(crate) globals_data: Option<plcc_ir::DataId>,
+    /// Files in the CPDev dialect (`.cst`, see `Lang::Cst`).
+    pub(crate) cpdev_files: Vec<plcc_ir::diag::FileId>,
 }
 
 impl<'s> Lowerer<'s> {
@@ -166,6 +168,7 @@ impl<'s> Lowerer<'s> {
             unsupported_names: Default::default(),
             globals_pou: None,
             globals_data: None,
+            cpdev_files: Vec::new(),
         }
     }
 

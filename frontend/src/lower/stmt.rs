@@ -484,13 +484,18 @@ impl<'s> BodyCx<'_, 's> {
             super::body::Named::Error => None,
         };
         let place = var_expr_place.filter(|p| self.check_writable(p, var.span));
-        let elem = place.and_then(|p| p.ty.elem().filter(|e| e.is_integer()));
+        // BYTE, WORD, DWORD and LWORD count like the unsigned integers of their width,
+        // as CPDev allows (`FOR i := 2 TO MAX_NUM` with `i : DWORD`); BOOL does not.
+        let elem = place.and_then(|p| p.ty.elem().filter(|_| p.ty.is_int_like()));
         if let (Some(p), None) = (place, elem) {
             if p.ty != Ty::Error {
                 let t = self.l.ty_name(p.ty);
                 self.l.error(
                     codes::E_TYPE_MISMATCH,
-                    format!("a FOR control variable must be an integer, not {t}"),
+                    format!(
+                        "a FOR control variable must be an integer \
+                         (or BYTE, WORD, DWORD, LWORD), not {t}"
+                    ),
                     var.span,
                 );
             }

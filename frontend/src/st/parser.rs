@@ -1721,7 +1721,19 @@ impl<'a> Parser<'a> {
             });
         }
         self.bump();
-        let name = self.ident(t);
+        let mut name = self.ident(t);
+        if self.at(Tok::Dot) && self.peek_at(1) == Tok::Ident {
+            // CPDev's `LIBRARY.TYPE` (`IEC_61131.TON`, `Basic_blocks.TFF`): the
+            // qualifier names the library the type comes from, and plcc has one name
+            // space, so the type is the last name. The span keeps the qualifier, so a
+            // diagnostic quotes the name as written.
+            self.bump();
+            let last = self.bump();
+            name = Ident {
+                sym: Symbol(last.data),
+                span: self.span_from(t.start),
+            };
+        }
         if !self.at(Tok::LParen) {
             return Some(TypeSpec::Named(name));
         }

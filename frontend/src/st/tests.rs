@@ -627,6 +627,38 @@ fn initialisers() {
     );
 }
 
+/// CPDev's `LIBRARY.TYPE` names the type by its last name; the span keeps the
+/// qualifier, so diagnostics quote the name as written.
+#[test]
+fn library_qualified_type_names() {
+    let src = "PROGRAM p\nVAR\n ton1: IEC_61131.TON;\n tff1: Basic_blocks.TFF;\n \
+               a : ARRAY[0..1] OF IEC_61131.R_TRIG;\n c : IEC_61131.CTU := (PV := 3);\n\
+               END_VAR\nEND_PROGRAM";
+    let (p, i) = pou(src);
+    let got: Vec<String> = p.var_blocks[0].decls.iter().map(|d| decl(d, &i)).collect();
+    assert_eq!(
+        got,
+        [
+            "TON1 : TON;",
+            "TFF1 : TFF;",
+            "A : ARRAY[0..1] OF R_TRIG;",
+            "C : CTU := (PV:=3);",
+        ]
+    );
+    let TypeSpec::Named(n) = &p.var_blocks[0].decls[1].ty else {
+        panic!("a named type")
+    };
+    assert_eq!(
+        &src[n.span.start as usize..n.span.end as usize],
+        "Basic_blocks.TFF"
+    );
+    // One qualifier only: `A.B.C` is not a type name.
+    assert_eq!(
+        codes_of("PROGRAM p VAR x : A.B.C; END_VAR END_PROGRAM"),
+        [crate::codes::MISSING_SEMICOLON]
+    );
+}
+
 #[test]
 fn var_block_kinds_and_qualifiers() {
     let (p, _) = pou(
