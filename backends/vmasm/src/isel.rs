@@ -1133,29 +1133,39 @@ impl Fx<'_, '_> {
                 moves.push((*p, ph, ah, n));
             }
         }
-        let dsts: Vec<u32> = moves.iter().map(|m| m.1).collect();
-        let hazard = moves.iter().any(|m| dsts.contains(&m.2));
-        if hazard {
-            // Through shadows: every source is read before any parameter is written.
-            let mut staged = Vec::new();
-            for &(p, _, ah, n) in &moves {
-                let s = match self.shadows.get(&p) {
-                    Some(&s) => s,
-                    None => {
-                        let s = self.alloc(n, format!("?S{}", p.0));
-                        self.shadows.insert(p, s);
-                        s
+        // A parallel copy in sequence: a move goes once no pending move still reads
+        // its destination; a cycle is broken through the first move's shadow.
+        let mut pending: Vec<(Value, u32, u32, u32)> = moves;
+        while !pending.is_empty() {
+            let ready = pending.iter().position(|&(_, d, _, n)| {
+                !pending
+                    .iter()
+                    .any(|&(_, d2, s, n2)| d2 != d && Self::overlaps((s, n2), (d, n)))
+            });
+            match ready {
+                Some(k) => {
+                    let (_, d, src, n) = pending.remove(k);
+                    self.copy(d, src, n);
+                }
+                None => {
+                    let (p, d, src, n) = pending[0];
+                    let sh = match self.shadows.get(&p) {
+                        Some(&sh) => sh,
+                        None => {
+                            let sh = self.alloc(n, format!("?S{}", p.0));
+                            self.shadows.insert(p, sh);
+                            sh
+                        }
+                    };
+                    // Whoever reads `d` reads the shadow instead.
+                    self.copy(sh, d, n);
+                    for m in pending.iter_mut() {
+                        if m.2 == d {
+                            m.2 = sh;
+                        }
                     }
-                };
-                self.copy(s, ah, n);
-                staged.push(s);
-            }
-            for (&(_, ph, _, n), s) in moves.iter().zip(staged) {
-                self.copy(ph, s, n);
-            }
-        } else {
-            for (_, ph, ah, n) in moves {
-                self.copy(ph, ah, n);
+                    let _ = src;
+                }
             }
         }
         Ok(())
