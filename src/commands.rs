@@ -174,6 +174,8 @@ pub struct RunArgs {
     pub cycle_ms: u64,
     /// `--timing`: report the time the scans took.
     pub timing: bool,
+    /// `-s KEY=VALUE` target settings.
+    pub settings: Vec<(String, String)>,
 }
 
 fn runnable_target(name: &str) -> Result<&'static str, u8> {
@@ -244,7 +246,7 @@ pub fn run(a: &RunArgs) -> u8 {
     };
     let copy = module.clone();
     let t = std::time::Instant::now();
-    let mut m = match targets::machine_owned(target, copy) {
+    let mut m = match targets::machine_owned(target, copy, &a.settings) {
         Ok(m) => m,
         Err(diags) => {
             render::to_stderr(&build.sources, &diags);
@@ -328,6 +330,8 @@ pub struct TestArgs {
     pub target: String,
     /// `--cycle-ms`
     pub cycle_ms: u64,
+    /// `-s KEY=VALUE` target settings.
+    pub settings: Vec<(String, String)>,
 }
 
 /// `plcc test FILE... --scenario F.expect`
@@ -358,7 +362,7 @@ pub fn test(a: &TestArgs) -> u8 {
         Ok(p) => p,
         Err(s) => return s,
     };
-    let mut m = match targets::machine(target, &module) {
+    let mut m = match targets::machine_with(target, &module, &a.settings) {
         Ok(m) => m,
         Err(diags) => {
             render::to_stderr(&build.sources, &diags);

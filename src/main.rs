@@ -86,6 +86,9 @@ enum Command {
         /// Print the time the scans took (cold start and compilation excluded)
         #[arg(long)]
         timing: bool,
+        /// A target setting KEY=VALUE (vmasm: mode=16|32|32a; pic16f876a: pin.%IX0.0=RA2)
+        #[arg(short = 's', long = "set", value_parser = parse_setting)]
+        set: Vec<(String, String)>,
     },
     /// Run a scenario (corpus-expect v1) and check its expectations
     Test {
@@ -100,6 +103,9 @@ enum Command {
         /// Clock step of `run N` in milliseconds
         #[arg(long, default_value_t = 10)]
         cycle_ms: u64,
+        /// A target setting KEY=VALUE (vmasm: mode=16|32|32a; pic16f876a: pin.%IX0.0=RA2)
+        #[arg(short = 's', long = "set", value_parser = parse_setting)]
+        set: Vec<(String, String)>,
     },
     /// Check programs and print diagnostics only
     Check {
@@ -134,6 +140,7 @@ fn main() -> ExitCode {
             scans,
             cycle_ms,
             timing,
+            set,
         }) => commands::run(&commands::RunArgs {
             files: common.files,
             lang: common.lang,
@@ -142,18 +149,21 @@ fn main() -> ExitCode {
             scans,
             cycle_ms,
             timing,
+            settings: set,
         }),
         Some(Command::Test {
             common,
             scenario,
             target,
             cycle_ms,
+            set,
         }) => commands::test(&commands::TestArgs {
             files: common.files,
             lang: common.lang,
             scenario,
             target,
             cycle_ms,
+            settings: set,
         }),
         Some(Command::Check { common }) => commands::check(&common.files, common.lang.as_deref()),
         Some(Command::Explain { code }) => commands::explain(code.as_deref()),

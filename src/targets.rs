@@ -70,11 +70,24 @@ pub const WATCHDOG: std::time::Duration = std::time::Duration::from_secs(10);
 
 /// A machine running `module` on the target, with the scan watchdog armed.
 pub fn machine(name: &str, module: &Module) -> Result<Box<dyn Machine>, Vec<Diagnostic>> {
-    machine_owned(name, module.clone())
+    machine_owned(name, module.clone(), &[])
 }
 
-/// Like [`machine`], taking the module (saves a copy of a large one).
-pub fn machine_owned(name: &str, mut module: Module) -> Result<Box<dyn Machine>, Vec<Diagnostic>> {
+/// Like [`machine`], with target settings (`-s KEY=VALUE`).
+pub fn machine_with(
+    name: &str,
+    module: &Module,
+    settings: &[(String, String)],
+) -> Result<Box<dyn Machine>, Vec<Diagnostic>> {
+    machine_owned(name, module.clone(), settings)
+}
+
+/// Like [`machine_with`], taking the module (saves a copy of a large one).
+pub fn machine_owned(
+    name: &str,
+    mut module: Module,
+    settings: &[(String, String)],
+) -> Result<Box<dyn Machine>, Vec<Diagnostic>> {
     // Loops check the watchdog, so an endless loop ends in an error, not a hang.
     let t = std::time::Instant::now();
     plcc_ir::passes::watchdog::run(&mut module);
@@ -88,7 +101,13 @@ pub fn machine_owned(name: &str, mut module: Module) -> Result<Box<dyn Machine>,
         "interp" => plcc_ir::interp::Interp::new(&module)
             .map(|m| Box::new(m) as Box<dyn Machine>)
             .map_err(|e| vec![Diagnostic::error_nowhere(crate::driver::E_INTERNAL, e.0)])?,
-        _ => match backend(name).and_then(|b| b.machine(&module, &Options::default())) {
+        _ => match backend(name).and_then(|b| {
+            let opts = Options {
+                settings: settings.to_vec(),
+                ..Options::default()
+            };
+            b.machine(&module, &opts)
+        }) {
             Some(r) => r?,
             None => {
                 return Err(vec![Diagnostic::error_nowhere(

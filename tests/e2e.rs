@@ -367,8 +367,16 @@ fn build(case: &Case) -> Result<Built, String> {
     })
 }
 
+/// A machine of `target`, which may carry settings: `vmasm:mode=32a`.
 fn machine(target: &str, module: &Module) -> Result<Box<dyn Machine>, String> {
-    targets::machine(target, module).map_err(|d| {
+    let (name, settings) = match target.split_once(':') {
+        Some((n, kv)) => {
+            let (k, v) = kv.split_once('=').expect("target:KEY=VALUE");
+            (n, vec![(k.to_string(), v.to_string())])
+        }
+        None => (target, Vec::new()),
+    };
+    targets::machine_with(name, module, &settings).map_err(|d| {
         let msgs: Vec<String> = d.iter().map(|x| x.to_string()).collect();
         format!("no {target} machine: {}", msgs.join("; "))
     })
@@ -441,6 +449,13 @@ fn programs_on_interp() {
 #[test]
 fn programs_on_vmasm() {
     run_all("vmasm");
+}
+
+/// The other addressing modes of the VM: 32-bit, and 32-bit with 4-byte alignment.
+#[test]
+fn programs_on_vmasm_32_bit_modes() {
+    run_all("vmasm:mode=32");
+    run_all("vmasm:mode=32a");
 }
 
 /// Two values are the same: bit for bit, except that any two NaNs are equal.
