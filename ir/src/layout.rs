@@ -45,8 +45,11 @@ impl LayoutRules {
 /// Size, alignment and member offsets of one aggregate.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct AggLayout {
-    /// Total size in bytes (a multiple of `align`).
+    /// Total size in bytes (a multiple of `align`), the tail included.
     pub size: u32,
+    /// Where the members end: a struct's tail (see [`Layout::compute_with_tails`])
+    /// starts here.
+    pub fields_end: u32,
     /// Alignment in bytes.
     pub align: u32,
     /// Byte offset of each field (structs only).
@@ -72,18 +75,25 @@ impl Layout {
     /// Lays out every aggregate of `module`. Aggregates may refer to each other in any
     /// order; a cycle (a struct containing itself) is a front-end bug and panics.
     pub fn compute(module: &Module, rules: LayoutRules) -> Layout {
+        Layout::compute_with_tails(module, rules, &[])
+    }
+
+    /// Like [`Layout::compute`], with `tails[a]` more bytes at the end of every
+    /// instance of struct `a`, after its members (the CPDev VM keeps the temporaries
+    /// of the code that runs on an instance there).
+    pub fn compute_with_tails(module: &Module, rules: LayoutRules, tails: &[u32]) -> Layout {
         let mut layout = Layout {
             rules,
             aggs: vec![AggLayout::default(); module.aggs.len()],
         };
         let mut state = vec![0u8; module.aggs.len()]; // 0 todo, 1 in progress, 2 done
         for i in 0..module.aggs.len() {
-            layout.visit(module, AggId::new(i), &mut state);
+            layout.visit(module, AggId::new(i), tails, &mut state);
         }
         layout
     }
 
-    fn visit(&mut self, module: &Module, id: AggId, state: &mut [u8]) {
+    fn visit(&mut self, module: &Module, id: AggId, tails: &[u32], state: &mut [u8]) {
         match state[id.index()] {
             2 => return,
             1 => panic!("aggregate {} contains itself", module.agg(id).name()),
@@ -94,7 +104,7 @@ impl Layout {
             match t {
                 MemType::Scalar(s) => (l.rules.scalar_size(s), l.rules.scalar_align(s)),
                 MemType::Agg(a) => {
-                    l.visit(module, a, state);
+                    l.visit(module, a, tails, state);
                     (l.aggs[a.index()].size, l.aggs[a.index()].align)
                 }
             }
@@ -111,8 +121,11 @@ impl Layout {
                     off += size as u64;
                     align = align.max(a);
                 }
+                let fields_end = align_up(off, align);
+                let tail = tails.get(id.index()).copied().unwrap_or(0) as u64;
                 AggLayout {
-                    size: align_up(off, align) as u32,
+                    size: align_up(fields_end + tail, align).min(u32::MAX as u64) as u32,
+                    fields_end: fields_end as u32,
                     align,
                     field_offsets: offsets,
                     stride: 0,
@@ -121,8 +134,10 @@ impl Layout {
             AggDef::Array(a) => {
                 let (size, al) = member(self, a.elem, state);
                 let stride = align_up(size as u64, al) as u32;
+                let size = (stride as u64 * a.len as u64).min(u32::MAX as u64) as u32;
                 AggLayout {
-                    size: (stride as u64 * a.len as u64).min(u32::MAX as u64) as u32,
+                    size,
+                    fields_end: size,
                     align: al,
                     field_offsets: Vec::new(),
                     stride,
@@ -136,6 +151,11 @@ impl Layout {
     /// The layout of an aggregate.
     pub fn agg(&self, id: AggId) -> &AggLayout {
         &self.aggs[id.index()]
+    }
+
+    /// Size in bytes of a scalar under these rules.
+    pub fn scalar_size(&self, ty: Type) -> u32 {
+        self.rules.scalar_size(ty)
     }
 
     /// Size in bytes of a memory type.

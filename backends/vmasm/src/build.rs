@@ -12,12 +12,12 @@ use crate::code::{Arg, Image, Item, Program, Unit, VInst};
 use crate::codes;
 use crate::isa::{op, Mode};
 use crate::isel::{self, Conv, Cx};
-use crate::layout::VmLayout;
 use plcc_ir::backend::{Options, Symbol};
 use plcc_ir::diag::Diagnostic;
 use plcc_ir::entities::{AggId, DataId, FuncId};
 use plcc_ir::function::{FuncKind, ValueDef};
 use plcc_ir::inst::InstData;
+use plcc_ir::layout::Layout as VmLayout;
 use plcc_ir::types::{MemType, Type};
 use plcc_ir::Module;
 use rustc_hash::FxHashMap;
@@ -161,7 +161,11 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
                 temps[a.index()] += frame_sizes[i];
             }
         }
-        let layout = VmLayout::compute(module, ptr_bytes, max_align, &temps);
+        let rules = plcc_ir::layout::LayoutRules {
+            ptr_bytes,
+            max_align,
+        };
+        let layout = VmLayout::compute_with_tails(module, rules, &temps);
         let mut used = vec![0u32; module.aggs.len()];
         let convs: Vec<Conv> = selfs
             .iter()

@@ -5,7 +5,7 @@
 //! - a function with an instance ([`Conv::Instance`]: FB and PROGRAM bodies and their
 //!   initialisers) runs on the instance: its fields are at their layout offsets, its
 //!   parameters, result and SSA values in the instance's temporary area
-//!   ([`crate::layout`]); callers use `CALB inst, code` (or `CALBR ptr, code` when the
+//!   (`plcc_ir::layout::Layout::compute_with_tails`); callers use `CALB inst, code` (or `CALBR ptr, code` when the
 //!   instance's address is only known at run time);
 //! - any other function ([`Conv::Area`]) runs on a *call area* in its caller's frame
 //!   (`CALF area, code`): parameters first, then the result, then its values.
@@ -21,11 +21,11 @@
 
 use crate::code::{Arg, Item, LabelId, Program, Unit, VInst};
 use crate::isa::{op, Mode, Opcode, Ty};
-use crate::layout::VmLayout;
 use plcc_ir::diag::{Diagnostic, Span};
 use plcc_ir::entities::{AggId, Block, FuncId, Value};
 use plcc_ir::function::{Function, ValueDef};
 use plcc_ir::inst::{BinaryOp, BlockCall, ConvOp, FloatCC, InstData, IntCC, Intrinsic, UnaryOp};
+use plcc_ir::layout::Layout as VmLayout;
 use plcc_ir::module::{AggDef, Module};
 use plcc_ir::types::{MemType, Type};
 use rustc_hash::FxHashMap;

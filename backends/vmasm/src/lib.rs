@@ -4,7 +4,7 @@
 //!
 //! The path ([`build::build`]): every function gets a calling convention
 //! ([`isel::Conv`]: on an instance, or on a call area); instances carry their
-//! functions' temporaries ([`layout`]); [`isel`] selects VM instructions with symbolic
+//! functions' temporaries (`plcc_ir::layout`, with tails); [`isel`] selects VM instructions with symbolic
 //! labels ([`code`]); the task code calls the initialisers and then, every cycle, the
 //! program bodies up to TRML; [`code::Program::assemble`] gives the XCP bytes and the
 //! listing; [`dcp`] writes the description. [`vm`] runs images; [`machine`] is the
@@ -20,7 +20,6 @@ pub mod dcp_read;
 pub mod disasm;
 pub mod isa;
 pub mod isel;
-pub mod layout;
 pub mod machine;
 pub mod vm;
 
