@@ -15,7 +15,7 @@ use crate::isel::{self, Conv, Cx};
 use plcc_ir::backend::{Options, Symbol};
 use plcc_ir::diag::Diagnostic;
 use plcc_ir::entities::{AggId, DataId, FuncId};
-use plcc_ir::function::{FuncKind, ValueDef};
+use plcc_ir::function::FuncKind;
 use plcc_ir::inst::InstData;
 use plcc_ir::layout::Layout as VmLayout;
 use plcc_ir::types::{MemType, Type};
@@ -126,7 +126,6 @@ fn instance_agg(module: &Module, id: FuncId) -> Option<AggId> {
             }
         }
     }
-    let _ = ValueDef::Param;
     None
 }
 
@@ -335,12 +334,11 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
         })?;
         let loop_addr = image.label_addrs[tskloop.0 as usize];
         let mut symbols = Vec::new();
-        for (i, d) in module.data.iter().enumerate() {
-            let _ = d;
+        for (i, &base) in data_addrs.iter().enumerate() {
             for v in plcc_ir::vars::variables(module, DataId::new(i)) {
                 symbols.push(Symbol {
                     path: v.path.clone(),
-                    address: data_addrs[i] as u64 + layout.offset_of(&v.steps),
+                    address: base as u64 + layout.offset_of(&v.steps),
                     size: layout.scalar_size(v.ty),
                     elem: v.elem,
                 });

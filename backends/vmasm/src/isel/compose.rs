@@ -1,0 +1,590 @@
+//! Operations the VM lacks or leaves undefined, composed from the ones it has:
+//! division guards, shifts by the width and the arithmetic right shift, sign
+//! extension, float rounding, and the conversions between integers and floats.
+
+use super::*;
+
+impl Fx<'_, '_> {
+    pub(super) fn unsupported(&self, what: &str, span: Option<Span>) -> Box<Diagnostic> {
+        let msg = format!("{what} is not supported on the vmasm target");
+        Box::new(match span {
+            Some(s) => Diagnostic::error(crate::codes::E_UNSUPPORTED, msg, s),
+            None => Diagnostic::error_nowhere(crate::codes::E_UNSUPPORTED, msg),
+        })
+    }
+
+    pub(super) fn unary(&mut self, uop: UnaryOp, arg: Value, v: Value) -> Res<()> {
+        let t = self.vty(arg);
+        let d = self.home(v);
+        let a = self.home(arg);
+        let n = self.size(t);
+        let lreal = t == Type::F64;
+        let math = |base: u8| Opcode::new(op::group::MATH, base + lreal as u8);
+        let opcode = match uop {
+            UnaryOp::Ineg => Opcode::new(op::group::NEG, int_ty(t, true) as u8),
+            UnaryOp::Bnot => Opcode::new(op::group::NEG, 0x10 | logic_code(n, t == Type::I1)),
+            UnaryOp::Iabs => Opcode::new(op::group::MATH, 0x10 | int_ty(t, true) as u8),
+            UnaryOp::Fneg => Opcode::new(op::group::NEG, if lreal { 9 } else { 7 }),
+            UnaryOp::Fabs => Opcode::new(op::group::MATH, 0x10 | float_ty(t) as u8),
+            UnaryOp::Fsqrt => math(0x20),
+            UnaryOp::Ln => math(0x22),
+            UnaryOp::Log10 => math(0x24),
+            UnaryOp::Exp => math(0x26),
+            UnaryOp::Sin => math(0x28),
+            UnaryOp::Cos => math(0x2A),
+            UnaryOp::Tan => math(0x2C),
+            UnaryOp::Asin => math(0x2E),
+            UnaryOp::Acos => math(0x30),
+            UnaryOp::Atan => math(0x32),
+            UnaryOp::Fnearest | UnaryOp::Ftrunc | UnaryOp::Ffloor | UnaryOp::Fceil => {
+                return self.round(uop, t, a, d);
+            }
+        };
+        self.rrr(opcode, &[d, a]);
+        Ok(())
+    }
+
+    /// Float rounding to an integral float: through TRUNC where the value has a
+    /// fraction, keeping the sign of zero.
+    pub(super) fn round(&mut self, uop: UnaryOp, t: Type, x: u32, d: u32) -> Res<()> {
+        let ft = float_ty(t);
+        let n = self.size(t);
+        let it = if t == Type::F64 { Type::I64 } else { Type::I32 };
+        let lend = self.new_label("R");
+        let lcopy = self.new_label("R");
+        let a = self.scratch(n)?;
+        let c = self.scratch(1)?;
+        self.rrr(Opcode::new(op::group::MATH, 0x10 | ft as u8), &[a, x]);
+        let big = self.konst(
+            t,
+            fbits(
+                t,
+                if t == Type::F64 {
+                    4503599627370496.0
+                } else {
+                    8388608.0
+                },
+            ),
+        );
+        self.rrr(op::cmp(op::group::LT, ft), &[c, a, big]);
+        self.jz(c, lcopy);
+        let ti = self.scratch(n)?;
+        let lr = t == Type::F64;
+        self.rrr(Opcode::new(op::group::MATH, 0x34 + lr as u8), &[ti, x]);
+        self.rrr(
+            Opcode::new(op::group::CONV, if lr { 0x0F } else { 0x01 }),
+            &[d, ti],
+        );
+        let sign = self.konst(it, 1u64 << (bits_of(t) - 1));
+        let s = self.scratch(n)?;
+        let code = logic_code(n, false);
+        self.rrr(Opcode::new(op::group::AND, 0x20 | code), &[s, x, sign]);
+        self.rrr(Opcode::new(op::group::OR, 0x20 | code), &[d, d, s]);
+        let one = self.konst(t, fbits(t, 1.0));
+        match uop {
+            UnaryOp::Ftrunc => {}
+            UnaryOp::Ffloor => {
+                self.rrr(op::cmp(op::group::GT, ft), &[c, d, x]);
+                self.jz(c, lend);
+                self.rrr(op::sub(ft), &[d, d, one]);
+            }
+            UnaryOp::Fceil => {
+                self.rrr(op::cmp(op::group::LT, ft), &[c, d, x]);
+                self.jz(c, lend);
+                self.rrr(op::add(ft, 2), &[d, d, one]);
+            }
+            _ => {
+                // Ties to even: the fraction decides, and at exactly one half the
+                // parity of the truncated integer.
+                let half = self.konst(t, fbits(t, 0.5));
+                let mhalf = self.konst(t, fbits(t, -0.5));
+                let fr = self.scratch(n)?;
+                let odd = self.scratch(1)?;
+                let one8 = self.konst(Type::I8, 1);
+                let (lup, ldown, lneg) = (
+                    self.new_label("R"),
+                    self.new_label("R"),
+                    self.new_label("R"),
+                );
+                self.rrr(op::sub(ft), &[fr, x, d]);
+                self.rrr(Opcode::new(op::group::AND, 0x21), &[odd, ti, one8]);
+                self.rrr(op::cmp(op::group::GT, ft), &[c, fr, half]);
+                self.jnz(c, lup);
+                self.rrr(op::cmp(op::group::LT, ft), &[c, fr, mhalf]);
+                self.jnz(c, ldown);
+                self.rrr(op::cmp(op::group::EQ, ft), &[c, fr, half]);
+                self.jz(c, lneg);
+                self.jnz(odd, lup);
+                self.jmp(lend);
+                self.label(lneg);
+                self.rrr(op::cmp(op::group::EQ, ft), &[c, fr, mhalf]);
+                self.jz(c, lend);
+                self.jz(odd, lend);
+                self.label(ldown);
+                self.rrr(op::sub(ft), &[d, d, one]);
+                self.jmp(lend);
+                self.label(lup);
+                self.rrr(op::add(ft, 2), &[d, d, one]);
+            }
+        }
+        self.jmp(lend);
+        self.label(lcopy);
+        self.copy(d, x, n);
+        self.label(lend);
+        Ok(())
+    }
+
+    pub(super) fn binary(
+        &mut self,
+        bop: BinaryOp,
+        av: Value,
+        bv: Value,
+        v: Value,
+        span: Option<Span>,
+    ) -> Res<()> {
+        let t = self.vty(av);
+        let d = self.home(v);
+        let a = self.home(av);
+        let b = self.home(bv);
+        let n = self.size(t);
+        let u = int_ty(t, false);
+        let is_bool = t == Type::I1;
+        let logic = |g: u8, xor: bool| {
+            let code = logic_code(n, is_bool);
+            let code = if xor && code >= 3 { code + 1 } else { code };
+            Opcode::new(g, 0x20 | code)
+        };
+        let opcode = match bop {
+            BinaryOp::Iadd => op::add(u, 2),
+            BinaryOp::Isub => op::sub(u),
+            BinaryOp::Imul => op::mul(u, 2),
+            BinaryOp::Band => logic(op::group::AND, false),
+            BinaryOp::Bor => logic(op::group::OR, false),
+            BinaryOp::Bxor => logic(op::group::XOR, true),
+            BinaryOp::Fadd => op::add(float_ty(t), 2),
+            BinaryOp::Fsub => op::sub(float_ty(t)),
+            BinaryOp::Fmul => op::mul(float_ty(t), 2),
+            BinaryOp::Fdiv => op::div(float_ty(t)),
+            BinaryOp::Fpow => Opcode::new(op::group::MATH, if t == Type::F64 { 2 } else { 1 }),
+            BinaryOp::Fatan2 => return Err(self.unsupported("ATAN2", span)),
+            BinaryOp::Sdiv | BinaryOp::Srem | BinaryOp::Udiv | BinaryOp::Urem => {
+                return self.divide(bop, t, d, a, b, bv);
+            }
+            BinaryOp::Ishl | BinaryOp::Ushr | BinaryOp::Sshr | BinaryOp::Rotl | BinaryOp::Rotr => {
+                return self.shift(bop, t, d, a, b, bv);
+            }
+        };
+        self.rrr(opcode, &[d, a, b]);
+        Ok(())
+    }
+
+    /// Division and remainder with the IR's guards: by zero gives 0 and the fault
+    /// flag; `MIN / -1` wraps (the C VM would trap on both).
+    pub(super) fn divide(
+        &mut self,
+        bop: BinaryOp,
+        t: Type,
+        d: u32,
+        a: u32,
+        b: u32,
+        bv: Value,
+    ) -> Res<()> {
+        let signed = matches!(bop, BinaryOp::Sdiv | BinaryOp::Srem);
+        let rem = matches!(bop, BinaryOp::Srem | BinaryOp::Urem);
+        let ty = int_ty(t, signed);
+        let u = int_ty(t, false);
+        let n = self.size(t);
+        let opc = if rem { op::modulo(ty) } else { op::div(ty) };
+        let k = self.iconst(bv);
+        let wide = n >= 4 && signed;
+        if k == Some(0) {
+            self.fill(d, 0, n);
+            return self.raise_fault();
+        }
+        if let Some(k) = k {
+            if !(wide && k == -1) {
+                self.rrr(opc, &[d, a, b]);
+                return Ok(());
+            }
+        }
+        let lend = self.new_label("D");
+        let c = self.scratch(1)?;
+        let zero = self.konst(t, 0);
+        if k.is_none() {
+            let lok = self.new_label("D");
+            self.rrr(op::cmp(op::group::NE, u), &[c, b, zero]);
+            self.jnz(c, lok);
+            self.fill(d, 0, n);
+            self.raise_fault()?;
+            self.jmp(lend);
+            self.label(lok);
+        }
+        if wide {
+            let ldiv = self.new_label("D");
+            let m1 = self.konst(t, u64::MAX);
+            self.rrr(op::cmp(op::group::EQ, u), &[c, b, m1]);
+            self.jz(c, ldiv);
+            if rem {
+                self.fill(d, 0, n);
+            } else {
+                self.rrr(op::sub(u), &[d, zero, a]);
+            }
+            self.jmp(lend);
+            self.label(ldiv);
+        }
+        self.rrr(opc, &[d, a, b]);
+        self.label(lend);
+        Ok(())
+    }
+
+    /// Shifts and rotates with the IR's rules for counts of at least the width, and
+    /// the arithmetic right shift the VM lacks (through XOR with the sign mask).
+    pub(super) fn shift(
+        &mut self,
+        bop: BinaryOp,
+        t: Type,
+        d: u32,
+        a: u32,
+        cnt: u32,
+        cv: Value,
+    ) -> Res<()> {
+        let n = self.size(t);
+        let w = bits_of(t) as u64;
+        let code = logic_code(n, false);
+        let u = int_ty(t, false);
+        let kind = match bop {
+            BinaryOp::Ishl => 0x00,
+            BinaryOp::Ushr | BinaryOp::Sshr => 0x10,
+            BinaryOp::Rotl => 0x20,
+            _ => 0x30,
+        };
+        let opc = Opcode::new(op::group::SHIFT, kind | code);
+        let mask = if n >= 8 {
+            u64::MAX
+        } else {
+            (1u64 << (n * 8)) - 1
+        };
+        let k = self.iconst(cv).map(|k| k as u64 & mask);
+        match bop {
+            BinaryOp::Rotl | BinaryOp::Rotr => {
+                let c16 = match k {
+                    Some(k) => self.konst(Type::I16, k % w),
+                    None => {
+                        let m = self.scratch(n)?;
+                        let wm1 = self.konst(t, w - 1);
+                        self.rrr(Opcode::new(op::group::AND, 0x20 | code), &[m, cnt, wm1]);
+                        let c16 = self.scratch(2)?;
+                        self.resize(c16, 2, m, n);
+                        c16
+                    }
+                };
+                self.rrr(opc, &[d, a, c16]);
+            }
+            BinaryOp::Ishl | BinaryOp::Ushr => match k {
+                Some(k) if k < w => {
+                    let c16 = self.konst(Type::I16, k);
+                    self.rrr(opc, &[d, a, c16]);
+                }
+                Some(_) => self.fill(d, 0, n),
+                None => {
+                    let c = self.scratch(1)?;
+                    let wk = self.konst(t, w);
+                    let (lz, lend) = (self.new_label("S"), self.new_label("S"));
+                    self.rrr(op::cmp(op::group::LT, u), &[c, cnt, wk]);
+                    self.jz(c, lz);
+                    let c16 = self.scratch(2)?;
+                    self.resize(c16, 2, cnt, n);
+                    self.rrr(opc, &[d, a, c16]);
+                    self.jmp(lend);
+                    self.label(lz);
+                    self.fill(d, 0, n);
+                    self.label(lend);
+                }
+            },
+            _ => {
+                // sshr: x XOR s, shifted logically, XOR s again (s = all sign bits).
+                let s = self.scratch(n)?;
+                let neg = self.scratch(1)?;
+                let zero = self.konst(t, 0);
+                let ones = self.konst(t, u64::MAX);
+                self.rrr(op::cmp(op::group::LT, int_ty(t, true)), &[neg, a, zero]);
+                self.rrr(op::sel(u), &[s, neg, zero, ones]);
+                let c16 = match k {
+                    Some(k) => self.konst(Type::I16, k.min(w - 1)),
+                    None => {
+                        let c = self.scratch(1)?;
+                        let wk = self.konst(t, w);
+                        self.rrr(op::cmp(op::group::LT, u), &[c, cnt, wk]);
+                        let c16 = self.scratch(2)?;
+                        self.resize(c16, 2, cnt, n);
+                        let wm1 = self.konst(Type::I16, w - 1);
+                        self.rrr(op::sel(Ty::Int), &[c16, c, wm1, c16]);
+                        c16
+                    }
+                };
+                let x = self.scratch(n)?;
+                let xor = Opcode::new(
+                    op::group::XOR,
+                    0x20 | if code >= 3 { code + 1 } else { code },
+                );
+                self.rrr(xor, &[x, a, s]);
+                self.rrr(opc, &[x, x, c16]);
+                self.rrr(xor, &[d, x, s]);
+            }
+        }
+        Ok(())
+    }
+
+    /// Sign-extends `src` (type `from`) into `dst` (type `to`).
+    pub(super) fn sext(&mut self, dst: u32, to: Type, src: u32, from: Type) {
+        if from == Type::I16 && to == Type::I32 {
+            self.rrr(Opcode::new(op::group::CONV, 0x0C), &[dst, src]);
+            return;
+        }
+        let (dn, sn) = (self.size(to), self.size(from));
+        self.resize(dst, dn, src, sn);
+        let m = self.konst(to, 1u64 << (bits_of(from) - 1));
+        let u = int_ty(to, false);
+        let code = logic_code(dn, false);
+        let xor = Opcode::new(
+            op::group::XOR,
+            0x20 | if code >= 3 { code + 1 } else { code },
+        );
+        self.rrr(xor, &[dst, dst, m]);
+        self.rrr(op::sub(u), &[dst, dst, m]);
+    }
+
+    pub(super) fn convert(&mut self, cop: ConvOp, to: Type, arg: Value, v: Value) -> Res<()> {
+        let from = self.vty(arg);
+        let d = self.home(v);
+        let a = self.home(arg);
+        let (dn, sn) = (self.size(to), self.size(from));
+        let conv = |f: u8| Opcode::new(op::group::CONV, f);
+        match cop {
+            ConvOp::Sext => self.sext(d, to, a, from),
+            ConvOp::Uext => self.resize(d, dn, a, sn),
+            ConvOp::Itrunc if to == Type::I1 => {
+                let one = self.konst(Type::I8, 1);
+                self.rrr(Opcode::new(op::group::AND, 0x21), &[d, a, one]);
+            }
+            ConvOp::Itrunc | ConvOp::Bitcast => self.copy(d, a, dn),
+            ConvOp::Fpromote => self.rrr(conv(0x0D), &[d, a]),
+            ConvOp::Fdemote => self.rrr(conv(0x0E), &[d, a]),
+            ConvOp::SiToF | ConvOp::UiToF => {
+                let signed = cop == ConvOp::SiToF;
+                let wide = self.int_to_f64_or_direct(d, to, a, from, signed)?;
+                if let Some(t) = wide {
+                    // Only LINT_TO_LREAL takes 64 bits: a REAL result rounds twice.
+                    self.rrr(conv(0x0E), &[d, t]);
+                }
+            }
+            ConvOp::FToSi | ConvOp::FToUi => {
+                self.float_to_int(d, to, a, from, cop == ConvOp::FToSi)?
+            }
+        }
+        Ok(())
+    }
+
+    /// Integer to float. Writes `d` directly, or returns a scratch LREAL that still
+    /// has to be narrowed to REAL.
+    fn int_to_f64_or_direct(
+        &mut self,
+        d: u32,
+        to: Type,
+        a: u32,
+        from: Type,
+        signed: bool,
+    ) -> Res<Option<u32>> {
+        let conv = |f: u8| Opcode::new(op::group::CONV, f);
+        let sn = self.size(from);
+        if to == Type::F32 {
+            match (from, signed) {
+                (Type::I16, true) => {
+                    self.rrr(conv(0x00), &[d, a]);
+                    return Ok(None);
+                }
+                (Type::I8, true) => {
+                    let t = self.scratch(2)?;
+                    self.sext(t, Type::I16, a, from);
+                    self.rrr(conv(0x00), &[d, t]);
+                    return Ok(None);
+                }
+                (Type::I32, true) => {
+                    self.rrr(conv(0x01), &[d, a]);
+                    return Ok(None);
+                }
+                (Type::I32, false) => {
+                    self.rrr(conv(0x10), &[d, a]);
+                    return Ok(None);
+                }
+                (Type::I8 | Type::I16, false) => {
+                    let t = self.scratch(4)?;
+                    self.resize(t, 4, a, sn);
+                    self.rrr(conv(0x01), &[d, t]);
+                    return Ok(None);
+                }
+                _ => {}
+            }
+        }
+        let target = if to == Type::F32 { self.scratch(8)? } else { d };
+        let l = if from == Type::I64 && to == Type::F32 {
+            self.sticky_low_bits(a, signed)?
+        } else if from == Type::I64 {
+            a
+        } else {
+            let t = self.scratch(8)?;
+            if signed {
+                self.sext(t, Type::I64, a, from);
+            } else {
+                self.resize(t, 8, a, sn);
+            }
+            t
+        };
+        if signed || from != Type::I64 {
+            self.rrr(conv(0x0F), &[target, l]);
+        } else {
+            // ULINT: halve (keeping the low bit for rounding) when the top bit is set.
+            let c = self.scratch(1)?;
+            let zero = self.konst(Type::I64, 0);
+            let (lbig, lend) = (self.new_label("U"), self.new_label("U"));
+            self.rrr(op::cmp(op::group::LT, Ty::Lint), &[c, l, zero]);
+            self.jnz(c, lbig);
+            self.rrr(conv(0x0F), &[target, l]);
+            self.jmp(lend);
+            self.label(lbig);
+            let h = self.scratch(8)?;
+            let b = self.scratch(8)?;
+            let one16 = self.konst(Type::I16, 1);
+            let one = self.konst(Type::I64, 1);
+            self.rrr(Opcode::new(op::group::SHIFT, 0x14), &[h, l, one16]);
+            self.rrr(Opcode::new(op::group::AND, 0x24), &[b, l, one]);
+            self.rrr(Opcode::new(op::group::OR, 0x24), &[h, h, b]);
+            self.rrr(conv(0x0F), &[target, h]);
+            self.rrr(op::add(Ty::Lreal, 2), &[target, target, target]);
+            self.label(lend);
+        }
+        Ok(if to == Type::F32 { Some(target) } else { None })
+    }
+
+    /// For a 64-bit integer going to REAL through LREAL: where it has more than 53
+    /// significant bits, replaces its low 12 bits by one marker bit, so that the
+    /// LREAL is exact and the one rounding to REAL is the correct one.
+    pub(super) fn sticky_low_bits(&mut self, a: u32, signed: bool) -> Res<u32> {
+        let x = self.scratch(8)?;
+        self.copy(x, a, 8);
+        let c = self.scratch(1)?;
+        let (lbig, lend) = (self.new_label("K"), self.new_label("K"));
+        let t = if signed { Ty::Lint } else { Ty::Lword };
+        let hi = self.konst(Type::I64, 1u64 << 53);
+        self.rrr(op::cmp(op::group::GE, t), &[c, x, hi]);
+        self.jnz(c, lbig);
+        if signed {
+            let lo = self.konst(Type::I64, (-(1i64 << 53)) as u64);
+            self.rrr(op::cmp(op::group::LE, t), &[c, x, lo]);
+            self.jnz(c, lbig);
+        }
+        self.jmp(lend);
+        self.label(lbig);
+        let low = self.scratch(8)?;
+        let m = self.konst(Type::I64, 0xFFF);
+        let keep = self.konst(Type::I64, !0xFFFu64);
+        let zero = self.konst(Type::I64, 0);
+        let marker = self.konst(Type::I64, 0x800);
+        self.rrr(Opcode::new(op::group::AND, 0x24), &[low, x, m]);
+        self.rrr(Opcode::new(op::group::AND, 0x24), &[x, x, keep]);
+        self.rrr(op::cmp(op::group::NE, Ty::Lword), &[c, low, zero]);
+        self.jz(c, lend);
+        self.rrr(Opcode::new(op::group::OR, 0x24), &[x, x, marker]);
+        self.label(lend);
+        Ok(x)
+    }
+
+    /// Float to integer: toward zero, saturating, NaN gives 0 (the VM's conversions
+    /// are C casts, undefined out of range, so the range is checked first).
+    pub(super) fn float_to_int(
+        &mut self,
+        d: u32,
+        to: Type,
+        x: u32,
+        from: Type,
+        signed: bool,
+    ) -> Res<()> {
+        let ft = float_ty(from);
+        let dn = self.size(to);
+        let w = bits_of(to);
+        let (lo, hi) = if signed {
+            (-(2f64.powi(w as i32 - 1)), 2f64.powi(w as i32 - 1))
+        } else {
+            (0.0, 2f64.powi(w as i32))
+        };
+        let (min, max): (u64, u64) = if signed {
+            (1u64 << (w - 1), (1u64 << (w - 1)) - 1)
+        } else {
+            (0, if w == 64 { u64::MAX } else { (1u64 << w) - 1 })
+        };
+        let c = self.scratch(1)?;
+        let (lzero, lmax, lmin, lend) = (
+            self.new_label("F"),
+            self.new_label("F"),
+            self.new_label("F"),
+            self.new_label("F"),
+        );
+        self.rrr(op::cmp(op::group::NE, ft), &[c, x, x]);
+        self.jnz(c, lzero);
+        let hk = self.konst(from, fbits(from, hi));
+        self.rrr(op::cmp(op::group::GE, ft), &[c, x, hk]);
+        self.jnz(c, lmax);
+        let lk = self.konst(from, fbits(from, lo));
+        self.rrr(op::cmp(op::group::LE, ft), &[c, x, lk]);
+        self.jnz(c, lmin);
+        // In range: truncate.
+        let trunc_real = Opcode::new(op::group::MATH, 0x34);
+        let trunc_lreal = Opcode::new(op::group::MATH, 0x35);
+        if from == Type::F32 && w <= 32 && (signed || w < 32) {
+            let t = self.scratch(4)?;
+            self.rrr(trunc_real, &[t, x]);
+            self.copy(d, t, dn);
+        } else if from == Type::F32 && w == 32 {
+            self.rrr(Opcode::new(op::group::CONV, 0x11), &[d, x]);
+        } else {
+            let xl = if from == Type::F32 {
+                let xl = self.scratch(8)?;
+                self.rrr(Opcode::new(op::group::CONV, 0x0D), &[xl, x]);
+                xl
+            } else {
+                x
+            };
+            let t = self.scratch(8)?;
+            if !signed && w == 64 {
+                // At or above 2^63: subtract it, truncate, and put the top bit back.
+                let (lsmall, ldone) = (self.new_label("F"), self.new_label("F"));
+                let two63 = self.konst(Type::F64, fbits(Type::F64, 9223372036854775808.0));
+                self.rrr(op::cmp(op::group::LT, Ty::Lreal), &[c, xl, two63]);
+                self.jnz(c, lsmall);
+                let y = self.scratch(8)?;
+                self.rrr(op::sub(Ty::Lreal), &[y, xl, two63]);
+                self.rrr(trunc_lreal, &[t, y]);
+                let top = self.konst(Type::I64, 1u64 << 63);
+                self.rrr(op::add(Ty::Lword, 2), &[t, t, top]);
+                self.jmp(ldone);
+                self.label(lsmall);
+                self.rrr(trunc_lreal, &[t, xl]);
+                self.label(ldone);
+            } else {
+                self.rrr(trunc_lreal, &[t, xl]);
+            }
+            self.copy(d, t, dn);
+        }
+        self.jmp(lend);
+        self.label(lmax);
+        self.mcd(d, max.to_le_bytes()[..dn as usize].to_vec());
+        self.jmp(lend);
+        self.label(lmin);
+        self.mcd(d, min.to_le_bytes()[..dn as usize].to_vec());
+        self.jmp(lend);
+        self.label(lzero);
+        self.fill(d, 0, dn);
+        self.label(lend);
+        Ok(())
+    }
+}
