@@ -27,8 +27,9 @@ use rustc_hash::FxHashMap;
 pub struct Settings {
     /// The addressing mode (`mode=16|32|32a`).
     pub mode: Mode,
-    /// The task cycle written to the DCP, in ms (`cycle=…`).
-    pub cycle_ms: u32,
+    /// The task cycle written to the DCP, in ms (`cycle=…`; else the shortest
+    /// interval of the programs' tasks, else 100 ms).
+    pub cycle_ms: Option<u32>,
 }
 
 impl Settings {
@@ -36,7 +37,7 @@ impl Settings {
     pub fn from_options(options: &Options) -> Result<Settings, Box<Diagnostic>> {
         let mut s = Settings {
             mode: Mode::M16,
-            cycle_ms: 100,
+            cycle_ms: None,
         };
         for (k, v) in &options.settings {
             match k.to_ascii_lowercase().as_str() {
@@ -49,12 +50,12 @@ impl Settings {
                     })?
                 }
                 "cycle" => {
-                    s.cycle_ms = v.parse().ok().filter(|&c| c > 0).ok_or_else(|| {
+                    s.cycle_ms = Some(v.parse().ok().filter(|&c| c > 0).ok_or_else(|| {
                         Box::new(Diagnostic::error_nowhere(
                             codes::E_BAD_SETTING,
                             format!("vmasm: `cycle` must be a positive number of ms, not `{v}`"),
                         ))
-                    })?
+                    })?)
                 }
                 _ => {
                     return Err(Box::new(Diagnostic::error_nowhere(

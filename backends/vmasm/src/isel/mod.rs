@@ -1043,16 +1043,26 @@ impl Fx<'_, '_> {
                     self.rrr(op::mul(Ty::Lword, 2), &[d, t, k]);
                 }
                 Intrinsic::RaiseFault => self.raise_fault()?,
+                // plcc's VM stops a runaway scan itself; the program never asks, and
+                // branches on the answer go straight on (see Brif).
                 Intrinsic::StopRequested => {
-                    // plcc's VM stops a runaway scan itself; the program never asks.
-                    let d = self.home(res.expect("result"));
-                    self.mcd(d, vec![0]);
+                    let v = res.expect("result");
+                    let zero = self.konst(Type::I1, 0);
+                    self.homes[v.index()] = Some(zero);
                 }
             },
             InstData::Jump { dest } => {
                 self.edge(&dest)?;
                 if Some(dest.block) != next {
                     self.jmp(self.block_labels[dest.block.index()]);
+                }
+            }
+            InstData::Brif {
+                else_dest, cond, ..
+            } if self.is_stop_request(cond) => {
+                self.edge(&else_dest)?;
+                if Some(else_dest.block) != next {
+                    self.jmp(self.block_labels[else_dest.block.index()]);
                 }
             }
             InstData::Brif {
@@ -1108,6 +1118,17 @@ impl Fx<'_, '_> {
             }
         }
         Ok(())
+    }
+
+    /// True for the result of `stop_requested`, which is always FALSE here.
+    fn is_stop_request(&self, v: Value) -> bool {
+        matches!(
+            self.f.value_def(v),
+            ValueDef::Result(i) if matches!(
+                self.f.inst(i),
+                InstData::Intrinsic { op: Intrinsic::StopRequested, .. }
+            )
+        )
     }
 
     fn has_copies(&mut self, bc: &BlockCall) -> bool {
