@@ -185,3 +185,88 @@ fn bad_settings_and_images_are_errors() {
     let out = plcc(&["disasm", dir.join("missing.xcp").to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn data_beyond_16_bit_addresses_is_e9102_and_fits_in_32_bit_mode() {
+    let dir = scratch_dir("big");
+    let src = dir.join("big.st");
+    std::fs::write(
+        &src,
+        "PROGRAM big\nVAR a : ARRAY[0..40000] OF DINT; i : DINT; END_VAR\n\
+         FOR i := 0 TO 40000 DO a[i] := i; END_FOR;\nEND_PROGRAM\n",
+    )
+    .unwrap();
+    let out_path = dir.join("big.xcp");
+    let out = plcc(&[
+        "--target",
+        "vmasm",
+        src.to_str().unwrap(),
+        "-o",
+        out_path.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("E9102") && err.contains("bytes of data memory"),
+        "{err}"
+    );
+    assert!(!out_path.exists(), "no output from a failed build");
+    let out = plcc(&[
+        "--target",
+        "vmasm",
+        "-s",
+        "mode=32",
+        src.to_str().unwrap(),
+        "-o",
+        out_path.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let run = plcc(&[
+        "run",
+        "--target",
+        "vmasm",
+        "-s",
+        "mode=32",
+        src.to_str().unwrap(),
+    ]);
+    let text = String::from_utf8_lossy(&run.stdout);
+    assert!(text.contains("a[40000] = 40000"), "{text}");
+}
+
+#[test]
+fn an_operation_without_vm_instructions_is_e9101_at_its_source() {
+    let text = r#"
+file 0 "t.st"
+struct %main program {
+    var x: f32 REAL
+}
+data @main: %main program
+func @main(ptr) program {
+block0(v0: ptr):
+    v1 = field_addr v0, %main.x
+    v2 = load.f32 v1
+    v3 = fatan2 v2, v2   !0:10..20
+    store v3, v1
+    return
+}
+func @main$init(ptr) init {
+block0(v0: ptr):
+    v1 = field_addr v0, %main.x
+    v2 = fconst.f32 1.0
+    store v2, v1
+    return
+}
+program "main" data @main body @main init @main$init
+"#;
+    let module = plcc_ir::text::parse_module(text).expect("IR text");
+    let err = plcc_vmasm::VmasmBackend::new()
+        .compile(&module, &Options::default())
+        .expect_err("no VM instruction for ATAN2");
+    assert_eq!(err[0].code, "E9101");
+    assert!(err[0].message.contains("ATAN2"));
+    assert!(err[0].span.is_some(), "the error points at the operation");
+}

@@ -524,9 +524,11 @@ impl<'a, 'p> Fx<'a, 'p> {
                     let whole = self.uses[v.index()]
                         .iter()
                         .all(|&(_, k)| k == UseKind::Addr);
+                    // The A?RD/A?WR index is an INT: longer arrays go through pointers.
+                    let short = arr.len <= 1 << 15;
                     match bc {
                         PtrClass::Rel(b)
-                            if elem_scalar && whole && [1, 2, 4, 8].contains(&stride) =>
+                            if elem_scalar && whole && short && [1, 2, 4, 8].contains(&stride) =>
                         {
                             PtrClass::Idx {
                                 base: b,
