@@ -51,20 +51,29 @@ pub fn run(func: &mut Function) -> bool {
             stack.pop();
         }
     }
-    if changed {
-        let resolve = |v: Value, r: &Vec<Option<Value>>| {
-            let mut v = v;
-            while let Some(Some(n)) = r.get(v.index()) {
-                v = *n;
-            }
-            v
-        };
-        let live: Vec<_> = func.inst_iter().map(|(_, i)| i).collect();
-        for i in live {
-            func.inst_mut(i).map_args(|v| resolve(v, &replace));
-        }
+    if !changed {
+        return false;
     }
-    changed
+    // A repeat whose result nothing uses changes nothing (a division, which may fault,
+    // stays even when its result is unused): report only rewritten operands, so that
+    // optimising again finds nothing to do.
+    let resolve = |v: Value, r: &Vec<Option<Value>>| {
+        let mut v = v;
+        while let Some(Some(n)) = r.get(v.index()) {
+            v = *n;
+        }
+        v
+    };
+    let mut rewritten = false;
+    let live: Vec<_> = func.inst_iter().map(|(_, i)| i).collect();
+    for i in live {
+        func.inst_mut(i).map_args(|v| {
+            let n = resolve(v, &replace);
+            rewritten |= n != v;
+            n
+        });
+    }
+    rewritten
 }
 
 /// Numbers the instructions of one block; returns the keys it added to the table.
