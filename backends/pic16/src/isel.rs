@@ -787,7 +787,9 @@ impl<'a> Emitter<'a> {
         };
         match op {
             BinaryOp::Iadd => {
-                let (x, y) = if matches!(a, Loc::Lit(_)) {
+                // The second operand may be the destination itself (`v := k * w + v`,
+                // with v used in place): adding into it leaves it unread by the copy.
+                let (x, y) = if matches!(a, Loc::Lit(_)) || b == Loc::Mem(d) {
                     (b, a)
                 } else {
                     (a, b)
