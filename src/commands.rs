@@ -139,6 +139,64 @@ pub fn disasm(xcp: &Path, mode: Option<&str>, dcp: Option<&Path>) -> u8 {
     }
 }
 
+/// `plcc difftest`: random programs on every machine (see [`crate::difftest`]).
+/// Prints a line per finding and a summary; writes each shrunk reproducer to `out`
+/// when given. Exit status 1 when anything disagreed or was rejected.
+pub fn difftest(
+    first: u64,
+    count: u64,
+    machines: &str,
+    scans: u32,
+    out: Option<&Path>,
+    show: bool,
+) -> u8 {
+    let machines: Vec<&str> = machines.split(',').map(str::trim).collect();
+    for m in &machines {
+        match targets::find(m) {
+            Some(t) if t.runs => {}
+            _ => return usage(format!("`{m}` is not a target that runs programs")),
+        }
+    }
+    if let Some(dir) = out {
+        if let Err(e) = std::fs::create_dir_all(dir) {
+            return usage(format!("cannot create {}: {e}", dir.display()));
+        }
+    }
+    let started = std::time::Instant::now();
+    let mut findings = 0;
+    for seed in first..first.saturating_add(count) {
+        if show {
+            let p = crate::difftest::program(seed);
+            let v = crate::difftest::check(&p, &machines, scans, seed);
+            println!("(* seed {seed}: {v:?} *)\n{}", p.to_st());
+        }
+        let Some(f) = crate::difftest::run_seed(seed, &machines, scans) else {
+            continue;
+        };
+        findings += 1;
+        println!("seed {seed}: {:?}", f.verdict);
+        if let Some(dir) = out {
+            let p = dir.join(format!("difftest_{seed}.st"));
+            if let Err(e) = output::write_atomic(&p, f.reproducer.as_bytes()) {
+                return usage(format!("cannot write {}: {e}", p.display()));
+            }
+            println!("  reproducer: {}", p.display());
+        } else {
+            println!("{}", f.reproducer);
+        }
+    }
+    println!(
+        "{count} programs from seed {first} on {}: {findings} findings ({:.1} s)",
+        machines.join(", "),
+        started.elapsed().as_secs_f64()
+    );
+    if findings == 0 {
+        0
+    } else {
+        EXIT_FAIL
+    }
+}
+
 /// `plcc explain CODE`, or the list of codes without one.
 pub fn explain(code: Option<&str>) -> u8 {
     let Some(code) = code else {

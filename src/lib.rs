@@ -6,6 +6,7 @@
 //! end-to-end tests can drive builds and scenarios in-process.
 
 pub mod commands;
+pub mod difftest;
 pub mod driver;
 pub mod output;
 pub mod render;

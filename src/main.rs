@@ -112,6 +112,27 @@ enum Command {
         #[command(flatten)]
         common: Common,
     },
+    /// Run random programs on several machines and compare every variable after every scan
+    Difftest {
+        /// The first seed
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// How many programs (seeds seed, seed+1, ...)
+        #[arg(long, default_value_t = 100)]
+        count: u64,
+        /// The machines, the reference first
+        #[arg(long, default_value = "interp,host,vmasm,pic16f876a")]
+        targets: String,
+        /// Scans per program
+        #[arg(long, default_value_t = 5)]
+        scans: u32,
+        /// Where to write the shrunk reproducers
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Print every program and its verdict
+        #[arg(long)]
+        show: bool,
+    },
     /// Print the VMASM listing of a CPDev code image (.xcp)
     Disasm {
         /// The code image
@@ -167,6 +188,14 @@ fn main() -> ExitCode {
         }),
         Some(Command::Check { common }) => commands::check(&common.files, common.lang.as_deref()),
         Some(Command::Explain { code }) => commands::explain(code.as_deref()),
+        Some(Command::Difftest {
+            seed,
+            count,
+            targets,
+            scans,
+            out,
+            show,
+        }) => commands::difftest(seed, count, &targets, scans, out.as_deref(), show),
         Some(Command::Disasm { xcp, mode, dcp }) => {
             commands::disasm(&xcp, mode.as_deref(), dcp.as_deref())
         }

@@ -1,0 +1,200 @@
+//! Differential testing: random well-typed programs ([`gen`]) are compiled once and
+//! run scan by scan on every machine, with random inputs between scans; every variable
+//! and the fault flag must be the same on all of them after cold start and after
+//! every scan. A mismatch is shrunk ([`shrink`]) to a small reproducer.
+//!
+//! `plcc difftest` runs campaigns; `tests/difftest.rs` runs a fixed-seed batch.
+
+pub mod gen;
+pub mod shrink;
+
+use crate::driver::{build_sources, BuildOptions};
+use crate::targets;
+use gen::{Gen, Prog, Rng, T};
+use plcc_ir::machine::Machine;
+use plcc_ir::value::PlcValue;
+use plcc_ir::{ElemType, Module};
+
+/// What running one program on every machine showed.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Verdict {
+    /// Every machine agreed on every variable after every scan.
+    Agree {
+        /// Machines that ran it (some may not fit the program).
+        machines: usize,
+    },
+    /// Two machines disagreed; the text says where.
+    Mismatch(String),
+    /// The front end rejected the program: a bug of the generator.
+    Rejected(String),
+}
+
+/// Backend codes that mean "this program does not fit the target".
+const UNFIT: [&str; 6] = ["E9001", "E9002", "E9003", "E9004", "E9101", "E9102"];
+
+fn compile(p: &Prog) -> Result<Module, String> {
+    let b = build_sources(
+        vec![("difftest.st".into(), p.to_st().into_bytes())],
+        &BuildOptions::default(),
+    )
+    .map_err(|e| e.0)?;
+    b.module.ok_or_else(|| {
+        b.diagnostics
+            .iter()
+            .filter(|d| d.is_error())
+            .take(3)
+            .map(|d| d.to_string())
+            .collect::<Vec<_>>()
+            .join("; ")
+    })
+}
+
+/// Two values are the same: bit for bit, except that any two NaNs are equal.
+fn same(a: PlcValue, b: PlcValue) -> bool {
+    match a.ty {
+        ElemType::Real | ElemType::LReal if a.as_f64().is_nan() => b.as_f64().is_nan(),
+        _ => a.ty == b.ty && a.bits == b.bits,
+    }
+}
+
+fn random_value(rng: &mut Rng, t: T) -> u64 {
+    match t {
+        T::Bool => rng.below(2),
+        T::Real => match rng.below(4) {
+            0 => 0,
+            1 => (rng.below(20000) as f32 / 8.0 - 1000.0).to_bits() as u64,
+            _ => rng.next() & 0xFFFF_FFFF,
+        },
+        T::Lreal => (rng.below(2_000_000) as f64 / 16.0 - 50_000.0).to_bits(),
+        _ => match rng.below(3) {
+            0 => rng.below(10),
+            _ => rng.next(),
+        },
+    }
+}
+
+/// Runs `p` on `machines` (the first is the reference) for `scans` scans.
+pub fn check(p: &Prog, machines: &[&str], scans: u32, seed: u64) -> Verdict {
+    let module = match compile(p) {
+        Ok(m) => m,
+        Err(e) => return Verdict::Rejected(e),
+    };
+    let Some(entry) = module.program("main") else {
+        return Verdict::Rejected("no program main".into());
+    };
+    let vars = plcc_ir::vars::variables(&module, entry.data);
+    let mut ms: Vec<(String, Box<dyn Machine>)> = Vec::new();
+    for &name in machines {
+        match targets::machine(name, &module) {
+            Ok(m) => ms.push((name.to_string(), m)),
+            Err(d) if d.iter().any(|x| UNFIT.contains(&x.code)) => {}
+            Err(d) => {
+                return Verdict::Mismatch(format!(
+                    "{name} cannot build it: {}",
+                    d.iter()
+                        .map(|x| x.to_string())
+                        .collect::<Vec<_>>()
+                        .join("; ")
+                ))
+            }
+        }
+    }
+    let compare = |ms: &[(String, Box<dyn Machine>)], when: &str| -> Result<(), String> {
+        let (rname, r) = &ms[0];
+        for (name, m) in &ms[1..] {
+            for v in &vars {
+                let a = r.read(&v.path).map_err(|e| format!("{rname}: {e}"))?;
+                let b = m.read(&v.path).map_err(|e| format!("{name}: {e}"))?;
+                if !same(a, b) {
+                    return Err(format!(
+                        "{when}: {} is {a} on {rname}, {b} on {name}",
+                        v.path
+                    ));
+                }
+            }
+            if r.fault() != m.fault() {
+                return Err(format!(
+                    "{when}: the fault flag is {} on {rname}, {} on {name}",
+                    r.fault(),
+                    m.fault()
+                ));
+            }
+        }
+        Ok(())
+    };
+    for (name, m) in ms.iter_mut() {
+        if let Err(e) = m.cold_start() {
+            return Verdict::Mismatch(format!("{name}: cold start: {e}"));
+        }
+    }
+    if let Err(e) = compare(&ms, "after cold start") {
+        return Verdict::Mismatch(e);
+    }
+    let mut rng = Rng::new(seed ^ 0x5EED_1A7A);
+    for s in 0..scans {
+        for (name, t) in &p.inputs {
+            let bits = random_value(&mut rng, *t);
+            let path = format!("main.{name}");
+            for (_, m) in ms.iter_mut() {
+                let Ok(cur) = m.read(&path) else { continue };
+                let _ = m.write(&path, PlcValue::from_bits(cur.ty, bits));
+            }
+        }
+        for (name, m) in ms.iter_mut() {
+            m.set_clock_us(s as i64 * 10_000);
+            if let Err(e) = m.scan() {
+                return Verdict::Mismatch(format!("scan {s}: {name} failed: {e}"));
+            }
+        }
+        if let Err(e) = compare(&ms, &format!("after scan {s}")) {
+            return Verdict::Mismatch(e);
+        }
+    }
+    Verdict::Agree { machines: ms.len() }
+}
+
+/// The program of a seed.
+pub fn program(seed: u64) -> Prog {
+    let mut rng = Rng::new(seed);
+    Gen::new(&mut rng).program()
+}
+
+/// The result of one seed of a campaign.
+#[derive(Clone, Debug)]
+pub struct Finding {
+    /// The seed.
+    pub seed: u64,
+    /// What was wrong.
+    pub verdict: Verdict,
+    /// The shrunk reproducer (ST text).
+    pub reproducer: String,
+}
+
+/// Checks seed `seed`; on a mismatch or a rejected program, shrinks it.
+pub fn run_seed(seed: u64, machines: &[&str], scans: u32) -> Option<Finding> {
+    let p = program(seed);
+    let verdict = check(&p, machines, scans, seed);
+    let bad = |v: &Verdict| !matches!(v, Verdict::Agree { .. });
+    if !bad(&verdict) {
+        return None;
+    }
+    let mismatch = matches!(verdict, Verdict::Mismatch(_));
+    let small = shrink::shrink(
+        &p,
+        &mut |q| {
+            let v = check(q, machines, scans, seed);
+            if mismatch {
+                matches!(v, Verdict::Mismatch(_))
+            } else {
+                matches!(v, Verdict::Rejected(_))
+            }
+        },
+        2000,
+    );
+    let verdict = check(&small, machines, scans, seed);
+    Some(Finding {
+        seed,
+        verdict,
+        reproducer: small.to_st(),
+    })
+}
