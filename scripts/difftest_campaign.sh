@@ -1,0 +1,32 @@
+#!/bin/sh
+# A long differential-testing campaign: `plcc difftest` over COUNT seeds from FIRST,
+# in JOBS parallel slices, on interp, host, vmasm and pic16f876a. Reproducers of any
+# finding go to OUT; each slice's summary line goes to OUT/log.txt.
+#
+#   scripts/difftest_campaign.sh [FIRST] [COUNT] [JOBS] [OUT]
+#   scripts/difftest_campaign.sh 1 100000 2 difftest-out
+set -eu
+first=${1:-1}
+count=${2:-10000}
+jobs=${3:-2}
+out=${4:-difftest-out}
+cd "$(dirname "$0")/.."
+cargo build --release --quiet
+mkdir -p "$out"
+per=$(( (count + jobs - 1) / jobs ))
+i=0
+while [ "$i" -lt "$jobs" ]; do
+    start=$(( first + i * per ))
+    n=$per
+    if [ $(( start + n )) -gt $(( first + count )) ]; then n=$(( first + count - start )); fi
+    ./target/release/plcc difftest --seed "$start" --count "$n" --out "$out" \
+        > "$out/slice_$i.txt" 2>&1 &
+    i=$(( i + 1 ))
+done
+wait
+status=0
+for f in "$out"/slice_*.txt; do
+    tail -n 1 "$f" | tee -a "$out/log.txt"
+    if grep -q '^seed ' "$f"; then status=1; grep '^seed ' "$f"; fi
+done
+exit $status
