@@ -236,6 +236,10 @@ bad! {
     name_fb_internal_var,
     name_unknown_parameter,
     name_assign_to_function,
+    name_struct_no_field,
+    name_type_contains_itself,
+    name_type_duplicate,
+    name_enum_unknown_value,
     // types
     type_int_from_dint,
     type_bool_arithmetic,
@@ -256,6 +260,14 @@ bad! {
     type_for_bad_header_body,
     type_scalar_to_array,
     type_int_literal_to_time,
+    type_struct_compare,
+    type_struct_mismatch,
+    type_enum_mismatch,
+    type_enum_ambiguous,
+    type_enum_shadowed_value,
+    type_enum_case_label,
+    type_enum_value_out_of_range,
+    type_subrange_out_of_range,
     // calls
     call_limit_too_many,
     call_limit_too_few,
@@ -275,7 +287,7 @@ bad! {
     write_recursion_mutual,
     // not supported yet
     unsup_string,
-    unsup_struct,
+    unsup_struct_copy_fb,
     unsup_var_global_in_pou,
     unsup_configuration,
     // warnings

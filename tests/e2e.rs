@@ -147,6 +147,25 @@
 //!   index types: arrays/array_index_types; arrays as VAR_IN_OUT: arrays/array_inout,
 //!   apps/sort_readings, apps/crc8, apps/seven_segment
 //!
+//! User types (TYPE ... END_TYPE)
+//! - STRUCT: field initial values, variable initialisers (partial, nested), member
+//!   chains, a STRUCT written in place, a type declared after its use:
+//!   types/struct_basic; arrays of STRUCTs and STRUCTs of arrays, their initialisers,
+//!   `a.b[i].c`, out of bounds: types/struct_arrays; whole STRUCT and array
+//!   assignment: types/struct_assign; STRUCTs and arrays as FUNCTION inputs (copied,
+//!   defaults), outputs, in-outs and results: types/struct_function; in FBs (inputs,
+//!   outputs, in-outs) and STRUCTs holding FB instances: types/struct_fb; global
+//!   STRUCTs, enumerations and subranges, VAR_EXTERNAL: types/struct_global
+//! - enumerations: defaults, explicit values, qualified and unqualified values, one
+//!   name in two enumerations, `=` and `<>`, constants, FUNCTION input and result:
+//!   types/enum_basic; CASE over them (lists, ranges, ELSE), a state machine in an
+//!   FB: types/enum_case; typed enumerations (DINT, BYTE, INT), SEL, MOVE, EQ, NE:
+//!   types/enum_typed
+//! - aliases with initial values, aliases of aliases, typed literals of an alias,
+//!   arrays of an alias, subranges, a named array type: types/alias_subrange
+//! - in IL: member chains, enumeration values as operands, a whole STRUCT by LD/ST:
+//!   ../il/tank_states
+//!
 //! Bit access `w.3`: bits/bit_access, bits/status_word, apps/crc8 (`c.7`),
 //! apps/reject_tracking
 //!

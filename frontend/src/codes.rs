@@ -140,9 +140,11 @@ codes! {
     E_NOT_CONSTANT = "E0206", "not a constant expression",
         "Array bounds, CASE labels, repetition counts, initial values and CONSTANT values must be computable at compile time from literals and constants.\n\n    VAR CONSTANT n : INT := x; END_VAR   (* x is a variable *)";
     E_NO_MEMBER = "E0207", "no such member or parameter",
-        "A member access or named argument names something the function block or function does not have, or an internal variable that is not visible from outside.\n\n    t(IN := x, TIME := T#1s);   (* TON's preset is PT *)";
-    E_CONTAINS_ITSELF = "E0209", "function block contains itself",
-        "A FUNCTION_BLOCK has an instance of itself among its variables, directly or through other function blocks; its instances would be infinitely large. The message shows the chain.\n\n    FUNCTION_BLOCK A VAR b : B; END_VAR END_FUNCTION_BLOCK\n    FUNCTION_BLOCK B VAR a : A; END_VAR END_FUNCTION_BLOCK";
+        "A member access or named argument names something the function block, STRUCT or function does not have, an internal variable that is not visible from outside, or a value its enumeration does not have (`Color#Purple`).\n\n    t(IN := x, TIME := T#1s);   (* TON's preset is PT *)";
+    E_CONTAINS_ITSELF = "E0209", "function block or type contains itself",
+        "A FUNCTION_BLOCK has an instance of itself among its variables, or a STRUCT a field of its own type, directly or through other function blocks, STRUCTs and arrays; a value of it would be infinitely large. The message shows the chain.\n\n    FUNCTION_BLOCK A VAR b : B; END_VAR END_FUNCTION_BLOCK\n    FUNCTION_BLOCK B VAR a : A; END_VAR END_FUNCTION_BLOCK";
+    E_AMBIGUOUS = "E0210", "ambiguous enumeration value",
+        "Several enumeration types have a value of this name, and the context does not say which one is meant (a variable or parameter of one of the types, the other operand of `=`, a CASE selector). Qualify the value with its type.\n\n    TYPE Color : (Red, Green); Light : (Red, Yellow); END_TYPE\n    ok := x = Red;         (* error if x is not of either type *)\n    c := Color#Red;        (* fine *)";
     E_NO_PROGRAM = "E0208", "no such PROGRAM",
         "The PROGRAM asked for on the command line or in a scenario (`program = NAME`) is not declared in the given files.";
 
@@ -150,7 +152,7 @@ codes! {
     E_TYPE_MISMATCH = "E0301", "type mismatch",
         "A value of one type is used where another is needed and IEC 61131-3 does not convert it implicitly (only widening conversions are implicit: INT to DINT, REAL to LREAL, ...).\n\n    VAR i : INT; d : DINT; END_VAR\n    i := d;              (* error: narrowing *)\n    i := DINT_TO_INT(d); (* explicit conversion: fine *)";
     E_LITERAL_RANGE = "E0302", "literal out of range",
-        "A literal does not fit the type it is given.\n\n    VAR s : SINT; END_VAR\n    s := 200;   (* SINT holds -128..127 *)";
+        "A literal or constant does not fit the type it is given: an elementary type, a subrange (`INT (0..100)`) or the base type of an enumeration.\n\n    VAR s : SINT; p : INT (0..100); END_VAR\n    s := 200;   (* SINT holds -128..127 *)\n    p := 150;   (* the subrange holds 0..100 *)";
     E_BAD_INDEX = "E0303", "invalid index or bit access",
         "An array is indexed with the wrong number of indexes or a non-integer, something that is not an array is indexed, or a bit number is out of the word.\n\n    VAR a : ARRAY[1..3] OF INT; w : WORD; END_VAR\n    a[1, 2] := 0;   (* one dimension *)\n    w.16 := TRUE;   (* bits 0..15 *)";
     E_BAD_CASE_LABEL = "E0304", "invalid CASE label",

@@ -11,6 +11,21 @@ pub struct PouId(pub u32);
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ArrayId(pub u32);
 
+/// Identifies a STRUCT type (named by a TYPE declaration, or written in place).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct StructId(pub u32);
+
+/// Identifies an enumeration type.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct EnumId(pub u32);
+
+/// Identifies what a derived type adds to the type it is based on: its name, its
+/// initial value, a subrange's bounds. Values keep the base type ([`Ty`]), so they mix
+/// freely with it; declarations carry the tag, so variables get the derived type's
+/// initial value and constants assigned to them are checked against its range.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct TagId(pub u32);
+
 /// The type of an expression or variable.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
 pub enum Ty {
@@ -20,6 +35,10 @@ pub enum Ty {
     Fb(PouId),
     /// An array.
     Array(ArrayId),
+    /// A STRUCT (types are equal by declaration, not by shape).
+    Struct(StructId),
+    /// An enumeration, held as an integer of the base type (INT unless typed).
+    Enum(EnumId, ElemType),
     /// An integer literal not yet given a type by its context.
     AnyInt,
     /// A real literal not yet given a type by its context.
@@ -50,7 +69,7 @@ impl Ty {
     /// The IR type of a value of this type (`None` for aggregates and void).
     pub fn ir(self) -> Option<Type> {
         match self {
-            Ty::Elem(e) => Some(e.ir_type()),
+            Ty::Elem(e) | Ty::Enum(_, e) => Some(e.ir_type()),
             Ty::AnyInt => Some(Type::I64),
             Ty::AnyReal => Some(Type::F64),
             _ => None,
@@ -90,6 +109,12 @@ impl Ty {
     pub fn is_literal(self) -> bool {
         matches!(self, Ty::AnyInt | Ty::AnyReal)
     }
+
+    /// STRUCTs and arrays: values that live in memory and are copied element by
+    /// element (passed by address to FUNCTIONs).
+    pub fn is_aggregate(self) -> bool {
+        matches!(self, Ty::Struct(_) | Ty::Array(_))
+    }
 }
 
 /// An array type: element type and bounds per dimension.
@@ -99,6 +124,9 @@ pub struct ArrayTy {
     pub elem: Ty,
     /// Inclusive `(lower, upper)` bounds of each dimension.
     pub dims: Vec<(i64, i64)>,
+    /// The derived type of the elements (`ARRAY[..] OF Celsius`), whose initial value
+    /// they get.
+    pub elem_tag: Option<TagId>,
 }
 
 impl ArrayTy {

@@ -16,7 +16,7 @@ impl Rng {
     }
 
     /// The next 64 random bits.
-    pub fn next(&mut self) -> u64 {
+    pub fn next_u64(&mut self) -> u64 {
         let mut x = self.0;
         x ^= x >> 12;
         x ^= x << 25;
@@ -27,7 +27,7 @@ impl Rng {
 
     /// A number in `0..n` (`n > 0`).
     pub fn below(&mut self, n: u64) -> u64 {
-        self.next() % n.max(1)
+        self.next_u64() % n.max(1)
     }
 
     /// True with probability `p` percent.
@@ -257,7 +257,7 @@ fn lit(rng: &mut Rng, t: T) -> Expr {
                 2 => u64::MAX,
                 3 => rng.below(100),
                 4 => 1u64 << (bits - 1),
-                _ => rng.next(),
+                _ => rng.next_u64(),
             };
             let masked = if bits == 64 {
                 raw

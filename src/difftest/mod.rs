@@ -63,12 +63,12 @@ fn random_value(rng: &mut Rng, t: T) -> u64 {
         T::Real => match rng.below(4) {
             0 => 0,
             1 => (rng.below(20000) as f32 / 8.0 - 1000.0).to_bits() as u64,
-            _ => rng.next() & 0xFFFF_FFFF,
+            _ => rng.next_u64() & 0xFFFF_FFFF,
         },
         T::Lreal => (rng.below(2_000_000) as f64 / 16.0 - 50_000.0).to_bits(),
         _ => match rng.below(3) {
             0 => rng.below(10),
-            _ => rng.next(),
+            _ => rng.next_u64(),
         },
     }
 }

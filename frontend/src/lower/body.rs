@@ -2,10 +2,11 @@
 //! lives, and the context shared by statements and expressions.
 
 use super::consts::ConstVal;
+use super::usertypes::{EnumLookup, TagDefault};
 use super::{Lowerer, Storage};
 use crate::ast::{self, PouKind, VarKind};
 use crate::codes;
-use crate::types::{PouId, Ty};
+use crate::types::{PouId, StructId, TagId, Ty};
 use plcc_ir::diag::Span;
 use plcc_ir::{Block, FuncBuilder, FuncId, Function, MemType, SlotId, Type, Value};
 
@@ -35,6 +36,9 @@ pub(super) struct Place {
     /// For array elements: an `i1` that is false when an index was out of bounds.
     /// Then `addr` is a safe stand-in, reads give 0 and writes are dropped.
     pub guard: Option<Value>,
+    /// The derived type it was declared with (a subrange's bounds are checked on
+    /// constants assigned to it).
+    pub tag: Option<TagId>,
 }
 
 impl Place {
@@ -45,6 +49,7 @@ impl Place {
             access: Access::ReadWrite,
             bit: None,
             guard: None,
+            tag: None,
         }
     }
 }
@@ -94,6 +99,9 @@ pub(super) struct BodyCx<'a, 's> {
     pub ret_block: Option<Block>,
     /// A FUNCTION's result variable.
     pub result_slot: Option<SlotId>,
+    /// Where a FUNCTION returning a STRUCT or an array writes its result (the
+    /// caller's address).
+    pub result_ptr: Option<Value>,
     /// Lowering initial values: only constants may be named.
     pub in_init: bool,
     /// Parameter values of the function (FUNCTION inputs and pointers).
@@ -168,6 +176,7 @@ impl<'a, 's> BodyCx<'a, 's> {
             labels: Default::default(),
             ret_block: None,
             result_slot: None,
+            result_ptr: None,
             in_init,
             params,
         }
@@ -189,13 +198,22 @@ impl<'a, 's> BodyCx<'a, 's> {
         let n = self.l.pou(pou).vars.len();
         if kind == PouKind::Function {
             let ret = self.l.pou(pou).ret;
-            if let Some(t) = ret.ir() {
+            let ret_tag = self.l.pou(pou).ret_tag;
+            if let Some(p) = self.l.ir[pou.0 as usize].result_param {
+                let addr = self.params[p as usize];
+                self.result_ptr = Some(addr);
+                self.init_var(addr, ret, ret_tag, None);
+            } else if let Some(t) = ret.ir() {
                 let name = self.l.pou(pou).display.clone();
                 let slot = self.b.slot(name, MemType::Scalar(t));
                 self.result_slot = Some(slot);
                 let addr = self.b.slot_addr(slot);
-                let zero = self.zero(ret);
-                self.b.store(zero, addr);
+                if ret_tag.is_some() || matches!(ret, Ty::Enum(..)) {
+                    self.init_var(addr, ret, ret_tag, None);
+                } else {
+                    let zero = self.zero(ret);
+                    self.b.store(zero, addr);
+                }
             }
             let rb = self.b.create_block();
             self.ret_block = Some(rb);
@@ -225,10 +243,15 @@ impl<'a, 's> BodyCx<'a, 's> {
             if kind == PouKind::Function && v.section == VarKind::Input {
                 let p = self.l.ir[pou.0 as usize].param_of[vi].expect("input parameter");
                 let pv = self.params[p as usize];
-                self.b.store(pv, addr);
+                if v.ty.is_aggregate() {
+                    // Copied on entry, so the callee never changes the caller's value.
+                    self.copy_value(addr, pv, v.ty);
+                } else {
+                    self.b.store(pv, addr);
+                }
             } else {
                 let init = self.decl_init(vi);
-                self.init_var(addr, v.ty, init);
+                self.init_var(addr, v.ty, v.tag, init);
             }
         }
     }
@@ -261,9 +284,14 @@ impl<'a, 's> BodyCx<'a, 's> {
                     let Some(Storage::Slot(slot)) = self.l.ir[pou.0 as usize].storage[vi] else {
                         continue;
                     };
-                    let Some(irt) = ty.ir() else { continue };
                     let p = self.l.ir[pou.0 as usize].param_of[vi].expect("output parameter");
                     let out_ptr = self.params[p as usize];
+                    if ty.is_aggregate() {
+                        let addr = self.b.slot_addr(slot);
+                        self.copy_value(out_ptr, addr, ty);
+                        continue;
+                    }
+                    let Some(irt) = ty.ir() else { continue };
                     let addr = self.b.slot_addr(slot);
                     let val = self.b.load(irt, addr);
                     self.b.store(val, out_ptr);
@@ -307,7 +335,7 @@ impl<'a, 's> BodyCx<'a, 's> {
                 continue;
             }
             let init = self.decl_init(vi);
-            self.init_var(addr, v.ty, init);
+            self.init_var(addr, v.ty, v.tag, init);
         }
     }
 
@@ -321,14 +349,28 @@ impl<'a, 's> BodyCx<'a, 's> {
     }
 
     /// Stores the initial value of a variable of type `ty` at `addr`: the declared
-    /// one, or the type's default.
-    pub(super) fn init_var(&mut self, addr: Value, ty: Ty, init: Option<&'s ast::Init>) {
+    /// one, else its derived type's (`tag`), else the type's default.
+    pub(super) fn init_var(
+        &mut self,
+        addr: Value,
+        ty: Ty,
+        tag: Option<TagId>,
+        init: Option<&'s ast::Init>,
+    ) {
         let saved = self.in_init;
         self.in_init = true;
+        let tag_default = tag.map(|t| self.l.user.tags[t.0 as usize].default);
+        let init = init.or(match tag_default {
+            Some(TagDefault::Init(i)) => Some(i),
+            _ => None,
+        });
         match ty {
-            Ty::Elem(_) => {
+            Ty::Elem(_) | Ty::Enum(..) => {
                 let v = match init {
-                    Some(ast::Init::Expr(e)) => self.emit_as(e, ty),
+                    Some(ast::Init::Expr(e)) => {
+                        self.check_range(tag, e);
+                        self.emit_as(e, ty)
+                    }
                     Some(other) => {
                         self.l.error(
                             codes::E_TYPE_MISMATCH,
@@ -340,7 +382,7 @@ impl<'a, 's> BodyCx<'a, 's> {
                         );
                         self.zero(ty)
                     }
-                    None => self.zero(ty),
+                    None => self.default_value(ty, tag),
                 };
                 self.b.store(v, addr);
             }
@@ -354,7 +396,7 @@ impl<'a, 's> BodyCx<'a, 's> {
                     Some(ast::Init::Struct { fields, .. }) => {
                         for (name, fi) in fields {
                             if let Some(place) = self.member_place(addr, p, *name, true) {
-                                self.init_var(place.addr, place.ty, Some(fi));
+                                self.init_var(place.addr, place.ty, place.tag, Some(fi));
                             }
                         }
                     }
@@ -368,9 +410,94 @@ impl<'a, 's> BodyCx<'a, 's> {
                 }
             }
             Ty::Array(a) => self.init_array(addr, a, init),
+            Ty::Struct(s) => self.init_struct(addr, s, init),
             _ => {}
         }
         self.in_init = saved;
+    }
+
+    /// The initial value of a scalar declared without one: its derived type's (a
+    /// subrange's lower bound), an enumeration's first (or declared) value, else 0.
+    pub(super) fn default_value(&mut self, ty: Ty, tag: Option<TagId>) -> Value {
+        let from_tag = tag.and_then(|t| match self.l.user.tags[t.0 as usize].default {
+            TagDefault::Value(v) => Some(v),
+            TagDefault::Init(_) => None,
+        });
+        let v = match (from_tag, ty) {
+            (Some(v), _) => v,
+            (None, Ty::Enum(e, _)) => self.l.user.enums[e.0 as usize].default,
+            _ => return self.zero(ty),
+        };
+        match ty.ir() {
+            Some(t) if !t.is_float() => self.b.iconst(t, v as i64),
+            _ => self.zero(ty),
+        }
+    }
+
+    /// Reports a constant `e` outside the range of the subrange `tag`.
+    pub(super) fn check_range(&mut self, tag: Option<TagId>, e: &ast::Expr) {
+        let Some(t) = tag else { return };
+        let Some((lo, hi)) = self.l.user.tags[t.0 as usize].range else {
+            return;
+        };
+        if let Some((ConstVal::Int(v), _)) = self.l.const_eval(e, self.pou) {
+            if v < lo || v > hi {
+                let name = self.l.user.tags[t.0 as usize].name.clone();
+                self.l.error(
+                    codes::E_LITERAL_RANGE,
+                    format!("{v} is out of the range of {name} ({lo}..{hi})"),
+                    e.span,
+                );
+            }
+        }
+    }
+
+    /// A STRUCT's fields get the values its initialiser names, the others the ones
+    /// the STRUCT declares (or their type's default).
+    fn init_struct(&mut self, addr: Value, s: StructId, init: Option<&'s ast::Init>) {
+        let sname = self.l.user.structs[s.0 as usize].display.clone();
+        let given: &'s [(ast::Ident, ast::Init)] = match init {
+            None => &[],
+            Some(ast::Init::Struct { fields, .. }) => fields,
+            Some(other) => {
+                self.l.error(
+                    codes::E_TYPE_MISMATCH,
+                    format!("a STRUCT {sname} is initialised with `(field := value, ...)`"),
+                    other.span(),
+                );
+                &[]
+            }
+        };
+        for (k, (name, _)) in given.iter().enumerate() {
+            if given[..k].iter().any(|(n, _)| n.sym == name.sym) {
+                let n = self.l.text(name.span).to_string();
+                self.l.error(
+                    codes::E_BAD_DECLARATION,
+                    format!("the field `{n}` is initialised twice"),
+                    name.span,
+                );
+            } else if self.l.struct_field(s, name.sym).is_none() {
+                let n = self.l.text(name.span).to_string();
+                self.l.error(
+                    codes::E_NO_MEMBER,
+                    format!("STRUCT {sname} has no field `{n}`"),
+                    name.span,
+                );
+            }
+        }
+        let agg = self.l.struct_agg(s);
+        let fields = self.l.user.structs[s.0 as usize].fields.clone();
+        for (fi, f) in fields.iter().enumerate() {
+            let Some(ir_fi) = self.l.user.structs[s.0 as usize].ir_fields[fi] else {
+                continue;
+            };
+            let explicit = given
+                .iter()
+                .find(|(n, _)| n.sym == f.name.sym)
+                .map(|(_, i)| i);
+            let fa = self.b.field_addr(addr, agg, ir_fi);
+            self.init_var(fa, f.ty, f.tag, explicit.or(f.init));
+        }
     }
 
     /// Element-wise initialisation of an array: a loop gives every element the
@@ -418,7 +545,7 @@ impl<'a, 's> BodyCx<'a, 's> {
                 let iv = self.b.iconst(Type::I32, *i as i64);
                 p = self.b.elem_addr(p, agg, iv);
             }
-            self.init_var(p, at.elem, Some(init));
+            self.init_var(p, at.elem, at.elem_tag, Some(init));
         }
     }
 
@@ -518,7 +645,7 @@ impl<'a, 's> BodyCx<'a, 's> {
         if (dim as usize) + 1 < at.dims.len() {
             self.array_default_loop(p, a, dim + 1, at);
         } else {
-            self.init_var(p, at.elem, None);
+            self.init_var(p, at.elem, at.elem_tag, None);
         }
         let one = self.b.iconst(Type::I32, 1);
         let next = self.b.binary(plcc_ir::BinaryOp::Iadd, i, one);
@@ -576,8 +703,9 @@ impl<'a, 's> BodyCx<'a, 's> {
     }
 
     /// Resolves a plain name: a compiler temporary, a variable of this POU, the
-    /// FUNCTION's result, a constant, a global.
-    pub(super) fn resolve_name(&mut self, id: ast::Ident, report: bool) -> Named {
+    /// FUNCTION's result, a constant, a global, an enumeration value (of `want`'s
+    /// enumeration if several have the name).
+    pub(super) fn resolve_name(&mut self, id: ast::Ident, report: bool, want: Option<Ty>) -> Named {
         let pou = self.pou;
         if let Some(&(p, reported)) = self.void_temps.get(&id.sym) {
             // Once per temporary: every read of it is the same mistake.
@@ -654,24 +782,57 @@ impl<'a, 's> BodyCx<'a, 's> {
                 }
                 _ => return Named::Error,
             };
+            let tag = v.tag;
             return Named::Place(Place {
                 addr,
                 ty,
                 access,
                 bit: None,
                 guard: None,
+                tag,
             });
         }
         // The FUNCTION's own name is its result variable.
         if self.kind() == PouKind::Function && id.sym == self.l.pou(pou).name.sym && !self.in_init {
-            if let Some(slot) = self.result_slot {
-                let addr = self.b.slot_addr(slot);
-                let ty = self.l.pou(pou).ret;
-                return Named::Place(Place::new(addr, ty));
+            let ty = self.l.pou(pou).ret;
+            let tag = self.l.pou(pou).ret_tag;
+            let addr = match (self.result_slot, self.result_ptr) {
+                (Some(slot), _) => Some(self.b.slot_addr(slot)),
+                (None, Some(p)) => Some(p),
+                _ => None,
+            };
+            if let Some(addr) = addr {
+                let mut place = Place::new(addr, ty);
+                place.tag = tag;
+                return Named::Place(place);
             }
         }
         if let Some(named) = self.resolve_global(id, report) {
             return named;
+        }
+        match self.l.enum_named(id.sym, want) {
+            EnumLookup::One(e, base, v) => {
+                return Named::Const(ConstVal::Int(v), Ty::Enum(e, base));
+            }
+            EnumLookup::Ambiguous(ids) => {
+                if report {
+                    let n = self.l.text(id.span).to_string();
+                    let qualified: Vec<String> = ids
+                        .iter()
+                        .map(|e| format!("`{}#{n}`", self.l.user.enums[e.0 as usize].display))
+                        .collect();
+                    self.l.diags.push(
+                        plcc_ir::diag::Diagnostic::error(
+                            codes::E_AMBIGUOUS,
+                            format!("`{n}` is a value of several enumerations"),
+                            id.span,
+                        )
+                        .with_note(format!("say which: {}", qualified.join(" or "))),
+                    );
+                }
+                return Named::Error;
+            }
+            EnumLookup::None => {}
         }
         if self.l.is_unsupported_name(id.sym) {
             // Declared by something already reported as not supported (an
@@ -728,11 +889,14 @@ impl<'a, 's> BodyCx<'a, 's> {
                 Some(Named::Error)
             }
             Some(Storage::Field(fi)) => {
+                let tag = v.tag;
                 let agg = self.l.ir[g.0 as usize].agg?;
                 let data = self.l.globals_data?;
                 let base = self.b.global_addr(data);
                 let addr = self.b.field_addr(base, agg, fi);
-                Some(Named::Place(Place::new(addr, ty)))
+                let mut place = Place::new(addr, ty);
+                place.tag = tag;
+                Some(Named::Place(place))
             }
             _ => Some(Named::Error),
         }
@@ -829,6 +993,7 @@ impl<'a, 's> BodyCx<'a, 's> {
             access,
             bit: None,
             guard: None,
+            tag: v.tag,
         })
     }
 }

@@ -398,6 +398,12 @@ impl<'s> BodyCx<'_, 's> {
             .trim()
             .to_ascii_uppercase();
         let xs = self.builtin_args(b, &name, args, span)?;
+        for x in &xs {
+            let t = self.infer(x);
+            if matches!(t, Ty::Struct(_) | Ty::Array(_) | Ty::Fb(_)) {
+                return self.bad_arg(&name, "elementary values", t, x.span);
+            }
+        }
         use Builtin::*;
         match b {
             Clock => {
@@ -515,7 +521,11 @@ impl<'s> BodyCx<'_, 's> {
             }
             Compare(op) => {
                 let t = self.common_type(&xs, None, &name)?;
-                let e = t.elem()?;
+                let e = match t {
+                    Ty::Enum(_, base) if matches!(op, Op::Eq | Op::Ne) => base,
+                    Ty::Elem(e) => e,
+                    t => return self.bad_arg(&name, "numbers or other elementary values", t, span),
+                };
                 let vals: Vec<Value> = xs.iter().map(|x| self.emit_as(x, t)).collect();
                 let mut acc: Option<Value> = None;
                 for w in vals.windows(2) {
@@ -588,7 +598,9 @@ impl<'s> BodyCx<'_, 's> {
             }
             Max | Min => {
                 let t = self.common_type(&xs, want, &name)?;
-                let e = t.elem()?;
+                let Some(e) = t.elem() else {
+                    return self.bad_arg(&name, "elementary values", t, span);
+                };
                 let mut acc = self.emit_as(xs[0], t);
                 for x in &xs[1..] {
                     let y = self.emit_as(x, t);
@@ -600,7 +612,9 @@ impl<'s> BodyCx<'_, 's> {
             }
             Limit => {
                 let t = self.common_type(&xs, want, &name)?;
-                let e = t.elem()?;
+                let Some(e) = t.elem() else {
+                    return self.bad_arg(&name, "elementary values", t, span);
+                };
                 let mn = self.emit_as(xs[0], t);
                 let x = self.emit_as(xs[1], t);
                 let mx = self.emit_as(xs[2], t);

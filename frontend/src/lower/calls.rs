@@ -2,7 +2,9 @@
 
 use super::body::{BodyCx, Place};
 use super::builtins::Builtin;
+use super::consts::ConstVal;
 use super::expr::Val;
+use super::usertypes::TagDefault;
 use super::Storage;
 use crate::ast::{Arg, ArgKind, Expr, ExprKind, PouKind, VarKind};
 use crate::codes;
@@ -439,7 +441,7 @@ impl<'s> BodyCx<'_, 's> {
         let (mt, _) = self.l.mem_type(p.ty)?;
         let scratch = self.b.slot("out_of_bounds", mt);
         let scratch_addr = self.b.slot_addr(scratch);
-        self.init_var(scratch_addr, p.ty, None);
+        self.init_var(scratch_addr, p.ty, p.tag, None);
         self.guarded(Some(guard), |_| {});
         Some(self.b.select(guard, p.addr, scratch_addr))
     }
@@ -455,9 +457,31 @@ impl<'s> BodyCx<'_, 's> {
         for (i, prm) in params.iter().enumerate() {
             let v = self.l.pou(p).vars[prm.var].clone();
             match prm.section {
+                VarKind::Input if v.ty.is_aggregate() => {
+                    // By address: the callee copies it on entry.
+                    let given = bound[i].and_then(Self::arg_value);
+                    let addr = match given {
+                        Some(e) => self.agg_source(e, v.ty),
+                        None => None,
+                    };
+                    let addr = match addr {
+                        Some(a) => a,
+                        None => {
+                            let s = self.scratch_slot(v.ty, "default");
+                            if given.is_none() {
+                                self.default_agg_input(p, prm.var, s);
+                            }
+                            s
+                        }
+                    };
+                    ir_args.push(addr);
+                }
                 VarKind::Input => {
                     let val = match bound[i].and_then(Self::arg_value) {
-                        Some(e) => self.emit_as(e, v.ty),
+                        Some(e) => {
+                            self.check_range(v.tag, e);
+                            self.emit_as(e, v.ty)
+                        }
                         None => self.default_input(p, prm.var, span),
                     };
                     ir_args.push(val);
@@ -493,10 +517,12 @@ impl<'s> BodyCx<'_, 's> {
                     ir_args.push(addr);
                 }
                 _ => {
-                    let t = v.ty.ir().unwrap_or(Type::I32);
-                    let s = self
-                        .b
-                        .slot(format!("{callee_name}.{}", v.display), MemType::Scalar(t));
+                    let mt = match v.ty {
+                        t if t.is_aggregate() => self.l.mem_type(t).map(|m| m.0),
+                        t => Some(MemType::Scalar(t.ir().unwrap_or(Type::I32))),
+                    }
+                    .unwrap_or(MemType::Scalar(Type::I32));
+                    let s = self.b.slot(format!("{callee_name}.{}", v.display), mt);
                     let addr = self.b.slot_addr(s);
                     ir_args.push(addr);
                     if let Some(a) = bound[i] {
@@ -507,13 +533,74 @@ impl<'s> BodyCx<'_, 's> {
         }
         let f = self.l.ir[p.0 as usize].body?;
         let ret = self.l.pou(p).ret;
+        // A STRUCT or array result goes to a temporary of the caller's, which the
+        // assignment then copies (the callee may read the assignment's target).
+        let result = ret
+            .is_aggregate()
+            .then(|| self.scratch_slot(ret, &format!("{callee_name}.result")));
+        if let Some(r) = result {
+            ir_args.push(r);
+        }
         let r = self.b.call(f, ret.ir(), ir_args);
         for (slot, ty, a) in outs {
             let addr = self.b.slot_addr(slot);
+            if ty.is_aggregate() {
+                self.output_agg(addr, ty, a);
+                continue;
+            }
             let v = self.b.load(ty.ir().unwrap_or(Type::I32), addr);
             self.assign_output(Val { v, ty }, a);
         }
-        r.map(|v| Val { v, ty: ret })
+        match result {
+            Some(addr) => Some(Val { v: addr, ty: ret }),
+            None => r.map(|v| Val { v, ty: ret }),
+        }
+    }
+
+    /// The address of a new stack slot that holds a value of type `ty`.
+    fn scratch_slot(&mut self, ty: Ty, name: &str) -> Value {
+        let mt = self
+            .l
+            .mem_type(ty)
+            .map(|m| m.0)
+            .unwrap_or(MemType::Scalar(Type::I64));
+        let s = self.b.slot(name.to_string(), mt);
+        self.b.slot_addr(s)
+    }
+
+    /// A STRUCT or array input that a call does not give: its initial value as the
+    /// callee declares it, in a temporary at `addr`. The initialiser is the callee's,
+    /// so its names are looked up there.
+    fn default_agg_input(&mut self, p: PouId, vi: usize, addr: Value) {
+        let v = self.l.pou(p).vars[vi].clone();
+        let ast = self.l.pou_ast(p);
+        let init = ast.var_blocks[v.decl.0 as usize].decls[v.decl.1 as usize]
+            .init
+            .as_ref();
+        for ci in 0..self.l.pou(p).vars.len() {
+            if self.l.pou(p).vars[ci].constant && self.l.ir[p.0 as usize].storage[ci].is_none() {
+                self.l.fold_constant(p, ci);
+            }
+        }
+        let saved = self.pou;
+        self.pou = p;
+        self.init_var(addr, v.ty, v.tag, init);
+        self.pou = saved;
+    }
+
+    /// `name => target` (or a positional argument in an output's place) of a whole
+    /// STRUCT or array output at `src`.
+    fn output_agg(&mut self, src: Value, ty: Ty, a: &'s Arg) {
+        let (negated, target) = match &a.kind {
+            ArgKind::Output {
+                negated, target, ..
+            } => (*negated, target.as_ref()),
+            ArgKind::Positional(e) => (false, Some(e)),
+            ArgKind::Input { .. } => return,
+        };
+        if let Some(t) = target {
+            self.assign_output_agg(src, ty, negated, t, a.span);
+        }
     }
 
     /// `name => target` after a call: stores an output into its target.
@@ -557,12 +644,26 @@ impl<'s> BodyCx<'_, 's> {
         let init = ast.var_blocks[v.decl.0 as usize].decls[v.decl.1 as usize]
             .init
             .as_ref();
+        if let Ty::Enum(en, _) = v.ty {
+            if let Some(crate::ast::Init::Expr(e)) = init {
+                if let Some(x) = self.l.enum_const(e, en) {
+                    return self.constant(ConstVal::Int(x), v.ty, None, span).v;
+                }
+            }
+            return self.default_value(v.ty, v.tag);
+        }
+        let init = init.or(
+            match v.tag.map(|t| self.l.user.tags[t.0 as usize].default) {
+                Some(TagDefault::Init(i)) => Some(i),
+                _ => None,
+            },
+        );
         if let Some(crate::ast::Init::Expr(e)) = init {
             if let Some((c, _)) = self.l.const_eval(e, p) {
                 return self.constant(c, v.ty, None, span).v;
             }
         }
-        self.zero(v.ty)
+        self.default_value(v.ty, v.tag)
     }
 
     /// Calls an FB instance: stores the inputs, runs the body, reads the outputs. A
@@ -594,8 +695,17 @@ impl<'s> BodyCx<'_, 's> {
             };
             let Some(agg) = agg else { continue };
             match prm.section {
+                VarKind::Input if v.ty.is_aggregate() => {
+                    if let Some(e) = bound[i].and_then(Self::arg_value) {
+                        if let Some(src) = self.agg_source(e, v.ty) {
+                            let addr = self.b.field_addr(inst.addr, agg, fi);
+                            self.copy_value(addr, src, v.ty);
+                        }
+                    }
+                }
                 VarKind::Input => {
                     if let Some(e) = bound[i].and_then(Self::arg_value) {
+                        self.check_range(v.tag, e);
                         let val = self.emit_as(e, v.ty);
                         let addr = self.b.field_addr(inst.addr, agg, fi);
                         self.b.store(val, addr);
@@ -635,6 +745,10 @@ impl<'s> BodyCx<'_, 's> {
                 continue;
             };
             let addr = self.b.field_addr(inst.addr, agg, fi);
+            if v.ty.is_aggregate() {
+                self.output_agg(addr, v.ty, a);
+                continue;
+            }
             let val = self.b.load(v.ty.ir().unwrap_or(Type::I32), addr);
             self.assign_output(Val { v: val, ty: v.ty }, a);
         }

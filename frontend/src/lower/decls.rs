@@ -2,10 +2,11 @@
 //! structs, function signatures) every body is lowered into.
 
 use super::consts::{self, ConstVal};
+use super::usertypes::TagDefault;
 use super::{Lowerer, PouInfo, PouIr, Storage, VarInfo};
 use crate::ast::{self, PouKind, TypeSpec, VarKind};
 use crate::codes;
-use crate::types::{ArrayId, ArrayTy, PouId, Ty};
+use crate::types::{ArrayId, ArrayTy, PouId, TagId, Ty};
 use plcc_ir::diag::Span;
 use plcc_ir::{
     AggDef, AggId, ArrayDef, Field, FieldRole, FuncKind, Function, MemType, StructDef, StructKind,
@@ -17,7 +18,7 @@ use rustc_hash::FxHashMap;
 /// `ARRAY[0..1000000000]` is an error rather than gigabytes of memory.
 const MAX_ARRAY_ELEMENTS: u64 = 1 << 24;
 
-impl Lowerer<'_> {
+impl<'s> Lowerer<'s> {
     /// Fills the POU table from every unit. User POUs shadow standard ones of the same
     /// name; two user POUs with one name are an error.
     pub(super) fn collect_pous(&mut self, std_units: usize) {
@@ -61,6 +62,7 @@ impl Lowerer<'_> {
                     vars: Vec::new(),
                     lookup: FxHashMap::default(),
                     ret: Ty::Void,
+                    ret_tag: None,
                     std: is_std,
                 });
                 self.ir.push(PouIr::default());
@@ -77,17 +79,25 @@ impl Lowerer<'_> {
         let mut lookup = FxHashMap::default();
         let kind = pou.kind;
         if kind == PouKind::Function {
-            let ret = match &pou.return_type {
-                Some(spec) => self.resolve_type(spec, id),
-                None => Ty::Void,
+            let (ret, ret_tag) = match &pou.return_type {
+                Some(spec) => self.resolve_type_tagged(spec, Some(id)),
+                None => (Ty::Void, None),
             };
-            if let Ty::Fb(_) | Ty::Array(_) = ret {
+            let at = pou.return_type.as_ref().map_or(pou.name.span, |s| s.span());
+            if let Ty::Fb(_) = ret {
                 self.error(
                     codes::E_UNSUPPORTED,
-                    "not supported yet: FUNCTIONs returning a function block or an array",
-                    pou.return_type.as_ref().map_or(pou.name.span, |s| s.span()),
+                    "not supported yet: FUNCTIONs returning a function block",
+                    at,
+                );
+            } else if self.contains_fb(ret) {
+                self.error(
+                    codes::E_UNSUPPORTED,
+                    "not supported yet: FUNCTIONs returning a STRUCT or an array that holds function block instances",
+                    at,
                 );
             }
+            self.pous[id.0 as usize].ret_tag = ret_tag;
             self.pous[id.0 as usize].ret = ret;
         }
         for (bi, block) in pou.var_blocks.iter().enumerate() {
@@ -122,7 +132,7 @@ impl Lowerer<'_> {
                 );
             }
             for (di, decl) in block.decls.iter().enumerate() {
-                let ty = self.resolve_type(&decl.ty, id);
+                let (ty, tag) = self.resolve_type_tagged(&decl.ty, Some(id));
                 if let Ty::Fb(_) = ty {
                     if matches!(
                         block.kind,
@@ -134,17 +144,16 @@ impl Lowerer<'_> {
                             decl.ty.span(),
                         );
                     }
-                }
-                if let Ty::Array(_) = ty {
-                    if kind != PouKind::Program
-                        && matches!(block.kind, VarKind::Input | VarKind::Output)
-                    {
-                        self.error(
-                            codes::E_UNSUPPORTED,
-                            "not supported yet: arrays as inputs or outputs of FUNCTIONs and function blocks (use VAR_IN_OUT)",
-                            decl.ty.span(),
-                        );
-                    }
+                } else if kind != PouKind::Program
+                    && matches!(block.kind, VarKind::Input | VarKind::Output)
+                    && self.contains_fb(ty)
+                {
+                    // Inputs and outputs are copied, and an instance is not.
+                    self.error(
+                        codes::E_UNSUPPORTED,
+                        "not supported yet: STRUCTs or arrays holding function block instances as inputs or outputs of FUNCTIONs and function blocks (use VAR_IN_OUT)",
+                        decl.ty.span(),
+                    );
                 }
                 for name in &decl.names {
                     if let Some(&prev) = lookup.get(&name.sym) {
@@ -176,6 +185,7 @@ impl Lowerer<'_> {
                         section: block.kind,
                         constant: block.constant,
                         ty,
+                        tag,
                         decl: (bi as u32, di as u32),
                         location: decl.location.as_ref().map(|(l, _)| l.to_string()),
                     });
@@ -190,75 +200,20 @@ impl Lowerer<'_> {
         self.ir[id.0 as usize].param_of = vec![None; n];
     }
 
-    /// Resolves a type as written. Errors give [`Ty::Error`].
-    pub(super) fn resolve_type(&mut self, spec: &TypeSpec, pou: PouId) -> Ty {
+    /// Resolves a type as written, with its derived-type tag (the initial value and
+    /// range of an alias or subrange). Constants in it (array bounds, subrange bounds)
+    /// are looked up in `scope` and the globals. Errors give [`Ty::Error`].
+    pub(super) fn resolve_type_tagged(
+        &mut self,
+        spec: &'s TypeSpec,
+        scope: Option<PouId>,
+    ) -> (Ty, Option<TagId>) {
         match spec {
-            TypeSpec::Named(id) => {
-                let name = self.sym_name(id.sym).to_string();
-                if let Some(e) = plcc_ir::ElemType::from_name(&name) {
-                    if e == plcc_ir::ElemType::Ref {
-                        self.error(
-                            codes::E_UNKNOWN_TYPE,
-                            format!("unknown type `{}`", self.text(id.span)),
-                            id.span,
-                        );
-                        return Ty::Error;
-                    }
-                    return Ty::Elem(e);
-                }
-                if matches!(
-                    name.as_str(),
-                    "LDATE" | "LTOD" | "LTIME_OF_DAY" | "LDT" | "LDATE_AND_TIME"
-                ) {
-                    self.error(
-                        codes::E_UNSUPPORTED,
-                        format!("not supported yet: the type {name}"),
-                        id.span,
-                    );
-                    return Ty::Error;
-                }
-                if let Some(&p) = self.pou_by_name.get(&id.sym) {
-                    return match self.pou(p).kind {
-                        PouKind::FunctionBlock => Ty::Fb(p),
-                        k => {
-                            let what = if k == PouKind::Program {
-                                "PROGRAM"
-                            } else {
-                                "FUNCTION"
-                            };
-                            self.error(
-                                codes::E_NOT_A_TYPE,
-                                format!("`{}` is a {what}, not a type", self.text(id.span)),
-                                id.span,
-                            );
-                            Ty::Error
-                        }
-                    };
-                }
-                if self.is_declared_type(id.sym) {
-                    // Its TYPE declaration was already reported as unsupported.
-                    return Ty::Error;
-                }
-                let written = self.text(id.span).to_string();
-                let mut d = plcc_ir::diag::Diagnostic::error(
-                    codes::E_UNKNOWN_TYPE,
-                    format!("unknown type `{written}`"),
-                    id.span,
-                );
-                if let Some((lib, _)) = written.split_once('.') {
-                    // A CPDev `LIBRARY.TYPE`: say that the library is not the problem.
-                    d = d.with_note(format!(
-                        "the qualifier `{lib}` names the library the type comes from; \
-                         plcc looks the type up as `{name}` and knows no such type"
-                    ));
-                }
-                self.diags.push(d);
-                Ty::Error
-            }
+            TypeSpec::Named(id) => self.resolve_type_tagged_named(*id),
             TypeSpec::Array { dims, elem, span } => {
-                let elem_ty = self.resolve_type(elem, pou);
+                let (elem_ty, elem_tag) = self.resolve_type_tagged(elem, scope);
                 if elem_ty == Ty::Error {
-                    return Ty::Error;
+                    return (Ty::Error, None);
                 }
                 let mut bounds = Vec::new();
                 for d in dims {
@@ -268,12 +223,12 @@ impl Lowerer<'_> {
                             "not supported yet: variable-length arrays ARRAY[*]",
                             *span,
                         );
-                        return Ty::Error;
+                        return (Ty::Error, None);
                     };
-                    let lo_v = self.const_int(lo, pou);
-                    let hi_v = self.const_int(hi, pou);
+                    let lo_v = self.const_int_in(lo, scope);
+                    let hi_v = self.const_int_in(hi, scope);
                     let (Some(l), Some(h)) = (lo_v, hi_v) else {
-                        return Ty::Error;
+                        return (Ty::Error, None);
                     };
                     if h < l {
                         self.error(
@@ -283,34 +238,32 @@ impl Lowerer<'_> {
                             ),
                             lo.span.to(hi.span),
                         );
-                        return Ty::Error;
+                        return (Ty::Error, None);
                     }
                     bounds.push((l as i64, h as i64));
                 }
                 let mut a = ArrayTy {
                     elem: elem_ty,
                     dims: bounds,
+                    elem_tag,
                 };
                 // ARRAY[..] OF ARRAY[..] OF T is one array with more dimensions.
                 if let Ty::Array(inner) = elem_ty {
                     let inner = self.types.get(inner).clone();
                     a.dims.extend(inner.dims);
                     a.elem = inner.elem;
+                    a.elem_tag = inner.elem_tag;
                 }
-                let total = a.total() as u128
-                    * match a.elem {
-                        Ty::Fb(_) => 16,
-                        _ => 1,
-                    };
+                let total = a.total() as u128 * self.cells(a.elem);
                 if total > MAX_ARRAY_ELEMENTS as u128 {
                     self.error(
                         codes::E_BAD_DECLARATION,
                         format!("array of {} elements is too large", a.total()),
                         *span,
                     );
-                    return Ty::Error;
+                    return (Ty::Error, None);
                 }
-                Ty::Array(self.types.array(a))
+                (Ty::Array(self.types.array(a)), None)
             }
             TypeSpec::String { wide, span, .. } => {
                 let what = if *wide { "WSTRING" } else { "STRING" };
@@ -319,50 +272,98 @@ impl Lowerer<'_> {
                     format!("not supported yet: {what}"),
                     *span,
                 );
-                Ty::Error
+                (Ty::Error, None)
             }
-            TypeSpec::Subrange { span, .. } => {
-                self.error(
-                    codes::E_UNSUPPORTED,
-                    "not supported yet: subrange types",
-                    *span,
-                );
-                Ty::Error
+            TypeSpec::Subrange { base, lo, hi, span } => {
+                let display = self.text(*span).to_string();
+                self.define_subrange(display, *base, lo, hi, None, scope)
             }
-            TypeSpec::Enum { span, .. } => {
-                self.error(
-                    codes::E_UNSUPPORTED,
-                    "not supported yet: enumerations",
-                    *span,
-                );
-                Ty::Error
+            TypeSpec::Enum { values, base, span } => {
+                let display = self.text(*span).to_string();
+                (self.define_enum(display, values, *base, None), None)
             }
-            TypeSpec::Struct { span, .. } => {
-                self.error(codes::E_UNSUPPORTED, "not supported yet: STRUCT", *span);
-                Ty::Error
-            }
+            TypeSpec::Struct { fields, .. } => (
+                self.define_struct("STRUCT".to_string(), fields, scope),
+                None,
+            ),
             TypeSpec::Ref { span, .. } => {
                 self.error(codes::E_UNSUPPORTED, "not supported yet: REF_TO", *span);
-                Ty::Error
+                (Ty::Error, None)
             }
             TypeSpec::Pointer { span, .. } => {
                 self.error(codes::E_UNSUPPORTED, "not supported yet: POINTER TO", *span);
-                Ty::Error
+                (Ty::Error, None)
             }
         }
     }
 
-    fn is_declared_type(&self, sym: crate::intern::Symbol) -> bool {
-        self.units.iter().any(|u| {
-            u.items
-                .iter()
-                .any(|i| matches!(i, ast::Item::Type(t) if t.name.sym == sym))
-        })
+    /// Resolves a type by name: elementary, declared by TYPE, or a function block.
+    pub(super) fn resolve_type_tagged_named(&mut self, id: ast::Ident) -> (Ty, Option<TagId>) {
+        let name = self.sym_name(id.sym).to_string();
+        if let Some(e) = plcc_ir::ElemType::from_name(&name) {
+            if e == plcc_ir::ElemType::Ref {
+                self.error(
+                    codes::E_UNKNOWN_TYPE,
+                    format!("unknown type `{}`", self.text(id.span)),
+                    id.span,
+                );
+                return (Ty::Error, None);
+            }
+            return (Ty::Elem(e), None);
+        }
+        if matches!(
+            name.as_str(),
+            "LDATE" | "LTOD" | "LTIME_OF_DAY" | "LDT" | "LDATE_AND_TIME"
+        ) {
+            self.error(
+                codes::E_UNSUPPORTED,
+                format!("not supported yet: the type {name}"),
+                id.span,
+            );
+            return (Ty::Error, None);
+        }
+        if let Some(&i) = self.user.by_name.get(&id.sym) {
+            return self.resolve_named_type(i, id.span);
+        }
+        if let Some(&p) = self.pou_by_name.get(&id.sym) {
+            return match self.pou(p).kind {
+                PouKind::FunctionBlock => (Ty::Fb(p), None),
+                k => {
+                    let what = if k == PouKind::Program {
+                        "PROGRAM"
+                    } else {
+                        "FUNCTION"
+                    };
+                    self.error(
+                        codes::E_NOT_A_TYPE,
+                        format!("`{}` is a {what}, not a type", self.text(id.span)),
+                        id.span,
+                    );
+                    (Ty::Error, None)
+                }
+            };
+        }
+        let written = self.text(id.span).to_string();
+        let mut d = plcc_ir::diag::Diagnostic::error(
+            codes::E_UNKNOWN_TYPE,
+            format!("unknown type `{written}`"),
+            id.span,
+        );
+        if let Some((lib, _)) = written.split_once('.') {
+            // A CPDev `LIBRARY.TYPE`: say that the library is not the problem.
+            d = d.with_note(format!(
+                "the qualifier `{lib}` names the library the type comes from; \
+                 plcc looks the type up as `{name}` and knows no such type"
+            ));
+        }
+        self.diags.push(d);
+        (Ty::Error, None)
     }
 
-    /// Evaluates a constant integer expression (array bounds); reports what is wrong.
-    fn const_int(&mut self, e: &ast::Expr, pou: PouId) -> Option<i128> {
-        match self.const_eval(e, pou) {
+    /// Evaluates a constant integer expression (array bounds) in `scope` and the
+    /// globals; reports what is wrong.
+    pub(super) fn const_int_in(&mut self, e: &ast::Expr, scope: Option<PouId>) -> Option<i128> {
+        match self.const_eval_in(e, scope, None) {
             Some((ConstVal::Int(v), _)) => Some(v),
             Some(_) => {
                 self.error(
@@ -397,16 +398,27 @@ impl Lowerer<'_> {
         pou: PouId,
         want: Option<Ty>,
     ) -> Option<(ConstVal, Ty)> {
-        let ast = self.pou_ast(pou);
+        self.const_eval_in(e, Some(pou), want)
+    }
+
+    /// [`Self::const_eval_as`] in the scope of a POU, or of the globals alone (`None`:
+    /// in TYPE declarations).
+    pub(super) fn const_eval_in(
+        &mut self,
+        e: &ast::Expr,
+        scope: Option<PouId>,
+        want: Option<Ty>,
+    ) -> Option<(ConstVal, Ty)> {
+        let own = scope.map(|p| self.pou_ast(p));
         // A POU's own constants first, then the global ones.
         let globals = self
             .globals_pou
-            .filter(|&g| g != pou)
+            .filter(|&g| Some(g) != scope)
             .map(|g| self.pou_ast(g));
         let interner = &*self.interner;
         type Eval<'e> = dyn Fn(&ast::Expr, u32, Option<Ty>) -> Option<(ConstVal, Ty)> + 'e;
         let lookup = |sym: crate::intern::Symbol, depth: u32, this: &Eval<'_>| {
-            let scopes = std::iter::once(ast).chain(globals);
+            let scopes = own.into_iter().chain(globals);
             for block in scopes.flat_map(|a| a.var_blocks.iter()) {
                 if !block.constant {
                     continue;
@@ -524,11 +536,9 @@ impl Lowerer<'_> {
                 if v.section == VarKind::InOut {
                     continue;
                 }
-                let t = match v.ty {
-                    Ty::Array(a) => self.types.get(a).elem,
-                    t => t,
-                };
-                if let Ty::Fb(fb) = t {
+                let mut fbs = Vec::new();
+                self.fbs_in(v.ty, &mut fbs);
+                for fb in fbs {
                     edges[i].push((fb.0 as usize, v.name.span));
                 }
             }
@@ -594,14 +604,9 @@ impl Lowerer<'_> {
             }
             self.used[id.0 as usize] = true;
             let tys: Vec<Ty> = self.pou(id).vars.iter().map(|v| v.ty).collect();
-            for t in tys {
-                let t = match t {
-                    Ty::Array(a) => self.types.get(a).elem,
-                    t => t,
-                };
-                if let Ty::Fb(p) = t {
-                    stack.push(p);
-                }
+            let ret = self.pou(id).ret;
+            for t in tys.into_iter().chain(std::iter::once(ret)) {
+                self.fbs_in(t, &mut stack);
             }
             // Standard FBs called by name in a body are found when lowering; a std FB
             // that is only used through a variable is covered above.
@@ -647,6 +652,8 @@ impl Lowerer<'_> {
         for vi in 0..n {
             let v = &self.pous[id.0 as usize].vars[vi];
             let ty = match v.section {
+                // A STRUCT or array input is passed by address; the callee copies it.
+                VarKind::Input if v.ty.is_aggregate() => Type::Ptr,
                 VarKind::Input => v.ty.ir().unwrap_or(Type::I32),
                 VarKind::InOut | VarKind::Output => Type::Ptr,
                 _ => continue,
@@ -654,7 +661,15 @@ impl Lowerer<'_> {
             self.ir[id.0 as usize].param_of[vi] = Some(params.len() as u32);
             params.push(ty);
         }
-        let ret = self.pou(id).ret.ir();
+        let ret_ty = self.pou(id).ret;
+        let ret = if ret_ty.is_aggregate() {
+            // The caller passes where the result goes, as a last parameter.
+            self.ir[id.0 as usize].result_param = Some(params.len() as u32);
+            params.push(Type::Ptr);
+            None
+        } else {
+            ret_ty.ir()
+        };
         let mut f = Function::new(
             self.pou(id).display.clone(),
             FuncKind::Function,
@@ -732,6 +747,28 @@ impl Lowerer<'_> {
         let v = self.pous[id.0 as usize].vars[vi].clone();
         let ast = self.pou_ast(id);
         let decl = &ast.var_blocks[v.decl.0 as usize].decls[v.decl.1 as usize];
+        if let Ty::Enum(eid, _) = v.ty {
+            let default = self.user.enums[eid.0 as usize].default;
+            let value = match &decl.init {
+                None => default,
+                Some(ast::Init::Expr(e)) => self.enum_const(e, eid).unwrap_or_else(|| {
+                    self.not_an_enum_value(e.span, eid);
+                    default
+                }),
+                Some(other) => {
+                    self.not_an_enum_value(other.span(), eid);
+                    default
+                }
+            };
+            self.record_constant(id, vi, ConstVal::Int(value));
+            return;
+        }
+        let tag = v.tag.map(|t| {
+            (
+                self.user.tags[t.0 as usize].range,
+                self.user.tags[t.0 as usize].default,
+            )
+        });
         let value = match &decl.init {
             Some(ast::Init::Expr(e)) => match self.const_eval_as(e, id, Some(v.ty)) {
                 Some((c, _)) => Some(c),
@@ -752,7 +789,14 @@ impl Lowerer<'_> {
                 );
                 None
             }
-            None => Some(ConstVal::zero_of(v.ty)),
+            None => match tag {
+                Some((_, TagDefault::Value(x))) => Some(ConstVal::Int(x)),
+                Some((_, TagDefault::Init(ast::Init::Expr(e)))) => self
+                    .const_eval_in(e, None, Some(v.ty))
+                    .map(|(c, _)| c)
+                    .or(Some(ConstVal::zero_of(v.ty))),
+                _ => Some(ConstVal::zero_of(v.ty)),
+            },
         };
         // After an error the constant still gets a value (the type's zero), so that
         // lowering the POU's init and body does not report it a second time.
@@ -773,12 +817,24 @@ impl Lowerer<'_> {
             }
             return;
         }
+        let span = decl.init.as_ref().map_or(v.name.span, |i| i.span());
         match value.coerce(v.ty) {
             Ok(c) => value = c,
             Err(msg) => {
-                let span = decl.init.as_ref().map_or(v.name.span, |i| i.span());
                 self.error(codes::E_TYPE_MISMATCH, msg, span);
                 value = failed;
+            }
+        }
+        if let (Some((Some((lo, hi)), _)), ConstVal::Int(x)) = (tag, value) {
+            if x < lo || x > hi {
+                let name = self.user.tags[v.tag.expect("tagged").0 as usize]
+                    .name
+                    .clone();
+                self.error(
+                    codes::E_LITERAL_RANGE,
+                    format!("{x} is out of the range of {name} ({lo}..{hi})"),
+                    span,
+                );
             }
         }
         self.record_constant(id, vi, value);
@@ -796,6 +852,8 @@ impl Lowerer<'_> {
             Ty::Elem(e) => Some((MemType::Scalar(e.ir_type()), Some(e))),
             Ty::Fb(p) => self.ir[p.0 as usize].agg.map(|a| (MemType::Agg(a), None)),
             Ty::Array(a) => Some((MemType::Agg(self.array_agg(a, 0)), None)),
+            Ty::Struct(s) => Some((MemType::Agg(self.struct_agg(s)), None)),
+            Ty::Enum(_, e) => Some((MemType::Scalar(e.ir_type()), Some(e))),
             _ => None,
         }
     }

@@ -7,6 +7,7 @@
 
 use super::body::{BodyCx, Named, Place};
 use super::consts::ConstVal;
+use super::usertypes::{EnumLookup, TypeState};
 use crate::ast::{BinaryOp as Op, Expr, ExprKind, LiteralKind, UnaryOp as UOp};
 use crate::codes;
 use crate::types::{implicit, Ty};
@@ -141,7 +142,30 @@ pub(super) fn binary_typing(
             }
         }
         Op::Eq | Op::Ne | Op::Lt | Op::Le | Op::Gt | Op::Ge => {
+            if l.is_aggregate() || r.is_aggregate() {
+                let t = if l.is_aggregate() { l } else { r };
+                return Err(format!(
+                    "`{}` cannot compare {}: STRUCTs and arrays are compared field by field (or element by element), not as a whole",
+                    op.symbol(),
+                    names(t)
+                ));
+            }
             let t = unify(l, r).ok_or_else(mismatch)?;
+            if let Ty::Enum(..) = t {
+                return if matches!(op, Op::Eq | Op::Ne) {
+                    Ok(BinTyping {
+                        operand: t,
+                        right: None,
+                        result: Ty::BOOL,
+                    })
+                } else {
+                    Err(format!(
+                        "`{}` cannot compare values of the enumeration {}: only `=` and `<>` can",
+                        op.symbol(),
+                        names(t)
+                    ))
+                };
+            }
             if t.elem().is_some() || t.is_literal() {
                 Ok(BinTyping {
                     operand: t,
@@ -240,10 +264,7 @@ impl<'s> BodyCx<'_, 's> {
             ExprKind::Paren(x) | ExprKind::UsedBy { value: x, .. } => self.infer(x),
             ExprKind::Literal(lit) => {
                 if let Some(p) = lit.type_prefix {
-                    if let Some(t) = ElemType::from_name(self.l.sym_name(p.sym)) {
-                        return Ty::Elem(t);
-                    }
-                    return Ty::Error;
+                    return self.prefix_type(p.sym).unwrap_or(Ty::Error);
                 }
                 match &lit.kind {
                     LiteralKind::Int(_) => Ty::AnyInt,
@@ -262,7 +283,16 @@ impl<'s> BodyCx<'_, 's> {
                     .var(name.sym)
                     .map(|vi| self.l.pou(p).vars[vi as usize].ty)
                     .unwrap_or(Ty::Error),
+                Ty::Struct(s) => self
+                    .l
+                    .struct_field(s, name.sym)
+                    .map(|f| self.l.user.structs[s.0 as usize].fields[f].ty)
+                    .unwrap_or(Ty::Error),
                 _ => Ty::Error,
+            },
+            ExprKind::EnumValue { ty, value } => match self.l.qualified_enum(*ty, *value, false) {
+                Some((e, base, _)) => Ty::Enum(e, base),
+                None => Ty::Error,
             },
             ExprKind::Bit(..) => Ty::BOOL,
             ExprKind::Index(..) => {
@@ -309,12 +339,71 @@ impl<'s> BodyCx<'_, 's> {
                 return gp.vars[vi as usize].ty;
             }
         }
-        Ty::Error
+        match self.l.enum_named(sym, None) {
+            EnumLookup::One(e, base, _) => Ty::Enum(e, base),
+            _ => Ty::Error,
+        }
+    }
+
+    /// The type a typed literal's prefix names: an elementary type, or a TYPE that
+    /// is one (`Celsius#20.5`).
+    fn prefix_type(&self, sym: crate::intern::Symbol) -> Option<Ty> {
+        if let Some(t) = ElemType::from_name(self.l.sym_name(sym)) {
+            return Some(Ty::Elem(t));
+        }
+        let &i = self.l.user.by_name.get(&sym)?;
+        match self.l.user.named[i as usize].state {
+            TypeState::Done(t @ Ty::Elem(_), _) => Some(t),
+            _ => None,
+        }
+    }
+
+    /// True if `e` is a bare name that reads as a value of the enumeration `ty` (and
+    /// names nothing else): an operand whose enumeration the other operand tells.
+    fn is_value_of(&self, e: &Expr, ty: Ty) -> bool {
+        let mut e = e;
+        while let ExprKind::Paren(x) = &e.kind {
+            e = x;
+        }
+        match (&e.kind, ty) {
+            (ExprKind::Name(id), Ty::Enum(en, _)) => {
+                self.name_type(id.sym) == Ty::Error && self.l.enum_value_of(en, id.sym).is_some()
+            }
+            _ => false,
+        }
     }
 
     /// Emits an expression and converts it (implicitly, with checks) to `target`.
     pub(super) fn emit_as(&mut self, e: &'s Expr, target: Ty) -> Value {
         let v = self.emit(e, Some(target));
+        if v.ty == target && target.is_aggregate() {
+            // A whole STRUCT or array is copied through its address (`agg_source`),
+            // never carried as one value.
+            let t = self.l.ty_name(target);
+            self.l.error(
+                codes::E_TYPE_MISMATCH,
+                format!("a whole {t} cannot be used as a value here"),
+                e.span,
+            );
+            return self.zero(target);
+        }
+        if let (Ty::Enum(en, _), ExprKind::Name(id)) = (target, &e.kind) {
+            if v.ty != target && v.ty != Ty::Error && self.l.enum_value_of(en, id.sym).is_some() {
+                // A variable hides the enumeration value of the same name.
+                let n = self.l.text(id.span).to_string();
+                let (t, found) = (self.l.ty_name(target), self.l.ty_name(v.ty));
+                self.l.diags.push(
+                    plcc_ir::diag::Diagnostic::error(
+                        codes::E_TYPE_MISMATCH,
+                        format!("expected {t}, found {found}"),
+                        e.span,
+                    )
+                    .with_label(format!("this `{n}` is a variable, not the value of {t}"))
+                    .with_note(format!("write `{t}#{n}` for the value")),
+                );
+                return self.zero(target);
+            }
+        }
         let fits = match (v.ty, target) {
             (a, b) if a == b => true,
             (Ty::Error, _) | (_, Ty::Error) => true,
@@ -343,6 +432,7 @@ impl<'s> BodyCx<'_, 's> {
                     Ty::Elem(t) if t.is_integer() || t.is_bit_string() => {
                         d.with_note(format!("{want} holds whole numbers; convert explicitly, e.g. `LREAL_TO_{want}(...)`"))
                     }
+                    Ty::Enum(en, _) => d.with_note(self.enum_note(en)),
                     _ => d,
                 };
                 self.l.diags.push(d);
@@ -379,14 +469,32 @@ impl<'s> BodyCx<'_, 's> {
             }
             _ => {
                 let (a, b) = (self.l.ty_name(target), self.l.ty_name(v.ty));
-                self.l.error(
+                let mut d = plcc_ir::diag::Diagnostic::error(
                     codes::E_TYPE_MISMATCH,
                     format!("expected {a}, found {b}"),
                     span,
                 );
+                match (target, v.ty) {
+                    (Ty::Enum(en, _), _) => d = d.with_note(self.enum_note(en)),
+                    (_, Ty::Enum(..)) => {
+                        d = d.with_note("an enumeration value is not a number: compare it with the values of its type, or use CASE")
+                    }
+                    _ => {}
+                }
+                self.l.diags.push(d);
                 self.zero(target)
             }
         }
+    }
+
+    /// What an enumeration accepts, for a mismatch diagnostic.
+    fn enum_note(&self, en: crate::types::EnumId) -> String {
+        let e = &self.l.user.enums[en.0 as usize];
+        let first = e.values.first().map_or("", |v| v.display.as_str());
+        format!(
+            "a variable of the enumeration {} takes only its values, e.g. `{}#{first}`",
+            e.display, e.display
+        )
     }
 
     /// Emits an expression. `want` is the type the context would like (it decides the
@@ -395,7 +503,7 @@ impl<'s> BodyCx<'_, 's> {
         match &e.kind {
             ExprKind::Paren(x) | ExprKind::UsedBy { value: x, .. } => self.emit(x, want),
             ExprKind::Literal(_) => self.literal(e, want, false),
-            ExprKind::Name(id) => match self.resolve_name(*id, true) {
+            ExprKind::Name(id) => match self.resolve_name(*id, true, want) {
                 Named::Place(p) => {
                     let v = self.load_place(&p);
                     Val { v, ty: p.ty }
@@ -405,7 +513,7 @@ impl<'s> BodyCx<'_, 's> {
             },
             ExprKind::Member(..) | ExprKind::Index(..) | ExprKind::Bit(..) => match self.place(e) {
                 Some(p) => {
-                    if p.ty.elem().is_none() && p.ty != Ty::Error {
+                    if !matches!(p.ty, Ty::Elem(_) | Ty::Enum(..) | Ty::Error) {
                         let t = self.l.ty_name(p.ty);
                         self.l.error(
                             codes::E_TYPE_MISMATCH,
@@ -426,7 +534,12 @@ impl<'s> BodyCx<'_, 's> {
                 None => self.error_val(),
             },
             ExprKind::Deref(_) => self.unsupported("dereferencing with ^", e.span),
-            ExprKind::EnumValue { .. } => self.unsupported("enumerations", e.span),
+            ExprKind::EnumValue { ty, value } => match self.l.qualified_enum(*ty, *value, true) {
+                Some((en, base, v)) => {
+                    self.constant(ConstVal::Int(v), Ty::Enum(en, base), None, e.span)
+                }
+                None => self.error_val(),
+            },
             ExprKind::DirectAddress(_) => {
                 self.unsupported("direct addresses in expressions", e.span)
             }
@@ -455,8 +568,8 @@ impl<'s> BodyCx<'_, 's> {
             unreachable!()
         };
         let prefix = match lit.type_prefix {
-            Some(p) => match ElemType::from_name(self.l.sym_name(p.sym)) {
-                Some(t) => Some(Ty::Elem(t)),
+            Some(p) => match self.prefix_type(p.sym) {
+                Some(t) => Some(t),
                 None => {
                     let n = self.l.text(p.span).to_string();
                     self.l.error(
@@ -537,6 +650,10 @@ impl<'s> BodyCx<'_, 's> {
 
     /// Emits a constant of type `ty` (a literal type is made concrete with `want`).
     pub(super) fn constant(&mut self, c: ConstVal, ty: Ty, want: Option<Ty>, span: Span) -> Val {
+        if let (Ty::Enum(_, base), ConstVal::Int(i)) = (ty, c) {
+            let v = self.b.iconst(base.ir_type(), i as i64);
+            return Val { v, ty };
+        }
         let ty = concretize(ty, want);
         let c = match c.coerce(ty) {
             Ok(c) => c,
@@ -612,7 +729,13 @@ impl<'s> BodyCx<'_, 's> {
     }
 
     fn binary(&mut self, op: Op, a: &'s Expr, b: &'s Expr, want: Option<Ty>, span: Span) -> Val {
-        let (lt, rt) = (self.infer(a), self.infer(b));
+        let (mut lt, mut rt) = (self.infer(a), self.infer(b));
+        // `c = Red` with `Red` a value of several enumerations: `c` says which.
+        if matches!(lt, Ty::Enum(..)) && rt == Ty::Error && self.is_value_of(b, lt) {
+            rt = lt;
+        } else if matches!(rt, Ty::Enum(..)) && lt == Ty::Error && self.is_value_of(a, rt) {
+            lt = rt;
+        }
         let typing = {
             let l = &*self.l;
             binary_typing(op, lt, rt, &|t| l.ty_name(t))
@@ -651,8 +774,13 @@ impl<'s> BodyCx<'_, 's> {
         }
         let x = self.emit_as(a, operand);
         let y = self.emit_as(b, operand);
-        let Some(e) = operand.elem() else {
-            return self.error_val();
+        let e = match operand {
+            // Only `=` and `<>` get here (`binary_typing`).
+            Ty::Enum(_, base) => base,
+            t => match t.elem() {
+                Some(e) => e,
+                None => return self.error_val(),
+            },
         };
         let v = self.arith(op, x, y, e);
         Val { v, ty: result }
@@ -1059,7 +1187,7 @@ impl<'s> BodyCx<'_, 's> {
     pub(super) fn place(&mut self, e: &'s Expr) -> Option<Place> {
         match &e.kind {
             ExprKind::Paren(x) => self.place(x),
-            ExprKind::Name(id) => match self.resolve_name(*id, true) {
+            ExprKind::Name(id) => match self.resolve_name(*id, true, None) {
                 Named::Place(p) => Some(p),
                 Named::Const(..) => {
                     let n = self.l.text(id.span).to_string();
@@ -1073,6 +1201,14 @@ impl<'s> BodyCx<'_, 's> {
                 Named::Error => None,
             },
             ExprKind::Member(base, name) => {
+                if matches!(base.kind, ExprKind::Call { .. }) && self.infer(base).is_aggregate() {
+                    self.l.error(
+                        codes::E_UNSUPPORTED,
+                        "not supported yet: a member of a FUNCTION's result; assign the result to a variable first",
+                        e.span,
+                    );
+                    return None;
+                }
                 let bp = self.place(base)?;
                 match bp.ty {
                     Ty::Fb(fb) => {
@@ -1086,6 +1222,44 @@ impl<'s> BodyCx<'_, 's> {
                             p.access = bp.access;
                         }
                         Some(p)
+                    }
+                    Ty::Struct(s) => {
+                        let Some(fi) = self.l.struct_field(s, name.sym) else {
+                            let st = &self.l.user.structs[s.0 as usize];
+                            let names: Vec<&str> =
+                                st.fields.iter().map(|f| f.display.as_str()).collect();
+                            let note = format!("its fields are {}", names.join(", "));
+                            let msg = format!(
+                                "STRUCT {} has no field `{}`",
+                                st.display,
+                                self.l.text(name.span)
+                            );
+                            self.l.diags.push(
+                                plcc_ir::diag::Diagnostic::error(
+                                    codes::E_NO_MEMBER,
+                                    msg,
+                                    name.span,
+                                )
+                                .with_note(note),
+                            );
+                            return None;
+                        };
+                        let agg = self.l.struct_agg(s);
+                        let st = &self.l.user.structs[s.0 as usize];
+                        let ir_fi = st.ir_fields[fi]?;
+                        let f = &st.fields[fi];
+                        let (ty, tag) = (f.ty, f.tag);
+                        let addr = self.b.field_addr(bp.addr, agg, ir_fi);
+                        Some(Place {
+                            addr,
+                            ty,
+                            // A field of an input or of another instance's output is
+                            // that input or output.
+                            access: bp.access,
+                            bit: None,
+                            guard: bp.guard,
+                            tag,
+                        })
                     }
                     Ty::Error => None,
                     t => {
@@ -1135,6 +1309,7 @@ impl<'s> BodyCx<'_, 's> {
                     access: bp.access,
                     bit: Some((n, bp.ty)),
                     guard: bp.guard,
+                    tag: None,
                 })
             }
             ExprKind::Index(..) => {
@@ -1181,6 +1356,7 @@ impl<'s> BodyCx<'_, 's> {
                     access: bp.access,
                     bit: None,
                     guard,
+                    tag: at.elem_tag,
                 })
             }
             ExprKind::Call { .. } => {

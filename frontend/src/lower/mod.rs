@@ -1,14 +1,16 @@
 //! Semantic analysis and lowering to the IR, in one pass over the syntax tree.
 //!
 //! The work goes in phases: collect every POU of every file (and the standard function
-//! blocks), resolve their interfaces (variables and types), give each an IR shell (the
-//! instance struct, the body and init functions), then check and lower every body.
+//! blocks) and every TYPE declaration, resolve the types, then the POUs' interfaces
+//! (variables and types), give each POU an IR shell (the instance struct, the body and
+//! init functions), then check and lower every body.
 //! Type checking and IR emission happen together: an expression's type is inferred
 //! first (so that untyped literals take the type their context wants), then it is
 //! emitted. Errors become diagnostics with codes and spans; an expression with an
 //! error has type [`Ty::Error`], which every later check accepts silently, so one
 //! mistake gives one diagnostic.
 
+mod aggregates;
 mod body;
 mod builtins;
 mod calls;
@@ -17,12 +19,13 @@ mod decls;
 mod expr;
 mod init;
 mod stmt;
+mod usertypes;
 
 use crate::ast::{self, Ident, PouKind, SourceUnit, VarKind};
 use crate::codes;
 use crate::intern::{Interner, Symbol};
 use crate::source::SourceMap;
-use crate::types::{ArrayId, PouId, Ty, TypeTable};
+use crate::types::{ArrayId, PouId, TagId, Ty, TypeTable};
 use plcc_ir::diag::{Diagnostic, Span};
 use plcc_ir::{AggId, FuncId, Module};
 use rustc_hash::FxHashMap;
@@ -49,6 +52,8 @@ pub struct VarInfo {
     pub constant: bool,
     /// The type.
     pub ty: Ty,
+    /// Its derived type (alias, subrange), whose initial value and range apply.
+    pub tag: Option<TagId>,
     /// Index of its declaration: (var block, declaration) in the POU's AST.
     pub decl: (u32, u32),
     /// `AT %...`, if located.
@@ -85,6 +90,8 @@ pub struct PouInfo {
     pub lookup: FxHashMap<Symbol, u32>,
     /// A FUNCTION's result type (`Void` if none; `Void` for the others).
     pub ret: Ty,
+    /// The derived type of a FUNCTION's result, if any.
+    pub ret_tag: Option<TagId>,
     /// Part of the built-in standard library.
     pub std: bool,
 }
@@ -112,6 +119,9 @@ struct PouIr {
     consts: Vec<ConstVal>,
     /// For FUNCTIONs: parameter index of each input/in-out/output variable.
     param_of: Vec<Option<u32>>,
+    /// For FUNCTIONs returning a STRUCT or an array: the parameter that points where
+    /// the caller wants the result.
+    result_param: Option<u32>,
 }
 
 /// The state of one build: parsed units, the POU table, the module being built.
@@ -122,6 +132,7 @@ pub struct Lowerer<'s> {
     pub(crate) pous: Vec<PouInfo>,
     pub(crate) pou_by_name: FxHashMap<Symbol, PouId>,
     pub(crate) types: TypeTable,
+    pub(crate) user: usertypes::UserTypes<'s>,
     pub(crate) diags: Vec<Diagnostic>,
     pub(crate) module: Module,
     ir: Vec<PouIr>,
@@ -131,8 +142,8 @@ pub struct Lowerer<'s> {
     calls: Vec<(PouId, PouId, Span)>,
     /// POUs whose IR is wanted (user POUs, and standard FBs that are used).
     used: Vec<bool>,
-    /// Names declared by constructs reported as not supported (enumeration values,
-    /// user types): using them gives no second error.
+    /// Names declared by constructs reported as not supported (variables of
+    /// sections plcc does not compile): using them gives no second error.
     unsupported_names: rustc_hash::FxHashSet<Symbol>,
     /// The synthetic POU holding every VAR_GLOBAL (see `crate::GLOBALS_POU`).
     pub(crate) globals_pou: Option<PouId>,
@@ -158,6 +169,7 @@ impl<'s> Lowerer<'s> {
             pous: Vec::new(),
             pou_by_name: FxHashMap::default(),
             types: TypeTable::default(),
+            user: Default::default(),
             diags: Vec::new(),
             module,
             ir: Vec::new(),
@@ -181,7 +193,9 @@ impl<'s> Lowerer<'s> {
         opts: &LowerOptions,
     ) -> (Option<Module>, Vec<Diagnostic>) {
         self.collect_pous(std_units);
+        self.collect_types();
         self.report_unsupported_items();
+        self.resolve_user_types();
         for i in 0..self.pous.len() {
             self.resolve_interface(PouId(i as u32));
         }
@@ -199,6 +213,11 @@ impl<'s> Lowerer<'s> {
         }
         self.check_recursion();
         self.instantiate_programs(opts);
+        // A STRUCT's field initialisers are lowered for every variable of the type, so
+        // their mistakes would be reported once per variable.
+        let mut seen = rustc_hash::FxHashSet::default();
+        self.diags
+            .retain(|d| seen.insert((d.code, d.span, d.message.clone())));
         let has_errors = self.diags.iter().any(|d| d.is_error());
         let module = (!has_errors).then_some(self.module);
         (module, self.diags)
@@ -250,8 +269,14 @@ impl<'s> Lowerer<'s> {
             Ty::Array(a) => {
                 let a = self.types.get(a);
                 let dims: Vec<String> = a.dims.iter().map(|(l, h)| format!("{l}..{h}")).collect();
-                format!("ARRAY[{}] OF {}", dims.join(", "), self.ty_name(a.elem))
+                let elem = match a.elem_tag {
+                    Some(t) => self.user.tags[t.0 as usize].name.clone(),
+                    None => self.ty_name(a.elem),
+                };
+                format!("ARRAY[{}] OF {elem}", dims.join(", "))
             }
+            Ty::Struct(s) => self.user.structs[s.0 as usize].display.clone(),
+            Ty::Enum(e, _) => self.user.enums[e.0 as usize].display.clone(),
             Ty::AnyInt => "an integer literal".to_string(),
             Ty::AnyReal => "a real literal".to_string(),
             Ty::Void => "no value".to_string(),
@@ -267,7 +292,6 @@ impl<'s> Lowerer<'s> {
                 if let ast::Item::Pou(p) = item {
                     for b in &p.var_blocks {
                         for d in &b.decls {
-                            collect_enum_values(&d.ty, &mut self.unsupported_names);
                             if matches!(
                                 b.kind,
                                 VarKind::External
@@ -308,22 +332,8 @@ impl<'s> Lowerer<'s> {
                         }
                         continue;
                     }
-                    ast::Item::Type(t) => {
-                        self.unsupported_names.insert(t.name.sym);
-                        collect_enum_values(&t.spec, &mut self.unsupported_names);
-                        let what = match &t.spec {
-                            ast::TypeSpec::Struct { .. } => "STRUCT types",
-                            ast::TypeSpec::Enum { .. } => "enumerations",
-                            ast::TypeSpec::Subrange { .. } => "subrange types",
-                            ast::TypeSpec::Array { .. } => "named array types",
-                            ast::TypeSpec::String { .. } => "STRING types",
-                            ast::TypeSpec::Ref { .. } | ast::TypeSpec::Pointer { .. } => {
-                                "reference types"
-                            }
-                            ast::TypeSpec::Named(_) => "type aliases",
-                        };
-                        (what, t.name.span)
-                    }
+                    // Checked when resolved (`resolve_user_types`).
+                    ast::Item::Type(_) => continue,
                     ast::Item::Globals(b) => {
                         for d in &b.decls {
                             self.unsupported_names.extend(d.names.iter().map(|n| n.sym));
@@ -343,21 +353,6 @@ impl<'s> Lowerer<'s> {
                 span,
             );
         }
-    }
-}
-
-/// Adds the value names of an enumeration type (and of enumerations nested in
-/// structs and arrays) to `out`.
-fn collect_enum_values(spec: &ast::TypeSpec, out: &mut rustc_hash::FxHashSet<Symbol>) {
-    match spec {
-        ast::TypeSpec::Enum { values, .. } => out.extend(values.iter().map(|(v, _)| v.sym)),
-        ast::TypeSpec::Struct { fields, .. } => {
-            for f in fields {
-                collect_enum_values(&f.ty, out);
-            }
-        }
-        ast::TypeSpec::Array { elem, .. } => collect_enum_values(elem, out),
-        _ => {}
     }
 }
 

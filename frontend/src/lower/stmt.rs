@@ -120,6 +120,14 @@ impl<'s> BodyCx<'_, 's> {
                     return;
                 }
                 let v = self.emit(value, None);
+                if matches!(v.ty, Ty::Struct(_) | Ty::Array(_) | Ty::Fb(_)) {
+                    let t = self.l.ty_name(v.ty);
+                    self.l.error(
+                        codes::E_UNSUPPORTED,
+                        format!("not supported yet: a whole {t} as the current result"),
+                        value.span,
+                    );
+                }
                 // A temporary whose value had an error stays known (as an error), so
                 // its uses report nothing more.
                 let t = v.ty.ir().unwrap_or(plcc_ir::Type::I32);
@@ -201,11 +209,15 @@ impl<'s> BodyCx<'_, 's> {
             return;
         };
         if place.access == Access::OtherOutput {
-            if let ExprKind::Member(base, name) = &target.kind {
-                let fb = match self.infer(base) {
-                    Ty::Fb(p) => self.l.pou(p).display.clone(),
-                    _ => String::new(),
-                };
+            let base_fb = match &target.kind {
+                ExprKind::Member(base, name) => match self.infer(base) {
+                    Ty::Fb(p) => Some((base, name, p)),
+                    _ => None,
+                },
+                _ => None,
+            };
+            if let Some((base, name, p)) = base_fb {
+                let fb = self.l.pou(p).display.clone();
                 let (n, inst) = (
                     self.l.text(name.span).to_string(),
                     self.l.text(base.span).to_string(),
@@ -231,10 +243,12 @@ impl<'s> BodyCx<'_, 's> {
             return;
         }
         match place.ty {
-            Ty::Elem(_) => {
+            Ty::Elem(_) | Ty::Enum(..) => {
+                self.check_range(place.tag, value);
                 let v = self.emit_as(value, place.ty);
                 self.store_place(&place, v);
             }
+            Ty::Struct(_) | Ty::Array(_) => self.assign_aggregate(&place, value, target.span),
             Ty::Error => self.check_only(value),
             _ => {
                 let what = self.l.ty_name(place.ty);
@@ -324,16 +338,21 @@ impl<'s> BodyCx<'_, 's> {
     ) {
         self.set_span(selector.span);
         let sel = self.emit(selector, None);
-        let ok_type = matches!(sel.ty, Ty::Error) || sel.ty.is_int_like();
+        let ok_type = matches!(sel.ty, Ty::Error | Ty::Enum(..)) || sel.ty.is_int_like();
         if !ok_type {
             let t = self.l.ty_name(sel.ty);
             self.l.error(
                 codes::E_TYPE_MISMATCH,
-                format!("a CASE selector must be an integer or a bit string, not {t}"),
+                format!(
+                    "a CASE selector must be an integer, a bit string or an enumeration, not {t}"
+                ),
                 selector.span,
             );
         }
-        let sel_elem = sel.ty.elem().filter(|_| ok_type);
+        let sel_elem = match sel.ty {
+            Ty::Enum(_, base) => Some(base),
+            t => t.elem().filter(|_| ok_type),
+        };
         let join = self.b.create_block();
         let mut seen: Vec<(i128, i128, Span)> = Vec::new();
         for arm in arms {
@@ -343,11 +362,11 @@ impl<'s> BodyCx<'_, 's> {
                     CaseLabel::Value(e) => (e, e),
                     CaseLabel::Range(a, b) => (a, b),
                 };
-                let lo = self.case_label_value(lo_e, sel_elem);
+                let lo = self.case_label_value(lo_e, sel_elem, sel.ty);
                 let hi = if std::ptr::eq(lo_e, hi_e) {
                     lo
                 } else {
-                    self.case_label_value(hi_e, sel_elem)
+                    self.case_label_value(hi_e, sel_elem, sel.ty)
                 };
                 let (Some(lo), Some(hi)) = (lo, hi) else {
                     continue;
@@ -407,8 +426,27 @@ impl<'s> BodyCx<'_, 's> {
         self.b.switch_to(join);
     }
 
-    /// A CASE label's value, checked against the selector's type.
-    fn case_label_value(&mut self, e: &'s Expr, sel: Option<ElemType>) -> Option<i128> {
+    /// A CASE label's value, checked against the selector's type (`sel_ty`; `sel` is
+    /// the integer type that holds it).
+    fn case_label_value(&mut self, e: &'s Expr, sel: Option<ElemType>, sel_ty: Ty) -> Option<i128> {
+        if let Ty::Enum(en, _) = sel_ty {
+            return self.enum_case_label(e, en);
+        }
+        let label_ty = self.infer(e);
+        if let Ty::Enum(..) = label_ty {
+            if sel_ty == Ty::Error {
+                return None;
+            }
+            let (l, t) = (self.l.ty_name(label_ty), self.l.ty_name(sel_ty));
+            self.l.error(
+                codes::E_BAD_CASE_LABEL,
+                format!(
+                    "this CASE label is a value of the enumeration {l}, but the selector is {t}"
+                ),
+                e.span,
+            );
+            return None;
+        }
         match self.l.const_eval(e, self.pou) {
             Some((ConstVal::Int(v), _)) => {
                 if let Some(t) = sel {
@@ -430,12 +468,10 @@ impl<'s> BodyCx<'_, 's> {
                     crate::ast::ExprKind::Name(id) if self.l.is_unsupported_name(id.sym) => {
                         return None
                     }
-                    crate::ast::ExprKind::EnumValue { .. } => {
-                        self.l.error(
-                            codes::E_UNSUPPORTED,
-                            "not supported yet: enumerations",
-                            e.span,
-                        );
+                    crate::ast::ExprKind::EnumValue { ty, value } => {
+                        // A known value was reported above (its type is an
+                        // enumeration's); this reports an unknown type or value.
+                        let _ = self.l.qualified_enum(*ty, *value, true);
                         return None;
                     }
                     _ => {}
@@ -448,6 +484,50 @@ impl<'s> BodyCx<'_, 's> {
                 None
             }
         }
+    }
+
+    /// A CASE label for a selector of the enumeration `en`: one of its values (or a
+    /// constant of the type).
+    fn enum_case_label(&mut self, e: &'s Expr, en: crate::types::EnumId) -> Option<i128> {
+        let mut x = e;
+        while let ExprKind::Paren(i) = &x.kind {
+            x = i;
+        }
+        let sel_ty = Ty::Enum(en, self.l.enum_base(en));
+        let found = match &x.kind {
+            ExprKind::Name(id) => match self.resolve_name(*id, false, Some(sel_ty)) {
+                super::body::Named::Const(ConstVal::Int(v), t) if t == sel_ty => return Some(v),
+                super::body::Named::Const(_, t) => Some(t),
+                super::body::Named::Place(p) => Some(p.ty),
+                super::body::Named::Error => None,
+            },
+            ExprKind::EnumValue { ty, value } => match self.l.qualified_enum(*ty, *value, true) {
+                Some((e2, _, v)) if e2 == en => return Some(v),
+                Some((e2, b, _)) => Some(Ty::Enum(e2, b)),
+                None => return None,
+            },
+            _ => None,
+        };
+        let want = self.l.ty_name(sel_ty);
+        let msg = match found {
+            Some(t @ Ty::Enum(..)) => format!(
+                "this CASE label is a value of {}, but the selector is of the enumeration {want}",
+                self.l.ty_name(t)
+            ),
+            _ => format!(
+                "a CASE label for a selector of the enumeration {want} must be one of its values"
+            ),
+        };
+        let names: Vec<&str> = self.l.user.enums[en.0 as usize]
+            .values
+            .iter()
+            .map(|v| v.display.as_str())
+            .collect();
+        let note = format!("its values are {}", names.join(", "));
+        self.l.diags.push(
+            plcc_ir::diag::Diagnostic::error(codes::E_BAD_CASE_LABEL, msg, e.span).with_note(note),
+        );
+        None
     }
 
     /// True for a variable of this POU itself (not a global, which a call could
@@ -471,7 +551,7 @@ impl<'s> BodyCx<'_, 's> {
         body: &'s [Stmt],
         span: Span,
     ) {
-        let var_expr_place = match self.resolve_name(var, true) {
+        let var_expr_place = match self.resolve_name(var, true, None) {
             super::body::Named::Place(p) => Some(p),
             super::body::Named::Const(..) => {
                 self.l.error(
