@@ -217,6 +217,16 @@ fn eval_depth(
             } else {
                 ty
             };
+            // Typed integer arithmetic wraps at run time; a result outside the type is
+            // not the value the program computes, so it is no constant to rely on
+            // (an index known "in range" this way would skip its bounds check).
+            if let (ConstVal::Int(i), Some(e)) = (&v, ty.elem()) {
+                if let Some((lo, hi)) = int_range(e) {
+                    if !ty.is_literal() && (*i < lo || *i > hi) {
+                        return None;
+                    }
+                }
+            }
             // REAL arithmetic rounds every result to binary32, as at run time (binary64
             // arithmetic on binary32 operands, then one rounding, gives the same
             // result for + - * /).
