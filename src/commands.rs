@@ -152,7 +152,7 @@ pub fn difftest(
 ) -> u8 {
     let machines: Vec<&str> = machines.split(',').map(str::trim).collect();
     for m in &machines {
-        match targets::find(m) {
+        match targets::find(m.split(':').next().unwrap_or(m)) {
             Some(t) if t.runs => {}
             _ => return usage(format!("`{m}` is not a target that runs programs")),
         }

@@ -120,7 +120,8 @@ enum Command {
         /// How many programs (seeds seed, seed+1, ...)
         #[arg(long, default_value_t = 100)]
         count: u64,
-        /// The machines, the reference first
+        /// The machines, the reference first (a machine may carry one setting:
+        /// vmasm:mode=32a)
         #[arg(long, default_value = "interp,host,vmasm,pic16f876a")]
         targets: String,
         /// Scans per program

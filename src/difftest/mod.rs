@@ -73,7 +73,8 @@ fn random_value(rng: &mut Rng, t: T) -> u64 {
     }
 }
 
-/// Runs `p` on `machines` (the first is the reference) for `scans` scans.
+/// Runs `p` on `machines` (the first is the reference; a machine may carry one
+/// target setting, `vmasm:mode=32a`) for `scans` scans.
 pub fn check(p: &Prog, machines: &[&str], scans: u32, seed: u64) -> Verdict {
     let module = match compile(p) {
         Ok(m) => m,
@@ -85,7 +86,15 @@ pub fn check(p: &Prog, machines: &[&str], scans: u32, seed: u64) -> Verdict {
     let vars = plcc_ir::vars::variables(&module, entry.data);
     let mut ms: Vec<(String, Box<dyn Machine>)> = Vec::new();
     for &name in machines {
-        match targets::machine(name, &module) {
+        // `vmasm:mode=32a`: a target with one setting.
+        let (target, settings) = match name.split_once(':') {
+            Some((t, kv)) => match kv.split_once('=') {
+                Some((k, v)) => (t, vec![(k.to_string(), v.to_string())]),
+                None => (t, Vec::new()),
+            },
+            None => (name, Vec::new()),
+        };
+        match targets::machine_with(target, &module, &settings) {
             Ok(m) => ms.push((name.to_string(), m)),
             Err(d) if d.iter().any(|x| UNFIT.contains(&x.code)) => {}
             Err(d) => {
