@@ -145,7 +145,7 @@ pub(super) fn binary_typing(
             if l.is_aggregate() || r.is_aggregate() {
                 let t = if l.is_aggregate() { l } else { r };
                 return Err(format!(
-                    "`{}` cannot compare {}: STRUCTs and arrays are compared field by field (or element by element), not as a whole",
+                    "`{}` cannot compare {} as a whole: compare STRUCTs field by field and arrays element by element",
                     op.symbol(),
                     names(t)
                 ));
