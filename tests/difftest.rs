@@ -45,6 +45,7 @@ fn has_mod(body: &[Stmt]) -> bool {
             mentions_mod(c) || arms.iter().any(|(_, b)| has_mod(b)) || has_mod(o)
         }
         Stmt::CallFb(a, b, _) => mentions_mod(a) || mentions_mod(b),
+        Stmt::Raw(_) => false,
     })
 }
 

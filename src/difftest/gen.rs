@@ -211,6 +211,8 @@ pub enum Stmt {
     While(i64, Vec<Stmt>),
     /// `fb(a := e1, b := e2); v := fb.r;`
     CallFb(Expr, Expr, String),
+    /// A fixed statement on the STRUCT and enumeration variables (`r2 := r1;`).
+    Raw(String),
 }
 
 /// A generated program: its variables, array, inputs, and body, with a FUNCTION and
@@ -233,6 +235,32 @@ pub struct Gen<'r> {
     prog: Prog,
     depth: u32,
 }
+
+/// The fields of the STRUCT variables `r1`, `r2` (type `Rec`, see [`Prog::to_st`])
+/// that hold a `t`.
+fn struct_fields(t: T) -> Vec<String> {
+    let fields: &[&str] = match t {
+        T::Int => &["a"],
+        T::Real => &["b"],
+        T::Bool => &["c"],
+        T::Dint => &["d[0]", "d[2]"],
+        _ => &[],
+    };
+    ["r1", "r2"]
+        .iter()
+        .flat_map(|r| fields.iter().map(move |f| format!("{r}.{f}")))
+        .collect()
+}
+
+/// Statements on the STRUCT and enumeration variables.
+const RAW: [&str; 6] = [
+    "r2 := r1;",
+    "r1 := r2;",
+    "m1 := Mode#Stop;",
+    "IF m1 = Mode#Run THEN r1.a := r1.a + 1; ELSE m1 := Mode#Run; END_IF;",
+    "CASE m1 OF Mode#Idle: r2.c := NOT r2.c; Mode#Run: m1 := Mode#Idle; ELSE r1.d[1] := r1.d[1] - 1; END_CASE;",
+    "r1.d[LIMIT(0, r2.a, 2)] := r1.d[0] * 3;",
+];
 
 fn lit(rng: &mut Rng, t: T) -> Expr {
     let text = match t {
@@ -335,6 +363,7 @@ impl<'r> Gen<'r> {
                 .filter(|(_, vt)| *vt == t)
                 .map(|(n, _)| n.clone()),
         );
+        v.extend(struct_fields(t));
         v
     }
 
@@ -401,7 +430,12 @@ impl<'r> Gen<'r> {
                     let op = *self.rng.pick(&["AND", "OR", "XOR"]);
                     Expr::Bin(T::Bool, op, b(self.expr(T::Bool)), b(self.expr(T::Bool)))
                 }
-                70..=84 => Expr::Un(T::Bool, "NOT", b(self.expr(T::Bool))),
+                70..=79 => Expr::Un(T::Bool, "NOT", b(self.expr(T::Bool))),
+                80..=84 => {
+                    let v = *self.rng.pick(&["Idle", "Run", "Stop"]);
+                    let op = *self.rng.pick(&["=", "<>"]);
+                    Expr::Lit(T::Bool, format!("(m1 {op} Mode#{v})"))
+                }
                 _ => self.conversion(t),
             },
             _ if t.is_real() => match k {
@@ -526,10 +560,17 @@ impl<'r> Gen<'r> {
         let nested = self.depth < 2;
         let (et, lo, hi) = self.prog.array;
         match k {
-            0..=44 => {
+            0..=36 => {
                 let (n, t, _) = self.rng.pick(&self.prog.vars).clone();
                 Stmt::Assign(n, self.expr(t))
             }
+            37..=40 => {
+                let t = *self.rng.pick(&[T::Int, T::Real, T::Bool, T::Dint]);
+                let fields = struct_fields(t);
+                let f = self.rng.pick(&fields).clone();
+                Stmt::Assign(f, self.expr(t))
+            }
+            41..=44 => Stmt::Raw(self.rng.pick(&RAW).to_string()),
             45..=59 => {
                 let i = self.index();
                 Stmt::AssignElem(i, self.expr(et))
@@ -670,6 +711,9 @@ fn print_stmts(body: &[Stmt], ind: usize, out: &mut String) {
                 print_stmts(body, ind + 1, out);
                 let _ = writeln!(out, "{pad}    w{ind} := w{ind} + 1;\n{pad}END_WHILE;");
             }
+            Stmt::Raw(text) => {
+                let _ = writeln!(out, "{pad}{text}");
+            }
             Stmt::CallFb(a, b, target) => {
                 let _ = write!(out, "{pad}fb(a := ");
                 print_expr(a, out);
@@ -691,6 +735,9 @@ impl Prog {
         o.push_str(
             "FUNCTION_BLOCK FB1\nVAR_INPUT a, b : INT; END_VAR\nVAR_OUTPUT r : INT; END_VAR\nVAR acc : INT; END_VAR\n    acc := acc + a - b;\n    r := acc * 2;\nEND_FUNCTION_BLOCK\n\n",
         );
+        o.push_str(
+            "TYPE\n    Rec : STRUCT\n        a : INT := 3;\n        b : REAL;\n        c : BOOL;\n        d : ARRAY[0..2] OF DINT := [1, 2, 3];\n    END_STRUCT;\n    Mode : (Idle, Run := 5, Stop);\nEND_TYPE\n\n",
+        );
         o.push_str("PROGRAM main\n");
         if !self.inputs.is_empty() {
             o.push_str("VAR_INPUT\n");
@@ -707,6 +754,7 @@ impl Prog {
         }
         let (et, lo, hi) = self.array;
         let _ = writeln!(o, "    arr : ARRAY[{lo}..{hi}] OF {};", et.name());
+        o.push_str("    r1, r2 : Rec;\n    m1 : Mode := Mode#Run;\n");
         o.push_str("    k1, k2, k3, k4 : INT;\n    w1, w2, w3, w4 : INT;\n    q : INT;\n    fb : FB1;\nEND_VAR\n");
         print_stmts(&self.body, 1, &mut o);
         o.push_str("END_PROGRAM\n");

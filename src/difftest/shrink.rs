@@ -54,6 +54,7 @@ fn for_each_expr(p: &mut Prog, f: &mut dyn FnMut(&mut Expr) -> bool) -> bool {
                 walk(c, f) || arms.iter_mut().any(|(_, b)| stmts(b, f)) || stmts(other, f)
             }
             Stmt::CallFb(a, b, _) => walk(a, f) || walk(b, f),
+            Stmt::Raw(_) => false,
         })
     }
     p.vars.iter_mut().any(|(_, _, e)| walk(e, f)) || stmts(&mut p.body, f)
