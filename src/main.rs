@@ -153,6 +153,14 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    // Output piped into `head` and the like ends when the reader has had enough, as
+    // for other command-line tools: Rust ignores SIGPIPE, and a print to a closed
+    // pipe would panic.
+    #[cfg(unix)]
+    // SAFETY: setting a signal's disposition to its default before any thread starts.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     let status = match cli.command {
         Some(Command::Run {

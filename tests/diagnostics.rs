@@ -723,3 +723,38 @@ fn binary_reports_duplicate_across_files() {
         assert_eq!(status(&plcc(&["check", files[0]])), 0);
     }
 }
+
+/// Output piped into a reader that stops early (`plcc run big.st | head -1`) ends
+/// the program quietly, with no panic about a broken pipe.
+#[test]
+fn a_closed_output_pipe_is_no_panic() {
+    use std::io::Read;
+    use std::process::{Command, Stdio};
+    let dir = std::env::temp_dir().join(format!("plcc-pipe-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let src = dir.join("big.st");
+    // 20,001 lines of output: more than a pipe holds.
+    std::fs::write(
+        &src,
+        "PROGRAM big\nVAR a : ARRAY[0..20000] OF INT; END_VAR\n    a[0] := 1;\nEND_PROGRAM\n",
+    )
+    .unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_plcc"))
+        .args(["run", src.to_str().unwrap()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("plcc runs");
+    let mut first = [0u8; 8];
+    child
+        .stdout
+        .take()
+        .expect("stdout")
+        .read_exact(&mut first)
+        .expect("some output");
+    // The read end is closed here, long before plcc has written everything.
+    let out = child.wait_with_output().expect("plcc ends");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(&first, b"a[0] = 1");
+}
