@@ -197,6 +197,27 @@ pub fn difftest(
     }
 }
 
+/// The catalogue of every diagnostic code, as `docs/diagnostics.md` has it (the text
+/// `plcc explain CODE` prints, in Markdown; `tests/diagnostics.rs` keeps the file
+/// current).
+pub fn diagnostics_markdown() -> String {
+    let mut o = String::from(
+        "# Diagnostics\n\nEvery code plcc reports, with what it means, how to fix it and an \
+example. `plcc explain CODE` prints the same text; `plcc explain` lists the codes. \
+Codes E0xxx and W0xxx come from the front ends, E80xx from the native backend, E90xx \
+from the PIC16 backend, E91xx from the CPDev VM backend, E99xx from the driver. This \
+file is generated from the code tables (`PLCC_BLESS=1 cargo test --test diagnostics \
+diagnostics_catalogue` rewrites it).\n",
+    );
+    for c in all_codes() {
+        o.push_str(&format!(
+            "\n## {} {}\n\n{}\n",
+            c.code, c.title, c.explanation
+        ));
+    }
+    o
+}
+
 /// `plcc explain CODE`, or the list of codes without one.
 pub fn explain(code: Option<&str>) -> u8 {
     let Some(code) = code else {

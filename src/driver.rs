@@ -8,9 +8,9 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 /// Code of the diagnostic for an internal compiler error (a bug in plcc).
-pub const E_INTERNAL: &str = "E9001";
+pub const E_INTERNAL: &str = "E9901";
 /// Code of the diagnostic for a target that cannot run programs on this machine.
-pub const E_CANNOT_RUN: &str = "E9002";
+pub const E_CANNOT_RUN: &str = "E9902";
 
 /// The driver's own diagnostic codes.
 pub const CODES: &[plcc_ir::diag::CodeInfo] = &[
@@ -22,7 +22,7 @@ pub const CODES: &[plcc_ir::diag::CodeInfo] = &[
     plcc_ir::diag::CodeInfo {
         code: E_CANNOT_RUN,
         title: "target cannot run programs here",
-        explanation: "`plcc run` and `plcc test` need a machine for the target: the JIT (`host`) or the interpreter (`interp`). Other targets only produce files.",
+        explanation: "`plcc run` and `plcc test` need a machine for the target: the JIT (`host`), the interpreter (`interp`), plcc's simulator of the PIC16F876A (`pic16f876a`) or plcc's CPDev VM (`vmasm`). A target without one only produces files.",
     },
 ];
 

@@ -758,3 +758,29 @@ fn a_closed_output_pipe_is_no_panic() {
     assert!(!err.contains("panicked"), "{err}");
     assert_eq!(&first, b"a[0] = 1");
 }
+
+/// `docs/diagnostics.md` is the catalogue of every code, generated from the code
+/// tables; `PLCC_BLESS=1` rewrites it. Every code is listed once.
+#[test]
+fn diagnostics_catalogue() {
+    let want = plcc::commands::diagnostics_markdown();
+    let path = root().join("docs/diagnostics.md");
+    if std::env::var_os("PLCC_BLESS").is_some() {
+        std::fs::write(&path, &want).unwrap();
+    }
+    let have = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        have == want,
+        "docs/diagnostics.md is not current: run PLCC_BLESS=1 cargo test --test diagnostics diagnostics_catalogue"
+    );
+    let mut codes: Vec<&str> = want
+        .lines()
+        .filter_map(|l| l.strip_prefix("## "))
+        .map(|l| l.split(' ').next().unwrap())
+        .collect();
+    let n = codes.len();
+    codes.sort();
+    codes.dedup();
+    assert_eq!(codes.len(), n, "a code is used twice");
+    assert!(n > 90, "{n} codes");
+}
