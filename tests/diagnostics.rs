@@ -199,6 +199,14 @@ bad! {
     lex_unterminated_string,
     lex_bad_based_number,
     lex_bad_duration,
+    lex_bad_escape,
+    lex_bad_date,
+    lex_bad_typed_literal,
+    lex_bad_address,
+    // declarations
+    decl_anonymous_location,
+    decl_reversed_bounds,
+    decl_constant_from_variable,
     lex_int_too_large,
     lex_several_errors,
     // syntax
@@ -783,4 +791,22 @@ fn diagnostics_catalogue() {
     codes.dedup();
     assert_eq!(codes.len(), n, "a code is used twice");
     assert!(n > 90, "{n} codes");
+}
+
+/// Codes the command line gives rather than a file: a PROGRAM that is not declared
+/// (E0208) and a language without a front end yet (E0602), both exit status 1.
+#[test]
+fn command_line_codes() {
+    let o = plcc(&[
+        "--emit",
+        "ir",
+        "--program",
+        "nope",
+        "examples/traffic_light.st",
+    ]);
+    assert_eq!(status(&o), 1);
+    assert!(stderr(&o).contains("error[E0208]: there is no PROGRAM named `nope`"));
+    let o = plcc(&["check", "--lang", "xml", "examples/traffic_light.st"]);
+    assert_eq!(status(&o), 1);
+    assert!(stderr(&o).contains("error[E0602]"), "{}", stderr(&o));
 }
