@@ -294,7 +294,11 @@ bad! {
     write_recursion_direct,
     write_recursion_mutual,
     // not supported yet
-    unsup_string,
+    unsup_method,
+    string_width_mismatch,
+    string_capacity_range,
+    string_inout_too_short,
+    string_number_mix,
     unsup_struct_copy_fb,
     unsup_var_global_in_pou,
     unsup_configuration,

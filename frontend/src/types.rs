@@ -39,6 +39,8 @@ pub enum Ty {
     Struct(StructId),
     /// An enumeration, held as an integer of the base type (INT unless typed).
     Enum(EnumId, ElemType),
+    /// `STRING[n]` or `WSTRING[n]`: a string value is the address of its characters.
+    Str(StrTy),
     /// An integer literal not yet given a type by its context.
     AnyInt,
     /// A real literal not yet given a type by its context.
@@ -110,10 +112,44 @@ impl Ty {
         matches!(self, Ty::AnyInt | Ty::AnyReal)
     }
 
-    /// STRUCTs and arrays: values that live in memory and are copied element by
-    /// element (passed by address to FUNCTIONs).
+    /// STRUCTs, arrays and strings: values that live in memory and are copied
+    /// (passed by address to FUNCTIONs).
     pub fn is_aggregate(self) -> bool {
-        matches!(self, Ty::Struct(_) | Ty::Array(_))
+        matches!(self, Ty::Struct(_) | Ty::Array(_) | Ty::Str(_))
+    }
+
+    /// The string type, if it is one.
+    pub fn string(self) -> Option<StrTy> {
+        match self {
+            Ty::Str(s) => Some(s),
+            _ => None,
+        }
+    }
+}
+
+/// A string type: `STRING[cap]` (bytes) or `WSTRING[cap]` (16-bit characters). In
+/// memory a string is `cap + 1` characters, the text ended by a 0.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct StrTy {
+    /// WSTRING
+    pub wide: bool,
+    /// The most characters it holds.
+    pub cap: u32,
+}
+
+impl StrTy {
+    /// The capacity of a STRING or WSTRING declared without one.
+    pub const DEFAULT_CAP: u32 = 80;
+    /// The largest capacity plcc accepts (the helpers index with INT).
+    pub const MAX_CAP: u32 = 32766;
+
+    /// `STRING[cap]` or `WSTRING[cap]`.
+    pub fn name(self) -> String {
+        format!(
+            "{}[{}]",
+            if self.wide { "WSTRING" } else { "STRING" },
+            self.cap
+        )
     }
 }
 

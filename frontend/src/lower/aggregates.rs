@@ -33,6 +33,7 @@ impl<'s> BodyCx<'_, 's> {
                 }
             }
             Ty::Array(a) => self.copy_array(dst, src, a, 0),
+            Ty::Str(s) => self.copy_string(dst, s, src),
             _ => {
                 if let Some(t) = ty.ir() {
                     let v = self.b.load(t, src);
@@ -101,6 +102,10 @@ impl<'s> BodyCx<'_, 's> {
     /// variable (or member, element) of exactly that type, or the result of a FUNCTION
     /// returning one. Reports anything else.
     pub(super) fn agg_source(&mut self, e: &'s Expr, ty: Ty) -> Option<Value> {
+        if let Ty::Str(s) = ty {
+            // Any string of the same width: the receiver cuts it to its capacity.
+            return self.emit_string(e, Some(s.wide)).map(|v| v.v);
+        }
         let mut inner = e;
         while let ExprKind::Paren(x) = &inner.kind {
             inner = x;
@@ -168,7 +173,7 @@ impl<'s> BodyCx<'_, 's> {
     /// The address to read a whole STRUCT or array from. An element whose index was
     /// out of bounds reads as the type's default (a scratch copy), and raises the
     /// fault flag.
-    fn readable_addr(&mut self, p: &Place) -> Value {
+    pub(super) fn readable_addr(&mut self, p: &Place) -> Value {
         let Some(guard) = p.guard else {
             return p.addr;
         };
@@ -226,6 +231,13 @@ impl<'s> BodyCx<'_, 's> {
         };
         if !self.check_writable(&place, target.span) {
             return;
+        }
+        if let (Ty::Str(d), Ty::Str(s)) = (place.ty, ty) {
+            if d.wide == s.wide {
+                let dst = place.addr;
+                self.guarded(place.guard, |cx| cx.copy_string(dst, d, src));
+                return;
+            }
         }
         if place.ty != ty {
             if place.ty != Ty::Error {

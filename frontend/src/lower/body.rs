@@ -411,6 +411,10 @@ impl<'a, 's> BodyCx<'a, 's> {
             }
             Ty::Array(a) => self.init_array(addr, a, init),
             Ty::Struct(s) => self.init_struct(addr, s, init),
+            Ty::Str(s) => {
+                let whole = self.kind() != PouKind::Function;
+                self.init_string(addr, s, init, whole);
+            }
             _ => {}
         }
         self.in_init = saved;
@@ -869,7 +873,11 @@ impl<'a, 's> BodyCx<'a, 's> {
 
     /// A global variable or constant (VAR_GLOBAL), if there is one by this name.
     fn resolve_global(&mut self, id: ast::Ident, report: bool) -> Option<Named> {
-        let g = self.l.globals_pou.filter(|&g| g != self.pou)?;
+        // The standard library does not see the user's globals.
+        let g = self
+            .l
+            .globals_pou
+            .filter(|&g| g != self.pou && !self.l.pou(self.pou).std)?;
         let vi = self.l.pou(g).var(id.sym)? as usize;
         let v = &self.l.pou(g).vars[vi];
         let ty = v.ty;

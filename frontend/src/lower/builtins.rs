@@ -3,6 +3,7 @@
 
 use super::body::BodyCx;
 use super::expr::{concretize, unify, Val};
+use super::strings::StrFn;
 use crate::ast::{Arg, ArgKind, BinaryOp as Op, Expr};
 use crate::codes;
 use crate::types::Ty;
@@ -58,6 +59,8 @@ pub(super) enum Builtin {
     /// The PLC-UD STL's standard operations (`INC DEC SWAP SET CLR`), which the STL
     /// front end calls by internal names (`__STL_INC`, ...).
     Stl(StlOp),
+    /// A string function or a conversion to or from a string.
+    Str(StrFn),
 }
 
 /// The standard operations of the PLC-UD STL that IEC 61131-3 does not have.
@@ -128,7 +131,12 @@ impl Builtin {
             "__STL_SWAP" => Stl(StlOp::Swap),
             "__STL_SET" => Stl(StlOp::Set),
             "__STL_CLR" => Stl(StlOp::Clr),
-            _ => return Self::conversion(name),
+            _ => {
+                if let Some(f) = StrFn::lookup(name) {
+                    return Some(Str(f));
+                }
+                return Self::conversion(name);
+            }
         })
     }
 
@@ -136,8 +144,6 @@ impl Builtin {
     /// the feature they belong to, for a not-supported diagnostic.
     pub(super) fn unsupported(name: &str) -> Option<&'static str> {
         Some(match name {
-            "LEN" | "LEFT" | "RIGHT" | "MID" | "CONCAT" | "INSERT" | "DELETE" | "REPLACE"
-            | "FIND" => "string functions",
             "ADD_TOD_TIME" | "ADD_DT_TIME" | "SUB_DATE_DATE" | "SUB_TOD_TIME" | "SUB_TOD_TOD"
             | "SUB_DT_TIME" | "SUB_DT_DT" | "CONCAT_DATE_TOD" | "CONCAT_DATE" | "CONCAT_TOD"
             | "CONCAT_DT" | "SPLIT_DATE" | "SPLIT_TOD" | "SPLIT_DT" | "DAY_OF_WEEK" => {
@@ -210,6 +216,7 @@ impl Builtin {
                     format!("IN{}", i - 1)
                 }
             }
+            Str(f) => f.param_name(i),
             _ => format!("IN{}", i + 1),
         }
     }
@@ -228,6 +235,7 @@ impl Builtin {
             Compare(_) => (2, usize::MAX),
             Sel | Limit => (3, 3),
             Mux => (2, usize::MAX),
+            Str(f) => f.arity(),
         }
     }
 }
@@ -370,6 +378,10 @@ impl<'s> BodyCx<'_, 's> {
             TimeOp(_) => Ty::TIME,
             Clock => Ty::TIME,
             Stl(_) => arg_ty(self, 0),
+            Str(f) => {
+                let mut at = arg_ty;
+                self.string_fn_infer(f, &mut at, args.len())
+            }
             Arith(_) | Logic(_) | Max | Min => {
                 let mut t = arg_ty(self, 0);
                 for i in 1..args.len() {
@@ -411,6 +423,7 @@ impl<'s> BodyCx<'_, 's> {
                 Some(Val { v, ty: Ty::TIME })
             }
             Stl(op) => self.stl_op(op, &xs, want, &name),
+            Str(f) => self.string_fn_call(f, &xs, &name, want),
             Convert { from, to, trunc } => self.conversion_call(xs[0], from, to, trunc, &name),
             Trunc => {
                 let literal = self.infer(xs[0]).is_literal();

@@ -165,7 +165,14 @@ impl<'s> BodyCx<'_, 's> {
         if self.l.pou(self.pou).var(id.sym).is_some() {
             return Ty::Error;
         }
-        if let Some(&p) = self.l.pou_by_name.get(&id.sym) {
+        let in_std = self.l.pou(self.pou).std;
+        let found = self
+            .l
+            .pou_by_name
+            .get(&id.sym)
+            .copied()
+            .filter(|&p| !in_std || self.l.pou(p).std);
+        if let Some(p) = found {
             if self.l.pou(p).kind == PouKind::Function {
                 // A FUNCTION without a result is reported (E0405) where it is
                 // emitted; as an operand it must not cause a second error.
@@ -186,10 +193,11 @@ impl<'s> BodyCx<'_, 's> {
     fn classify(&mut self, callee: &'s Expr, args: &'s [Arg]) -> Callee {
         match &callee.kind {
             ExprKind::Name(id) => {
-                let is_global = self
-                    .l
-                    .globals_pou
-                    .is_some_and(|g| self.l.pou(g).var(id.sym).is_some());
+                let is_global = !self.l.pou(self.pou).std
+                    && self
+                        .l
+                        .globals_pou
+                        .is_some_and(|g| self.l.pou(g).var(id.sym).is_some());
                 if self.l.pou(self.pou).var(id.sym).is_some() || is_global {
                     let Some(place) = self.place(callee) else {
                         return Callee::Error;
@@ -209,9 +217,34 @@ impl<'s> BodyCx<'_, 's> {
                         }
                     };
                 }
-                if let Some(&p) = self.l.pou_by_name.get(&id.sym) {
+                // The standard library calls only its own FUNCTIONs and the standard
+                // functions, whatever the user declares.
+                let in_std = self.l.pou(self.pou).std;
+                let found = self
+                    .l
+                    .pou_by_name
+                    .get(&id.sym)
+                    .copied()
+                    .filter(|&p| !in_std || self.l.pou(p).std);
+                if let Some(p) = found {
                     let n = self.l.text(id.span).to_string();
                     return match self.l.pou(p).kind {
+                        PouKind::Function if self.l.used[p.0 as usize] && !self.l.pou(p).std => {
+                            Callee::Function(p)
+                        }
+                        PouKind::Function if self.l.pou(p).std && !self.l.pou(self.pou).std => {
+                            // The standard library's FUNCTIONs are plcc's own helpers.
+                            self.l.error(
+                                codes::E_UNDECLARED,
+                                format!("no FUNCTION or function block instance named `{n}`"),
+                                id.span,
+                            );
+                            Callee::Error
+                        }
+                        PouKind::Function if in_std && !self.l.used[p.0 as usize] => {
+                            self.l.use_std_function(p);
+                            Callee::Function(p)
+                        }
                         PouKind::Function if self.l.used[p.0 as usize] => Callee::Function(p),
                         PouKind::Function => Callee::Error,
                         PouKind::FunctionBlock => {
@@ -420,7 +453,26 @@ impl<'s> BodyCx<'_, 's> {
             );
             return None;
         }
-        if p.ty != ty && p.ty != Ty::Error {
+        // A longer string may stand for a shorter one: the callee writes at most its
+        // declared capacity.
+        let fits_string =
+            matches!((p.ty, ty), (Ty::Str(a), Ty::Str(d)) if a.wide == d.wide && a.cap >= d.cap);
+        if let (Ty::Str(a), Ty::Str(d)) = (p.ty, ty) {
+            if a.wide == d.wide && !fits_string {
+                self.l.error(
+                    codes::E_TYPE_MISMATCH,
+                    format!(
+                        "a VAR_IN_OUT {} needs a string of at least {} characters (the callee may write that many), not {}",
+                        d.name(),
+                        d.cap,
+                        a.name()
+                    ),
+                    e.span,
+                );
+                return None;
+            }
+        }
+        if p.ty != ty && p.ty != Ty::Error && !fits_string {
             let (a, b) = (self.l.ty_name(ty), self.l.ty_name(p.ty));
             self.l.error(
                 codes::E_TYPE_MISMATCH,

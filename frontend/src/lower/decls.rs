@@ -265,14 +265,28 @@ impl<'s> Lowerer<'s> {
                 }
                 (Ty::Array(self.types.array(a)), None)
             }
-            TypeSpec::String { wide, span, .. } => {
-                let what = if *wide { "WSTRING" } else { "STRING" };
-                self.error(
-                    codes::E_UNSUPPORTED,
-                    format!("not supported yet: {what}"),
-                    *span,
-                );
-                (Ty::Error, None)
+            TypeSpec::String { wide, len, .. } => {
+                let cap = match len {
+                    None => crate::types::StrTy::DEFAULT_CAP,
+                    Some(e) => {
+                        let Some(n) = self.const_int_in(e, scope) else {
+                            return (Ty::Error, None);
+                        };
+                        if n < 1 || n > crate::types::StrTy::MAX_CAP as i128 {
+                            self.error(
+                                codes::E_BAD_DECLARATION,
+                                format!(
+                                    "a string holds 1 to {} characters, not {n}",
+                                    crate::types::StrTy::MAX_CAP
+                                ),
+                                e.span,
+                            );
+                            return (Ty::Error, None);
+                        }
+                        n as u32
+                    }
+                };
+                (Ty::Str(crate::types::StrTy { wide: *wide, cap }), None)
             }
             TypeSpec::Subrange { base, lo, hi, span } => {
                 let display = self.text(*span).to_string();
@@ -646,7 +660,7 @@ impl<'s> Lowerer<'s> {
         }
     }
 
-    fn create_function_shell(&mut self, id: PouId) {
+    pub(super) fn create_function_shell(&mut self, id: PouId) {
         let mut params = Vec::new();
         let n = self.pou(id).vars.len();
         for vi in 0..n {
@@ -854,6 +868,7 @@ impl<'s> Lowerer<'s> {
             Ty::Array(a) => Some((MemType::Agg(self.array_agg(a, 0)), None)),
             Ty::Struct(s) => Some((MemType::Agg(self.struct_agg(s)), None)),
             Ty::Enum(_, e) => Some((MemType::Scalar(e.ir_type()), Some(e))),
+            Ty::Str(s) => Some((MemType::Agg(self.string_agg(s)), None)),
             _ => None,
         }
     }

@@ -142,6 +142,19 @@ pub(super) fn binary_typing(
             }
         }
         Op::Eq | Op::Ne | Op::Lt | Op::Le | Op::Gt | Op::Ge => {
+            if let (Ty::Str(x), Ty::Str(y)) = (l, r) {
+                if x.wide != y.wide {
+                    return Err(format!(
+                        "`{}` cannot compare a STRING with a WSTRING: convert one with STRING_TO_WSTRING or WSTRING_TO_STRING",
+                        op.symbol()
+                    ));
+                }
+                return Ok(BinTyping {
+                    operand: l,
+                    right: None,
+                    result: Ty::BOOL,
+                });
+            }
             if l.is_aggregate() || r.is_aggregate() {
                 let t = if l.is_aggregate() { l } else { r };
                 return Err(format!(
@@ -264,7 +277,9 @@ impl<'s> BodyCx<'_, 's> {
             ExprKind::Paren(x) | ExprKind::UsedBy { value: x, .. } => self.infer(x),
             ExprKind::Literal(lit) => {
                 if let Some(p) = lit.type_prefix {
-                    return self.prefix_type(p.sym).unwrap_or(Ty::Error);
+                    if !matches!(lit.kind, LiteralKind::String { .. }) {
+                        return self.prefix_type(p.sym).unwrap_or(Ty::Error);
+                    }
                 }
                 match &lit.kind {
                     LiteralKind::Int(_) => Ty::AnyInt,
@@ -272,6 +287,7 @@ impl<'s> BodyCx<'_, 's> {
                     LiteralKind::Bool(_) => Ty::BOOL,
                     LiteralKind::Duration { long: false, .. } => Ty::TIME,
                     LiteralKind::Duration { long: true, .. } => Ty::Elem(ElemType::LTime),
+                    LiteralKind::String { wide, units } => Self::literal_string_ty(*wide, units),
                     _ => Ty::Error,
                 }
             }
@@ -333,7 +349,7 @@ impl<'s> BodyCx<'_, 's> {
         if pou.kind == crate::ast::PouKind::Function && pou.name.sym == sym {
             return pou.ret;
         }
-        if let Some(g) = self.l.globals_pou {
+        if let Some(g) = self.l.globals_pou.filter(|_| !pou.std) {
             let gp = self.l.pou(g);
             if let Some(vi) = gp.var(sym) {
                 return gp.vars[vi as usize].ty;
@@ -504,6 +520,10 @@ impl<'s> BodyCx<'_, 's> {
             ExprKind::Paren(x) | ExprKind::UsedBy { value: x, .. } => self.emit(x, want),
             ExprKind::Literal(_) => self.literal(e, want, false),
             ExprKind::Name(id) => match self.resolve_name(*id, true, want) {
+                Named::Place(p) if matches!(p.ty, Ty::Str(_)) => {
+                    let v = self.readable_addr(&p);
+                    Val { v, ty: p.ty }
+                }
                 Named::Place(p) => {
                     let v = self.load_place(&p);
                     Val { v, ty: p.ty }
@@ -512,6 +532,10 @@ impl<'s> BodyCx<'_, 's> {
                 Named::Error => self.error_val(),
             },
             ExprKind::Member(..) | ExprKind::Index(..) | ExprKind::Bit(..) => match self.place(e) {
+                Some(p) if matches!(p.ty, Ty::Str(_)) => {
+                    let v = self.readable_addr(&p);
+                    Val { v, ty: p.ty }
+                }
                 Some(p) => {
                     if !matches!(p.ty, Ty::Elem(_) | Ty::Enum(..) | Ty::Error) {
                         let t = self.l.ty_name(p.ty);
@@ -567,6 +591,9 @@ impl<'s> BodyCx<'_, 's> {
         let ExprKind::Literal(lit) = &e.kind else {
             unreachable!()
         };
+        if let LiteralKind::String { .. } = lit.kind {
+            return self.string_literal(e, want);
+        }
         let prefix = match lit.type_prefix {
             Some(p) => match self.prefix_type(p.sym) {
                 Some(t) => Some(t),
@@ -623,7 +650,6 @@ impl<'s> BodyCx<'_, 's> {
                     (ConstVal::Int(ns / 1_000_000), Ty::TIME)
                 }
             }
-            LiteralKind::String { .. } => return self.unsupported("STRING literals", e.span),
             _ => return self.unsupported("date and time-of-day literals", e.span),
         };
         let ty = match prefix {
@@ -754,6 +780,9 @@ impl<'s> BodyCx<'_, 's> {
             return self.short_circuit(op, a, b);
         }
         let is_cmp = matches!(op, Op::Eq | Op::Ne | Op::Lt | Op::Le | Op::Gt | Op::Ge);
+        if let Ty::Str(_) = typing.operand {
+            return self.compare_strings(op, a, b, span);
+        }
         let operand = if is_cmp {
             concretize(typing.operand, None)
         } else {

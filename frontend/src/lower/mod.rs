@@ -19,6 +19,7 @@ mod decls;
 mod expr;
 mod init;
 mod stmt;
+mod strings;
 mod usertypes;
 
 use crate::ast::{self, Ident, PouKind, SourceUnit, VarKind};
@@ -137,11 +138,16 @@ pub struct Lowerer<'s> {
     pub(crate) module: Module,
     ir: Vec<PouIr>,
     array_aggs: FxHashMap<(ArrayId, u32), AggId>,
+    /// The IR array of each string type.
+    string_aggs: FxHashMap<crate::types::StrTy, AggId>,
     helpers: FxHashMap<String, FuncId>,
     /// Calls between POUs (caller, callee, span), for the recursion check.
     calls: Vec<(PouId, PouId, Span)>,
     /// POUs whose IR is wanted (user POUs, and standard FBs that are used).
     used: Vec<bool>,
+    /// Standard-library FUNCTIONs first used while lowering, whose bodies are still
+    /// to be lowered.
+    pending: Vec<PouId>,
     /// Names declared by constructs reported as not supported (variables of
     /// sections plcc does not compile): using them gives no second error.
     unsupported_names: rustc_hash::FxHashSet<Symbol>,
@@ -174,9 +180,11 @@ impl<'s> Lowerer<'s> {
             module,
             ir: Vec::new(),
             array_aggs: FxHashMap::default(),
+            string_aggs: FxHashMap::default(),
             helpers: FxHashMap::default(),
             calls: Vec::new(),
             used: Vec::new(),
+            pending: Vec::new(),
             unsupported_names: Default::default(),
             globals_pou: None,
             globals_data: None,
@@ -211,6 +219,9 @@ impl<'s> Lowerer<'s> {
                 self.lower_pou(PouId(i as u32));
             }
         }
+        while let Some(p) = self.pending.pop() {
+            self.lower_pou(p);
+        }
         self.check_recursion();
         self.instantiate_programs(opts);
         // A STRUCT's field initialisers are lowered for every variable of the type, so
@@ -221,6 +232,18 @@ impl<'s> Lowerer<'s> {
         let has_errors = self.diags.iter().any(|d| d.is_error());
         let module = (!has_errors).then_some(self.module);
         (module, self.diags)
+    }
+
+    /// Makes a FUNCTION of the standard library (a string helper) callable: its IR
+    /// shell at once, its body after the POUs being lowered. Only what is called gets
+    /// into the module.
+    pub(crate) fn use_std_function(&mut self, p: PouId) {
+        if self.used[p.0 as usize] {
+            return;
+        }
+        self.used[p.0 as usize] = true;
+        self.create_function_shell(p);
+        self.pending.push(p);
     }
 
     pub(crate) fn error(&mut self, code: &'static str, msg: impl Into<String>, span: Span) {
@@ -277,6 +300,7 @@ impl<'s> Lowerer<'s> {
             }
             Ty::Struct(s) => self.user.structs[s.0 as usize].display.clone(),
             Ty::Enum(e, _) => self.user.enums[e.0 as usize].display.clone(),
+            Ty::Str(s) => s.name(),
             Ty::AnyInt => "an integer literal".to_string(),
             Ty::AnyReal => "a real literal".to_string(),
             Ty::Void => "no value".to_string(),
@@ -359,5 +383,14 @@ impl<'s> Lowerer<'s> {
 /// The source of the standard function blocks (TON, CTU, R_TRIG, ...), written in ST
 /// and parsed as the first unit of every build.
 pub fn std_library_source() -> &'static str {
-    include_str!("../stdlib/std_fbs.st")
+    static SOURCE: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    SOURCE.get_or_init(|| {
+        let strings = include_str!("../stdlib/strings.st");
+        // The WSTRING helpers are the STRING ones over 16-bit characters.
+        let wide = strings.replace("BYTE", "WORD").replace("__STR_", "__WSTR_");
+        format!(
+            "{}\n{strings}\n{wide}",
+            include_str!("../stdlib/std_fbs.st")
+        )
+    })
 }

@@ -249,6 +249,7 @@ impl<'s> BodyCx<'_, 's> {
                 self.store_place(&place, v);
             }
             Ty::Struct(_) | Ty::Array(_) => self.assign_aggregate(&place, value, target.span),
+            Ty::Str(_) => self.assign_string(&place, value),
             Ty::Error => self.check_only(value),
             _ => {
                 let what = self.l.ty_name(place.ty);
