@@ -299,6 +299,8 @@ bad! {
     string_capacity_range,
     string_inout_too_short,
     string_number_mix,
+    ref_of_temporary,
+    ref_type_mismatch,
     unsup_struct_copy_fb,
     unsup_var_global_in_pou,
     unsup_configuration,

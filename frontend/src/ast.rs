@@ -213,6 +213,13 @@ pub enum TypeSpec {
         /// Whole spec.
         span: Span,
     },
+    /// `REFERENCE TO t` (CODESYS): a reference used as the variable it points to.
+    Reference {
+        /// The referenced type.
+        target: Box<TypeSpec>,
+        /// Whole spec.
+        span: Span,
+    },
     /// `POINTER TO t` (CODESYS).
     Pointer {
         /// The pointed-to type.
@@ -233,6 +240,7 @@ impl TypeSpec {
             | TypeSpec::Enum { span, .. }
             | TypeSpec::Struct { span, .. }
             | TypeSpec::Ref { span, .. }
+            | TypeSpec::Reference { span, .. }
             | TypeSpec::Pointer { span, .. } => *span,
         }
     }

@@ -15,6 +15,23 @@ pub struct ArrayId(pub u32);
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
 pub struct StructId(pub u32);
 
+/// Identifies a reference type in the [`TypeTable`].
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct RefId(pub u32);
+
+/// A reference type: what it points to.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct RefTy {
+    /// The referenced type.
+    pub target: Ty,
+    /// The derived type of the target, whose initial value and range it has.
+    pub tag: Option<TagId>,
+    /// `POINTER TO` (CODESYS) rather than `REF_TO`.
+    pub pointer: bool,
+    /// `REFERENCE TO` (CODESYS): used by name, it is the variable it points to.
+    pub auto: bool,
+}
+
 /// Identifies an enumeration type.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
 pub struct EnumId(pub u32);
@@ -41,6 +58,10 @@ pub enum Ty {
     Enum(EnumId, ElemType),
     /// `STRING[n]` or `WSTRING[n]`: a string value is the address of its characters.
     Str(StrTy),
+    /// `REF_TO t` or `POINTER TO t`: an address (or NULL).
+    Ref(RefId),
+    /// `NULL`, before its context gives it a reference type.
+    Null,
     /// An integer literal not yet given a type by its context.
     AnyInt,
     /// A real literal not yet given a type by its context.
@@ -72,6 +93,7 @@ impl Ty {
     pub fn ir(self) -> Option<Type> {
         match self {
             Ty::Elem(e) | Ty::Enum(_, e) => Some(e.ir_type()),
+            Ty::Ref(_) | Ty::Null => Some(Type::Ptr),
             Ty::AnyInt => Some(Type::I64),
             Ty::AnyReal => Some(Type::F64),
             _ => None,
@@ -181,6 +203,7 @@ impl ArrayTy {
 #[derive(Clone, Debug, Default)]
 pub struct TypeTable {
     arrays: Vec<ArrayTy>,
+    refs: Vec<RefTy>,
 }
 
 impl TypeTable {
@@ -196,6 +219,20 @@ impl TypeTable {
     /// An array type.
     pub fn get(&self, id: ArrayId) -> &ArrayTy {
         &self.arrays[id.0 as usize]
+    }
+
+    /// The id of a reference type, adding it if new.
+    pub fn reference(&mut self, r: RefTy) -> RefId {
+        if let Some(i) = self.refs.iter().position(|x| *x == r) {
+            return RefId(i as u32);
+        }
+        self.refs.push(r);
+        RefId(self.refs.len() as u32 - 1)
+    }
+
+    /// A reference type.
+    pub fn get_ref(&self, id: RefId) -> RefTy {
+        self.refs[id.0 as usize]
     }
 }
 

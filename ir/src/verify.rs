@@ -388,6 +388,12 @@ impl FnCheck<'_> {
         }
         let t = |v: Value| f.values.get(v.index()).map(|d| d.ty);
         let expect = match data {
+            InstData::Iconst { ty: Type::Ptr, imm } => {
+                if *imm != 0 {
+                    self.err(Some(i), "the only pointer constant is 0 (null)".to_string());
+                }
+                Expect::Ty(Type::Ptr)
+            }
             InstData::Iconst { ty, imm } => {
                 if !ty.is_int() {
                     self.err(Some(i), format!("iconst needs an integer type, not {ty}"));

@@ -335,7 +335,7 @@ fn constants() {
         b.func.create_inst(
             InstData::Iconst {
                 ty: Type::Ptr,
-                imm: 0,
+                imm: 8,
             },
             Some(Type::Ptr),
             None,
@@ -343,7 +343,7 @@ fn constants() {
         b.func.blocks[0].insts.push(Inst(0));
         ret0(b, p)
     });
-    expect_only(&errs, "iconst needs an integer type, not ptr");
+    expect_only(&errs, "the only pointer constant is 0 (null)");
     let errs = check(|b, p| {
         b.func.create_inst(
             InstData::Fconst {

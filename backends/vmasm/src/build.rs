@@ -183,7 +183,12 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
             })
             .collect();
         let mut data_addrs = Vec::with_capacity(module.data.len());
-        let mut at: u64 = 0;
+        // Address 0 is the null pointer: when the program has one, no data starts there.
+        let uses_null = module.funcs.iter().any(|f| {
+            f.inst_iter()
+                .any(|(_, i)| matches!(f.inst(i), InstData::Iconst { ty: Type::Ptr, .. }))
+        });
+        let mut at: u64 = if uses_null { 8 } else { 0 };
         for d in &module.data {
             let a = layout.align_of(d.ty) as u64;
             at = at.div_ceil(a) * a;

@@ -415,6 +415,21 @@ impl<'a, 's> BodyCx<'a, 's> {
                 let whole = self.kind() != PouKind::Function;
                 self.init_string(addr, s, init, whole);
             }
+            Ty::Ref(_) => {
+                let v = match init {
+                    Some(ast::Init::Expr(e)) => self.emit_ref(e, ty),
+                    Some(other) => {
+                        self.l.error(
+                            codes::E_TYPE_MISMATCH,
+                            "a reference is initialised with a single value (REF(x) or NULL)",
+                            other.span(),
+                        );
+                        self.zero(ty)
+                    }
+                    None => self.zero(ty),
+                };
+                self.b.store(v, addr);
+            }
             _ => {}
         }
         self.in_init = saved;
@@ -845,8 +860,8 @@ impl<'a, 's> BodyCx<'a, 's> {
         }
         if report && self.l.sym_name(id.sym) == "NULL" {
             self.l.error(
-                codes::E_UNSUPPORTED,
-                "not supported yet: references (NULL)",
+                codes::E_NOT_A_PLACE,
+                "NULL is a value, not a variable",
                 id.span,
             );
             return Named::Error;

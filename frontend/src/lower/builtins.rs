@@ -61,6 +61,10 @@ pub(super) enum Builtin {
     Stl(StlOp),
     /// A string function or a conversion to or from a string.
     Str(StrFn),
+    /// `REF(x)`, or CODESYS `ADR(x)` (`pointer`).
+    Ref { pointer: bool },
+    /// `SIZEOF(x)`
+    SizeOf,
 }
 
 /// The standard operations of the PLC-UD STL that IEC 61131-3 does not have.
@@ -131,6 +135,9 @@ impl Builtin {
             "__STL_SWAP" => Stl(StlOp::Swap),
             "__STL_SET" => Stl(StlOp::Set),
             "__STL_CLR" => Stl(StlOp::Clr),
+            "REF" => Ref { pointer: false },
+            "ADR" => Ref { pointer: true },
+            "SIZEOF" => SizeOf,
             _ => {
                 if let Some(f) = StrFn::lookup(name) {
                     return Some(Str(f));
@@ -149,8 +156,7 @@ impl Builtin {
             | "CONCAT_DT" | "SPLIT_DATE" | "SPLIT_TOD" | "SPLIT_DT" | "DAY_OF_WEEK" => {
                 "date and time functions"
             }
-            "REF" | "ADR" | "REFERENCE" => "references (REF, ADR)",
-            "SIZEOF" => "SIZEOF",
+            "REFERENCE" => "REFERENCE (write REF)",
             "PRINTF" => "printf (a RuSTy extension)",
             _ if name.contains("BCD") => "BCD conversions",
             _ if name.contains("STRING") || name.contains("CHAR") => "string conversions",
@@ -225,7 +231,7 @@ impl Builtin {
     fn arity(self) -> (usize, usize) {
         use Builtin::*;
         match self {
-            Convert { .. } | Trunc | Abs | Math(_) | Not | Move => (1, 1),
+            Convert { .. } | Trunc | Abs | Math(_) | Not | Move | Ref { .. } | SizeOf => (1, 1),
             Clock => (0, 0),
             Stl(StlOp::Set) | Stl(StlOp::Clr) => (2, 2),
             Stl(_) => (1, 1),
@@ -382,6 +388,16 @@ impl<'s> BodyCx<'_, 's> {
                 let mut at = arg_ty;
                 self.string_fn_infer(f, &mut at, args.len())
             }
+            SizeOf => Ty::AnyInt,
+            Ref { pointer } => match arg_ty(self, 0) {
+                Ty::Error => Ty::Error,
+                t => Ty::Ref(self.l.types.reference(crate::types::RefTy {
+                    target: t,
+                    tag: None,
+                    pointer,
+                    auto: false,
+                })),
+            },
             Arith(_) | Logic(_) | Max | Min => {
                 let mut t = arg_ty(self, 0);
                 for i in 1..args.len() {
@@ -410,6 +426,11 @@ impl<'s> BodyCx<'_, 's> {
             .trim()
             .to_ascii_uppercase();
         let xs = self.builtin_args(b, &name, args, span)?;
+        match b {
+            Builtin::Ref { pointer } => return self.ref_of(xs[0], &name, pointer),
+            Builtin::SizeOf => return self.size_of(xs[0], want, span),
+            _ => {}
+        }
         for x in &xs {
             let t = self.infer(x);
             if matches!(t, Ty::Struct(_) | Ty::Array(_) | Ty::Fb(_)) {
@@ -424,6 +445,7 @@ impl<'s> BodyCx<'_, 's> {
             }
             Stl(op) => self.stl_op(op, &xs, want, &name),
             Str(f) => self.string_fn_call(f, &xs, &name, want),
+            Ref { .. } | SizeOf => None,
             Convert { from, to, trunc } => self.conversion_call(xs[0], from, to, trunc, &name),
             Trunc => {
                 let literal = self.infer(xs[0]).is_literal();

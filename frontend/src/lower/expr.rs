@@ -141,6 +141,29 @@ pub(super) fn binary_typing(
                 Err(format!("`{}` needs BOOL operands", op.symbol()))
             }
         }
+        Op::Eq | Op::Ne | Op::Lt | Op::Le | Op::Gt | Op::Ge
+            if matches!(l, Ty::Ref(_) | Ty::Null) || matches!(r, Ty::Ref(_) | Ty::Null) =>
+        {
+            let fits = match (l, r) {
+                (Ty::Null, Ty::Ref(_) | Ty::Null) | (Ty::Ref(_), Ty::Null) => true,
+                (Ty::Ref(a), Ty::Ref(b)) => a == b,
+                _ => false,
+            };
+            if !fits {
+                return Err(mismatch());
+            }
+            if !matches!(op, Op::Eq | Op::Ne) {
+                return Err(format!(
+                    "`{}` cannot compare references: only `=` and `<>` can",
+                    op.symbol()
+                ));
+            }
+            Ok(BinTyping {
+                operand: l,
+                right: None,
+                result: Ty::BOOL,
+            })
+        }
         Op::Eq | Op::Ne | Op::Lt | Op::Le | Op::Gt | Op::Ge => {
             if let (Ty::Str(x), Ty::Str(y)) = (l, r) {
                 if x.wide != y.wide {
@@ -273,6 +296,12 @@ pub(super) fn binary_typing(
 impl<'s> BodyCx<'_, 's> {
     /// The type of an expression, without emitting anything or reporting errors.
     pub(super) fn infer(&mut self, e: &Expr) -> Ty {
+        let t = self.infer_raw(e);
+        self.auto_deref_ty(t)
+    }
+
+    /// The type of an expression, a REFERENCE TO variable as itself.
+    pub(super) fn infer_raw(&mut self, e: &Expr) -> Ty {
         match &e.kind {
             ExprKind::Paren(x) | ExprKind::UsedBy { value: x, .. } => self.infer(x),
             ExprKind::Literal(lit) => {
@@ -311,6 +340,10 @@ impl<'s> BodyCx<'_, 's> {
                 None => Ty::Error,
             },
             ExprKind::Bit(..) => Ty::BOOL,
+            ExprKind::Deref(x) => {
+                let r = self.infer_raw(x);
+                self.deref_type(r)
+            }
             ExprKind::Index(..) => {
                 let (base, idx) = index_chain(e);
                 match self.infer(base) {
@@ -357,6 +390,7 @@ impl<'s> BodyCx<'_, 's> {
         }
         match self.l.enum_named(sym, None) {
             EnumLookup::One(e, base, _) => Ty::Enum(e, base),
+            _ if self.l.sym_name(sym).eq_ignore_ascii_case("NULL") => Ty::Null,
             _ => Ty::Error,
         }
     }
@@ -422,6 +456,7 @@ impl<'s> BodyCx<'_, 's> {
         }
         let fits = match (v.ty, target) {
             (a, b) if a == b => true,
+            (a, b) if self.ref_fits(a, b) => true,
             (Ty::Error, _) | (_, Ty::Error) => true,
             (Ty::Elem(a), Ty::Elem(b)) => implicit(a, b),
             _ => false,
@@ -465,6 +500,9 @@ impl<'s> BodyCx<'_, 's> {
         }
         if v.ty == Ty::Error || target == Ty::Error {
             return self.zero(target);
+        }
+        if self.ref_fits(v.ty, target) {
+            return v.v;
         }
         match (v.ty, target) {
             (Ty::Elem(from), Ty::Elem(to)) if implicit(from, to) => self.convert(v.v, from, to),
@@ -519,45 +557,52 @@ impl<'s> BodyCx<'_, 's> {
         match &e.kind {
             ExprKind::Paren(x) | ExprKind::UsedBy { value: x, .. } => self.emit(x, want),
             ExprKind::Literal(_) => self.literal(e, want, false),
+            ExprKind::Name(_) if self.is_null_name(e) => self.null_val(),
             ExprKind::Name(id) => match self.resolve_name(*id, true, want) {
                 Named::Place(p) if matches!(p.ty, Ty::Str(_)) => {
                     let v = self.readable_addr(&p);
                     Val { v, ty: p.ty }
                 }
                 Named::Place(p) => {
+                    let p = self.auto_deref(p);
+                    if let Ty::Str(_) = p.ty {
+                        let v = self.readable_addr(&p);
+                        return Val { v, ty: p.ty };
+                    }
                     let v = self.load_place(&p);
                     Val { v, ty: p.ty }
                 }
                 Named::Const(c, ty) => self.constant(c, ty, want, e.span),
                 Named::Error => self.error_val(),
             },
-            ExprKind::Member(..) | ExprKind::Index(..) | ExprKind::Bit(..) => match self.place(e) {
-                Some(p) if matches!(p.ty, Ty::Str(_)) => {
-                    let v = self.readable_addr(&p);
-                    Val { v, ty: p.ty }
-                }
-                Some(p) => {
-                    if !matches!(p.ty, Ty::Elem(_) | Ty::Enum(..) | Ty::Error) {
-                        let t = self.l.ty_name(p.ty);
-                        self.l.error(
-                            codes::E_TYPE_MISMATCH,
-                            format!("a whole {t} cannot be used as a value here"),
-                            e.span,
-                        );
-                        return self.error_val();
+            ExprKind::Member(..) | ExprKind::Index(..) | ExprKind::Bit(..) | ExprKind::Deref(_) => {
+                match self.place(e) {
+                    Some(p) if matches!(p.ty, Ty::Str(_)) => {
+                        let v = self.readable_addr(&p);
+                        Val { v, ty: p.ty }
                     }
-                    let v = self.load_place(&p);
-                    Val { v, ty: p.ty }
+                    Some(p) => {
+                        if !matches!(p.ty, Ty::Elem(_) | Ty::Enum(..) | Ty::Ref(_) | Ty::Error) {
+                            let t = self.l.ty_name(p.ty);
+                            self.l.error(
+                                codes::E_TYPE_MISMATCH,
+                                format!("a whole {t} cannot be used as a value here"),
+                                e.span,
+                            );
+                            return self.error_val();
+                        }
+                        let v = self.load_place(&p);
+                        Val { v, ty: p.ty }
+                    }
+                    None => self.error_val(),
                 }
-                None => self.error_val(),
-            },
+            }
             ExprKind::Unary(op, x) => self.unary(*op, x, want, e.span),
             ExprKind::Binary(op, a, b) => self.binary(*op, a, b, want, e.span),
             ExprKind::Call { callee, args } => match self.call_expr(callee, args, want, e.span) {
                 Some(v) => v,
                 None => self.error_val(),
             },
-            ExprKind::Deref(_) => self.unsupported("dereferencing with ^", e.span),
             ExprKind::EnumValue { ty, value } => match self.l.qualified_enum(*ty, *value, true) {
                 Some((en, base, v)) => {
                     self.constant(ConstVal::Int(v), Ty::Enum(en, base), None, e.span)
@@ -782,6 +827,9 @@ impl<'s> BodyCx<'_, 's> {
         let is_cmp = matches!(op, Op::Eq | Op::Ne | Op::Lt | Op::Le | Op::Gt | Op::Ge);
         if let Ty::Str(_) = typing.operand {
             return self.compare_strings(op, a, b, span);
+        }
+        if let Ty::Ref(_) | Ty::Null = typing.operand {
+            return self.compare_refs(op == Op::Eq, a, b);
         }
         let operand = if is_cmp {
             concretize(typing.operand, None)
@@ -1214,6 +1262,12 @@ impl<'s> BodyCx<'_, 's> {
     /// Resolves an expression that names memory: a variable, an FB member, an array
     /// element, a bit.
     pub(super) fn place(&mut self, e: &'s Expr) -> Option<Place> {
+        let p = self.place_raw(e)?;
+        Some(self.auto_deref(p))
+    }
+
+    /// Like [`Self::place`], but a REFERENCE TO variable is the reference itself.
+    pub(super) fn place_raw(&mut self, e: &'s Expr) -> Option<Place> {
         match &e.kind {
             ExprKind::Paren(x) => self.place(x),
             ExprKind::Name(id) => match self.resolve_name(*id, true, None) {
@@ -1388,6 +1442,7 @@ impl<'s> BodyCx<'_, 's> {
                     tag: at.elem_tag,
                 })
             }
+            ExprKind::Deref(inner) => self.deref_place(e, inner),
             ExprKind::Call { .. } => {
                 self.l.error(
                     codes::E_NOT_A_PLACE,

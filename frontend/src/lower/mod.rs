@@ -18,6 +18,7 @@ mod consts;
 mod decls;
 mod expr;
 mod init;
+mod refs;
 mod stmt;
 mod strings;
 mod usertypes;
@@ -301,6 +302,21 @@ impl<'s> Lowerer<'s> {
             Ty::Struct(s) => self.user.structs[s.0 as usize].display.clone(),
             Ty::Enum(e, _) => self.user.enums[e.0 as usize].display.clone(),
             Ty::Str(s) => s.name(),
+            Ty::Ref(r) => {
+                let r = self.types.get_ref(r);
+                let t = match r.tag {
+                    Some(t) => self.user.tags[t.0 as usize].name.clone(),
+                    None => self.ty_name(r.target),
+                };
+                if r.auto {
+                    format!("REFERENCE TO {t}")
+                } else if r.pointer {
+                    format!("POINTER TO {t}")
+                } else {
+                    format!("REF_TO {t}")
+                }
+            }
+            Ty::Null => "NULL".to_string(),
             Ty::AnyInt => "an integer literal".to_string(),
             Ty::AnyReal => "a real literal".to_string(),
             Ty::Void => "no value".to_string(),

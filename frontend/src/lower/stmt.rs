@@ -20,10 +20,7 @@ impl<'s> BodyCx<'_, 's> {
         self.set_span(s.span);
         match &s.kind {
             StmtKind::Assign { target, value } => self.assign(target, value),
-            StmtKind::RefAssign { target, .. } => {
-                self.l
-                    .error(codes::E_UNSUPPORTED, "not supported yet: REF=", target.span);
-            }
+            StmtKind::RefAssign { target, value } => self.ref_assign(target, value, s.span),
             StmtKind::Call(e) => self.call_stmt(e),
             StmtKind::If {
                 branches,
@@ -250,6 +247,10 @@ impl<'s> BodyCx<'_, 's> {
             }
             Ty::Struct(_) | Ty::Array(_) => self.assign_aggregate(&place, value, target.span),
             Ty::Str(_) => self.assign_string(&place, value),
+            Ty::Ref(_) => {
+                let v = self.emit_ref(value, place.ty);
+                self.store_place(&place, v);
+            }
             Ty::Error => self.check_only(value),
             _ => {
                 let what = self.l.ty_name(place.ty);

@@ -1702,14 +1702,13 @@ impl<'a> Parser<'a> {
     /// A named type, or `POINTER TO t`, `INT(0..10)`, `BYTE (a, b)`.
     fn named_type(&mut self, t: Token) -> Option<TypeSpec> {
         if t.data == self.s.reference.0 && self.peek_at(1) == Tok::To {
-            let d = Diagnostic::error(
-                codes::SYNTAX_NOT_SUPPORTED,
-                "`REFERENCE TO` is not supported",
-                self.sp(t.start, self.toks[self.pos + 1].end),
-            )
-            .with_label("not supported; use `REF_TO` and dereference with `^`");
-            self.emit(self.pos, d);
-            return None;
+            self.bump();
+            self.bump();
+            let target = self.type_spec();
+            return Some(TypeSpec::Reference {
+                target: Box::new(target?),
+                span: self.span_from(t.start),
+            });
         }
         if t.data == self.s.pointer.0 && self.peek_at(1) == Tok::To {
             self.bump();

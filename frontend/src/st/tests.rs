@@ -522,6 +522,7 @@ fn ty(t: &TypeSpec, i: &Interner) -> String {
             format!("STRUCT {} END_STRUCT", f.join(" "))
         }
         TypeSpec::Ref { target, .. } => format!("REF_TO {}", ty(target, i)),
+        TypeSpec::Reference { target, .. } => format!("REFERENCE TO {}", ty(target, i)),
         TypeSpec::Pointer { target, .. } => format!("POINTER TO {}", ty(target, i)),
     }
 }
@@ -1103,7 +1104,7 @@ fn unsupported_declarations() {
     );
     check_errors(
         "PROGRAM p VAR r : REFERENCE TO INT; x : INT; END_VAR END_PROGRAM",
-        &["error[E0107]: `REFERENCE TO` is not supported"],
+        &[],
     );
     check_errors(
         "CONFIGURATION c VAR_ACCESS a : p.x : INT READ_WRITE; END_VAR END_CONFIGURATION",

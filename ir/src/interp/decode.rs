@@ -376,7 +376,10 @@ impl Decoder<'_> {
         };
         Ok(match *data {
             InstData::Iconst { ty, imm } => {
-                self.want(ty.is_int(), "an integer type for iconst")?;
+                self.want(
+                    ty.is_int() || (ty == Type::Ptr && imm == 0),
+                    "an integer type for iconst (or 0 of ptr)",
+                )?;
                 Op::Const {
                     dst,
                     bits: canon(ty, imm as u64),

@@ -1,0 +1,305 @@
+//! References: `REF_TO t`, `REF(x)`, `r^`, `NULL`, `r REF= x` (IEC 61131-3 edition 3),
+//! and `SIZEOF`.
+//!
+//! A reference is an IR `ptr`; NULL is `iconst.ptr 0`. Reading or writing through a
+//! reference that is NULL reads 0 (the type's default), drops the write and raises
+//! the fault flag, like an array index out of bounds. `REF()` takes only variables
+//! that live as long as the program (PROGRAM and FB instance variables, globals, and
+//! their elements and fields), as the standard requires, so a reference never
+//! outlives what it points to and every machine stays memory-safe.
+
+use super::body::{BodyCx, Place};
+use super::expr::Val;
+use super::Storage;
+use crate::ast::{Expr, ExprKind, VarKind};
+use crate::codes;
+use crate::types::{RefTy, Ty};
+use plcc_ir::diag::Span;
+use plcc_ir::{IntCC, Type, Value};
+
+impl<'s> BodyCx<'_, 's> {
+    /// The null reference.
+    pub(super) fn null_val(&mut self) -> Val {
+        let v = self.b.iconst(Type::Ptr, 0);
+        Val { v, ty: Ty::Null }
+    }
+
+    /// True if `e` is the name `NULL` (and no variable is called so).
+    pub(super) fn is_null_name(&self, e: &Expr) -> bool {
+        match &e.kind {
+            ExprKind::Name(id) => {
+                self.l.sym_name(id.sym).eq_ignore_ascii_case("NULL")
+                    && self.l.pou(self.pou).var(id.sym).is_none()
+            }
+            ExprKind::Paren(x) => self.is_null_name(x),
+            _ => false,
+        }
+    }
+
+    /// The type `r^` has.
+    pub(super) fn deref_type(&self, r: Ty) -> Ty {
+        match r {
+            Ty::Ref(id) => self.l.types.get_ref(id).target,
+            _ => Ty::Error,
+        }
+    }
+
+    /// A REFERENCE TO type stands for its target.
+    pub(super) fn auto_deref_ty(&self, t: Ty) -> Ty {
+        match t {
+            Ty::Ref(id) if self.l.types.get_ref(id).auto => self.l.types.get_ref(id).target,
+            t => t,
+        }
+    }
+
+    /// A REFERENCE TO variable stands for the variable it points to.
+    pub(super) fn auto_deref(&mut self, p: Place) -> Place {
+        let Ty::Ref(id) = p.ty else { return p };
+        let r = self.l.types.get_ref(id);
+        if !r.auto {
+            return p;
+        }
+        let v = self.load_place(&p);
+        self.pointee(v, r)
+    }
+
+    /// The place a reference value `v` points to, guarded by it not being NULL.
+    fn pointee(&mut self, v: Value, r: RefTy) -> Place {
+        let null = self.b.iconst(Type::Ptr, 0);
+        let ok = self.b.icmp(IntCC::Ne, v, null);
+        Place {
+            addr: v,
+            ty: r.target,
+            access: super::body::Access::ReadWrite,
+            bit: None,
+            guard: Some(ok),
+            tag: r.tag,
+        }
+    }
+
+    /// `r^`: the place a reference points to, guarded by the reference not being
+    /// NULL.
+    pub(super) fn deref_place(&mut self, e: &'s Expr, inner: &'s Expr) -> Option<Place> {
+        let is_place = matches!(
+            inner.kind,
+            ExprKind::Name(_) | ExprKind::Member(..) | ExprKind::Index(..) | ExprKind::Paren(_)
+        ) && !self.is_null_name(inner)
+            && matches!(self.infer_raw(inner), Ty::Ref(_));
+        let v = if is_place {
+            let p = self.place_raw(inner)?;
+            let v = self.load_place(&p);
+            Val { v, ty: p.ty }
+        } else {
+            self.emit(inner, None)
+        };
+        let Ty::Ref(id) = v.ty else {
+            if v.ty != Ty::Error {
+                let t = self.l.ty_name(v.ty);
+                self.l.error(
+                    codes::E_TYPE_MISMATCH,
+                    format!("only a reference can be dereferenced with `^`, not {t}"),
+                    e.span,
+                );
+            }
+            return None;
+        };
+        let r = self.l.types.get_ref(id);
+        Some(self.pointee(v.v, r))
+    }
+
+    /// `REF(x)` (or CODESYS `ADR(x)`): the address of a variable that lives as long
+    /// as the program. An element whose index is out of bounds gives NULL (and
+    /// raises the fault flag).
+    pub(super) fn ref_of(&mut self, x: &'s Expr, name: &str, pointer: bool) -> Option<Val> {
+        if let Some(why) = self.not_static(x) {
+            self.l.diags.push(
+                plcc_ir::diag::Diagnostic::error(
+                    codes::E_NOT_A_PLACE,
+                    format!("`{name}` needs a variable that lives as long as the program, not {why}"),
+                    x.span,
+                )
+                .with_note("a reference to it would outlive it: use a PROGRAM or FUNCTION_BLOCK variable, or a global"),
+            );
+            return None;
+        }
+        let saved = self.in_init;
+        // An initial value may take the address of a variable of the same instance.
+        self.in_init = false;
+        let p = self.place(x);
+        self.in_init = saved;
+        let p = p?;
+        if p.bit.is_some() {
+            self.l.error(
+                codes::E_NOT_A_PLACE,
+                format!("`{name}` cannot take the address of a single bit"),
+                x.span,
+            );
+            return None;
+        }
+        if p.ty == Ty::Error {
+            return None;
+        }
+        let r = self.l.types.reference(RefTy {
+            target: p.ty,
+            tag: None,
+            pointer,
+            auto: false,
+        });
+        let v = match p.guard {
+            None => p.addr,
+            Some(g) => {
+                self.guarded(Some(g), |_| {});
+                let null = self.b.iconst(Type::Ptr, 0);
+                self.b.select(g, p.addr, null)
+            }
+        };
+        Some(Val { v, ty: Ty::Ref(r) })
+    }
+
+    /// Why `e` does not name a variable that lives as long as the program (`None`
+    /// if it does). Elements, fields and members live as long as the variable they
+    /// are in; what a reference points to lives as long as the program.
+    fn not_static(&self, e: &Expr) -> Option<&'static str> {
+        match &e.kind {
+            ExprKind::Paren(x) | ExprKind::Member(x, _) | ExprKind::Index(x, _) => {
+                self.not_static(x)
+            }
+            ExprKind::Bit(x, _) => self.not_static(x),
+            ExprKind::Deref(_) => None,
+            ExprKind::Name(id) => {
+                if self.temps.contains_key(&id.sym) {
+                    return Some("a temporary");
+                }
+                let pou = self.l.pou(self.pou);
+                let Some(vi) = pou.var(id.sym) else {
+                    if pou.kind == crate::ast::PouKind::Function && pou.name.sym == id.sym {
+                        return Some("the result of a FUNCTION");
+                    }
+                    // A global (or an error reported where the place is resolved).
+                    return None;
+                };
+                let v = &pou.vars[vi as usize];
+                if pou.kind == crate::ast::PouKind::Function {
+                    return Some(match v.section {
+                        VarKind::External => return None,
+                        VarKind::InOut => "a VAR_IN_OUT (it may be a temporary of the caller)",
+                        _ => "a variable of a FUNCTION (it lives for one call)",
+                    });
+                }
+                match v.section {
+                    VarKind::Temp => Some("a VAR_TEMP (it lives for one call)"),
+                    VarKind::InOut => Some("a VAR_IN_OUT (it may be a temporary of the caller)"),
+                    _ => match self.l.ir[self.pou.0 as usize].storage[vi as usize] {
+                        Some(Storage::Slot(_)) => Some("a temporary"),
+                        _ => None,
+                    },
+                }
+            }
+            _ => Some("a value"),
+        }
+    }
+
+    /// `target REF= source`: the reference `target` now points to `source`.
+    pub(super) fn ref_assign(&mut self, target: &'s Expr, source: &'s Expr, span: Span) {
+        let Some(place) = self.place_raw(target) else {
+            return;
+        };
+        let Ty::Ref(id) = place.ty else {
+            if place.ty != Ty::Error {
+                let t = self.l.ty_name(place.ty);
+                self.l.error(
+                    codes::E_TYPE_MISMATCH,
+                    format!("`REF=` assigns to a reference, not to a {t}"),
+                    target.span,
+                );
+            }
+            return;
+        };
+        if !self.check_writable(&place, target.span) {
+            return;
+        }
+        let v = if self.is_null_name(source) {
+            self.null_val()
+        } else {
+            match self.ref_of(source, "REF=", self.l.types.get_ref(id).pointer) {
+                Some(v) => v,
+                None => return,
+            }
+        };
+        let v = self.coerce(v, place.ty, span);
+        self.store_place(&place, v);
+    }
+
+    /// True if a reference of type `from` may be assigned to one of type `to`: the
+    /// same target type (any target between CODESYS pointers), or NULL.
+    pub(super) fn ref_fits(&self, from: Ty, to: Ty) -> bool {
+        match (from, to) {
+            (Ty::Null, Ty::Ref(_)) => true,
+            (Ty::Ref(a), Ty::Ref(b)) => {
+                let (a, b) = (self.l.types.get_ref(a), self.l.types.get_ref(b));
+                a.target == b.target || (a.pointer && b.pointer)
+            }
+            _ => false,
+        }
+    }
+
+    /// `=` and `<>` between references (or NULL).
+    pub(super) fn compare_refs(&mut self, eq: bool, a: &'s Expr, b: &'s Expr) -> Val {
+        let x = self.emit(a, None);
+        let y = self.emit(b, None);
+        let cc = if eq { IntCC::Eq } else { IntCC::Ne };
+        let v = self.b.icmp(cc, x.v, y.v);
+        Val { v, ty: Ty::BOOL }
+    }
+
+    /// `SIZEOF(x)`: the bytes a variable (or a type named as an argument) takes in
+    /// the natural byte layout (BOOL is one byte; a STRUCT's fields aligned to their
+    /// size; what `ir::layout` gives for byte-addressed machines). An integer
+    /// literal, so it takes the type its context wants.
+    pub(super) fn size_of(&mut self, x: &'s Expr, want: Option<Ty>, span: Span) -> Option<Val> {
+        let ty = match &x.kind {
+            ExprKind::Name(id)
+                if self.infer(x) == Ty::Error && !self.l.sym_name(id.sym).is_empty() =>
+            {
+                // A type name.
+                let (t, _) = self.l.resolve_type_tagged_named(*id);
+                t
+            }
+            _ => {
+                let saved = self.in_init;
+                self.in_init = false;
+                let t = self.infer(x);
+                self.in_init = saved;
+                if t == Ty::Error {
+                    let _ = self.emit(x, None);
+                }
+                t
+            }
+        };
+        if ty == Ty::Error {
+            return None;
+        }
+        let Some((mt, _)) = self.l.mem_type(ty) else {
+            let t = self.l.ty_name(ty);
+            self.l
+                .error(codes::E_TYPE_MISMATCH, format!("SIZEOF of {t}"), span);
+            return None;
+        };
+        let layout =
+            plcc_ir::layout::Layout::compute(&self.l.module, plcc_ir::layout::LayoutRules::HOST);
+        let size = layout.size_of(mt) as i128;
+        Some(self.constant(super::consts::ConstVal::Int(size), Ty::AnyInt, want, span))
+    }
+
+    /// Emits `e` as a reference value of type `to` (or reports it).
+    pub(super) fn emit_ref(&mut self, e: &'s Expr, to: Ty) -> Value {
+        if self.is_null_name(e) {
+            return self.b.iconst(Type::Ptr, 0);
+        }
+        let v = self.emit(e, Some(to));
+        if v.ty == Ty::Error || self.ref_fits(v.ty, to) {
+            return v.v;
+        }
+        self.coerce(v, to, e.span)
+    }
+}
