@@ -301,6 +301,8 @@ bad! {
     string_number_mix,
     ref_of_temporary,
     ref_type_mismatch,
+    partial_access_range,
+    date_arith_mismatch,
     unsup_struct_copy_fb,
     unsup_var_global_in_pou,
     unsup_configuration,

@@ -116,6 +116,11 @@ impl PlcValue {
                 };
                 Ok(PlcValue::from_i64(ty, raw))
             }
+            ElemType::Date | ElemType::Tod | ElemType::Dt if parse_int(body).is_none() => {
+                let text = t.rsplit_once('#').map_or(t, |(_, b)| b);
+                let v = parse_date(ty, text).ok_or_else(bad)?;
+                Ok(PlcValue::from_i64(ty, v))
+            }
             _ => {
                 let v = parse_int(body).ok_or_else(bad)?;
                 let bits = ty.ir_type().bits();
@@ -131,6 +136,48 @@ impl PlcValue {
             }
         }
     }
+}
+
+/// Parses the text after `D#`, `TOD#` or `DT#` (`2024-01-31`, `12:30:15.5`,
+/// `2024-01-31-12:30:15`) into the count the type holds (seconds since 1970 for DATE
+/// and DATE_AND_TIME, milliseconds since midnight for TIME_OF_DAY).
+fn parse_date(ty: ElemType, text: &str) -> Option<i64> {
+    let day = |s: &str| -> Option<i64> {
+        let mut it = s.splitn(3, '-');
+        let y: i64 = it.next()?.parse().ok()?;
+        let m: u32 = it.next()?.parse().ok()?;
+        let d: u32 = it.next()?.parse().ok()?;
+        ((1..=12).contains(&m) && (1..=31).contains(&d)).then(|| days_from_civil(y, m, d))
+    };
+    let tod_ms = |s: &str| -> Option<i64> {
+        let mut it = s.splitn(3, ':');
+        let h: i64 = it.next()?.parse().ok()?;
+        let mi: i64 = it.next()?.parse().ok()?;
+        let sec: f64 = it.next()?.parse().ok()?;
+        (h < 24 && mi < 60 && (0.0..60.0).contains(&sec))
+            .then(|| (h * 3600 + mi * 60) * 1000 + (sec * 1000.0).round() as i64)
+    };
+    let v = match ty {
+        ElemType::Date => day(text)? * 86_400,
+        ElemType::Tod => tod_ms(text)?,
+        _ => {
+            // The date is the first three dash-separated fields.
+            let cut = text.match_indices('-').nth(2)?.0;
+            day(&text[..cut])? * 86_400 + tod_ms(&text[cut + 1..])? / 1000
+        }
+    };
+    (0..=u32::MAX as i64).contains(&v).then_some(v)
+}
+
+/// Days since 1970-01-01 of a proleptic Gregorian date (Howard Hinnant's algorithm).
+fn days_from_civil(y: i64, m: u32, d: u32) -> i64 {
+    let y = if m <= 2 { y - 1 } else { y };
+    let era = y.div_euclid(400);
+    let yoe = y - era * 400;
+    let mp = (m as i64 + 9) % 12;
+    let doy = (153 * mp + 2) / 5 + d as i64 - 1;
+    let doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+    era * 146_097 + doe - 719_468
 }
 
 /// Parses a decimal or based integer (`-5`, `1_000`, `16#FF`, `2#1010`, `8#17`).
@@ -407,5 +454,34 @@ mod tests {
         assert_eq!(parse_duration_literal("TIME#-5s"), Some(-5_000_000_000));
         assert_eq!(parse_duration_literal("T#1m_30s"), Some(90_000_000_000));
         assert_eq!(parse_duration_literal("T#5x"), None);
+    }
+}
+
+#[cfg(test)]
+mod date_tests {
+    use super::*;
+
+    #[test]
+    fn dates_read_back_as_they_print() {
+        for (ty, text) in [
+            (ElemType::Date, "D#2024-02-29"),
+            (ElemType::Date, "D#1970-01-01"),
+            (ElemType::Tod, "TOD#23:59:59.999"),
+            (ElemType::Tod, "TOD#00:00:00"),
+            (ElemType::Dt, "DT#2106-02-07-06:28:15"),
+            (ElemType::Dt, "DT#2000-01-02-03:04:05"),
+        ] {
+            let v = PlcValue::parse(ty, text).unwrap();
+            assert_eq!(v.to_string(), text);
+        }
+        assert_eq!(
+            PlcValue::parse(ElemType::Dt, "DATE_AND_TIME#2000-01-02-03:04:05")
+                .unwrap()
+                .bits,
+            946_782_245
+        );
+        assert!(PlcValue::parse(ElemType::Date, "D#2024-13-01").is_err());
+        assert!(PlcValue::parse(ElemType::Dt, "DT#2106-02-07-06:28:16").is_err());
+        assert!(PlcValue::parse(ElemType::Tod, "TOD#24:00:00").is_err());
     }
 }

@@ -65,6 +65,8 @@ pub(super) enum Builtin {
     Ref { pointer: bool },
     /// `SIZEOF(x)`
     SizeOf,
+    /// The date and time functions of table 30 (`ADD_TOD_TIME`, ...).
+    Date(super::dates::DateFn),
 }
 
 /// The standard operations of the PLC-UD STL that IEC 61131-3 does not have.
@@ -138,6 +140,9 @@ impl Builtin {
             "REF" => Ref { pointer: false },
             "ADR" => Ref { pointer: true },
             "SIZEOF" => SizeOf,
+            n if super::dates::DateFn::lookup(n).is_some() => {
+                Date(super::dates::DateFn::lookup(n).expect("checked"))
+            }
             _ => {
                 if let Some(f) = StrFn::lookup(name) {
                     return Some(Str(f));
@@ -151,11 +156,8 @@ impl Builtin {
     /// the feature they belong to, for a not-supported diagnostic.
     pub(super) fn unsupported(name: &str) -> Option<&'static str> {
         Some(match name {
-            "ADD_TOD_TIME" | "ADD_DT_TIME" | "SUB_DATE_DATE" | "SUB_TOD_TIME" | "SUB_TOD_TOD"
-            | "SUB_DT_TIME" | "SUB_DT_DT" | "CONCAT_DATE_TOD" | "CONCAT_DATE" | "CONCAT_TOD"
-            | "CONCAT_DT" | "SPLIT_DATE" | "SPLIT_TOD" | "SPLIT_DT" | "DAY_OF_WEEK" => {
-                "date and time functions"
-            }
+            "CONCAT_DATE" | "CONCAT_TOD" | "CONCAT_DT" | "SPLIT_DATE" | "SPLIT_TOD"
+            | "SPLIT_DT" | "DAY_OF_WEEK" => "date and time functions",
             "REFERENCE" => "REFERENCE (write REF)",
             "PRINTF" => "printf (a RuSTy extension)",
             _ if name.contains("BCD") => "BCD conversions",
@@ -235,7 +237,7 @@ impl Builtin {
             Clock => (0, 0),
             Stl(StlOp::Set) | Stl(StlOp::Clr) => (2, 2),
             Stl(_) => (1, 1),
-            Expt | Shift(_) | TimeOp(_) => (2, 2),
+            Expt | Shift(_) | TimeOp(_) | Date(_) => (2, 2),
             Arith(Op::Add) | Arith(Op::Mul) | Logic(_) | Max | Min => (2, usize::MAX),
             Arith(_) | Compare(Op::Ne) => (2, 2),
             Compare(_) => (2, usize::MAX),
@@ -389,6 +391,7 @@ impl<'s> BodyCx<'_, 's> {
                 self.string_fn_infer(f, &mut at, args.len())
             }
             SizeOf => Ty::AnyInt,
+            Date(f) => f.result(),
             Ref { pointer } => match arg_ty(self, 0) {
                 Ty::Error => Ty::Error,
                 t => Ty::Ref(self.l.types.reference(crate::types::RefTy {
@@ -446,6 +449,7 @@ impl<'s> BodyCx<'_, 's> {
             Stl(op) => self.stl_op(op, &xs, want, &name),
             Str(f) => self.string_fn_call(f, &xs, &name, want),
             Ref { .. } | SizeOf => None,
+            Date(f) => self.date_fn_call(f, &xs),
             Convert { from, to, trunc } => self.conversion_call(xs[0], from, to, trunc, &name),
             Trunc => {
                 let literal = self.infer(xs[0]).is_literal();
@@ -905,6 +909,27 @@ impl<'s> BodyCx<'_, 's> {
             _ => x.v,
         };
         let from = from.unwrap_or(xe);
+        let dated = |t: ElemType| matches!(t, ElemType::Date | ElemType::Tod | ElemType::Dt);
+        if dated(from) || dated(to) {
+            return match self.date_conversion(src, from, to) {
+                Some(v) => Some(Val {
+                    v,
+                    ty: Ty::Elem(to),
+                }),
+                None => {
+                    self.l.error(
+                        codes::E_TYPE_MISMATCH,
+                        format!(
+                            "there is no conversion from {} to {}",
+                            from.name(),
+                            to.name()
+                        ),
+                        e.span,
+                    );
+                    None
+                }
+            };
+        }
         let convertible = |t: ElemType| {
             t != ElemType::Ref
                 && !matches!(

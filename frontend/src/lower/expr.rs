@@ -216,6 +216,19 @@ pub(super) fn binary_typing(
                 ))
             }
         }
+        Op::Add | Op::Sub if super::dates::is_date(l) || super::dates::is_date(r) => {
+            match super::dates::date_arith_type(op, l, r) {
+                Some(t) => Ok(BinTyping {
+                    operand: l,
+                    right: Some(r),
+                    result: t,
+                }),
+                None => Err(format!(
+                    "{}: dates combine as TOD ± TIME, DT ± TIME, and DATE, TOD or DT minus one of its own type",
+                    mismatch()
+                )),
+            }
+        }
         Op::Add | Op::Sub => {
             if is_duration(l) || is_duration(r) {
                 let t = unify(l, r)
@@ -317,7 +330,9 @@ impl<'s> BodyCx<'_, 's> {
                     LiteralKind::Duration { long: false, .. } => Ty::TIME,
                     LiteralKind::Duration { long: true, .. } => Ty::Elem(ElemType::LTime),
                     LiteralKind::String { wide, units } => Self::literal_string_ty(*wide, units),
-                    _ => Ty::Error,
+                    LiteralKind::Date { .. } => Ty::Elem(ElemType::Date),
+                    LiteralKind::TimeOfDay { .. } => Ty::Elem(ElemType::Tod),
+                    LiteralKind::DateTime { .. } => Ty::Elem(ElemType::Dt),
                 }
             }
             ExprKind::Name(id) => self.name_type(id.sym),
@@ -340,6 +355,12 @@ impl<'s> BodyCx<'_, 's> {
                 None => Ty::Error,
             },
             ExprKind::Bit(..) => Ty::BOOL,
+            ExprKind::Partial(_, size, _) => match size {
+                8 => Ty::Elem(ElemType::Byte),
+                16 => Ty::Elem(ElemType::Word),
+                32 => Ty::Elem(ElemType::DWord),
+                _ => Ty::Elem(ElemType::LWord),
+            },
             ExprKind::Deref(x) => {
                 let r = self.infer_raw(x);
                 self.deref_type(r)
@@ -612,7 +633,7 @@ impl<'s> BodyCx<'_, 's> {
             ExprKind::DirectAddress(_) => {
                 self.unsupported("direct addresses in expressions", e.span)
             }
-            ExprKind::Partial(..) => self.unsupported("partial access (.%B, .%W, .%D)", e.span),
+            ExprKind::Partial(base, size, n) => self.partial_read(e, base, *size, *n),
         }
     }
 
@@ -695,7 +716,10 @@ impl<'s> BodyCx<'_, 's> {
                     (ConstVal::Int(ns / 1_000_000), Ty::TIME)
                 }
             }
-            _ => return self.unsupported("date and time-of-day literals", e.span),
+            kind => match self.date_literal(kind, e.span) {
+                Some(x) => x,
+                None => return self.error_val(),
+            },
         };
         let ty = match prefix {
             Some(p) => {
@@ -845,6 +869,13 @@ impl<'s> BodyCx<'_, 's> {
             };
         }
         let result = if is_cmp { Ty::BOOL } else { operand };
+        if let (true, Ty::Elem(le), Some(Ty::Elem(re))) = (
+            super::dates::is_date(typing.operand),
+            typing.operand,
+            typing.right,
+        ) {
+            return self.date_arith(op, a, b, le, re);
+        }
         // TIME * n, n * TIME, TIME / n, x ** n: the right operand keeps its own type.
         if let Some(rt) = typing.right {
             return self.mixed_binary(op, a, b, operand, rt, span);

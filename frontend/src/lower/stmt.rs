@@ -179,6 +179,10 @@ impl<'s> BodyCx<'_, 's> {
     }
 
     fn assign(&mut self, target: &'s Expr, value: &'s Expr) {
+        if let ExprKind::Partial(base, size, n) = &target.kind {
+            self.partial_write(target, base, *size, *n, value);
+            return;
+        }
         // A FUNCTION's name outside the FUNCTION: the result cannot be assigned there.
         if let ExprKind::Name(id) = &target.kind {
             let is_local = self.l.pou(self.pou).var(id.sym).is_some()

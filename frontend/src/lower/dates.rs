@@ -1,0 +1,230 @@
+//! DATE, TIME_OF_DAY and DATE_AND_TIME: their literals, arithmetic (IEC 61131-3 table
+//! 30, as operators and as functions) and conversions.
+//!
+//! All three are unsigned 32-bit counts: DATE and DATE_AND_TIME in seconds since
+//! 1970-01-01 (a DATE at midnight), TIME_OF_DAY in milliseconds since midnight, as on
+//! CODESYS. TIME is signed milliseconds, so `DT - DT` is a TIME in milliseconds and
+//! `DT + TIME` adds whole seconds (the milliseconds of the TIME are dropped, as a
+//! DATE_AND_TIME holds none).
+
+use super::body::BodyCx;
+use super::consts::ConstVal;
+use super::expr::Val;
+use crate::ast::{BinaryOp as Op, Expr, LiteralKind};
+use crate::codes;
+use crate::types::Ty;
+use plcc_ir::diag::Span;
+use plcc_ir::{BinaryOp, ElemType, Type, Value};
+
+const SECS_PER_DAY: i64 = 86_400;
+const MS_PER_DAY: i64 = 86_400_000;
+
+/// True for DATE, TIME_OF_DAY and DATE_AND_TIME.
+pub(super) fn is_date(t: Ty) -> bool {
+    matches!(t, Ty::Elem(ElemType::Date | ElemType::Tod | ElemType::Dt))
+}
+
+/// The result of `l op r` when one side is a date type (table 30), or `None` if the
+/// standard does not define it.
+pub(super) fn date_arith_type(op: Op, l: Ty, r: Ty) -> Option<Ty> {
+    use ElemType::*;
+    let (Ty::Elem(a), Ty::Elem(b)) = (l, r) else {
+        return None;
+    };
+    Some(Ty::Elem(match (op, a, b) {
+        (Op::Add, Tod, Time) => Tod,
+        (Op::Add, Dt, Time) => Dt,
+        (Op::Sub, Tod, Time) => Tod,
+        (Op::Sub, Dt, Time) => Dt,
+        (Op::Sub, Date, Date) | (Op::Sub, Tod, Tod) | (Op::Sub, Dt, Dt) => Time,
+        _ => return None,
+    }))
+}
+
+/// A function of table 30 by name: the operator it is, or CONCAT_DATE_TOD.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(super) enum DateFn {
+    /// `ADD_TOD_TIME`, `SUB_DT_DT`, ...: the operator on the two arguments.
+    Op(Op, ElemType, ElemType),
+    /// `CONCAT_DATE_TOD(D, TOD)`: the DATE_AND_TIME of that day at that time.
+    ConcatDateTod,
+}
+
+impl DateFn {
+    /// The date function with this (upper-case) name.
+    pub(super) fn lookup(name: &str) -> Option<DateFn> {
+        use ElemType::*;
+        Some(match name {
+            "ADD_TOD_TIME" => DateFn::Op(Op::Add, Tod, Time),
+            "ADD_DT_TIME" => DateFn::Op(Op::Add, Dt, Time),
+            "SUB_DATE_DATE" => DateFn::Op(Op::Sub, Date, Date),
+            "SUB_TOD_TIME" => DateFn::Op(Op::Sub, Tod, Time),
+            "SUB_TOD_TOD" => DateFn::Op(Op::Sub, Tod, Tod),
+            "SUB_DT_TIME" => DateFn::Op(Op::Sub, Dt, Time),
+            "SUB_DT_DT" => DateFn::Op(Op::Sub, Dt, Dt),
+            "CONCAT_DATE_TOD" => DateFn::ConcatDateTod,
+            _ => return None,
+        })
+    }
+
+    /// The result type.
+    pub(super) fn result(self) -> Ty {
+        match self {
+            DateFn::Op(op, a, b) => {
+                date_arith_type(op, Ty::Elem(a), Ty::Elem(b)).unwrap_or(Ty::Error)
+            }
+            DateFn::ConcatDateTod => Ty::Elem(ElemType::Dt),
+        }
+    }
+}
+
+impl<'s> BodyCx<'_, 's> {
+    /// The value and type of a date literal (`D#`, `TOD#`, `DT#`); the long forms
+    /// (`LDATE#`, ...) are not supported.
+    pub(super) fn date_literal(
+        &mut self,
+        kind: &LiteralKind,
+        span: Span,
+    ) -> Option<(ConstVal, Ty)> {
+        let (v, t, long) = match *kind {
+            LiteralKind::Date { days, long } => {
+                (days as i128 * SECS_PER_DAY as i128, ElemType::Date, long)
+            }
+            LiteralKind::TimeOfDay { ns, long } => (ns as i128 / 1_000_000, ElemType::Tod, long),
+            LiteralKind::DateTime { ns, long } => (ns / 1_000_000_000, ElemType::Dt, long),
+            _ => return None,
+        };
+        if long {
+            self.l.error(
+                codes::E_UNSUPPORTED,
+                "not supported yet: LDATE, LTOD and LDT (64-bit dates)",
+                span,
+            );
+            return None;
+        }
+        if !(0..=u32::MAX as i128).contains(&v) {
+            self.l.error(
+                codes::E_LITERAL_RANGE,
+                format!(
+                    "{} holds dates from 1970 to 2106; this one is outside",
+                    t.name()
+                ),
+                span,
+            );
+            return None;
+        }
+        Some((ConstVal::Int(v), Ty::Elem(t)))
+    }
+
+    /// `a op b` with a date type on the left (already typed by [`date_arith_type`]).
+    pub(super) fn date_arith(
+        &mut self,
+        op: Op,
+        a: &'s Expr,
+        b: &'s Expr,
+        l: ElemType,
+        r: ElemType,
+    ) -> Val {
+        let x = self.emit_as(a, Ty::Elem(l));
+        let y = self.emit_as(b, Ty::Elem(r));
+        self.date_op(op, x, y, l, r)
+    }
+
+    /// The IR of `x op y` for the date arithmetic of table 30.
+    fn date_op(&mut self, op: Op, x: Value, y: Value, l: ElemType, r: ElemType) -> Val {
+        use ElemType::*;
+        let k = |cx: &mut Self, n: i64| cx.b.iconst(Type::I32, n);
+        let (v, t) = match (op, l, r) {
+            (Op::Add, Tod, Time) | (Op::Sub, Tod, Time) => {
+                // Wraps around midnight.
+                let bop = if op == Op::Add {
+                    BinaryOp::Iadd
+                } else {
+                    BinaryOp::Isub
+                };
+                let s = self.b.binary(bop, x, y);
+                let day = k(self, MS_PER_DAY);
+                let m = self.b.binary(BinaryOp::Srem, s, day);
+                let zero = k(self, 0);
+                let neg = self.b.icmp(plcc_ir::IntCC::Slt, m, zero);
+                let up = self.b.binary(BinaryOp::Iadd, m, day);
+                (self.b.select(neg, up, m), Tod)
+            }
+            (Op::Add, Dt, Time) | (Op::Sub, Dt, Time) => {
+                let thousand = k(self, 1000);
+                let secs = self.b.binary(BinaryOp::Sdiv, y, thousand);
+                let bop = if op == Op::Add {
+                    BinaryOp::Iadd
+                } else {
+                    BinaryOp::Isub
+                };
+                (self.b.binary(bop, x, secs), Dt)
+            }
+            (Op::Sub, Date, Date) | (Op::Sub, Dt, Dt) => {
+                let d = self.b.binary(BinaryOp::Isub, x, y);
+                let thousand = k(self, 1000);
+                (self.b.binary(BinaryOp::Imul, d, thousand), Time)
+            }
+            (Op::Sub, Tod, Tod) => (self.b.binary(BinaryOp::Isub, x, y), Time),
+            _ => return self.error_val(),
+        };
+        Val { v, ty: Ty::Elem(t) }
+    }
+
+    /// Emits a call of a function of table 30 with its two arguments.
+    pub(super) fn date_fn_call(&mut self, f: DateFn, xs: &[&'s Expr]) -> Option<Val> {
+        match f {
+            DateFn::Op(op, a, b) => {
+                let x = self.emit_as(xs[0], Ty::Elem(a));
+                let y = self.emit_as(xs[1], Ty::Elem(b));
+                Some(self.date_op(op, x, y, a, b))
+            }
+            DateFn::ConcatDateTod => {
+                let d = self.emit_as(xs[0], Ty::Elem(ElemType::Date));
+                let t = self.emit_as(xs[1], Ty::Elem(ElemType::Tod));
+                let thousand = self.b.iconst(Type::I32, 1000);
+                let secs = self.b.binary(BinaryOp::Udiv, t, thousand);
+                let v = self.b.binary(BinaryOp::Iadd, d, secs);
+                Some(Val {
+                    v,
+                    ty: Ty::Elem(ElemType::Dt),
+                })
+            }
+        }
+    }
+
+    /// A conversion from or to a date type (`v` is of type `from`): between the date
+    /// types as the standard says (DT_TO_DATE keeps the day, DT_TO_TOD the time of
+    /// day, TOD and TIME are both milliseconds), with numbers as the count itself (as
+    /// CODESYS does: DT_TO_DWORD gives the seconds). `None` if there is no such
+    /// conversion.
+    pub(super) fn date_conversion(
+        &mut self,
+        v: Value,
+        from: ElemType,
+        to: ElemType,
+    ) -> Option<Value> {
+        use ElemType::*;
+        let k = |cx: &mut Self, n: i64| cx.b.iconst(Type::I32, n);
+        let numeric = |t: ElemType| (t.is_integer() || t.is_bit_string()) && t != Bool;
+        Some(match (from, to) {
+            (a, b) if a == b => v,
+            (Dt, Date) => {
+                let day = k(self, SECS_PER_DAY);
+                let r = self.b.binary(BinaryOp::Urem, v, day);
+                self.b.binary(BinaryOp::Isub, v, r)
+            }
+            (Dt, Tod) => {
+                let day = k(self, SECS_PER_DAY);
+                let r = self.b.binary(BinaryOp::Urem, v, day);
+                let thousand = k(self, 1000);
+                self.b.binary(BinaryOp::Imul, r, thousand)
+            }
+            (Date, Dt) | (Tod, Time) | (Time, Tod) => v,
+            (Date | Tod | Dt, n) if numeric(n) => self.convert(v, UDInt, n),
+            (n, Date | Tod | Dt) if numeric(n) => self.convert(v, n, UDInt),
+            (Date | Tod | Dt, r) if r.is_real() => self.convert(v, UDInt, r),
+            _ => return None,
+        })
+    }
+}
