@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """plcc benchmarks: compile throughput and JIT time per scan, printed as tables.
 
-usage: bench/bench.py [--quick] [--only compile|scan]
+usage: bench/bench.py [--quick] [--only compile|scan|oscat]
 
 (a) Compile throughput on ../shared/bench/gen_synth.py output (1,000 and 2,000 POUs):
     `plcc check` (parse, check, lower to IR) and the whole path to JIT code
@@ -11,6 +11,12 @@ usage: bench/bench.py [--quick] [--only compile|scan]
     with `gcc -O2`: `plcc run --timing` times the scan loop alone (no compilation),
     ref.c times its own loop; checksums must be equal. Both sides run interleaved, N
     sets each, and the ratio is taken per set (the machine is noisy: compare ratios).
+
+(c) OSCAT BASIC 3.33 (../shared/corpus/libs/oscat_basic_333, the ISO-8859-1 original
+    and the UTF-8 copy) in the CODESYS dialect: `plcc check` and the whole path to
+    native code (`plcc --target host -o x.o`: parse, check, lower, verify, optimise,
+    Cranelift, object file; the library has no PROGRAM to run and its pointers are
+    unchecked, so the JIT would not run it). MB/s and lines/s of the median.
 
 Needs ../shared/bench (skips with a notice otherwise), python3, gcc, and a release
 build (`cargo build --release`, done here).
@@ -59,6 +65,25 @@ def compile_bench(tmp, reps):
     if len(rows) == 2:
         (_, l1, c1, j1), (_, l2, c2, j2) = rows
         print(f"\ngrowth from {l1} to {l2} lines ({l2 / l1:.2f}x): check {c2 / c1:.2f}x, to JIT {j2 / j1:.2f}x (linear = {l2 / l1:.2f}x)")
+
+
+def oscat_bench(tmp, reps):
+    lib = os.path.join(ROOT, "..", "shared", "corpus", "libs", "oscat_basic_333")
+    if not os.path.isdir(lib):
+        print("notice: the OSCAT library is not in ../shared; skipping (c)")
+        return
+    print("\n(c) OSCAT BASIC 3.33, --dialect codesys (median of %d whole-process runs)\n" % reps)
+    print(f"{'file':<26} {'MB':>6} {'lines':>7} {'check s':>8} {'MB/s':>6} {'lines/s':>10} {'to code s':>10} {'MB/s':>6} {'lines/s':>10}")
+    for name in ("OSCAT_BASIC_333.TXT", "OSCAT_BASIC_333.utf8.st"):
+        src = os.path.join(lib, name)
+        size = os.path.getsize(src) / 1e6
+        with open(src, "rb") as f:
+            lines = f.read().count(b"\n")
+        common = ["--dialect", "codesys", "--lang", "st"]
+        t_check = wall([PLCC, "check", *common, src], reps)
+        t_code = wall([PLCC, *common, "--target", "host", src, "-o", os.path.join(tmp, "oscat.o")], reps)
+        print(f"{name:<26} {size:>6.2f} {lines:>7} {t_check:>8.3f} {size / t_check:>6.1f} {lines / t_check:>10,.0f} "
+              f"{t_code:>10.3f} {size / t_code:>6.1f} {lines / t_code:>10,.0f}")
 
 
 PER_SCAN = re.compile(r"([0-9.]+) us per scan")
@@ -118,6 +143,8 @@ def main():
             compile_bench(tmp, 3 if quick else 7)
         if only in (None, "scan"):
             scan_bench(tmp, 3 if quick else 9)
+        if only in (None, "oscat"):
+            oscat_bench(tmp, 3 if quick else 7)
 
 
 if __name__ == "__main__":

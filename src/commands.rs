@@ -33,12 +33,23 @@ fn parse_lang(lang: Option<&str>) -> Result<Option<Lang>, UsageError> {
 fn build_and_report<P: AsRef<Path>>(
     files: &[P],
     lang: Option<&str>,
+    dialect: Option<&str>,
     programs: Vec<String>,
     mode: Mode,
 ) -> Result<(Build, Module), u8> {
     let lang = parse_lang(lang).map_err(usage)?;
+    let codesys = match dialect.map(|d| d.to_ascii_lowercase()) {
+        None => false,
+        Some(d) if d == "iec" => false,
+        Some(d) if d == "codesys" => true,
+        Some(d) => {
+            eprintln!("error: unknown dialect `{d}`: use iec or codesys");
+            return Err(EXIT_USAGE);
+        }
+    };
     let opts = BuildOptions {
         lang,
+        codesys,
         programs,
         no_opt: mode == Mode::Unoptimised,
         check_only: mode == Mode::Check,
@@ -71,8 +82,8 @@ enum Mode {
 }
 
 /// `plcc check FILE...`
-pub fn check(files: &[PathBuf], lang: Option<&str>) -> u8 {
-    match build_and_report(files, lang, Vec::new(), Mode::Check) {
+pub fn check(files: &[PathBuf], lang: Option<&str>, dialect: Option<&str>) -> u8 {
+    match build_and_report(files, lang, dialect, Vec::new(), Mode::Check) {
         Ok((build, module)) => {
             build.report_timings(&[]);
             std::mem::forget(module);
@@ -243,6 +254,8 @@ pub struct RunArgs {
     pub files: Vec<PathBuf>,
     /// `--lang`
     pub lang: Option<String>,
+    /// `--dialect`
+    pub dialect: Option<String>,
     /// `--target`
     pub target: String,
     /// `--program`
@@ -314,8 +327,13 @@ pub fn run(a: &RunArgs) -> u8 {
         Err(s) => return s,
     };
     let programs: Vec<String> = a.program.iter().cloned().collect();
-    let (build, module) = match build_and_report(&a.files, a.lang.as_deref(), programs, Mode::Full)
-    {
+    let (build, module) = match build_and_report(
+        &a.files,
+        a.lang.as_deref(),
+        a.dialect.as_deref(),
+        programs,
+        Mode::Full,
+    ) {
         Ok(b) => b,
         Err(s) => return s,
     };
@@ -403,6 +421,8 @@ pub struct TestArgs {
     pub files: Vec<PathBuf>,
     /// `--lang`
     pub lang: Option<String>,
+    /// `--dialect`
+    pub dialect: Option<String>,
     /// `--scenario`
     pub scenario: PathBuf,
     /// `--target`
@@ -432,8 +452,13 @@ pub fn test(a: &TestArgs) -> u8 {
         return EXIT_FAIL;
     }
     let programs: Vec<String> = scn.program.iter().cloned().collect();
-    let (build, module) = match build_and_report(&a.files, a.lang.as_deref(), programs, Mode::Full)
-    {
+    let (build, module) = match build_and_report(
+        &a.files,
+        a.lang.as_deref(),
+        a.dialect.as_deref(),
+        programs,
+        Mode::Full,
+    ) {
         Ok(b) => b,
         Err(s) => return s,
     };
@@ -480,6 +505,8 @@ pub struct CompileArgs {
     pub files: Vec<PathBuf>,
     /// `--lang`
     pub lang: Option<String>,
+    /// `--dialect`
+    pub dialect: Option<String>,
     /// `--target`
     pub target: String,
     /// `-o`
@@ -510,11 +537,16 @@ pub fn compile(a: &CompileArgs) -> u8 {
     } else {
         Mode::Full
     };
-    let (build, module) =
-        match build_and_report(&a.files, a.lang.as_deref(), a.programs.clone(), mode) {
-            Ok(b) => b,
-            Err(s) => return s,
-        };
+    let (build, module) = match build_and_report(
+        &a.files,
+        a.lang.as_deref(),
+        a.dialect.as_deref(),
+        a.programs.clone(),
+        mode,
+    ) {
+        Ok(b) => b,
+        Err(s) => return s,
+    };
     let (bytes, ext) = match emit {
         Some("ir") | Some("ir-raw") => (
             print_module(&module, &PrintOptions::default()).into_bytes(),

@@ -78,6 +78,8 @@ pub struct BuildOptions {
     pub lang: Option<Lang>,
     /// PROGRAMs to instantiate (all when empty).
     pub programs: Vec<String>,
+    /// The CODESYS dialect (`--dialect codesys`).
+    pub codesys: bool,
     /// Skip the optimisation passes.
     pub no_opt: bool,
     /// Only check: no verification or optimisation of the IR.
@@ -121,6 +123,7 @@ pub fn build_sources(
     }
     let lower_opts = LowerOptions {
         programs: opts.programs.clone(),
+        codesys: opts.codesys,
     };
     let compiled = plcc_frontend::compile(&mut sources, &inputs, &lower_opts);
     let mut diagnostics = compiled.diagnostics;

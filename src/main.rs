@@ -33,6 +33,11 @@ struct Common {
     /// The language of all files: st, il, stl, xml
     #[arg(long)]
     lang: Option<String>,
+    /// The dialect: iec (default) or codesys (POINTER TO, ADR and pointer
+    /// arithmetic, VAR_INPUT CONSTANT, implicit conversions between bit strings and
+    /// numbers)
+    #[arg(long)]
+    dialect: Option<String>,
 }
 
 #[derive(Args)]
@@ -174,6 +179,7 @@ fn main() -> ExitCode {
         }) => commands::run(&commands::RunArgs {
             files: common.files,
             lang: common.lang,
+            dialect: common.dialect,
             target,
             program,
             scans,
@@ -190,12 +196,17 @@ fn main() -> ExitCode {
         }) => commands::test(&commands::TestArgs {
             files: common.files,
             lang: common.lang,
+            dialect: common.dialect,
             scenario,
             target,
             cycle_ms,
             settings: set,
         }),
-        Some(Command::Check { common }) => commands::check(&common.files, common.lang.as_deref()),
+        Some(Command::Check { common }) => commands::check(
+            &common.files,
+            common.lang.as_deref(),
+            common.dialect.as_deref(),
+        ),
         Some(Command::Explain { code }) => commands::explain(code.as_deref()),
         Some(Command::Difftest {
             seed,
@@ -211,6 +222,7 @@ fn main() -> ExitCode {
         None => commands::compile(&commands::CompileArgs {
             files: cli.build.common.files,
             lang: cli.build.common.lang,
+            dialect: cli.build.common.dialect,
             target: cli.build.target,
             output: cli.build.output,
             emit: cli.build.emit,

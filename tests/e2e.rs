@@ -357,8 +357,14 @@ fn build(case: &Case) -> Result<Built, String> {
             std::fs::read(src).map_err(|e| format!("cannot read {}: {e}", src.display()))?;
         texts.push((rel(src), bytes));
     }
+    // Programs under a `codesys` directory are in the CODESYS dialect.
+    let codesys = case
+        .sources
+        .iter()
+        .any(|s| s.components().any(|c| c.as_os_str() == "codesys"));
     let opts = BuildOptions {
         programs: scn.program.iter().cloned().collect(),
+        codesys,
         ..Default::default()
     };
     let b = build_sources(texts, &opts).map_err(|e| e.0)?;

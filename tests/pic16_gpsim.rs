@@ -104,7 +104,12 @@ fn check(src: &Path, tools: &Path, dir: &Path) -> Result<bool, String> {
             ))
         })
         .collect::<Result<Vec<_>, String>>()?;
-    let b = build_sources(texts, &BuildOptions::default()).map_err(|e| e.0)?;
+    // Programs under a `codesys` directory are in the CODESYS dialect.
+    let opts = BuildOptions {
+        codesys: src.components().any(|c| c.as_os_str() == "codesys"),
+        ..Default::default()
+    };
+    let b = build_sources(texts, &opts).map_err(|e| e.0)?;
     let Some(module) = b.module else {
         return Err("does not compile".into());
     };

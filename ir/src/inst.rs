@@ -398,11 +398,19 @@ pub enum ConvOp {
     FToUi,
     /// Reinterpret the bits between an integer and a float of the same width.
     Bitcast,
+    /// A pointer as an integer: its address, cut or zero-extended to the integer's
+    /// width.
+    PtrToInt,
+    /// An integer as a pointer: the address it holds (zero-extended or cut to the
+    /// target's pointer width). Only CODESYS-style pointer arithmetic makes these;
+    /// such a pointer may point anywhere, so a module that has one is unchecked
+    /// (see [`crate::Module::unchecked_pointers`]).
+    IntToPtr,
 }
 
 impl ConvOp {
     /// Every conversion.
-    pub const ALL: [ConvOp; 10] = [
+    pub const ALL: [ConvOp; 12] = [
         ConvOp::Sext,
         ConvOp::Uext,
         ConvOp::Itrunc,
@@ -413,6 +421,8 @@ impl ConvOp {
         ConvOp::FToSi,
         ConvOp::FToUi,
         ConvOp::Bitcast,
+        ConvOp::PtrToInt,
+        ConvOp::IntToPtr,
     ];
 
     /// The mnemonic of the text form.
@@ -428,6 +438,8 @@ impl ConvOp {
             ConvOp::FToSi => "ftosi",
             ConvOp::FToUi => "ftoui",
             ConvOp::Bitcast => "bitcast",
+            ConvOp::PtrToInt => "ptrtoint",
+            ConvOp::IntToPtr => "inttoptr",
         }
     }
 }

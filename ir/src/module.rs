@@ -231,6 +231,10 @@ pub struct Module {
     pub programs: Vec<ProgramEntry>,
     /// `() -> ()` that initialises the globals at cold start.
     pub init_globals: Option<FuncId>,
+    /// True if pointers may hold addresses no data object or live slot has (CODESYS
+    /// pointer arithmetic, `inttoptr`, or the address of a temporary kept past its
+    /// call): a machine that cannot check every access refuses to run such a module.
+    pub unchecked_pointers: bool,
 }
 
 impl Module {

@@ -518,6 +518,14 @@ impl FnCheck<'_> {
                                 && from.bits() == to.bits(),
                             "bitcast goes between an integer and a float of the same width",
                         ),
+                        ConvOp::PtrToInt => (
+                            from == Type::Ptr && arith_int(to),
+                            "ptrtoint goes from ptr to an integer (i8..i64)",
+                        ),
+                        ConvOp::IntToPtr => (
+                            arith_int(from) && to == Type::Ptr,
+                            "inttoptr goes from an integer (i8..i64) to ptr",
+                        ),
                     };
                     if !ok {
                         self.err(

@@ -62,6 +62,8 @@ pub mod codes {
     pub const E_EMIT: &str = "E8005";
     /// The program's data does not fit the backend's limit.
     pub const E_DATA_TOO_LARGE: &str = "E8006";
+    /// The program has unchecked pointers, which the JIT does not run.
+    pub const E_UNCHECKED_POINTERS: &str = "E8007";
 }
 
 /// Every code the native backend reports, for `plcc explain`.
@@ -116,6 +118,11 @@ declared. Check the memory limits of the process; if the problem persists, repor
         explanation: "The program's variables (all program instances and globals) take \
 more than 1 GiB, the native backend's limit. Usually an array is declared far larger \
 than meant, e.g. `ARRAY[0..999999999] OF LREAL`. Shrink the array bounds.",
+    },
+    CodeInfo {
+        code: codes::E_UNCHECKED_POINTERS,
+        title: "unchecked pointers on the host",
+        explanation: "The program uses CODESYS pointers as numbers (`pt := pt + 1`, `dw := pt`, `pt := dw`) or keeps the address of a temporary (ADR of a FUNCTION's variable), so a pointer may hold any address. The JIT runs code natively in plcc's own process, where a wrong address would corrupt plcc instead of raising the fault flag, so `plcc run`/`test` on `host` refuse such a program (it still compiles to objects). Example: `pt := ADR(buf); pt := pt + 1; x := pt^;` in `--dialect codesys`. Run it with `--target interp`, which checks every access, or use IEC references (REF_TO, REF()).",
     },
 ];
 
@@ -200,6 +207,14 @@ impl Backend for NativeBackend {
         module: &Module,
         options: &Options,
     ) -> Option<Result<Box<dyn Machine>, Vec<Diagnostic>>> {
+        if module.unchecked_pointers {
+            // Such a pointer may address the host process itself: a wrong one would
+            // corrupt plcc rather than raise the fault flag.
+            return Some(Err(vec![Diagnostic::error_nowhere(
+                codes::E_UNCHECKED_POINTERS,
+                "this program computes addresses (CODESYS pointer arithmetic or the address of a temporary), which the host target does not run: run it with `--target interp`",
+            )]));
+        }
         Some(parse_settings(options).and_then(|(_, settings)| {
             Jit::with_settings(module, &settings).map(|j| Box::new(j) as Box<dyn Machine>)
         }))

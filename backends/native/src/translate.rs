@@ -1107,6 +1107,17 @@ impl Cx<'_, '_, '_> {
                     self.b.ins().bitcast(ctt, MemFlagsData::new(), a)
                 }
             }
+            ConvOp::PtrToInt | ConvOp::IntToPtr => {
+                // Addresses are i64 here: cut or zero-extend.
+                let a = if from == Type::I1 { return bad() } else { a };
+                if cf == ctt {
+                    a
+                } else if ctt.bits() < cf.bits() {
+                    self.b.ins().ireduce(ctt, a)
+                } else {
+                    self.b.ins().uextend(ctt, a)
+                }
+            }
         })
     }
 }

@@ -1504,6 +1504,9 @@ impl<'a> Emitter<'a> {
                     }
                 }
             }
+            ConvOp::PtrToInt | ConvOp::IntToPtr => {
+                self.unsupported(inst, "pointer arithmetic (CODESYS pointers as numbers)")
+            }
             _ => self.unsupported(inst, "this conversion"),
         }
     }

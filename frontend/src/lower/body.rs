@@ -19,6 +19,8 @@ pub(super) enum Access {
     OwnInput,
     /// An output of another instance.
     OtherOutput,
+    /// A CONSTANT kept in memory (a string, array or STRUCT).
+    Constant,
 }
 
 /// A variable, element or member in memory.
@@ -778,7 +780,9 @@ impl<'a, 's> BodyCx<'a, 's> {
             }
             // A FUNCTION's inputs are its own copies (writing them is ordinary Pascal
             // and STL style); an instance's inputs belong to its caller.
-            let access = if section == VarKind::Input && self.kind() != PouKind::Function {
+            let access = if v.read_only {
+                Access::Constant
+            } else if section == VarKind::Input && self.kind() != PouKind::Function {
                 Access::OwnInput
             } else {
                 Access::ReadWrite

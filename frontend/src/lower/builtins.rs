@@ -131,7 +131,8 @@ impl Builtin {
             "SUB_TIME" => TimeOp(Op::Sub),
             "MUL_TIME" => TimeOp(Op::Mul),
             "DIV_TIME" => TimeOp(Op::Div),
-            "__PLC_CLOCK" | "CUR_TIME" => Clock,
+            // CODESYS's TIME() is its millisecond clock.
+            "__PLC_CLOCK" | "CUR_TIME" | "TIME" => Clock,
             "__STL_INC" => Stl(StlOp::Inc),
             "__STL_DEC" => Stl(StlOp::Dec),
             "__STL_SWAP" => Stl(StlOp::Swap),
@@ -887,6 +888,12 @@ impl<'s> BodyCx<'_, 's> {
         }
         let Some(xe) = x.ty.elem() else {
             return self.bad_arg(name, "an elementary value", x.ty, e.span);
+        };
+        // CODESYS converts from whatever integer or bit string it is given.
+        let loose = |t: ElemType| t != ElemType::Bool && (t.is_integer() || t.is_bit_string());
+        let from = match from {
+            Some(f) if self.l.codesys && f != xe && loose(f) && loose(xe) => Some(xe),
+            f => f,
         };
         let src = match from {
             Some(f) if f != xe => {

@@ -124,7 +124,10 @@ impl<'s> Lowerer<'s> {
                     continue;
                 }
             }
-            if block.constant && block.kind != VarKind::Var {
+            // CODESYS's `VAR_INPUT CONSTANT` is an input the callee does not change.
+            let codesys_input_constant =
+                self.codesys && block.constant && block.kind == VarKind::Input;
+            if block.constant && block.kind != VarKind::Var && !codesys_input_constant {
                 self.error(
                     codes::E_BAD_DECLARATION,
                     "only VAR blocks can be CONSTANT",
@@ -183,7 +186,8 @@ impl<'s> Lowerer<'s> {
                         name: *name,
                         display: self.text(name.span).to_string(),
                         section: block.kind,
-                        constant: block.constant,
+                        constant: block.constant && !codesys_input_constant && !ty.is_aggregate(),
+                        read_only: block.constant && !codesys_input_constant && ty.is_aggregate(),
                         ty,
                         tag,
                         decl: (bi as u32, di as u32),
@@ -300,6 +304,14 @@ impl<'s> Lowerer<'s> {
                 self.define_struct("STRUCT".to_string(), fields, scope),
                 None,
             ),
+            TypeSpec::Pointer { span, .. } if !self.codesys => {
+                self.diags.push(plcc_ir::diag::Diagnostic::error(
+                    codes::E_UNSUPPORTED,
+                    "`POINTER TO` is CODESYS's: compile with `--dialect codesys`, or use `REF_TO`",
+                    *span,
+                ));
+                (Ty::Error, None)
+            }
             TypeSpec::Ref { target, .. }
             | TypeSpec::Pointer { target, .. }
             | TypeSpec::Reference { target, .. } => {

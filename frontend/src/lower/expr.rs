@@ -380,6 +380,8 @@ impl<'s> BodyCx<'_, 's> {
             ExprKind::Binary(op, a, b) => {
                 let (l, r) = (self.infer(a), self.infer(b));
                 binary_typing(*op, l, r, &|_| String::new())
+                    .ok()
+                    .or_else(|| self.codesys_binary_type(*op, l, r))
                     .map(|t| t.result)
                     .unwrap_or(Ty::Error)
             }
@@ -478,6 +480,7 @@ impl<'s> BodyCx<'_, 's> {
         let fits = match (v.ty, target) {
             (a, b) if a == b => true,
             (a, b) if self.ref_fits(a, b) => true,
+            (a, b) if self.codesys_implicit(a, b) => true,
             (Ty::Error, _) | (_, Ty::Error) => true,
             (Ty::Elem(a), Ty::Elem(b)) => implicit(a, b),
             _ => false,
@@ -524,6 +527,9 @@ impl<'s> BodyCx<'_, 's> {
         }
         if self.ref_fits(v.ty, target) {
             return v.v;
+        }
+        if self.codesys_implicit(v.ty, target) {
+            return self.codesys_convert(v.v, v.ty, target);
         }
         match (v.ty, target) {
             (Ty::Elem(from), Ty::Elem(to)) if implicit(from, to) => self.convert(v.v, from, to),
@@ -790,6 +796,11 @@ impl<'s> BodyCx<'_, 's> {
                         v: self.b.unary(UnaryOp::Ineg, v.v),
                         ty: t,
                     },
+                    // CODESYS negates unsigned values too (two's complement).
+                    t if self.l.codesys && t.is_int_like() => Val {
+                        v: self.b.unary(UnaryOp::Ineg, v.v),
+                        ty: t,
+                    },
                     t => {
                         let n = self.l.ty_name(t);
                         self.l.error(
@@ -835,7 +846,7 @@ impl<'s> BodyCx<'_, 's> {
             let l = &*self.l;
             binary_typing(op, lt, rt, &|t| l.ty_name(t))
         };
-        let typing = match typing {
+        let typing = match typing.or_else(|e| self.codesys_binary_type(op, lt, rt).ok_or(e)) {
             Ok(t) => t,
             Err(msg) => {
                 // Emit both sides for their own errors, then report the mismatch.
@@ -851,6 +862,13 @@ impl<'s> BodyCx<'_, 's> {
         let is_cmp = matches!(op, Op::Eq | Op::Ne | Op::Lt | Op::Le | Op::Gt | Op::Ge);
         if let Ty::Str(_) = typing.operand {
             return self.compare_strings(op, a, b, span);
+        }
+        if self.l.codesys
+            && [lt, rt]
+                .iter()
+                .any(|t| matches!(t, Ty::Ref(id) if self.l.types.get_ref(*id).pointer))
+        {
+            return self.pointer_binary(op, a, b, typing.result);
         }
         if let Ty::Ref(_) | Ty::Null = typing.operand {
             return self.compare_refs(op == Op::Eq, a, b);
@@ -868,6 +886,7 @@ impl<'s> BodyCx<'_, 's> {
                 ty: if is_cmp { Ty::BOOL } else { Ty::Error },
             };
         }
+        let operand = self.codesys_widen_for_literal(operand, a, b);
         let result = if is_cmp { Ty::BOOL } else { operand };
         if let (true, Ty::Elem(le), Some(Ty::Elem(re))) = (
             super::dates::is_date(typing.operand),

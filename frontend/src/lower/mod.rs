@@ -41,6 +41,10 @@ pub use consts::ConstVal;
 pub struct LowerOptions {
     /// The PROGRAMs to instantiate and run, by name; all of them when empty.
     pub programs: Vec<String>,
+    /// The CODESYS dialect: `POINTER TO`, `ADR` of anything and pointers as numbers
+    /// (the module is then [`plcc_ir::Module::unchecked_pointers`]), `VAR_INPUT
+    /// CONSTANT`, implicit conversions between bit strings and numbers.
+    pub codesys: bool,
 }
 
 /// One declared variable of a POU.
@@ -52,8 +56,11 @@ pub struct VarInfo {
     pub display: String,
     /// Its section.
     pub section: VarKind,
-    /// `CONSTANT`.
+    /// `CONSTANT` of an elementary type: folded to its value.
     pub constant: bool,
+    /// `CONSTANT` of a string, array or STRUCT type: a variable that may not be
+    /// written.
+    pub read_only: bool,
     /// The type.
     pub ty: Ty,
     /// Its derived type (alias, subrange), whose initial value and range apply.
@@ -160,6 +167,8 @@ pub struct Lowerer<'s> {
     pub(crate) globals_data: Option<plcc_ir::DataId>,
     /// Files in the CPDev dialect (`.cst`, see `Lang::Cst`).
     pub(crate) cpdev_files: Vec<plcc_ir::diag::FileId>,
+    /// The CODESYS dialect (`LowerOptions::codesys`).
+    pub(crate) codesys: bool,
 }
 
 impl<'s> Lowerer<'s> {
@@ -192,6 +201,7 @@ impl<'s> Lowerer<'s> {
             globals_pou: None,
             globals_data: None,
             cpdev_files: Vec::new(),
+            codesys: false,
         }
     }
 
@@ -203,6 +213,7 @@ impl<'s> Lowerer<'s> {
         std_units: usize,
         opts: &LowerOptions,
     ) -> (Option<Module>, Vec<Diagnostic>) {
+        self.codesys = opts.codesys;
         self.collect_pous(std_units);
         self.collect_types();
         self.report_unsupported_items();

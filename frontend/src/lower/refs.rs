@@ -11,11 +11,11 @@
 use super::body::{BodyCx, Place};
 use super::expr::Val;
 use super::Storage;
-use crate::ast::{Expr, ExprKind, VarKind};
+use crate::ast::{BinaryOp as Op, Expr, ExprKind, VarKind};
 use crate::codes;
 use crate::types::{RefTy, Ty};
 use plcc_ir::diag::Span;
-use plcc_ir::{IntCC, Type, Value};
+use plcc_ir::{BinaryOp, ConvOp, ElemType, IntCC, Type, Value};
 
 impl<'s> BodyCx<'_, 's> {
     /// The null reference.
@@ -111,7 +111,18 @@ impl<'s> BodyCx<'_, 's> {
     /// as the program. An element whose index is out of bounds gives NULL (and
     /// raises the fault flag).
     pub(super) fn ref_of(&mut self, x: &'s Expr, name: &str, pointer: bool) -> Option<Val> {
-        if let Some(why) = self.not_static(x) {
+        if pointer && !self.l.codesys {
+            self.l.error(
+                codes::E_UNSUPPORTED,
+                format!("`{name}` is CODESYS's: compile with `--dialect codesys`, or use `REF`"),
+                x.span,
+            );
+            return None;
+        }
+        if pointer && self.not_static(x).is_some() {
+            // CODESYS lets a program keep the address of a temporary past its call.
+            self.l.module.unchecked_pointers = true;
+        } else if let Some(why) = self.not_static(x) {
             self.l.diags.push(
                 plcc_ir::diag::Diagnostic::error(
                     codes::E_NOT_A_PLACE,
@@ -301,5 +312,205 @@ impl<'s> BodyCx<'_, 's> {
             return v.v;
         }
         self.coerce(v, to, e.span)
+    }
+}
+
+/// A bit string as the unsigned integer of its width (CODESYS mixes them freely).
+fn as_unsigned(t: Ty) -> Ty {
+    match t {
+        Ty::Elem(ElemType::Byte) => Ty::Elem(ElemType::USInt),
+        Ty::Elem(ElemType::Word) => Ty::Elem(ElemType::UInt),
+        Ty::Elem(ElemType::DWord) => Ty::Elem(ElemType::UDInt),
+        Ty::Elem(ElemType::LWord) => Ty::Elem(ElemType::ULInt),
+        t => t,
+    }
+}
+
+/// Integers and bit strings other than BOOL.
+fn int_like(t: Ty) -> bool {
+    t.is_int_like()
+}
+
+impl<'s> BodyCx<'_, 's> {
+    /// True if `t` is a CODESYS `POINTER TO`.
+    fn is_pointer(&self, t: Ty) -> bool {
+        matches!(t, Ty::Ref(id) if self.l.types.get_ref(id).pointer)
+    }
+
+    /// The type of `l op r` in the CODESYS dialect where IEC 61131-3 has none:
+    /// pointer arithmetic and comparisons, and bit strings mixed with numbers.
+    pub(super) fn codesys_binary_type(
+        &self,
+        op: Op,
+        l: Ty,
+        r: Ty,
+    ) -> Option<super::expr::BinTyping> {
+        if !self.l.codesys {
+            return None;
+        }
+        let cmp = matches!(op, Op::Eq | Op::Ne | Op::Lt | Op::Le | Op::Gt | Op::Ge);
+        let (lp, rp) = (self.is_pointer(l), self.is_pointer(r));
+        if lp || rp {
+            let result = match op {
+                _ if cmp && (lp || int_like(l)) && (rp || int_like(r)) => Ty::BOOL,
+                Op::Add if lp && int_like(r) => l,
+                Op::Add if rp && int_like(l) => r,
+                Op::Sub if lp && int_like(r) => l,
+                Op::Sub if lp && rp => Ty::Elem(ElemType::DWord),
+                _ => return None,
+            };
+            return Some(super::expr::BinTyping {
+                operand: if lp { l } else { r },
+                right: Some(if lp { r } else { l }),
+                result,
+            });
+        }
+        let (l2, r2) = (as_unsigned(l), as_unsigned(r));
+        if (l2, r2) == (l, r) {
+            return None;
+        }
+        super::expr::binary_typing(op, l2, r2, &|_| String::new()).ok()
+    }
+
+    /// `l op r` with a CODESYS pointer on one side: addresses as numbers.
+    pub(super) fn pointer_binary(&mut self, op: Op, a: &'s Expr, b: &'s Expr, result: Ty) -> Val {
+        let x = self.emit(a, None);
+        let y = self.emit(b, None);
+        let is_ptr = |t: Ty| matches!(t, Ty::Ref(_) | Ty::Null);
+        if is_ptr(x.ty) && is_ptr(y.ty) && !matches!(op, Op::Add | Op::Sub) {
+            // Two addresses compare as they are, with no number in between.
+            let cc = match op {
+                Op::Eq => IntCC::Eq,
+                Op::Ne => IntCC::Ne,
+                Op::Lt => IntCC::Ult,
+                Op::Le => IntCC::Ule,
+                Op::Gt => IntCC::Ugt,
+                _ => IntCC::Uge,
+            };
+            let v = self.b.icmp(cc, x.v, y.v);
+            return Val { v, ty: result };
+        }
+        let xi = self.address_value(x);
+        let yi = self.address_value(y);
+        let v = match op {
+            Op::Add | Op::Sub => {
+                let bop = if op == Op::Add {
+                    BinaryOp::Iadd
+                } else {
+                    BinaryOp::Isub
+                };
+                let s = self.b.binary(bop, xi, yi);
+                if let Ty::Ref(_) = result {
+                    self.l.module.unchecked_pointers = true;
+                    self.b.convert(ConvOp::IntToPtr, Type::Ptr, s)
+                } else {
+                    self.b.convert(ConvOp::Itrunc, Type::I32, s)
+                }
+            }
+            _ => {
+                let cc = match op {
+                    Op::Eq => IntCC::Eq,
+                    Op::Ne => IntCC::Ne,
+                    Op::Lt => IntCC::Ult,
+                    Op::Le => IntCC::Ule,
+                    Op::Gt => IntCC::Ugt,
+                    _ => IntCC::Uge,
+                };
+                self.b.icmp(cc, xi, yi)
+            }
+        };
+        Val { v, ty: result }
+    }
+
+    /// A pointer's address, or an integer, as an `i64` (integers zero-extended as
+    /// addresses are).
+    fn address_value(&mut self, v: Val) -> Value {
+        match v.ty {
+            Ty::Ref(_) | Ty::Null => self.b.convert(ConvOp::PtrToInt, Type::I64, v.v),
+            t => match t.ir() {
+                Some(Type::I64) => v.v,
+                Some(it) if it.is_int() => self.b.convert(ConvOp::Uext, Type::I64, v.v),
+                _ => self.b.iconst(Type::I64, 0),
+            },
+        }
+    }
+
+    /// True if CODESYS converts `from` to `to` without being asked: a pointer to or
+    /// from an integer or bit string, a bit string to or from a number that holds it.
+    pub(super) fn codesys_implicit(&self, from: Ty, to: Ty) -> bool {
+        if !self.l.codesys {
+            return false;
+        }
+        match (from, to) {
+            (Ty::Ref(_), t) | (t, Ty::Ref(_)) if self.is_pointer(from) || self.is_pointer(to) => {
+                int_like(t) || (self.is_pointer(from) && self.is_pointer(to))
+            }
+            (Ty::Elem(a), Ty::Elem(b)) => {
+                let numeric = |e: ElemType| {
+                    e != ElemType::Bool && (e.is_integer() || e.is_bit_string() || e.is_real())
+                };
+                // Between integers and bit strings of any widths (narrowing wraps),
+                // and from them to a real.
+                // Between reals, and from them to a real.
+                numeric(a) && numeric(b) && (!a.is_real() || b.is_real())
+            }
+            _ => false,
+        }
+    }
+
+    /// Emits the conversion [`Self::codesys_implicit`] allows.
+    pub(super) fn codesys_convert(&mut self, v: Value, from: Ty, to: Ty) -> Value {
+        match (from, to) {
+            (Ty::Ref(_), Ty::Ref(_)) => v,
+            (Ty::Ref(_), t) => {
+                let it = t.ir().unwrap_or(Type::I32);
+                self.b.convert(ConvOp::PtrToInt, it, v)
+            }
+            (_, Ty::Ref(_)) => {
+                self.l.module.unchecked_pointers = true;
+                self.b.convert(ConvOp::IntToPtr, Type::Ptr, v)
+            }
+            (Ty::Elem(a), Ty::Elem(b)) => self.convert(v, a, b),
+            _ => v,
+        }
+    }
+}
+
+impl<'s> BodyCx<'_, 's> {
+    /// In the CODESYS dialect an integer literal too large for the other operand's
+    /// type (`i * 60000` with `i` an INT) makes the operation DINT (or LINT), as
+    /// CODESYS types it; IEC 61131-3 reports the literal instead.
+    pub(super) fn codesys_widen_for_literal(
+        &mut self,
+        operand: Ty,
+        a: &'s Expr,
+        b: &'s Expr,
+    ) -> Ty {
+        let Some(e) = operand.elem().filter(|e| self.l.codesys && e.is_integer()) else {
+            return operand;
+        };
+        let mut need = e;
+        for x in [a, b] {
+            if self.infer(x) != Ty::AnyInt {
+                continue;
+            }
+            let Some((super::consts::ConstVal::Int(v), _)) = self.l.const_eval(x, self.pou) else {
+                continue;
+            };
+            let fits =
+                |t: ElemType| crate::types::int_range(t).is_some_and(|(lo, hi)| v >= lo && v <= hi);
+            if !fits(need) {
+                need = if fits(ElemType::DInt) {
+                    ElemType::DInt
+                } else {
+                    ElemType::LInt
+                };
+            }
+        }
+        if need == e {
+            operand
+        } else {
+            Ty::Elem(need)
+        }
     }
 }

@@ -311,6 +311,7 @@ impl<'s> BodyCx<'_, 's> {
                 codes::E_WRITE_OUTPUT,
                 "cannot assign to an output of a function block instance from outside",
             ),
+            Access::Constant => (codes::E_WRITE_CONSTANT, "this is a CONSTANT"),
         };
         self.l.error(code, msg, span);
         false

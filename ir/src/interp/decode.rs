@@ -485,6 +485,8 @@ impl Decoder<'_> {
                     ConvOp::SiToF | ConvOp::UiToF => from.is_int() && ty.is_float(),
                     ConvOp::FToSi | ConvOp::FToUi => from.is_float() && ty.is_int(),
                     ConvOp::Bitcast => from.bits() == ty.bits() && from != Type::I1,
+                    ConvOp::PtrToInt => from == Type::Ptr && ty.is_int() && ty != Type::I1,
+                    ConvOp::IntToPtr => from.is_int() && from != Type::I1 && ty == Type::Ptr,
                 };
                 if !ok {
                     return Err(format!("cannot {} {from} to {ty}", op.name()));

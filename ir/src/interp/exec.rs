@@ -314,7 +314,7 @@ pub(super) fn convert(op: ConvOp, from: Type, to: Type, a: u64) -> u64 {
             let hi = if w == 64 { u64::MAX } else { (1u64 << w) - 1 };
             canon(to, (float_value(from, a) as u64).min(hi))
         }
-        ConvOp::Bitcast => canon(to, uval(from, a)),
+        ConvOp::Bitcast | ConvOp::PtrToInt | ConvOp::IntToPtr => canon(to, uval(from, a)),
     }
 }
 

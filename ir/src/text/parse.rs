@@ -572,6 +572,7 @@ struct RawModule<'a> {
     funcs: Vec<RawFunc<'a>>,
     programs: Vec<RawProgram<'a>>,
     init_globals: Option<Named<'a>>,
+    unchecked_pointers: bool,
 }
 
 // ---------------------------------------------------------------------------------
@@ -863,7 +864,7 @@ impl<'a> Parser<'a> {
     }
 
     fn module(&mut self) -> Result<(), ParseError> {
-        const TOP: &str = "`file`, `struct`, `array`, `data`, `func`, `program` or `init_globals`";
+        const TOP: &str = "`file`, `unchecked_pointers`, `struct`, `array`, `data`, `func`, `program` or `init_globals`";
         loop {
             self.skip_newlines();
             let (w, pos) = match *self.peek() {
@@ -878,6 +879,10 @@ impl<'a> Parser<'a> {
                     let n = self.u32_num("a file number")?;
                     let name = self.string("a file name")?;
                     self.raw.files.push((V { n, pos: npos }, name));
+                }
+                "unchecked_pointers" => {
+                    self.bump();
+                    self.raw.unchecked_pointers = true;
                 }
                 "struct" => self.struct_def()?,
                 "array" => self.array_def()?,
@@ -1594,6 +1599,7 @@ impl<'a> Resolver<'a> {
         if let Some(g) = &raw.init_globals {
             m.init_globals = Some(func_ref(g)?);
         }
+        m.unchecked_pointers = raw.unchecked_pointers;
         Ok(m)
     }
 

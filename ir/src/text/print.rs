@@ -33,6 +33,9 @@ pub fn print_module(m: &Module, opts: &PrintOptions) -> String {
         }
         sections.push(s);
     }
+    if m.unchecked_pointers {
+        sections.push("unchecked_pointers\n".to_string());
+    }
     if !m.aggs.is_empty() {
         let mut s = String::new();
         for agg in &m.aggs {

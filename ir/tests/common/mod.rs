@@ -364,6 +364,12 @@ pub fn kitchen_sink() -> Module {
                     b.convert(op, Type::F32, x32);
                     b.convert(op, Type::I64, f64v);
                 }
+                ConvOp::PtrToInt => {
+                    b.convert(op, Type::I32, ptr);
+                }
+                ConvOp::IntToPtr => {
+                    b.convert(op, Type::Ptr, x64);
+                }
             }
         }
         let c = b.icmp(IntCC::Slt, x32, x32);

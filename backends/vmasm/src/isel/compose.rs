@@ -368,6 +368,10 @@ impl Fx<'_, '_> {
                 self.rrr(Opcode::new(op::group::AND, 0x21), &[d, a, one]);
             }
             ConvOp::Itrunc | ConvOp::Bitcast => self.copy(d, a, dn),
+            // Rejected before (`Isel::inst`).
+            ConvOp::PtrToInt | ConvOp::IntToPtr => {
+                return Err(self.unsupported("pointer arithmetic", None))
+            }
             ConvOp::Fpromote => self.rrr(conv(0x0D), &[d, a]),
             ConvOp::Fdemote => self.rrr(conv(0x0E), &[d, a]),
             ConvOp::SiToF | ConvOp::UiToF => {

@@ -1009,6 +1009,14 @@ impl Fx<'_, '_> {
                 let b = self.home(args[1]);
                 self.rrr(op::cmp(g, ty), &[d, a, b]);
             }
+            InstData::Convert {
+                op: ConvOp::PtrToInt | ConvOp::IntToPtr,
+                ..
+            } => {
+                return Err(
+                    self.unsupported("pointer arithmetic (CODESYS pointers as numbers)", span)
+                );
+            }
             InstData::Convert { op: cop, ty, arg } => {
                 let v = res.expect("result");
                 self.convert(cop, ty, arg, v)?;
