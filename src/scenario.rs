@@ -240,17 +240,22 @@ pub fn run(s: &Scenario, m: &mut dyn Machine, program: &str, cycle_ms: u64) -> O
     out
 }
 
-/// The path of a scenario variable: the program's, else a global's.
+/// The path of a scenario variable: the program's, else a global's, else the path
+/// as written (`inst.var` when no program is chosen).
 fn path_of(m: &dyn Machine, program: &str, var: &str) -> String {
     let own = format!("{program}.{var}");
-    if m.read(&own).is_ok() {
+    if !program.is_empty() && m.read(&own).is_ok() {
         return own;
     }
     let global = format!("{}.{var}", plcc_frontend::GLOBALS_DATA);
     if m.read(&global).is_ok() {
         return global;
     }
-    own
+    if program.is_empty() {
+        var.to_string()
+    } else {
+        own
+    }
 }
 
 fn set(m: &mut dyn Machine, path: &str, text: &str) -> Result<(), String> {

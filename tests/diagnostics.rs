@@ -305,7 +305,7 @@ bad! {
     date_arith_mismatch,
     unsup_struct_copy_fb,
     unsup_var_global_in_pou,
-    unsup_configuration,
+    config_errors,
     // warnings
     warn_write_own_input,
     // Instruction List: instructions and their operands

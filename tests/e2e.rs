@@ -380,9 +380,11 @@ fn build(case: &Case) -> Result<Built, String> {
     };
     let program = match &scn.program {
         Some(p) => p.clone(),
+        // Several (a configuration's instances): whole paths in the scenario.
         None => match module.programs.as_slice() {
             [one] => one.name.clone(),
-            _ => return Err("the scenario names no program and there is not exactly one".into()),
+            [] => return Err("the files declare no PROGRAM".into()),
+            _ => String::new(),
         },
     };
     Ok(Built {
@@ -535,11 +537,13 @@ fn uses_transcendentals(m: &Module) -> bool {
 /// of the program and the fault flag after every scan (and after cold start).
 fn differential(case: &Case, first: &str, second: &str) -> Result<usize, String> {
     let built = build(case)?;
-    let entry = built
+    // Every variable of every program instance (a configuration has several).
+    let vars: Vec<plcc_ir::vars::VarRef> = built
         .module
-        .program(&built.program)
-        .ok_or_else(|| format!("no program {}", built.program))?;
-    let vars = plcc_ir::vars::variables(&built.module, entry.data);
+        .programs
+        .iter()
+        .flat_map(|p| plcc_ir::vars::variables(&built.module, p.data))
+        .collect();
     if vars.is_empty() {
         return Err("the program has no variables to compare".into());
     }

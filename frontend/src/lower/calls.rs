@@ -720,7 +720,7 @@ impl<'s> BodyCx<'_, 's> {
 
     /// Calls an FB instance: stores the inputs, runs the body, reads the outputs. A
     /// call on an array element whose index was out of bounds is skipped.
-    fn fb_call(&mut self, inst: Place, fb: PouId, args: &'s [Arg], span: Span) {
+    pub(super) fn fb_call(&mut self, inst: Place, fb: PouId, args: &'s [Arg], span: Span) {
         self.l.calls.push((self.pou, fb, span));
         let params = params_of(self, fb);
         let bound = self.bind_args(fb, &params, args);

@@ -13,6 +13,10 @@ impl Lowerer<'_> {
     /// Creates a data object and a program entry for every PROGRAM to run: the ones
     /// named in the options, or all of them.
     pub(super) fn instantiate_programs(&mut self, opts: &super::LowerOptions) {
+        if let Some(c) = self.configuration() {
+            self.instantiate_configuration(c, &opts.programs);
+            return;
+        }
         let mut chosen = Vec::new();
         if opts.programs.is_empty() {
             for (i, p) in self.pous.iter().enumerate() {

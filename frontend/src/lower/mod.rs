@@ -23,6 +23,7 @@ mod partial;
 mod refs;
 mod stmt;
 mod strings;
+mod tasks;
 mod usertypes;
 
 use crate::ast::{self, Ident, PouKind, SourceUnit, VarKind};
@@ -393,7 +394,8 @@ impl<'s> Lowerer<'s> {
                         }
                         ("VAR_GLOBAL", self.keyword_span(b.span))
                     }
-                    ast::Item::Configuration(c) => ("CONFIGURATION", c.name.span),
+                    // Checked when instantiated (`tasks`).
+                    ast::Item::Configuration(_) => continue,
                     ast::Item::Action(a) => ("ACTIONs", a.span),
                 };
                 errs.push((what, span));

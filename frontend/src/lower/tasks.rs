@@ -1,0 +1,398 @@
+//! CONFIGURATION, RESOURCE and TASK: which PROGRAM instances run, when and in what
+//! order.
+//!
+//! A configuration's `PROGRAM inst WITH task : Type (args)` makes an instance named
+//! `inst`. Each instance becomes a program entry whose body is a wrapper made here:
+//! the wrapper reads the clock and calls the PROGRAM's body only when the instance's
+//! task is due (a cyclic task every INTERVAL, counted from its first run; a program
+//! without a task every scan), storing the connected inputs before and copying the
+//! outputs after, as a call of a function block would. Entries are ordered by task
+//! priority (0 first), then as declared, so every machine schedules the same way
+//! with no support of its own: the runner's scans are the base cycle.
+
+use super::body::{BodyCx, Place};
+use super::consts::ConstVal;
+use super::Lowerer;
+use crate::ast::{self, PouKind};
+use crate::codes;
+use crate::types::{PouId, Ty};
+use plcc_ir::{
+    AggDef, BinaryOp, DataDef, DataKind, Field, FieldRole, FuncId, FuncKind, Function, IntCC,
+    Intrinsic, MemType, ProgramEntry, StructDef, StructKind, Type,
+};
+
+/// A task of the configuration.
+struct Task {
+    interval_ms: Option<u32>,
+    priority: u32,
+}
+
+/// A configured PROGRAM instance.
+struct Instance<'s> {
+    decl: &'s ast::ProgramConfig,
+    pou: PouId,
+    task: Option<usize>,
+    order: usize,
+}
+
+impl<'s> Lowerer<'s> {
+    /// The user's configuration, if there is one (a second one is reported).
+    pub(super) fn configuration(&mut self) -> Option<&'s ast::Configuration> {
+        let units = self.units;
+        let mut found: Option<&'s ast::Configuration> = None;
+        for unit in units.iter().skip(1) {
+            for item in &unit.items {
+                if let ast::Item::Configuration(c) = item {
+                    if let Some(first) = found {
+                        self.diags.push(
+                            plcc_ir::diag::Diagnostic::error(
+                                codes::E_DUPLICATE,
+                                "a build has one CONFIGURATION",
+                                c.name.span,
+                            )
+                            .with_secondary(first.name.span, "the first one"),
+                        );
+                    } else {
+                        found = Some(c);
+                    }
+                }
+            }
+        }
+        found
+    }
+
+    /// Creates the program entries of a configuration: one per configured
+    /// instance (only those named in `programs`, when it is not empty).
+    pub(super) fn instantiate_configuration(
+        &mut self,
+        c: &'s ast::Configuration,
+        programs: &[String],
+    ) {
+        let mut tasks: Vec<(ast::Ident, Task)> = Vec::new();
+        let mut instances: Vec<Instance<'s>> = Vec::new();
+        for r in &c.resources {
+            for t in &r.tasks {
+                if tasks.iter().any(|(n, _)| n.sym == t.name.sym) {
+                    let n = self.text(t.name.span).to_string();
+                    self.error(
+                        codes::E_DUPLICATE,
+                        format!("task `{n}` is declared twice"),
+                        t.name.span,
+                    );
+                    continue;
+                }
+                let task = self.task(t);
+                tasks.push((t.name, task));
+            }
+        }
+        for r in &c.resources {
+            for pc in &r.programs {
+                let n = self.text(pc.name.span).to_string();
+                if instances.iter().any(|i| i.decl.name.sym == pc.name.sym) {
+                    self.error(
+                        codes::E_DUPLICATE,
+                        format!("program instance `{n}` is declared twice"),
+                        pc.name.span,
+                    );
+                    continue;
+                }
+                let pou = match self.pou_by_name.get(&pc.pou.sym) {
+                    Some(&p) if self.pou(p).kind == PouKind::Program && self.used[p.0 as usize] => {
+                        p
+                    }
+                    _ => {
+                        let t = self.text(pc.pou.span).to_string();
+                        self.error(
+                            codes::E_NO_PROGRAM,
+                            format!("there is no PROGRAM named `{t}`"),
+                            pc.pou.span,
+                        );
+                        continue;
+                    }
+                };
+                let task = match pc.task {
+                    None => None,
+                    Some(t) => match tasks.iter().position(|(n, _)| n.sym == t.sym) {
+                        Some(i) => Some(i),
+                        None => {
+                            let tn = self.text(t.span).to_string();
+                            self.error(
+                                codes::E_UNDECLARED,
+                                format!("no TASK named `{tn}` in the configuration"),
+                                t.span,
+                            );
+                            continue;
+                        }
+                    },
+                };
+                if !programs.is_empty() && !programs.iter().any(|p| p.eq_ignore_ascii_case(&n)) {
+                    continue;
+                }
+                let order = instances.len();
+                instances.push(Instance {
+                    decl: pc,
+                    pou,
+                    task,
+                    order,
+                });
+            }
+        }
+        for name in programs {
+            if !instances
+                .iter()
+                .any(|i| self.text(i.decl.name.span).eq_ignore_ascii_case(name))
+            {
+                self.diags.push(plcc_ir::diag::Diagnostic::error_nowhere(
+                    codes::E_NO_PROGRAM,
+                    format!("the configuration has no program instance named `{name}`"),
+                ));
+            }
+        }
+        // Higher priority (a smaller number) first; a program without a task last
+        // among equals, as declared.
+        instances.sort_by_key(|i| {
+            let p = i.task.map_or(u32::MAX, |t| tasks[t].1.priority);
+            (p, i.order)
+        });
+        for inst in instances {
+            let task = inst.task.map(|t| &tasks[t].1);
+            self.instantiate_configured(inst, task);
+        }
+    }
+
+    /// A task's INTERVAL and PRIORITY (constants).
+    fn task(&mut self, t: &'s ast::TaskDecl) -> Task {
+        let mut task = Task {
+            interval_ms: None,
+            priority: 0,
+        };
+        for (name, value) in &t.props {
+            let prop = self.sym_name(name.sym).to_ascii_uppercase();
+            let c = self.const_eval_in(value, None, None).map(|(c, _)| c);
+            match (prop.as_str(), c) {
+                ("INTERVAL", Some(ConstVal::Int(ms))) => {
+                    // TIME constants are milliseconds; LTIME ones nanoseconds.
+                    let ms = if matches!(
+                        self.const_eval_in(value, None, None),
+                        Some((_, Ty::Elem(plcc_ir::ElemType::LTime)))
+                    ) {
+                        ms / 1_000_000
+                    } else {
+                        ms
+                    };
+                    if ms <= 0 || ms > u32::MAX as i128 {
+                        self.error(
+                            codes::E_BAD_DECLARATION,
+                            "a task's INTERVAL is a positive TIME",
+                            value.span,
+                        );
+                    } else {
+                        task.interval_ms = Some(ms as u32);
+                    }
+                }
+                ("PRIORITY", Some(ConstVal::Int(p))) if (0..=u32::MAX as i128).contains(&p) => {
+                    task.priority = p as u32;
+                }
+                ("SINGLE", _) => {
+                    self.error(
+                        codes::E_UNSUPPORTED,
+                        "not supported yet: event tasks (SINGLE)",
+                        name.span,
+                    );
+                }
+                ("INTERVAL" | "PRIORITY", _) => {
+                    self.error(
+                        codes::E_NOT_CONSTANT,
+                        format!("a task's {prop} must be a constant"),
+                        value.span,
+                    );
+                }
+                _ => {
+                    let n = self.text(name.span).to_string();
+                    self.error(
+                        codes::E_NO_MEMBER,
+                        format!("a TASK has INTERVAL, PRIORITY and SINGLE, not `{n}`"),
+                        name.span,
+                    );
+                }
+            }
+        }
+        task
+    }
+
+    /// The data object, wrappers and program entry of one configured instance.
+    fn instantiate_configured(&mut self, inst: Instance<'s>, task: Option<&Task>) {
+        let ir = &self.ir[inst.pou.0 as usize];
+        let (Some(agg), Some(body), Some(init)) = (ir.agg, ir.body, ir.init) else {
+            return;
+        };
+        let name = self.text(inst.decl.name.span).to_string();
+        let data = self.module.add_data(DataDef {
+            name: name.clone(),
+            ty: MemType::Agg(agg),
+            elem: None,
+            kind: DataKind::Program,
+            location: None,
+        });
+        let interval = task.and_then(|t| t.interval_ms);
+        // The task's state: when the instance last ran, and whether it has.
+        let state = interval.map(|_| {
+            let sagg = self.module.add_agg(AggDef::Struct(StructDef {
+                name: format!("{name}$task"),
+                kind: StructKind::Other,
+                fields: vec![
+                    Field {
+                        name: "last".into(),
+                        ty: MemType::Scalar(Type::I32),
+                        elem: None,
+                        role: FieldRole::Hidden,
+                        location: None,
+                    },
+                    Field {
+                        name: "started".into(),
+                        ty: MemType::Scalar(Type::I1),
+                        elem: None,
+                        role: FieldRole::Hidden,
+                        location: None,
+                    },
+                ],
+            }));
+            let d = self.module.add_data(DataDef {
+                name: format!("{name}$task"),
+                ty: MemType::Agg(sagg),
+                elem: None,
+                kind: DataKind::Global,
+                location: None,
+            });
+            (sagg, d)
+        });
+        let wrapped_body = self.task_body(&name, &inst, body, interval.zip(state));
+        let wrapped_init = match state {
+            Some((sagg, d)) => {
+                let mut f = Function::new(
+                    format!("{name}$init"),
+                    FuncKind::Init,
+                    vec![Type::Ptr],
+                    None,
+                );
+                {
+                    let mut b = plcc_ir::FuncBuilder::new(&mut f);
+                    let p = b.params()[0];
+                    let s = b.global_addr(d);
+                    let started = b.field_addr(s, sagg, 1);
+                    let no = b.iconst(Type::I1, 0);
+                    b.store(no, started);
+                    let last = b.field_addr(s, sagg, 0);
+                    let zero = b.iconst(Type::I32, 0);
+                    b.store(zero, last);
+                    b.call(init, None, vec![p]);
+                    b.ret(None);
+                }
+                self.module.add_func(f)
+            }
+            None => init,
+        };
+        self.module.programs.push(ProgramEntry {
+            name,
+            data,
+            body: wrapped_body,
+            init: wrapped_init,
+            interval_ms: interval,
+            priority: task.map(|t| t.priority),
+        });
+    }
+
+    /// The body the scan runs for one instance: the PROGRAM's body when its task is
+    /// due, with the configuration's connections.
+    fn task_body(
+        &mut self,
+        name: &str,
+        inst: &Instance<'s>,
+        body: FuncId,
+        timing: Option<(u32, (plcc_ir::AggId, plcc_ir::DataId))>,
+    ) -> FuncId {
+        if timing.is_none() && inst.decl.args.is_empty() {
+            return body;
+        }
+        let mut f = Function::new(
+            format!("{name}$task"),
+            FuncKind::ProgramBody,
+            vec![Type::Ptr],
+            None,
+        );
+        f.span = Some(inst.decl.span);
+        let fid = self.module.add_func(f);
+        // The connections name globals: lower them as the globals' own code does.
+        let ctx = self.globals_pou.unwrap_or(inst.pou);
+        let globals = self.globals_data;
+        let decl = inst.decl;
+        let pou = inst.pou;
+        self.with_function(fid, |l, func| {
+            let mut cx = BodyCx::new(l, func, ctx, false);
+            cx.set_span(decl.span);
+            let p = cx.params[0];
+            cx.self_ptr = match globals {
+                Some(g) if cx.l.globals_pou.is_some() => Some(cx.b.global_addr(g)),
+                _ => Some(p),
+            };
+            let done = cx.b.create_block();
+            if let Some((interval, (sagg, d))) = timing {
+                cx.due_check(interval, sagg, d, done);
+            }
+            if decl.args.is_empty() {
+                cx.b.call(body, None, vec![p]);
+            } else {
+                let place = Place::new(p, Ty::Fb(pou));
+                cx.fb_call(place, pou, &decl.args, decl.span);
+            }
+            cx.b.jump(done, vec![]);
+            cx.b.switch_to(done);
+            cx.b.ret(None);
+        });
+        fid
+    }
+}
+
+impl<'s> BodyCx<'_, 's> {
+    /// Goes on only when the task is due: at its first scan, then once at least
+    /// `interval` ms have passed since its last due time (missed periods are
+    /// skipped, the phase is kept). Jumps to `done` otherwise.
+    fn due_check(
+        &mut self,
+        interval: u32,
+        sagg: plcc_ir::AggId,
+        d: plcc_ir::DataId,
+        done: plcc_ir::Block,
+    ) {
+        let now = self
+            .b
+            .intrinsic(Intrinsic::ClockMs, vec![])
+            .expect("clock_ms has a result");
+        let s = self.b.global_addr(d);
+        let started_p = self.b.field_addr(s, sagg, 1);
+        let last_p = self.b.field_addr(s, sagg, 0);
+        let started = self.b.load(Type::I1, started_p);
+        let first = self.b.create_block();
+        let later = self.b.create_block();
+        let run = self.b.create_block();
+        self.b.brif(started, later, vec![], first, vec![]);
+        self.b.switch_to(first);
+        let yes = self.b.iconst(Type::I1, 1);
+        self.b.store(yes, started_p);
+        self.b.store(now, last_p);
+        self.b.jump(run, vec![]);
+        self.b.switch_to(later);
+        let last = self.b.load(Type::I32, last_p);
+        let elapsed = self.b.binary(BinaryOp::Isub, now, last);
+        let iv = self.b.iconst(Type::I32, interval as i64);
+        let due = self.b.icmp(IntCC::Sge, elapsed, iv);
+        let advance = self.b.create_block();
+        self.b.brif(due, advance, vec![], done, vec![]);
+        self.b.switch_to(advance);
+        let late = self.b.binary(BinaryOp::Srem, elapsed, iv);
+        let due_at = self.b.binary(BinaryOp::Isub, now, late);
+        self.b.store(due_at, last_p);
+        self.b.jump(run, vec![]);
+        self.b.switch_to(run);
+    }
+}
