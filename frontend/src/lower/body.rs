@@ -120,11 +120,8 @@ impl<'s> Lowerer<'s> {
         };
         self.with_function(body_id, |l, func| {
             let mut cx = BodyCx::new(l, func, id, false);
-            cx.prologue();
             let stmts = &cx.l.pou_ast(id).body.stmts;
-            cx.collect_labels(stmts);
-            cx.stmts(stmts);
-            cx.epilogue();
+            cx.lower_body(stmts);
         });
         if kind != PouKind::Function {
             let init_id = self.ir[id.0 as usize].init.expect("init function");
@@ -182,6 +179,15 @@ impl<'a, 's> BodyCx<'a, 's> {
             in_init,
             params,
         }
+    }
+
+    /// Lowers a body (of the POU, or of one of its actions): prologue, statements,
+    /// epilogue.
+    pub(super) fn lower_body(&mut self, stmts: &'s [ast::Stmt]) {
+        self.prologue();
+        self.collect_labels(stmts);
+        self.stmts(stmts);
+        self.epilogue();
     }
 
     pub(super) fn kind(&self) -> PouKind {

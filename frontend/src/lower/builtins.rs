@@ -258,6 +258,14 @@ impl<'s> BodyCx<'_, 's> {
         args: &'s [Arg],
         span: Span,
     ) -> Option<Vec<&'s Expr>> {
+        // EN and ENO are handled around the call (`with_en_eno`).
+        let en_eno = |a: &Arg| match &a.kind {
+            ArgKind::Input { name, .. } | ArgKind::Output { name, .. } => {
+                super::en_eno::is_en_eno(self.l.sym_name(name.sym))
+            }
+            ArgKind::Positional(_) => false,
+        };
+        let args: Vec<&'s Arg> = args.iter().filter(|a| !en_eno(a)).collect();
         let positional = args
             .iter()
             .all(|a| matches!(a.kind, ArgKind::Positional(_)));
@@ -271,7 +279,7 @@ impl<'s> BodyCx<'_, 's> {
                 })
                 .collect();
         } else {
-            for a in args {
+            for &a in &args {
                 match &a.kind {
                     ArgKind::Input { name: pn, value } => {
                         let pname = self.l.sym_name(pn.sym).to_string();

@@ -10,7 +10,7 @@ use crate::ast::{Arg, ArgKind, Expr, ExprKind, PouKind, VarKind};
 use crate::codes;
 use crate::types::{PouId, Ty};
 use plcc_ir::diag::Span;
-use plcc_ir::{MemType, SlotId, Type, UnaryOp, Value};
+use plcc_ir::{FuncId, MemType, SlotId, Type, UnaryOp, Value};
 
 /// What a call expression calls.
 enum Callee {
@@ -20,6 +20,8 @@ enum Callee {
     Function(PouId),
     /// A standard function.
     Builtin(Builtin),
+    /// An action, on the instance at the address.
+    Action(FuncId, Value),
     /// Already reported.
     Error,
 }
@@ -70,7 +72,7 @@ impl<'s> BodyCx<'_, 's> {
                     "the standard function `{}`",
                     self.l.text(callee.span)
                 )),
-                Callee::Instance(..) | Callee::Error => None,
+                Callee::Instance(..) | Callee::Action(..) | Callee::Error => None,
             };
             if let Some(what) = what {
                 self.l.diags.push(
@@ -87,16 +89,21 @@ impl<'s> BodyCx<'_, 's> {
                 return;
             }
         }
-        match callee_kind {
-            Callee::Instance(place, fb) => self.fb_call(place, fb, args, e.span),
-            Callee::Function(p) => {
-                self.func_call(p, args, e.span);
+        let span = e.span;
+        self.with_en_eno(args, |cx| {
+            match callee_kind {
+                Callee::Instance(place, fb) => cx.fb_call(place, fb, args, span),
+                Callee::Function(p) => {
+                    cx.func_call(p, args, span);
+                }
+                Callee::Builtin(b) => {
+                    cx.builtin_call(b, args, None, span);
+                }
+                Callee::Action(f, inst) => cx.action_call(f, inst, args, span),
+                Callee::Error => {}
             }
-            Callee::Builtin(b) => {
-                self.builtin_call(b, args, None, e.span);
-            }
-            Callee::Error => {}
-        }
+            None
+        });
     }
 
     /// The FUNCTION `e` calls if it is a call of a FUNCTION without a result type.
@@ -134,7 +141,7 @@ impl<'s> BodyCx<'_, 's> {
                 None
             }
             Callee::Function(p) => {
-                let v = self.func_call(p, args, span);
+                let v = self.with_en_eno(args, |cx| cx.func_call(p, args, span));
                 if v.is_none() {
                     let n = self.l.pou(p).display.clone();
                     self.l.error(
@@ -145,7 +152,15 @@ impl<'s> BodyCx<'_, 's> {
                 }
                 v
             }
-            Callee::Builtin(b) => self.builtin_call(b, args, want, span),
+            Callee::Builtin(b) => self.with_en_eno(args, |cx| cx.builtin_call(b, args, want, span)),
+            Callee::Action(..) => {
+                self.l.error(
+                    codes::E_NO_RESULT,
+                    "an ACTION gives no value: call it as a statement",
+                    span,
+                );
+                None
+            }
             Callee::Error => {
                 for a in args {
                     if let ArgKind::Positional(x) | ArgKind::Input { value: x, .. } = &a.kind {
@@ -216,6 +231,9 @@ impl<'s> BodyCx<'_, 's> {
                             Callee::Error
                         }
                     };
+                }
+                if let (Some(f), Some(me)) = (self.l.action(self.pou, id.sym), self.self_ptr) {
+                    return Callee::Action(f, me);
                 }
                 // The standard library calls only its own FUNCTIONs and the standard
                 // functions, whatever the user declares.
@@ -292,6 +310,17 @@ impl<'s> BodyCx<'_, 's> {
                 );
                 Callee::Error
             }
+            ExprKind::Member(base, name) if matches!(self.infer(base), Ty::Fb(p) if self.l.action(p, name.sym).is_some()) =>
+            {
+                let Ty::Fb(p) = self.infer(base) else {
+                    return Callee::Error;
+                };
+                let f = self.l.action(p, name.sym).expect("checked");
+                match self.place(base) {
+                    Some(bp) => Callee::Action(f, bp.addr),
+                    None => Callee::Error,
+                }
+            }
             ExprKind::Member(..) | ExprKind::Index(..) | ExprKind::Paren(_) => {
                 let Some(place) = self.place(callee) else {
                     return Callee::Error;
@@ -364,9 +393,8 @@ impl<'s> BodyCx<'_, 's> {
                 }
                 ArgKind::Input { name, .. } | ArgKind::Output { name, .. } => {
                     let upper = self.l.sym_name(name.sym).to_string();
-                    if upper == "EN" || upper == "ENO" {
-                        self.l
-                            .error(codes::E_UNSUPPORTED, "not supported yet: EN/ENO", name.span);
+                    if super::en_eno::is_en_eno(&upper) {
+                        // Handled around the call (`with_en_eno`).
                         continue;
                     }
                     let found = params

@@ -10,6 +10,7 @@
 //! error has type [`Ty::Error`], which every later check accepts silently, so one
 //! mistake gives one diagnostic.
 
+mod actions;
 mod aggregates;
 mod body;
 mod builtins;
@@ -17,6 +18,7 @@ mod calls;
 mod consts;
 mod dates;
 mod decls;
+mod en_eno;
 mod expr;
 mod init;
 mod partial;
@@ -149,6 +151,10 @@ pub struct Lowerer<'s> {
     pub(crate) module: Module,
     ir: Vec<PouIr>,
     array_aggs: FxHashMap<(ArrayId, u32), AggId>,
+    /// The function of each action, by its POU and name.
+    actions: FxHashMap<(PouId, Symbol), FuncId>,
+    /// The actions to lower: POU, function, declaration.
+    action_bodies: Vec<(PouId, FuncId, &'s ast::Action)>,
     /// The IR array of each string type.
     string_aggs: FxHashMap<crate::types::StrTy, AggId>,
     helpers: FxHashMap<String, FuncId>,
@@ -194,6 +200,8 @@ impl<'s> Lowerer<'s> {
             ir: Vec::new(),
             array_aggs: FxHashMap::default(),
             string_aggs: FxHashMap::default(),
+            actions: FxHashMap::default(),
+            action_bodies: Vec::new(),
             helpers: FxHashMap::default(),
             calls: Vec::new(),
             used: Vec::new(),
@@ -228,12 +236,14 @@ impl<'s> Lowerer<'s> {
         self.check_externals();
         self.mark_used();
         self.create_shells();
+        self.create_actions();
         self.create_globals();
         for i in 0..self.pous.len() {
             if self.used[i] {
                 self.lower_pou(PouId(i as u32));
             }
         }
+        self.lower_actions();
         while let Some(p) = self.pending.pop() {
             self.lower_pou(p);
         }
@@ -381,9 +391,6 @@ impl<'s> Lowerer<'s> {
                                 errs.push((what, m));
                             }
                         }
-                        if !p.actions.is_empty() {
-                            errs.push(("ACTIONs", self.keyword_span(p.actions[0].span)));
-                        }
                         continue;
                     }
                     // Checked when resolved (`resolve_user_types`).
@@ -396,7 +403,8 @@ impl<'s> Lowerer<'s> {
                     }
                     // Checked when instantiated (`tasks`).
                     ast::Item::Configuration(_) => continue,
-                    ast::Item::Action(a) => ("ACTIONs", a.span),
+                    // Checked when created (`actions`).
+                    ast::Item::Action(_) => continue,
                 };
                 errs.push((what, span));
             }
