@@ -306,6 +306,7 @@ bad! {
     unsup_struct_copy_fb,
     unsup_var_global_in_pou,
     config_errors,
+    prototypes,
     // warnings
     warn_write_own_input,
     // Instruction List: instructions and their operands

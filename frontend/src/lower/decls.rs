@@ -22,9 +22,19 @@ impl<'s> Lowerer<'s> {
     /// Fills the POU table from every unit. User POUs shadow standard ones of the same
     /// name; two user POUs with one name are an error.
     pub(super) fn collect_pous(&mut self, std_units: usize) {
-        for (u, unit) in self.units.iter().enumerate() {
+        let units = self.units;
+        for (u, unit) in units.iter().enumerate() {
+            let regions = if u < std_units {
+                Vec::new()
+            } else {
+                self.prototype_regions(unit.file)
+            };
             for (i, item) in unit.items.iter().enumerate() {
                 let ast::Item::Pou(p) = item else { continue };
+                if Self::is_prototype(p, &regions) {
+                    self.prototypes.push(p);
+                    continue;
+                }
                 let is_std = u < std_units;
                 let id = PouId(self.pous.len() as u32);
                 if let Some(&prev) = self.pou_by_name.get(&p.name.sym) {

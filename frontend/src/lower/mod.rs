@@ -22,6 +22,7 @@ mod en_eno;
 mod expr;
 mod init;
 mod partial;
+mod prototypes;
 mod refs;
 mod stmt;
 mod strings;
@@ -151,6 +152,8 @@ pub struct Lowerer<'s> {
     pub(crate) module: Module,
     ir: Vec<PouIr>,
     array_aggs: FxHashMap<(ArrayId, u32), AggId>,
+    /// FUNCTIONs under `{disable code generation}` (see `prototypes`).
+    prototypes: Vec<&'s ast::Pou>,
     /// The function of each action, by its POU and name.
     actions: FxHashMap<(PouId, Symbol), FuncId>,
     /// The actions to lower: POU, function, declaration.
@@ -200,6 +203,7 @@ impl<'s> Lowerer<'s> {
             ir: Vec::new(),
             array_aggs: FxHashMap::default(),
             string_aggs: FxHashMap::default(),
+            prototypes: Vec::new(),
             actions: FxHashMap::default(),
             action_bodies: Vec::new(),
             helpers: FxHashMap::default(),
@@ -227,6 +231,7 @@ impl<'s> Lowerer<'s> {
         self.collect_types();
         self.report_unsupported_items();
         self.resolve_user_types();
+        self.check_prototypes();
         for i in 0..self.pous.len() {
             self.resolve_interface(PouId(i as u32));
         }
@@ -370,6 +375,9 @@ impl<'s> Lowerer<'s> {
                     }
                 }
                 let (what, span) = match item {
+                    ast::Item::Pou(p) if self.prototypes.iter().any(|q| std::ptr::eq(*q, p)) => {
+                        continue
+                    }
                     ast::Item::Pou(p) => {
                         if let Some(b) = &p.extends {
                             errs.push(("EXTENDS (inheritance between function blocks)", b.span));
@@ -379,6 +387,7 @@ impl<'s> Lowerer<'s> {
                         for &m in &p.unsupported_members {
                             let word = self.text(m).split_whitespace().next().unwrap_or("");
                             let what = match word.to_ascii_uppercase().as_str() {
+                                _ if self.text(m).contains("..") => "extensible inputs (`IN 1 ..`)",
                                 "STEP" | "INITIAL_STEP" | "TRANSITION" => {
                                     "sequential function charts (STEP, TRANSITION)"
                                 }

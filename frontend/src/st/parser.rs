@@ -88,6 +88,7 @@ pub(crate) fn parse_tokens_with<'a>(
         open: [0; 8],
         s,
         last_pou: None,
+        extensible: Vec::new(),
         stmts: Vec::new(),
         args: Vec::new(),
         hook,
@@ -369,6 +370,9 @@ pub(crate) struct Parser<'a> {
     s: Syms,
     /// The last POU parsed, owner of CODESYS-style actions that follow it.
     last_pou: Option<Ident>,
+    /// Extensible inputs (`IN 1 ..`) of the POU being parsed: reported with its
+    /// unsupported members, unless the POU is a prototype (see `lower::prototypes`).
+    extensible: Vec<Span>,
     /// Statements of the lists being parsed, innermost last: each list is moved out
     /// into a vector of exactly its size when it ends (growing a `Vec<Stmt>` by
     /// doubling would touch twice the memory the tree needs).
@@ -1102,7 +1106,21 @@ impl<'a> Parser<'a> {
             let m = self.bump();
             unsupported.push(self.tspan(m));
         }
-        let name = self.expect_ident("a name");
+        let name = if kind == PouKind::Function
+            && matches!(
+                self.peek(),
+                Tok::And | Tok::Or | Tok::Xor | Tok::Not | Tok::Mod
+            ) {
+            // The operators' function forms, as matiec's prototypes declare them.
+            let t = self.bump();
+            let text = t.kind.text().to_string();
+            Some(Ident {
+                sym: self.interner.intern_upper(&text),
+                span: self.tspan(t),
+            })
+        } else {
+            self.expect_ident("a name")
+        };
         let mut return_type = None;
         let mut extends = None;
         if name.is_some() {
@@ -1258,7 +1276,10 @@ impl<'a> Parser<'a> {
                 span: body_span,
             },
             actions,
-            unsupported_members: unsupported,
+            unsupported_members: {
+                unsupported.append(&mut self.extensible);
+                unsupported
+            },
             span: self.sp(kw.start, end),
         })
     }
@@ -1490,14 +1511,11 @@ impl<'a> Parser<'a> {
             }
         }
         if self.at(Tok::Lit) && self.peek_at(1) == Tok::DotDot {
-            let d = Diagnostic::error(
-                codes::SYNTAX_NOT_SUPPORTED,
-                "extensible inputs (`IN 1 ..`) are not supported",
-                self.sp(self.tok().start, self.toks[self.pos + 1].end),
-            )
-            .with_label("not supported");
-            self.emit(self.pos, d);
-            return None;
+            // `IN 1 ..`: read as the input `IN`, the POU keeps the span.
+            let s = self.sp(start, self.toks[self.pos + 1].end);
+            self.bump();
+            self.bump();
+            self.extensible.push(s);
         }
         let mut location = None;
         if names.is_empty() && matches!(ctx, DeclCtx::Pou | DeclCtx::Struct) {
