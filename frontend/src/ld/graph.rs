@@ -1,0 +1,1100 @@
+//! A ladder body as a graph: connections resolved, rungs found, the order of
+//! evaluation fixed, and the rung checks of the reference run.
+//!
+//! PLCopen XML has no rungs: a body is elements wired together by `localId`. A rung
+//! is a set of elements connected to each other (the power rails, which every rung
+//! touches, do not connect rungs). Rungs run top to bottom (by the topmost element's
+//! position, or in document order when the file gives no positions).
+//!
+//! Within a rung, every element is evaluated once per scan, after the elements wired
+//! to its inputs; among the elements ready at the same time the topmost, then the
+//! leftmost, goes first. For a series-parallel rung this is the depth-first walk of
+//! the seed (top to bottom, left to right, a parallel branch before what follows its
+//! junction), and it also orders what the walk cannot: a block whose inputs come from
+//! several branches runs after all of them.
+//!
+//! The checks (every error names the POU, the rung and the element's `localId`):
+//! dangling connections, open circuits, short circuits (a bare wire in parallel with
+//! contacts), upper parallel branches (a branch drawn above the line it joins), coils
+//! straight on the left rail, blocks whose power input is not connected, feedback
+//! loops, and bridges: a rung must be series-parallel between the left rail and its
+//! outputs. The series-parallel reduction that decides the last one also gives the
+//! rung's structure ([`Net`]), from which the ASCII ladder is drawn.
+
+use super::xml::{Edge, Element, Kind};
+use crate::codes;
+use plcc_ir::diag::{Diagnostic, FileId, Span};
+use rustc_hash::FxHashMap;
+
+/// An output of an element: the element and the index of its output (a block's
+/// outputs, then its in-outs; 0 for the others).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub(crate) struct Src {
+    /// Index of the element in the body.
+    pub elem: usize,
+    /// Index of the output.
+    pub port: usize,
+}
+
+/// The series-parallel structure of a rung.
+#[derive(Clone, Debug)]
+pub(crate) enum Net {
+    /// One element.
+    Elem(usize),
+    /// A connection, labelled with the block output it leaves and the block input it
+    /// enters when the block has several.
+    Wire {
+        /// The block output it leaves.
+        from: Option<String>,
+        /// The block input it enters.
+        to: Option<String>,
+    },
+    /// Nets one after the other.
+    Series(Vec<Net>),
+    /// Nets side by side, top to bottom, between the same two points.
+    Parallel(Vec<Net>),
+}
+
+/// A rung: its number (from 1), its elements in evaluation order, its structure.
+#[derive(Debug)]
+pub(crate) struct Rung {
+    /// 1 for the first rung of the body.
+    pub number: usize,
+    /// The elements in the order they are evaluated.
+    pub order: Vec<usize>,
+    /// Its structure (when it is series-parallel).
+    pub net: Option<Net>,
+}
+
+/// A checked body.
+pub(crate) struct Graph<'m> {
+    /// The elements, in document order.
+    pub elems: &'m [Element],
+    /// For each element and input: the outputs connected to it (they are ORed).
+    pub ins: Vec<Vec<Vec<Src>>>,
+    /// For each element and output: the inputs it is connected to.
+    pub outs: Vec<Vec<Vec<(usize, usize)>>>,
+    /// The rungs in order.
+    pub rungs: Vec<Rung>,
+}
+
+/// The number of inputs of an element.
+pub(crate) fn input_count(k: &Kind) -> usize {
+    match k {
+        Kind::Block {
+            inputs, in_outs, ..
+        } => inputs.len() + in_outs.len(),
+        Kind::LeftRail
+        | Kind::InVariable { .. }
+        | Kind::Label { .. }
+        | Kind::Continuation { .. } => 0,
+        _ => 1,
+    }
+}
+
+/// The number of outputs of an element.
+pub(crate) fn output_count(k: &Kind) -> usize {
+    match k {
+        Kind::Block {
+            outputs, in_outs, ..
+        } => outputs.len() + in_outs.len(),
+        Kind::LeftRail
+        | Kind::Contact { .. }
+        | Kind::Coil { .. }
+        | Kind::InVariable { .. }
+        | Kind::InOutVariable { .. } => 1,
+        _ => 0,
+    }
+}
+
+/// True for elements that take part in power flow as such (not data variables).
+fn is_power(k: &Kind) -> bool {
+    matches!(
+        k,
+        Kind::LeftRail
+            | Kind::RightRail
+            | Kind::Contact { .. }
+            | Kind::Coil { .. }
+            | Kind::Jump { .. }
+            | Kind::Return
+    )
+}
+
+/// The name of a block's input `port`.
+pub(crate) fn input_name(k: &Kind, port: usize) -> Option<&str> {
+    match k {
+        Kind::Block {
+            inputs, in_outs, ..
+        } => inputs
+            .iter()
+            .chain(in_outs)
+            .nth(port)
+            .and_then(|p| p.name.as_ref())
+            .map(|n| n.value.as_str()),
+        _ => None,
+    }
+}
+
+/// The name of a block's output `port`.
+pub(crate) fn output_name(k: &Kind, port: usize) -> Option<&str> {
+    match k {
+        Kind::Block {
+            outputs, in_outs, ..
+        } => outputs
+            .iter()
+            .chain(in_outs)
+            .nth(port)
+            .and_then(|p| p.name.as_ref())
+            .map(|n| n.value.as_str()),
+        _ => None,
+    }
+}
+
+/// What the checks need to know about the POU.
+pub(crate) struct Context<'a> {
+    /// The file.
+    pub file: FileId,
+    /// The POU's name.
+    pub pou: &'a str,
+    /// The POU is a FUNCTION (no memory for edge contacts).
+    pub function: bool,
+}
+
+/// Builds and checks the graph of a body. Errors go to `diags`; the graph is returned
+/// only if there were none.
+pub(crate) fn build<'m>(
+    elems: &'m [Element],
+    cx: &Context,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Graph<'m>> {
+    let before = diags.iter().filter(|d| d.is_error()).count();
+    let mut b = Builder {
+        elems,
+        cx,
+        diags,
+        index: FxHashMap::default(),
+        rung_of: vec![usize::MAX; elems.len()],
+        rung_numbers: Vec::new(),
+    };
+    b.index_ids();
+    let (ins, outs) = b.resolve();
+    let rungs = b.rungs(&ins);
+    let mut g = Graph {
+        elems,
+        ins,
+        outs,
+        rungs: Vec::new(),
+    };
+    for (n, members) in rungs.into_iter().enumerate() {
+        let rung = b.check_rung(&g, n + 1, members);
+        g.rungs.push(rung);
+    }
+    let after = b.diags.iter().filter(|d| d.is_error()).count();
+    (after == before).then_some(g)
+}
+
+struct Builder<'m, 'c, 'd> {
+    elems: &'m [Element],
+    cx: &'c Context<'c>,
+    diags: &'d mut Vec<Diagnostic>,
+    /// `localId` to element index.
+    index: FxHashMap<u32, usize>,
+    /// The rung of each element (index into the rung list), `usize::MAX` for rails.
+    rung_of: Vec<usize>,
+    /// The rung numbers known so far (for messages before the rungs are checked).
+    rung_numbers: Vec<usize>,
+}
+
+impl Builder<'_, '_, '_> {
+    fn span(&self, e: usize) -> Span {
+        let r = &self.elems[e].tag;
+        Span::new(self.cx.file, r.start, r.end)
+    }
+
+    /// `contact `start` (localId 7)`.
+    fn name(&self, e: usize) -> String {
+        let el = &self.elems[e];
+        format!("{} (localId {})", el.kind.describe(), el.id)
+    }
+
+    /// `rung 3 of `main``, or `main` alone for an element in no rung.
+    fn place(&self, e: usize) -> String {
+        match self.rung_numbers.get(self.rung_of[e]) {
+            Some(n) => format!("rung {n} of `{}`", self.cx.pou),
+            None => format!("`{}`", self.cx.pou),
+        }
+    }
+
+    fn index_ids(&mut self) {
+        for (i, e) in self.elems.iter().enumerate() {
+            if let Some(&first) = self.index.get(&e.id) {
+                let d = Diagnostic::error(
+                    codes::LD_BAD_ELEMENT,
+                    format!(
+                        "two elements of `{}` have localId {}: {} and {}",
+                        self.cx.pou,
+                        e.id,
+                        self.elems[first].kind.describe(),
+                        e.kind.describe()
+                    ),
+                    self.span(i),
+                )
+                .with_secondary(self.span(first), "the first one")
+                .with_note("connections name elements by localId, which must be unique in a body");
+                self.diags.push(d);
+                continue;
+            }
+            self.index.insert(e.id, i);
+            if self.cx.function {
+                if let Kind::Contact { edge, .. } | Kind::Coil { edge, .. } = &e.kind {
+                    if *edge != Edge::None {
+                        let d = Diagnostic::error(
+                            codes::LD_BAD_ELEMENT,
+                            format!(
+                                "{} in FUNCTION `{}` detects an edge, which needs memory from \
+                                 one call to the next: a FUNCTION has none",
+                                self.name(i),
+                                self.cx.pou
+                            ),
+                            self.span(i),
+                        )
+                        .with_note("detect the edge in the PROGRAM or FUNCTION_BLOCK that calls the function");
+                        self.diags.push(d);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Resolves every connection: the inputs of each element, and the reverse.
+    #[allow(clippy::type_complexity)]
+    fn resolve(&mut self) -> (Vec<Vec<Vec<Src>>>, Vec<Vec<Vec<(usize, usize)>>>) {
+        let n = self.elems.len();
+        let mut ins: Vec<Vec<Vec<Src>>> = self
+            .elems
+            .iter()
+            .map(|e| vec![Vec::new(); input_count(&e.kind)])
+            .collect();
+        let mut outs: Vec<Vec<Vec<(usize, usize)>>> = self
+            .elems
+            .iter()
+            .map(|e| vec![Vec::new(); output_count(&e.kind)])
+            .collect();
+        for e in 0..n {
+            if matches!(self.elems[e].kind, Kind::Connector { .. }) {
+                continue;
+            }
+            for port in 0..input_count(&self.elems[e].kind) {
+                let conns = match &self.elems[e].kind {
+                    Kind::Block {
+                        inputs, in_outs, ..
+                    } => &inputs.iter().chain(in_outs).nth(port).expect("port").conns,
+                    _ => &self.elems[e].input.conns,
+                };
+                let mut srcs = Vec::new();
+                for c in conns {
+                    self.source(e, c, &mut srcs, 0);
+                }
+                srcs.dedup();
+                let mut seen = Vec::new();
+                for s in srcs {
+                    if !seen.contains(&s) {
+                        seen.push(s);
+                    }
+                }
+                for s in &seen {
+                    outs[s.elem][s.port].push((e, port));
+                }
+                ins[e][port] = seen;
+            }
+        }
+        (ins, outs)
+    }
+
+    /// The outputs a connection of element `e` stands for (a continuation stands for
+    /// what is connected to its connector).
+    fn source(&mut self, e: usize, c: &super::xml::Conn, out: &mut Vec<Src>, depth: u32) {
+        let span = Span::new(self.cx.file, c.range.start, c.range.end);
+        let Some(&t) = self.index.get(&c.from) else {
+            let d = Diagnostic::error(
+                codes::LD_DANGLING,
+                format!(
+                    "dangling connection in `{}`: {} is connected to localId {}, which no element has",
+                    self.cx.pou,
+                    self.name(e),
+                    c.from
+                ),
+                span,
+            )
+            .with_label("no element has this localId");
+            self.diags.push(d);
+            return;
+        };
+        let kind = &self.elems[t].kind;
+        match kind {
+            Kind::Block { .. } => {
+                let count = output_count(kind);
+                let port = match &c.param {
+                    Some(p) => (0..count).find(|&i| {
+                        output_name(kind, i).is_some_and(|n| n.eq_ignore_ascii_case(&p.value))
+                    }),
+                    None if count == 1 => Some(0),
+                    None => None,
+                };
+                match port {
+                    Some(port) => out.push(Src { elem: t, port }),
+                    None => {
+                        let what = match &c.param {
+                            Some(p) => format!("its output `{}`, which it does not have", p.value),
+                            None => "none of its outputs (`formalParameter` is missing)".into(),
+                        };
+                        let d = Diagnostic::error(
+                            codes::LD_DANGLING,
+                            format!(
+                                "dangling connection in {}: {} is connected to {}, at {what}",
+                                self.place(e),
+                                self.name(e),
+                                self.name(t)
+                            ),
+                            span,
+                        )
+                        .with_label("no such output");
+                        self.diags.push(d);
+                    }
+                }
+            }
+            Kind::Continuation { name } => {
+                let name = name.value.clone();
+                let conn = self.elems.iter().position(|x| {
+                    matches!(&x.kind, Kind::Connector { name: n } if n.value.eq_ignore_ascii_case(&name))
+                });
+                match conn {
+                    Some(k) if depth < 64 => {
+                        for c2 in &self.elems[k].input.conns {
+                            self.source(k, c2, out, depth + 1);
+                        }
+                    }
+                    Some(_) => {}
+                    None => {
+                        let d = Diagnostic::error(
+                            codes::LD_DANGLING,
+                            format!(
+                                "dangling connection in `{}`: {} has no connector named `{name}`",
+                                self.cx.pou,
+                                self.name(t)
+                            ),
+                            self.span(t),
+                        );
+                        self.diags.push(d);
+                    }
+                }
+            }
+            k if output_count(k) == 1 => out.push(Src { elem: t, port: 0 }),
+            _ => {
+                let d = Diagnostic::error(
+                    codes::LD_DANGLING,
+                    format!(
+                        "dangling connection in `{}`: {} is connected to {}, which has no output",
+                        self.cx.pou,
+                        self.name(e),
+                        self.name(t)
+                    ),
+                    span,
+                )
+                .with_label("nothing comes out of that element");
+                self.diags.push(d);
+            }
+        }
+    }
+
+    /// The order key of an element: its position, or its place in the document.
+    fn key(&self, e: usize, positions: bool) -> (f64, f64, usize) {
+        match (positions, self.elems[e].pos) {
+            (true, Some((x, y))) => (y, x, e),
+            _ => (0.0, 0.0, e),
+        }
+    }
+
+    /// Groups the elements into rungs, in order; records each element's rung.
+    fn rungs(&mut self, ins: &[Vec<Vec<Src>>]) -> Vec<Vec<usize>> {
+        let n = self.elems.len();
+        let rail = |k: &Kind| {
+            matches!(
+                k,
+                Kind::LeftRail
+                    | Kind::RightRail
+                    | Kind::Connector { .. }
+                    | Kind::Continuation { .. }
+            )
+        };
+        let mut parent: Vec<usize> = (0..n).collect();
+        fn find(p: &mut [usize], mut x: usize) -> usize {
+            while p[x] != x {
+                p[x] = p[p[x]];
+                x = p[x];
+            }
+            x
+        }
+        for e in 0..n {
+            if rail(&self.elems[e].kind) {
+                continue;
+            }
+            for port in &ins[e] {
+                for s in port {
+                    if !rail(&self.elems[s.elem].kind) {
+                        let (a, b) = (find(&mut parent, e), find(&mut parent, s.elem));
+                        parent[a] = b;
+                    }
+                }
+            }
+        }
+        let mut groups: FxHashMap<usize, Vec<usize>> = FxHashMap::default();
+        for e in 0..n {
+            if !rail(&self.elems[e].kind) {
+                let r = find(&mut parent, e);
+                groups.entry(r).or_default().push(e);
+            }
+        }
+        let positions = self
+            .elems
+            .iter()
+            .filter(|e| !rail(&e.kind))
+            .all(|e| e.pos.is_some());
+        let mut list: Vec<Vec<usize>> = groups.into_values().collect();
+        let key = |b: &Self, g: &[usize]| {
+            g.iter()
+                .map(|&e| b.key(e, positions))
+                .min_by(|a, c| a.partial_cmp(c).unwrap_or(std::cmp::Ordering::Equal))
+                .unwrap_or((0.0, 0.0, 0))
+        };
+        list.sort_by(|a, c| {
+            key(self, a)
+                .partial_cmp(&key(self, c))
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
+        for (i, g) in list.iter().enumerate() {
+            for &e in g {
+                self.rung_of[e] = i;
+            }
+        }
+        self.rung_numbers = (1..=list.len()).collect();
+        list
+    }
+
+    fn error(&mut self, code: &'static str, e: usize, msg: String) -> &mut Diagnostic {
+        let d = Diagnostic::error(code, msg, self.span(e));
+        self.diags.push(d);
+        self.diags.last_mut().expect("just pushed")
+    }
+
+    /// Orders and checks one rung.
+    fn check_rung(&mut self, g: &Graph, number: usize, members: Vec<usize>) -> Rung {
+        let errors_before = self.diags.len();
+        let positions = members.iter().all(|&e| self.elems[e].pos.is_some());
+        let in_rung: Vec<bool> = {
+            let mut v = vec![false; self.elems.len()];
+            for &e in &members {
+                v[e] = true;
+            }
+            v
+        };
+        // Evaluation order: ready elements, topmost then leftmost first.
+        let mut waiting: FxHashMap<usize, usize> = FxHashMap::default();
+        for &e in &members {
+            let n = g.ins[e]
+                .iter()
+                .flatten()
+                .filter(|s| in_rung[s.elem])
+                .count();
+            waiting.insert(e, n);
+        }
+        let mut order = Vec::with_capacity(members.len());
+        let mut ready: Vec<usize> = members
+            .iter()
+            .copied()
+            .filter(|e| waiting[e] == 0)
+            .collect();
+        while !ready.is_empty() {
+            let (i, _) = ready
+                .iter()
+                .enumerate()
+                .min_by(|(_, &a), (_, &b)| {
+                    self.key(a, positions)
+                        .partial_cmp(&self.key(b, positions))
+                        .unwrap_or(std::cmp::Ordering::Equal)
+                })
+                .expect("not empty");
+            let e = ready.swap_remove(i);
+            order.push(e);
+            for port in &g.outs[e] {
+                for &(c, _) in port {
+                    if let Some(w) = waiting.get_mut(&c) {
+                        *w -= 1;
+                        if *w == 0 {
+                            ready.push(c);
+                        }
+                    }
+                }
+            }
+        }
+        if order.len() < members.len() {
+            let stuck = members
+                .iter()
+                .copied()
+                .find(|e| !order.contains(e))
+                .expect("some element is left");
+            let msg = format!(
+                "feedback loop in rung {number} of `{}`: the output of {} comes back to its own input",
+                self.cx.pou,
+                self.name(stuck)
+            );
+            self.error(codes::LD_LOOP, stuck, msg).notes.push(
+                "power flows from left to right only: a rung cannot feed itself; use a variable \
+                 (a coil, then a contact on it) to pass a value to the next scan"
+                    .into(),
+            );
+            return Rung {
+                number,
+                order: members,
+                net: None,
+            };
+        }
+        self.open_circuits(g, number, &order);
+        self.left_rail_coils(g, number, &order);
+        self.short_circuits(g, number, &order);
+        self.upper_parallels(g, number, &order);
+        self.block_inputs(g, number, &order);
+        let net = if self.diags.len() == errors_before {
+            self.series_parallel(g, number, &order)
+        } else {
+            None
+        };
+        Rung { number, order, net }
+    }
+
+    fn open_circuits(&mut self, g: &Graph, number: usize, order: &[usize]) {
+        for &e in order {
+            let k = &self.elems[e].kind;
+            let needs_input = matches!(
+                k,
+                Kind::Contact { .. }
+                    | Kind::Coil { .. }
+                    | Kind::Jump { .. }
+                    | Kind::Return
+                    | Kind::OutVariable { .. }
+            );
+            if needs_input && g.ins[e][0].is_empty() {
+                let msg = format!(
+                    "open circuit in rung {number} of `{}`: nothing is connected to the left of {}",
+                    self.cx.pou,
+                    self.name(e)
+                );
+                self.error(codes::LD_OPEN_CIRCUIT, e, msg)
+                    .notes
+                    .push("connect it to the left rail or to the element before it".into());
+                continue;
+            }
+            if let Kind::Contact { .. } = k {
+                let goes_on = g.outs[e][0]
+                    .iter()
+                    .any(|&(c, _)| !matches!(self.elems[c].kind, Kind::RightRail));
+                if !goes_on {
+                    let msg = format!(
+                        "open circuit in rung {number} of `{}`: the power through {} reaches no coil",
+                        self.cx.pou,
+                        self.name(e)
+                    );
+                    self.error(codes::LD_OPEN_CIRCUIT, e, msg).notes.push(
+                        "connect its right side to a coil, a block or another contact".into(),
+                    );
+                }
+            }
+        }
+    }
+
+    fn left_rail_coils(&mut self, g: &Graph, number: usize, order: &[usize]) {
+        for &e in order {
+            if let Kind::Coil { .. } = self.elems[e].kind {
+                let srcs = &g.ins[e][0];
+                if srcs.len() == 1 && matches!(self.elems[srcs[0].elem].kind, Kind::LeftRail) {
+                    let msg = format!(
+                        "{} is connected straight to the left rail in rung {number} of `{}`",
+                        self.name(e),
+                        self.cx.pou
+                    );
+                    self.error(codes::LD_COIL_ON_RAIL, e, msg).notes.push(
+                        "a coil takes its power through at least one contact; to write TRUE on \
+                         every scan, use a contact on a variable that is always TRUE"
+                            .into(),
+                    );
+                }
+            }
+        }
+    }
+
+    /// True if `a` is wired, directly or through other elements, to an input of `b`.
+    fn reaches(g: &Graph, a: usize, b: usize) -> bool {
+        let mut stack = vec![b];
+        let mut seen = vec![false; g.elems.len()];
+        while let Some(x) = stack.pop() {
+            for s in g.ins[x].iter().flatten() {
+                if s.elem == a {
+                    return true;
+                }
+                if !seen[s.elem] {
+                    seen[s.elem] = true;
+                    stack.push(s.elem);
+                }
+            }
+        }
+        false
+    }
+
+    fn short_circuits(&mut self, g: &Graph, number: usize, order: &[usize]) {
+        for &e in order {
+            'port: for port in 0..g.ins[e].len() {
+                let srcs = &g.ins[e][port];
+                for a in srcs {
+                    for b in srcs {
+                        if a.elem != b.elem && Self::reaches(g, a.elem, b.elem) {
+                            let conn = self.connection_span(e, port, a.elem);
+                            let msg = format!(
+                                "short circuit in rung {number} of `{}`: a bare wire from {} to {} bypasses {}",
+                                self.cx.pou,
+                                self.name(a.elem),
+                                self.name(e),
+                                self.name(b.elem)
+                            );
+                            let d = Diagnostic::error(codes::LD_SHORT_CIRCUIT, msg, conn)
+                                .with_label("this connection is in parallel with the branch")
+                                .with_secondary(self.span(b.elem), "this branch is always bypassed")
+                                .with_note(
+                                    "the parallel branch can never change the result; remove the \
+                                     bare wire or put a contact on it",
+                                );
+                            self.diags.push(d);
+                            continue 'port;
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The `<connection>` of input `port` of `e` that comes from element `from`.
+    fn connection_span(&self, e: usize, port: usize, from: usize) -> Span {
+        let conns = match &self.elems[e].kind {
+            Kind::Block {
+                inputs, in_outs, ..
+            } => &inputs.iter().chain(in_outs).nth(port).expect("port").conns,
+            _ => &self.elems[e].input.conns,
+        };
+        let id = self.elems[from].id;
+        conns
+            .iter()
+            .find(|c| c.from == id)
+            .map_or(self.span(e), |c| {
+                Span::new(self.cx.file, c.range.start, c.range.end)
+            })
+    }
+
+    /// The y of input `port` of `e`.
+    fn in_y(&self, e: usize, port: usize) -> Option<f64> {
+        match &self.elems[e].kind {
+            Kind::Block {
+                inputs, in_outs, ..
+            } => inputs.iter().chain(in_outs).nth(port).and_then(|p| p.y),
+            _ => self.elems[e].input.y,
+        }
+    }
+
+    /// The y of output `port` of `e`.
+    fn out_y(&self, e: usize, port: usize) -> Option<f64> {
+        match &self.elems[e].kind {
+            Kind::Block {
+                outputs, in_outs, ..
+            } => outputs.iter().chain(in_outs).nth(port).and_then(|p| p.y),
+            _ => self.elems[e].out_y,
+        }
+    }
+
+    fn upper_parallels(&mut self, g: &Graph, number: usize, order: &[usize]) {
+        const SLACK: f64 = 0.5;
+        let on_rail = |s: usize| matches!(self.elems[s].kind, Kind::LeftRail);
+        let mut reported = Vec::new();
+        // A branch that joins a line from above it.
+        for &e in order {
+            for port in 0..g.ins[e].len() {
+                let srcs = &g.ins[e][port];
+                if srcs.len() < 2 || matches!(self.elems[e].kind, Kind::RightRail) {
+                    continue;
+                }
+                let Some(y) = self.in_y(e, port) else {
+                    continue;
+                };
+                for s in srcs {
+                    if on_rail(s.elem) || reported.contains(&s.elem) {
+                        continue;
+                    }
+                    if self.out_y(s.elem, s.port).is_some_and(|sy| sy < y - SLACK) {
+                        reported.push(s.elem);
+                        let msg = format!(
+                            "upper parallel branch in rung {number} of `{}`: {} is above the line it joins at {}",
+                            self.cx.pou,
+                            self.name(s.elem),
+                            self.name(e)
+                        );
+                        let d = Diagnostic::error(codes::LD_UPPER_PARALLEL, msg, self.span(s.elem))
+                            .with_secondary(self.span(e), "the branch joins here")
+                            .with_note("draw parallel branches below the main line, as the rung is read top to bottom");
+                        self.diags.push(d);
+                    }
+                }
+            }
+        }
+        // A branch that leaves a line upwards.
+        for &s in order {
+            for port in 0..g.outs[s].len() {
+                let cons = &g.outs[s][port];
+                if cons.len() < 2 || on_rail(s) {
+                    continue;
+                }
+                let Some(sy) = self.out_y(s, port) else {
+                    continue;
+                };
+                for &(c, cport) in cons {
+                    if reported.contains(&c) || matches!(self.elems[c].kind, Kind::RightRail) {
+                        continue;
+                    }
+                    if self.in_y(c, cport).is_some_and(|y| y < sy - SLACK) {
+                        reported.push(c);
+                        let msg = format!(
+                            "upper parallel branch in rung {number} of `{}`: {} is above the line it leaves at {}",
+                            self.cx.pou,
+                            self.name(c),
+                            self.name(s)
+                        );
+                        let d = Diagnostic::error(codes::LD_UPPER_PARALLEL, msg, self.span(c))
+                            .with_secondary(self.span(s), "the branch leaves here")
+                            .with_note("draw parallel branches below the main line, as the rung is read top to bottom");
+                        self.diags.push(d);
+                    }
+                }
+            }
+        }
+    }
+
+    fn block_inputs(&mut self, g: &Graph, number: usize, order: &[usize]) {
+        for &e in order {
+            let Kind::Block {
+                ty,
+                instance,
+                inputs,
+                ..
+            } = &self.elems[e].kind
+            else {
+                continue;
+            };
+            // A function needs every input; a function block its power input: EN if
+            // it has one, else its first input (a timer's IN, a counter's CU).
+            let required: Vec<usize> = if instance.is_none() {
+                (0..inputs.len()).collect()
+            } else {
+                let en = inputs.iter().position(|p| {
+                    p.name
+                        .as_ref()
+                        .is_some_and(|n| n.value.eq_ignore_ascii_case("EN"))
+                });
+                vec![en.unwrap_or(0)]
+                    .into_iter()
+                    .filter(|&i| i < inputs.len())
+                    .collect()
+            };
+            for port in required {
+                if !g.ins[e][port].is_empty() {
+                    continue;
+                }
+                let pname = input_name(&self.elems[e].kind, port)
+                    .unwrap_or("?")
+                    .to_string();
+                let what = if instance.is_some() {
+                    "function block"
+                } else {
+                    "function"
+                };
+                let msg = format!(
+                    "{} in rung {number} of `{}` has nothing connected to its input `{pname}`",
+                    self.name(e),
+                    self.cx.pou
+                );
+                let note = if instance.is_some() {
+                    format!(
+                        "the {what} {} takes its power on `{pname}`: connect a contact (or the left rail) to it",
+                        ty.value
+                    )
+                } else {
+                    format!(
+                        "the {what} {} needs a value on every input: connect a variable, a contact or a block output to `{pname}`",
+                        ty.value
+                    )
+                };
+                self.error(codes::LD_BLOCK_INPUT, e, msg).notes.push(note);
+            }
+        }
+    }
+
+    /// The series-parallel structure of the rung, or a bridge error.
+    fn series_parallel(&mut self, g: &Graph, number: usize, order: &[usize]) -> Option<Net> {
+        let pos_of: FxHashMap<usize, usize> =
+            order.iter().enumerate().map(|(i, &e)| (e, i)).collect();
+        let data_edge = |s: usize, c: usize| {
+            let (sk, ck) = (&self.elems[s].kind, &self.elems[c].kind);
+            (matches!(sk, Kind::InVariable { .. } | Kind::InOutVariable { .. })
+                && matches!(ck, Kind::Block { .. }))
+                || (matches!(sk, Kind::Block { .. })
+                    && matches!(ck, Kind::OutVariable { .. } | Kind::InOutVariable { .. }))
+        };
+        // Vertices: 0 = S (the left rail), 1 = T (the right rail and every end),
+        // 2 + 2k and 3 + 2k the input and output of the k-th element in the order.
+        const S: usize = 0;
+        const T: usize = 1;
+        let vin = |e: usize| 2 + 2 * pos_of[&e];
+        let vout = |e: usize| 3 + 2 * pos_of[&e];
+        let mut raw: Vec<(usize, usize, usize, usize)> = Vec::new(); // (from elem, from port, to elem, to port)
+        for &c in order {
+            for (port, srcs) in g.ins[c].iter().enumerate() {
+                for s in srcs {
+                    if !data_edge(s.elem, c) {
+                        raw.push((s.elem, s.port, c, port));
+                    }
+                }
+            }
+        }
+        for &s in order {
+            for (port, cons) in g.outs[s].iter().enumerate() {
+                for &(c, cport) in cons {
+                    if matches!(self.elems[c].kind, Kind::RightRail) {
+                        raw.push((s, port, c, cport));
+                    }
+                }
+            }
+        }
+        let is_rail = |e: usize| matches!(self.elems[e].kind, Kind::LeftRail | Kind::RightRail);
+        let mut included = vec![false; self.elems.len()];
+        for &(s, _, c, _) in &raw {
+            if !is_rail(s) {
+                included[s] = true;
+            }
+            if !is_rail(c) {
+                included[c] = true;
+            }
+        }
+        // Block ports are named on the wires when a block has several of them wired.
+        let mut in_ports: FxHashMap<usize, Vec<usize>> = FxHashMap::default();
+        let mut out_ports: FxHashMap<usize, Vec<usize>> = FxHashMap::default();
+        for &(s, sp, c, cp) in &raw {
+            in_ports.entry(c).or_default().push(cp);
+            out_ports.entry(s).or_default().push(sp);
+        }
+        let several = |m: &FxHashMap<usize, Vec<usize>>, e: usize| {
+            m.get(&e).is_some_and(|v| v.iter().any(|&p| p != v[0]))
+        };
+        let mut edges: Vec<(usize, usize, Net)> = Vec::new();
+        let mut has_in = vec![false; self.elems.len()];
+        let mut has_out = vec![false; self.elems.len()];
+        for &(s, sp, c, cp) in &raw {
+            let from_v = if is_rail(s) { S } else { vout(s) };
+            let to_v = if is_rail(c) { T } else { vin(c) };
+            let from = (!is_rail(s) && several(&out_ports, s)).then(|| {
+                output_name(&self.elems[s].kind, sp)
+                    .unwrap_or("")
+                    .to_string()
+            });
+            let to = (!is_rail(c) && several(&in_ports, c)).then(|| {
+                input_name(&self.elems[c].kind, cp)
+                    .unwrap_or("")
+                    .to_string()
+            });
+            edges.push((from_v, to_v, Net::Wire { from, to }));
+            has_out[s] = true;
+            has_in[c] = true;
+        }
+        for &e in order {
+            if !included[e] {
+                continue;
+            }
+            edges.push((vin(e), vout(e), Net::Elem(e)));
+            if !has_in[e] {
+                edges.push((
+                    S,
+                    vin(e),
+                    Net::Wire {
+                        from: None,
+                        to: None,
+                    },
+                ));
+            }
+            if !has_out[e] {
+                edges.push((
+                    vout(e),
+                    T,
+                    Net::Wire {
+                        from: None,
+                        to: None,
+                    },
+                ));
+            }
+        }
+        let positions = order.iter().all(|&e| self.elems[e].pos.is_some());
+        let key = |n: &Net| -> (f64, f64, usize) {
+            let mut best: Option<(f64, f64, usize)> = None;
+            let mut stack = vec![n];
+            while let Some(x) = stack.pop() {
+                match x {
+                    Net::Elem(e) => {
+                        let k = self.key(*e, positions);
+                        if best.is_none_or(|b| k < b) {
+                            best = Some(k);
+                        }
+                    }
+                    Net::Series(v) | Net::Parallel(v) => stack.extend(v.iter()),
+                    Net::Wire { .. } => {}
+                }
+            }
+            best.unwrap_or((f64::INFINITY, f64::INFINITY, usize::MAX))
+        };
+        let mut alive: Vec<Option<(usize, usize, Net)>> = edges.into_iter().map(Some).collect();
+        loop {
+            let mut changed = false;
+            // Parallel: edges between the same two vertices.
+            let mut by_ends: FxHashMap<(usize, usize), Vec<usize>> = FxHashMap::default();
+            for (i, e) in alive.iter().enumerate() {
+                if let Some((u, v, _)) = e {
+                    by_ends.entry((*u, *v)).or_default().push(i);
+                }
+            }
+            let mut groups: Vec<Vec<usize>> =
+                by_ends.into_values().filter(|v| v.len() > 1).collect();
+            groups.sort();
+            for ids in groups {
+                let (u, v, _) = alive[ids[0]].clone().expect("alive");
+                let mut branches: Vec<Net> = ids
+                    .iter()
+                    .map(|&i| alive[i].take().expect("alive").2)
+                    .collect();
+                branches.sort_by(|a, b| {
+                    key(a)
+                        .partial_cmp(&key(b))
+                        .unwrap_or(std::cmp::Ordering::Equal)
+                });
+                let mut flat = Vec::new();
+                for b in branches {
+                    match b {
+                        Net::Parallel(v) => flat.extend(v),
+                        other => flat.push(other),
+                    }
+                }
+                alive[ids[0]] = Some((u, v, Net::Parallel(flat)));
+                changed = true;
+            }
+            // Series: a vertex with one edge in and one edge out.
+            let mut indeg: FxHashMap<usize, Vec<usize>> = FxHashMap::default();
+            let mut outdeg: FxHashMap<usize, Vec<usize>> = FxHashMap::default();
+            for (i, e) in alive.iter().enumerate() {
+                if let Some((u, v, _)) = e {
+                    outdeg.entry(*u).or_default().push(i);
+                    indeg.entry(*v).or_default().push(i);
+                }
+            }
+            let mut verts: Vec<usize> = indeg.keys().copied().collect();
+            verts.sort();
+            for x in verts {
+                if x == S || x == T {
+                    continue;
+                }
+                let (Some(i), Some(o)) = (indeg.get(&x), outdeg.get(&x)) else {
+                    continue;
+                };
+                if i.len() != 1 || o.len() != 1 {
+                    continue;
+                }
+                let (a, b) = (i[0], o[0]);
+                if a == b || alive[a].is_none() || alive[b].is_none() {
+                    continue;
+                }
+                let (u, _, first) = alive[a].take().expect("alive");
+                let (_, w, second) = alive[b].take().expect("alive");
+                let mut items = Vec::new();
+                for n in [first, second] {
+                    match n {
+                        Net::Series(v) => items.extend(v),
+                        Net::Wire {
+                            from: None,
+                            to: None,
+                        } => {}
+                        other => items.push(other),
+                    }
+                }
+                let net = match items.len() {
+                    0 => Net::Wire {
+                        from: None,
+                        to: None,
+                    },
+                    1 => items.pop().expect("one"),
+                    _ => Net::Series(items),
+                };
+                alive[a] = Some((u, w, net));
+                changed = true;
+                // Degrees changed: recount before the next merge.
+                break;
+            }
+            if !changed {
+                break;
+            }
+        }
+        let left: Vec<&(usize, usize, Net)> = alive.iter().flatten().collect();
+        if let [(S, T, net)] = left.as_slice() {
+            return Some(net.clone());
+        }
+        if left.is_empty() {
+            return Some(Net::Series(Vec::new()));
+        }
+        // Name the element where branches cross: the last one (in evaluation order)
+        // whose output still feeds several places, else the first that still joins
+        // several.
+        let mut outd: FxHashMap<usize, usize> = FxHashMap::default();
+        let mut ind: FxHashMap<usize, usize> = FxHashMap::default();
+        for (u, v, _) in &left {
+            *outd.entry(*u).or_default() += 1;
+            *ind.entry(*v).or_default() += 1;
+        }
+        let culprit = order
+            .iter()
+            .rev()
+            .copied()
+            .find(|&e| {
+                included[e] && outd.get(&vout(e)).copied().unwrap_or(0) >= 2 && pos_of[&e] > 0
+            })
+            .or_else(|| {
+                order
+                    .iter()
+                    .copied()
+                    .find(|&e| included[e] && ind.get(&vin(e)).copied().unwrap_or(0) >= 2)
+            })
+            .or_else(|| order.first().copied());
+        if let Some(e) = culprit {
+            let msg = format!(
+                "bridge in rung {number} of `{}`: the connections at {} cross between parallel branches, so the rung is not series-parallel",
+                self.cx.pou,
+                self.name(e)
+            );
+            self.error(codes::LD_BRIDGE, e, msg).notes.push(
+                "power flows left to right along series and parallel connections only; a wire \
+                 from the middle of one branch into another has no meaning in ladder: split the \
+                 rung, or repeat the contacts on each branch"
+                    .into(),
+            );
+        }
+        None
+    }
+}
