@@ -3,9 +3,8 @@
 
 The ladder tests of plcc (tests/programs/ld/*.xml) were written with it, laid out the
 way Beremiz exports: elements on a grid with positions and connection points, each
-element's `connectionPointIn` listing the elements it is wired to. The description
-of a project is a Python file that calls `project(...)`; see tests/programs/ld/*.py?
-No: the descriptions are kept in this script's callers; this module is the library.
+element's `connectionPointIn` listing the elements it is wired to. The programs
+themselves are described in `scripts/ld_programs.py`, which uses this module.
 
 Rung description (nested tuples):
     ('S', item, item, ...)            series
@@ -340,10 +339,15 @@ NS = {
 }
 
 
-def project(name, pous, version='2.01', program=None, interval='T#10ms', globals_=None, comment=None):
+def project(name, pous, version='2.01', program=None, interval='T#10ms', globals_=None,
+            comment=None, types=''):
+    """The whole file. `comment` goes in an XML comment after the declaration;
+    `types` is the raw XML of `<dataType>` elements."""
     ns = NS[version]
     inst_attr = 'typeName' if version == '2.01' else 'type'
-    head = "<?xml version='1.0' encoding='utf-8'?>\n" if comment is None else f'<!-- {comment} -->\n'
+    head = "<?xml version='1.0' encoding='utf-8'?>\n"
+    if comment:
+        head += '<!--\n' + comment.strip('\n') + '\n-->\n'
     g = ''
     if globals_:
         g = '\n' + vars_xml('globalVars', globals_, '        ')
@@ -358,7 +362,7 @@ def project(name, pous, version='2.01', program=None, interval='T#10ms', globals
     </coordinateInfo>
   </contentHeader>
   <types>
-    <dataTypes/>
+    <dataTypes>{types}</dataTypes>
     <pous>
 {chr(10).join(pous)}
     </pous>

@@ -107,19 +107,6 @@ pub(crate) fn output_count(k: &Kind) -> usize {
     }
 }
 
-/// True for elements that take part in power flow as such (not data variables).
-fn is_power(k: &Kind) -> bool {
-    matches!(
-        k,
-        Kind::LeftRail
-            | Kind::RightRail
-            | Kind::Contact { .. }
-            | Kind::Coil { .. }
-            | Kind::Jump { .. }
-            | Kind::Return
-    )
-}
-
 /// The name of a block's input `port`.
 pub(crate) fn input_name(k: &Kind, port: usize) -> Option<&str> {
     match k {
@@ -718,69 +705,62 @@ impl Builder<'_, '_, '_> {
         }
     }
 
+    /// Parallel branches drawn above their line. A junction (the vertical line where
+    /// outputs are joined and passed on) is the set of outputs wired to the same
+    /// inputs; its topmost wires are the main line, which must both enter and leave
+    /// it: an output above every input it feeds is a branch joining from above, an
+    /// input above every output feeding it a branch leaving upwards.
     fn upper_parallels(&mut self, g: &Graph, number: usize, order: &[usize]) {
         const SLACK: f64 = 0.5;
-        let on_rail = |s: usize| matches!(self.elems[s].kind, Kind::LeftRail);
-        let mut reported = Vec::new();
-        // A branch that joins a line from above it.
+        let rail = |e: usize| matches!(self.elems[e].kind, Kind::LeftRail | Kind::RightRail);
+        let mut junctions: Vec<(Vec<Src>, Vec<(usize, usize)>)> = Vec::new();
         for &e in order {
-            for port in 0..g.ins[e].len() {
-                let srcs = &g.ins[e][port];
-                if srcs.len() < 2 || matches!(self.elems[e].kind, Kind::RightRail) {
+            for (port, srcs) in g.ins[e].iter().enumerate() {
+                if srcs.is_empty() || srcs.iter().any(|s| rail(s.elem)) {
                     continue;
                 }
-                let Some(y) = self.in_y(e, port) else {
-                    continue;
-                };
-                for s in srcs {
-                    if on_rail(s.elem) || reported.contains(&s.elem) {
-                        continue;
-                    }
-                    if self.out_y(s.elem, s.port).is_some_and(|sy| sy < y - SLACK) {
-                        reported.push(s.elem);
-                        let msg = format!(
-                            "upper parallel branch in rung {number} of `{}`: {} is above the line it joins at {}",
-                            self.cx.pou,
-                            self.name(s.elem),
-                            self.name(e)
-                        );
-                        let d = Diagnostic::error(codes::LD_UPPER_PARALLEL, msg, self.span(s.elem))
-                            .with_secondary(self.span(e), "the branch joins here")
-                            .with_note("draw parallel branches below the main line, as the rung is read top to bottom");
-                        self.diags.push(d);
-                    }
+                let mut key = srcs.clone();
+                key.sort_by_key(|s| (s.elem, s.port));
+                match junctions.iter_mut().find(|(k, _)| *k == key) {
+                    Some((_, c)) => c.push((e, port)),
+                    None => junctions.push((key, vec![(e, port)])),
                 }
             }
         }
-        // A branch that leaves a line upwards.
-        for &s in order {
-            for port in 0..g.outs[s].len() {
-                let cons = &g.outs[s][port];
-                if cons.len() < 2 || on_rail(s) {
-                    continue;
-                }
-                let Some(sy) = self.out_y(s, port) else {
-                    continue;
-                };
-                for &(c, cport) in cons {
-                    if reported.contains(&c) || matches!(self.elems[c].kind, Kind::RightRail) {
-                        continue;
-                    }
-                    if self.in_y(c, cport).is_some_and(|y| y < sy - SLACK) {
-                        reported.push(c);
-                        let msg = format!(
-                            "upper parallel branch in rung {number} of `{}`: {} is above the line it leaves at {}",
-                            self.cx.pou,
-                            self.name(c),
-                            self.name(s)
-                        );
-                        let d = Diagnostic::error(codes::LD_UPPER_PARALLEL, msg, self.span(c))
-                            .with_secondary(self.span(s), "the branch leaves here")
-                            .with_note("draw parallel branches below the main line, as the rung is read top to bottom");
-                        self.diags.push(d);
-                    }
-                }
+        for (srcs, cons) in junctions {
+            if srcs.len() < 2 && cons.len() < 2 {
+                continue;
             }
+            let top_out = srcs
+                .iter()
+                .filter_map(|s| self.out_y(s.elem, s.port).map(|y| (y, s.elem)))
+                .min_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal));
+            let top_in = cons
+                .iter()
+                .filter_map(|&(c, p)| self.in_y(c, p).map(|y| (y, c)))
+                .min_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal));
+            let (Some((yo, so)), Some((yi, ci))) = (top_out, top_in) else {
+                continue;
+            };
+            let (upper, other, verb) = if yo < yi - SLACK {
+                (so, ci, "joins")
+            } else if yi < yo - SLACK {
+                (ci, so, "leaves")
+            } else {
+                continue;
+            };
+            let msg = format!(
+                "upper parallel branch in rung {number} of `{}`: {} is above the line it {verb} at {}",
+                self.cx.pou,
+                self.name(upper),
+                self.name(other)
+            );
+            let d = Diagnostic::error(codes::LD_UPPER_PARALLEL, msg, self.span(upper))
+                .with_secondary(self.span(other), "the main line")
+                .with_note(
+                    "draw parallel branches below the main line, as the rung is read top to bottom",
+                );
+            self.diags.push(d);
         }
     }
 
@@ -902,22 +882,55 @@ impl Builder<'_, '_, '_> {
         let mut edges: Vec<(usize, usize, Net)> = Vec::new();
         let mut has_in = vec![false; self.elems.len()];
         let mut has_out = vec![false; self.elems.len()];
+        // An input fed by several outputs is fed by a junction (the vertical line of
+        // the drawing), shared by every input fed by the same outputs.
+        let mut feeds: Vec<((usize, usize), Vec<(usize, usize)>)> = Vec::new();
         for &(s, sp, c, cp) in &raw {
-            let from_v = if is_rail(s) { S } else { vout(s) };
+            match feeds.iter_mut().find(|(k, _)| *k == (c, cp)) {
+                Some((_, v)) => v.push((s, sp)),
+                None => feeds.push(((c, cp), vec![(s, sp)])),
+            }
+        }
+        let mut junctions: Vec<Vec<(usize, usize)>> = Vec::new();
+        let first_junction = 2 + 2 * order.len();
+        let wire = |b: &Self, s: usize, sp: usize, c: Option<(usize, usize)>| {
+            let from = (!is_rail(s) && several(&out_ports, s))
+                .then(|| output_name(&b.elems[s].kind, sp).unwrap_or("").to_string());
+            let to = c
+                .filter(|&(c, _)| !is_rail(c) && several(&in_ports, c))
+                .map(|(c, cp)| input_name(&b.elems[c].kind, cp).unwrap_or("").to_string());
+            Net::Wire { from, to }
+        };
+        for ((c, cp), mut srcs) in feeds {
+            srcs.sort();
             let to_v = if is_rail(c) { T } else { vin(c) };
-            let from = (!is_rail(s) && several(&out_ports, s)).then(|| {
-                output_name(&self.elems[s].kind, sp)
-                    .unwrap_or("")
-                    .to_string()
-            });
-            let to = (!is_rail(c) && several(&in_ports, c)).then(|| {
-                input_name(&self.elems[c].kind, cp)
-                    .unwrap_or("")
-                    .to_string()
-            });
-            edges.push((from_v, to_v, Net::Wire { from, to }));
-            has_out[s] = true;
             has_in[c] = true;
+            for &(s, _) in &srcs {
+                has_out[s] = true;
+            }
+            if let [(s, sp)] = srcs.as_slice() {
+                let from_v = if is_rail(*s) { S } else { vout(*s) };
+                edges.push((from_v, to_v, wire(self, *s, *sp, Some((c, cp)))));
+                continue;
+            }
+            let j = match junctions.iter().position(|k| *k == srcs) {
+                Some(j) => first_junction + j,
+                None => {
+                    junctions.push(srcs.clone());
+                    let j = first_junction + junctions.len() - 1;
+                    for &(s, sp) in &srcs {
+                        let from_v = if is_rail(s) { S } else { vout(s) };
+                        edges.push((from_v, j, wire(self, s, sp, None)));
+                    }
+                    j
+                }
+            };
+            let to = wire(self, c, 0, Some((c, cp)));
+            let to = match to {
+                Net::Wire { to, .. } => Net::Wire { from: None, to },
+                other => other,
+            };
+            edges.push((j, to_v, to));
         }
         for &e in order {
             if !included[e] {

@@ -121,7 +121,6 @@ pub(crate) fn write(
                     project,
                     pou_vars: &pou.groups,
                     globals: &globals,
-                    function: pou.kind == PouKind::Function,
                     file,
                 };
                 let lines = emit_body(g, &ctx, &mut names, diags);
@@ -131,6 +130,7 @@ pub(crate) fn write(
                 }
             }
             (Body::St(t), _) | (Body::Il(t), _) => {
+                o.push("    ");
                 o.push_text(t);
                 if !t.value.ends_with('\n') {
                     o.push("\n");
@@ -624,7 +624,6 @@ struct PouCtx<'a> {
     project: &'a Project,
     pou_vars: &'a [VarGroup],
     globals: &'a [&'a Var],
-    function: bool,
     file: FileId,
 }
 
@@ -664,6 +663,11 @@ struct Em<'a, 'g> {
     cr: Option<F>,
     /// Contacts read from a hidden variable (edge detector, saved value).
     atoms: FxHashMap<usize, Atom>,
+    /// Contacts whose reading was taken before a write (saved or not).
+    saved: Vec<usize>,
+    /// Contacts whose variable an effect after them in their rung writes: their power
+    /// is kept in a temporary if it is loaded again.
+    rewritten: FxHashSet<usize>,
     /// Hidden declarations: (name, type, VAR_TEMP).
     decls: Vec<(String, String, bool)>,
     diags: Vec<Diagnostic>,
@@ -697,6 +701,8 @@ impl<'a, 'g> Em<'a, 'g> {
             lines: Vec::new(),
             cr: None,
             atoms: FxHashMap::default(),
+            saved: Vec::new(),
+            rewritten: FxHashSet::default(),
             decls: Vec::new(),
             diags: Vec::new(),
             pos: FxHashMap::default(),
@@ -744,6 +750,7 @@ impl<'a, 'g> Em<'a, 'g> {
                 comment: true,
             });
             self.edges(&rung.order);
+            self.rewritten = self.rewritten_contacts(&rung.order);
             let last_use = self.last_uses(&rung.order);
             for (i, &e) in rung.order.iter().enumerate() {
                 if !self.is_effect(e) {
@@ -850,6 +857,25 @@ impl<'a, 'g> Em<'a, 'g> {
         last
     }
 
+    /// The contacts of a rung whose variable an effect after them writes.
+    fn rewritten_contacts(&self, order: &[usize]) -> FxHashSet<usize> {
+        let mut out = FxHashSet::default();
+        for (i, &e) in order.iter().enumerate() {
+            if !self.is_effect(e) {
+                continue;
+            }
+            let writes = self.writes(e);
+            for &c in &order[..i] {
+                if let Kind::Contact { var, edge, .. } = &self.g.elems[c].kind {
+                    if *edge == Edge::None && writes.contains(&base(&var.value)) {
+                        out.insert(c);
+                    }
+                }
+            }
+        }
+        out
+    }
+
     /// The variables (their first identifiers) an effect writes.
     fn writes(&self, e: usize) -> Vec<String> {
         let el = &self.g.elems[e];
@@ -889,32 +915,51 @@ impl<'a, 'g> Em<'a, 'g> {
         if writes.is_empty() {
             return;
         }
+        // The contacts in `e`'s own inputs are loaded before it writes.
+        let mut own = Vec::new();
+        for port in 0..self.g.ins[e].len() {
+            self.contacts_into(e, port, &mut own);
+        }
         for &c in &order[..i] {
+            if own.contains(&c) {
+                continue;
+            }
             let Kind::Contact {
                 var, negated, edge, ..
             } = &self.g.elems[c].kind
             else {
                 continue;
             };
-            if *edge != Edge::None || self.atoms.contains_key(&c) {
+            if *edge != Edge::None || self.saved.contains(&c) {
                 continue;
             }
             if !writes.contains(&base(&var.value)) || last.get(&c).is_none_or(|&l| l <= i) {
                 continue;
             }
-            let name = self.declare(Hidden::Old(c), "BOOL", true);
+            // The CR holds the reading either way, so that both passes go on from the
+            // same CR; only a saved reading that is loaded again needs its variable.
+            let h = Hidden::Old(c);
+            self.saved.push(c);
             self.line("LD", vec![text_part(var)], Some(c));
-            self.line("ST", vec![part(name.clone())], Some(c));
-            self.cr = None;
-            self.atoms.insert(
-                c,
-                Atom {
-                    parts: vec![part(name)],
-                    neg: *negated,
+            if !self.wants(h) {
+                self.cr = Some(F::Atom(Atom {
+                    parts: vec![text_part(var)],
+                    neg: false,
                     elem: c,
                     kind: AtomKind::Plain,
-                },
-            );
+                }));
+                continue;
+            }
+            let name = self.declare(h, "BOOL", true);
+            self.line("ST", vec![part(name.clone())], Some(c));
+            let reading = |neg| Atom {
+                parts: vec![part(name.clone())],
+                neg,
+                elem: c,
+                kind: AtomKind::Temp(h),
+            };
+            self.cr = Some(F::Atom(reading(false)));
+            self.atoms.insert(c, reading(*negated));
         }
     }
 
@@ -926,7 +971,10 @@ impl<'a, 'g> Em<'a, 'g> {
         match srcs.as_slice() {
             [] => F::True,
             [s] => self.value(*s),
-            many => F::Or(many.iter().map(|&s| self.value(s)).collect()),
+            many => {
+                let terms = many.iter().map(|&s| self.value(s)).collect();
+                factor(terms)
+            }
         }
     }
 
@@ -973,7 +1021,7 @@ impl<'a, 'g> Em<'a, 'g> {
             Kind::Block { .. } => return self.block_output(s),
             _ => return F::True,
         };
-        if self.uses(s) >= 2 && f.size() >= 2 {
+        if (self.uses(s) >= 2 && f.size() >= 2) || self.rewritten.contains(&e) {
             F::Node(e, Box::new(f))
         } else {
             f
@@ -1054,20 +1102,80 @@ impl<'a, 'g> Em<'a, 'g> {
 
     /// Makes the CR hold `f`, going on from what it holds where possible.
     fn load(&mut self, f: &F, elem: usize) {
-        if let Some(cr) = self.cr.clone() {
-            if same(&cr, f) {
-                return;
-            }
-            if let Some((op, rest)) = continuation(&cr, f) {
-                for x in &rest {
-                    self.op(op, x, elem);
+        let reached = match self.cr.clone() {
+            Some(cr) => self.reach(&cr, f, elem),
+            None => false,
+        };
+        if !reached {
+            self.fresh(f, elem);
+        }
+        self.cr = Some(f.clone());
+    }
+
+    /// Emits what turns the CR from `cr` into `f`, if `f` is `cr` combined with more
+    /// (and nothing if not: then it returns false).
+    fn reach(&mut self, cr: &F, f: &F, elem: usize) -> bool {
+        if same(cr, f) {
+            self.keep(f);
+            return true;
+        }
+        match f {
+            F::Node(n, inner) => {
+                if self.stored.contains(&Hidden::Tmp(*n)) || !self.reach(cr, inner, *n) {
+                    return false;
                 }
-                self.cr = Some(f.clone());
-                return;
+                self.keep(f);
+                true
+            }
+            F::And(v) | F::Or(v) => {
+                let op = if matches!(f, F::And(_)) {
+                    Op::And
+                } else {
+                    Op::Or
+                };
+                // `cr` is a prefix of the same operation.
+                if let (F::And(w), Op::And) | (F::Or(w), Op::Or) = (cr.strip(), op) {
+                    if w.len() < v.len() && w.iter().zip(v).all(|(a, b)| same(a, b)) {
+                        for x in &v[w.len()..] {
+                            self.op(op, x, elem);
+                        }
+                        return true;
+                    }
+                }
+                // The first operand can be reached from `cr`.
+                if self.reach(cr, &v[0], elem) {
+                    for x in &v[1..] {
+                        self.op(op, x, elem);
+                    }
+                    return true;
+                }
+                // `cr` is another operand (the operations commute: operands are values).
+                if let Some(i) = v.iter().position(|x| same(x, cr)) {
+                    self.keep(&v[i]);
+                    for (j, x) in v.iter().enumerate() {
+                        if j != i {
+                            self.op(op, x, elem);
+                        }
+                    }
+                    return true;
+                }
+                false
+            }
+            _ => false,
+        }
+    }
+
+    /// The CR holds `f`: if `f` is the value of an element needed again later, keep it
+    /// in its temporary (the first time).
+    fn keep(&mut self, f: &F) {
+        if let F::Node(n, _) = f {
+            let h = Hidden::Tmp(*n);
+            if self.wants(h) && !self.stored.contains(&h) {
+                let name = self.declare(h, "BOOL", true);
+                self.line("ST", vec![part(name)], Some(*n));
+                self.stored.insert(h);
             }
         }
-        self.fresh(f, elem);
-        self.cr = Some(f.clone());
     }
 
     /// Reads a temporary (recording that it is needed).
@@ -1110,11 +1218,7 @@ impl<'a, 'g> Em<'a, 'g> {
                     return;
                 }
                 self.fresh(inner, *n);
-                if self.wants(h) {
-                    let name = self.declare(h, "BOOL", true);
-                    self.line("ST", vec![part(name)], Some(*n));
-                    self.stored.insert(h);
-                }
+                self.keep(f);
             }
         }
     }
@@ -1757,27 +1861,58 @@ fn type_text(t: &Type) -> Option<String> {
     }
 }
 
-/// How to go on from the CR `cr` to `f`: the operator and the operands left, if `f`
-/// is `cr` combined with more.
-fn continuation(cr: &F, f: &F) -> Option<(Op, Vec<F>)> {
-    let (op, v) = match f.strip() {
-        F::And(v) => (Op::And, v),
-        F::Or(v) => (Op::Or, v),
-        _ => return None,
-    };
-    // `cr` is a prefix of the same operator.
-    let prefix = match (cr.strip(), op) {
-        (F::And(w), Op::And) | (F::Or(w), Op::Or) => Some(w),
-        _ => None,
-    };
-    if let Some(w) = prefix {
-        if w.len() < v.len() && w.iter().zip(v).all(|(a, b)| same(a, b)) {
-            return Some((op, v[w.len()..].to_vec()));
+/// `f1 OR f2 OR ...` with the operands the terms start with taken out once:
+/// `(a AND b) OR (a AND c AND d)` is `a AND (b OR (c AND d))`, as the rung draws it
+/// (the contact before a parallel block is read once).
+fn factor(terms: Vec<F>) -> F {
+    let mut groups: Vec<(F, Vec<Option<F>>)> = Vec::new();
+    for t in terms {
+        let (first, rest) = match t {
+            F::And(mut v) if v.len() >= 2 => {
+                let first = v.remove(0);
+                let rest = if v.len() == 1 {
+                    v.pop().expect("one")
+                } else {
+                    F::And(v)
+                };
+                (first, Some(rest))
+            }
+            other => (other, None),
+        };
+        match groups.iter_mut().find(|(f, _)| same(f, &first)) {
+            Some((_, rests)) => rests.push(rest),
+            None => groups.push((first, vec![rest])),
         }
     }
-    // `cr` is one of the operands (the operations commute: operands are values).
-    let i = v.iter().position(|x| same(x, cr))?;
-    let mut rest = v.clone();
-    rest.remove(i);
-    Some((op, rest))
+    let mut out = Vec::new();
+    for (first, rests) in groups {
+        if rests.len() == 1 || rests.iter().any(Option::is_none) {
+            for r in rests {
+                out.push(match r {
+                    Some(r) => and_all(first.clone(), r),
+                    None => first.clone(),
+                });
+            }
+        } else {
+            let inner = factor(rests.into_iter().flatten().collect());
+            out.push(and_all(first, inner));
+        }
+    }
+    if out.len() == 1 {
+        out.pop().expect("one")
+    } else {
+        F::Or(out)
+    }
+}
+
+/// `first AND rest`, flattened.
+fn and_all(first: F, rest: F) -> F {
+    match rest {
+        F::And(v) => {
+            let mut all = vec![first];
+            all.extend(v);
+            F::And(all)
+        }
+        r => F::And(vec![first, r]),
+    }
 }

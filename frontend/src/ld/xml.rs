@@ -42,17 +42,6 @@ pub(crate) struct Text {
 }
 
 impl Text {
-    /// The span of the whole text in the file: exact when the value is written
-    /// verbatim, else the element or attribute that holds it.
-    pub fn span(&self, file: FileId) -> Span {
-        match self.exact.as_slice() {
-            [p] if p.at == 0 && p.len as usize == self.value.len() && p.len > 0 => {
-                Span::new(file, p.src, p.src + p.len)
-            }
-            _ => Span::new(file, self.range.start, self.range.end),
-        }
-    }
-
     /// The text with surrounding white space removed (pieces adjusted).
     fn trimmed(mut self) -> Text {
         let start = self.value.len() - self.value.trim_start().len();
@@ -329,8 +318,6 @@ pub(crate) struct Element {
     pub id: u32,
     /// From `<` through the `localId` attribute: what diagnostics underline.
     pub tag: Range<u32>,
-    /// The whole element, for the IL lines made from it.
-    pub range: Range<u32>,
     /// `<position x y>`, if given.
     pub pos: Option<(f64, f64)>,
     /// What it is.
@@ -798,8 +785,8 @@ impl Reader<'_, '_> {
             return Some(Body::None);
         };
         Some(match lang.tag_name().name() {
-            "ST" => Body::St(self.text(lang)),
-            "IL" => Body::Il(self.text(lang)),
+            "ST" => Body::St(self.text(lang).trimmed()),
+            "IL" => Body::Il(self.text(lang).trimmed()),
             "LD" => Body::Ld(self.ld(lang)),
             other => {
                 let what = match other {
@@ -1390,7 +1377,6 @@ impl Reader<'_, '_> {
         Some(Element {
             id,
             tag,
-            range: range32(e.range()),
             pos,
             kind,
             input,
