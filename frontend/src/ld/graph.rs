@@ -162,10 +162,12 @@ pub(crate) fn build<'m>(
         index: FxHashMap::default(),
         rung_of: vec![usize::MAX; elems.len()],
         rung_numbers: Vec::new(),
+        broken: vec![false; elems.len()],
     };
     b.index_ids();
+    // Rungs first, so that the errors of resolution can name them.
+    let rungs = b.rungs();
     let (ins, outs) = b.resolve();
-    let rungs = b.rungs(&ins);
     let mut g = Graph {
         elems,
         ins,
@@ -173,6 +175,16 @@ pub(crate) fn build<'m>(
         rungs: Vec::new(),
     };
     for (n, members) in rungs.into_iter().enumerate() {
+        // A rung with a connection that could not be resolved is incomplete: its
+        // other checks would only report consequences.
+        if members.iter().any(|&e| b.broken[e]) {
+            g.rungs.push(Rung {
+                number: n + 1,
+                order: members,
+                net: None,
+            });
+            continue;
+        }
         let rung = b.check_rung(&g, n + 1, members);
         g.rungs.push(rung);
     }
@@ -190,6 +202,8 @@ struct Builder<'m, 'c, 'd> {
     rung_of: Vec<usize>,
     /// The rung numbers known so far (for messages before the rungs are checked).
     rung_numbers: Vec<usize>,
+    /// Elements with a connection that could not be resolved.
+    broken: Vec<bool>,
 }
 
 impl Builder<'_, '_, '_> {
@@ -306,8 +320,8 @@ impl Builder<'_, '_, '_> {
             let d = Diagnostic::error(
                 codes::LD_DANGLING,
                 format!(
-                    "dangling connection in `{}`: {} is connected to localId {}, which no element has",
-                    self.cx.pou,
+                    "dangling connection in {}: {} is connected to localId {}, which no element has",
+                    self.place(e),
                     self.name(e),
                     c.from
                 ),
@@ -315,6 +329,7 @@ impl Builder<'_, '_, '_> {
             )
             .with_label("no element has this localId");
             self.diags.push(d);
+            self.broken[e] = true;
             return;
         };
         let kind = &self.elems[t].kind;
@@ -347,6 +362,7 @@ impl Builder<'_, '_, '_> {
                         )
                         .with_label("no such output");
                         self.diags.push(d);
+                        self.broken[e] = true;
                     }
                 }
             }
@@ -366,13 +382,14 @@ impl Builder<'_, '_, '_> {
                         let d = Diagnostic::error(
                             codes::LD_DANGLING,
                             format!(
-                                "dangling connection in `{}`: {} has no connector named `{name}`",
-                                self.cx.pou,
+                                "dangling connection in {}: {} has no connector named `{name}`",
+                                self.place(e),
                                 self.name(t)
                             ),
                             self.span(t),
                         );
                         self.diags.push(d);
+                        self.broken[e] = true;
                     }
                 }
             }
@@ -381,8 +398,8 @@ impl Builder<'_, '_, '_> {
                 let d = Diagnostic::error(
                     codes::LD_DANGLING,
                     format!(
-                        "dangling connection in `{}`: {} is connected to {}, which has no output",
-                        self.cx.pou,
+                        "dangling connection in {}: {} is connected to {}, which has no output",
+                        self.place(e),
                         self.name(e),
                         self.name(t)
                     ),
@@ -390,6 +407,7 @@ impl Builder<'_, '_, '_> {
                 )
                 .with_label("nothing comes out of that element");
                 self.diags.push(d);
+                self.broken[e] = true;
             }
         }
     }
@@ -403,17 +421,9 @@ impl Builder<'_, '_, '_> {
     }
 
     /// Groups the elements into rungs, in order; records each element's rung.
-    fn rungs(&mut self, ins: &[Vec<Vec<Src>>]) -> Vec<Vec<usize>> {
+    fn rungs(&mut self) -> Vec<Vec<usize>> {
         let n = self.elems.len();
-        let rail = |k: &Kind| {
-            matches!(
-                k,
-                Kind::LeftRail
-                    | Kind::RightRail
-                    | Kind::Connector { .. }
-                    | Kind::Continuation { .. }
-            )
-        };
+        let rail = |k: &Kind| matches!(k, Kind::LeftRail | Kind::RightRail);
         let mut parent: Vec<usize> = (0..n).collect();
         fn find(p: &mut [usize], mut x: usize) -> usize {
             while p[x] != x {
@@ -422,16 +432,39 @@ impl Builder<'_, '_, '_> {
             }
             x
         }
+        let join = |p: &mut Vec<usize>, a: usize, b: usize| {
+            let (a, b) = (find(p, a), find(p, b));
+            p[a] = b;
+        };
         for e in 0..n {
-            if rail(&self.elems[e].kind) {
+            let k = &self.elems[e].kind;
+            if rail(k) {
                 continue;
             }
-            for port in &ins[e] {
-                for s in port {
-                    if !rail(&self.elems[s.elem].kind) {
-                        let (a, b) = (find(&mut parent, e), find(&mut parent, s.elem));
-                        parent[a] = b;
+            let conns: Vec<u32> = match k {
+                Kind::Block {
+                    inputs, in_outs, ..
+                } => inputs
+                    .iter()
+                    .chain(in_outs)
+                    .flat_map(|p| p.conns.iter().map(|c| c.from))
+                    .collect(),
+                _ => self.elems[e].input.conns.iter().map(|c| c.from).collect(),
+            };
+            for from in conns {
+                if let Some(&s) = self.index.get(&from) {
+                    if !rail(&self.elems[s].kind) {
+                        join(&mut parent, e, s);
                     }
+                }
+            }
+            // A continuation is the other end of its connector.
+            if let Kind::Continuation { name } = k {
+                let conn = self.elems.iter().position(|x| {
+                    matches!(&x.kind, Kind::Connector { name: m } if m.value.eq_ignore_ascii_case(&name.value))
+                });
+                if let Some(c) = conn {
+                    join(&mut parent, e, c);
                 }
             }
         }
@@ -742,13 +775,23 @@ impl Builder<'_, '_, '_> {
             let (Some((yo, so)), Some((yi, ci))) = (top_out, top_in) else {
                 continue;
             };
-            let (upper, other, verb) = if yo < yi - SLACK {
-                (so, ci, "joins")
-            } else if yi < yo - SLACK {
-                (ci, so, "leaves")
-            } else {
-                continue;
+            // An output that also goes on along its own line is a fork there, and this
+            // junction a branch down from it (a bridge, if anything: checked later).
+            let goes_on = |b: &Self, s: Src| {
+                let y = b.out_y(s.elem, s.port);
+                g.outs[s.elem][s.port].iter().any(|&(c, p)| {
+                    matches!((y, b.in_y(c, p)), (Some(a), Some(b)) if (a - b).abs() <= SLACK)
+                })
             };
+            let top_src = srcs.iter().copied().find(|s| s.elem == so);
+            let (upper, other, verb) =
+                if yo < yi - SLACK && !top_src.is_some_and(|s| goes_on(self, s)) {
+                    (so, ci, "joins")
+                } else if yi < yo - SLACK {
+                    (ci, so, "leaves")
+                } else {
+                    continue;
+                };
             let msg = format!(
                 "upper parallel branch in rung {number} of `{}`: {} is above the line it {verb} at {}",
                 self.cx.pou,

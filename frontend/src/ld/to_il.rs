@@ -119,6 +119,7 @@ pub(crate) fn write(
                 let mut names = Names::new(project, pou, &globals, g);
                 let ctx = PouCtx {
                     project,
+                    pou: &pou.name.value,
                     pou_vars: &pou.groups,
                     globals: &globals,
                     file,
@@ -622,6 +623,7 @@ impl Op {
 /// What the emission of a POU needs besides the graph.
 struct PouCtx<'a> {
     project: &'a Project,
+    pou: &'a str,
     pou_vars: &'a [VarGroup],
     globals: &'a [&'a Var],
     file: FileId,
@@ -671,8 +673,8 @@ struct Em<'a, 'g> {
     /// Hidden declarations: (name, type, VAR_TEMP).
     decls: Vec<(String, String, bool)>,
     diags: Vec<Diagnostic>,
-    /// Where each element is in its rung's order.
-    pos: FxHashMap<usize, usize>,
+    /// The number of the rung being converted.
+    rung: usize,
 }
 
 /// The identifier a variable expression starts with, upper-cased (`T1` of `T1.Q`).
@@ -705,7 +707,7 @@ impl<'a, 'g> Em<'a, 'g> {
             rewritten: FxHashSet::default(),
             decls: Vec::new(),
             diags: Vec::new(),
-            pos: FxHashMap::default(),
+            rung: 0,
         }
     }
 
@@ -735,13 +737,8 @@ impl<'a, 'g> Em<'a, 'g> {
 
     fn body(&mut self) {
         for rung in &self.g.rungs {
-            self.pos = rung
-                .order
-                .iter()
-                .enumerate()
-                .map(|(i, &e)| (e, i))
-                .collect();
             self.cr = None;
+            self.rung = rung.number;
             self.lines.push(Line {
                 label: false,
                 op: format!("rung {}", rung.number),
@@ -1412,9 +1409,11 @@ impl<'a, 'g> Em<'a, 'g> {
             self.diags.push(Diagnostic::error(
                 codes::E_UNSUPPORTED,
                 format!(
-                    "not supported yet: {what} ({} (localId {}))",
+                    "not supported yet: {what} ({} (localId {}) in rung {} of `{}`)",
                     el.kind.describe(),
-                    el.id
+                    el.id,
+                    self.rung,
+                    self.ctx.pou
                 ),
                 span,
             ));
@@ -1700,9 +1699,11 @@ impl<'a, 'g> Em<'a, 'g> {
                             Diagnostic::error(
                                 codes::LD_OUTPUT_TYPE,
                                 format!(
-                                    "cannot tell the type of the output of {} (localId {}), which is needed to keep it",
+                                    "cannot tell the type of the output of {} (localId {}) in rung {} of `{}`, which is needed to keep it",
                                     el.kind.describe(),
-                                    el.id
+                                    el.id,
+                                    self.rung,
+                                    self.ctx.pou
                                 ),
                                 span,
                             )

@@ -476,10 +476,16 @@ pub(crate) fn read(file: FileId, src: &str, diags: &mut Vec<Diagnostic>) -> Opti
         Err(e) => {
             let pos = e.pos();
             let at = offset_of(src, pos.row, pos.col);
+            // The parser's message ends with the position, which the caret shows.
+            let text = e.to_string();
+            let reason = match text.rsplit_once(" at ") {
+                Some((r, p)) if p.bytes().all(|b| b.is_ascii_digit() || b == b':') => r,
+                _ => text.as_str(),
+            };
             diags.push(
                 Diagnostic::error(
                     codes::LD_MALFORMED_XML,
-                    format!("the file is not well-formed XML: {e}"),
+                    format!("the file is not well-formed XML: {reason}"),
                     Span::new(file, at, at),
                 )
                 .with_label("the XML is broken here"),
@@ -649,7 +655,7 @@ impl Reader<'_, '_> {
                     format!("not a PLCopen TC6 project: the root element is {found}"),
                     self.span(self.qname(root)),
                 )
-                .with_label("expected `<project>`")
+                .with_label("expected the `<project>` of a PLCopen TC6 file")
                 .with_note(format!(
                     "a PLCopen XML file is a `<project>` in one of the namespaces {}",
                     NAMESPACES.join(", ")
@@ -787,7 +793,16 @@ impl Reader<'_, '_> {
         Some(match lang.tag_name().name() {
             "ST" => Body::St(self.text(lang).trimmed()),
             "IL" => Body::Il(self.text(lang).trimmed()),
-            "LD" => Body::Ld(self.ld(lang)),
+            "LD" => {
+                // A body with a malformed element is not checked further: its rungs
+                // would be incomplete, and every check would report consequences.
+                let before = self.diags.iter().filter(|d| d.is_error()).count();
+                let elems = self.ld(lang, pou);
+                if self.diags.iter().filter(|d| d.is_error()).count() > before {
+                    return Some(Body::None);
+                }
+                Body::Ld(elems)
+            }
             other => {
                 let what = match other {
                     "FBD" => "function block diagrams (FBD)",
@@ -1087,7 +1102,7 @@ impl Reader<'_, '_> {
 
     // ------------------------------------------------------------ ladder bodies
 
-    fn ld(&mut self, body: Node) -> Vec<Element> {
+    fn ld(&mut self, body: Node, pou: &str) -> Vec<Element> {
         let mut out = Vec::new();
         for e in elements(body) {
             let name = e.tag_name().name();
@@ -1097,7 +1112,7 @@ impl Reader<'_, '_> {
             ) {
                 continue;
             }
-            if let Some(el) = self.element(e, name) {
+            if let Some(el) = self.element(e, name, pou) {
                 out.push(el);
             }
         }
@@ -1163,14 +1178,21 @@ impl Reader<'_, '_> {
 
     /// The text of a child element (`<variable>`, `<expression>`), trimmed; reports it
     /// missing.
-    fn child_text(&mut self, e: Node, child: &'static str, what: &str, id: u32) -> Option<Text> {
+    fn child_text(
+        &mut self,
+        e: Node,
+        child: &'static str,
+        what: &str,
+        id: u32,
+        pou: &str,
+    ) -> Option<Text> {
         let t = kid(e, child).map(|c| self.text(c).trimmed());
         match t {
             Some(t) if !t.value.is_empty() => Some(t),
             _ => {
                 self.error(
                     codes::LD_BAD_ELEMENT,
-                    format!("{what} (localId {id}) has no `<{child}>`"),
+                    format!("{what} (localId {id}) of `{pou}` has no `<{child}>`"),
                     self.tag(e),
                 );
                 None
@@ -1197,7 +1219,7 @@ impl Reader<'_, '_> {
         }
     }
 
-    fn element(&mut self, e: Node, name: &str) -> Option<Element> {
+    fn element(&mut self, e: Node, name: &str, pou: &str) -> Option<Element> {
         let tag = self.tag(e);
         let Some(id_text) = self.attr(e, "localId") else {
             let known = matches!(
@@ -1217,9 +1239,9 @@ impl Reader<'_, '_> {
                     | "continuation"
             );
             let msg = if known {
-                format!("`<{name}>` in a ladder body needs a `localId` attribute")
+                format!("`<{name}>` in the ladder body of `{pou}` needs a `localId` attribute")
             } else {
-                format!("`<{name}>` is not an element of a ladder diagram")
+                format!("`<{name}>` in the ladder body of `{pou}` is not an element of a ladder diagram")
             };
             self.error(codes::LD_BAD_ELEMENT, msg, tag);
             return None;
@@ -1245,12 +1267,12 @@ impl Reader<'_, '_> {
             "leftPowerRail" => (Kind::LeftRail, Port::default()),
             "rightPowerRail" => (Kind::RightRail, single_input(self)),
             "contact" => {
-                let var = self.child_text(e, "variable", "a contact", id)?;
+                let var = self.child_text(e, "variable", "a contact", id, pou)?;
                 let edge = self.edge_attr(e);
                 (Kind::Contact { var, negated, edge }, single_input(self))
             }
             "coil" => {
-                let var = self.child_text(e, "variable", "a coil", id)?;
+                let var = self.child_text(e, "variable", "a coil", id, pou)?;
                 let edge = self.edge_attr(e);
                 let storage = match e.attribute("storage").map(str::trim) {
                     Some("set") => Storage::Set,
@@ -1282,7 +1304,7 @@ impl Reader<'_, '_> {
                 let Some(ty) = self.attr(e, "typeName").filter(|t| !t.value.is_empty()) else {
                     self.error(
                         codes::LD_BAD_ELEMENT,
-                        format!("a block (localId {id}) needs a `typeName` attribute"),
+                        format!("a block (localId {id}) of `{pou}` needs a `typeName` attribute"),
                         tag,
                     );
                     return None;
@@ -1337,15 +1359,15 @@ impl Reader<'_, '_> {
                 )
             }
             "inVariable" => {
-                let expr = self.child_text(e, "expression", "an input variable", id)?;
+                let expr = self.child_text(e, "expression", "an input variable", id, pou)?;
                 (Kind::InVariable { expr, negated }, Port::default())
             }
             "outVariable" => {
-                let expr = self.child_text(e, "expression", "an output variable", id)?;
+                let expr = self.child_text(e, "expression", "an output variable", id, pou)?;
                 (Kind::OutVariable { expr, negated }, single_input(self))
             }
             "inOutVariable" => {
-                let expr = self.child_text(e, "expression", "an in-out variable", id)?;
+                let expr = self.child_text(e, "expression", "an in-out variable", id, pou)?;
                 (Kind::InOutVariable { expr }, single_input(self))
             }
             "jump" => {
@@ -1368,7 +1390,7 @@ impl Reader<'_, '_> {
             other => {
                 self.error(
                     codes::LD_BAD_ELEMENT,
-                    format!("`<{other}>` is not an element of a ladder diagram"),
+                    format!("`<{other}>` in the ladder body of `{pou}` is not an element of a ladder diagram"),
                     tag,
                 );
                 return None;
