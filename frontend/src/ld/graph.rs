@@ -747,6 +747,7 @@ impl Builder<'_, '_, '_> {
         const SLACK: f64 = 0.5;
         let rail = |e: usize| matches!(self.elems[e].kind, Kind::LeftRail | Kind::RightRail);
         let mut junctions: Vec<(Vec<Src>, Vec<(usize, usize)>)> = Vec::new();
+        let mut index: FxHashMap<Vec<Src>, usize> = FxHashMap::default();
         for &e in order {
             for (port, srcs) in g.ins[e].iter().enumerate() {
                 if srcs.is_empty() || srcs.iter().any(|s| rail(s.elem)) {
@@ -754,9 +755,12 @@ impl Builder<'_, '_, '_> {
                 }
                 let mut key = srcs.clone();
                 key.sort_by_key(|s| (s.elem, s.port));
-                match junctions.iter_mut().find(|(k, _)| *k == key) {
-                    Some((_, c)) => c.push((e, port)),
-                    None => junctions.push((key, vec![(e, port)])),
+                match index.get(&key) {
+                    Some(&i) => junctions[i].1.push((e, port)),
+                    None => {
+                        index.insert(key.clone(), junctions.len());
+                        junctions.push((key, vec![(e, port)]));
+                    }
                 }
             }
         }
@@ -928,13 +932,18 @@ impl Builder<'_, '_, '_> {
         // An input fed by several outputs is fed by a junction (the vertical line of
         // the drawing), shared by every input fed by the same outputs.
         let mut feeds: Vec<((usize, usize), Vec<(usize, usize)>)> = Vec::new();
+        let mut feed_of: FxHashMap<(usize, usize), usize> = FxHashMap::default();
         for &(s, sp, c, cp) in &raw {
-            match feeds.iter_mut().find(|(k, _)| *k == (c, cp)) {
-                Some((_, v)) => v.push((s, sp)),
-                None => feeds.push(((c, cp), vec![(s, sp)])),
+            match feed_of.get(&(c, cp)) {
+                Some(&i) => feeds[i].1.push((s, sp)),
+                None => {
+                    feed_of.insert((c, cp), feeds.len());
+                    feeds.push(((c, cp), vec![(s, sp)]));
+                }
             }
         }
         let mut junctions: Vec<Vec<(usize, usize)>> = Vec::new();
+        let mut junction_of: FxHashMap<Vec<(usize, usize)>, usize> = FxHashMap::default();
         let first_junction = 2 + 2 * order.len();
         let wire = |b: &Self, s: usize, sp: usize, c: Option<(usize, usize)>| {
             let from = (!is_rail(s) && several(&out_ports, s))
@@ -956,9 +965,10 @@ impl Builder<'_, '_, '_> {
                 edges.push((from_v, to_v, wire(self, *s, *sp, Some((c, cp)))));
                 continue;
             }
-            let j = match junctions.iter().position(|k| *k == srcs) {
-                Some(j) => first_junction + j,
+            let j = match junction_of.get(&srcs) {
+                Some(&j) => first_junction + j,
                 None => {
+                    junction_of.insert(srcs.clone(), junctions.len());
                     junctions.push(srcs.clone());
                     let j = first_junction + junctions.len() - 1;
                     for &(s, sp) in &srcs {
@@ -1002,115 +1012,135 @@ impl Builder<'_, '_, '_> {
             }
         }
         let positions = order.iter().all(|&e| self.elems[e].pos.is_some());
-        let key = |n: &Net| -> (f64, f64, usize) {
-            let mut best: Option<(f64, f64, usize)> = None;
+        type Key = (f64, f64, usize);
+        const NO_KEY: Key = (f64::INFINITY, f64::INFINITY, usize::MAX);
+        let min_key = |a: Key, b: Key| if b < a { b } else { a };
+        let before = |a: &Key, b: &Key| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal);
+        // The reduction: a vertex with one edge in and one out is a series connection;
+        // two edges between the same vertices a parallel one. Branches of a parallel
+        // connection are kept top to bottom (by the position of their first element).
+        struct Ed {
+            u: usize,
+            v: usize,
+            net: Net,
+            key: Key,
+        }
+        let nv = first_junction + junctions.len();
+        let mut vin_edges: Vec<Vec<usize>> = vec![Vec::new(); nv];
+        let mut vout_edges: Vec<Vec<usize>> = vec![Vec::new(); nv];
+        let mut eds: Vec<Option<Ed>> = Vec::new();
+        // The top-left element of a net: where its branch is drawn.
+        let net_key = |n: &Net| -> Key {
+            let mut best = NO_KEY;
             let mut stack = vec![n];
             while let Some(x) = stack.pop() {
                 match x {
-                    Net::Elem(e) => {
-                        let k = self.key(*e, positions);
-                        if best.is_none_or(|b| k < b) {
-                            best = Some(k);
-                        }
-                    }
+                    Net::Elem(e) => best = min_key(best, self.key(*e, positions)),
                     Net::Series(v) | Net::Parallel(v) => stack.extend(v.iter()),
                     Net::Wire { .. } => {}
                 }
             }
-            best.unwrap_or((f64::INFINITY, f64::INFINITY, usize::MAX))
+            best
         };
-        let mut alive: Vec<Option<(usize, usize, Net)>> = edges.into_iter().map(Some).collect();
-        loop {
-            let mut changed = false;
-            // Parallel: edges between the same two vertices.
-            let mut by_ends: FxHashMap<(usize, usize), Vec<usize>> = FxHashMap::default();
-            for (i, e) in alive.iter().enumerate() {
-                if let Some((u, v, _)) = e {
-                    by_ends.entry((*u, *v)).or_default().push(i);
+        let merge_parallel = |a: Net, b: Net| -> Net {
+            let mut branches: Vec<Net> = Vec::new();
+            for n in [a, b] {
+                match n {
+                    Net::Parallel(v) => branches.extend(v),
+                    other => branches.push(other),
                 }
             }
-            let mut groups: Vec<Vec<usize>> =
-                by_ends.into_values().filter(|v| v.len() > 1).collect();
-            groups.sort();
-            for ids in groups {
-                let (u, v, _) = alive[ids[0]].clone().expect("alive");
-                let mut branches: Vec<Net> = ids
-                    .iter()
-                    .map(|&i| alive[i].take().expect("alive").2)
-                    .collect();
-                branches.sort_by(|a, b| {
-                    key(a)
-                        .partial_cmp(&key(b))
-                        .unwrap_or(std::cmp::Ordering::Equal)
-                });
-                let mut flat = Vec::new();
-                for b in branches {
-                    match b {
-                        Net::Parallel(v) => flat.extend(v),
-                        other => flat.push(other),
-                    }
-                }
-                alive[ids[0]] = Some((u, v, Net::Parallel(flat)));
-                changed = true;
+            let mut keyed: Vec<(Key, Net)> =
+                branches.into_iter().map(|n| (net_key(&n), n)).collect();
+            keyed.sort_by(|x, y| before(&x.0, &y.0));
+            Net::Parallel(keyed.into_iter().map(|(_, n)| n).collect())
+        };
+        let add = |eds: &mut Vec<Option<Ed>>,
+                   vin_edges: &mut Vec<Vec<usize>>,
+                   vout_edges: &mut Vec<Vec<usize>>,
+                   u: usize,
+                   v: usize,
+                   net: Net,
+                   key: Key| {
+            // A parallel edge already there takes this one in.
+            if let Some(&p) = vout_edges[u]
+                .iter()
+                .find(|&&k| eds[k].as_ref().is_some_and(|e| e.v == v))
+            {
+                let old = eds[p].take().expect("alive");
+                let k = min_key(old.key, key);
+                let net = merge_parallel(old.net, net);
+                eds[p] = Some(Ed { u, v, net, key: k });
+                return;
             }
-            // Series: a vertex with one edge in and one edge out.
-            let mut indeg: FxHashMap<usize, Vec<usize>> = FxHashMap::default();
-            let mut outdeg: FxHashMap<usize, Vec<usize>> = FxHashMap::default();
-            for (i, e) in alive.iter().enumerate() {
-                if let Some((u, v, _)) = e {
-                    outdeg.entry(*u).or_default().push(i);
-                    indeg.entry(*v).or_default().push(i);
-                }
-            }
-            let mut verts: Vec<usize> = indeg.keys().copied().collect();
-            verts.sort();
-            for x in verts {
-                if x == S || x == T {
-                    continue;
-                }
-                let (Some(i), Some(o)) = (indeg.get(&x), outdeg.get(&x)) else {
-                    continue;
-                };
-                if i.len() != 1 || o.len() != 1 {
-                    continue;
-                }
-                let (a, b) = (i[0], o[0]);
-                if a == b || alive[a].is_none() || alive[b].is_none() {
-                    continue;
-                }
-                let (u, _, first) = alive[a].take().expect("alive");
-                let (_, w, second) = alive[b].take().expect("alive");
-                let mut items = Vec::new();
-                for n in [first, second] {
-                    match n {
-                        Net::Series(v) => items.extend(v),
-                        Net::Wire {
-                            from: None,
-                            to: None,
-                        } => {}
-                        other => items.push(other),
-                    }
-                }
-                let net = match items.len() {
-                    0 => Net::Wire {
-                        from: None,
-                        to: None,
-                    },
-                    1 => items.pop().expect("one"),
-                    _ => Net::Series(items),
-                };
-                alive[a] = Some((u, w, net));
-                changed = true;
-                // Degrees changed: recount before the next merge.
-                break;
-            }
-            if !changed {
-                break;
-            }
+            let id = eds.len();
+            eds.push(Some(Ed { u, v, net, key }));
+            vout_edges[u].push(id);
+            vin_edges[v].push(id);
+        };
+        for (u, v, net) in edges {
+            let key = match &net {
+                Net::Elem(e) => self.key(*e, positions),
+                _ => NO_KEY,
+            };
+            add(&mut eds, &mut vin_edges, &mut vout_edges, u, v, net, key);
         }
-        let left: Vec<&(usize, usize, Net)> = alive.iter().flatten().collect();
+        let mut work: Vec<usize> = (0..nv).rev().collect();
+        while let Some(x) = work.pop() {
+            if x == S || x == T || vin_edges[x].len() != 1 || vout_edges[x].len() != 1 {
+                continue;
+            }
+            let (a, b) = (vin_edges[x][0], vout_edges[x][0]);
+            if a == b {
+                continue;
+            }
+            let first = eds[a].take().expect("alive");
+            let second = eds[b].take().expect("alive");
+            vin_edges[x].clear();
+            vout_edges[x].clear();
+            vout_edges[first.u].retain(|&k| k != a);
+            vin_edges[second.v].retain(|&k| k != b);
+            let mut items = match first.net {
+                Net::Series(v) => v,
+                Net::Wire {
+                    from: None,
+                    to: None,
+                } => Vec::new(),
+                other => vec![other],
+            };
+            match second.net {
+                Net::Series(v) => items.extend(v),
+                Net::Wire {
+                    from: None,
+                    to: None,
+                } => {}
+                other => items.push(other),
+            }
+            let net = match items.len() {
+                0 => Net::Wire {
+                    from: None,
+                    to: None,
+                },
+                1 => items.pop().expect("one"),
+                _ => Net::Series(items),
+            };
+            let key = min_key(first.key, second.key);
+            add(
+                &mut eds,
+                &mut vin_edges,
+                &mut vout_edges,
+                first.u,
+                second.v,
+                net,
+                key,
+            );
+            work.push(first.u);
+            work.push(second.v);
+        }
+        let left: Vec<(usize, usize, &Net)> =
+            eds.iter().flatten().map(|e| (e.u, e.v, &e.net)).collect();
         if let [(S, T, net)] = left.as_slice() {
-            return Some(net.clone());
+            return Some((*net).clone());
         }
         if left.is_empty() {
             return Some(Net::Series(Vec::new()));

@@ -36,9 +36,42 @@ pub struct Converted {
     pub ld_text: String,
 }
 
+/// The stack of the thread that converts a file: the conversion recurses along a
+/// rung's structure (its formulas and the IL made from them), and a machine-made rung
+/// of thousands of elements must not overflow the stack of the caller's thread.
+const STACK: usize = 256 << 20;
+
 /// Reads, checks and converts one PLCopen XML file. `None` if it has errors (reported
 /// to `diags`, at the XML); never panics.
 pub fn convert(
+    file: FileId,
+    name: &str,
+    text: &str,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Converted> {
+    std::thread::scope(|s| {
+        let mut own = Vec::new();
+        let job = std::thread::Builder::new()
+            .name("plcc-ladder".into())
+            .stack_size(STACK)
+            .spawn_scoped(s, || {
+                let r = convert_here(file, name, text, &mut own);
+                (r, own)
+            });
+        match job.map(|h| h.join()) {
+            Ok(Ok((r, mut more))) => {
+                diags.append(&mut more);
+                r
+            }
+            // A panic in the conversion is a bug: report it rather than go on.
+            Ok(Err(p)) => std::panic::resume_unwind(p),
+            // No thread to be had: convert on this one.
+            Err(_) => convert_here(file, name, text, diags),
+        }
+    })
+}
+
+fn convert_here(
     file: FileId,
     name: &str,
     text: &str,
