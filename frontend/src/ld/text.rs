@@ -39,7 +39,7 @@ pub(crate) fn render(project: &Project, graphs: &[Option<Graph>]) -> String {
         for rung in &g.rungs {
             if let [e] = rung.order.as_slice() {
                 if let Kind::Label { label } = &g.elems[*e].kind {
-                    out.push_str(&format!("{}:\n", label.value));
+                    out.push_str(&format!("rung {}\n{}:\n", rung.number, label.value));
                     continue;
                 }
             }
