@@ -36,6 +36,15 @@ pub(crate) struct Src {
     pub port: usize,
 }
 
+/// An input (or output) of an element: the element and the index of the port.
+pub(crate) type Endpoint = (usize, usize);
+
+/// For each element and input, the outputs connected to it.
+pub(crate) type Inputs = Vec<Vec<Vec<Src>>>;
+
+/// For each element and output, the inputs it is connected to.
+pub(crate) type Outputs = Vec<Vec<Vec<Endpoint>>>;
+
 /// The series-parallel structure of a rung.
 #[derive(Clone, Debug)]
 pub(crate) enum Net {
@@ -71,9 +80,9 @@ pub(crate) struct Graph<'m> {
     /// The elements, in document order.
     pub elems: &'m [Element],
     /// For each element and input: the outputs connected to it (they are ORed).
-    pub ins: Vec<Vec<Vec<Src>>>,
+    pub ins: Inputs,
     /// For each element and output: the inputs it is connected to.
-    pub outs: Vec<Vec<Vec<(usize, usize)>>>,
+    pub outs: Outputs,
     /// The rungs in order.
     pub rungs: Vec<Rung>,
 }
@@ -268,45 +277,40 @@ impl Builder<'_, '_, '_> {
     }
 
     /// Resolves every connection: the inputs of each element, and the reverse.
-    #[allow(clippy::type_complexity)]
-    fn resolve(&mut self) -> (Vec<Vec<Vec<Src>>>, Vec<Vec<Vec<(usize, usize)>>>) {
-        let n = self.elems.len();
-        let mut ins: Vec<Vec<Vec<Src>>> = self
+    fn resolve(&mut self) -> (Inputs, Outputs) {
+        let mut ins: Inputs = self
             .elems
             .iter()
             .map(|e| vec![Vec::new(); input_count(&e.kind)])
             .collect();
-        let mut outs: Vec<Vec<Vec<(usize, usize)>>> = self
+        let mut outs: Outputs = self
             .elems
             .iter()
             .map(|e| vec![Vec::new(); output_count(&e.kind)])
             .collect();
-        for e in 0..n {
-            if matches!(self.elems[e].kind, Kind::Connector { .. }) {
+        let elems = self.elems;
+        for (e, ports) in ins.iter_mut().enumerate() {
+            if matches!(elems[e].kind, Kind::Connector { .. }) {
                 continue;
             }
-            for port in 0..input_count(&self.elems[e].kind) {
-                let conns = match &self.elems[e].kind {
+            for (port, slot) in ports.iter_mut().enumerate() {
+                let conns = match &elems[e].kind {
                     Kind::Block {
                         inputs, in_outs, ..
                     } => &inputs.iter().chain(in_outs).nth(port).expect("port").conns,
-                    _ => &self.elems[e].input.conns,
+                    _ => &elems[e].input.conns,
                 };
                 let mut srcs = Vec::new();
                 for c in conns {
                     self.source(e, c, &mut srcs, 0);
                 }
-                srcs.dedup();
-                let mut seen = Vec::new();
-                for s in srcs {
-                    if !seen.contains(&s) {
-                        seen.push(s);
-                    }
-                }
-                for s in &seen {
+                // A connection written twice is one connection.
+                let mut seen = rustc_hash::FxHashSet::default();
+                srcs.retain(|s| seen.insert(*s));
+                for s in &srcs {
                     outs[s.elem][s.port].push((e, port));
                 }
-                ins[e][port] = seen;
+                *slot = srcs;
             }
         }
         (ins, outs)
@@ -746,7 +750,7 @@ impl Builder<'_, '_, '_> {
     fn upper_parallels(&mut self, g: &Graph, number: usize, order: &[usize]) {
         const SLACK: f64 = 0.5;
         let rail = |e: usize| matches!(self.elems[e].kind, Kind::LeftRail | Kind::RightRail);
-        let mut junctions: Vec<(Vec<Src>, Vec<(usize, usize)>)> = Vec::new();
+        let mut junctions: Vec<(Vec<Src>, Vec<Endpoint>)> = Vec::new();
         let mut index: FxHashMap<Vec<Src>, usize> = FxHashMap::default();
         for &e in order {
             for (port, srcs) in g.ins[e].iter().enumerate() {
@@ -931,7 +935,7 @@ impl Builder<'_, '_, '_> {
         let mut has_out = vec![false; self.elems.len()];
         // An input fed by several outputs is fed by a junction (the vertical line of
         // the drawing), shared by every input fed by the same outputs.
-        let mut feeds: Vec<((usize, usize), Vec<(usize, usize)>)> = Vec::new();
+        let mut feeds: Vec<(Endpoint, Vec<Endpoint>)> = Vec::new();
         let mut feed_of: FxHashMap<(usize, usize), usize> = FxHashMap::default();
         for &(s, sp, c, cp) in &raw {
             match feed_of.get(&(c, cp)) {
