@@ -3,7 +3,7 @@
 
     python3 scripts/ld_programs.py [tests/programs/ld]
 
-writes NAME.xml for every program below (PLCopen TC6 XML, laid out as Beremiz
+writes NAME.xml for every program below (and the ladder example of examples/) (PLCopen TC6 XML, laid out as Beremiz
 lays out a ladder). The scenarios (NAME.expect) and the IL twins (NAME.il) beside
 them are written by hand, not generated: the twins are the IL a person writes for
 the same logic, and tests/ld_equivalence.rs checks that both give the same IR.
@@ -16,10 +16,15 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from ld_gen import B, C, J, LBL, NET, O, POWER, RAIL, RET, V, pou_xml, project  # noqa: E402
 
 PROGRAMS = {}
+EXAMPLES = {}
 
 
 def program(name, version, comment, pous, **kw):
     PROGRAMS[name] = project(name, pous, version=version, comment=comment, **kw)
+
+
+def example(name, version, comment, pous, **kw):
+    EXAMPLES[name] = project(name, pous, version=version, comment=comment, **kw)
 
 
 def bools(names):
@@ -492,14 +497,40 @@ the count; a full batch latches a flag.''', [pou_xml('conveyor', 'program', {
 ])])
 
 
+# ---------------------------------------------------------------- the example
+example('pump_station', '2.01', '''
+A sump pump: it starts at the high level switch and runs until the level is below the
+low switch, but at least 5 s once started; the high switch on for 10 s raises an
+alarm. (plcc draws it with its option emit ld-text, and shows its IL with emit il.)''', [
+    pou_xml('pump_station', 'program', {
+        'inputVars': [('high_sw', 'BOOL', None, '%IX0.0'), ('low_sw', 'BOOL', None, '%IX0.1')],
+        'outputVars': [('pump', 'BOOL', None, '%QX0.0'), ('alarm', 'BOOL', None, '%QX0.1')],
+        'localVars': [('T_min', 'TON'), ('T_alarm', 'TON'), ('min_done', 'BOOL')],
+    }, [
+        ('S', ('P', C('high_sw'), C('pump')), ('P', C('low_sw', neg=True), C('min_done', neg=True)),
+         O('pump')),
+        ('S', C('pump'),
+         B('TON', 'T_min', ins=[('IN', POWER), ('PT', V('T#5s'))], outs=[('Q', POWER), ('ET', None)]),
+         O('min_done')),
+        ('S', C('high_sw'),
+         B('TON', 'T_alarm', ins=[('IN', POWER), ('PT', V('T#10s'))], outs=[('Q', POWER), ('ET', None)]),
+         O('alarm')),
+    ])])
+
+
 def main():
-    out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(
-        os.path.dirname(os.path.abspath(__file__)), '..', 'tests', 'programs', 'ld')
+    here = os.path.dirname(os.path.abspath(__file__))
+    out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(here, '..', 'tests', 'programs', 'ld')
     os.makedirs(out, exist_ok=True)
     for name, text in PROGRAMS.items():
         with open(os.path.join(out, name + '.xml'), 'w') as f:
             f.write(text)
     print(f'{len(PROGRAMS)} programs written to {out}')
+    examples = os.path.join(here, '..', 'examples')
+    for name, text in EXAMPLES.items():
+        with open(os.path.join(examples, name + '.xml'), 'w') as f:
+            f.write(text)
+    print(f'{len(EXAMPLES)} examples written to {examples}')
 
 
 if __name__ == '__main__':

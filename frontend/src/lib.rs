@@ -1,6 +1,7 @@
 #![warn(missing_docs)]
 //! plcc's front ends: source files, the shared syntax tree, the Structured Text parser,
-//! semantic analysis and lowering to the IR.
+//! the Instruction List, PLC-UD STL and ladder (PLCopen XML) front ends, semantic
+//! analysis and lowering to the IR.
 //!
 //! [`compile`] is the entry point: it parses every input file in its language, adds the
 //! standard function blocks, checks everything, and lowers it to one IR module.

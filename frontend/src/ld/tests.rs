@@ -177,6 +177,47 @@ fn edge_contacts_call_their_detector_at_the_start_of_the_rung() {
 }
 
 #[test]
+fn edge_coils_detect_the_edge_of_their_power() {
+    let il = body_il(
+        &[
+            contact(2, "a", &[1]),
+            elem(3, "coil", "x", &[2], " edge=\"rising\""),
+            contact(4, "b", &[3]),
+            coil(5, "y", &[4]),
+        ]
+        .concat(),
+    );
+    assert_eq!(
+        il,
+        "LD a\nST _R_TRIG3.CLK\nCAL _R_TRIG3\nLD _R_TRIG3.Q\nST x\nLD a\nAND b\nST y"
+    );
+}
+
+#[test]
+fn a_continuation_is_what_is_wired_to_its_connector() {
+    let il = body_il(&[
+        contact(2, "a", &[1]),
+        "<connector localId=\"3\" name=\"c1\"><connectionPointIn><connection refLocalId=\"2\"/></connectionPointIn></connector>\n".to_string(),
+        "<continuation localId=\"4\" name=\"c1\"/>\n".to_string(),
+        contact(5, "b", &[4]),
+        coil(6, "x", &[5]),
+    ]
+    .concat());
+    assert_eq!(il, "LD a\nAND b\nST x");
+}
+
+#[test]
+fn variables_in_the_power_flow() {
+    let il = body_il(&[
+        "<inVariable localId=\"2\"><expression>a</expression></inVariable>\n".to_string(),
+        contact(3, "b", &[2]),
+        "<outVariable localId=\"4\" negated=\"true\"><connectionPointIn><connection refLocalId=\"3\"/></connectionPointIn><expression>x</expression></outVariable>\n".to_string(),
+    ]
+    .concat());
+    assert_eq!(il, "LD a\nAND b\nSTN x");
+}
+
+#[test]
 fn rungs_and_branches_without_positions_go_in_document_order() {
     // Two rungs interleaved in the document: rung order follows the first element.
     let il = body_il(
