@@ -982,12 +982,13 @@ impl Builder<'_, '_, '_> {
                     j
                 }
             };
-            let to = wire(self, c, 0, Some((c, cp)));
-            let to = match to {
-                Net::Wire { to, .. } => Net::Wire { from: None, to },
-                other => other,
-            };
-            edges.push((j, to_v, to));
+            // From the junction: only the input is named.
+            let to = (!is_rail(c) && several(&in_ports, c)).then(|| {
+                input_name(&self.elems[c].kind, cp)
+                    .unwrap_or("")
+                    .to_string()
+            });
+            edges.push((j, to_v, Net::Wire { from: None, to }));
         }
         for &e in order {
             if !included[e] {

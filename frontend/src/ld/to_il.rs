@@ -846,7 +846,6 @@ impl<'a, 'g> Em<'a, 'g> {
             for port in 0..self.g.ins[e].len() {
                 self.contacts_into(e, port, &mut cs);
             }
-            // A contact feeding a block's output variable: through the block.
             for c in cs {
                 last.insert(c, i);
             }
