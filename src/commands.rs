@@ -527,10 +527,11 @@ pub fn compile(a: &CompileArgs) -> u8 {
         ));
     };
     let emit = a.emit.as_deref();
-    let mode = if emit == Some("ir-raw") {
-        Mode::Unoptimised
-    } else {
-        Mode::Full
+    let mode = match emit {
+        Some("ir-raw") => Mode::Unoptimised,
+        // The views of ladder files need the front end's checks only.
+        Some("il") | Some("ld-text") => Mode::Check,
+        _ => Mode::Full,
     };
     let (build, module) = match build_and_report(
         &a.files,
@@ -547,6 +548,26 @@ pub fn compile(a: &CompileArgs) -> u8 {
             print_module(&module, &PrintOptions::default()).into_bytes(),
             "ir".to_string(),
         ),
+        Some(view @ ("il" | "ld-text")) => {
+            if build.ladder.is_empty() {
+                return usage(format!(
+                    "`--emit {view}` shows ladder diagrams: give a PLCopen XML file (.xml)"
+                ));
+            }
+            let mut s = String::new();
+            for v in &build.ladder {
+                if view == "il" {
+                    s.push_str(&build.sources.get(v.il).text);
+                } else {
+                    if build.ladder.len() > 1 {
+                        s.push_str(&format!("(* {} *)\n", build.sources.get(v.xml).name));
+                    }
+                    s.push_str(&v.ld_text);
+                }
+            }
+            std::mem::forget(module);
+            (s.into_bytes(), view.to_string())
+        }
         _ => {
             let Some(backend) = targets::backend(target.name) else {
                 return usage(format!(
@@ -599,7 +620,7 @@ pub fn compile(a: &CompileArgs) -> u8 {
     };
     build.report_timings(&[]);
     let out = a.output.clone().unwrap_or_else(|| {
-        if ext == "ir" && a.output.is_none() {
+        if matches!(ext.as_str(), "ir" | "il" | "ld-text") && a.output.is_none() {
             PathBuf::from("-")
         } else {
             a.files[0].with_extension(&ext)

@@ -50,6 +50,8 @@ pub struct Build {
     pub timings: Vec<(&'static str, Duration)>,
     /// The syntax trees (see [`plcc_frontend::Compiled::syntax`]).
     pub syntax: Vec<plcc_frontend::ast::SourceUnit>,
+    /// The ladder files and their IL views (see [`plcc_frontend::Compiled::ladder`]).
+    pub ladder: Vec<plcc_frontend::ld::View>,
 }
 
 impl Build {
@@ -162,6 +164,7 @@ pub fn build_sources(
         diagnostics,
         timings,
         syntax: compiled.syntax,
+        ladder: compiled.ladder,
     })
 }
 

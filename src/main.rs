@@ -14,9 +14,9 @@ static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 #[command(
     name = "plcc",
     version,
-    about = "A compiler for PLC programs: IEC 61131-3 Structured Text and Instruction List, PLC-UD STL",
+    about = "A compiler for PLC programs: IEC 61131-3 Structured Text, Instruction List and ladder diagrams (PLCopen XML), PLC-UD STL",
     args_conflicts_with_subcommands = true,
-    after_help = "Examples:\n  plcc run examples/traffic_light.st --scans 100 --cycle-ms 100\n  plcc test prog.st --scenario prog.expect --target interp\n  plcc --emit ir prog.st\n  plcc --target host prog.st -o prog.o"
+    after_help = "Examples:\n  plcc run examples/traffic_light.st --scans 100 --cycle-ms 100\n  plcc test prog.st --scenario prog.expect --target interp\n  plcc --emit ir prog.st\n  plcc --emit il motor.xml      (the IL of a ladder diagram; --emit ld-text draws it)\n  plcc --target host prog.st -o prog.o"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -28,7 +28,7 @@ struct Cli {
 /// Shared options of every command that compiles.
 #[derive(Args, Clone)]
 struct Common {
-    /// Source files (.st; the language comes from the extension or --lang)
+    /// Source files (.st, .il, .stl, .xml; the language comes from the extension or --lang)
     files: Vec<PathBuf>,
     /// The language of all files: st, il, stl, xml
     #[arg(long)]
@@ -51,7 +51,8 @@ struct BuildArgs {
     /// standard output)
     #[arg(short, long)]
     output: Option<PathBuf>,
-    /// What to produce: ir (optimised IR), ir-raw (unoptimised), or a target output
+    /// What to produce: ir (optimised IR), ir-raw (unoptimised), il (the IL view of
+    /// ladder diagrams), ld-text (ladder diagrams drawn in ASCII), or a target output
     /// (host: obj, header; pic16f876a: asm, hex; vmasm: xcp, asm)
     #[arg(long)]
     emit: Option<String>,

@@ -1,16 +1,17 @@
 //! Malformed programs and their diagnostics.
 //!
-//! Every file in `tests/bad/` is a malformed program in one of three languages, told by
+//! Every file in `tests/bad/` is a malformed program in one of four languages, told by
 //! its extension (as `plcc` tells it): `NAME.st` Structured Text, `il_NAME.il`
-//! Instruction List, `stl_NAME.stl` PLC-UD STL. The `il_` and `stl_` prefixes are
-//! required, so that a test's name (the file's stem) says which file it builds and no
-//! two files share a snapshot. All three languages have `(* *)` comments, and every
-//! file starts with one saying what is wrong and which diagnostic codes it must
-//! produce:
+//! Instruction List, `stl_NAME.stl` PLC-UD STL, `ld_NAME.xml` a ladder diagram in
+//! PLCopen XML. The `il_`, `stl_` and `ld_` prefixes are required, so that a test's
+//! name (the file's stem) says which file it builds and no two files share a snapshot.
+//! Every file starts with a comment (`(* *)`, or `<!-- -->` in XML) saying what is
+//! wrong and which diagnostic codes it must produce:
 //!
 //! ```text
 //! (* expect: E0102 x1, E0101 x2 — what is wrong *)
 //! (* with: other.st *)              (optional: files built together with this one)
+//! <!-- expect: E0744 x2 — what is wrong -->
 //! ```
 //!
 //! The codes before the `—` must be exactly the set of codes the build reports
@@ -19,9 +20,10 @@
 //! snapshotted as `snapshots/diagnostics__STEM.snap`, with the files named
 //! `tests/bad/STEM.EXT` so that the snapshots are the same on every machine.
 //!
-//! Every code of the IL and STL front ends (`E070x`–`E071x`, `E072x`–`E073x`,
-//! `W070x`) must be expected by at least one file, except those listed in
-//! [`UNTRIGGERABLE`].
+//! Every code of the IL, STL and ladder front ends (`E070x`–`E071x`, `E072x`–`E073x`,
+//! `E074x`–`E075x`, `W070x`) must be expected by at least one file, except those
+//! listed in [`UNTRIGGERABLE`]. A ladder file's rung errors must name the POU, the rung
+//! and the element's localId.
 //!
 //! Review a change with `cargo insta review` (or `INSTA_UPDATE=always cargo test --test
 //! diagnostics`, then read the `.snap` files): each message must say what is wrong,
@@ -60,9 +62,12 @@ fn is_code(s: &str) -> bool {
 fn parse_expect(name: &str, text: &str) -> Expect {
     let mut lines = text.lines();
     let header = lines.next().unwrap_or("").trim().to_string();
-    let spec = header.strip_prefix("(* expect:").unwrap_or_else(|| {
-        panic!("{name}: the first line must be `(* expect: CODES — what is wrong *)`")
-    });
+    let spec = header
+        .strip_prefix("(* expect:")
+        .or_else(|| header.strip_prefix("<!-- expect:"))
+        .unwrap_or_else(|| {
+            panic!("{name}: the first line must be `(* expect: CODES — what is wrong *)`")
+        });
     let spec = spec
         .split_once('—')
         .unwrap_or_else(|| {
@@ -88,13 +93,13 @@ fn parse_expect(name: &str, text: &str) -> Expect {
         }
     }
     assert!(!codes.is_empty(), "{name}: the expect line lists no code");
-    let with = match lines
-        .next()
-        .map(str::trim)
-        .and_then(|l| l.strip_prefix("(* with:"))
-    {
+    let with = match lines.next().map(str::trim).and_then(|l| {
+        l.strip_prefix("(* with:")
+            .or_else(|| l.strip_prefix("<!-- with:"))
+    }) {
         Some(rest) => rest
             .trim_end_matches("*)")
+            .trim_end_matches("-->")
             .split([' ', ','])
             .filter(|t| !t.is_empty())
             .map(str::to_string)
@@ -109,12 +114,14 @@ fn parse_expect(name: &str, text: &str) -> Expect {
 }
 
 /// The file of the test `name`: `il_*` is Instruction List, `stl_*` PLC-UD STL,
-/// anything else Structured Text.
+/// `ld_*` a ladder diagram in PLCopen XML, anything else Structured Text.
 fn bad_file(name: &str) -> String {
     let ext = if name.starts_with("il_") {
         "il"
     } else if name.starts_with("stl_") {
         "stl"
+    } else if name.starts_with("ld_") {
+        "xml"
     } else {
         "st"
     };
@@ -122,7 +129,13 @@ fn bad_file(name: &str) -> String {
 }
 
 /// The extensions of the files in `tests/bad/`, one per language.
-const EXTENSIONS: &[&str] = &["st", "il", "stl"];
+const EXTENSIONS: &[&str] = &["st", "il", "stl", "xml"];
+
+/// The codes of the rung checks, whose messages must name the POU, the rung and the
+/// element (`in rung 2 of `main``, `(localId 7)`).
+const RUNG_CODES: &[&str] = &[
+    "E0743", "E0744", "E0745", "E0746", "E0747", "E0748", "E0749", "E0750",
+];
 
 fn read_bad(file: &str) -> (String, Vec<u8>) {
     let rel = format!("tests/bad/{file}");
@@ -162,6 +175,22 @@ fn check_bad(name: &str) {
                 "{rel}: {code} reported {} time(s), expected {n}:\n{rendered}",
                 got[code]
             );
+        }
+    }
+    for d in &build.diagnostics {
+        if RUNG_CODES.contains(&d.code) {
+            let named = d.message.contains("rung ")
+                && d.message.contains("(localId ")
+                && d.message.contains(" of `");
+            assert!(
+                named,
+                "{rel}: a rung error must name the POU, the rung and the localId: {}",
+                d.message
+            );
+            let in_xml = d
+                .span
+                .is_some_and(|sp| build.sources.get(sp.file).name == rel);
+            assert!(in_xml, "{rel}: a rung error must point into the XML: {d:?}");
         }
     }
     let errors = build
@@ -373,6 +402,25 @@ bad! {
     call_too_few_positional,
     stl_procedure_as_value,
     stl_several_type_errors,
+    // Ladder diagrams (PLCopen XML): the file
+    ld_malformed_xml,
+    ld_not_plcopen,
+    ld_fbd_body,
+    ld_bad_element,
+    ld_duplicate_id,
+    ld_edge_in_function,
+    // Ladder diagrams: the rung checks
+    ld_dangling,
+    ld_open_circuit,
+    ld_short_circuit,
+    ld_upper_parallel,
+    ld_bridge,
+    ld_coil_on_rail,
+    ld_block_input,
+    ld_loop,
+    // Ladder diagrams: the conversion, and errors of the IL made from a ladder
+    ld_output_type,
+    ld_undeclared,
 }
 
 /// Every file in `tests/bad/` has its test above, and every test its file.
@@ -393,8 +441,8 @@ fn every_bad_file_is_tested() {
         assert_eq!(
             bad_file(&stem),
             format!("{stem}.{ext}"),
-            "tests/bad/{stem}.{ext}: .il files are named il_*, .stl files stl_*, \
-             and .st files neither"
+            "tests/bad/{stem}.{ext}: .il files are named il_*, .stl files stl_*, .xml \
+             files ld_*, and .st files none of these"
         );
         files.push(stem);
     }
@@ -403,7 +451,7 @@ fn every_bad_file_is_tested() {
     listed.sort();
     assert_eq!(
         files, listed,
-        "tests/bad/*.{{st,il,stl}} and the list in tests/diagnostics.rs differ"
+        "tests/bad/*.{{st,il,stl,xml}} and the list in tests/diagnostics.rs differ"
     );
     // No snapshot outlives its file.
     for e in std::fs::read_dir(root().join("tests/snapshots")).expect("tests/snapshots") {
@@ -425,18 +473,23 @@ fn every_bad_file_is_tested() {
     }
 }
 
-/// Codes of the IL and STL front ends that no program can trigger (none today).
+/// Codes of the IL, STL and ladder front ends that no program can trigger (none
+/// today).
 const UNTRIGGERABLE: &[&str] = &[];
 
-/// True for a code of the IL front end (`E070x`, `E071x`, `W070x`) or of the STL
-/// front end (`E072x`, `E073x`).
+/// True for a code of the IL front end (`E070x`, `E071x`, `W070x`), of the STL front
+/// end (`E072x`, `E073x`) or of the ladder front end (`E074x`, `E075x`, and E0602, a
+/// body language it does not compile).
 fn is_il_or_stl_code(code: &str) -> bool {
-    ["E070", "E071", "E072", "E073", "W070"]
-        .iter()
-        .any(|p| code.starts_with(p))
+    [
+        "E070", "E071", "E072", "E073", "E074", "E075", "W070", "E0602",
+    ]
+    .iter()
+    .any(|p| code.starts_with(p))
 }
 
-/// Every code of the IL and STL front ends is expected by some file of `tests/bad/`.
+/// Every code of the IL, STL and ladder front ends is expected by some file of
+/// `tests/bad/`.
 #[test]
 fn every_il_and_stl_code_is_covered() {
     let mut expected = BTreeSet::new();
@@ -574,12 +627,16 @@ fn exit_0_with_only_warnings() {
     assert!(out.lines().any(|l| l == "s = 0"), "{out}");
 }
 
-/// The binary tells IL, STL and CPDev ST files by their extension and exits as for ST.
+/// The binary tells IL, STL, CPDev ST and ladder files by their extension and exits as
+/// for ST.
 #[test]
 fn exit_statuses_of_il_and_stl() {
     for (file, status_want, code) in [
         ("tests/bad/il_and_on_int.il", 1, "error[E0301]"),
         ("tests/bad/stl_missing_semicolon.stl", 1, "error[E0724]"),
+        ("tests/bad/ld_bridge.xml", 1, "error[E0747]"),
+        ("tests/bad/ld_malformed_xml.xml", 1, "error[E0740]"),
+        ("tests/programs/ld/motor_start_stop.xml", 0, ""),
         ("tests/bad/il_not_with_operand.il", 0, "warning[W0703]"),
         ("tests/programs/st/cpdev/dialect.cst", 0, "warning[W0208]"),
     ] {
@@ -803,7 +860,8 @@ fn diagnostics_catalogue() {
 }
 
 /// Codes the command line gives rather than a file: a PROGRAM that is not declared
-/// (E0208) and a language without a front end yet (E0602), both exit status 1.
+/// (E0208), and a file read in a language it is not written in (an ST file as
+/// PLCopen XML: E0740), both exit status 1.
 #[test]
 fn command_line_codes() {
     let o = plcc(&[
@@ -817,5 +875,5 @@ fn command_line_codes() {
     assert!(stderr(&o).contains("error[E0208]: there is no PROGRAM named `nope`"));
     let o = plcc(&["check", "--lang", "xml", "examples/traffic_light.st"]);
     assert_eq!(status(&o), 1);
-    assert!(stderr(&o).contains("error[E0602]"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("error[E0740]"), "{}", stderr(&o));
 }

@@ -1,9 +1,11 @@
 //! End-to-end tests of plcc's own programs, in every language: `tests/programs/st/`
 //! (Structured Text, the checklist below), `il/` (Instruction List), `stl/` (PLC-UD
-//! STL), `equiv/` (the same logic in ST, IL and STL; `tests/equivalence.rs` compares
-//! their IR), mixed-language builds among them (`# with:`).
+//! STL), `ld/` (ladder diagrams in PLCopen XML, each with an IL twin sharing its
+//! scenario; `tests/ld_equivalence.rs` compares their IR), `equiv/` (the same logic
+//! in ST, IL and STL; `tests/equivalence.rs` compares their IR), mixed-language
+//! builds among them (`# with:`).
 //!
-//! Every `tests/programs/**/*.{st,il,stl}` has a scenario beside it (`NAME.expect`, the
+//! Every `tests/programs/**/*.{st,il,stl,xml}` has a scenario beside it (`NAME.expect`, the
 //! `corpus-expect v1` format of `../shared/corpus/README.md`) whose expected values were
 //! computed by hand from IEC 61131-3 and `DESIGN.md`, not copied from plcc's output.
 //! Every example (`examples/**`, any language) with an `.expect` runs too.
@@ -184,6 +186,25 @@
 //! filters (moving average, low-pass, rate limit), wash_cycle (state machine),
 //! alarm_handler, pump_alternation, analog_scaling, blinker, recipe_steps, crc8,
 //! seven_segment, parking_garage, frequency_meter, reject_tracking, ramp_generator.
+//!
+//! Ladder diagrams (paths under `tests/programs/ld/`; PLCopen TC6 2.01 and 1.0 files)
+//! - contacts normally open and closed: every file; rising and falling:
+//!   edge_contacts, counter_reset, alarm_ack
+//! - coils: normal and negated (set_reset, coil_chain), set and reset (set_reset,
+//!   traffic_light, alarm_ack, tank_fill), several on one rung (output_tree,
+//!   traffic_light), in series with contacts after them (coil_chain)
+//! - series and parallel, nested: nested_parallel, motor_start_stop, alarm_ack
+//! - a rung that writes what it reads: rung_order
+//! - function blocks: TON (traffic_light, star_delta, blinker), TOF and TP
+//!   (timers_tof_tp), CTU (counter_reset, conveyor), CTUD with four networks on its
+//!   inputs (updown_counter), SR and RS (bistables), user FBs in ladder (fb_ld) and IL
+//!   (mixed_bodies)
+//! - functions with EN/ENO: counter_reset, edge_contacts, enable_chain (ENO to EN),
+//!   jumps; enabled from the rail: compare_blocks, counter_reset; user functions in
+//!   ladder (function_ld, return_function) and ST (mixed_bodies)
+//! - jumps and labels: jumps; RETURN: return_function
+//! - located I/O: motor_start_stop, conveyor; data types and globals of the
+//!   configuration: mixed_bodies
 
 use plcc::driver::{build_sources, BuildOptions};
 use plcc::scenario::{self, Scenario, Step};
@@ -201,17 +222,17 @@ const CYCLE_MS: u64 = 10;
 const MIN_PROGRAMS: usize = 90;
 
 /// The fewest programs (with their scenarios) each language other than ST must have.
-const MIN_PER_LANGUAGE: [(&str, usize); 2] = [("il", 30), ("stl", 20)];
+const MIN_PER_LANGUAGE: [(&str, usize); 3] = [("il", 30), ("stl", 20), ("xml", 20)];
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
 /// The source languages the suite covers, by extension (`.cst`: ST in the CPDev
-/// dialect).
-const SOURCE_EXTENSIONS: [&str; 4] = ["st", "il", "stl", "cst"];
+/// dialect; `.xml`: ladder diagrams in PLCopen XML).
+const SOURCE_EXTENSIONS: [&str; 5] = ["st", "il", "stl", "cst", "xml"];
 
-/// Every source file (ST, IL, STL) under `dir`, recursively.
+/// Every source file (ST, IL, STL, ladder) under `dir`, recursively.
 fn source_files(dir: &Path, out: &mut Vec<PathBuf>) {
     let Ok(entries) = std::fs::read_dir(dir) else {
         return;

@@ -1,8 +1,11 @@
 //! Mutated programs never make plcc panic: every ST file of the project (and of the
 //! corpus, when present) is mutated with a fixed seed (bytes deleted, duplicated,
 //! replaced by tokens), then built end to end and, if it compiles, run for a few scans
-//! on the interpreter. A panic anywhere, or an internal compiler error (E9001: the
-//! front end made invalid IR), fails the test and prints the input.
+//! on the interpreter. The ladder files (PLCopen XML) are mutated too, by lines and
+//! attribute values as well as bytes, so that the reader, the rung checks and the IL
+//! made from the rungs see broken XML, dangling and crossed connections, loops and
+//! missing elements. A panic anywhere, or an internal compiler error (E9001: the front
+//! end made invalid IR), fails the test and prints the input.
 
 use plcc::driver::{build_sources, BuildOptions};
 use plcc::targets;
@@ -228,6 +231,109 @@ fn mutated_programs_never_panic() {
     assert!(
         failures.is_empty(),
         "{} mutated programs made plcc panic",
+        failures.len()
+    );
+}
+
+/// The ladder files of the project: the programs and the malformed ones.
+fn ladder_sources() -> Vec<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut out = Vec::new();
+    for dir in ["tests/programs/ld", "tests/bad"] {
+        for e in std::fs::read_dir(root.join(dir)).unwrap() {
+            let p = e.unwrap().path();
+            if p.extension().is_some_and(|e| e == "xml") {
+                out.push(p);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// A mutation of a PLCopen file: lines deleted, moved or swapped, numbers in
+/// attribute values changed (localIds, connections, positions), or bytes as for ST.
+fn mutate_xml(src: &[u8], rng: &mut Rng) -> Vec<u8> {
+    let text = String::from_utf8_lossy(src).into_owned();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    for _ in 0..1 + rng.below(3) {
+        if lines.len() < 2 {
+            break;
+        }
+        let i = rng.below(lines.len());
+        match rng.below(5) {
+            0 => {
+                lines.remove(i);
+            }
+            1 => {
+                let l = lines[i].clone();
+                let j = rng.below(lines.len());
+                lines.insert(j, l);
+            }
+            2 => {
+                let j = rng.below(lines.len());
+                lines.swap(i, j);
+            }
+            3 => {
+                // A number inside quotes becomes another small number.
+                let l = &lines[i];
+                let quoted: Vec<usize> = l
+                    .char_indices()
+                    .filter(|&(k, c)| {
+                        c == '"' && l[k + 1..].starts_with(|d: char| d.is_ascii_digit())
+                    })
+                    .map(|(k, _)| k + 1)
+                    .collect();
+                if !quoted.is_empty() {
+                    let at = quoted[rng.below(quoted.len())];
+                    let end = l[at..].find('"').map_or(l.len(), |e| at + e);
+                    let n = rng.below(24).to_string();
+                    lines[i] = format!("{}{n}{}", &l[..at], &l[end..]);
+                }
+            }
+            _ => {
+                let joined = lines.join("\n");
+                let m = mutate(joined.as_bytes(), rng);
+                lines = String::from_utf8_lossy(&m)
+                    .lines()
+                    .map(str::to_string)
+                    .collect();
+            }
+        }
+    }
+    lines.join("\n").into_bytes()
+}
+
+#[test]
+fn mutated_ladders_never_panic() {
+    let files = ladder_sources();
+    assert!(files.len() >= 30, "only {} ladder files", files.len());
+    let per_file: usize = std::env::var("PLCC_FUZZ_PER_FILE")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .map_or(40, |n: usize| n * 10);
+    let mut rng = Rng(0x2545_F491_4F6C_DD1D);
+    let mut failures = Vec::new();
+    let mut n = 0;
+    for f in &files {
+        let src = std::fs::read(f).unwrap();
+        for _ in 0..per_file {
+            let m = mutate_xml(&src, &mut rng);
+            n += 1;
+            let name = f.file_name().unwrap().to_string_lossy().into_owned();
+            let input = m.clone();
+            if std::panic::catch_unwind(|| try_one(&name, input)).is_err() {
+                failures.push((name, String::from_utf8_lossy(&m).into_owned()));
+            }
+        }
+    }
+    println!("{n} mutated ladders from {} files", files.len());
+    for (name, text) in failures.iter().take(2) {
+        println!("--- panic on a mutation of {name}:\n{text}\n");
+    }
+    assert!(
+        failures.is_empty(),
+        "{} mutated ladders made plcc panic",
         failures.len()
     );
 }

@@ -5,7 +5,7 @@
 //! `E00xx` lexical, `E01xx` syntax, `E02xx` names and declarations, `E03xx` types,
 //! `E04xx` calls, `E05xx` rules about writing and recursion, `E06xx` constructs not
 //! supported yet, `E070x`–`E071x` Instruction List, `E072x`–`E073x` PLC-UD STL,
-//! `W0xxx` warnings.
+//! `E074x`–`E075x` ladder diagrams (PLCopen XML), `W0xxx` warnings.
 
 use plcc_ir::diag::CodeInfo;
 
@@ -194,7 +194,98 @@ codes! {
     E_UNSUPPORTED = "E0601", "not supported yet",
         "The construct is valid IEC 61131-3 (or a common dialect) but plcc does not compile it yet. The message names the construct.";
     E_LANGUAGE_UNSUPPORTED = "E0602", "language not supported yet",
-        "The file's language (from its extension or --lang) has no front end yet: ladder diagrams in PLCopen XML (.xml) are planned.";
+        "A body of a PLCopen XML file is written in a language plcc has no front end for: \
+         function block diagrams (`<FBD>`) and sequential function charts (`<SFC>`). plcc \
+         compiles the `<LD>`, `<ST>` and `<IL>` bodies of such files.\n\
+         \n    <body><FBD> ... </FBD></body>   <!-- error -->\n\
+         \n    <body><LD> ... </LD></body>     <!-- fine: a ladder diagram -->";
+
+    // ---- ladder diagrams in PLCopen XML (E074x, E075x) ----
+    LD_MALFORMED_XML = "E0740", "malformed XML",
+        "The file is not well-formed XML (a tag not closed, an attribute without quotes, a \
+         stray `&` or `<`), so it cannot be read as a PLCopen project. The message gives \
+         the XML parser's reason.\n\
+         \n    <contact localId=7 negated=\"false\">     <!-- error: attribute values need quotes -->\n\
+         \n    <contact localId=\"7\" negated=\"false\">  <!-- fix -->";
+    LD_BAD_PROJECT = "E0741", "not a valid PLCopen project",
+        "The XML is well formed but is not a PLCopen TC6 project as plcc reads it: the root \
+         is not a `<project>` in the namespace `http://www.plcopen.org/xml/tc6_0201` (or \
+         `tc6.xsd`, `tc6_0200`), or an element lacks what it needs (a POU without `name` or \
+         `pouType`, a variable without `<type>`, an unknown type or value element).\n\
+         \n    <pou name=\"main\">                      <!-- error: no pouType -->\n\
+         \n    <pou name=\"main\" pouType=\"program\">   <!-- fix -->";
+    LD_BAD_ELEMENT = "E0742", "invalid ladder element",
+        "An element of a ladder body is malformed or cannot be there: no `localId` (or one \
+         that is not a number, or that another element of the body has too), a contact or \
+         coil without `<variable>`, a block without `typeName`, an element that belongs to \
+         another language (an SFC step), or a rising or falling contact in a FUNCTION (edge \
+         detection needs memory from one call to the next, which a FUNCTION has not).\n\
+         \n    <contact localId=\"3\"> ... </contact>   <!-- error: no <variable> -->\n\
+         \n    <contact localId=\"3\"> ... <variable>start</variable></contact>   <!-- fix -->";
+    LD_DANGLING = "E0743", "dangling connection",
+        "A connection refers to an element that does not exist (`refLocalId` names no \
+         `localId` of the body), to an output a block does not have (`formalParameter`), or \
+         to an element with no output (a coil's connection point in is not an output; a \
+         jump, a label, an output variable and the right rail have no output).\n\
+         \n    <connection refLocalId=\"42\"/>               <!-- error if no element has localId 42 -->\n\
+         \n    <connection refLocalId=\"5\" formalParameter=\"Q\"/>   <!-- fix: an existing block and output -->";
+    LD_OPEN_CIRCUIT = "E0744", "open circuit",
+        "Power cannot flow through part of a rung: nothing is connected to the left of a \
+         contact, coil, jump or return (it hangs in the air), or the power through a \
+         contact goes nowhere (its right side is not connected to a coil, a block or \
+         another contact).\n\
+         \n    |--[start]--      --(motor)--|     error: the two halves do not touch\n\
+         \n    |--[start]--------(motor)--|       fix";
+    LD_SHORT_CIRCUIT = "E0745", "short circuit",
+        "A parallel branch is bypassed by a bare wire: the wire joins the same two points \
+         as a branch with contacts, so those contacts can never change anything.\n\
+         \n    |--+--[a]--+--(x)--|     error: the lower branch is a bare wire, x is\n\
+         \n    |  +-------+             always powered\n\
+         \n    |--[a]--(x)--|           fix: remove the wire (or put a contact on it)";
+    LD_UPPER_PARALLEL = "E0746", "upper parallel branch",
+        "A parallel branch is drawn above the line it joins or leaves. A rung is read top \
+         to bottom, its main line first: parallel branches go below it.\n\
+         \n    |--[b]--+                  error: the branch b is above the line a-x\n\
+         \n    |--[a]--+--(x)--|\n\
+         \n    |--[a]--+--(x)--|          fix\n\
+         \n    |--[b]--+";
+    LD_BRIDGE = "E0747", "bridge",
+        "A vertical connection joins two parallel branches in their middle, so the rung is \
+         not made of series and parallel connections. In ladder, power flows left to right \
+         only; a bridge would be read differently by every tool. Split the rung, or repeat \
+         the contacts on each path.\n\
+         \n    |--[a]--+--[c]--+--(x)--|     error: the wire from a's output to d's input\n\
+         \n    |--[b]------[d]-+             crosses from one branch into the other\n\
+         \n    |--[a]--[c]--+--(x)--|        fix: each path written out\n\
+         \n    |--[a]--[d]--+\n\
+         \n    |--[b]--[d]--+";
+    LD_COIL_ON_RAIL = "E0748", "coil on the left rail",
+        "A coil is connected straight to the left power rail, with no contact in front of \
+         it. Such a rung writes TRUE on every scan; the reference's checker rejects it as a \
+         drawing mistake. Put the contact that should control it in front, or, to write a \
+         constant, a contact on a variable that holds it.\n\
+         \n    |--(lamp)--|             error\n\
+         \n    |--[power_on]--(lamp)--|  fix";
+    LD_BLOCK_INPUT = "E0749", "block input not connected",
+        "A block lacks an input it needs: a function block its power input (EN if it has \
+         one, else its first input: a timer's IN, a counter's CU), or a function any of its \
+         inputs (a function has no state to take a missing value from).\n\
+         \n    |            [TON T1 PT:=T#5s]--(lamp)--|    error: nothing drives IN\n\
+         \n    |--[start]---[TON T1 PT:=T#5s]--(lamp)--|    fix";
+    LD_LOOP = "E0750", "feedback loop",
+        "The connections of a rung form a loop: an element's output comes back to its own \
+         input. Power flows from left to right only, so a loop has no order to evaluate it \
+         in. To use a value in the next scan, write it with a coil and read it with a \
+         contact.\n\
+         \n    <contact localId=\"2\"> ... <connection refLocalId=\"3\"/> ...\n\
+         \n    <contact localId=\"3\"> ... <connection refLocalId=\"2\"/> ...   <!-- error -->";
+    LD_OUTPUT_TYPE = "E0751", "type of a block output unknown",
+        "The result of a function block (ADD, SEL, ...) is needed after the block, so plcc \
+         keeps it in a temporary variable, whose type it must know. It takes it from the \
+         function's declaration, from a variable wired to the block's output, or from a \
+         variable (or typed literal) wired to its inputs; here there is none.\n\
+         \n    [ADD IN1:=5 IN2:=3]--+--> (two other blocks)     error: 5 and 3 have no type\n\
+         \n    [ADD IN1:=INT#5 IN2:=3]--+--> ...                  fix";
 
     // ---- PLC-UD STL (E072x) ----
     STL_UNEXPECTED_CHAR = "E0720", "unexpected character in STL",

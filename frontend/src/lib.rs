@@ -1,6 +1,7 @@
 #![warn(missing_docs)]
 //! plcc's front ends: source files, the shared syntax tree, the Structured Text parser,
-//! semantic analysis and lowering to the IR.
+//! the Instruction List, PLC-UD STL and ladder (PLCopen XML) front ends, semantic
+//! analysis and lowering to the IR.
 //!
 //! [`compile`] is the entry point: it parses every input file in its language, adds the
 //! standard function blocks, checks everything, and lowers it to one IR module.
@@ -9,6 +10,7 @@ pub mod ast;
 pub mod codes;
 pub mod il;
 pub mod intern;
+pub mod ld;
 pub mod lower;
 pub mod source;
 pub mod st;
@@ -84,6 +86,8 @@ pub struct Compiled {
     /// The syntax trees, handed back so that a short-lived caller (the command line)
     /// can skip freeing them node by node.
     pub syntax: Vec<ast::SourceUnit>,
+    /// The ladder files of the build and their IL views (for `--emit il`, `ld-text`).
+    pub ladder: Vec<ld::View>,
 }
 
 /// Parses, checks and lowers the given files (already in `sources`) to one module.
@@ -104,6 +108,7 @@ pub fn compile(
         &mut interner,
         &mut diagnostics,
     ));
+    let mut ladder = Vec::new();
     for &(file, lang) in inputs {
         match lang {
             Lang::St | Lang::Cst => units.push(st::parse(
@@ -124,14 +129,28 @@ pub fn compile(
                 &mut interner,
                 &mut diagnostics,
             )),
-            other => diagnostics.push(
-                Diagnostic::error(
-                    codes::E_LANGUAGE_UNSUPPORTED,
-                    format!("not supported yet: {} files", other.name()),
-                    plcc_ir::diag::Span::new(file, 0, 0),
-                )
-                .with_note("plcc compiles Structured Text (.st), Instruction List (.il) and PLC-UD STL (.stl)"),
-            ),
+            Lang::Ld => {
+                // The ladder file becomes IL text, a source file of its own, which the
+                // IL front end reads; diagnostics about it go back to the XML below.
+                let name = sources.get(file).name.clone();
+                let Some(c) = ld::convert(file, &name, &sources.get(file).text, &mut diagnostics)
+                else {
+                    continue;
+                };
+                let il_file = sources.add(SourceFile::new(ld::il_view_name(&name), c.il));
+                units.push(il::parse(
+                    il_file,
+                    &sources.get(il_file).text,
+                    &mut interner,
+                    &mut diagnostics,
+                ));
+                ladder.push(ld::View {
+                    xml: file,
+                    il: il_file,
+                    map: c.map,
+                    ld_text: c.ld_text,
+                });
+            }
         }
     }
     if let Some(g) = globals_unit(&mut units, &mut interner) {
@@ -139,11 +158,13 @@ pub fn compile(
     }
     let mut timings = vec![("parse", started.elapsed())];
     if diagnostics.iter().any(|d| d.is_error()) {
+        ld::remap_all(&ladder, &mut diagnostics);
         return Compiled {
             module: None,
             diagnostics,
             timings,
             syntax: units,
+            ladder,
         };
     }
     let started = std::time::Instant::now();
@@ -156,11 +177,13 @@ pub fn compile(
     let (module, mut more) = lowerer.run(1, opts);
     diagnostics.append(&mut more);
     timings.push(("check and lower", started.elapsed()));
+    ld::remap_all(&ladder, &mut diagnostics);
     Compiled {
         module,
         diagnostics,
         timings,
         syntax: units,
+        ladder,
     }
 }
 

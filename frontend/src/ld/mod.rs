@@ -1,0 +1,138 @@
+//! Ladder diagrams from PLCopen TC6 XML.
+//!
+//! A `.xml` file is a PLCopen project (what Beremiz, OpenPLC Editor and CODESYS
+//! export). It goes through:
+//!
+//! 1. `xml`: the file read into a model (data types, POUs with their interfaces and
+//!    LD, ST or IL bodies, configurations), every string with its place in the file;
+//! 2. `graph`: each ladder body's connections resolved, its rungs found and ordered,
+//!    the rung checks of the reference run (errors name the POU, the rung and the
+//!    element's `localId`, at the element in the XML);
+//! 3. `to_il`: the whole file written as IEC source text with IL bodies (the seed's
+//!    conversion of rungs to IL), with a map from that text back to the XML (`map`);
+//! 4. the IL front end, which compiles that text like any `.il` file; diagnostics about
+//!    it are moved back to the XML where the map knows where they come from.
+//!
+//! `--emit il` prints the text of step 3, `--emit ld-text` the rungs drawn by `text`.
+
+pub(crate) mod graph;
+pub mod map;
+pub(crate) mod text;
+pub(crate) mod to_il;
+pub(crate) mod xml;
+
+#[cfg(test)]
+mod tests;
+
+use plcc_ir::diag::{Diagnostic, FileId};
+
+/// A ladder file converted: its IL view, the map back to the XML, and its drawing.
+pub struct Converted {
+    /// The IL view: IEC source text with the ladder bodies as IL.
+    pub il: String,
+    /// From the IL view back to the XML.
+    pub map: map::SpanMap,
+    /// The ladder bodies drawn as ASCII (`--emit ld-text`).
+    pub ld_text: String,
+}
+
+/// The stack of the thread that converts a file: the conversion recurses along a
+/// rung's structure (its formulas and the IL made from them), and a machine-made rung
+/// of thousands of elements must not overflow the stack of the caller's thread.
+const STACK: usize = 256 << 20;
+
+/// Reads, checks and converts one PLCopen XML file. `None` if it has errors (reported
+/// to `diags`, at the XML); never panics.
+pub fn convert(
+    file: FileId,
+    name: &str,
+    text: &str,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Converted> {
+    std::thread::scope(|s| {
+        let mut own = Vec::new();
+        let job = std::thread::Builder::new()
+            .name("plcc-ladder".into())
+            .stack_size(STACK)
+            .spawn_scoped(s, || {
+                let r = convert_here(file, name, text, &mut own);
+                (r, own)
+            });
+        match job.map(|h| h.join()) {
+            Ok(Ok((r, mut more))) => {
+                diags.append(&mut more);
+                r
+            }
+            // A panic in the conversion is a bug: report it rather than go on.
+            Ok(Err(p)) => std::panic::resume_unwind(p),
+            // No thread to be had: convert on this one.
+            Err(_) => convert_here(file, name, text, diags),
+        }
+    })
+}
+
+fn convert_here(
+    file: FileId,
+    name: &str,
+    text: &str,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Converted> {
+    let errors = |d: &[Diagnostic]| d.iter().filter(|x| x.is_error()).count();
+    let before = errors(diags);
+    let project = xml::read(file, text, diags)?;
+    let graphs: Vec<Option<graph::Graph>> = project
+        .pous
+        .iter()
+        .map(|pou| match &pou.body {
+            xml::Body::Ld(elems) => {
+                let cx = graph::Context {
+                    file,
+                    pou: &pou.name.value,
+                    function: pou.kind == xml::PouKind::Function,
+                };
+                graph::build(elems, &cx, diags)
+            }
+            _ => None,
+        })
+        .collect();
+    if errors(diags) > before {
+        return None;
+    }
+    let out = to_il::write(&project, &graphs, file, name, diags);
+    if errors(diags) > before {
+        return None;
+    }
+    let ld_text = text::render(&project, &graphs);
+    Some(Converted {
+        il: out.text,
+        map: out.map,
+        ld_text,
+    })
+}
+
+/// A ladder file of a build and its IL view.
+pub struct View {
+    /// The XML file.
+    pub xml: FileId,
+    /// Its IL view, a source file of the build too.
+    pub il: FileId,
+    /// From the IL view back to the XML.
+    pub map: map::SpanMap,
+    /// The ladder bodies drawn as ASCII.
+    pub ld_text: String,
+}
+
+/// Moves the spans of diagnostics about IL views back to their XML files.
+pub fn remap_all(views: &[View], diags: &mut [Diagnostic]) {
+    for d in diags {
+        for v in views {
+            v.map.remap(d, v.il, v.xml);
+        }
+    }
+}
+
+/// The name of the IL view of the ladder file `name`, as diagnostics and listings
+/// show it.
+pub fn il_view_name(name: &str) -> String {
+    format!("{name} (as IL)")
+}

@@ -1,0 +1,381 @@
+//! Unit tests of the ladder front end: bodies written by hand (no positions, so rungs
+//! and branches go in document order) converted to IL, and the checks.
+
+use super::*;
+use crate::codes;
+use plcc_ir::diag::Diagnostic;
+
+/// A TC6 2.01 project with one PROGRAM `p` whose BOOL variables are `a` to `z` and
+/// whose LD body holds `elems`.
+fn project(elems: &str) -> String {
+    let names = ('a'..='z')
+        .map(String::from)
+        .chain(["start", "run", "stop"].map(String::from));
+    let vars: String = names
+        .map(|c| format!("<variable name=\"{c}\"><type><BOOL/></type></variable>"))
+        .collect();
+    format!(
+        r#"<project xmlns="http://www.plcopen.org/xml/tc6_0201">
+<types><pous><pou name="p" pouType="program">
+<interface><localVars>{vars}</localVars></interface>
+<body><LD>
+<leftPowerRail localId="1"/>
+{elems}
+</LD></body></pou></pous></types></project>"#
+    )
+}
+
+fn contact(id: u32, var: &str, from: &[u32]) -> String {
+    elem(id, "contact", var, from, "")
+}
+
+fn coil(id: u32, var: &str, from: &[u32]) -> String {
+    elem(id, "coil", var, from, "")
+}
+
+fn elem(id: u32, tag: &str, var: &str, from: &[u32], attrs: &str) -> String {
+    let conns: String = from
+        .iter()
+        .map(|f| format!("<connection refLocalId=\"{f}\"/>"))
+        .collect();
+    format!(
+        "<{tag} localId=\"{id}\"{attrs}><connectionPointIn>{conns}</connectionPointIn><variable>{var}</variable></{tag}>\n"
+    )
+}
+
+fn convert_text(xml: &str) -> (Option<Converted>, Vec<Diagnostic>) {
+    let mut diags = Vec::new();
+    let c = convert(FileId(1), "t.xml", xml, &mut diags);
+    (c, diags)
+}
+
+/// The IL of the body of `p` (from its first rung to END_PROGRAM, comments dropped).
+fn body_il(elems: &str) -> String {
+    let (c, diags) = convert_text(&project(elems));
+    assert!(diags.is_empty(), "{diags:#?}");
+    let il = c.expect("converted").il;
+    let start = il.find("(* rung 1 *)").expect("a rung");
+    il[start..]
+        .lines()
+        .filter(|l| !l.starts_with("(*"))
+        .take_while(|l| *l != "END_PROGRAM")
+        .map(str::trim)
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+fn codes_of(elems: &str) -> Vec<&'static str> {
+    let (c, diags) = convert_text(&project(elems));
+    assert!(c.is_none() || diags.iter().all(|d| !d.is_error()));
+    diags.iter().map(|d| d.code).collect()
+}
+
+#[test]
+fn the_seeds_example() {
+    // ((a AND b) OR c OR d) AND e, the seed's X0.0 ... X0.5.
+    let il = body_il(
+        &[
+            contact(2, "a", &[1]),
+            contact(3, "b", &[2]),
+            contact(4, "c", &[1]),
+            contact(5, "d", &[1]),
+            contact(6, "e", &[3, 4, 5]),
+            coil(7, "x", &[6]),
+        ]
+        .concat(),
+    );
+    assert_eq!(il, "LD a\nAND b\nOR c\nOR d\nAND e\nST x");
+}
+
+#[test]
+fn a_parallel_block_after_a_contact_is_deferred() {
+    // a AND (b OR (c AND d)): the contact before the block is read once.
+    let il = body_il(
+        &[
+            contact(2, "a", &[1]),
+            contact(3, "b", &[2]),
+            contact(4, "c", &[2]),
+            contact(5, "d", &[4]),
+            coil(6, "x", &[3, 5]),
+        ]
+        .concat(),
+    );
+    assert_eq!(il, "LD a\nAND( b\nOR( c\nAND d\n)\n)\nST x");
+}
+
+#[test]
+fn coils_in_parallel_and_in_series_go_on_from_the_current_result() {
+    let il = body_il(
+        &[
+            contact(2, "a", &[1]),
+            coil(3, "x", &[2]),
+            coil(4, "y", &[2]),
+            contact(5, "b", &[4]),
+            elem(6, "coil", "z", &[5], " negated=\"true\""),
+        ]
+        .concat(),
+    );
+    assert_eq!(il, "LD a\nST x\nST y\nAND b\nSTN z");
+}
+
+#[test]
+fn set_and_reset_coils() {
+    let il = body_il(
+        &[
+            contact(2, "a", &[1]),
+            elem(3, "coil", "x", &[2], " storage=\"set\""),
+            contact(4, "b", &[1]),
+            elem(5, "coil", "x", &[4], " storage=\"reset\""),
+        ]
+        .concat(),
+    );
+    assert_eq!(il, "LD a\nS x\nLD b\nR x");
+}
+
+#[test]
+fn a_compound_fork_is_kept_in_a_temporary_only_when_loaded_again() {
+    // a AND b feeds c->x and d->y: the second branch loads it back.
+    let il = body_il(
+        &[
+            contact(2, "a", &[1]),
+            contact(3, "b", &[2]),
+            contact(4, "c", &[3]),
+            coil(5, "x", &[4]),
+            contact(6, "d", &[3]),
+            coil(7, "y", &[6]),
+        ]
+        .concat(),
+    );
+    assert_eq!(
+        il,
+        "LD a\nAND b\nST _TMP3\nAND c\nST x\nLD _TMP3\nAND d\nST y"
+    );
+    // Two coils on the fork: no temporary.
+    let il = body_il(
+        &[
+            contact(2, "a", &[1]),
+            contact(3, "b", &[2]),
+            coil(4, "x", &[3]),
+            coil(5, "y", &[3]),
+        ]
+        .concat(),
+    );
+    assert_eq!(il, "LD a\nAND b\nST x\nST y");
+}
+
+#[test]
+fn edge_contacts_call_their_detector_at_the_start_of_the_rung() {
+    let il = body_il(
+        &[
+            contact(2, "a", &[1]),
+            elem(3, "contact", "b", &[2], " edge=\"falling\""),
+            coil(4, "x", &[3]),
+        ]
+        .concat(),
+    );
+    assert_eq!(il, "CAL _F_TRIG3(CLK := b)\nLD a\nAND _F_TRIG3.Q\nST x");
+}
+
+#[test]
+fn edge_coils_detect_the_edge_of_their_power() {
+    let il = body_il(
+        &[
+            contact(2, "a", &[1]),
+            elem(3, "coil", "x", &[2], " edge=\"rising\""),
+            contact(4, "b", &[3]),
+            coil(5, "y", &[4]),
+        ]
+        .concat(),
+    );
+    assert_eq!(
+        il,
+        "LD a\nST _R_TRIG3.CLK\nCAL _R_TRIG3\nLD _R_TRIG3.Q\nST x\nLD a\nAND b\nST y"
+    );
+}
+
+#[test]
+fn a_continuation_is_what_is_wired_to_its_connector() {
+    let il = body_il(&[
+        contact(2, "a", &[1]),
+        "<connector localId=\"3\" name=\"c1\"><connectionPointIn><connection refLocalId=\"2\"/></connectionPointIn></connector>\n".to_string(),
+        "<continuation localId=\"4\" name=\"c1\"/>\n".to_string(),
+        contact(5, "b", &[4]),
+        coil(6, "x", &[5]),
+    ]
+    .concat());
+    assert_eq!(il, "LD a\nAND b\nST x");
+}
+
+#[test]
+fn variables_in_the_power_flow() {
+    let il = body_il(&[
+        "<inVariable localId=\"2\"><expression>a</expression></inVariable>\n".to_string(),
+        contact(3, "b", &[2]),
+        "<outVariable localId=\"4\" negated=\"true\"><connectionPointIn><connection refLocalId=\"3\"/></connectionPointIn><expression>x</expression></outVariable>\n".to_string(),
+    ]
+    .concat());
+    assert_eq!(il, "LD a\nAND b\nSTN x");
+}
+
+#[test]
+fn rungs_and_branches_without_positions_go_in_document_order() {
+    // Two rungs interleaved in the document: rung order follows the first element.
+    let il = body_il(
+        &[
+            contact(2, "a", &[1]),
+            contact(3, "b", &[1]),
+            coil(4, "y", &[3]),
+            coil(5, "x", &[2]),
+        ]
+        .concat(),
+    );
+    assert_eq!(il, "LD a\nST x\nLD b\nST y");
+}
+
+#[test]
+fn hidden_names_avoid_the_names_of_the_pou() {
+    // A variable named `_R_TRIG2` already exists: the detector takes another name.
+    let xml = project(
+        &[
+            elem(2, "contact", "a", &[1], " edge=\"rising\""),
+            coil(3, "x", &[2]),
+        ]
+        .concat(),
+    )
+    .replace(
+        "<localVars>",
+        "<localVars><variable name=\"_R_TRIG2\"><type><BOOL/></type></variable>",
+    );
+    let (c, d) = convert_text(&xml);
+    assert!(d.is_empty(), "{d:#?}");
+    assert!(c.unwrap().il.contains("CAL _R_TRIG2_1(CLK := a)"));
+}
+
+#[test]
+fn the_rung_checks() {
+    // Open circuit: a coil with nothing on its left.
+    assert_eq!(codes_of(&coil(2, "x", &[])), [codes::LD_OPEN_CIRCUIT]);
+    // A contact whose power reaches no coil.
+    assert_eq!(codes_of(&contact(2, "a", &[1])), [codes::LD_OPEN_CIRCUIT]);
+    // Coil on the left rail.
+    assert_eq!(codes_of(&coil(2, "x", &[1])), [codes::LD_COIL_ON_RAIL]);
+    // Short circuit: the rail wired straight to x, in parallel with contact a.
+    assert_eq!(
+        codes_of(&[contact(2, "a", &[1]), coil(3, "x", &[2, 1])].concat()),
+        [codes::LD_SHORT_CIRCUIT]
+    );
+    // Bridge: a -> c -> x, b -> d -> x, and a wire from a into d.
+    assert_eq!(
+        codes_of(
+            &[
+                contact(2, "a", &[1]),
+                contact(3, "c", &[2]),
+                contact(4, "b", &[1]),
+                contact(5, "d", &[4, 2]),
+                coil(6, "x", &[3, 5]),
+            ]
+            .concat()
+        ),
+        [codes::LD_BRIDGE]
+    );
+    // A loop.
+    assert_eq!(
+        codes_of(
+            &[
+                contact(2, "a", &[3]),
+                contact(3, "b", &[2]),
+                coil(4, "x", &[3])
+            ]
+            .concat()
+        ),
+        [codes::LD_LOOP]
+    );
+    // Dangling: no element 9 (and no consequence reported).
+    assert_eq!(
+        codes_of(&[contact(2, "a", &[1]), coil(3, "x", &[2, 9])].concat()),
+        [codes::LD_DANGLING]
+    );
+}
+
+#[test]
+fn an_upper_parallel_branch_needs_positions() {
+    let at = |id: u32, tag: &str, var: &str, from: &[u32], y: u32| {
+        let conns: String = from
+            .iter()
+            .map(|f| format!("<connection refLocalId=\"{f}\"/>"))
+            .collect();
+        format!(
+            "<{tag} localId=\"{id}\"><position x=\"0\" y=\"{y}\"/><connectionPointIn><relPosition x=\"0\" y=\"10\"/>{conns}</connectionPointIn><connectionPointOut><relPosition x=\"21\" y=\"10\"/></connectionPointOut><variable>{var}</variable></{tag}>"
+        )
+    };
+    let body = |b_y| {
+        [
+            at(2, "contact", "a", &[1], 40),
+            at(3, "contact", "b", &[1], b_y),
+            at(4, "coil", "x", &[2, 3], 40),
+        ]
+        .concat()
+    };
+    assert_eq!(codes_of(&body(80)), Vec::<&str>::new());
+    assert_eq!(codes_of(&body(0)), [codes::LD_UPPER_PARALLEL]);
+}
+
+#[test]
+fn tc6_1_0_files_and_st_bodies() {
+    let xml = r#"<?xml version="1.0"?>
+<project xmlns="http://www.plcopen.org/xml/tc6.xsd" xmlns:xhtml="http://www.w3.org/1999/xhtml">
+<types><dataTypes/><pous>
+<pou name="twice" pouType="function"><interface><returnType><INT/></returnType>
+<inputVars><variable name="n"><type><INT/></type></variable></inputVars></interface>
+<body><ST><xhtml:p><![CDATA[twice := n * 2;]]></xhtml:p></ST></body></pou>
+</pous></types>
+<instances><configurations><configuration name="c"><resource name="r">
+<task name="t" interval="T#20ms" priority="1"><pouInstance name="i" type="twice"/></task>
+</resource></configuration></configurations></instances></project>"#;
+    let (c, d) = convert_text(xml);
+    assert!(d.is_empty(), "{d:#?}");
+    let c = c.unwrap();
+    assert!(c.il.contains("FUNCTION twice : INT"), "{}", c.il);
+    assert!(c.il.contains("    twice := n * 2;\n"), "{}", c.il);
+    assert!(c.il.contains("TASK t(INTERVAL := T#20ms, PRIORITY := 1);"));
+    assert!(c.il.contains("PROGRAM i WITH t : twice;"));
+    // The ST text maps back to the CDATA, byte for byte.
+    let at = c.il.find("n * 2").unwrap() as u32;
+    let mut d = Diagnostic::error(
+        "E0201",
+        "x",
+        plcc_ir::diag::Span::new(FileId(7), at, at + 1),
+    );
+    c.map.remap(&mut d, FileId(7), FileId(1));
+    let span = d.span.unwrap();
+    assert_eq!(span.file, FileId(1));
+    assert_eq!(&xml[span.start as usize..span.end as usize], "n");
+}
+
+#[test]
+fn not_xml_and_not_plcopen() {
+    let (c, d) = convert_text("PROGRAM p END_PROGRAM");
+    assert!(c.is_none());
+    assert_eq!(d[0].code, codes::LD_MALFORMED_XML);
+    let (c, d) = convert_text("<project/>");
+    assert!(c.is_none());
+    assert_eq!(d[0].code, codes::LD_BAD_PROJECT);
+}
+
+#[test]
+fn ascii_ladder() {
+    let (c, d) = convert_text(&project(
+        &[
+            contact(2, "start", &[1]),
+            contact(3, "run", &[1]),
+            elem(4, "contact", "stop", &[2, 3], " negated=\"true\""),
+            coil(5, "run", &[4]),
+        ]
+        .concat(),
+    ));
+    assert!(d.is_empty(), "{d:#?}");
+    assert_eq!(
+        c.unwrap().ld_text,
+        "(* PROGRAM p *)\nrung 1\n|--[start]--+--[/stop]--(run)--|\n|--[run]----+                  |\n"
+    );
+}
