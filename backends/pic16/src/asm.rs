@@ -189,6 +189,8 @@ impl Program {
         for _round in 0..32 {
             // Lay out with the current far calls.
             let mut units = original.clone();
+            // Where each unit's far calls are among its new items.
+            let mut expanded: Vec<Vec<usize>> = vec![Vec::new(); units.len()];
             for (ui, u) in units.iter_mut().enumerate() {
                 let mut items = Vec::with_capacity(u.items.len());
                 for (ii, it) in std::mem::take(&mut u.items).into_iter().enumerate() {
@@ -196,6 +198,7 @@ impl Program {
                         // Placeholders, fixed once the pages are known.
                         items.push(Item::Op(Op::I(Inst::Bcf(reg::PCLATH, 3))));
                         items.push(Item::Op(Op::I(Inst::Bcf(reg::PCLATH, 4))));
+                        expanded[ui].push(items.len());
                         items.push(it);
                         items.push(Item::Op(Op::I(Inst::Bcf(reg::PCLATH, 3))));
                         items.push(Item::Op(Op::I(Inst::Bcf(reg::PCLATH, 4))));
@@ -253,15 +256,11 @@ impl Program {
                 // Fill in the PCLATH bits.
                 for (ui, u) in units.iter_mut().enumerate() {
                     let own = starts[ui] / PAGE_WORDS;
-                    let mut k = 0;
-                    while k < u.items.len() {
+                    // Only the calls expanded above: a near call right after a far
+                    // one also follows a `bcf PCLATH,4`, but has no placeholders.
+                    for &k in &expanded[ui] {
                         if let Item::Op(Op::Call(l)) = u.items[k] {
                             let to = addr[l.0 as usize] / PAGE_WORDS;
-                            if k >= 2
-                                && matches!(
-                                    u.items[k - 1],
-                                    Item::Op(Op::I(Inst::Bcf(reg::PCLATH, 4)))
-                                )
                             {
                                 let set = |page: u32, bit: u8| {
                                     if page >> (bit - 3) & 1 != 0 {
@@ -286,7 +285,6 @@ impl Program {
                                 }
                             }
                         }
-                        k += 1;
                     }
                 }
                 self.units = units;
