@@ -212,7 +212,7 @@ impl Backend for NativeBackend {
             // corrupt plcc rather than raise the fault flag.
             return Some(Err(vec![Diagnostic::error_nowhere(
                 codes::E_UNCHECKED_POINTERS,
-                "this program computes addresses (CODESYS pointer arithmetic or the address of a temporary), which the host target does not run: run it with `--target interp`",
+                "this program's pointers are unchecked (CODESYS pointer arithmetic, a pointer given the address of another type, or the address of a temporary kept), which the host target does not run: run it with `--target interp`",
             )]));
         }
         Some(parse_settings(options).and_then(|(_, settings)| {

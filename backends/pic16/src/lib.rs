@@ -271,6 +271,12 @@ fn asm_name(path: &str, taken: &mut FxHashSet<String>) -> String {
 
 /// Compiles a verified module for the chip.
 pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic>> {
+    if module.unchecked_pointers {
+        return Err(vec![Diagnostic::error_nowhere(
+            codes::E_UNSUPPORTED,
+            "unchecked pointers (CODESYS pointer arithmetic, a pointer given the address of another type, or the address of a temporary kept) are not supported on pic16f876a: run the program on interp",
+        )]);
+    }
     let pin_over = setting_pins(options)?;
     // REAL becomes integers and calls of the soft-float routines.
     let mut legal = module.clone();

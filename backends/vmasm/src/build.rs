@@ -142,6 +142,12 @@ fn label_name(module: &Module, id: FuncId) -> String {
 
 /// Compiles a verified module.
 pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic>> {
+    if module.unchecked_pointers {
+        return Err(vec![Diagnostic::error_nowhere(
+            codes::E_UNSUPPORTED,
+            "unchecked pointers (CODESYS pointer arithmetic, a pointer given the address of another type, or the address of a temporary kept) are not supported on the vmasm target: run the program on interp",
+        )]);
+    }
     let settings = Settings::from_options(options).map_err(|d| vec![*d])?;
     let mode = settings.mode;
     let ptr_bytes = mode.addr_bytes() as u32;

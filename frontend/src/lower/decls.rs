@@ -325,7 +325,10 @@ impl<'s> Lowerer<'s> {
             TypeSpec::Ref { target, .. }
             | TypeSpec::Pointer { target, .. }
             | TypeSpec::Reference { target, .. } => {
+                // A STRUCT being defined may be the target (`next : REF_TO Node`).
+                self.ref_depth += 1;
                 let (t, _) = self.resolve_type_tagged(target, scope);
+                self.ref_depth -= 1;
                 if t == Ty::Error {
                     return (Ty::Error, None);
                 }
@@ -652,6 +655,12 @@ impl<'s> Lowerer<'s> {
             let ret = self.pou(id).ret;
             for t in tys.into_iter().chain(std::iter::once(ret)) {
                 self.fbs_in(t, &mut stack);
+                // A reference to an instance needs its type, not its contents.
+                if let Ty::Ref(r) = t {
+                    if let Ty::Fb(p) = self.types.get_ref(r).target {
+                        stack.push(p);
+                    }
+                }
             }
             // Standard FBs called by name in a body are found when lowering; a std FB
             // that is only used through a variable is covered above.

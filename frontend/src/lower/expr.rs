@@ -485,6 +485,13 @@ impl<'s> BodyCx<'_, 's> {
             (Ty::Elem(a), Ty::Elem(b)) => implicit(a, b),
             _ => false,
         };
+        if let (false, Ty::Elem(from), Ty::Elem(to)) = (fits, v.ty, target) {
+            // A constant integer expression (`7 MOD 2`, `16#F0 OR 1`) computed as an
+            // integer is a number like a literal: it converts to a real.
+            if from.is_integer() && to.is_real() && self.infer(e) == Ty::AnyInt {
+                return self.convert(v.v, from, to);
+            }
+        }
         if !fits {
             // A literal that cannot take the wanted type: say so in source terms, not
             // in terms of the type plcc picked for it.
@@ -526,6 +533,7 @@ impl<'s> BodyCx<'_, 's> {
             return self.zero(target);
         }
         if self.ref_fits(v.ty, target) {
+            self.note_pointer_cast(v.ty, target);
             return v.v;
         }
         if self.codesys_implicit(v.ty, target) {
@@ -875,6 +883,12 @@ impl<'s> BodyCx<'_, 's> {
         }
         let operand = if is_cmp {
             concretize(typing.operand, None)
+        } else if matches!(op, Op::And | Op::Or | Op::Xor | Op::Mod) {
+            // Bit and integer operations: a REAL context does not make literals REAL.
+            concretize(
+                typing.operand,
+                want.filter(|w| w.is_int_like() || *w == Ty::BOOL),
+            )
         } else {
             concretize(typing.operand, want)
         };

@@ -179,6 +179,8 @@ pub struct Lowerer<'s> {
     pub(crate) cpdev_files: Vec<plcc_ir::diag::FileId>,
     /// The CODESYS dialect (`LowerOptions::codesys`).
     pub(crate) codesys: bool,
+    /// How many reference targets are being resolved (see `TypeState::Building`).
+    pub(crate) ref_depth: u32,
 }
 
 impl<'s> Lowerer<'s> {
@@ -215,6 +217,7 @@ impl<'s> Lowerer<'s> {
             globals_data: None,
             cpdev_files: Vec::new(),
             codesys: false,
+            ref_depth: 0,
         }
     }
 
@@ -254,6 +257,10 @@ impl<'s> Lowerer<'s> {
         }
         self.check_recursion();
         self.instantiate_programs(opts);
+        // The configuration's connections may use string helpers too.
+        while let Some(p) = self.pending.pop() {
+            self.lower_pou(p);
+        }
         // A STRUCT's field initialisers are lowered for every variable of the type, so
         // their mistakes would be reported once per variable.
         let mut seen = rustc_hash::FxHashSet::default();

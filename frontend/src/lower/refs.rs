@@ -254,6 +254,16 @@ impl<'s> BodyCx<'_, 's> {
         }
     }
 
+    /// A CODESYS pointer given the address of another type (`POINTER TO DWORD` from
+    /// `ADR(byte_var)`) may reach past its target: the module is unchecked.
+    pub(super) fn note_pointer_cast(&mut self, from: Ty, to: Ty) {
+        if let (Ty::Ref(a), Ty::Ref(b)) = (from, to) {
+            if self.l.types.get_ref(a).target != self.l.types.get_ref(b).target {
+                self.l.module.unchecked_pointers = true;
+            }
+        }
+    }
+
     /// `=` and `<>` between references (or NULL).
     pub(super) fn compare_refs(&mut self, eq: bool, a: &'s Expr, b: &'s Expr) -> Val {
         let x = self.emit(a, None);
@@ -309,6 +319,7 @@ impl<'s> BodyCx<'_, 's> {
         }
         let v = self.emit(e, Some(to));
         if v.ty == Ty::Error || self.ref_fits(v.ty, to) {
+            self.note_pointer_cast(v.ty, to);
             return v.v;
         }
         self.coerce(v, to, e.span)
@@ -486,7 +497,9 @@ impl<'s> BodyCx<'_, 's> {
         a: &'s Expr,
         b: &'s Expr,
     ) -> Ty {
-        let Some(e) = operand.elem().filter(|e| self.l.codesys && e.is_integer()) else {
+        let Some(e) = operand.elem().filter(|e| {
+            self.l.codesys && *e != ElemType::Bool && (e.is_integer() || e.is_bit_string())
+        }) else {
             return operand;
         };
         let mut need = e;
@@ -497,8 +510,16 @@ impl<'s> BodyCx<'_, 's> {
             let Some((super::consts::ConstVal::Int(v), _)) = self.l.const_eval(x, self.pou) else {
                 continue;
             };
-            let fits =
-                |t: ElemType| crate::types::int_range(t).is_some_and(|(lo, hi)| v >= lo && v <= hi);
+            let fits = |t: ElemType| {
+                let range = match t {
+                    ElemType::Byte => Some((0, u8::MAX as i128)),
+                    ElemType::Word => Some((0, u16::MAX as i128)),
+                    ElemType::DWord => Some((0, u32::MAX as i128)),
+                    ElemType::LWord => Some((0, u64::MAX as i128)),
+                    t => crate::types::int_range(t),
+                };
+                range.is_some_and(|(lo, hi)| v >= lo && v <= hi)
+            };
             if !fits(need) {
                 need = if fits(ElemType::DInt) {
                     ElemType::DInt

@@ -238,7 +238,7 @@ impl<'s> Lowerer<'s> {
         // The task's state: when the instance last ran, and whether it has.
         let state = interval.map(|_| {
             let sagg = self.module.add_agg(AggDef::Struct(StructDef {
-                name: format!("{name}$task"),
+                name: format!("{name}$state"),
                 kind: StructKind::Other,
                 fields: vec![
                     Field {
@@ -258,7 +258,7 @@ impl<'s> Lowerer<'s> {
                 ],
             }));
             let d = self.module.add_data(DataDef {
-                name: format!("{name}$task"),
+                name: format!("{name}$state"),
                 ty: MemType::Agg(sagg),
                 elem: None,
                 kind: DataKind::Global,
@@ -315,7 +315,7 @@ impl<'s> Lowerer<'s> {
             return body;
         }
         let mut f = Function::new(
-            format!("{name}$task"),
+            format!("{name}$scan"),
             FuncKind::ProgramBody,
             vec![Type::Ptr],
             None,

@@ -46,6 +46,9 @@ pub(crate) enum TypeState {
     Unresolved,
     /// Being resolved: meeting it again means it contains itself.
     Resolving,
+    /// A STRUCT whose fields are being resolved: a reference to it is fine (its
+    /// size does not depend on the STRUCT's), containing it is not.
+    Building(StructId),
     /// Its type and the tag of its derived-type additions.
     Done(Ty, Option<TagId>),
 }
@@ -191,7 +194,8 @@ impl<'s> Lowerer<'s> {
     pub(super) fn resolve_named_type(&mut self, i: u32, at: Span) -> (Ty, Option<TagId>) {
         match self.user.named[i as usize].state {
             TypeState::Done(t, tag) => (t, tag),
-            TypeState::Resolving => {
+            TypeState::Building(id) if self.ref_depth > 0 => (Ty::Struct(id), None),
+            TypeState::Resolving | TypeState::Building(_) => {
                 let name = self
                     .text(self.user.named[i as usize].decl.name.span)
                     .to_string();
@@ -227,7 +231,11 @@ impl<'s> Lowerer<'s> {
         let display = self.text(decl.name.span).to_string();
         match &decl.spec {
             TypeSpec::Struct { fields, .. } => {
-                let ty = self.define_struct(display.clone(), fields, None);
+                let id = self.reserve_struct(display.clone());
+                if let Some(&i) = self.user.by_name.get(&decl.name.sym) {
+                    self.user.named[i as usize].state = TypeState::Building(id);
+                }
+                let ty = self.fill_struct(id, fields, None);
                 match &decl.init {
                     Some(init) => (
                         ty,
@@ -317,6 +325,23 @@ impl<'s> Lowerer<'s> {
         decls: &'s [ast::VarDecl],
         scope: Option<PouId>,
     ) -> Ty {
+        let id = self.reserve_struct(display);
+        self.fill_struct(id, decls, scope)
+    }
+
+    /// A new STRUCT type without fields yet, so that its fields can refer to it.
+    fn reserve_struct(&mut self, display: String) -> StructId {
+        self.user.structs.push(StructTy {
+            display,
+            fields: Vec::new(),
+            agg: None,
+            ir_fields: Vec::new(),
+        });
+        StructId(self.user.structs.len() as u32 - 1)
+    }
+
+    /// Resolves the fields of the STRUCT `id`.
+    fn fill_struct(&mut self, id: StructId, decls: &'s [ast::VarDecl], scope: Option<PouId>) -> Ty {
         let mut fields: Vec<StructField<'s>> = Vec::new();
         for d in decls {
             let (ty, tag) = self.resolve_type_tagged(&d.ty, scope);
@@ -350,13 +375,8 @@ impl<'s> Lowerer<'s> {
                 });
             }
         }
-        self.user.structs.push(StructTy {
-            display,
-            fields,
-            agg: None,
-            ir_fields: Vec::new(),
-        });
-        Ty::Struct(StructId(self.user.structs.len() as u32 - 1))
+        self.user.structs[id.0 as usize].fields = fields;
+        Ty::Struct(id)
     }
 
     /// An enumeration type. Values without a number follow the previous one (the
