@@ -289,7 +289,7 @@ fn runnable_target(name: &str) -> Result<&'static str, u8> {
 /// them (every instance runs in each scan, in declaration order).
 fn pick_programs(m: &Module, asked: Option<&str>) -> Result<Vec<String>, u8> {
     match asked {
-        Some(p) => match m.program(p) {
+        Some(p) => match m.program_or_instance_of(p) {
             Some(e) => Ok(vec![e.name.clone()]),
             None => {
                 eprintln!("error: no PROGRAM named `{p}`");

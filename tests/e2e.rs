@@ -400,7 +400,10 @@ fn build(case: &Case) -> Result<Built, String> {
         return Err(format!("does not compile: {}", errors.join("; ")));
     };
     let program = match &scn.program {
-        Some(p) => p.clone(),
+        // A configuration's instance may be named by its PROGRAM type.
+        Some(p) => module
+            .program_or_instance_of(p)
+            .map_or_else(|| p.clone(), |e| e.name.clone()),
         // Several (a configuration's instances): whole paths in the scenario.
         None => match module.programs.as_slice() {
             [one] => one.name.clone(),

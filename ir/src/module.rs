@@ -314,4 +314,19 @@ impl Module {
             .iter()
             .find(|p| p.name.eq_ignore_ascii_case(name))
     }
+
+    /// The program entry named `name`, else the only instance of the PROGRAM type
+    /// `name` (a configuration names its instances: `PROGRAM inst WITH t : name`).
+    pub fn program_or_instance_of(&self, name: &str) -> Option<&ProgramEntry> {
+        if let Some(p) = self.program(name) {
+            return Some(p);
+        }
+        let mut of_type = self.programs.iter().filter(|p| {
+            matches!(self.data[p.data.index()].ty, MemType::Agg(a) if self.agg(a).name().eq_ignore_ascii_case(name))
+        });
+        match (of_type.next(), of_type.next()) {
+            (Some(p), None) => Some(p),
+            _ => None,
+        }
+    }
 }

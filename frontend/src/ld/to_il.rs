@@ -290,48 +290,75 @@ fn write_value(o: &mut Out, v: &Value) {
     }
 }
 
-/// The configurations, as a comment: plcc runs every PROGRAM of a build once per
-/// scan and does not compile configurations yet; their globals are declared above.
+/// A configuration as IEC text: its resources, tasks and program instances (its
+/// globals are the VAR_GLOBAL blocks written above), so the instances run as their
+/// tasks say.
 fn write_config(o: &mut Out, c: &Config) {
-    let mut s = format!("\n(* CONFIGURATION {}\n", comment_safe(&c.name.value));
+    let mut s = format!("\nCONFIGURATION {}\n", c.name.value);
     for r in &c.resources {
-        s.push_str(&format!("     RESOURCE {}\n", comment_safe(&r.name.value)));
+        s.push_str(&format!("  RESOURCE {} ON PLC\n", r.name.value));
         for t in &r.tasks {
             let mut props = Vec::new();
             if let Some(i) = &t.interval {
-                props.push(format!("INTERVAL := {}", comment_safe(&i.value)));
+                props.push(format!("INTERVAL := {}", iec_duration(&i.value)));
             }
             if let Some(p) = &t.priority {
-                props.push(format!("PRIORITY := {}", comment_safe(&p.value)));
+                props.push(format!("PRIORITY := {}", p.value));
             }
             s.push_str(&format!(
-                "       TASK {}({});\n",
-                comment_safe(&t.name.value),
+                "    TASK {}({});\n",
+                t.name.value,
                 props.join(", ")
             ));
+        }
+        for t in &r.tasks {
             for i in &t.instances {
                 s.push_str(&format!(
-                    "       PROGRAM {} WITH {} : {};\n",
-                    comment_safe(&i.name.value),
-                    comment_safe(&t.name.value),
-                    comment_safe(&i.type_name.value)
+                    "    PROGRAM {} WITH {} : {};\n",
+                    i.name.value, t.name.value, i.type_name.value
                 ));
             }
         }
         for i in &r.instances {
             s.push_str(&format!(
-                "       PROGRAM {} : {};\n",
-                comment_safe(&i.name.value),
-                comment_safe(&i.type_name.value)
+                "    PROGRAM {} : {};\n",
+                i.name.value, i.type_name.value
             ));
         }
-        s.push_str("     END_RESOURCE\n");
+        s.push_str("  END_RESOURCE\n");
     }
-    s.push_str(
-        "   END_CONFIGURATION\n   plcc runs every PROGRAM once per scan (configurations are not \
-         compiled yet); the globals of the configuration are the VAR_GLOBAL above. *)\n",
-    );
+    s.push_str("END_CONFIGURATION\n");
     o.push(&s);
+}
+
+/// A task interval as an IEC TIME literal: PLCopen files write `T#10ms` (TC6 2.01)
+/// or an XML duration such as `PT0.01S`.
+fn iec_duration(text: &str) -> String {
+    let t = text.trim();
+    let Some(rest) = t.strip_prefix("PT").or_else(|| t.strip_prefix("pt")) else {
+        return t.to_string();
+    };
+    // PTnHnMn.nS
+    let mut ms = 0f64;
+    let mut num = String::new();
+    for ch in rest.chars() {
+        match ch.to_ascii_uppercase() {
+            'H' => {
+                ms += num.parse::<f64>().unwrap_or(0.0) * 3_600_000.0;
+                num.clear();
+            }
+            'M' => {
+                ms += num.parse::<f64>().unwrap_or(0.0) * 60_000.0;
+                num.clear();
+            }
+            'S' => {
+                ms += num.parse::<f64>().unwrap_or(0.0) * 1000.0;
+                num.clear();
+            }
+            c => num.push(c),
+        }
+    }
+    format!("T#{}ms", ms.round() as i64)
 }
 
 // ------------------------------------------------------------------ hidden names

@@ -125,7 +125,13 @@ impl<'s> Lowerer<'s> {
                         }
                     },
                 };
-                if !programs.is_empty() && !programs.iter().any(|p| p.eq_ignore_ascii_case(&n)) {
+                // An instance is chosen by its name or by its PROGRAM type's.
+                let t = self.pou(pou).display.clone();
+                if !programs.is_empty()
+                    && !programs
+                        .iter()
+                        .any(|p| p.eq_ignore_ascii_case(&n) || p.eq_ignore_ascii_case(&t))
+                {
                     continue;
                 }
                 let order = instances.len();
@@ -138,10 +144,10 @@ impl<'s> Lowerer<'s> {
             }
         }
         for name in programs {
-            if !instances
-                .iter()
-                .any(|i| self.text(i.decl.name.span).eq_ignore_ascii_case(name))
-            {
+            if !instances.iter().any(|i| {
+                self.text(i.decl.name.span).eq_ignore_ascii_case(name)
+                    || self.pou(i.pou).display.eq_ignore_ascii_case(name)
+            }) {
                 self.diags.push(plcc_ir::diag::Diagnostic::error_nowhere(
                     codes::E_NO_PROGRAM,
                     format!("the configuration has no program instance named `{name}`"),
