@@ -876,4 +876,14 @@ fn command_line_codes() {
     let o = plcc(&["check", "--lang", "xml", "examples/traffic_light.st"]);
     assert_eq!(status(&o), 1);
     assert!(stderr(&o).contains("error[E0740]"), "{}", stderr(&o));
+    // An unknown dialect is a usage error.
+    let o = plcc(&["check", "--dialect", "turbo", "examples/traffic_light.st"]);
+    assert_eq!(status(&o), 2);
+    assert!(
+        stderr(&o).contains("unknown dialect `turbo`"),
+        "{}",
+        stderr(&o)
+    );
+    let o = plcc(&["check", "--dialect", "codesys", "examples/traffic_light.st"]);
+    assert_eq!(status(&o), 0, "{}", stderr(&o));
 }

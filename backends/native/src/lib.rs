@@ -122,7 +122,7 @@ than meant, e.g. `ARRAY[0..999999999] OF LREAL`. Shrink the array bounds.",
     CodeInfo {
         code: codes::E_UNCHECKED_POINTERS,
         title: "unchecked pointers on the host",
-        explanation: "The program uses CODESYS pointers as numbers (`pt := pt + 1`, `dw := pt`, `pt := dw`) or keeps the address of a temporary (ADR of a FUNCTION's variable), so a pointer may hold any address. The JIT runs code natively in plcc's own process, where a wrong address would corrupt plcc instead of raising the fault flag, so `plcc run`/`test` on `host` refuse such a program (it still compiles to objects). Example: `pt := ADR(buf); pt := pt + 1; x := pt^;` in `--dialect codesys`. Run it with `--target interp`, which checks every access, or use IEC references (REF_TO, REF()).",
+        explanation: "The program uses CODESYS pointers as numbers (`pt := pt + 1`, `dw := pt`, `pt := dw`), gives a pointer the address of another type, or keeps the address of a temporary (ADR of a FUNCTION's variable), so a pointer may hold any address. The JIT runs code natively in plcc's own process, where a wrong address would corrupt plcc instead of raising the fault flag, so `plcc run`/`test` on `host` refuse such a program (it still compiles to objects). Example: `pt := ADR(buf); pt := pt + 1; x := pt^;` in `--dialect codesys`. Run it with `--target interp`, which checks every access, or use IEC references (REF_TO, REF()).",
     },
 ];
 
