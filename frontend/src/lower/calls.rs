@@ -172,6 +172,17 @@ impl<'s> BodyCx<'_, 's> {
         }
     }
 
+    /// The POU a name calls from here: the standard library calls only its own
+    /// FUNCTIONs and the standard functions, whatever the user declares.
+    fn visible_pou(&self, sym: crate::intern::Symbol) -> Option<PouId> {
+        let in_std = self.l.pou(self.pou).std;
+        self.l
+            .pou_by_name
+            .get(&sym)
+            .copied()
+            .filter(|&p| !in_std || self.l.pou(p).std)
+    }
+
     /// The result type of a call, without emitting anything.
     pub(super) fn infer_call(&mut self, callee: &Expr, args: &[Arg]) -> Ty {
         let ExprKind::Name(id) = &callee.kind else {
@@ -180,14 +191,7 @@ impl<'s> BodyCx<'_, 's> {
         if self.l.pou(self.pou).var(id.sym).is_some() {
             return Ty::Error;
         }
-        let in_std = self.l.pou(self.pou).std;
-        let found = self
-            .l
-            .pou_by_name
-            .get(&id.sym)
-            .copied()
-            .filter(|&p| !in_std || self.l.pou(p).std);
-        if let Some(p) = found {
+        if let Some(p) = self.visible_pou(id.sym) {
             if self.l.pou(p).kind == PouKind::Function {
                 // A FUNCTION without a result is reported (E0405) where it is
                 // emitted; as an operand it must not cause a second error.
@@ -235,16 +239,8 @@ impl<'s> BodyCx<'_, 's> {
                 if let (Some(f), Some(me)) = (self.l.action(self.pou, id.sym), self.self_ptr) {
                     return Callee::Action(f, me);
                 }
-                // The standard library calls only its own FUNCTIONs and the standard
-                // functions, whatever the user declares.
                 let in_std = self.l.pou(self.pou).std;
-                let found = self
-                    .l
-                    .pou_by_name
-                    .get(&id.sym)
-                    .copied()
-                    .filter(|&p| !in_std || self.l.pou(p).std);
-                if let Some(p) = found {
+                if let Some(p) = self.visible_pou(id.sym) {
                     let n = self.l.text(id.span).to_string();
                     return match self.l.pou(p).kind {
                         PouKind::Function if self.l.used[p.0 as usize] && !self.l.pou(p).std => {

@@ -539,29 +539,13 @@ impl<'s> BodyCx<'_, 's> {
                 let a = self.emit_string(xs[0], None)?;
                 let sa = a.ty.string()?;
                 let b = self.emit_string(xs[1], Some(sa.wide))?;
-                let sb = b.ty.string()?;
+                b.ty.string()?;
                 let mut nums = Vec::new();
                 for x in &xs[2..] {
                     nums.push(self.emit_as(x, int));
                 }
-                let rs = StrTy {
-                    wide: sa.wide,
-                    cap: (sa.cap + sb.cap).min(StrTy::MAX_CAP),
-                };
-                let d = self.string_temp(rs);
-                let (dc, ac, bc) = (
-                    self.int_arg(rs.cap),
-                    self.int_arg(sa.cap),
-                    self.int_arg(sb.cap),
-                );
-                let mut args = vec![d, a.v, b.v, dc, ac, bc];
-                args.extend(nums);
                 let helper = if f == Insert { "INSERT" } else { "REPLACE" };
-                self.call_helper(sa.wide, helper, args);
-                Some(Val {
-                    v: d,
-                    ty: Ty::Str(rs),
-                })
+                Some(self.join_strings(helper, a, b, nums))
             }
             Concat => {
                 let first = self.emit_string(xs[0], None)?;
@@ -569,22 +553,7 @@ impl<'s> BodyCx<'_, 's> {
                 for x in &xs[1..] {
                     let sa = acc.ty.string()?;
                     let b = self.emit_string(x, Some(sa.wide))?;
-                    let sb = b.ty.string()?;
-                    let rs = StrTy {
-                        wide: sa.wide,
-                        cap: (sa.cap + sb.cap).min(StrTy::MAX_CAP),
-                    };
-                    let d = self.string_temp(rs);
-                    let (dc, ac, bc) = (
-                        self.int_arg(rs.cap),
-                        self.int_arg(sa.cap),
-                        self.int_arg(sb.cap),
-                    );
-                    self.call_helper(sa.wide, "CONCAT", vec![d, acc.v, b.v, dc, ac, bc]);
-                    acc = Val {
-                        v: d,
-                        ty: Ty::Str(rs),
-                    };
+                    acc = self.join_strings("CONCAT", acc, b, Vec::new());
                 }
                 Some(acc)
             }
@@ -604,6 +573,31 @@ impl<'s> BodyCx<'_, 's> {
             }
             ToString { from, wide } => self.text_of(xs[0], from, wide, name),
             FromString { wide, to } => self.parse_string(xs[0], wide, to, name, want),
+        }
+    }
+
+    /// Calls a helper that builds a string from two (`CONCAT`, `INSERT`, `REPLACE`)
+    /// into a new temporary long enough for both, with `nums` after the capacities.
+    fn join_strings(&mut self, helper: &str, a: Val, b: Val, nums: Vec<Value>) -> Val {
+        let (Some(sa), Some(sb)) = (a.ty.string(), b.ty.string()) else {
+            return a;
+        };
+        let rs = StrTy {
+            wide: sa.wide,
+            cap: (sa.cap + sb.cap).min(StrTy::MAX_CAP),
+        };
+        let d = self.string_temp(rs);
+        let (dc, ac, bc) = (
+            self.int_arg(rs.cap),
+            self.int_arg(sa.cap),
+            self.int_arg(sb.cap),
+        );
+        let mut args = vec![d, a.v, b.v, dc, ac, bc];
+        args.extend(nums);
+        self.call_helper(sa.wide, helper, args);
+        Val {
+            v: d,
+            ty: Ty::Str(rs),
         }
     }
 
