@@ -336,6 +336,8 @@ bad! {
     unsup_var_global_in_pou,
     config_errors,
     prototypes,
+    cascade_unknown_type,
+    cascade_broken_statement,
     // warnings
     warn_write_own_input,
     // Instruction List: instructions and their operands

@@ -379,3 +379,29 @@ fn ascii_ladder() {
         "(* PROGRAM p *)\nrung 1\n|--[start]--+--[/stop]--(run)--|\n|--[run]----+                  |\n"
     );
 }
+
+#[test]
+fn deep_documents_and_long_rungs_do_not_overflow() {
+    // 10,000 nested elements: read without a stack overflow (nothing to compile).
+    let deep = format!(
+        "<?xml version=\"1.0\"?><project xmlns=\"http://www.plcopen.org/xml/tc6_0201\">{}{}</project>",
+        "<a>".repeat(10_000),
+        "</a>".repeat(10_000)
+    );
+    let _ = convert_text(&deep);
+    // A rung of 10,000 contacts in series converts to one long AND chain.
+    let mut elems = String::new();
+    // The left power rail is element 1.
+    for i in 0..10_000u32 {
+        elems.push_str(&contact(i + 2, "a", &[i + 1]));
+    }
+    elems.push_str(&coil(10_002, "q", &[10_001]));
+    let (c, diags) = convert_text(&project(&elems));
+    assert!(diags.iter().all(|d| !d.is_error()), "{diags:#?}");
+    let il = c.expect("converted").il;
+    assert!(
+        il.matches("AND a").count() >= 9_999,
+        "{}",
+        &il[..il.len().min(500)]
+    );
+}

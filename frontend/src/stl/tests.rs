@@ -963,7 +963,7 @@ fn on_small_stack(f: impl FnOnce() + Send + 'static) {
 #[test]
 fn deep_nesting_gives_one_error() {
     on_small_stack(|| {
-        let n = 5000;
+        let n = 10_000;
         let cases = [
             format!(
                 "program p; begin x := {}1{}; end.",
