@@ -7,7 +7,7 @@ use crate::ast::{Expr, ExprKind};
 use crate::codes;
 use crate::types::{ArrayId, Ty};
 use plcc_ir::diag::Span;
-use plcc_ir::{IntCC, Type, Value};
+use plcc_ir::{Type, Value};
 
 /// Arrays up to this many elements per dimension are copied element by element in
 /// straight-line code; longer ones in a loop.
@@ -65,22 +65,7 @@ impl<'s> BodyCx<'_, 's> {
             }
             return;
         }
-        let header = self.b.create_block();
-        let body = self.b.create_block();
-        let exit = self.b.create_block();
-        let i = self.b.block_param(header, Type::I32);
-        let zero = self.b.iconst(Type::I32, 0);
-        self.b.jump(header, vec![zero]);
-        self.b.switch_to(header);
-        let lenv = self.b.iconst(Type::I32, len as i64);
-        let more = self.b.icmp(IntCC::Slt, i, lenv);
-        self.b.brif(more, body, vec![], exit, vec![]);
-        self.b.switch_to(body);
-        element(self, i);
-        let one = self.b.iconst(Type::I32, 1);
-        let next = self.b.binary(plcc_ir::BinaryOp::Iadd, i, one);
-        self.b.jump(header, vec![next]);
-        self.b.switch_to(exit);
+        self.counted_loop(Type::I32, len as i64, element);
     }
 
     /// Reports an attempt to copy a value that holds function block instances; true

@@ -657,24 +657,31 @@ impl<'a, 's> BodyCx<'a, 's> {
     ) {
         let agg = self.l.array_agg(a, dim);
         let len = at.len(dim as usize) as i64;
+        self.counted_loop(Type::I32, len, |cx, i| {
+            let p = cx.b.elem_addr(addr, agg, i);
+            if (dim as usize) + 1 < at.dims.len() {
+                cx.array_default_loop(p, a, dim + 1, at);
+            } else {
+                cx.init_var(p, at.elem, at.elem_tag, None);
+            }
+        });
+    }
+
+    /// Emits `for i := 0 TO len - 1 DO body(i)` with `i` of type `ty`.
+    pub(super) fn counted_loop(&mut self, ty: Type, len: i64, body: impl FnOnce(&mut Self, Value)) {
         let header = self.b.create_block();
-        let body = self.b.create_block();
+        let body_block = self.b.create_block();
         let exit = self.b.create_block();
-        let i = self.b.block_param(header, Type::I32);
-        let zero = self.b.iconst(Type::I32, 0);
+        let i = self.b.block_param(header, ty);
+        let zero = self.b.iconst(ty, 0);
         self.b.jump(header, vec![zero]);
         self.b.switch_to(header);
-        let lenv = self.b.iconst(Type::I32, len);
+        let lenv = self.b.iconst(ty, len);
         let more = self.b.icmp(plcc_ir::IntCC::Slt, i, lenv);
-        self.b.brif(more, body, vec![], exit, vec![]);
-        self.b.switch_to(body);
-        let p = self.b.elem_addr(addr, agg, i);
-        if (dim as usize) + 1 < at.dims.len() {
-            self.array_default_loop(p, a, dim + 1, at);
-        } else {
-            self.init_var(p, at.elem, at.elem_tag, None);
-        }
-        let one = self.b.iconst(Type::I32, 1);
+        self.b.brif(more, body_block, vec![], exit, vec![]);
+        self.b.switch_to(body_block);
+        body(self, i);
+        let one = self.b.iconst(ty, 1);
         let next = self.b.binary(plcc_ir::BinaryOp::Iadd, i, one);
         self.b.jump(header, vec![next]);
         self.b.switch_to(exit);

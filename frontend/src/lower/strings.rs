@@ -379,24 +379,11 @@ impl<'s> BodyCx<'_, 's> {
     fn fill_zero(&mut self, addr: Value, s: StrTy) {
         let agg = self.l.string_agg(s);
         let t = if s.wide { Type::I16 } else { Type::I8 };
-        let header = self.b.create_block();
-        let body = self.b.create_block();
-        let exit = self.b.create_block();
-        let i = self.b.block_param(header, Type::I16);
-        let zero = self.b.iconst(Type::I16, 0);
-        self.b.jump(header, vec![zero]);
-        self.b.switch_to(header);
-        let len = self.b.iconst(Type::I16, s.cap as i64 + 1);
-        let more = self.b.icmp(IntCC::Slt, i, len);
-        self.b.brif(more, body, vec![], exit, vec![]);
-        self.b.switch_to(body);
-        let a = self.b.elem_addr(addr, agg, i);
-        let z = self.b.iconst(t, 0);
-        self.b.store(z, a);
-        let one = self.b.iconst(Type::I16, 1);
-        let next = self.b.binary(plcc_ir::BinaryOp::Iadd, i, one);
-        self.b.jump(header, vec![next]);
-        self.b.switch_to(exit);
+        self.counted_loop(Type::I16, s.cap as i64 + 1, |cx, i| {
+            let a = cx.b.elem_addr(addr, agg, i);
+            let z = cx.b.iconst(t, 0);
+            cx.b.store(z, a);
+        });
     }
 
     /// A comparison of two strings (`=`, `<>`, `<`, ...): by character codes, a
