@@ -11,9 +11,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 target=${1:?usage: scripts/fuzz_campaign.sh st|il|stl|ld [EXECS] [OUT]}
 execs=${2:-10000000}
-out=${3:-fuzz/out/$target}
+out=$(realpath -m "${3:-fuzz/out/$target}")
 (cd fuzz && cargo afl build --release --quiet)
-seeds=fuzz/seeds/$target
+seeds=$PWD/fuzz/seeds/$target
 rm -rf "$seeds"
 mkdir -p "$seeds"
 add() { # files no larger than 10 kB, the inputs' limit
@@ -34,6 +34,6 @@ echo "$(ls "$seeds" | wc -l) seeds for $target"
 mkdir -p "$(dirname "$out")"
 export AFL_SKIP_CPUFREQ=1 AFL_I_DONT_CARE_ABOUT_MISSING_CRASHES=1 AFL_NO_UI=1
 # -t 1000: an input running over 1 s is a hang; -G 10240: inputs of at most 10 kB.
-(cd fuzz && cargo afl fuzz -m none -i "../$seeds" -o "../$out" -t 1000 -G 10240 -E "$execs" -- "target/release/$target")
+(cd fuzz && cargo afl fuzz -m none -i "$seeds" -o "$out" -t 1000 -G 10240 -E "$execs" -- "target/release/$target")
 echo "crashes: $(ls "$out/default/crashes" 2>/dev/null | grep -vc README || true)"
 echo "hangs:   $(ls "$out/default/hangs" 2>/dev/null | wc -l)"

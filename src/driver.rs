@@ -194,7 +194,7 @@ pub fn source_texts(sources: &SourceMap, module: &Module) -> Vec<Option<String>>
             sources
                 .iter()
                 .find(|(_, f)| &f.name == name)
-                .map(|(_, f)| f.text.clone())
+                .map(|(_, f)| f.text.to_string())
         })
         .collect()
 }

@@ -21,7 +21,7 @@ impl<'a> Files<'a> for SourceFiles<'a> {
     }
 
     fn source(&'a self, id: u32) -> Result<&'a str, FilesError> {
-        self.get(id).map(|f| f.text.as_str())
+        self.get(id).map(|f| &*f.text)
     }
 
     fn line_index(&'a self, id: u32, byte_index: usize) -> Result<usize, FilesError> {

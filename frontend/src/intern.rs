@@ -11,7 +11,7 @@ use rustc_hash::FxHashMap;
 pub struct Symbol(pub u32);
 
 /// The table of interned names of one build.
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct Interner {
     map: FxHashMap<Box<str>, Symbol>,
     names: Vec<Box<str>>,

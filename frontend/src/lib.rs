@@ -98,16 +98,10 @@ pub fn compile(
     opts: &LowerOptions,
 ) -> Compiled {
     let started = std::time::Instant::now();
-    let std_file = sources.add(SourceFile::new(STDLIB_NAME, lower::std_library_source()));
-    let mut interner = intern::Interner::new();
-    let mut diagnostics = Vec::new();
+    let (std_text, std_lines) = lower::std_library_source();
+    let std_file = sources.add(SourceFile::from_static(STDLIB_NAME, std_text, std_lines));
+    let (std_unit, mut interner, mut diagnostics) = parse_std_library(std_file);
     let mut units = Vec::with_capacity(inputs.len() + 1);
-    units.push(st::parse(
-        std_file,
-        &sources.get(std_file).text,
-        &mut interner,
-        &mut diagnostics,
-    ));
     let mut ladder = Vec::new();
     for &(file, lang) in inputs {
         match lang {
@@ -168,7 +162,8 @@ pub fn compile(
         };
     }
     let started = std::time::Instant::now();
-    let mut lowerer = lower::Lowerer::new(sources, &mut interner, &units);
+    let all: Vec<&ast::SourceUnit> = std::iter::once(std_unit).chain(&units).collect();
+    let mut lowerer = lower::Lowerer::new(sources, &mut interner, &all);
     lowerer.cpdev_files = inputs
         .iter()
         .filter(|(_, l)| *l == Lang::Cst)
@@ -187,6 +182,37 @@ pub fn compile(
     }
 }
 
+/// The standard library's syntax tree, a copy of the interner holding its names, and
+/// its diagnostics (none, unless plcc is broken). Parsing it was most of the cost of
+/// checking a small program, so it is parsed once per process for each file id it
+/// gets (its spans carry the id; a process sees very few) and shared by every build.
+fn parse_std_library(
+    std_file: FileId,
+) -> (&'static ast::SourceUnit, intern::Interner, Vec<Diagnostic>) {
+    type Parsed = (ast::SourceUnit, intern::Interner, Vec<Diagnostic>);
+    static CACHE: std::sync::Mutex<Vec<(FileId, &'static Parsed)>> =
+        std::sync::Mutex::new(Vec::new());
+    let mut cache = CACHE.lock().unwrap_or_else(|e| e.into_inner());
+    let parsed = match cache.iter().find(|(id, _)| *id == std_file) {
+        Some(&(_, parsed)) => parsed,
+        None => {
+            let mut interner = intern::Interner::new();
+            let mut diagnostics = Vec::new();
+            let unit = st::parse(
+                std_file,
+                lower::std_library_source().0,
+                &mut interner,
+                &mut diagnostics,
+            );
+            // Leaked on purpose: one per file id, kept for the life of the process.
+            let parsed: &'static Parsed = Box::leak(Box::new((unit, interner, diagnostics)));
+            cache.push((std_file, parsed));
+            parsed
+        }
+    };
+    (&parsed.0, parsed.1.clone(), parsed.2.clone())
+}
+
 /// The name of the synthetic POU that holds every `VAR_GLOBAL` of a build (no user
 /// can write it: IEC names cannot contain two underscores in a row).
 pub const GLOBALS_POU: &str = "__GLOBALS";
@@ -195,7 +221,8 @@ pub const GLOBALS_POU: &str = "__GLOBALS";
 /// `$globals.x`).
 pub const GLOBALS_DATA: &str = "$globals";
 
-/// Moves every top-level `VAR_GLOBAL` block of the user's units into one synthetic POU
+/// Moves every top-level `VAR_GLOBAL` block of the user's units (the standard library
+/// declares none) into one synthetic POU
 /// (a unit of its own), so that globals get the same declarations, types, constants
 /// and initial values as the variables of any POU.
 fn globals_unit(
@@ -203,8 +230,7 @@ fn globals_unit(
     interner: &mut intern::Interner,
 ) -> Option<ast::SourceUnit> {
     let mut blocks = Vec::new();
-    // The standard library (unit 0) declares no globals.
-    for unit in units.iter_mut().skip(1) {
+    for unit in units.iter_mut() {
         let items = std::mem::take(&mut unit.items);
         for item in items {
             match item {

@@ -1,32 +1,53 @@
 //! Source files of a build and the mapping from byte offsets to lines and columns.
 
+use std::borrow::Cow;
+
 use plcc_ir::diag::{FileId, Span};
+
+/// Byte offsets where each line of `text` starts.
+pub fn line_starts(text: &str) -> Vec<u32> {
+    let mut starts = vec![0u32];
+    starts.extend(
+        text.bytes()
+            .enumerate()
+            .filter(|&(_, b)| b == b'\n')
+            .map(|(i, _)| i as u32 + 1),
+    );
+    starts
+}
 
 /// One source file: its name, its text (decoded to UTF-8), and where its lines start.
 #[derive(Debug, Clone)]
 pub struct SourceFile {
     /// The name diagnostics show (the path as given on the command line).
     pub name: String,
-    /// The text.
-    pub text: String,
-    line_starts: Vec<u32>,
+    /// The text (borrowed for the standard library, which every build shares).
+    pub text: Cow<'static, str>,
+    line_starts: Cow<'static, [u32]>,
 }
 
 impl SourceFile {
     /// A file with the given name and text.
     pub fn new(name: impl Into<String>, text: impl Into<String>) -> SourceFile {
         let text = text.into();
-        let mut line_starts = vec![0u32];
-        line_starts.extend(
-            text.bytes()
-                .enumerate()
-                .filter(|&(_, b)| b == b'\n')
-                .map(|(i, _)| i as u32 + 1),
-        );
         SourceFile {
             name: name.into(),
-            text,
-            line_starts,
+            line_starts: Cow::Owned(line_starts(&text)),
+            text: Cow::Owned(text),
+        }
+    }
+
+    /// A file over text that lives as long as the process, with its line table
+    /// (from [`line_starts`]) computed once: no copy per build.
+    pub fn from_static(
+        name: impl Into<String>,
+        text: &'static str,
+        line_starts: &'static [u32],
+    ) -> SourceFile {
+        SourceFile {
+            name: name.into(),
+            text: Cow::Borrowed(text),
+            line_starts: Cow::Borrowed(line_starts),
         }
     }
 

@@ -143,7 +143,7 @@ struct PouIr {
 pub struct Lowerer<'s> {
     pub(crate) sources: &'s SourceMap,
     pub(crate) interner: &'s mut Interner,
-    pub(crate) units: &'s [SourceUnit],
+    pub(crate) units: &'s [&'s SourceUnit],
     pub(crate) pous: Vec<PouInfo>,
     pub(crate) pou_by_name: FxHashMap<Symbol, PouId>,
     pub(crate) types: TypeTable,
@@ -188,7 +188,7 @@ impl<'s> Lowerer<'s> {
     pub fn new(
         sources: &'s SourceMap,
         interner: &'s mut Interner,
-        units: &'s [SourceUnit],
+        units: &'s [&'s SourceUnit],
     ) -> Lowerer<'s> {
         let mut module = Module::new();
         module.files = sources.iter().map(|(_, f)| f.name.clone()).collect();
@@ -435,17 +435,21 @@ impl<'s> Lowerer<'s> {
     }
 }
 
-/// The source of the standard function blocks (TON, CTU, R_TRIG, ...), written in ST
-/// and parsed as the first unit of every build.
-pub fn std_library_source() -> &'static str {
-    static SOURCE: std::sync::OnceLock<String> = std::sync::OnceLock::new();
-    SOURCE.get_or_init(|| {
+/// The source of the standard function blocks (TON, CTU, R_TRIG, ...) and helper
+/// FUNCTIONs, written in ST and parsed as the first unit of every build, with the
+/// byte offsets where its lines start.
+pub fn std_library_source() -> (&'static str, &'static [u32]) {
+    static SOURCE: std::sync::OnceLock<(String, Vec<u32>)> = std::sync::OnceLock::new();
+    let (text, lines) = SOURCE.get_or_init(|| {
         let strings = include_str!("../stdlib/strings.st");
         // The WSTRING helpers are the STRING ones over 16-bit characters.
         let wide = strings.replace("BYTE", "WORD").replace("__STR_", "__WSTR_");
-        format!(
+        let text = format!(
             "{}\n{strings}\n{wide}",
             include_str!("../stdlib/std_fbs.st")
-        )
-    })
+        );
+        let lines = crate::source::line_starts(&text);
+        (text, lines)
+    });
+    (text, lines)
 }
