@@ -5,7 +5,7 @@
 //! address); it is lowered with the POU's variables in scope, as the body is.
 
 use super::body::BodyCx;
-use super::Lowerer;
+use super::{CallNode, Lowerer};
 use crate::ast::{self, PouKind};
 use crate::codes;
 use crate::intern::Symbol;
@@ -90,6 +90,7 @@ impl<'s> Lowerer<'s> {
         for &(p, fid, a) in &bodies {
             self.with_function(fid, |l, func| {
                 let mut cx = BodyCx::new(l, func, p, false);
+                cx.caller = CallNode::Action(fid);
                 cx.lower_body(&a.body.stmts);
             });
         }
@@ -119,6 +120,7 @@ impl<'s> BodyCx<'_, 's> {
             );
             return;
         }
+        self.l.calls.push((self.caller, CallNode::Action(f), span));
         self.b.call(f, None, vec![inst]);
     }
 }

@@ -80,6 +80,9 @@ pub(super) struct BodyCx<'a, 's> {
     pub l: &'a mut Lowerer<'s>,
     pub b: FuncBuilder<'a>,
     pub pou: PouId,
+    /// What the recursion check counts this body's calls from: the POU, or the
+    /// ACTION being lowered.
+    pub caller: super::CallNode,
     /// The instance pointer (PROGRAM and FB bodies and init functions).
     pub self_ptr: Option<Value>,
     /// Innermost loop last.
@@ -167,6 +170,7 @@ impl<'a, 's> BodyCx<'a, 's> {
             l,
             b,
             pou,
+            caller: super::CallNode::Pou(pou),
             self_ptr,
             loops: Vec::new(),
             known_ranges: Vec::new(),

@@ -5,7 +5,7 @@ use super::builtins::Builtin;
 use super::consts::ConstVal;
 use super::expr::Val;
 use super::usertypes::TagDefault;
-use super::Storage;
+use super::{CallNode, Storage};
 use crate::ast::{Arg, ArgKind, Expr, ExprKind, PouKind, VarKind};
 use crate::codes;
 use crate::types::{PouId, Ty};
@@ -524,7 +524,7 @@ impl<'s> BodyCx<'_, 's> {
 
     /// Calls a user FUNCTION; its result, if it has one.
     fn func_call(&mut self, p: PouId, args: &'s [Arg], span: Span) -> Option<Val> {
-        self.l.calls.push((self.pou, p, span));
+        self.l.calls.push((self.caller, CallNode::Pou(p), span));
         let params = params_of(self, p);
         let bound = self.bind_args(p, &params, args);
         let mut ir_args = Vec::with_capacity(params.len());
@@ -745,7 +745,7 @@ impl<'s> BodyCx<'_, 's> {
     /// Calls an FB instance: stores the inputs, runs the body, reads the outputs. A
     /// call on an array element whose index was out of bounds is skipped.
     pub(super) fn fb_call(&mut self, inst: Place, fb: PouId, args: &'s [Arg], span: Span) {
-        self.l.calls.push((self.pou, fb, span));
+        self.l.calls.push((self.caller, CallNode::Pou(fb), span));
         let params = params_of(self, fb);
         let bound = self.bind_args(fb, &params, args);
         // A call on an element whose index was out of bounds is skipped (and raises

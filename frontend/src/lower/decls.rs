@@ -3,14 +3,14 @@
 
 use super::consts::{self, ConstVal};
 use super::usertypes::TagDefault;
-use super::{Lowerer, PouInfo, PouIr, Storage, VarInfo};
+use super::{CallNode, Lowerer, PouInfo, PouIr, Storage, VarInfo};
 use crate::ast::{self, PouKind, TypeSpec, VarKind};
 use crate::codes;
 use crate::types::{ArrayId, ArrayTy, PouId, TagId, Ty};
 use plcc_ir::diag::Span;
 use plcc_ir::{
-    AggDef, AggId, ArrayDef, Field, FieldRole, FuncKind, Function, MemType, StructDef, StructKind,
-    Type,
+    AggDef, AggId, ArrayDef, Field, FieldRole, FuncId, FuncKind, Function, MemType, StructDef,
+    StructKind, Type,
 };
 use rustc_hash::FxHashMap;
 
@@ -940,16 +940,38 @@ impl<'s> Lowerer<'s> {
         agg
     }
 
-    /// Reports calls that form a cycle (IEC 61131-3 forbids recursion).
+    /// Reports calls that form a cycle (IEC 61131-3 forbids recursion), through
+    /// POU bodies and ACTIONs alike.
     pub(super) fn check_recursion(&mut self) {
-        let n = self.pous.len();
-        let mut edges: Vec<Vec<(PouId, Span)>> = vec![Vec::new(); n];
+        // Nodes: the POUs, then the actions.
+        let n_pous = self.pous.len();
+        let mut actions: Vec<FuncId> = self.actions.values().copied().collect();
+        actions.sort_unstable_by_key(|f| f.index());
+        let index = |node: CallNode| match node {
+            CallNode::Pou(p) => p.0 as usize,
+            CallNode::Action(f) => {
+                n_pous
+                    + actions
+                        .binary_search_by_key(&f.index(), |a| a.index())
+                        .expect("an action")
+            }
+        };
+        let n = n_pous + actions.len();
+        let mut edges: Vec<Vec<(usize, Span)>> = vec![Vec::new(); n];
         for &(from, to, span) in &self.calls {
-            edges[from.0 as usize].push((to, span));
+            edges[index(from)].push((index(to), span));
         }
+        let display = |x: usize| {
+            if x < n_pous {
+                self.pous[x].display.clone()
+            } else {
+                self.module.funcs[actions[x - n_pous].index()].name.clone()
+            }
+        };
         // Iterative DFS with colours; a back edge closes a cycle.
         let mut colour = vec![0u8; n];
         let mut reported = vec![false; n];
+        let mut found = Vec::new();
         for start in 0..n {
             if colour[start] != 0 {
                 continue;
@@ -958,27 +980,18 @@ impl<'s> Lowerer<'s> {
             colour[start] = 1;
             while let Some(&mut (node, ref mut next)) = stack.last_mut() {
                 if *next < edges[node].len() {
-                    let (to, span) = edges[node][*next];
+                    let (t, span) = edges[node][*next];
                     *next += 1;
-                    let t = to.0 as usize;
                     if colour[t] == 1 {
                         if !reported[t] {
                             reported[t] = true;
                             let path: Vec<String> = stack
                                 .iter()
                                 .skip_while(|(x, _)| *x != t)
-                                .map(|(x, _)| self.pous[*x].display.clone())
-                                .chain(std::iter::once(self.pous[t].display.clone()))
+                                .map(|(x, _)| display(*x))
+                                .chain(std::iter::once(display(t)))
                                 .collect();
-                            self.diags.push(
-                                plcc_ir::diag::Diagnostic::error(
-                                    codes::E_RECURSION,
-                                    format!("recursion is not allowed: {}", path.join(" -> ")),
-                                    span,
-                                )
-                                .with_label("this call closes the cycle")
-                                .with_note("IEC 61131-3 forbids recursive calls, so every frame can be static"),
-                            );
+                            found.push((path.join(" -> "), span));
                         }
                     } else if colour[t] == 0 {
                         colour[t] = 1;
@@ -989,6 +1002,17 @@ impl<'s> Lowerer<'s> {
                     stack.pop();
                 }
             }
+        }
+        for (path, span) in found {
+            self.diags.push(
+                plcc_ir::diag::Diagnostic::error(
+                    codes::E_RECURSION,
+                    format!("recursion is not allowed: {path}"),
+                    span,
+                )
+                .with_label("this call closes the cycle")
+                .with_note("IEC 61131-3 forbids recursive calls, so every frame can be static"),
+            );
         }
     }
 }

@@ -40,6 +40,16 @@ use rustc_hash::FxHashMap;
 
 pub use consts::ConstVal;
 
+/// A node of the call graph the recursion check walks: a POU's body, or an ACTION
+/// (a body of its own, called by name).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub(crate) enum CallNode {
+    /// The body of a POU.
+    Pou(PouId),
+    /// An ACTION, by its function.
+    Action(FuncId),
+}
+
 /// What to build.
 #[derive(Clone, Debug, Default)]
 pub struct LowerOptions {
@@ -161,8 +171,8 @@ pub struct Lowerer<'s> {
     /// The IR array of each string type.
     string_aggs: FxHashMap<crate::types::StrTy, AggId>,
     helpers: FxHashMap<String, FuncId>,
-    /// Calls between POUs (caller, callee, span), for the recursion check.
-    calls: Vec<(PouId, PouId, Span)>,
+    /// Calls between POUs and actions (caller, callee, span), for the recursion check.
+    calls: Vec<(CallNode, CallNode, Span)>,
     /// POUs whose IR is wanted (user POUs, and standard FBs that are used).
     used: Vec<bool>,
     /// Standard-library FUNCTIONs first used while lowering, whose bodies are still
