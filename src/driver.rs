@@ -11,6 +11,8 @@ use std::time::{Duration, Instant};
 pub const E_INTERNAL: &str = "E9901";
 /// Code of the diagnostic for a target that cannot run programs on this machine.
 pub const E_CANNOT_RUN: &str = "E9902";
+/// Code of the diagnostic for a program whose data the IR interpreter cannot hold.
+pub const E_INTERP_DATA_TOO_LARGE: &str = "E9903";
 
 /// The driver's own diagnostic codes.
 pub const CODES: &[plcc_ir::diag::CodeInfo] = &[
@@ -23,6 +25,11 @@ pub const CODES: &[plcc_ir::diag::CodeInfo] = &[
         code: E_CANNOT_RUN,
         title: "target cannot run programs here",
         explanation: "`plcc run` and `plcc test` need a machine for the target: the JIT (`host`), the interpreter (`interp`), plcc's simulator of the PIC16F876A (`pic16f876a`) or plcc's CPDev VM (`vmasm`). A target without one only produces files.",
+    },
+    plcc_ir::diag::CodeInfo {
+        code: E_INTERP_DATA_TOO_LARGE,
+        title: "program data too large for the interpreter",
+        explanation: "The program's variables (all program instances and globals) take more than 1 GiB, the IR interpreter's limit (`--target interp`); the host's JIT has the same limit (E8006). Usually arrays are declared far larger than meant: fourteen `ARRAY[0..9999999] OF LREAL` take 1.1 GB. Shrink the array bounds.",
     },
 ];
 

@@ -100,7 +100,15 @@ pub fn machine_owned(
     let mut m = match name {
         "interp" => plcc_ir::interp::Interp::new(&module)
             .map(|m| Box::new(m) as Box<dyn Machine>)
-            .map_err(|e| vec![Diagnostic::error_nowhere(crate::driver::E_INTERNAL, e.0)])?,
+            .map_err(|e| {
+                let code = match e {
+                    plcc_ir::interp::SetupError::DataTooLarge { .. } => {
+                        crate::driver::E_INTERP_DATA_TOO_LARGE
+                    }
+                    plcc_ir::interp::SetupError::Malformed(_) => crate::driver::E_INTERNAL,
+                };
+                vec![Diagnostic::error_nowhere(code, e.to_string())]
+            })?,
         _ => match backend(name).and_then(|b| {
             let opts = Options {
                 settings: settings.to_vec(),

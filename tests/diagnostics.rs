@@ -322,6 +322,7 @@ bad! {
     write_for_step_zero,
     write_recursion_direct,
     write_recursion_mutual,
+    write_recursion_action,
     // not supported yet
     unsup_method,
     string_width_mismatch,
@@ -888,4 +889,87 @@ fn command_line_codes() {
     );
     let o = plcc(&["check", "--dialect", "codesys", "examples/traffic_light.st"]);
     assert_eq!(status(&o), 0, "{}", stderr(&o));
+}
+
+/// Data over the 1 GiB the host's JIT and the interpreter hold is a diagnostic of the
+/// program (E8006 on the host, E9903 on the interpreter), found before anything is
+/// allocated, not an internal error.
+#[test]
+fn data_too_large_to_run() {
+    let dir = std::env::temp_dir().join(format!("plcc-big-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let src = dir.join("big.st");
+    // Fourteen arrays of 10 million LREALs: 1.12 GB.
+    let decls: String = (0..14)
+        .map(|i| format!("a{i} : ARRAY[0..9999999] OF LREAL; "))
+        .collect();
+    std::fs::write(
+        &src,
+        format!("PROGRAM big\nVAR {decls}END_VAR\n    a0[1] := 2.0;\nEND_PROGRAM\n"),
+    )
+    .unwrap();
+    for (target, code) in [("host", "E8006"), ("interp", "E9903")] {
+        let o = plcc(&["run", "--target", target, src.to_str().unwrap()]);
+        assert_eq!(status(&o), 1, "{target}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains(&format!("error[{code}]: the program's data takes 1120")),
+            "{target}: {}",
+            stderr(&o)
+        );
+    }
+}
+
+/// A machine for a target that has none is E9902; a module the interpreter cannot
+/// load (a STRUCT containing itself, which no front end makes) is an internal error,
+/// E9901.
+#[test]
+fn machine_setup_codes() {
+    let m = plcc_ir::text::parse_module(
+        "struct %p program {
+    var x: i16 INT
+}
+
+data @p: %p program
+
+func @p(ptr) program {
+block0(v0: ptr):
+    return
+}
+
+func @p$init(ptr) init {
+block0(v0: ptr):
+    return
+}
+
+program \"p\" data @p body @p init @p$init
+",
+    )
+    .expect("parses");
+    assert!(plcc::targets::machine("interp", &m).is_ok());
+    let Err(ds) = plcc::targets::machine("plc5", &m) else {
+        panic!("a machine for an unknown target")
+    };
+    assert_eq!(ds[0].code, plcc::driver::E_CANNOT_RUN);
+    assert_eq!(ds[0].message, "target `plc5` cannot run programs here");
+    let mut broken = m.clone();
+    broken.aggs[0] = plcc_ir::AggDef::Struct(plcc_ir::StructDef {
+        name: "p".into(),
+        kind: plcc_ir::StructKind::Program,
+        fields: vec![plcc_ir::Field {
+            name: "me".into(),
+            ty: plcc_ir::MemType::Agg(plcc_ir::AggId::new(0)),
+            elem: None,
+            role: plcc_ir::FieldRole::Var,
+            location: None,
+        }],
+    });
+    let Err(ds) = plcc::targets::machine("interp", &broken) else {
+        panic!("a self-containing struct was loaded")
+    };
+    assert_eq!(ds[0].code, plcc::driver::E_INTERNAL);
+    assert!(
+        ds[0].message.contains("contains itself"),
+        "{}",
+        ds[0].message
+    );
 }

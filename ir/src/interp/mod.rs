@@ -42,6 +42,32 @@ pub const DEFAULT_STEP_LIMIT: u64 = 10_000_000_000;
 /// trying to allocate it).
 pub const MAX_DATA_BYTES: u64 = 1 << 30;
 
+/// Why [`Interp::new`] could not load a module.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum SetupError {
+    /// The module breaks a rule of the IR (a bug of whoever built it).
+    Malformed(String),
+    /// The program's data needs more than [`MAX_DATA_BYTES`] (a property of the
+    /// program, not a bug).
+    DataTooLarge {
+        /// The bytes the data objects need.
+        bytes: u64,
+    },
+}
+
+impl std::fmt::Display for SetupError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SetupError::Malformed(m) => f.write_str(m),
+            SetupError::DataTooLarge { bytes } => write!(
+                f,
+                "the program's data takes {bytes} bytes, more than the interpreter's \
+                 limit of {MAX_DATA_BYTES}"
+            ),
+        }
+    }
+}
+
 /// The canonical register form of a value of type `ty` given as raw bits: integers
 /// sign-extended from their width, `i1` 0 or 1, `f32` its encoding in the low 32 bits,
 /// `f64` and `ptr` unchanged. The `eval_*` functions take and give this form.
@@ -178,24 +204,29 @@ impl Interp {
     /// Fails if the module's structure is broken (a missing or self-containing
     /// aggregate, a program naming a missing function or data object, too much data).
     /// A malformed instruction does not fail here: it fails when it is executed.
-    pub fn new(module: &Module) -> Result<Interp, MachineError> {
-        check_aggs(module)?;
+    pub fn new(module: &Module) -> Result<Interp, SetupError> {
+        check_aggs(module).map_err(|e| SetupError::Malformed(e.0))?;
         for d in &module.data {
             if !mem_type_ok(module, d.ty) {
-                return Err(MachineError(format!("data @{} has a missing type", d.name)));
+                return Err(SetupError::Malformed(format!(
+                    "data @{} has a missing type",
+                    d.name
+                )));
             }
         }
         let nf = module.funcs.len();
         for p in &module.programs {
             if p.body.index() >= nf || p.init.index() >= nf || p.data.index() >= module.data.len() {
-                return Err(MachineError(format!(
+                return Err(SetupError::Malformed(format!(
                     "program {} refers to a missing function or data object",
                     p.name
                 )));
             }
         }
         if module.init_globals.is_some_and(|g| g.index() >= nf) {
-            return Err(MachineError("init_globals is a missing function".into()));
+            return Err(SetupError::Malformed(
+                "init_globals is a missing function".into(),
+            ));
         }
 
         let layout = Layout::compute(module, LayoutRules::HOST);
@@ -205,11 +236,9 @@ impl Interp {
             let addr = align_up(end, layout.align_of(d.ty) as u64);
             data_addr.push(addr);
             end = addr + layout.size_of(d.ty) as u64;
-            if end > MAX_DATA_BYTES {
-                return Err(MachineError(format!(
-                    "the data objects need more than {MAX_DATA_BYTES} bytes"
-                )));
-            }
+        }
+        if end > MAX_DATA_BYTES {
+            return Err(SetupError::DataTooLarge { bytes: end });
         }
         let stack_base = align_up(end, FRAME_ALIGN);
         let funcs = (0..nf)

@@ -1134,7 +1134,7 @@ fn broken_modules_fail_to_load() {
     }));
     let _ = a;
     let e = Interp::new(&m).unwrap_err();
-    assert!(e.0.contains("contains itself"), "{e}");
+    assert!(e.to_string().contains("contains itself"), "{e}");
     let mut m = Module::new();
     m.add_agg(AggDef::Array(ArrayDef {
         name: "B".into(),
