@@ -339,6 +339,11 @@ bad! {
     prototypes,
     cascade_unknown_type,
     cascade_broken_statement,
+    cascade_undeclared_uses,
+    cascade_missing_end_if,
+    cascade_unknown_fb_instance,
+    il_cascade_undeclared,
+    stl_cascade_undeclared,
     // warnings
     warn_write_own_input,
     // Instruction List: instructions and their operands

@@ -56,6 +56,9 @@ impl Place {
     }
 }
 
+/// How many later uses of an undeclared name its error marks.
+const MORE_UNDECLARED_USES: usize = 3;
+
 /// What a name stands for in an expression.
 pub(super) enum Named {
     /// A variable in memory.
@@ -111,6 +114,9 @@ pub(super) struct BodyCx<'a, 's> {
     pub in_init: bool,
     /// Parameter values of the function (FUNCTION inputs and pointers).
     pub params: Vec<Value>,
+    /// Names this body uses without a declaration: the index of the error reported
+    /// at the first use, which later uses are added to instead of repeating it.
+    pub undeclared: rustc_hash::FxHashMap<crate::intern::Symbol, usize>,
 }
 
 impl<'s> Lowerer<'s> {
@@ -182,6 +188,7 @@ impl<'a, 's> BodyCx<'a, 's> {
             result_ptr: None,
             in_init,
             params,
+            undeclared: Default::default(),
         }
     }
 
@@ -888,6 +895,16 @@ impl<'a, 's> BodyCx<'a, 's> {
             return Named::Error;
         }
         if report {
+            if let Some(&i) = self.undeclared.get(&id.sym) {
+                // One error per name and body: the first use, with a few more
+                // marked, rather than one error per use.
+                let d = &mut self.l.diags[i];
+                if d.secondary.len() < MORE_UNDECLARED_USES {
+                    d.secondary.push((id.span, "also used here".into()));
+                }
+                return Named::Error;
+            }
+            self.undeclared.insert(id.sym, self.l.diags.len());
             let name = self.l.text(id.span).to_string();
             let msg = if let Some(&p) = self.l.pou_by_name.get(&id.sym) {
                 match self.l.pou(p).kind {
