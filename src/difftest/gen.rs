@@ -76,10 +76,16 @@ pub enum T {
     Lreal,
     /// TIME
     Time,
+    /// DATE
+    Date,
+    /// TIME_OF_DAY
+    Tod,
+    /// DATE_AND_TIME
+    Dt,
 }
 
 /// Every type, for picking.
-pub const ALL: [T; 16] = [
+pub const ALL: [T; 19] = [
     T::Bool,
     T::Sint,
     T::Int,
@@ -96,6 +102,9 @@ pub const ALL: [T; 16] = [
     T::Real,
     T::Lreal,
     T::Time,
+    T::Date,
+    T::Tod,
+    T::Dt,
 ];
 
 impl T {
@@ -118,6 +127,9 @@ impl T {
             T::Real => "REAL",
             T::Lreal => "LREAL",
             T::Time => "TIME",
+            T::Date => "DATE",
+            T::Tod => "TOD",
+            T::Dt => "DT",
         }
     }
 
@@ -128,6 +140,7 @@ impl T {
             T::Sint | T::Usint | T::Byte => 8,
             T::Int | T::Uint | T::Word => 16,
             T::Dint | T::Udint | T::Dword | T::Real | T::Time => 32,
+            T::Date | T::Tod | T::Dt => 32,
             _ => 64,
         }
     }
@@ -149,6 +162,10 @@ impl T {
 
     fn is_real(self) -> bool {
         matches!(self, T::Real | T::Lreal)
+    }
+
+    fn is_date(self) -> bool {
+        matches!(self, T::Date | T::Tod | T::Dt)
     }
 }
 
@@ -277,6 +294,29 @@ fn lit(rng: &mut Rng, t: T) -> Expr {
             format!("{}#{v:?}", t.name())
         }
         T::Time => format!("T#{}ms", rng.below(5000)),
+        // Days up to 28 are valid in every month; years within DATE's 32 bits.
+        T::Date => format!(
+            "D#{}-{:02}-{:02}",
+            1970 + rng.below(130),
+            1 + rng.below(12),
+            1 + rng.below(28)
+        ),
+        T::Tod => format!(
+            "TOD#{:02}:{:02}:{:02}.{:03}",
+            rng.below(24),
+            rng.below(60),
+            rng.below(60),
+            rng.below(1000)
+        ),
+        T::Dt => format!(
+            "DT#{}-{:02}-{:02}-{:02}:{:02}:{:02}",
+            1970 + rng.below(130),
+            1 + rng.below(12),
+            1 + rng.below(28),
+            rng.below(24),
+            rng.below(60),
+            rng.below(60)
+        ),
         _ => {
             let bits = t.bits();
             let raw = match rng.below(6) {
@@ -454,7 +494,31 @@ impl<'r> Gen<'r> {
                     let op = *self.rng.pick(&["+", "-"]);
                     Expr::Bin(t, op, b(self.expr(t)), b(self.expr(t)))
                 }
-                50..=69 => self.selection(t),
+                50..=64 => self.selection(t),
+                65..=79 => {
+                    // The time between two dates, times of day or DTs.
+                    let u = *self.rng.pick(&[T::Date, T::Tod, T::Dt]);
+                    Expr::Bin(t, "-", b(self.expr(u)), b(self.expr(u)))
+                }
+                _ => self.conversion(t),
+            },
+            T::Tod | T::Dt => match k {
+                0..=39 => {
+                    let op = *self.rng.pick(&["+", "-"]);
+                    Expr::Bin(t, op, b(self.expr(t)), b(self.expr(T::Time)))
+                }
+                40..=59 => self.selection(t),
+                60..=69 if t == T::Tod => Expr::Call(t, "DT_TO_TOD".into(), vec![self.expr(T::Dt)]),
+                60..=69 => Expr::Call(
+                    t,
+                    "CONCAT_DATE_TOD".into(),
+                    vec![self.expr(T::Date), self.expr(T::Tod)],
+                ),
+                _ => self.conversion(t),
+            },
+            T::Date => match k {
+                0..=29 => Expr::Call(t, "DT_TO_DATE".into(), vec![self.expr(T::Dt)]),
+                30..=59 => self.selection(t),
                 _ => self.conversion(t),
             },
             _ => match k {
@@ -541,8 +605,12 @@ impl<'r> Gen<'r> {
             if u == t {
                 continue;
             }
+            // Dates, times of day and DTs convert to and from integers and bit
+            // strings; a DT to its date or time of day, a TOD to and from TIME.
             // TIME converts only to and from integers.
             let ok = match (u, t) {
+                (T::Dt, T::Date | T::Tod) | (T::Tod, T::Time) | (T::Time, T::Tod) => true,
+                (d, x) | (x, d) if d.is_date() => x.is_int() || x.is_bits(),
                 (T::Time, x) | (x, T::Time) => x.is_int() || x.is_bits(),
                 _ => true,
             };

@@ -10,6 +10,9 @@ fn plain(t: T) -> Expr {
         T::Bool => "FALSE".to_string(),
         T::Real | T::Lreal => format!("{}#1.0", t.name()),
         T::Time => "T#1ms".to_string(),
+        T::Date => "D#1970-01-02".to_string(),
+        T::Tod => "TOD#00:00:01".to_string(),
+        T::Dt => "DT#1970-01-01-00:00:01".to_string(),
         _ => format!("{}#1", t.name()),
     };
     Expr::Lit(t, text)
