@@ -222,9 +222,8 @@ pub const GLOBALS_POU: &str = "__GLOBALS";
 pub const GLOBALS_DATA: &str = "$globals";
 
 /// Moves every top-level `VAR_GLOBAL` block of the user's units (the standard library
-/// declares none) into one synthetic POU
-/// (a unit of its own), so that globals get the same declarations, types, constants
-/// and initial values as the variables of any POU.
+/// declares none) into one synthetic POU (a unit of its own), so that globals get the
+/// same declarations, types, constants and initial values as the variables of any POU.
 fn globals_unit(
     units: &mut [ast::SourceUnit],
     interner: &mut intern::Interner,
