@@ -19,17 +19,17 @@ pub const CODES: &[plcc_ir::diag::CodeInfo] = &[
     plcc_ir::diag::CodeInfo {
         code: E_INTERNAL,
         title: "internal compiler error",
-        explanation: "plcc produced invalid IR, or a machine could not be set up for a valid module: a bug in plcc. Please report it with the program that shows it.",
+        explanation: "plcc produced invalid IR, or a machine could not be set up for a valid module: a bug in plcc. Please report it with the program that shows it. No correct program shows it, so there is no example.",
     },
     plcc_ir::diag::CodeInfo {
         code: E_CANNOT_RUN,
         title: "target cannot run programs here",
-        explanation: "`plcc run` and `plcc test` need a machine for the target: the JIT (`host`), the interpreter (`interp`), plcc's simulator of the PIC16F876A (`pic16f876a`) or plcc's CPDev VM (`vmasm`). A target without one only produces files.",
+        explanation: "`plcc run` and `plcc test` need a machine for the target: the JIT (`host`), the interpreter (`interp`), plcc's simulator of the PIC16F876A (`pic16f876a`) or plcc's CPDev VM (`vmasm`). A target without one only produces files. Every target of the command line has one, so only a program using plcc as a library meets this code:\n\n    plcc::targets::machine(\"plc5\", &module)   (* error: no machine for `plc5` *)",
     },
     plcc_ir::diag::CodeInfo {
         code: E_INTERP_DATA_TOO_LARGE,
         title: "program data too large for the interpreter",
-        explanation: "The program's variables (all program instances and globals) take more than 1 GiB, the IR interpreter's limit (`--target interp`); the host's JIT has the same limit (E8006). Usually arrays are declared far larger than meant: fourteen `ARRAY[0..9999999] OF LREAL` take 1.1 GB. Shrink the array bounds.",
+        explanation: "The program's variables (all program instances and globals) take more than 1 GiB, the IR interpreter's limit (`--target interp`); the host's JIT has the same limit (E8006). Usually arrays are declared far larger than meant. Shrink the array bounds.\n\n    VAR a0, a1, a2, a3, a4, a5, a6, a7, a8, a9, a10, a11, a12, a13 : ARRAY[0..9999999] OF LREAL; END_VAR\n    (* error: 14 arrays of 80 MB take 1.12 GB *)",
     },
 ];
 

@@ -865,6 +865,15 @@ fn diagnostics_catalogue() {
     codes.dedup();
     assert_eq!(codes.len(), n, "a code is used twice");
     assert!(n > 90, "{n} codes");
+    // Each entry shows an example (an indented snippet, or one in the text), or says
+    // why it has none.
+    let without: Vec<&str> = want
+        .split("\n## ")
+        .skip(1)
+        .filter(|e| !(e.contains("\n    ") || e.contains("xample") || e.contains("e.g.")))
+        .map(|e| e.split(' ').next().unwrap())
+        .collect();
+    assert!(without.is_empty(), "codes without an example: {without:?}");
 }
 
 /// Codes the command line gives rather than a file: a PROGRAM that is not declared

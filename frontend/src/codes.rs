@@ -146,7 +146,7 @@ codes! {
     E_AMBIGUOUS = "E0210", "ambiguous enumeration value",
         "Several enumeration types have a value of this name, and the context does not say which one is meant (a variable or parameter of one of the types, the other operand of `=`, a CASE selector). Qualify the value with its type.\n\n    TYPE Color : (Red, Green); Light : (Red, Yellow); END_TYPE\n    ok := x = Red;         (* error if x is not of either type *)\n    c := Color#Red;        (* fine *)";
     E_NO_PROGRAM = "E0208", "no such PROGRAM",
-        "The PROGRAM asked for on the command line or in a scenario (`program = NAME`) is not declared in the given files.";
+        "The PROGRAM asked for on the command line or in a scenario (`program = NAME`) is not declared in the given files.\n\n    plcc run --program mian prog.st   (* error: the PROGRAM is `main` *)\n    plcc run --program main prog.st   (* fix *)";
 
     // ---- types (E03xx) ----
     E_TYPE_MISMATCH = "E0301", "type mismatch",
@@ -170,21 +170,21 @@ codes! {
     E_MISSING_ARG = "E0404", "missing VAR_IN_OUT argument",
         "A VAR_IN_OUT parameter refers to the caller's variable, so every call must give one.\n\n    FUNCTION inc : INT VAR_IN_OUT x : INT; END_VAR ...\n    inc();   (* inc(x := counter) *)";
     E_NO_RESULT = "E0405", "function without result used as a value",
-        "A FUNCTION declared without a result type can only be called as a statement.";
+        "A FUNCTION declared without a result type can only be called as a statement.\n\n    FUNCTION log_it VAR_INPUT v : INT; END_VAR ... END_FUNCTION\n    x := log_it(v := 3);   (* error: `log_it` gives no value *)\n    log_it(v := 3);        (* fix: call it as a statement *)";
     E_FB_CALL_IN_EXPR = "E0406", "function block call used as a value",
         "Calling a function block instance is a statement; its outputs are read afterwards.\n\n    x := t(IN := go);           (* error *)\n    t(IN := go); x := t.Q;      (* fine *)";
 
     // ---- writing, recursion (E05xx) ----
     E_WRITE_CONSTANT = "E0501", "assignment to a constant",
-        "A VAR CONSTANT cannot be assigned or used as a FOR variable or VAR_IN_OUT argument.";
+        "A VAR CONSTANT cannot be assigned or used as a FOR variable or VAR_IN_OUT argument.\n\n    VAR CONSTANT limit : INT := 10; END_VAR\n    limit := 20;          (* error *)\n    FOR limit := 1 TO 5 DO  (* error *)";
     E_WRITE_OUTPUT = "E0503", "assignment to an output of an instance",
         "The outputs of a function block instance are written by the instance itself; outside code can only read them.\n\n    t.Q := TRUE;   (* error *)";
     E_NOT_A_PLACE = "E0504", "not a variable",
-        "Something that is not a variable is assigned, or passed to a VAR_IN_OUT (which needs a variable of exactly the parameter's type).";
+        "Something that is not a variable is assigned, or passed to a VAR_IN_OUT (which needs a variable of exactly the parameter's type).\n\n    sw(io := a + 1);               (* error: the VAR_IN_OUT `io` needs a variable *)\n    tmp := a + 1; sw(io := tmp);   (* fix *)";
     E_RECURSION = "E0505", "recursion",
-        "IEC 61131-3 forbids recursive calls, so that every frame can be allocated statically. The message shows the cycle of calls.";
+        "IEC 61131-3 forbids recursive calls, so that every frame can be allocated statically. The message shows the cycle of calls, through FUNCTIONs, function blocks and ACTIONs.\n\n    FUNCTION fact : DINT VAR_INPUT n : DINT; END_VAR\n        IF n > 1 THEN fact := n * fact(n - 1); ELSE fact := 1; END_IF;   (* error *)\n\n    f := 1; FOR i := 2 TO n DO f := f * i; END_FOR;   (* fix: a loop *)";
     E_OUTSIDE_LOOP = "E0506", "EXIT or CONTINUE outside a loop",
-        "EXIT and CONTINUE can only appear inside FOR, WHILE or REPEAT.";
+        "EXIT and CONTINUE can only appear inside FOR, WHILE or REPEAT.\n\n    IF done THEN EXIT; END_IF;   (* error: not in a loop *)\n    IF done THEN RETURN; END_IF; (* fix: leave the POU's body *)";
     E_DUPLICATE_LABEL = "E0508", "label defined twice",
         "Two labels of one body (Instruction List, ladder) have the same name, so a jump to it would be ambiguous.\n\n    start: LD a\n    start: ST b   (* rename one *)";
     E_UNKNOWN_LABEL = "E0509", "jump to an unknown label",
@@ -192,7 +192,7 @@ codes! {
 
     // ---- not supported yet (E06xx) ----
     E_UNSUPPORTED = "E0601", "not supported yet",
-        "The construct is valid IEC 61131-3 (or a common dialect) but plcc does not compile it yet. The message names the construct.";
+        "The construct is valid IEC 61131-3 (or a common dialect) but plcc does not compile it yet. The message names the construct.\n\n    s := TIME_TO_STRING(t);   (* error: not supported yet *)";
     E_LANGUAGE_UNSUPPORTED = "E0602", "language not supported yet",
         "A body of a PLCopen XML file is written in a language plcc has no front end for: \
          function block diagrams (`<FBD>`) and sequential function charts (`<SFC>`). plcc \

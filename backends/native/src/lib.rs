@@ -95,7 +95,8 @@ for compiling, 0 chooses; default 0). Example: `-s opt_level=fast` fails; write 
 where its definition does not dominate, a block without a terminator, an operation on \
 the wrong type, a program body without the `(ptr)` signature, ...). This is a bug of \
 plcc's front end or of an IR pass, not of the program: please report it with the \
-source that triggers it. `plcc` can print the IR with its IR-emitting option to help.",
+source that triggers it. `plcc` can print the IR with its IR-emitting option to help. \
+No correct program shows it, so there is no example.",
     },
     CodeInfo {
         code: codes::E_CODEGEN,
@@ -103,14 +104,16 @@ source that triggers it. `plcc` can print the IR with its IR-emitting option to 
         explanation: "Cranelift refused a function the native backend produced. The note \
 shows Cranelift's account of the function. This is a bug of plcc's native backend: \
 please report it with the source that triggers it. Other targets, or the IR \
-interpreter, can run the program meanwhile.",
+interpreter, can run the program meanwhile. No correct program shows it, so there is no \
+example.",
     },
     CodeInfo {
         code: codes::E_EMIT,
         title: "cannot place or write the machine code",
         explanation: "The compiled code could not be placed in executable memory (the JIT) \
 or written as an object file: the system refused memory, or a symbol could not be \
-declared. Check the memory limits of the process; if the problem persists, report it.",
+declared. Check the memory limits of the process; if the problem persists, report it. \
+It comes from the system, not from a program, so there is no example.",
     },
     CodeInfo {
         code: codes::E_DATA_TOO_LARGE,

@@ -71,7 +71,7 @@ points at it. Example: `y := x * 2.5;` on LREALs; declare them REAL.",
         explanation: "The generated code does not fit the chip's 8192 words of program memory \
 (or, for now, the first 2048-word page: code that needs PCLATH paging is not generated yet). \
 The message says how many words the program needs. Split the program, or move work out of \
-large loops that are unrolled.",
+large loops that are unrolled.\n\n    CASE step OF 0: ... 1199: ... END_CASE;   (* error: 1,200 branches take 16,455 words *)",
     },
     CodeInfo {
         code: codes::E_RAM,
@@ -80,7 +80,7 @@ large loops that are unrolled.",
 the chip's 368 bytes of RAM, or one object (an array, an FB instance, a program's \
 variables) is larger than a RAM bank (80 or 96 bytes), which it must fit in. The message \
 names what did not fit and by how much. Use smaller types (SINT, BOOL), fewer or smaller \
-arrays, or split a program's variables into several programs.",
+arrays, or split a program's variables into several programs.\n\n    VAR log : ARRAY[0..99] OF DINT; END_VAR   (* error: 400 bytes, more than the chip has *)\n    VAR log : ARRAY[0..15] OF INT; END_VAR    (* fits: 32 bytes *)",
     },
     CodeInfo {
         code: codes::E_STACK,
@@ -88,7 +88,7 @@ arrays, or split a program's variables into several programs.",
         explanation: "The PIC16's return stack has 8 levels and one is kept for the interrupt. \
 The deepest chain of calls (programs, function blocks, functions, runtime helpers for \
 multiply and divide) needs more. The message gives the depth. Calls that the optimiser \
-inlines do not count; flatten the deepest chain of FB or FUNCTION calls.",
+inlines do not count; flatten the deepest chain of FB or FUNCTION calls.\n\n    (* error: main calls fb1, fb1 calls fb2, ... fb8: nine levels with the multiply helper *)",
     },
     CodeInfo {
         code: codes::E_BAD_SETTING,
@@ -102,7 +102,7 @@ target knows `pin.LOCATION=PIN`, which binds a located BOOL to a pin, for exampl
         title: "internal error of the PIC16 backend",
         explanation: "The backend broke one of its own rules while generating code (for example \
 a bank select between a skip and the instruction it skips). This is a bug in plcc; please \
-report it with the program.",
+report it with the program. No correct program shows it, so there is no example.",
     },
 ];
 

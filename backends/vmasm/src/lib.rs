@@ -55,20 +55,20 @@ Example: ATAN2 of the IR text form has no VM instruction and no composition yet.
         explanation: "The code or the data (variables, instances with their temporaries, \
 call areas) does not fit the addresses of the chosen mode: 64 KiB each with 16-bit \
 addressing (the default). Use `-s mode=32` for 32-bit addressing, or make the program \
-smaller.",
+smaller.\n\n    VAR big : ARRAY[0..39999] OF INT; END_VAR   (* error in mode 16: 80,000 bytes *)\n    plcc --target vmasm -s mode=32 prog.st     (* fix: 32-bit addresses *)",
     },
     CodeInfo {
         code: codes::E_BAD_SETTING,
         title: "bad vmasm setting",
         explanation: "A `-s key=value` setting of the vmasm target is unknown or has a bad \
 value. Settings: `mode=16|32|32a` (addressing: 16-bit, 32-bit, 32-bit with 4-byte \
-alignment) and `cycle=MS` (the task cycle written to the DCP).",
+alignment) and `cycle=MS` (the task cycle written to the DCP).\n\n    plcc --target vmasm -s mode=64 prog.st   (* error: no such mode *)\n    plcc --target vmasm -s mode=32 prog.st   (* fix *)",
     },
     CodeInfo {
         code: codes::E_INTERNAL,
         title: "internal error of the vmasm backend",
         explanation: "A rule inside the vmasm backend was broken. This is a bug of plcc; \
-please report it with the program.",
+please report it with the program. No correct program shows it, so there is no example.",
     },
 ];
 
