@@ -188,14 +188,19 @@ pub struct ArrayTy {
 }
 
 impl ArrayTy {
-    /// Number of elements of dimension `d`.
+    /// Number of elements of dimension `d` (`u64::MAX` when it does not fit).
     pub fn len(&self, d: usize) -> u64 {
-        (self.dims[d].1 - self.dims[d].0 + 1).max(0) as u64
+        let (lo, hi) = self.dims[d];
+        let n = (i128::from(hi) - i128::from(lo) + 1).max(0);
+        u64::try_from(n).unwrap_or(u64::MAX)
     }
 
-    /// Total number of elements.
+    /// Total number of elements, saturating at `u64::MAX`: declared bounds are
+    /// arbitrary constants, and an oversized array must reach the size check.
     pub fn total(&self) -> u64 {
-        (0..self.dims.len()).map(|d| self.len(d)).product()
+        (0..self.dims.len())
+            .map(|d| self.len(d))
+            .fold(1u64, u64::saturating_mul)
     }
 }
 

@@ -244,6 +244,14 @@ impl<'s> Lowerer<'s> {
                     let (Some(l), Some(h)) = (lo_v, hi_v) else {
                         return (Ty::Error, None);
                     };
+                    let (Ok(l), Ok(h)) = (i64::try_from(l), i64::try_from(h)) else {
+                        self.error(
+                            codes::E_BAD_DECLARATION,
+                            format!("array bounds {l}..{h}: a bound is outside the range of LINT"),
+                            lo.span.to(hi.span),
+                        );
+                        return (Ty::Error, None);
+                    };
                     if h < l {
                         self.error(
                             codes::E_BAD_DECLARATION,
@@ -254,7 +262,7 @@ impl<'s> Lowerer<'s> {
                         );
                         return (Ty::Error, None);
                     }
-                    bounds.push((l as i64, h as i64));
+                    bounds.push((l, h));
                 }
                 let mut a = ArrayTy {
                     elem: elem_ty,
@@ -270,9 +278,13 @@ impl<'s> Lowerer<'s> {
                 }
                 let total = a.total() as u128 * self.cells(a.elem);
                 if total > MAX_ARRAY_ELEMENTS as u128 {
+                    let count = match a.total() {
+                        u64::MAX => "2^64 or more".to_string(),
+                        n => n.to_string(),
+                    };
                     self.error(
                         codes::E_BAD_DECLARATION,
-                        format!("array of {} elements is too large", a.total()),
+                        format!("array of {count} elements is too large"),
                         *span,
                     );
                     return (Ty::Error, None);

@@ -1560,8 +1560,11 @@ impl<'s> BodyCx<'_, 's> {
                 return None;
             }
         };
-        // Compute in 64 bits when the index is, else 32 (enough for any array).
-        let wide = e.ir_type() == Type::I64 || (e == ElemType::UDInt || e == ElemType::DWord);
+        // Compute in 64 bits when the index or a bound needs it, else in 32.
+        let bounds_wide = i32::try_from(lo).is_err() || i32::try_from(hi).is_err();
+        let wide = bounds_wide
+            || e.ir_type() == Type::I64
+            || (e == ElemType::UDInt || e == ElemType::DWord);
         let t = if wide { Type::I64 } else { Type::I32 };
         let w = self.convert(v, e, if wide { ElemType::LInt } else { ElemType::DInt });
         let lo_c = self.b.iconst(t, lo);
