@@ -372,6 +372,7 @@ impl fmt::Display for PlcValue {
             Char => write!(f, "16#{:02X}", self.bits),
             WChar => write!(f, "16#{:04X}", self.bits),
             Ref => write!(f, "16#{:X}", self.bits),
+            _ if !self.ty.is_signed() => write!(f, "{}", self.bits),
             _ => write!(f, "{}", self.as_i64()),
         }
     }
@@ -390,6 +391,26 @@ pub fn host_size(ty: Type) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn shows_unsigned_64_bit_values_above_2_pow_63() {
+        let max = PlcValue::parse(ElemType::ULInt, "18446744073709551615").unwrap();
+        assert_eq!(max.to_string(), "18446744073709551615");
+        let top = PlcValue::parse(ElemType::ULInt, "9223372036854775808").unwrap();
+        assert_eq!(top.to_string(), "9223372036854775808");
+        let w = PlcValue::parse(ElemType::LWord, "16#8000000000000001").unwrap();
+        assert_eq!(w.to_string(), "16#8000000000000001");
+        assert_eq!(
+            PlcValue::parse(ElemType::UDInt, "4294967295")
+                .unwrap()
+                .to_string(),
+            "4294967295"
+        );
+        assert_eq!(
+            PlcValue::parse(ElemType::LInt, "-5").unwrap().to_string(),
+            "-5"
+        );
+    }
 
     #[test]
     fn parses_scenario_values() {

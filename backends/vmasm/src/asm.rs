@@ -910,7 +910,7 @@ mod tests {
         assert_eq!(hex("$VMSYS.MMV F, R, #84", Mode::M16), "07840C001000");
         assert!(assemble("$VMSYS.MCD4A F, #02000000, #0100FF00", Mode::M32A, &R).is_err());
         assert!(assemble("$VMSYS.MCD F, #02, #01", Mode::M16, &R).is_err());
-        assert!(assemble("$VMSYS.MCD F, #01, #01", Mode::M32A, &R).is_err());
+        assert!(assemble("$VMSYS.DPRDL4A F, R, #01000000", Mode::M32A, &R).is_err());
         assert!(assemble("$DEFAULT.ADD B, NOPE, B", Mode::M16, &R).is_err());
         assert!(assemble("$DEFAULT.AND R, R, R", Mode::M16, &R).is_err());
     }

@@ -22,6 +22,8 @@ use plcc_ir::types::{MemType, Type};
 use plcc_ir::Module;
 use rustc_hash::FxHashMap;
 
+use crate::port::Port;
+
 /// Settings of the vmasm target (`-s key=value`).
 #[derive(Clone, Debug)]
 pub struct Settings {
@@ -30,6 +32,9 @@ pub struct Settings {
     /// The task cycle written to the DCP, in ms (`cycle=…`; else the shortest
     /// interval of the programs' tasks, else 100 ms).
     pub cycle_ms: Option<u32>,
+    /// The VM port the code is for (`port=full|esp32|avr|6502|sdcc`): what it lacks is
+    /// a compile error, and its C `int` width picks the UB-free instruction forms.
+    pub port: Port,
 }
 
 impl Settings {
@@ -38,6 +43,7 @@ impl Settings {
         let mut s = Settings {
             mode: Mode::M16,
             cycle_ms: None,
+            port: Port::Full,
         };
         for (k, v) in &options.settings {
             match k.to_ascii_lowercase().as_str() {
@@ -57,10 +63,20 @@ impl Settings {
                         ))
                     })?)
                 }
+                "port" => {
+                    s.port = Port::parse(v).ok_or_else(|| {
+                        Box::new(Diagnostic::error_nowhere(
+                            codes::E_BAD_SETTING,
+                            format!(
+                                "vmasm: unknown port `{v}` (ports: full, esp32, avr, 6502, sdcc)"
+                            ),
+                        ))
+                    })?
+                }
                 _ => {
                     return Err(Box::new(Diagnostic::error_nowhere(
                         codes::E_BAD_SETTING,
-                        format!("vmasm: unknown setting `{k}` (settings: mode, cycle)"),
+                        format!("vmasm: unknown setting `{k}` (settings: mode, cycle, port)"),
                     )))
                 }
             }
@@ -99,7 +115,14 @@ pub struct Build {
     pub programs: Vec<TaskProgram>,
     /// Every variable and its address.
     pub symbols: Vec<Symbol>,
+    /// Absolute address of the fault word ([`FAULT_NAME`]): a WORD that cold start
+    /// sets to 0 and a runtime fault (division by zero, an index out of range, a NULL
+    /// dereference) to 1; nothing in the VM acts on it.
+    pub fault_addr: u32,
 }
+
+/// The name the DCP gives the fault word, for the runtime or HMI that wants to show it.
+pub const FAULT_NAME: &str = "PLCC_FAULT";
 
 /// The struct a function with an instance runs on, if it has one.
 fn instance_agg(module: &Module, id: FuncId) -> Option<AggId> {
@@ -201,6 +224,10 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
             data_addrs.push(at as u32);
             at += layout.size_of(d.ty) as u64;
         }
+        // The fault word after the data objects.
+        at = at.div_ceil(2) * 2;
+        let fault_addr = at as u32;
+        at += 2;
         let mut prog = Program::default();
         let entry_labels: Vec<_> = (0..nf)
             .map(|i| prog.label(label_name(module, FuncId::new(i))))
@@ -214,6 +241,8 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
             data_addrs: &data_addrs,
             entry_labels: &entry_labels,
             sources: &options.sources,
+            fault_addr,
+            port: settings.port,
         };
         let mut units = Vec::with_capacity(nf);
         let mut new_sizes = vec![0u32; nf];
@@ -278,6 +307,15 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
         let tskstr = prog.label("?plcc.TASK?TSKSTR");
         let tskloop = prog.label("?plcc.TASK?TSKLOOP");
         task.items.push(Item::Label(tskstr));
+        // Cold start clears the fault word (the task runs with DPTR at 0).
+        task.items.push(Item::Inst(VInst {
+            opcode: if mode == Mode::M32A {
+                op::MCD4A
+            } else {
+                op::MCD
+            },
+            args: vec![Arg::Abs(fault_addr), Arg::Bytes(vec![0, 0])],
+        }));
         let call = |task: &mut Unit, g: FuncId, inst: Option<u32>| {
             let label = entry_labels[g.index()];
             match (convs[g.index()], inst) {
@@ -329,6 +367,7 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
         for (d, &a) in module.data.iter().zip(&data_addrs) {
             names.entry(a).or_insert_with(|| d.name.clone());
         }
+        names.insert(fault_addr, FAULT_NAME.to_string());
         names
             .entry(top_area)
             .or_insert_with(|| "?TASK?AREA".to_string());
@@ -365,6 +404,7 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
             loop_addr,
             programs,
             symbols,
+            fault_addr,
         });
     }
 }

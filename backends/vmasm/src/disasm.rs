@@ -161,7 +161,7 @@ fn hint(inst: &Inst, k: usize) -> Hint {
         op::MCD | op::MCD4A => count(1),
         op::MEMCP | op::MEMCP4A => count(2),
         op::FPAT | op::FPAT4A => count(2),
-        op::DPRDL | op::DPWRL | op::DPRDL4A | op::DPWRL4A if k == 0 => count(2),
+        op::DPRDL | op::DPWRL if k == 0 => count(2),
         _ => Hint::Any,
     }
 }

@@ -389,10 +389,6 @@ pub mod op {
     pub const DPWRL: Opcode = Opcode(0x1E02);
     /// `CALBR ptr, label`: calls an FB whose instance's absolute address is in `ptr`.
     pub const CALBR: Opcode = Opcode(0x1E03);
-    /// `DPRDL4A` (aligned mode: 4-byte count).
-    pub const DPRDL4A: Opcode = Opcode(0x1E11);
-    /// `DPWRL4A`.
-    pub const DPWRL4A: Opcode = Opcode(0x1E12);
 
     /// `ADD` of `n` operands of type `t`.
     pub fn add(t: Ty, n: u8) -> Opcode {
@@ -468,15 +464,18 @@ pub fn shape(opcode: Opcode, mode: Mode) -> Option<(&'static str, Vec<Kind>)> {
     let data = |k: usize| vec![D; k];
     let typed =
         |name: &'static str, k: usize, ok: bool| if ok { Some((name, data(k))) } else { None };
-    // In the aligned mode MCD, FPAT and MEMCP exist only as their *4A forms.
-    let aligned = mode == Mode::M32A;
+    // Every instruction executes in every mode (the C VM never checks the mode of an
+    // instruction; `reference/cpdev-vm-opcodes.md` §1). Type codes are those the
+    // public C VMs implement (§2): any other is "unknown function" and stops them.
+    let _ = mode;
     match grp {
         0x00 if func == 0 => Some(("$VMSYS.NOP", vec![])),
-        g::ADD => typed("$DEFAULT.ADD", n + 1, n >= 2 && t <= 0xB),
-        g::MUL => typed("$DEFAULT.MUL", n + 1, n >= 2 && t <= 0xA),
-        g::SUB => typed("$DEFAULT.SUB", 3, (1..=0xE).contains(&t) && func < 0x10),
+        g::ADD => typed("$DEFAULT.ADD", n + 1, n >= 2 && (1..=0xB).contains(&t)),
+        g::MUL => typed("$DEFAULT.MUL", n + 1, n >= 2 && (1..=0xA).contains(&t)),
+        g::SUB => typed("$DEFAULT.SUB", 3, (1..=0xB).contains(&t) && func < 0x10),
         g::DIV => match func {
             0x01..=0x0A => Some(("$DEFAULT.DIV", data(3))),
+            // MOD: integers only.
             0x11..=0x18 => Some(("$DEFAULT.MOD", data(3))),
             _ => None,
         },
@@ -565,13 +564,13 @@ pub fn shape(opcode: Opcode, mode: Mode) -> Option<(&'static str, Vec<Kind>)> {
                 0x02 => ("$VMSYS.JZ", vec![D, C]),
                 0x10 => ("$VMSYS.CALF", vec![D, C]),
                 0x13 => ("$VMSYS.RETURN", vec![]),
-                0x15 if !aligned => ("$VMSYS.MCD", vec![D, Kind::Bytes]),
+                0x15 => ("$VMSYS.MCD", vec![D, Kind::Bytes]),
                 0x16 => ("$VMSYS.CALB", vec![D, C]),
                 0x17 => ("$DEFAULT.CUR_TIME", vec![D]),
                 0x18 => ("$VMSYS.RETFB", vec![]),
                 0x1D => ("$VMSYS.TRML", vec![C]),
-                0x1F if !aligned => ("$VMSYS.MEMCP", vec![D, D, Kind::Word]),
-                0x23 if !aligned => ("$VMSYS.FPAT", vec![D, Kind::Byte, Kind::Byte]),
+                0x1F => ("$VMSYS.MEMCP", vec![D, D, Kind::Word]),
+                0x23 => ("$VMSYS.FPAT", vec![D, Kind::Byte, Kind::Byte]),
                 0x24 => ("$VMSYS.AURD", vec![D, D, D, D]),
                 0x25 => ("$VMSYS.AUWR", vec![D, D, D, D]),
                 0x26 => ("$VMSYS.AORD", vec![D, D, D]),
@@ -586,9 +585,9 @@ pub fn shape(opcode: Opcode, mode: Mode) -> Option<(&'static str, Vec<Kind>)> {
                 0x2F => ("$VMSYS.GET_STATUS_WORD1", vec![D]),
                 0x31 => ("$VMSYS.TASK_CYCLE", vec![D]),
                 0x32 => ("$VMSYS.GET_VMACH_VERSION", vec![D]),
-                0x37 if aligned => ("$VMSYS.MCD4A", vec![D, Kind::Bytes4A]),
-                0x38 if aligned => ("$VMSYS.FPAT4A", vec![D, Kind::Word, Kind::Word]),
-                0x39 if aligned => ("$VMSYS.MEMCP4A", vec![D, D, Kind::Dword]),
+                0x37 => ("$VMSYS.MCD4A", vec![D, Kind::Bytes4A]),
+                0x38 => ("$VMSYS.FPAT4A", vec![D, Kind::Word, Kind::Word]),
+                0x39 => ("$VMSYS.MEMCP4A", vec![D, D, Kind::Dword]),
                 _ => return None,
             };
             Some((name, kinds))
@@ -596,11 +595,10 @@ pub fn shape(opcode: Opcode, mode: Mode) -> Option<(&'static str, Vec<Kind>)> {
         g::PTR => {
             let (name, kinds): (&str, Vec<Kind>) = match func {
                 0x00 => ("$VMSYS.DPSTO", vec![D]),
-                0x01 if !aligned => ("$VMSYS.DPRDL", vec![D, D, Kind::Word]),
-                0x02 if !aligned => ("$VMSYS.DPWRL", vec![D, D, Kind::Word]),
+                0x01 => ("$VMSYS.DPRDL", vec![D, D, Kind::Word]),
+                0x02 => ("$VMSYS.DPWRL", vec![D, D, Kind::Word]),
                 0x03 => ("$VMSYS.CALBR", vec![D, C]),
-                0x11 if aligned => ("$VMSYS.DPRDL4A", vec![D, D, Kind::Dword]),
-                0x12 if aligned => ("$VMSYS.DPWRL4A", vec![D, D, Kind::Dword]),
+                // 1E11/1E12 (DPRDL4A/DPWRL4A) are named in vmdef.h but no VM executes them.
                 _ => return None,
             };
             Some((name, kinds))

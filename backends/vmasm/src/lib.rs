@@ -21,6 +21,7 @@ pub mod disasm;
 pub mod isa;
 pub mod isel;
 pub mod machine;
+pub mod port;
 pub mod vm;
 
 use plcc_ir::backend::{Artifact, Artifacts, Backend, Options, TargetFacts};
@@ -38,6 +39,8 @@ pub mod codes {
     pub const E_BAD_SETTING: &str = "E9103";
     /// A bug of this backend.
     pub const E_INTERNAL: &str = "E9104";
+    /// The program needs a part of the VM that the chosen port lacks.
+    pub const E_PORT: &str = "E9105";
 }
 
 /// Every code the vmasm backend reports, for `plcc explain`.
@@ -62,7 +65,19 @@ smaller.\n\n    VAR big : ARRAY[0..39999] OF INT; END_VAR   (* error in mode 16:
         title: "bad vmasm setting",
         explanation: "A `-s key=value` setting of the vmasm target is unknown or has a bad \
 value. Settings: `mode=16|32|32a` (addressing: 16-bit, 32-bit, 32-bit with 4-byte \
-alignment) and `cycle=MS` (the task cycle written to the DCP).\n\n    plcc --target vmasm -s mode=64 prog.st   (* error: no such mode *)\n    plcc --target vmasm -s mode=32 prog.st   (* fix *)",
+alignment), `cycle=MS` (the task cycle written to the DCP) and `port=full|esp32|avr|6502|sdcc` \
+(the CPDev VM port the code is for).\n\n    plcc --target vmasm -s mode=64 prog.st   (* error: no such mode *)\n    plcc --target vmasm -s mode=32 prog.st   (* fix *)",
+    },
+    CodeInfo {
+        code: codes::E_PORT,
+        title: "not available on the chosen CPDev VM port",
+        explanation: "The CPDev VM is built differently for each machine (`vm_cfg.h`): the \
+ESP32 and AVR builds have no LINT, ULINT, LWORD, LREAL or STRING; the 6502 and sdcc builds \
+have no REAL, no math instructions, no pointers and no 64-bit integers either. A port's VM \
+stops on an instruction it lacks, so plcc refuses to compile one for the port chosen with \
+`-s port=NAME` (the default, `full`, is the Windows, BeagleBone AI, iOS and Due build, which \
+has everything). The message names the missing part and points at the source that needs \
+it.\n\n    VAR x : LREAL; END_VAR  x := x * 2.0;\n    plcc --target vmasm -s port=esp32 prog.st   (* error: LREAL arithmetic *)\n    plcc --target vmasm -s port=full prog.st    (* fix: a port with LREAL, or use REAL *)",
     },
     CodeInfo {
         code: codes::E_INTERNAL,

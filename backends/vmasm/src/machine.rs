@@ -6,7 +6,6 @@
 //! of garbage, as on a device: the program initialises what it reads.
 
 use crate::build::Build;
-use crate::vm::status::ARRAYBOUND;
 use crate::vm::{End, Vm};
 use plcc_ir::machine::{Machine, MachineError};
 use plcc_ir::value::PlcValue;
@@ -163,13 +162,18 @@ impl Machine for VmMachine {
         Ok(())
     }
 
+    /// The fault word the program raises (`PLCC_FAULT`, not a status bit: the CPDev
+    /// runtimes stop the VM on ARRAYBOUND).
     fn fault(&self) -> bool {
-        self.vm.status() & ARRAYBOUND != 0
+        let a = self.build.fault_addr as usize;
+        self.vm.data().get(a..a + 2).is_some_and(|w| w != [0, 0])
     }
 
     fn clear_fault(&mut self) {
-        let s = self.vm.status();
-        self.vm.set_status(s & !ARRAYBOUND);
+        let a = self.build.fault_addr as usize;
+        if let Some(w) = self.vm.data_mut().get_mut(a..a + 2) {
+            w.fill(0);
+        }
     }
 
     fn set_watchdog(&mut self, limit: Option<Duration>) {

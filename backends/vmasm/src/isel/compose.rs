@@ -21,9 +21,12 @@ impl Fx<'_, '_> {
         let lreal = t == Type::F64;
         let math = |base: u8| Opcode::new(op::group::MATH, base + lreal as u8);
         let opcode = match uop {
-            UnaryOp::Ineg => Opcode::new(op::group::NEG, int_ty(t, true) as u8),
+            UnaryOp::Ineg => {
+                self.negate(d, a, t);
+                return Ok(());
+            }
             UnaryOp::Bnot => Opcode::new(op::group::NEG, 0x10 | logic_code(n, t == Type::I1)),
-            UnaryOp::Iabs => Opcode::new(op::group::MATH, 0x10 | int_ty(t, true) as u8),
+            UnaryOp::Iabs => return self.abs(d, a, t),
             UnaryOp::Fneg => Opcode::new(op::group::NEG, if lreal { 9 } else { 7 }),
             UnaryOp::Fabs => Opcode::new(op::group::MATH, 0x10 | float_ty(t) as u8),
             UnaryOp::Fsqrt => math(0x20),
@@ -71,10 +74,11 @@ impl Fx<'_, '_> {
         let ti = self.scratch(n)?;
         let lr = t == Type::F64;
         self.rrr(Opcode::new(op::group::MATH, 0x34 + lr as u8), &[ti, x]);
-        self.rrr(
-            Opcode::new(op::group::CONV, if lr { 0x0F } else { 0x01 }),
-            &[d, ti],
-        );
+        if lr {
+            self.lint_to_lreal(d, ti)?;
+        } else {
+            self.rrr(Opcode::new(op::group::CONV, 0x01), &[d, ti]);
+        }
         let sign = self.konst(it, 1u64 << (bits_of(t) - 1));
         let s = self.scratch(n)?;
         let code = logic_code(n, false);
@@ -157,7 +161,7 @@ impl Fx<'_, '_> {
         let opcode = match bop {
             BinaryOp::Iadd => op::add(u, 2),
             BinaryOp::Isub => op::sub(u),
-            BinaryOp::Imul => op::mul(u, 2),
+            BinaryOp::Imul => self.mul_op(t),
             BinaryOp::Band => logic(op::group::AND, false),
             BinaryOp::Bor => logic(op::group::OR, false),
             BinaryOp::Bxor => logic(op::group::XOR, true),
@@ -165,7 +169,7 @@ impl Fx<'_, '_> {
             BinaryOp::Fsub => op::sub(float_ty(t)),
             BinaryOp::Fmul => op::mul(float_ty(t), 2),
             BinaryOp::Fdiv => op::div(float_ty(t)),
-            BinaryOp::Fpow => Opcode::new(op::group::MATH, if t == Type::F64 { 2 } else { 1 }),
+            BinaryOp::Fpow => return self.power(t, d, a, b),
             BinaryOp::Fatan2 => return Err(self.unsupported("ATAN2", span)),
             BinaryOp::Sdiv | BinaryOp::Srem | BinaryOp::Udiv | BinaryOp::Urem => {
                 return self.divide(bop, t, d, a, b, bv);
@@ -196,12 +200,18 @@ impl Fx<'_, '_> {
         let n = self.size(t);
         let opc = if rem { op::modulo(ty) } else { op::div(ty) };
         let k = self.iconst(bv);
-        let wide = n >= 4 && signed;
+        // MIN / -1 overflows C's arithmetic where the type is at least as wide as the
+        // port's `int` (SINT, and INT on 32-bit `int` ports, are promoted).
+        let wide = signed && (n >= 4 || (n == 2 && self.cx.port.int16()));
+        let lint = signed && t == Type::I64;
         if k == Some(0) {
             self.fill(d, 0, n);
             return self.raise_fault();
         }
         if let Some(k) = k {
+            if lint {
+                return self.sdiv_lint(rem, d, a, b);
+            }
             if !(wide && k == -1) {
                 self.rrr(opc, &[d, a, b]);
                 return Ok(());
@@ -218,6 +228,11 @@ impl Fx<'_, '_> {
             self.raise_fault()?;
             self.jmp(lend);
             self.label(lok);
+        }
+        if lint {
+            self.sdiv_lint(rem, d, a, b)?;
+            self.label(lend);
+            return Ok(());
         }
         if wide {
             let ldiv = self.new_label("D");
@@ -267,18 +282,32 @@ impl Fx<'_, '_> {
         let k = self.iconst(cv).map(|k| k as u64 & mask);
         match bop {
             BinaryOp::Rotl | BinaryOp::Rotr => {
-                let c16 = match k {
-                    Some(k) => self.konst(Type::I16, k % w),
+                // The C VMs compute `v >> (w - c)`: a rotate by 0 is a shift by the
+                // width, undefined, so it is a copy.
+                match k {
+                    Some(k) if k % w == 0 => self.copy(d, a, n),
+                    Some(k) => {
+                        let c16 = self.konst(Type::I16, k % w);
+                        self.rrr(opc, &[d, a, c16]);
+                    }
                     None => {
                         let m = self.scratch(n)?;
                         let wm1 = self.konst(t, w - 1);
                         self.rrr(Opcode::new(op::group::AND, 0x20 | code), &[m, cnt, wm1]);
                         let c16 = self.scratch(2)?;
                         self.resize(c16, 2, m, n);
-                        c16
+                        let c = self.scratch(1)?;
+                        let zero = self.konst(Type::I16, 0);
+                        let (lrot, lend) = (self.new_label("S"), self.new_label("S"));
+                        self.rrr(op::cmp(op::group::NE, Ty::Word), &[c, c16, zero]);
+                        self.jnz(c, lrot);
+                        self.copy(d, a, n);
+                        self.jmp(lend);
+                        self.label(lrot);
+                        self.rrr(opc, &[d, a, c16]);
+                        self.label(lend);
                     }
-                };
-                self.rrr(opc, &[d, a, c16]);
+                }
             }
             BinaryOp::Ishl | BinaryOp::Ushr => match k {
                 Some(k) if k < w => {
@@ -307,7 +336,7 @@ impl Fx<'_, '_> {
                 let neg = self.scratch(1)?;
                 let zero = self.konst(t, 0);
                 let ones = self.konst(t, u64::MAX);
-                self.rrr(op::cmp(op::group::LT, int_ty(t, true)), &[neg, a, zero]);
+                self.is_negative(neg, a, t);
                 self.rrr(op::sel(u), &[s, neg, zero, ones]);
                 let c16 = match k {
                     Some(k) => self.konst(Type::I16, k.min(w - 1)),
@@ -445,15 +474,14 @@ impl Fx<'_, '_> {
             t
         };
         if signed || from != Type::I64 {
-            self.rrr(conv(0x0F), &[target, l]);
+            self.lint_to_lreal(target, l)?;
         } else {
             // ULINT: halve (keeping the low bit for rounding) when the top bit is set.
             let c = self.scratch(1)?;
-            let zero = self.konst(Type::I64, 0);
             let (lbig, lend) = (self.new_label("U"), self.new_label("U"));
-            self.rrr(op::cmp(op::group::LT, Ty::Lint), &[c, l, zero]);
+            self.is_negative(c, l, Type::I64);
             self.jnz(c, lbig);
-            self.rrr(conv(0x0F), &[target, l]);
+            self.lint_to_lreal(target, l)?;
             self.jmp(lend);
             self.label(lbig);
             let h = self.scratch(8)?;
@@ -463,7 +491,7 @@ impl Fx<'_, '_> {
             self.rrr(Opcode::new(op::group::SHIFT, 0x14), &[h, l, one16]);
             self.rrr(Opcode::new(op::group::AND, 0x24), &[b, l, one]);
             self.rrr(Opcode::new(op::group::OR, 0x24), &[h, h, b]);
-            self.rrr(conv(0x0F), &[target, h]);
+            self.lint_to_lreal(target, h)?;
             self.rrr(op::add(Ty::Lreal, 2), &[target, target, target]);
             self.label(lend);
         }
@@ -478,13 +506,15 @@ impl Fx<'_, '_> {
         self.copy(x, a, 8);
         let c = self.scratch(1)?;
         let (lbig, lend) = (self.new_label("K"), self.new_label("K"));
-        let t = if signed { Ty::Lint } else { Ty::Lword };
         let hi = self.konst(Type::I64, 1u64 << 53);
-        self.rrr(op::cmp(op::group::GE, t), &[c, x, hi]);
-        self.jnz(c, lbig);
         if signed {
+            self.cmp_lint(op::group::GE, c, x, hi)?;
+            self.jnz(c, lbig);
             let lo = self.konst(Type::I64, (-(1i64 << 53)) as u64);
-            self.rrr(op::cmp(op::group::LE, t), &[c, x, lo]);
+            self.cmp_lint(op::group::LE, c, x, lo)?;
+            self.jnz(c, lbig);
+        } else {
+            self.rrr(op::cmp(op::group::GE, Ty::Lword), &[c, x, hi]);
             self.jnz(c, lbig);
         }
         self.jmp(lend);

@@ -40,7 +40,6 @@ impl Fx<'_, '_> {
                     | BinaryOp::Fsub
                     | BinaryOp::Fmul
                     | BinaryOp::Fdiv
-                    | BinaryOp::Fpow
             ),
             InstData::Unary { op, .. } => !matches!(
                 op,

@@ -33,6 +33,8 @@ use rustc_hash::FxHashMap;
 mod coalesce;
 mod compose;
 mod in_place;
+mod portable;
+mod power;
 
 /// How a function is called and where its frame is.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -67,6 +69,10 @@ pub struct Cx<'a> {
     pub entry_labels: &'a [LabelId],
     /// Source texts for the listing.
     pub sources: &'a [Option<String>],
+    /// Absolute address of the fault word (a WORD, 1 once a fault was raised).
+    pub fault_addr: u32,
+    /// The VM port the code is for.
+    pub port: crate::port::Port,
 }
 
 /// Where a pointer value points, as far as is known statically.
@@ -137,7 +143,7 @@ pub struct FuncCode {
     pub frame_size: u32,
 }
 
-const SCRATCH: u32 = 64;
+const SCRATCH: u32 = 96;
 
 /// Results of code generation; the error is boxed because diagnostics are large.
 pub type Res<T> = Result<T, Box<Diagnostic>>;
@@ -171,6 +177,10 @@ struct Fx<'a, 'p> {
     skip: Vec<bool>,
     /// The index an array access at a run-time index reads when it happens.
     late_use: FxHashMap<plcc_ir::entities::Inst, Value>,
+    /// The span of the IR instruction being selected.
+    cur_span: Option<Span>,
+    /// The first opcode emitted that the port lacks, with the part it needs.
+    port_error: Option<(crate::port::Part, Opcode, Option<Span>)>,
 }
 
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -226,8 +236,32 @@ pub fn gen_function(cx: &Cx<'_>, prog: &mut Program, id: FuncId) -> Res<FuncCode
         folded_index: FxHashMap::default(),
         skip: vec![false; f.values.len()],
         late_use: FxHashMap::default(),
+        cur_span: None,
+        port_error: None,
     };
     fx.run()?;
+    if let Some((part, opcode, span)) = fx.port_error {
+        let port = cx.port.name();
+        let msg = format!(
+            "{} (opcode {opcode}) {} not available on the CPDev VM port `{port}`",
+            part.describe(),
+            if matches!(part, crate::port::Part::Pointers | crate::port::Part::Long) {
+                "are"
+            } else {
+                "is"
+            },
+        );
+        let note = format!(
+            "the `{port}` VM is built without it and stops on this instruction; choose another port (`-s port=full`) or avoid it"
+        );
+        let d = match span {
+            Some(s) => Diagnostic::error(crate::codes::E_PORT, msg, s),
+            None => {
+                Diagnostic::error_nowhere(crate::codes::E_PORT, format!("{msg} (in `{}`)", f.name))
+            }
+        };
+        return Err(Box::new(d.with_note(note)));
+    }
     let frame_size = fx.next - base;
     let mut items = vec![Item::Label(cx.entry_labels[id.index()])];
     items.append(&mut fx.prologue);
@@ -339,6 +373,11 @@ impl<'a, 'p> Fx<'a, 'p> {
     }
 
     fn emit(&mut self, opcode: Opcode, args: Vec<Arg>) {
+        if self.port_error.is_none() {
+            if let Some(part) = self.cx.port.lacks(opcode) {
+                self.port_error = Some((part, opcode, self.cur_span));
+            }
+        }
         self.body.push(Item::Inst(VInst { opcode, args }));
     }
 
@@ -429,12 +468,13 @@ impl<'a, 'p> Fx<'a, 'p> {
         self.emit(op::JMP, vec![Arg::Label(l)]);
     }
 
-    /// Raises the fault flag: CEAC on an index below its range sets ARRAYBOUND.
+    /// Raises the fault flag: writes 1 to the program's fault word (a global the DCP
+    /// lists as `PLCC_FAULT`). The status word's ARRAYBOUND bit is not used: every
+    /// CPDev runtime stops the VM when CEAC sets it.
     fn raise_fault(&mut self) -> Res<()> {
-        let zero = self.konst(Type::I16, 0);
-        let t = self.scratch(2)?;
-        self.mcd(t, vec![0xFF, 0xFF]);
-        self.rrr(op::CEAC, &[t, zero, zero]);
+        let one = self.konst(Type::I16, 1);
+        let at = self.cx.fault_addr;
+        self.emit(op::mmv(2, true), vec![Arg::Abs(at), Arg::Rel(one)]);
         Ok(())
     }
 
@@ -683,6 +723,7 @@ impl Fx<'_, '_> {
             self.label(self.block_labels[b.index()]);
             for &i in &f.block(b).insts {
                 self.scratch_used = 0;
+                self.cur_span = f.spans[i.index()];
                 self.source_line(f.spans[i.index()]);
                 self.inst(i, next)?;
             }
@@ -878,12 +919,16 @@ impl Fx<'_, '_> {
         }
     }
 
-    fn dp_op(&self, write: bool) -> Opcode {
-        match (self.mode() == Mode::M32A, write) {
-            (false, false) => op::DPRDL,
-            (false, true) => op::DPWRL,
-            (true, false) => op::DPRDL4A,
-            (true, true) => op::DPWRL4A,
+    /// DPRDL (`write` false) or DPWRL of `n` bytes between the frame offset `local`
+    /// and the absolute address held at `ptr`. These exist in every mode (vmdef.h's
+    /// DPRDL4A/DPWRL4A are executed by no VM). In the aligned mode they are 14 bytes
+    /// long, so a no-op FPAT (count 0, 10 bytes) brings the next instruction back to a
+    /// multiple of 4, as every instruction of CPDev's aligned code is.
+    fn dp_move(&mut self, write: bool, local: u32, ptr: u32, n: u32) {
+        let o = if write { op::DPWRL } else { op::DPRDL };
+        self.emit(o, vec![Arg::Rel(local), Arg::Rel(ptr), Arg::Imm(n)]);
+        if self.mode() == Mode::M32A {
+            self.emit(op::FPAT, vec![Arg::Rel(local), Arg::Imm(0), Arg::Imm(0)]);
         }
     }
 
@@ -901,8 +946,7 @@ impl Fx<'_, '_> {
             }
             PtrClass::Dyn => {
                 let p = self.home(addr);
-                let o = self.dp_op(false);
-                self.emit(o, vec![Arg::Rel(dst), Arg::Rel(p), Arg::Imm(n)]);
+                self.dp_move(false, dst, p, n);
             }
         }
         Ok(())
@@ -921,8 +965,7 @@ impl Fx<'_, '_> {
             }
             PtrClass::Dyn => {
                 let p = self.home(addr);
-                let o = self.dp_op(true);
-                self.emit(o, vec![Arg::Rel(src), Arg::Rel(p), Arg::Imm(n)]);
+                self.dp_move(true, src, p, n);
             }
         }
         Ok(())
@@ -992,7 +1035,11 @@ impl Fx<'_, '_> {
                 let d = self.home(res.expect("result"));
                 let a = self.home(args[0]);
                 let b = self.home(args[1]);
-                self.rrr(op::cmp(g, ty), &[d, a, b]);
+                if signed && t == Type::I64 {
+                    self.cmp_lint(g, d, a, b)?;
+                } else {
+                    self.rrr(op::cmp(g, ty), &[d, a, b]);
+                }
             }
             InstData::Fcmp { cond, args } => {
                 let ty = float_ty(self.vty(args[0]));
@@ -1275,8 +1322,7 @@ impl Fx<'_, '_> {
                             let ah = self.home(*a);
                             let k = self.konst(pt, (temp_base + params[i].expect("offset")) as u64);
                             self.rrr(op::add(self.ptr_ty(), 2), &[q, p, k]);
-                            let o = self.dp_op(true);
-                            self.emit(o, vec![Arg::Rel(ah), Arg::Rel(q), Arg::Imm(n)]);
+                            self.dp_move(true, ah, q, n);
                         }
                         self.emit(op::CALBR, vec![Arg::Rel(p), Arg::Label(label)]);
                         if let (Some(v), Some(r)) = (res, ret) {
@@ -1284,8 +1330,7 @@ impl Fx<'_, '_> {
                             let h = self.home(v);
                             let k = self.konst(pt, (temp_base + r) as u64);
                             self.rrr(op::add(self.ptr_ty(), 2), &[q, p, k]);
-                            let o = self.dp_op(false);
-                            self.emit(o, vec![Arg::Rel(h), Arg::Rel(q), Arg::Imm(n)]);
+                            self.dp_move(false, h, q, n);
                         }
                     }
                 }

@@ -35,9 +35,13 @@
 //!   BYTE..LWORD are bitwise. ABS of the most negative integer is itself.
 //! - SHL/SHR by a count outside `0..width` give 0; ROL/ROR take the count modulo the
 //!   width (Euclidean: -1 rotates by width - 1).
-//! - EXPT `06 01..08`: REAL**REAL, LREAL**LREAL (`powf`); REAL**INT, REAL**DINT,
-//!   LREAL**INT, LREAL**DINT (`powf` of the exponent converted to the base type);
-//!   INT**INT and DINT**DINT wrap, a negative exponent gives 0 unless the base is ±1.
+//! - EXPT `06 01..08` as every public C VM numbers and computes it
+//!   (`reference/cpdev-vm-opcodes.md` §2.1): 01 SINT**SINT, 02 INT**SINT, 03
+//!   DINT**SINT, each written as a DINT, by square-and-multiply with the running
+//!   square held in the base's type (so it wraps: 2**8 is 0 in 01); a negative
+//!   exponent gives 1. 04 REAL**SINT, 05 REAL**INT, 06 REAL**DINT, 07 REAL**REAL:
+//!   `(float)exp(log((double)x) * y)`; 08 LREAL**LREAL: `exp(log(x) * y)` (NaN for a
+//!   negative base, not correctly rounded).
 //! - TRUNC, REAL_TO_INT, REAL_TO_TIME, REAL_TO_DWORD: toward zero, saturating, NaN
 //!   gives 0 (Rust `as`). ROUND: to nearest, ties away from zero, saturating.
 //! - BCD_TO_INT: nibbles above 9 count as their binary value. INT_TO_BCD: the low 2
@@ -46,8 +50,10 @@
 //! - LIMIT is `MIN(MAX(in, mn), mx)`. MAX/MIN/LIMIT/comparisons on REAL use IEEE
 //!   comparisons (NE is true on NaN, the others false). MUX with K out of range leaves
 //!   dst unchanged.
-//! - AURD/AUWR with a negative size variable is an error. CEAC never traps: it only
-//!   sets [`status::ARRAYBOUND`].
+//! - AURD/AUWR with a negative size variable is an error. CEAC out of range sets
+//!   [`status::ARRAYBOUND`] and stops the VM with an error, as `VMP_Debug(6)` stops
+//!   every CPDev runtime but iOS's. Opcodes the public C VMs do not execute (vmdef.h's
+//!   DPRDL4A/DPWRL4A among them) are errors too.
 //! - Array element addresses are `base + idx * size`, wrapping in the address width,
 //!   relative to DPTR like every operand.
 //! - CUR_TIME returns the value set by [`Vm::set_clock_ms`] (constant within a scan);
@@ -295,6 +301,16 @@ impl Core {
         self.fault(format!(
             "data access of {n} byte(s) at {a:#06x} is outside data memory ({} bytes)",
             self.data.len()
+        ))
+    }
+
+    /// CEAC out of range: ARRAYBOUND is set and the VM stops, as the CPDev runtimes do.
+    #[cold]
+    #[inline(never)]
+    fn ceac_stop(&mut self, idx: i16) -> Exit {
+        self.status |= status::ARRAYBOUND;
+        self.fault(format!(
+            "CEAC: array index {idx} out of bounds (ARRAYBOUND: a CPDev runtime stops here)"
         ))
     }
 
@@ -822,14 +838,14 @@ fn translate(inst: &Inst, mode: Mode, core: &mut Core) -> Result<(Ins, Tag), Str
             _ => None,
         },
         g::MATH => match f {
-            0x01 => Some(ops::expt_rr),
-            0x02 => Some(ops::expt_ll),
-            0x03 => Some(ops::expt_ri),
-            0x04 => Some(ops::expt_rd),
-            0x05 => Some(ops::expt_li),
-            0x06 => Some(ops::expt_ld),
-            0x07 => Some(ops::expt_ii),
-            0x08 => Some(ops::expt_dd),
+            0x01 => Some(ops::expt_ss),
+            0x02 => Some(ops::expt_is),
+            0x03 => Some(ops::expt_ds),
+            0x04 => Some(ops::expt_rs),
+            0x05 => Some(ops::expt_ri),
+            0x06 => Some(ops::expt_rd),
+            0x07 => Some(ops::expt_rr),
+            0x08 => Some(ops::expt_ll),
             0x11..=0x1A => num!(t, un1, ops::Abs),
             0x20 | 0x21 => float!(f, ops::Sqrt),
             0x22 | 0x23 => float!(f, ops::Ln),
@@ -986,10 +1002,10 @@ fn translate(inst: &Inst, mode: Mode, core: &mut Core) -> Result<(Ins, Tag), Str
         g::PTR => match (f, m16) {
             (0x00, true) => Some(ops::dpsto::<u16> as Handler),
             (0x00, false) => Some(ops::dpsto::<u32>),
-            (0x01 | 0x11, true) => Some(ops::dprdl::<u16>),
-            (0x01 | 0x11, false) => Some(ops::dprdl::<u32>),
-            (0x02 | 0x12, true) => Some(ops::dpwrl::<u16>),
-            (0x02 | 0x12, false) => Some(ops::dpwrl::<u32>),
+            (0x01, true) => Some(ops::dprdl::<u16>),
+            (0x01, false) => Some(ops::dprdl::<u32>),
+            (0x02, true) => Some(ops::dpwrl::<u16>),
+            (0x02, false) => Some(ops::dpwrl::<u32>),
             (0x03, true) => Some(ops::calbr::<u16>),
             (0x03, false) => Some(ops::calbr::<u32>),
             _ => None,

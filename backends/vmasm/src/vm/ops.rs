@@ -352,25 +352,6 @@ fn to_bcd(x: i16, digits: u32) -> u32 {
     out
 }
 
-/// `b ** e` in wrapping integer arithmetic; a negative exponent gives 0 unless the
-/// base is 1 or -1. Computed in 64 bits: truncating the result gives the narrower
-/// types' wrapping power.
-pub(super) fn ipow(b: i64, e: i64) -> i64 {
-    if e >= 0 {
-        b.wrapping_pow(e.min(u32::MAX as i64) as u32)
-    } else if b == 1 {
-        1
-    } else if b == -1 {
-        if e & 1 == 0 {
-            1
-        } else {
-            -1
-        }
-    } else {
-        0
-    }
-}
-
 pub(super) struct Shl;
 impl Shift for Shl {
     #[inline(always)]
@@ -478,36 +459,45 @@ pub(super) fn shift<T: Bits, S: Shift>(c: &mut Core, i: &Ins, k: usize) -> usize
     })
 }
 
-/// EXPT with a float base and an exponent converted to the base's type.
+/// EXPT with a float result: `exp(log(x) * y)` computed in double, as the C VMs do.
 macro_rules! expt_f {
     ($($name:ident: $b:ty, $e:ty);*) => {$(
         pub(super) fn $name(c: &mut Core, i: &Ins, k: usize) -> usize {
             step(c, |c| {
                 let x: $b = c.ld(i.b)?;
                 let y: $e = c.ld(i.c)?;
-                c.st(i.a, x.powf(y as $b))?;
+                c.st(i.a, ((x as f64).ln() * y as f64).exp() as $b)?;
                 Ok(k + 1)
             })
         }
     )*};
 }
-expt_f!(expt_rr: f32, f32; expt_ll: f64, f64; expt_ri: f32, i16; expt_rd: f32, i32;
-        expt_li: f64, i16; expt_ld: f64, i32);
+expt_f!(expt_rs: f32, i8; expt_ri: f32, i16; expt_rd: f32, i32; expt_rr: f32, f32;
+        expt_ll: f64, f64);
 
-/// EXPT on integers (`ipow`).
+/// EXPT with an integer base and a SINT exponent, written as a DINT: the C VMs'
+/// square-and-multiply, with the running square held in the base's own type.
 macro_rules! expt_i {
     ($($name:ident: $t:ty);*) => {$(
         pub(super) fn $name(c: &mut Core, i: &Ins, k: usize) -> usize {
             step(c, |c| {
-                let x: $t = c.ld(i.b)?;
-                let y: $t = c.ld(i.c)?;
-                c.st(i.a, ipow(x as i64, y as i64) as $t)?;
+                let mut b: $t = c.ld(i.b)?;
+                let mut e: i8 = c.ld(i.c)?;
+                let mut r: i32 = 1;
+                while e > 0 {
+                    if e & 1 != 0 {
+                        r = r.wrapping_mul(b as i32);
+                    }
+                    e >>= 1;
+                    b = b.wrapping_mul(b);
+                }
+                c.st(i.a, r)?;
                 Ok(k + 1)
             })
         }
     )*};
 }
-expt_i!(expt_ii: i16; expt_dd: i32);
+expt_i!(expt_ss: i8; expt_is: i16; expt_ds: i32);
 
 /// `SEL dst, g, in0, in1`.
 pub(super) fn sel<T: Val>(c: &mut Core, i: &Ins, k: usize) -> usize {
@@ -770,7 +760,8 @@ pub(super) fn acc<T: Val, A: Access>(c: &mut Core, i: &Ins, k: usize) -> usize {
     })
 }
 
-/// CEAC idx, low, span: idx -= low; outside 0..=span sets ARRAYBOUND.
+/// CEAC idx, low, span: idx -= low; outside 0..=span sets ARRAYBOUND and stops the
+/// VM, as every CPDev runtime but iOS's does (`VMP_Debug(6)`).
 pub(super) fn ceac(c: &mut Core, i: &Ins, k: usize) -> usize {
     step(c, |c| {
         let idx: i16 = c.ld(i.a)?;
@@ -779,7 +770,7 @@ pub(super) fn ceac(c: &mut Core, i: &Ins, k: usize) -> usize {
         let v = idx.wrapping_sub(low);
         c.st(i.a, v)?;
         if v < 0 || v > span {
-            c.status |= super::status::ARRAYBOUND;
+            return Err(c.ceac_stop(idx));
         }
         Ok(k + 1)
     })
@@ -887,7 +878,7 @@ pub(super) fn arr<T: Val, A: Access>(c: &mut Core, i: &Ins, k: usize) -> usize {
         let x = v.wrapping_sub(low);
         c.st(i.a, x)?;
         if x < 0 || x > span {
-            c.status |= super::status::ARRAYBOUND;
+            return Err(c.ceac_stop(v));
         }
         done = 2;
         // AxRD / AxWR var, base, lac (lac reads back x)

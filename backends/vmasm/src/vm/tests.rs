@@ -240,18 +240,22 @@ fn comparisons_selection_and_limits() {
 fn math_and_conversions() {
     let vm = scan16(
         vec![
-            i(0x0620, vec![d(0), d(100)]),          // SQRT REAL 2.25
-            i(0x0621, vec![d(4), d(104)]),          // SQRT LREAL 2.25
-            i(0x0634, vec![d(12), d(112)]),         // TRUNC REAL -2.5 → DINT
-            i(0x0636, vec![d(16), d(112)]),         // ROUND REAL -2.5 → -3
-            i(0x0636, vec![d(20), d(116)]),         // ROUND REAL 1e20 saturates
-            i(0x0612, vec![d(24), d(120)]),         // ABS INT MIN
-            i(0x0507, vec![d(26), d(100)]),         // NEG REAL
-            i(0x0607, vec![d(30), d(122), d(124)]), // EXPT INT 3**4
-            i(0x0607, vec![d(32), d(122), d(126)]), // EXPT INT 3**-1 = 0
-            i(0x0607, vec![d(34), d(128), d(126)]), // EXPT INT (-1)**-1 = -1
-            i(0x0603, vec![d(36), d(100), d(124)]), // EXPT REAL**INT 2.25**4
-            i(0x0625, vec![d(40), d(130)]),         // LOG LREAL 1000
+            i(0x0620, vec![d(0), d(100)]),  // SQRT REAL 2.25
+            i(0x0621, vec![d(4), d(104)]),  // SQRT LREAL 2.25
+            i(0x0634, vec![d(12), d(112)]), // TRUNC REAL -2.5 → DINT
+            i(0x0636, vec![d(16), d(112)]), // ROUND REAL -2.5 → -3
+            i(0x0636, vec![d(20), d(116)]), // ROUND REAL 1e20 saturates
+            i(0x0612, vec![d(24), d(120)]), // ABS INT MIN
+            i(0x0507, vec![d(26), d(100)]), // NEG REAL
+            // EXPT as the C VMs number it (reference/cpdev-vm-opcodes.md §2.1).
+            i(0x0601, vec![d(84), d(122), d(123)]), // SINT 3**4 → DINT 81
+            i(0x0601, vec![d(48), d(124), d(125)]), // SINT 2**8: the SINT square wraps → 0
+            i(0x0602, vec![d(52), d(126), d(128)]), // INT 2**16 → 0
+            i(0x0601, vec![d(72), d(122), d(129)]), // 3**-1 → 1
+            i(0x0604, vec![d(76), d(100), d(123)]), // REAL**SINT 2.25**4
+            i(0x0607, vec![d(80), d(132), d(136)]), // REAL (-3.0)**2.0 → NaN
+            i(0x0608, vec![d(64), d(140), d(148)]), // LREAL 100.0**0.5 → 10.000000000000002
+            i(0x0625, vec![d(40), d(160)]),         // LOG LREAL 1000
         ],
         |m| {
             put(m, 100, 2.25f32.to_le_bytes());
@@ -259,11 +263,14 @@ fn math_and_conversions() {
             put(m, 112, (-2.5f32).to_le_bytes());
             put(m, 116, 1e20f32.to_le_bytes());
             put(m, 120, i16::MIN.to_le_bytes());
-            put(m, 122, 3i16.to_le_bytes());
-            put(m, 124, 4i16.to_le_bytes());
-            put(m, 126, (-1i16).to_le_bytes());
-            put(m, 128, (-1i16).to_le_bytes());
-            put(m, 130, 1000f64.to_le_bytes());
+            put(m, 122, [3, 4, 2, 8]);
+            put(m, 126, 2i16.to_le_bytes());
+            put(m, 128, [16, 0xFF]);
+            put(m, 132, (-3f32).to_le_bytes());
+            put(m, 136, 2f32.to_le_bytes());
+            put(m, 140, 100f64.to_le_bytes());
+            put(m, 148, 0.5f64.to_le_bytes());
+            put(m, 160, 1000f64.to_le_bytes());
         },
     );
     assert_eq!(f32_at(&vm, 0), 1.5);
@@ -273,10 +280,13 @@ fn math_and_conversions() {
     assert_eq!(i32_at(&vm, 20), i32::MAX);
     assert_eq!(i16_at(&vm, 24), i16::MIN);
     assert_eq!(f32_at(&vm, 26), -2.25);
-    assert_eq!(i16_at(&vm, 30), 81);
-    assert_eq!(i16_at(&vm, 32), 0);
-    assert_eq!(i16_at(&vm, 34), -1);
-    assert_eq!(f32_at(&vm, 36), 2.25f32.powf(4.0));
+    assert_eq!(i32_at(&vm, 84), 81);
+    assert_eq!(i32_at(&vm, 48), 0);
+    assert_eq!(i32_at(&vm, 52), 0);
+    assert_eq!(i32_at(&vm, 72), 1);
+    assert_eq!(f32_at(&vm, 76), (2.25f64.ln() * 4.0).exp() as f32);
+    assert!(f32_at(&vm, 80).is_nan());
+    assert_eq!(f64_at(&vm, 64), 10.000000000000002);
     assert_eq!(f64_at(&vm, 40), 3.0);
 
     let vm = scan16(
@@ -365,12 +375,13 @@ fn memory_instructions() {
     assert_eq!(get(&vm, 50), [8, 9, 10, 11, 12, 13, 14, 15]);
     assert_eq!(get(&vm, 158), [1, 1, 2, 3, 4, 0, 0, 0]);
 
-    // CEAC out of range sets ARRAYBOUND; CUR_TIME / TASK_CYCLE follow the setters.
+    // CUR_TIME / TASK_CYCLE follow the setters; CEAC out of range sets ARRAYBOUND and
+    // stops the VM.
     let mut code = Vec::new();
     for x in [
-        i(0x1C2E, vec![d(100), d(102), d(104)]),
         i(0x1C17, vec![d(0)]),
         i(0x1C31, vec![d(4)]),
+        i(0x1C2E, vec![d(100), d(102), d(104)]),
         i(0x1C2F, vec![d(8)]),
         i(0x1C1D, vec![l(0)]),
     ] {
@@ -382,12 +393,17 @@ fn memory_instructions() {
     put(vm.data_mut(), 104, 3i16.to_le_bytes());
     vm.set_clock_ms(1234);
     vm.set_task_cycle_ms(50);
-    vm.run_cycle(100).unwrap();
+    let e = vm.run_cycle(100).unwrap_err();
+    assert!(e.to_string().contains("CEAC"), "{e}");
     assert_eq!(i16_at(&vm, 100), -1);
     assert_eq!(vm.status(), status::ARRAYBOUND);
     assert_eq!(u32::from_le_bytes(get(&vm, 0)), 1234);
     assert_eq!(u32::from_le_bytes(get(&vm, 4)), 50);
-    assert_eq!(u16::from_le_bytes(get(&vm, 8)), status::ARRAYBOUND);
+    assert_eq!(
+        u16::from_le_bytes(get(&vm, 8)),
+        0,
+        "GET_STATUS_WORD1 never ran"
+    );
 }
 
 #[test]
@@ -445,11 +461,9 @@ fn calls_dptr_and_pointers() {
 #[test]
 fn dprdl_dpwrl() {
     for mode in [Mode::M16, Mode::M32, Mode::M32A] {
-        let (rd, wr) = if mode == Mode::M32A {
-            (0x1E11, 0x1E12)
-        } else {
-            (0x1E01, 0x1E02)
-        };
+        // DPRDL/DPWRL in every mode: vmdef.h's DPRDL4A/DPWRL4A (1E11/1E12) are
+        // executed by no C VM.
+        let (rd, wr) = (0x1E01, 0x1E02);
         let code = build(mode, |a| {
             vec![
                 i(0x1C16, vec![d(100), l(a[2])]), // CALB 100, f
@@ -467,6 +481,14 @@ fn dprdl_dpwrl() {
         vm.run_cycle(100).unwrap();
         assert_eq!(get(&vm, 100), [1, 2, 3]);
         assert_eq!(get(&vm, 30), [8, 9, 3]);
+    }
+    for op in [[0x1E, 0x11], [0x1E, 0x12]] {
+        let mut code = vec![op[0], op[1], 0, 0];
+        code.extend([0u8; 12]);
+        match Vm::new(&code, 256, Mode::M32A) {
+            Err(_) => {}
+            Ok(mut vm) => assert!(vm.run_cycle(10).is_err(), "{op:02X?} ran"),
+        }
     }
 }
 
