@@ -270,3 +270,137 @@ program "main" data @main body @main init @main$init
     assert!(err[0].message.contains("ATAN2"));
     assert!(err[0].span.is_some(), "the error points at the operation");
 }
+
+/// `-s port=NAME`: an instruction the chosen CPDev VM port lacks is error E9105 at
+/// the source that needs it (the ESP32 and AVR builds have no LREAL or 64-bit
+/// integers; the 6502 and sdcc builds no REAL either); the default port, `full`,
+/// takes everything, and an integer program builds for every port.
+#[test]
+fn what_a_port_lacks_is_e9105_at_its_source() {
+    let dir = scratch_dir("port");
+    let lreal = dir.join("lreal.st");
+    std::fs::write(
+        &lreal,
+        "PROGRAM main\nVAR x : LREAL := 1.5; n : INT := 3; END_VAR\n    n := n * 2;\n    x := x * 2.0;\nEND_PROGRAM\n",
+    )
+    .unwrap();
+    let ints = dir.join("ints.st");
+    std::fs::write(
+        &ints,
+        "PROGRAM main\nVAR n : INT := 3; d : DINT; END_VAR\n    n := n * 2;\n    d := INT_TO_DINT(n) / 3;\nEND_PROGRAM\n",
+    )
+    .unwrap();
+    let xcp = dir.join("out.xcp");
+    let build = |port: &str, src: &Path| {
+        plcc(&[
+            "--target",
+            "vmasm",
+            "-s",
+            &format!("port={port}"),
+            src.to_str().unwrap(),
+            "-o",
+            xcp.to_str().unwrap(),
+        ])
+    };
+    assert!(build("full", &lreal).status.success());
+    for port in ["esp32", "avr", "6502", "sdcc"] {
+        let out = build(port, &lreal);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{port}: {err}");
+        assert!(err.contains("error[E9105]"), "{port}: {err}");
+        assert!(err.contains(&format!("port `{port}`")), "{port}: {err}");
+        assert!(err.contains("lreal.st:4:"), "{port}: the span: {err}");
+        let ok = build(port, &ints);
+        assert!(
+            ok.status.success(),
+            "{port}: {}",
+            String::from_utf8_lossy(&ok.stderr)
+        );
+    }
+    let err = String::from_utf8_lossy(&build("esp32", &lreal).stderr).to_string();
+    assert!(err.contains("LREAL"), "{err}");
+    let out = build("z80", &ints);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("E9103"));
+}
+
+/// The DCP describes what a CPDev tool needs to show the variables: IEC type names
+/// (never the IR's `i32`/`i1`), a configuration's globals once and without the task
+/// state the front end adds, the fault word, an array's element type and every
+/// dimension, the members of an array of STRUCTs, and DATE/TOD/DT by what they hold.
+#[test]
+fn the_description_names_types_as_iec_does() {
+    let src = "TYPE pt : STRUCT x : INT; y : DINT; END_STRUCT; END_TYPE
+PROGRAM p
+VAR_INPUT inp : INT; END_VAR
+VAR a : ARRAY[1..4] OF INT; m : ARRAY[1..2, 0..3] OF INT; s : ARRAY[0..2] OF pt;
+ d : DATE := D#2024-03-15; str : STRING[10]; END_VAR
+a[1] := inp;
+END_PROGRAM
+CONFIGURATION c
+VAR_GLOBAL g : INT; END_VAR
+RESOURCE r ON plc
+TASK t (INTERVAL := T#20ms, PRIORITY := 1);
+PROGRAM i1 WITH t : p (inp := g);
+PROGRAM i2 WITH t : p (inp := g);
+END_RESOURCE
+END_CONFIGURATION
+";
+    let module = build_sources(
+        vec![("c.st".to_string(), src.as_bytes().to_vec())],
+        &BuildOptions::default(),
+    )
+    .unwrap()
+    .module
+    .unwrap();
+    for mode in ["16", "32a"] {
+        let options = Options {
+            settings: vec![("mode".into(), mode.into())],
+            ..Default::default()
+        };
+        let arts = plcc_vmasm::VmasmBackend::new()
+            .compile(&module, &options)
+            .unwrap();
+        let dcp = String::from_utf8(arts.files[1].bytes.clone()).unwrap();
+        let global = &dcp[dcp.find("<GLOBAL>").unwrap()..dcp.find("</GLOBAL>").unwrap()];
+        assert_eq!(global.matches("<VAR ").count(), 2, "{global}");
+        assert!(global.contains("LName=\"g\"") && global.contains("Type=\"INT\""));
+        assert!(global.contains("LName=\"PLCC_FAULT\"") && global.contains("Type=\"WORD\""));
+        assert!(!dcp.contains("Type=\"i32\"") && !dcp.contains("Type=\"i1\""));
+        assert!(!dcp.contains("LName=\"last\"") && !dcp.contains("LName=\"started\""));
+        assert!(dcp.contains("ArrayBase=\"INT\""));
+        assert!(dcp.contains("<LEVEL No=\"1\" LoBound=\"0\" UpBound=\"3\" />"));
+        assert!(dcp.contains("ArrayBase=\"pt\""));
+        assert!(dcp.contains("PName=\"plcc.TASK.i2.s[0].y\""));
+        assert!(dcp.contains("Type=\"UDINT\" PType=\"$DEFAULT.UDINT\" TypeStatus=\"build-in type\" VFlags=\"00000000\" PlccType=\"DATE\""));
+        assert!(dcp.contains("PlccType=\"STRING[10]\""));
+        assert!(dcp.contains("TypeStatus=\"program\""));
+        assert_eq!(dcp.contains("AddressSize=\"8\""), mode != "16");
+        // plcc's own reader still finds every variable where plcc put it.
+        let read = dcp_read::parse(&dcp).unwrap();
+        // (Globals are at the top level; a task's hidden state is not listed.)
+        // Elements are not listed: an array's address, bounds and ElementSize give
+        // them (checked for one element below).
+        let m = read.find_var("plcc.TASK.i2.m").expect("the array m");
+        let m23 = arts
+            .symbols
+            .iter()
+            .find(|s| s.path == "i2.m[2][3]")
+            .unwrap();
+        assert_eq!(m.addr as u64 + ((2 - 1) * 4 + 3) * 2, m23.address);
+        for s in arts
+            .symbols
+            .iter()
+            .filter(|s| !s.path.contains("$state") && !s.path.contains('['))
+        {
+            let path = match s.path.strip_prefix("$globals.") {
+                Some(g) => format!("plcc.{g}"),
+                None => format!("plcc.TASK.{}", s.path),
+            };
+            let v = read
+                .find_var(&path)
+                .unwrap_or_else(|| panic!("the data map has no {path}"));
+            assert_eq!(v.addr as u64, s.address, "{}", s.path);
+        }
+    }
+}

@@ -7,10 +7,10 @@
 //! `<DATA_MAP>` with the program instances and their variables (relative `rdlabel`
 //! and absolute `gdlabel` addresses).
 
-use crate::build::Build;
+use crate::build::{Build, FAULT_NAME};
 use crate::isa::Mode;
 use plcc_ir::backend::Options;
-use plcc_ir::module::{AggDef, DataKind};
+use plcc_ir::module::{AggDef, DataKind, FieldRole, StructKind};
 use plcc_ir::types::MemType;
 use plcc_ir::Module;
 use std::fmt::Write;
@@ -39,19 +39,149 @@ fn addr(a: u64, mode: Mode) -> String {
     }
 }
 
-fn type_names(module: &Module, t: MemType, elem: Option<plcc_ir::ElemType>) -> (String, String) {
-    match (t, elem) {
-        (MemType::Scalar(_), Some(e)) => (e.name().to_string(), format!("$DEFAULT.{}", e.name())),
-        (MemType::Scalar(s), None) => (s.to_string(), format!("$DEFAULT.{s}")),
-        (MemType::Agg(a), _) => {
-            let n = module.agg(a).name().to_string();
-            (n.clone(), format!("plcc.{n}"))
+/// How a variable is described: `Type`, `PType`, `TypeStatus` and any further
+/// attributes (an array's element type and bounds, what a DATE holds).
+struct Desc {
+    ty: String,
+    pty: String,
+    status: &'static str,
+    extra: String,
+    /// `(lower, upper)` of each dimension, outermost first.
+    dims: Vec<(i64, i64)>,
+}
+
+/// The IEC name of a scalar: its source type, else the IR type's natural one (the
+/// front ends give every user variable its source type).
+fn scalar_name(t: plcc_ir::types::Type, elem: Option<plcc_ir::ElemType>, mode: Mode) -> String {
+    use plcc_ir::types::Type;
+    use plcc_ir::ElemType as E;
+    let addr_word = if mode == Mode::M16 { "WORD" } else { "DWORD" };
+    match elem {
+        // plcc keeps DATE and DT as seconds and TOD as ms in a 32-bit count, not in
+        // CPDev's day/month/year and csec/s/min/h layouts: they are described by
+        // what they hold, so that no CPDev tool decodes them wrongly.
+        Some(E::Date | E::Tod | E::Dt) => "UDINT".into(),
+        Some(E::Ref) => addr_word.into(),
+        Some(e) => e.name().into(),
+        None => match t {
+            Type::I1 => "BOOL",
+            Type::I8 => "BYTE",
+            Type::I16 => "INT",
+            Type::I32 => "DINT",
+            Type::I64 => "LINT",
+            Type::F32 => "REAL",
+            Type::F64 => "LREAL",
+            Type::Ptr => addr_word,
         }
+        .into(),
     }
 }
 
+fn describe(
+    module: &Module,
+    b: &Build,
+    name: &str,
+    t: MemType,
+    elem: Option<plcc_ir::ElemType>,
+) -> Desc {
+    use plcc_ir::ElemType as E;
+    let mode = b.settings.mode;
+    match t {
+        MemType::Scalar(st) => {
+            let n = scalar_name(st, elem, mode);
+            let extra = match elem {
+                Some(E::Date) => " PlccType=\"DATE\" Encoding=\"seconds since 1970-01-01\"",
+                Some(E::Dt) => " PlccType=\"DATE_AND_TIME\" Encoding=\"seconds since 1970-01-01\"",
+                Some(E::Tod) => " PlccType=\"TIME_OF_DAY\" Encoding=\"ms since midnight\"",
+                Some(E::Ref) => " PlccType=\"REF_TO\" Encoding=\"absolute address\"",
+                _ => "",
+            };
+            Desc {
+                pty: format!("$DEFAULT.{n}"),
+                ty: n,
+                status: "build-in type",
+                extra: extra.into(),
+                dims: Vec::new(),
+            }
+        }
+        MemType::Agg(a) => match module.agg(a) {
+            AggDef::Array(_) => {
+                // Nested arrays are the dimensions of one (ARRAY[1..2, 0..3]).
+                let mut dims = Vec::new();
+                let mut inner = t;
+                let mut inner_elem = elem;
+                while let MemType::Agg(x) = inner {
+                    let AggDef::Array(arr) = module.agg(x) else {
+                        break;
+                    };
+                    dims.push((arr.lower, arr.lower + arr.len as i64 - 1));
+                    inner = arr.elem;
+                    inner_elem = arr.elem_type;
+                }
+                let base = match inner {
+                    MemType::Scalar(st) => scalar_name(st, inner_elem, mode),
+                    MemType::Agg(x) => module.agg(x).name().to_string(),
+                };
+                let base_p = match inner {
+                    MemType::Scalar(_) => format!("$DEFAULT.{base}"),
+                    MemType::Agg(_) => format!("plcc.{base}"),
+                };
+                let ty = format!("?{}?ARRAY?{:02}", name.to_uppercase(), a.index());
+                // plcc's STRING[n] (the front end's `strN`, `wstrN`): n + 1 characters
+                // ended by a 0, not CPDev's length-prefixed layout.
+                let aname = module.agg(a).name();
+                let string = ["wstr", "str"].iter().find_map(|p| {
+                    let n = aname.strip_prefix(p)?;
+                    (!n.is_empty() && n.bytes().all(|c| c.is_ascii_digit())).then(|| {
+                        let kind = if *p == "wstr" { "WSTRING" } else { "STRING" };
+                        format!(" PlccType=\"{kind}[{n}]\" Encoding=\"characters ended by a 0\"")
+                    })
+                });
+                Desc {
+                    pty: format!("plcc.{ty}"),
+                    ty,
+                    status: "array",
+                    extra: format!(
+                        " ArrayBase=\"{}\" ArrayBaseP=\"{}\" ElementSize=\"{}\"{}",
+                        escape(&base),
+                        escape(&base_p),
+                        b.layout.size_of(inner),
+                        string.unwrap_or_default()
+                    ),
+                    dims,
+                }
+            }
+            AggDef::Struct(st) => {
+                let n = st.name.clone();
+                Desc {
+                    pty: format!("plcc.{n}"),
+                    ty: n,
+                    status: match st.kind {
+                        StructKind::Program => "program",
+                        StructKind::FunctionBlock => "function block",
+                        _ => "struct",
+                    },
+                    extra: String::new(),
+                    dims: Vec::new(),
+                }
+            }
+        },
+    }
+}
+
+/// The VFlags of a variable in the role it has in its POU.
+fn vflags(role: Option<FieldRole>, global: bool) -> u32 {
+    let r = match role {
+        Some(FieldRole::Input) => 0x10,
+        Some(FieldRole::Output) => 0x20,
+        _ => 0,
+    };
+    r | if global { 0x4000 } else { 0 }
+}
+
 /// Writes the variables of an object of type `t` at `rel` (relative to its parent)
-/// and `abs`, with its members nested.
+/// and `abs`, with its members nested (a STRUCT's or an FB's fields; an array's
+/// bounds, and the members of its first element when the elements are aggregates).
 #[allow(clippy::too_many_arguments)]
 fn obj(
     out: &mut String,
@@ -64,59 +194,104 @@ fn obj(
     rel: u64,
     abs: u64,
     depth: usize,
+    flags: u32,
 ) {
     let mode = b.settings.mode;
     let ind = "  ".repeat(depth);
     let size = b.layout.size_of(t);
-    let (ty, pty) = type_names(module, t, elem);
+    let d = describe(module, b, name, t, elem);
     let _ = write!(
         out,
-        "{ind}<OBJ ObjType=\"VAR\" LName=\"{}\" PName=\"{}\" Addr=\"{}\" AdrType=\"rdlabel\" CAddr=\"{}\" CAdrType=\"gdlabel\" Size=\"{size}\" Type=\"{}\" PType=\"{}\"",
+        "{ind}<OBJ ObjType=\"VAR\" LName=\"{}\" PName=\"{}\" Addr=\"{}\" AdrType=\"rdlabel\" CAddr=\"{}\" CAdrType=\"gdlabel\" Size=\"{size}\" Type=\"{}\" PType=\"{}\" TypeStatus=\"{}\" VFlags=\"{flags:08x}\"{}",
         escape(name),
         escape(pname),
         addr(rel, mode),
         addr(abs, mode),
-        escape(&ty),
-        escape(&pty)
+        escape(&d.ty),
+        escape(&d.pty),
+        d.status,
+        d.extra
     );
-    match t {
-        MemType::Scalar(_) => out.push_str(" />\n"),
-        MemType::Agg(a) => {
-            out.push_str(">\n");
-            match module.agg(a) {
-                AggDef::Struct(s) => {
-                    for (i, f) in s.fields.iter().enumerate() {
-                        let off = b.layout.field_offset(a, i as u32) as u64;
-                        obj(
-                            out,
-                            module,
-                            b,
-                            &f.name,
-                            &format!("{pname}.{}", f.name),
-                            f.ty,
-                            f.elem,
-                            off,
-                            abs + off,
-                            depth + 1,
-                        );
-                    }
+    let MemType::Agg(a) = t else {
+        out.push_str(" />\n");
+        return;
+    };
+    out.push_str(">\n");
+    match module.agg(a) {
+        AggDef::Struct(s) => {
+            for (i, f) in s.fields.iter().enumerate() {
+                if f.role == FieldRole::Hidden {
+                    continue;
                 }
-                AggDef::Array(arr) => {
-                    let hi = arr.lower + arr.len as i64 - 1;
+                let off = b.layout.field_offset(a, i as u32) as u64;
+                obj(
+                    out,
+                    module,
+                    b,
+                    &f.name,
+                    &format!("{pname}.{}", f.name),
+                    f.ty,
+                    f.elem,
+                    off,
+                    abs + off,
+                    depth + 1,
+                    vflags(Some(f.role), false),
+                );
+            }
+        }
+        AggDef::Array(_) => {
+            let _ = writeln!(out, "{ind}  <DIMENSIONS>");
+            for (k, (lo, hi)) in d.dims.iter().enumerate() {
+                let _ = writeln!(
+                    out,
+                    "{ind}    <LEVEL No=\"{k}\" LoBound=\"{lo}\" UpBound=\"{hi}\" />"
+                );
+            }
+            let _ = writeln!(out, "{ind}  </DIMENSIONS>");
+            let up = name.to_uppercase();
+            for (k, (lo, hi)) in d.dims.iter().enumerate() {
+                for (what, v) in [("LOW", lo), ("UPR", hi)] {
                     let _ = writeln!(
                         out,
-                        "{ind}  <DIMENSIONS>\n{ind}    <LEVEL No=\"0\" LoBound=\"{}\" UpBound=\"{hi}\" />\n{ind}  </DIMENSIONS>",
-                        arr.lower
+                        "{ind}  <OBJ ObjType=\"VAR\" LName=\"?{}?{what}?{k:02}\" Addr=\"#null\" Size=\"2\" Type=\"INT\" PType=\"$DEFAULT.INT\" TypeStatus=\"build-in type\" VFlags=\"00100004\" ConstValue=\"{v}\" />",
+                        escape(&up)
                     );
                 }
             }
-            let _ = writeln!(out, "{ind}</OBJ>");
+            // Elements that are STRUCTs or FBs: the first one's members, from which
+            // every element's follow (ElementSize apart).
+            let mut inner = t;
+            let mut first = String::new();
+            while let MemType::Agg(x) = inner {
+                let AggDef::Array(arr) = module.agg(x) else {
+                    break;
+                };
+                let _ = write!(first, "[{}]", arr.lower);
+                inner = arr.elem;
+            }
+            if let MemType::Agg(_) = inner {
+                obj(
+                    out,
+                    module,
+                    b,
+                    &format!("{name}{first}"),
+                    &format!("{pname}{first}"),
+                    inner,
+                    None,
+                    0,
+                    abs,
+                    depth + 1,
+                    0,
+                );
+            }
         }
     }
+    let _ = writeln!(out, "{ind}</OBJ>");
 }
 
 /// The global variables: each field of a global data object of struct type (the
-/// front ends gather the VAR_GLOBALs in one), else the object itself.
+/// front ends gather the VAR_GLOBALs in one), else the object itself. State the
+/// front end added (a task's timing) is not listed.
 fn globals(module: &Module, b: &Build) -> Vec<(String, MemType, Option<plcc_ir::ElemType>, u64)> {
     let mut v = Vec::new();
     for (i, d) in module.data.iter().enumerate() {
@@ -130,6 +305,9 @@ fn globals(module: &Module, b: &Build) -> Vec<(String, MemType, Option<plcc_ir::
                     continue;
                 };
                 for (k, f) in s.fields.iter().enumerate() {
+                    if f.role == FieldRole::Hidden {
+                        continue;
+                    }
                     let off = b.layout.field_offset(a, k as u32) as u64;
                     v.push((f.name.clone(), f.ty, f.elem, base + off));
                 }
@@ -152,30 +330,50 @@ pub fn write(module: &Module, b: &Build, options: &Options) -> String {
     o.push_str("<CPDEV version=\"1.0\">\n");
     let _ = writeln!(
         o,
-        "  <TARGET RawCompilerVersion=\"00000100\" StringCompilerVersion=\"plcc {}\" Mode=\"{}\">",
+        "  <TARGET RawCompilerVersion=\"00000100\" StringCompilerVersion=\"plcc {}\" Mode=\"{}\"{} Port=\"{}\">",
         env!("CARGO_PKG_VERSION"),
         match mode {
             Mode::M16 => "mach16b",
             Mode::M32 => "mach32b",
             Mode::M32A => "mach32bA",
-        }
+        },
+        if mode == Mode::M16 { "" } else { " AddressSize=\"8\"" },
+        b.settings.port.name()
     );
     o.push_str("    <GLOBAL>\n");
-    for (name, t, elem, a) in globals(module, b) {
-        let (ty, pty) = type_names(module, t, elem);
+    let mut vars = globals(module, b);
+    // The fault word: 1 once a runtime fault (division by zero, an index out of
+    // range, a NULL dereference) was raised; the VM itself never acts on it.
+    vars.push((
+        FAULT_NAME.to_string(),
+        MemType::Scalar(plcc_ir::types::Type::I16),
+        Some(plcc_ir::ElemType::Word),
+        b.fault_addr as u64,
+    ));
+    for (name, t, elem, a) in &vars {
+        let d = describe(module, b, name, *t, *elem);
         let _ = writeln!(
             o,
-            "      <VAR LName=\"{}\" PName=\"plcc.{}\" Addr=\"{}\" AdrType=\"gdlabel\" Size=\"{}\" Type=\"{}\" PType=\"{}\" VarFlags=\"00000000\" />",
-            escape(&name),
-            escape(&name),
-            addr(a, mode),
-            b.layout.size_of(t),
-            escape(&ty),
-            escape(&pty)
+            "      <VAR LName=\"{}\" PName=\"plcc.{}\" Addr=\"{}\" AdrType=\"gdlabel\" Size=\"{}\" Type=\"{}\" PType=\"{}\" VarFlags=\"00004000\"{} />",
+            escape(name),
+            escape(name),
+            addr(*a, mode),
+            b.layout.size_of(*t),
+            escape(&d.ty),
+            escape(&d.pty),
+            d.extra
         );
     }
     o.push_str("    </GLOBAL>\n");
-    o.push_str("    <VMACH>\n      <FILE_LOC>VM-Univ.xml</FILE_LOC>\n    </VMACH>\n");
+    let _ = writeln!(
+        o,
+        "    <VMACH>\n      <FILE_LOC>{}</FILE_LOC>\n    </VMACH>",
+        match mode {
+            Mode::M16 => "VM-Univ.xml",
+            Mode::M32 => "VM-Praxis32.xml",
+            Mode::M32A => "VM-Praxis32ARM.xml",
+        }
+    );
     o.push_str("    <TASKS>\n");
     let _ = writeln!(
         o,
@@ -202,7 +400,7 @@ pub fn write(module: &Module, b: &Build, options: &Options) -> String {
     o.push_str(&escape(&b.image.listing));
     o.push_str("</MNEMONIC_MAP>\n");
     o.push_str("    <DATA_MAP>\n");
-    for (name, t, elem, a) in globals(module, b) {
+    for (name, t, elem, a) in vars {
         obj(
             &mut o,
             module,
@@ -214,6 +412,7 @@ pub fn write(module: &Module, b: &Build, options: &Options) -> String {
             a,
             a,
             3,
+            0x4000,
         );
     }
     let _ = writeln!(
@@ -235,6 +434,7 @@ pub fn write(module: &Module, b: &Build, options: &Options) -> String {
             p.addr as u64,
             p.addr as u64,
             4,
+            0,
         );
     }
     o.push_str("      </OBJ>\n");

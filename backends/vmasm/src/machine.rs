@@ -30,10 +30,11 @@ pub struct VmMachine {
 impl VmMachine {
     /// A machine for a build of `module`.
     pub fn new(module: &Module, build: Build) -> Result<VmMachine, String> {
-        let vm = Vm::new(
+        let vm = Vm::for_port(
             &build.image.code,
             build.data_size as usize,
             build.settings.mode,
+            build.settings.port,
         )
         .map_err(|e| format!("vmasm: {e}"))?;
         Ok(VmMachine {

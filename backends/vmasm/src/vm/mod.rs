@@ -64,6 +64,7 @@
 //!   outcome is [`End::Budget`].
 
 mod ops;
+mod ub;
 
 use std::collections::BTreeMap;
 use std::fmt;
@@ -220,6 +221,10 @@ struct Core {
     extra: u64,
     /// After a fault in a superinstruction: entries it completed before the faulting one.
     skip: usize,
+    /// The port whose C semantics are checked ([`Vm::for_port`]), if any.
+    checks: Option<ub::Checks>,
+    /// The handler and opcode of each checked instruction (its `e` field indexes this).
+    checked: Vec<(Handler, u16)>,
 }
 
 impl Core {
@@ -352,6 +357,28 @@ impl Vm {
     /// data memory (zero-filled here; programs initialise what they use) in `mode`.
     /// Fails only when the code or data does not fit the mode's address space.
     pub fn new(code: &[u8], data_size: usize, mode: Mode) -> Result<Vm, VmError> {
+        Vm::make(code, data_size, mode, None)
+    }
+
+    /// As [`Vm::new`], for the C VM of `port`: an instruction whose C evaluation would
+    /// be undefined there (a signed overflow, a division by zero, a shift by the width,
+    /// a float cast out of range) or whose LINT operand the port misreads stops the VM
+    /// with an error, as a real VM would go wrong (`ub.rs`).
+    pub fn for_port(
+        code: &[u8],
+        data_size: usize,
+        mode: Mode,
+        port: crate::port::Port,
+    ) -> Result<Vm, VmError> {
+        Vm::make(code, data_size, mode, Some(ub::Checks::for_port(port)))
+    }
+
+    fn make(
+        code: &[u8],
+        data_size: usize,
+        mode: Mode,
+        checks: Option<ub::Checks>,
+    ) -> Result<Vm, VmError> {
         let space = mode.max_addr() + 1;
         if data_size as u64 > space {
             return Err(VmError(format!(
@@ -384,6 +411,8 @@ impl Vm {
             msgs: Vec::new(),
             extra: 0,
             skip: 0,
+            checks,
+            checked: Vec::new(),
         };
         let found = explore(code, mode);
 
@@ -408,7 +437,13 @@ impl Vm {
                 Found::Inst(inst, len) => {
                     let e = out.len();
                     match translate(inst, mode, &mut core) {
-                        Ok((ins, tag)) => {
+                        Ok((mut ins, mut tag)) => {
+                            if core.checks.is_some() && ub::watched(inst.opcode.0) {
+                                ins.e = core.checked.len() as u32;
+                                core.checked.push((ins.f, inst.opcode.0));
+                                ins.f = ops::checked;
+                                tag = Tag::Other;
+                            }
                             out.push(ins);
                             tags.push(tag);
                             let kinds = shape(inst.opcode, mode).map(|s| s.1).unwrap_or_default();

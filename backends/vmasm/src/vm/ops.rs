@@ -395,6 +395,28 @@ impl Shift for Ror {
 // ---------------------------------------------------------------------------------
 // Generic handlers. Operand fields: `a`, `b`, `c`, `d` in encoding order unless noted.
 
+/// An instruction the C VM of the checked port might get wrong: runs [`super::ub`]'s
+/// check on its operands first (`e` indexes the real handler and the opcode).
+pub(super) fn checked(c: &mut Core, i: &Ins, k: usize) -> usize {
+    let (h, op) = c.checked[i.e as usize];
+    let Some(rules) = c.checks else {
+        return h(c, i, k);
+    };
+    match super::ub::check(c, &rules, op, i) {
+        Ok(None) => h(c, i, k),
+        Ok(Some(why)) => {
+            c.exit = c.fault(format!(
+                "{op:04X}: undefined or misread in the C VM of this port: {why}"
+            ));
+            EXIT
+        }
+        Err(e) => {
+            c.exit = e;
+            EXIT
+        }
+    }
+}
+
 /// NOP.
 pub(super) fn nop(_: &mut Core, _: &Ins, k: usize) -> usize {
     k + 1

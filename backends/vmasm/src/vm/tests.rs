@@ -830,3 +830,83 @@ fn faults_inside_superinstructions_name_the_instruction() {
     assert_eq!(vm.pc(), at[4], "{e}");
     assert_eq!(vm.executed(), 1 + 2 + 1);
 }
+
+/// `Vm::for_port` stops where the C VM of the port is undefined or misreads
+/// (reference/cpdev-vm-opcodes.md §3), and runs what is defined there.
+#[test]
+fn port_checks_stop_on_what_c_leaves_undefined() {
+    use crate::port::Port;
+    // One instruction on operands at 100 and 108 (result at 0), then TRML.
+    let run = |port: Port, op: u16, x: &[u8], y: &[u8]| -> Result<(), String> {
+        let code = build(Mode::M16, |a| {
+            vec![
+                i(
+                    op,
+                    if op >> 8 == 0x05 || op >> 8 == 0x19 || matches!(op, 0x0611..=0x0637) {
+                        vec![d(0), d(100)]
+                    } else {
+                        vec![d(0), d(100), d(108)]
+                    },
+                ),
+                i(0x1C1D, vec![l(a[0])]),
+            ]
+        });
+        let mut vm = Vm::for_port(&code, 256, Mode::M16, port).unwrap();
+        vm.data_mut()[100..100 + x.len()].copy_from_slice(x);
+        vm.data_mut()[108..108 + y.len()].copy_from_slice(y);
+        vm.run_cycle(10).map(|_| ()).map_err(|e| e.to_string())
+    };
+    let w = 0xFFFFu16.to_le_bytes();
+    let i300 = 300i16.to_le_bytes();
+    // MUL WORD: the uint16 operands are promoted to a signed 32-bit int.
+    assert!(run(Port::Full, 0x0326, &w, &w)
+        .unwrap_err()
+        .contains("overflows"));
+    assert!(run(Port::Avr, 0x0326, &w, &w).is_ok());
+    // MUL INT: fine in a 32-bit int, overflows a 16-bit one.
+    assert!(run(Port::Full, 0x0322, &i300, &i300).is_ok());
+    assert!(run(Port::Avr, 0x0322, &i300, &i300).is_err());
+    // NEG DINT MIN, ABS DINT MIN (labs), DIV by zero, DINT MIN / -1.
+    let dmin = i32::MIN.to_le_bytes();
+    assert!(run(Port::Full, 0x0503, &dmin, &[]).is_err());
+    assert!(run(Port::Full, 0x0613, &dmin, &[]).is_err());
+    assert!(run(Port::Full, 0x0403, &dmin, &0i32.to_le_bytes()).is_err());
+    assert!(run(Port::Full, 0x0403, &dmin, &(-1i32).to_le_bytes()).is_err());
+    assert!(run(Port::Full, 0x0403, &dmin, &(-2i32).to_le_bytes()).is_ok());
+    // INT MIN / -1 only where int has 16 bits.
+    let imin = i16::MIN.to_le_bytes();
+    let m1 = (-1i16).to_le_bytes();
+    assert!(run(Port::Full, 0x0402, &imin, &m1).is_ok());
+    assert!(run(Port::Avr, 0x0402, &imin, &m1).is_err());
+    // A LINT with bit 31 set and a high half not all ones is misread on `full`.
+    let big = (1i64 << 31).to_le_bytes();
+    let zero = 0i64.to_le_bytes();
+    assert!(run(Port::Full, 0x1004, &big, &zero)
+        .unwrap_err()
+        .contains("misread"));
+    assert!(run(Port::Full, 0x1008, &big, &zero).is_ok());
+    assert!(run(Port::Full, 0x1004, &(-5i64).to_le_bytes(), &zero).is_ok());
+    // ROL DWORD by 0 shifts by 32 in C; by 1 is fine; SHL WORD 0x8000 by 16.
+    let dw = 0x8000_0001u32.to_le_bytes();
+    assert!(run(Port::Full, 0x0B23, &dw, &0i16.to_le_bytes()).is_err());
+    assert!(run(Port::Full, 0x0B23, &dw, &1i16.to_le_bytes()).is_ok());
+    assert!(run(
+        Port::Full,
+        0x0B02,
+        &0x8000u16.to_le_bytes(),
+        &16i16.to_le_bytes()
+    )
+    .is_err());
+    // TRUNC out of range, and NaN.
+    assert!(run(Port::Full, 0x0634, &1e10f32.to_le_bytes(), &[]).is_err());
+    assert!(run(Port::Full, 0x0634, &f32::NAN.to_le_bytes(), &[]).is_err());
+    assert!(run(Port::Full, 0x0634, &(-2.5f32).to_le_bytes(), &[]).is_ok());
+    // Plain Vm::new computes them all.
+    let code = build(Mode::M16, |a| {
+        vec![i(0x0503, vec![d(0), d(100)]), i(0x1C1D, vec![l(a[0])])]
+    });
+    let mut vm = Vm::new(&code, 256, Mode::M16).unwrap();
+    vm.data_mut()[100..104].copy_from_slice(&dmin);
+    vm.run_cycle(10).unwrap();
+    assert_eq!(i32_at(&vm, 0), i32::MIN);
+}
