@@ -97,13 +97,18 @@ pub(super) fn check(c: &mut Core, k: &Checks, op: u16, i: &Ins) -> Result<Option
     let why = |s: &str| Ok(Some(s.to_string()));
     match g {
         0x01..=0x03 if matches!(t, 1..=8) => {
+            // Unsigned C arithmetic wraps: only a signed type can overflow (and its
+            // operands, at most 64 bits, multiply within an i128).
+            let Some((lo, hi)) = signed_range(t, k.int16) else {
+                return Ok(None);
+            };
             let (x, y) = (int(c, t, i.b)?, int(c, t, i.c)?);
             let r = match g {
                 0x01 => x + y,
                 0x02 => x - y,
                 _ => x * y,
             };
-            if let Some((lo, hi)) = signed_range(t, k.int16) {
+            {
                 if r < lo || r > hi {
                     return Ok(Some(format!(
                         "{r} overflows the signed C type it is computed in"
