@@ -436,7 +436,17 @@ impl Vm {
                 }
                 Found::Inst(inst, len) => {
                     let e = out.len();
-                    match translate(inst, mode, &mut core) {
+                    let lacked = core.checks.and_then(|k| {
+                        k.port.lacks(inst.opcode).map(|p| {
+                            format!(
+                                "opcode {} needs {}, which port `{}` lacks",
+                                inst.opcode,
+                                p.describe(),
+                                k.port.name()
+                            )
+                        })
+                    });
+                    match lacked.map_or_else(|| translate(inst, mode, &mut core), Err) {
                         Ok((mut ins, mut tag)) => {
                             if core.checks.is_some() && ub::watched(inst.opcode.0) {
                                 ins.e = core.checked.len() as u32;

@@ -901,6 +901,12 @@ fn port_checks_stop_on_what_c_leaves_undefined() {
     assert!(run(Port::Full, 0x0634, &1e10f32.to_le_bytes(), &[]).is_err());
     assert!(run(Port::Full, 0x0634, &f32::NAN.to_le_bytes(), &[]).is_err());
     assert!(run(Port::Full, 0x0634, &(-2.5f32).to_le_bytes(), &[]).is_ok());
+    // An instruction the port's VM lacks is an error there, and runs elsewhere.
+    let lreal = 1.5f64.to_le_bytes();
+    assert!(run(Port::Esp32, 0x012A, &lreal, &lreal)
+        .unwrap_err()
+        .contains("port `esp32` lacks"));
+    assert!(run(Port::Full, 0x012A, &lreal, &lreal).is_ok());
     // Plain Vm::new computes them all.
     let code = build(Mode::M16, |a| {
         vec![i(0x0503, vec![d(0), d(100)]), i(0x1C1D, vec![l(a[0])])]

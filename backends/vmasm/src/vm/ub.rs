@@ -20,6 +20,8 @@ pub(super) struct Checks {
     pub int16: bool,
     /// LINT reads go through the byte-access getter that misreads.
     pub lint_read_bug: bool,
+    /// The port: an opcode it lacks is "unknown function" there.
+    pub port: Port,
 }
 
 impl Checks {
@@ -27,6 +29,7 @@ impl Checks {
         Checks {
             int16: port.int16(),
             lint_read_bug: port == Port::Full,
+            port,
         }
     }
 }
