@@ -163,6 +163,69 @@ fn label_name(module: &Module, id: FuncId) -> String {
     format!("?plcc.{}?{what}", f.name)
 }
 
+/// The deepest nesting of calls the C VMs' return stack holds: the builds with a
+/// 128-entry stack stop on the 129th call, and those with 256 entries let the 8-bit
+/// stack pointer wrap (`reference/cpdev-vm-opcodes.md` §0).
+pub const MAX_CALL_DEPTH: usize = 128;
+
+/// Rejects a program whose calls nest deeper than [`MAX_CALL_DEPTH`] (counting the
+/// task's call of a program body). There is no recursion (the front end rejects it),
+/// so the depth is the longest path of the call graph.
+fn check_call_depth(module: &Module) -> Result<(), Vec<Diagnostic>> {
+    let n = module.funcs.len();
+    // depth[f]: the calls nested inside f, at most; computed callees first.
+    let mut depth: Vec<Option<usize>> = vec![None; n];
+    let callees = |f: FuncId| -> Vec<FuncId> {
+        let func = module.func(f);
+        func.inst_iter()
+            .filter_map(|(_, i)| match func.inst(i) {
+                InstData::Call { func, .. } => Some(*func),
+                _ => None,
+            })
+            .collect()
+    };
+    for root in 0..n {
+        // An explicit stack: (function, its callees, the next one to look at).
+        let mut stack = vec![(FuncId::new(root), callees(FuncId::new(root)), 0usize)];
+        while let Some((f, cs, k)) = stack.last_mut() {
+            if depth[f.index()].is_some() {
+                stack.pop();
+                continue;
+            }
+            if let Some(&c) = cs.get(*k) {
+                *k += 1;
+                if depth[c.index()].is_none() && !stack.iter().any(|e| e.0 == c) {
+                    let cc = callees(c);
+                    stack.push((c, cc, 0));
+                }
+                continue;
+            }
+            let d = cs
+                .iter()
+                .map(|c| depth[c.index()].map_or(1, |x| x + 1))
+                .max()
+                .unwrap_or(0);
+            depth[f.index()] = Some(d);
+            stack.pop();
+        }
+    }
+    for p in &module.programs {
+        for f in [p.init, p.body] {
+            let d = depth[f.index()].unwrap_or(0) + 1;
+            if d > MAX_CALL_DEPTH {
+                return Err(vec![Diagnostic::error_nowhere(
+                    codes::E_MEMORY,
+                    format!(
+                        "vmasm: the calls of `{}` nest {d} deep; the CPDev VMs' return stack holds {MAX_CALL_DEPTH}",
+                        module.func(f).name
+                    ),
+                )]);
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Compiles a verified module.
 pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic>> {
     if module.unchecked_pointers {
@@ -172,6 +235,7 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
         )]);
     }
     let settings = Settings::from_options(options).map_err(|d| vec![*d])?;
+    check_call_depth(module)?;
     let mode = settings.mode;
     let ptr_bytes = mode.addr_bytes() as u32;
     let max_align = if mode == Mode::M32A { 4 } else { 1 };
@@ -406,5 +470,41 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
             symbols,
             fault_addr,
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A chain of `n` functions, each calling the next, under a program body.
+    fn chain(n: usize) -> Module {
+        let mut t = String::from(
+            "struct %main program {\n    var r: i16 INT\n}\n\ndata @main: %main program\n\n",
+        );
+        for k in 0..n {
+            let body = if k + 1 < n {
+                format!("    v1 = call @f{}(v0)\n    return v1\n", k + 1)
+            } else {
+                "    return v0\n".to_string()
+            };
+            t.push_str(&format!(
+                "func @f{k}(i16) -> i16 function {{\nblock0(v0: i16):\n{body}}}\n\n"
+            ));
+        }
+        t.push_str("func @main(ptr) program {\nblock0(v0: ptr):\n    v1 = field_addr v0, %main.r\n    v2 = load.i16 v1\n    v3 = call @f0(v2)\n    store v3, v1\n    return\n}\n\n");
+        t.push_str("func @main$init(ptr) init {\nblock0(v0: ptr):\n    v1 = field_addr v0, %main.r\n    v2 = iconst.i16 0\n    store v2, v1\n    return\n}\n\n");
+        t.push_str("program \"main\" data @main body @main init @main$init\n");
+        plcc_ir::text::parse_module(&t).expect("the IR parses")
+    }
+
+    /// Calls may nest 128 deep (the task's call of the body counts): the C VMs'
+    /// return stack holds no more.
+    #[test]
+    fn calls_nest_at_most_128_deep() {
+        assert!(check_call_depth(&chain(127)).is_ok());
+        let e = check_call_depth(&chain(128)).unwrap_err();
+        assert_eq!(e[0].code, codes::E_MEMORY);
+        assert!(e[0].message.contains("nest 129 deep"), "{}", e[0].message);
     }
 }
