@@ -3,11 +3,13 @@
 //!
 //! The path (see [`build`]): aggregates are laid out with BOOLs packed into bits
 //! ([`ram`]); pointer parameters that every caller passes the same address become
-//! constants ([`frame::param_consensus`]); every other SSA value gets a home in its
-//! function's static frame, overlaid by liveness, and frames are overlaid through the
-//! call graph ([`frame`], [`build`]); [`isel`] emits code with full data addresses;
-//! [`banks`] inserts the bank selects the control flow needs; [`asm`] assembles words
-//! and prints the listing; [`sim`] runs the words.
+//! constants ([`frame::param_consensus`]; where they differ, as for an FB used twice
+//! or a PROGRAM type with several instances, the address is stored in the callee's
+//! frame before the call, by the caller's code or by the scan loop); every other SSA
+//! value gets a home in its function's static frame, overlaid by liveness, and frames
+//! are overlaid through the call graph ([`frame`], [`build`]); [`isel`] emits code
+//! with full data addresses; [`banks`] inserts the bank selects the control flow
+//! needs; [`asm`] assembles words and prints the listing; [`sim`] runs the words.
 
 #![warn(missing_docs)]
 
@@ -24,7 +26,7 @@ pub mod sim;
 pub mod softfloat;
 
 use asm::{DataSymbol, Image, Item, Label, Program, Unit};
-use frame::{FrameInfo, Ptr, Sym};
+use frame::{FrameInfo, Ptr, Repr, Sym};
 use helpers::{HelperSet, Workspace};
 use isel::{Emitter, Placement};
 use plcc_ir::backend::{Artifact, Artifacts, Backend, Options, Symbol, TargetFacts};
@@ -613,12 +615,28 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
             _ => {}
         }
     }
+    // The runtime calls every program's init and body with the address of its
+    // instance. A callee that does not know that address already (several instances
+    // share it, or a configuration's wrapper calls it too) reads it from its frame:
+    // store it there before each call, as a call in the code would.
+    let entry_call = |f: FuncId, d: plcc_ir::DataId| runtime::EntryCall {
+        label: func_label[f.index()],
+        stores: instance_arg_stores(
+            &module.funcs[f.index()],
+            &frames[f.index()],
+            frame_base[f.index()],
+            data.addr(d, 0),
+        ),
+    };
     let mut inits = Vec::new();
-    inits.extend(module.init_globals.map(|f| func_label[f.index()]));
+    inits.extend(module.init_globals.map(|f| runtime::EntryCall {
+        label: func_label[f.index()],
+        stores: Vec::new(),
+    }));
     let mut bodies = Vec::new();
     for p in &module.programs {
-        inits.push(func_label[p.init.index()]);
-        bodies.push(func_label[p.body.index()]);
+        inits.push(entry_call(p.init, p.data));
+        bodies.push(entry_call(p.body, p.data));
     }
     let plan = runtime::RuntimePlan {
         rt,
@@ -862,6 +880,32 @@ fn uses_helper(items: &[Item], labels: &[String]) -> bool {
     )
 }
 
+/// The bytes to store before calling `f` (a program's init or body) with the
+/// instance at `addr`: none when the callee knows the address (its parameter is a
+/// constant), else the address into the parameter's home in the callee's frame at
+/// `base`.
+fn instance_arg_stores(
+    f: &plcc_ir::function::Function,
+    frame: &FrameInfo,
+    base: u16,
+    addr: u16,
+) -> Vec<(u16, u8)> {
+    let Some(entry) = f.entry() else {
+        return Vec::new();
+    };
+    let Some(&p) = f.block(entry).params.first() else {
+        return Vec::new();
+    };
+    match frame.repr[p.index()] {
+        Repr::Bytes(o) => {
+            let at = base + o;
+            vec![(at, addr as u8), (at + 1, (addr >> 8) as u8)]
+        }
+        Repr::Ptr(Ptr::Known(..)) | Repr::Unused => Vec::new(),
+        r => unreachable!("an instance pointer held as {r:?}"),
+    }
+}
+
 /// Places every data object: whole in one bank when it fits, else (a program's or a
 /// global struct's variables) split between its fields, which is only done when no
 /// code reaches the object through a computed pointer.
@@ -1040,4 +1084,85 @@ fn has_loop(f: &plcc_ir::function::Function) -> bool {
             .iter()
             .any(|s| pos.get(s).is_some_and(|&j| j <= i))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Three instances of one PROGRAM type: `a` and `b` run the shared body straight
+    /// from the scan loop, `c` through a wrapper (a configuration's task body) that
+    /// runs it twice. The body's instance pointer is no constant, so the runtime must
+    /// store each instance's address before calling the shared init and body (it
+    /// did not, and the body ran on the 0xA5A5 of uninitialised RAM).
+    const SHARED_BODY: &str = r#"
+struct %p program {
+    var n: i16 INT
+    var acc: i16 INT
+}
+
+data @a: %p program
+data @b: %p program
+data @c: %p program
+
+func @p(ptr) program {
+block0(v0: ptr):
+    v1 = field_addr v0, %p.n
+    v2 = load.i16 v1
+    v3 = iconst.i16 1
+    v4 = iadd v2, v3
+    store v4, v1
+    v5 = field_addr v0, %p.acc
+    v6 = load.i16 v5
+    v7 = iadd v6, v4
+    store v7, v5
+    return
+}
+
+func @p$init(ptr) init {
+block0(v0: ptr):
+    v1 = field_addr v0, %p.n
+    v2 = iconst.i16 0
+    store v2, v1
+    v3 = field_addr v0, %p.acc
+    store v2, v3
+    return
+}
+
+func @c$scan(ptr) program {
+block0(v0: ptr):
+    call @p(v0)
+    call @p(v0)
+    return
+}
+
+program "a" data @a body @p init @p$init
+program "b" data @b body @p init @p$init
+program "c" data @c body @c$scan init @p$init
+"#;
+
+    #[test]
+    fn instances_sharing_a_body_get_their_own_address() {
+        let module = plcc_ir::text::parse_module(SHARED_BODY).expect("parses");
+        plcc_ir::verify::verify_module(&module).expect("verifies");
+        let build = build(&module, &Options::default()).expect("builds");
+        let asm = build.program.mpasm();
+        // The scan loop passes each instance to the shared body (the wrapper of `c`
+        // passes its own, as any call does).
+        let scan = &asm[asm.find("\nplc_scan\n").expect("scan loop")..];
+        let scan = &scan[..scan.find("plc_scan_end").expect("scan end")];
+        assert_eq!(scan.matches("movwf\tf_p_fr\n").count(), 2, "{scan}");
+        let mut m = machine::PicMachine::new(&module, build);
+        m.cold_start().unwrap();
+        for _ in 0..3 {
+            m.scan().unwrap();
+        }
+        let read = |m: &machine::PicMachine, p: &str| m.read(p).unwrap().as_i64();
+        assert_eq!(read(&m, "a.n"), 3);
+        assert_eq!(read(&m, "a.acc"), 6);
+        assert_eq!(read(&m, "b.n"), 3);
+        assert_eq!(read(&m, "b.acc"), 6);
+        assert_eq!(read(&m, "c.n"), 6);
+        assert_eq!(read(&m, "c.acc"), 21);
+    }
 }

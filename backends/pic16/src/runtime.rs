@@ -131,12 +131,20 @@ pub struct RuntimePlan<'a> {
     /// Runtime addresses.
     pub rt: Rt,
     /// `init_globals`, then every program's init, in order.
-    pub inits: Vec<Label>,
-    /// Every program's body with the data address it is called with (known at the
-    /// callee, so nothing is passed).
-    pub bodies: Vec<Label>,
+    pub inits: Vec<EntryCall>,
+    /// Every program's body, in order.
+    pub bodies: Vec<EntryCall>,
     /// Pins.
     pub pins: &'a [PinBinding],
+}
+
+/// A call the runtime makes (a program's init or body) and what it passes.
+pub struct EntryCall {
+    /// The function.
+    pub label: Label,
+    /// Bytes to store before the call (address, value): the instance's address in
+    /// the callee's parameter, when the callee does not know it as a constant.
+    pub stores: Vec<(u16, u8)>,
 }
 
 /// Labels the runtime defines.
@@ -178,6 +186,13 @@ impl Code {
             self.i(Inst::Movlw(k));
             self.i(Inst::Movwf(f));
         }
+    }
+    /// Stores what the callee is passed, then calls it.
+    fn entry_call(&mut self, e: &EntryCall) {
+        for &(a, k) in &e.stores {
+            self.lit(a, k);
+        }
+        self.0.push(Item::Op(Op::Call(e.label)));
     }
     /// `d += k` over n bytes of a constant (carry chained).
     fn add_const(&mut self, d: u16, k: u64, n: u16) {
@@ -302,8 +317,8 @@ pub fn main_unit(plan: &RuntimePlan, l: &RuntimeLabels) -> Unit {
             c.i(Inst::Clrf(ns + k));
         }
     }
-    for &i in &plan.inits {
-        c.0.push(Item::Op(Op::Call(i)));
+    for i in &plan.inits {
+        c.entry_call(i);
     }
     c.i(Inst::Bsf(reg::INTCON, reg::PEIE));
     c.i(Inst::Bsf(reg::INTCON, reg::GIE));
@@ -329,8 +344,8 @@ pub fn main_unit(plan: &RuntimePlan, l: &RuntimeLabels) -> Unit {
         c.c(&format!("{} <- {}", p.path, p.pin.name()));
         c.bit_copy((p.pin.port, p.pin.bit), (p.addr, p.bit));
     }
-    for &b in &plan.bodies {
-        c.0.push(Item::Op(Op::Call(b)));
+    for b in &plan.bodies {
+        c.entry_call(b);
     }
     let outputs: Vec<&PinBinding> = plan.pins.iter().filter(|p| !p.input).collect();
     if !outputs.is_empty() {
