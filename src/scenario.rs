@@ -242,7 +242,7 @@ pub fn run(s: &Scenario, m: &mut dyn Machine, program: &str, cycle_ms: u64) -> O
 
 /// The path of a scenario variable: the program's, else a global's, else the path
 /// as written (`inst.var` when no program is chosen).
-fn path_of(m: &dyn Machine, program: &str, var: &str) -> String {
+pub fn path_of(m: &dyn Machine, program: &str, var: &str) -> String {
     let own = format!("{program}.{var}");
     if !program.is_empty() && m.read(&own).is_ok() {
         return own;

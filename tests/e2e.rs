@@ -658,8 +658,8 @@ fn differential(case: &Case, first: &str, second: &str) -> Result<usize, String>
                 scan_at(host.as_mut(), interp.as_mut(), now_us, *line)?;
             }
             Step::Set { var, value } => {
-                let path = format!("{}.{var}", built.program);
                 for m in [&mut host, &mut interp] {
+                    let path = scenario::path_of(m.as_ref(), &built.program, var);
                     let cur = m.read(&path).map_err(|e| format!("line {line}: {e}"))?;
                     let v =
                         PlcValue::parse(cur.ty, value).map_err(|e| format!("line {line}: {e}"))?;
