@@ -387,7 +387,9 @@ END_CONFIGURATION
             .iter()
             .find(|s| s.path == "i2.m[2][3]")
             .unwrap();
-        assert_eq!(m.addr as u64 + ((2 - 1) * 4 + 3) * 2, m23.address);
+        // m[2][3]: (2 - 1) rows of 4 INTs, then 3 INTs, from m[1][0].
+        let (row, col) = (1u64, 3u64);
+        assert_eq!(m.addr as u64 + (row * 4 + col) * 2, m23.address);
         for s in arts
             .symbols
             .iter()
