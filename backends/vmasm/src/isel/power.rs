@@ -21,6 +21,14 @@
 use super::*;
 
 impl Fx<'_, '_> {
+    /// `c := v is an integer`, for `0 <= v < big` (2^52 or 2^23, where adding `big`
+    /// rounds to an integer): `tmp := (v + big) - big` is `v` rounded to an integer.
+    fn is_integral_below(&mut self, ft: Ty, c: u32, tmp: u32, v: u32, big: u32) {
+        self.rrr(op::add(ft, 2), &[tmp, v, big]);
+        self.rrr(op::sub(ft), &[tmp, tmp, big]);
+        self.rrr(op::cmp(op::group::EQ, ft), &[c, tmp, v]);
+    }
+
     /// `d := x ** y` in float type `t`.
     pub(super) fn power(&mut self, t: Type, d: u32, x: u32, y: u32) -> Res<()> {
         let ft = float_ty(t);
@@ -52,6 +60,7 @@ impl Fx<'_, '_> {
         );
         let signk = self.konst(t, sign);
         let absmask = self.konst(t, sign.wrapping_sub(1));
+        let zero8 = self.konst(Type::I1, 0);
         let l = |fx: &mut Self| fx.new_label("P");
         let (ldone, lsign, lpos, lgo) = (l(self), l(self), l(self), l(self));
 
@@ -69,18 +78,15 @@ impl Fx<'_, '_> {
         let (lint, lodd) = (l(self), l(self));
         self.rrr(op::cmp(op::group::GE, ft), &[int, ay, big]);
         self.jnz(int, lint);
-        self.rrr(op::add(ft, 2), &[w, ay, big]);
-        self.rrr(op::sub(ft), &[w, w, big]);
-        self.rrr(op::cmp(op::group::EQ, ft), &[int, w, ay]);
+        self.is_integral_below(ft, int, w, ay, big);
         self.label(lint);
         self.fill(odd, 0, 1);
         self.jz(int, lodd);
         self.rrr(op::mul(ft, 2), &[w, ay, half]);
         self.rrr(op::cmp(op::group::LT, ft), &[odd, w, big]);
         self.jz(odd, lodd);
-        self.rrr(op::add(ft, 2), &[h, w, big]);
-        self.rrr(op::sub(ft), &[h, h, big]);
-        self.rrr(op::cmp(op::group::NE, ft), &[odd, h, w]);
+        self.is_integral_below(ft, odd, h, w, big);
+        self.rrr(op::cmp(op::group::EQ, Ty::Bool), &[odd, odd, zero8]);
         self.label(lodd);
         // A negative base: |x| ** y where y is integral or x is -inf, else NaN.
         self.jz(neg, lpos);
@@ -124,9 +130,7 @@ impl Fx<'_, '_> {
             self.rrr(op::mul(ft, 2), &[h, ay, half]);
             self.rrr(op::cmp(op::group::GE, ft), &[c, h, big]);
             self.jnz(c, leven);
-            self.rrr(op::add(ft, 2), &[ay, h, big]);
-            self.rrr(op::sub(ft), &[ay, ay, big]);
-            self.rrr(op::cmp(op::group::EQ, ft), &[c, ay, h]);
+            self.is_integral_below(ft, c, ay, h, big);
             self.jnz(c, leven);
             // An odd exponent: r *= w, ay = (2h - 1) / 2.
             self.rrr(op::mul(ft, 2), &[r, r, w]);
