@@ -25,6 +25,48 @@ fn three_hundred_random_programs_agree_on_every_machine() {
     assert!(machines_ran > 300 * 3 + 150, "{machines_ran} machine runs");
 }
 
+#[test]
+fn every_kind_of_program_comes_often_enough() {
+    // Each of the constructs that reach memory through run-time addresses, the
+    // configurations and the exact EXPT is in 20-40% of the programs.
+    let n = 1000;
+    let mut counts = [0usize; 6];
+    for seed in 1..=n {
+        let p = difftest::program(seed);
+        let st = p.to_st();
+        let main = &st[st.find("PROGRAM main").expect("main")..];
+        let main = &main[..main.find("END_PROGRAM").expect("end")];
+        let body = &main[main.rfind("END_VAR").expect("VAR")..];
+        let has = [
+            p.config.as_ref().is_some_and(|c| c.instances.len() > 1),
+            body.contains("**") || body.contains("EXPT("),
+            body.contains("recs["),
+            body.contains("fbs["),
+            body.contains("fio(") || body.contains("f2("),
+            body.contains('^') || body.contains("REF("),
+        ];
+        for (c, h) in counts.iter_mut().zip(has) {
+            *c += h as usize;
+        }
+    }
+    let names = [
+        "CONFIGURATION",
+        "EXPT",
+        "ARRAY OF STRUCT",
+        "ARRAY OF FB",
+        "VAR_IN_OUT",
+        "REF_TO",
+    ];
+    println!("{names:?}: {counts:?} of {n}");
+    for (name, c) in names.iter().zip(counts) {
+        let share = c as f64 / n as f64;
+        assert!(
+            (0.2..=0.4).contains(&share),
+            "{name} in {share:.2} of the programs"
+        );
+    }
+}
+
 fn mentions_mod(e: &Expr) -> bool {
     matches!(e, Expr::Bin(_, "MOD", ..)) || e.children().into_iter().any(mentions_mod)
 }

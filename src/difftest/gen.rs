@@ -446,7 +446,16 @@ pub struct Prog {
     pub body: Vec<Stmt>,
     /// Instances of `main` in a CONFIGURATION (without one, `main` is the program).
     pub config: Option<Config>,
+    /// The fixed declarations the shrinker took away (of [`FIXED`]).
+    pub dropped: Vec<String>,
 }
+
+/// The declarations every program has until the shrinker takes them away: the
+/// FUNCTION `fun`, the FB `FB1`, the types `Rec` and `Mode`, and `main`'s `arr`,
+/// `r1`, `r2`, `m1`, `q` and `fb`.
+pub const FIXED: [&str; 10] = [
+    "fun", "FB1", "Rec", "Mode", "arr", "r1", "r2", "m1", "q", "fb",
+];
 
 impl Prog {
     /// The variables the runner sets before every scan, by path: the VAR_INPUTs of
@@ -602,6 +611,7 @@ impl<'r> Gen<'r> {
                 refs: false,
                 body: Vec::new(),
                 config: None,
+                dropped: Vec::new(),
             },
             depth: 0,
         }
@@ -614,7 +624,7 @@ impl<'r> Gen<'r> {
         // must fit one 96-byte bank): fewer and narrower variables, a short array,
         // no ARRAY OF STRUCT.
         let config = self.rng.chance(30);
-        let slim = config && self.rng.chance(70);
+        let slim = config && self.rng.chance(85);
         let narrow = |t: &T| t.bits() <= 32;
         let types: Vec<T> = ALL.iter().copied().filter(|t| !slim || narrow(t)).collect();
         let n = if slim {
@@ -646,7 +656,7 @@ impl<'r> Gen<'r> {
         self.prog.array = (et, lo, hi);
         // The parts reached through run-time addresses, each in some programs (kept
         // small: the PIC16 has 368 bytes of RAM).
-        if self.rng.chance(30) && !slim {
+        if self.rng.chance(35) && !slim {
             let lo = *self.rng.pick(&[0i64, 1, -2]);
             self.prog.recs = Some((lo, lo + 1 + self.rng.below(2) as i64));
         }
@@ -987,7 +997,7 @@ impl<'r> Gen<'r> {
                 58..=62 => Expr::Call(t, "SQRT".into(), vec![self.expr(t)]),
                 63..=67 => Expr::Un(t, "-", b(self.expr(t))),
                 68..=75 => self.selection(t),
-                76..=83 => self.pow(t),
+                76..=89 => self.pow(t),
                 _ => self.conversion(t),
             },
             T::Time => match k {
@@ -1537,15 +1547,27 @@ impl Prog {
     /// CONFIGURATION, if any.
     pub fn to_st(&self) -> String {
         let mut o = String::new();
-        o.push_str(
-            "FUNCTION fun : DINT\nVAR_INPUT x, y : DINT; END_VAR\n    IF y <> 0 THEN\n        fun := x / y + x MOD 3;\n    ELSE\n        fun := x * 2 - 1;\n    END_IF;\nEND_FUNCTION\n\n",
-        );
-        o.push_str(
-            "FUNCTION_BLOCK FB1\nVAR_INPUT a, b : INT; END_VAR\nVAR_OUTPUT r : INT; END_VAR\nVAR acc : INT; END_VAR\n    acc := acc + a - b;\n    r := acc * 2;\nEND_FUNCTION_BLOCK\n\n",
-        );
-        o.push_str(
-            "TYPE\n    Rec : STRUCT\n        a : INT := 3;\n        b : REAL;\n        c : BOOL;\n        d : ARRAY[0..2] OF DINT := [1, 2, 3];\n    END_STRUCT;\n    Mode : (Idle, Run := 5, Stop);\nEND_TYPE\n\n",
-        );
+        let has = |d: &str| !self.dropped.iter().any(|x| x == d);
+        if has("fun") {
+            o.push_str(
+                "FUNCTION fun : DINT\nVAR_INPUT x, y : DINT; END_VAR\n    IF y <> 0 THEN\n        fun := x / y + x MOD 3;\n    ELSE\n        fun := x * 2 - 1;\n    END_IF;\nEND_FUNCTION\n\n",
+            );
+        }
+        if has("FB1") {
+            o.push_str(
+                "FUNCTION_BLOCK FB1\nVAR_INPUT a, b : INT; END_VAR\nVAR_OUTPUT r : INT; END_VAR\nVAR acc : INT; END_VAR\n    acc := acc + a - b;\n    r := acc * 2;\nEND_FUNCTION_BLOCK\n\n",
+            );
+        }
+        if has("Rec") || has("Mode") {
+            o.push_str("TYPE\n");
+            if has("Rec") {
+                o.push_str("    Rec : STRUCT\n        a : INT := 3;\n        b : REAL;\n        c : BOOL;\n        d : ARRAY[0..2] OF DINT := [1, 2, 3];\n    END_STRUCT;\n");
+            }
+            if has("Mode") {
+                o.push_str("    Mode : (Idle, Run := 5, Stop);\n");
+            }
+            o.push_str("END_TYPE\n\n");
+        }
         if self.inout {
             // Every access to a VAR_IN_OUT is through the address the caller passed;
             // the computed indexes make run-time addresses of those.
@@ -1583,8 +1605,18 @@ impl Prog {
             }
         }
         let (et, lo, hi) = self.array;
-        let _ = writeln!(o, "    arr : ARRAY[{lo}..{hi}] OF {};", et.name());
-        o.push_str("    r1, r2 : Rec;\n    m1 : Mode := Mode#Run;\n");
+        if has("arr") {
+            let _ = writeln!(o, "    arr : ARRAY[{lo}..{hi}] OF {};", et.name());
+        }
+        for (name, decl) in [
+            ("r1", "r1 : Rec"),
+            ("r2", "r2 : Rec"),
+            ("m1", "m1 : Mode := Mode#Run"),
+        ] {
+            if has(name) {
+                let _ = writeln!(o, "    {decl};");
+            }
+        }
         // The loops' control variables, as many as the body uses.
         let mut body = String::new();
         print_stmts(&self.body, 1, &mut body);
@@ -1597,7 +1629,12 @@ impl Prog {
                 let _ = writeln!(o, "    {} : INT;", used.join(", "));
             }
         }
-        o.push_str("    q : INT;\n    fb : FB1;\n");
+        if has("q") {
+            o.push_str("    q : INT;\n");
+        }
+        if has("fb") {
+            o.push_str("    fb : FB1;\n");
+        }
         if let Some((lo, hi)) = self.recs {
             let _ = writeln!(o, "    recs : ARRAY[{lo}..{hi}] OF Rec;");
         }

@@ -6,7 +6,7 @@
 //! takes away what the program still uses makes a program the front end rejects,
 //! which is no mismatch, so it is not taken.
 
-use super::gen::{Expr, Operand, Prog, Stmt, T};
+use super::gen::{Expr, Operand, Prog, Stmt, FIXED, T};
 
 /// The simplest literal of a type.
 fn plain(t: T) -> Expr {
@@ -101,6 +101,24 @@ fn fewer_parts(p: &Prog) -> Vec<Prog> {
     }
     if p.outputs > 0 {
         with(&|q| q.outputs = 0);
+    }
+    for i in 0..p.vars.len() {
+        with(&|q| {
+            q.vars.remove(i);
+            if i < q.outputs {
+                q.outputs -= 1;
+            }
+        });
+    }
+    for i in 0..p.inputs.len() {
+        with(&|q| {
+            q.inputs.remove(i);
+        });
+    }
+    for d in FIXED {
+        if !p.dropped.iter().any(|x| x == d) {
+            with(&|q| q.dropped.push(d.to_string()));
+        }
     }
     if p.recs.is_some() {
         with(&|q| q.recs = None);
