@@ -20,9 +20,10 @@ fn three_hundred_random_programs_agree_on_every_machine() {
     }
     println!("300 programs, {machines_ran} machine runs");
     assert!(findings.is_empty(), "{}", findings.join("\n\n"));
-    // Every program runs on the three machines that hold everything; most fit the
-    // PIC16 too (not those with LREAL arithmetic, error E9001).
-    assert!(machines_ran > 300 * 3 + 150, "{machines_ran} machine runs");
+    // Every program runs on the three machines that hold everything; about half
+    // fit the PIC16 too (not those with LREAL arithmetic, error E9001, nor most of
+    // those with an EXPT, whose soft-float routines need more RAM than is left).
+    assert!(machines_ran > 300 * 3 + 130, "{machines_ran} machine runs");
 }
 
 #[test]

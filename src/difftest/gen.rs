@@ -715,7 +715,11 @@ impl<'r> Gen<'r> {
                     _ => {}
                 }
             }
-            for (n, t, _) in self.prog.vars[..self.prog.outputs].to_vec() {
+            let outputs: Vec<(String, T)> = self.prog.vars[..self.prog.outputs]
+                .iter()
+                .map(|(n, t, _)| (n.clone(), *t))
+                .collect();
+            for (n, t) in outputs {
                 if self.rng.chance(40) {
                     let g = self.global(&mut globals, t);
                     conns.push(Conn::Out(n, g));
