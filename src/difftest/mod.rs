@@ -169,8 +169,16 @@ pub fn check(p: &Prog, machines: &[&str], scans: u32, seed: u64) -> Verdict {
     for s in 0..scans {
         for (path, t) in p.input_paths() {
             let bits = random_value(&mut rng, t);
-            for (_, m) in ms.iter_mut() {
-                let Ok(cur) = m.read(&path) else { continue };
+            for (i, (name, m)) in ms.iter_mut().enumerate() {
+                let cur = match m.read(&path) {
+                    Ok(cur) => cur,
+                    // The reference holds every variable: a path it does not know
+                    // is the generator's mistake.
+                    Err(e) if i == 0 => {
+                        return Verdict::Rejected(format!("{name} cannot read {path}: {e}"))
+                    }
+                    Err(_) => continue,
+                };
                 let _ = m.write(&path, PlcValue::from_bits(cur.ty, bits));
             }
         }
