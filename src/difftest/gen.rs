@@ -324,6 +324,9 @@ pub enum Stmt {
     InOut(bool, [Path; 3], Expr, String),
     /// `ptr := REF(place);`, or `ptr := NULL;`.
     Ref(String, Option<Path>),
+    /// `a := b;` of two `Rec`s or two `ARRAY[0..2] OF DINT`s, one of them (at least)
+    /// reached through a run-time address (`recs[i] := pr^;`).
+    Copy(Path, Path),
 }
 
 impl Stmt {
@@ -343,6 +346,7 @@ impl Stmt {
                 .chain([k])
                 .collect(),
             Stmt::Ref(_, p) => p.iter().flat_map(|p| p.idx.iter()).collect(),
+            Stmt::Copy(a, b) => a.idx.iter().chain(b.idx.iter()).collect(),
         }
     }
 
@@ -362,6 +366,7 @@ impl Stmt {
                 .chain([k])
                 .collect(),
             Stmt::Ref(_, p) => p.iter_mut().flat_map(|p| p.idx.iter_mut()).collect(),
+            Stmt::Copy(a, b) => a.idx.iter_mut().chain(b.idx.iter_mut()).collect(),
         }
     }
 
@@ -1219,6 +1224,9 @@ impl<'r> Gen<'r> {
         if self.prog.refs {
             kinds.extend([3, 3]);
         }
+        if self.prog.recs.is_some() || self.prog.refs {
+            kinds.push(4);
+        }
         if kinds.is_empty() {
             return None;
         }
@@ -1247,6 +1255,8 @@ impl<'r> Gen<'r> {
                 let target = self.rng.pick(&targets).clone();
                 Stmt::InOut(self.rng.chance(50), places, self.expr(T::Int), target)
             }
+            4 if self.rng.chance(50) => Stmt::Copy(self.rec_place(), self.rec_place()),
+            4 => Stmt::Copy(self.darr_place(), self.darr_place()),
             _ => match self.rng.below(10) {
                 0 => Stmt::Ref((*self.rng.pick(&["p1", "pr", "pd", "pa"])).into(), None),
                 1..=4 => Stmt::Ref("p1".into(), Some(self.int_place())),
@@ -1533,6 +1543,13 @@ fn print_stmts(body: &[Stmt], ind: usize, out: &mut String) {
                 if *fb {
                     let _ = writeln!(out, "{pad}{target} := f2.r;");
                 }
+            }
+            Stmt::Copy(a, b) => {
+                out.push_str(&pad);
+                print_path(a, out);
+                out.push_str(" := ");
+                print_path(b, out);
+                out.push_str(";\n");
             }
             Stmt::Ref(r, None) => {
                 let _ = writeln!(out, "{pad}{r} := NULL;");
