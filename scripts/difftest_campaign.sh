@@ -1,17 +1,21 @@
 #!/bin/sh
 # A long differential-testing campaign: `plcc difftest` over COUNT seeds from FIRST,
-# in JOBS parallel slices, on interp, host, vmasm and pic16f876a. Reproducers of any
+# in JOBS parallel slices, on TARGETS (default interp, host, vmasm and pic16f876a;
+# plain vmasm runs in the addressing mode each seed picks). Reproducers of any
 # finding go to OUT; each slice's summary line goes to OUT/log.txt.
 #
-#   scripts/difftest_campaign.sh [FIRST] [COUNT] [JOBS] [OUT]
+#   scripts/difftest_campaign.sh [FIRST] [COUNT] [JOBS] [OUT] [TARGETS]
 #   scripts/difftest_campaign.sh 1 100000 2 difftest-out
+#   scripts/difftest_campaign.sh 1 20000 2 out-vm interp,host,vmasm
 set -eu
 first=${1:-1}
 count=${2:-10000}
 jobs=${3:-2}
 out=${4:-difftest-out}
+targets=${5:-interp,host,vmasm,pic16f876a}
 cd "$(dirname "$0")/.."
 cargo build --release --quiet
+plcc="${CARGO_TARGET_DIR:-target}/release/plcc"
 mkdir -p "$out"
 per=$(( (count + jobs - 1) / jobs ))
 i=0
@@ -19,7 +23,7 @@ while [ "$i" -lt "$jobs" ]; do
     start=$(( first + i * per ))
     n=$per
     if [ $(( start + n )) -gt $(( first + count )) ]; then n=$(( first + count - start )); fi
-    ./target/release/plcc difftest --seed "$start" --count "$n" --out "$out" \
+    "$plcc" difftest --seed "$start" --count "$n" --targets "$targets" --out "$out" \
         > "$out/slice_$i.txt" 2>&1 &
     i=$(( i + 1 ))
 done

@@ -184,6 +184,61 @@ pub enum Expr {
     Un(T, &'static str, Box<Expr>),
     /// A call of a standard or user function.
     Call(T, String, Vec<Expr>),
+    /// A place reached through a run-time address: a field of an element of the
+    /// ARRAY OF STRUCT or of the ARRAY OF FB1 at a computed index, or what a
+    /// reference points to (`recs[i].d[j]`, `fbs[i].r`, `pr^.b`).
+    At(T, Path),
+    /// EXPT of a REAL or LREAL whose exact result the type holds.
+    Pow(Box<Pow>),
+}
+
+/// A place written as text with computed indexes between the pieces:
+/// `parts[0] [idx[0]] parts[1] [idx[1]] …`, so `recs[i].d[j]` is the parts `recs[`,
+/// `].d[`, `]` around `i` and `j`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Path {
+    /// The text pieces (one more than the indexes).
+    pub parts: Vec<String>,
+    /// The INT index expressions.
+    pub idx: Vec<Expr>,
+}
+
+impl Path {
+    /// A place with no computed index.
+    pub fn fixed(text: &str) -> Path {
+        Path {
+            parts: vec![text.to_string()],
+            idx: Vec::new(),
+        }
+    }
+}
+
+/// An operand of [`Pow`]: an integer value of type `T` (REAL, LREAL or an integer
+/// type) that stays in a range whatever its inner INT expression gives.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Operand {
+    /// A literal of the value.
+    Lit(T, i64),
+    /// `INT_TO_T(LIMIT(lo, e, hi))`.
+    Clamp(T, i64, i64, Box<Expr>),
+    /// `INT_TO_T(MUX(LIMIT(0, e, n - 1), v0, …))`: one of the values.
+    Choice(T, Vec<i64>, Box<Expr>),
+}
+
+/// `base ** exp` or `EXPT(base, exp)` with `base` of type `t` (REAL or LREAL). The
+/// operands are integers small enough that the exact result fits the mantissa of
+/// `t` (a negative exponent only with a base that is a power of two), so every
+/// correct machine gives the same bits.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pow {
+    /// The base's type, which is the result's.
+    pub t: T,
+    /// `EXPT(a, b)` rather than `a ** b`.
+    pub call: bool,
+    /// The base.
+    pub base: Operand,
+    /// The exponent.
+    pub exp: Operand,
 }
 
 impl Expr {
@@ -195,7 +250,9 @@ impl Expr {
             | Expr::Elem(t, _)
             | Expr::Bin(t, ..)
             | Expr::Un(t, ..)
-            | Expr::Call(t, ..) => *t,
+            | Expr::Call(t, ..)
+            | Expr::At(t, _) => *t,
+            Expr::Pow(p) => p.t,
         }
     }
 
@@ -206,6 +263,32 @@ impl Expr {
             Expr::Elem(_, i) | Expr::Un(_, _, i) => vec![i.as_mut()],
             Expr::Bin(_, _, a, b) => vec![a.as_mut(), b.as_mut()],
             Expr::Call(_, _, args) => args.iter_mut().collect(),
+            Expr::At(_, p) => p.idx.iter_mut().collect(),
+            Expr::Pow(p) => [&mut p.base, &mut p.exp]
+                .into_iter()
+                .filter_map(|o| match o {
+                    Operand::Lit(..) => None,
+                    Operand::Clamp(.., e) | Operand::Choice(_, _, e) => Some(e.as_mut()),
+                })
+                .collect(),
+        }
+    }
+
+    /// Direct subexpressions.
+    pub fn children(&self) -> Vec<&Expr> {
+        match self {
+            Expr::Lit(..) | Expr::Var(..) => Vec::new(),
+            Expr::Elem(_, i) | Expr::Un(_, _, i) => vec![i.as_ref()],
+            Expr::Bin(_, _, a, b) => vec![a.as_ref(), b.as_ref()],
+            Expr::Call(_, _, args) => args.iter().collect(),
+            Expr::At(_, p) => p.idx.iter().collect(),
+            Expr::Pow(p) => [&p.base, &p.exp]
+                .into_iter()
+                .filter_map(|o| match o {
+                    Operand::Lit(..) => None,
+                    Operand::Clamp(.., e) | Operand::Choice(_, _, e) => Some(e.as_ref()),
+                })
+                .collect(),
         }
     }
 }
@@ -230,20 +313,190 @@ pub enum Stmt {
     CallFb(Expr, Expr, String),
     /// A fixed statement on the STRUCT and enumeration variables (`r2 := r1;`).
     Raw(String),
+    /// `place := e;` through a run-time address (see [`Expr::At`]).
+    Set(Path, Expr),
+    /// `fbs[i](a := e1, b := e2); v := fbs[i].r;`: a call of an element of the
+    /// ARRAY OF FB1.
+    CallFbAt(Expr, Expr, Expr, String),
+    /// VAR_IN_OUT arguments: `v := fio(x := X, s := S, d := D, k := e);` or, for the
+    /// FB, `f2(n := X, s := S, d := D, k := e); v := f2.r;` (X an INT, S a `Rec`, D
+    /// an `ARRAY[0..2] OF DINT`).
+    InOut(bool, [Path; 3], Expr, String),
+    /// `ptr := REF(place);`, or `ptr := NULL;`.
+    Ref(String, Option<Path>),
+    /// `a := b;` of two `Rec`s or two `ARRAY[0..2] OF DINT`s, one of them (at least)
+    /// reached through a run-time address (`recs[i] := pr^;`).
+    Copy(Path, Path),
+}
+
+impl Stmt {
+    /// The expressions of the statement itself (not of its bodies).
+    pub fn exprs(&self) -> Vec<&Expr> {
+        match self {
+            Stmt::Assign(_, e) => vec![e],
+            Stmt::AssignElem(i, e) => vec![i, e],
+            Stmt::If(c, ..) | Stmt::Case(c, ..) => vec![c],
+            Stmt::For(..) | Stmt::While(..) | Stmt::Raw(_) => Vec::new(),
+            Stmt::CallFb(a, b, _) => vec![a, b],
+            Stmt::Set(p, e) => p.idx.iter().chain([e]).collect(),
+            Stmt::CallFbAt(i, a, b, _) => vec![i, a, b],
+            Stmt::InOut(_, places, k, _) => places
+                .iter()
+                .flat_map(|p| p.idx.iter())
+                .chain([k])
+                .collect(),
+            Stmt::Ref(_, p) => p.iter().flat_map(|p| p.idx.iter()).collect(),
+            Stmt::Copy(a, b) => a.idx.iter().chain(b.idx.iter()).collect(),
+        }
+    }
+
+    /// The expressions of the statement itself, to edit.
+    pub fn exprs_mut(&mut self) -> Vec<&mut Expr> {
+        match self {
+            Stmt::Assign(_, e) => vec![e],
+            Stmt::AssignElem(i, e) => vec![i, e],
+            Stmt::If(c, ..) | Stmt::Case(c, ..) => vec![c],
+            Stmt::For(..) | Stmt::While(..) | Stmt::Raw(_) => Vec::new(),
+            Stmt::CallFb(a, b, _) => vec![a, b],
+            Stmt::Set(p, e) => p.idx.iter_mut().chain([e]).collect(),
+            Stmt::CallFbAt(i, a, b, _) => vec![i, a, b],
+            Stmt::InOut(_, places, k, _) => places
+                .iter_mut()
+                .flat_map(|p| p.idx.iter_mut())
+                .chain([k])
+                .collect(),
+            Stmt::Ref(_, p) => p.iter_mut().flat_map(|p| p.idx.iter_mut()).collect(),
+            Stmt::Copy(a, b) => a.idx.iter_mut().chain(b.idx.iter_mut()).collect(),
+        }
+    }
+
+    /// The statement lists inside the statement.
+    pub fn bodies(&self) -> Vec<&Vec<Stmt>> {
+        match self {
+            Stmt::If(_, a, b) => vec![a, b],
+            Stmt::For(_, _, _, b) | Stmt::While(_, b) => vec![b],
+            Stmt::Case(_, arms, other) => arms.iter().map(|(_, b)| b).chain([other]).collect(),
+            _ => Vec::new(),
+        }
+    }
+
+    /// The statement lists inside the statement, to edit.
+    pub fn bodies_mut(&mut self) -> Vec<&mut Vec<Stmt>> {
+        match self {
+            Stmt::If(_, a, b) => vec![a, b],
+            Stmt::For(_, _, _, b) | Stmt::While(_, b) => vec![b],
+            Stmt::Case(_, arms, other) => arms.iter_mut().map(|(_, b)| b).chain([other]).collect(),
+            _ => Vec::new(),
+        }
+    }
+}
+
+/// A CONFIGURATION that makes several instances of PROGRAM `main`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Config {
+    /// VAR_GLOBAL variables and their initial values.
+    pub globals: Vec<(String, T, Expr)>,
+    /// TASKs: INTERVAL in ms and PRIORITY (task `tN` is the Nth).
+    pub tasks: Vec<(u32, u32)>,
+    /// The tasks and instances are inside a RESOURCE.
+    pub resource: bool,
+    /// The instances.
+    pub instances: Vec<Instance>,
+}
+
+/// `PROGRAM name WITH tN : main (conns);`
+#[derive(Clone, Debug, PartialEq)]
+pub struct Instance {
+    /// The instance's name.
+    pub name: String,
+    /// Its task, if any (without one it runs every scan).
+    pub task: Option<usize>,
+    /// Its connections.
+    pub conns: Vec<Conn>,
+}
+
+/// A connection of a configured instance.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Conn {
+    /// `input := value` (a global or a literal).
+    In(String, Expr),
+    /// `output => global`.
+    Out(String, String),
 }
 
 /// A generated program: its variables, array, inputs, and body, with a FUNCTION and
-/// an FB it may call.
+/// an FB it may call, the parts that are reached through run-time addresses (each
+/// declared only when the program has it), and a CONFIGURATION, if any.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Prog {
-    /// Variables and their initial values.
+    /// Variables and their initial values (the first `outputs` are VAR_OUTPUTs).
     pub vars: Vec<(String, T, Expr)>,
+    /// How many of `vars` are VAR_OUTPUTs.
+    pub outputs: usize,
     /// VAR_INPUT variables (the runner sets them between scans).
     pub inputs: Vec<(String, T)>,
     /// The array's element type and bounds.
     pub array: (T, i64, i64),
+    /// The bounds of `recs : ARRAY OF Rec`, if the program has it.
+    pub recs: Option<(i64, i64)>,
+    /// The bounds of `fbs : ARRAY OF FB1`, if the program has it.
+    pub fbs: Option<(i64, i64)>,
+    /// The program has the FUNCTION `fio` and the FB `FB2` (instance `f2`) with
+    /// VAR_IN_OUT parameters.
+    pub inout: bool,
+    /// The program has the references `p1 : REF_TO INT`, `pr : REF_TO Rec`,
+    /// `pd : REF_TO ARRAY[0..2] OF DINT` and `pa : REF_TO` the array's type.
+    pub refs: bool,
     /// The program body.
     pub body: Vec<Stmt>,
+    /// Instances of `main` in a CONFIGURATION (without one, `main` is the program).
+    pub config: Option<Config>,
+    /// The fixed declarations the shrinker took away (of [`FIXED`]).
+    pub dropped: Vec<String>,
+}
+
+/// The declarations every program has until the shrinker takes them away: the
+/// FUNCTION `fun`, the FB `FB1`, the types `Rec` and `Mode`, and `main`'s `arr`,
+/// `r1`, `r2`, `m1`, `q` and `fb`.
+pub const FIXED: [&str; 10] = [
+    "fun", "FB1", "Rec", "Mode", "arr", "r1", "r2", "m1", "q", "fb",
+];
+
+impl Prog {
+    /// The variables the runner sets before every scan, by path: the VAR_INPUTs of
+    /// every instance that no connection sets, and the globals no output writes.
+    pub fn input_paths(&self) -> Vec<(String, T)> {
+        let Some(c) = &self.config else {
+            return self
+                .inputs
+                .iter()
+                .map(|(n, t)| (format!("main.{n}"), *t))
+                .collect();
+        };
+        let mut out = Vec::new();
+        for inst in &c.instances {
+            for (n, t) in &self.inputs {
+                let connected = inst
+                    .conns
+                    .iter()
+                    .any(|k| matches!(k, Conn::In(i, _) if i == n));
+                if !connected {
+                    out.push((format!("{}.{n}", inst.name), *t));
+                }
+            }
+        }
+        for (g, t, _) in &c.globals {
+            let written = c.instances.iter().any(|i| {
+                i.conns
+                    .iter()
+                    .any(|k| matches!(k, Conn::Out(_, x) if x == g))
+            });
+            if !written {
+                out.push((format!("{}.{g}", plcc_frontend::GLOBALS_DATA), *t));
+            }
+        }
+        out
+    }
 }
 
 /// Generation state.
@@ -354,9 +607,16 @@ impl<'r> Gen<'r> {
             rng,
             prog: Prog {
                 vars: Vec::new(),
+                outputs: 0,
                 inputs: Vec::new(),
                 array: (T::Int, 0, 0),
+                recs: None,
+                fbs: None,
+                inout: false,
+                refs: false,
                 body: Vec::new(),
+                config: None,
+                dropped: Vec::new(),
             },
             depth: 0,
         }
@@ -364,22 +624,65 @@ impl<'r> Gen<'r> {
 
     /// A whole program.
     pub fn program(mut self) -> Prog {
-        let n = 3 + self.rng.below(7);
+        // Most programs with a CONFIGURATION are slim, so that two or three
+        // instances fit the PIC16 (on which an instance reached through a pointer
+        // must fit one 96-byte bank): fewer and narrower variables, a short array,
+        // no ARRAY OF STRUCT.
+        let config = self.rng.chance(30);
+        let slim = config && self.rng.chance(85);
+        let narrow = |t: &T| t.bits() <= 32;
+        let types: Vec<T> = ALL.iter().copied().filter(|t| !slim || narrow(t)).collect();
+        let n = if slim {
+            1 + self.rng.below(4)
+        } else {
+            3 + self.rng.below(7)
+        };
         for i in 0..n {
-            let t = *self.rng.pick(&ALL);
+            let t = *self.rng.pick(&types);
             let init = lit(self.rng, t);
             self.prog.vars.push((format!("v{i}"), t, init));
         }
+        self.prog.outputs = self.rng.below(3).min(n) as usize;
         for i in 0..self.rng.below(3) {
-            let t = *self.rng.pick(&ALL);
+            let t = *self.rng.pick(&types);
             self.prog.inputs.push((format!("in{i}"), t));
         }
-        let et = *self
-            .rng
-            .pick(&[T::Int, T::Dint, T::Byte, T::Real, T::Lword, T::Bool]);
-        let lo = *self.rng.pick(&[0i64, 1, -3, 10]);
-        let hi = lo + 2 + self.rng.below(8) as i64;
+        let (et, lo, hi) = if slim {
+            let et = *self.rng.pick(&[T::Int, T::Byte, T::Bool]);
+            let lo = *self.rng.pick(&[0i64, 1, -3, 10]);
+            (et, lo, lo + 1 + self.rng.below(2) as i64)
+        } else {
+            let et = *self
+                .rng
+                .pick(&[T::Int, T::Dint, T::Byte, T::Real, T::Lword, T::Bool]);
+            let lo = *self.rng.pick(&[0i64, 1, -3, 10]);
+            (et, lo, lo + 2 + self.rng.below(8) as i64)
+        };
         self.prog.array = (et, lo, hi);
+        // The parts reached through run-time addresses, each in some programs (kept
+        // small: the PIC16 has 368 bytes of RAM).
+        if self.rng.chance(35) && !slim {
+            let lo = *self.rng.pick(&[0i64, 1, -2]);
+            self.prog.recs = Some((lo, lo + 1 + self.rng.below(2) as i64));
+        }
+        if self.rng.chance(30) {
+            let lo = *self.rng.pick(&[1i64, 0, -1]);
+            let n = if slim {
+                1
+            } else {
+                1 + self.rng.below(2) as i64
+            };
+            self.prog.fbs = Some((lo, lo + n));
+        }
+        self.prog.inout = self.rng.chance(30);
+        self.prog.refs = self.rng.chance(30);
+        if config {
+            if self.prog.inputs.is_empty() {
+                let t = *self.rng.pick(&ALL);
+                self.prog.inputs.push(("in0".into(), t));
+            }
+            self.prog.config = Some(self.config());
+        }
         let count = 3 + self.rng.below(10);
         for _ in 0..count {
             let s = self.stmt();
@@ -388,14 +691,77 @@ impl<'r> Gen<'r> {
         self.prog
     }
 
-    fn readable(&self, t: T) -> Vec<String> {
-        let mut v: Vec<String> = self
-            .prog
-            .vars
-            .iter()
-            .filter(|(_, vt, _)| *vt == t)
-            .map(|(n, _, _)| n.clone())
+    /// A CONFIGURATION of two or three instances of `main`, with tasks of different
+    /// intervals and priorities (or none), the instances' inputs connected to
+    /// globals or literals and some outputs to globals.
+    fn config(&mut self) -> Config {
+        let ntasks = *self.rng.pick(&[0usize, 1, 2, 2, 3]);
+        let tasks = (0..ntasks)
+            .map(|_| {
+                (
+                    *self.rng.pick(&[10u32, 20, 20, 30, 40, 25, 15]),
+                    self.rng.below(4) as u32,
+                )
+            })
             .collect();
+        let mut globals: Vec<(String, T, Expr)> = Vec::new();
+        let mut instances = Vec::new();
+        for name in ["a", "b", "c"].iter().take(2 + self.rng.below(2) as usize) {
+            let task =
+                (ntasks > 0 && self.rng.chance(75)).then(|| self.rng.below(ntasks as u64) as usize);
+            let mut conns = Vec::new();
+            for (n, t) in self.prog.inputs.clone() {
+                match self.rng.below(100) {
+                    0..=44 => {
+                        let g = self.global(&mut globals, t);
+                        conns.push(Conn::In(n, Expr::Var(t, g)));
+                    }
+                    45..=79 => conns.push(Conn::In(n, lit(self.rng, t))),
+                    _ => {}
+                }
+            }
+            let outputs: Vec<(String, T)> = self.prog.vars[..self.prog.outputs]
+                .iter()
+                .map(|(n, t, _)| (n.clone(), *t))
+                .collect();
+            for (n, t) in outputs {
+                if self.rng.chance(40) {
+                    let g = self.global(&mut globals, t);
+                    conns.push(Conn::Out(n, g));
+                }
+            }
+            instances.push(Instance {
+                name: name.to_string(),
+                task,
+                conns,
+            });
+        }
+        Config {
+            globals,
+            tasks,
+            resource: self.rng.chance(40),
+            instances,
+        }
+    }
+
+    /// A global of type `t`: one there is, or a new one.
+    fn global(&mut self, globals: &mut Vec<(String, T, Expr)>, t: T) -> String {
+        let there: Vec<String> = globals
+            .iter()
+            .filter(|g| g.1 == t)
+            .map(|g| g.0.clone())
+            .collect();
+        if !there.is_empty() && self.rng.chance(50) {
+            return self.rng.pick(&there).clone();
+        }
+        let name = format!("g{}", globals.len());
+        let init = lit(self.rng, t);
+        globals.push((name.clone(), t, init));
+        name
+    }
+
+    fn readable(&self, t: T) -> Vec<String> {
+        let mut v = self.writable(t);
         v.extend(
             self.prog
                 .inputs
@@ -403,27 +769,32 @@ impl<'r> Gen<'r> {
                 .filter(|(_, vt)| *vt == t)
                 .map(|(n, _)| n.clone()),
         );
+        v
+    }
+
+    /// The named variables of type `t` a statement may assign.
+    fn writable(&self, t: T) -> Vec<String> {
+        let mut v: Vec<String> = self
+            .prog
+            .vars
+            .iter()
+            .filter(|(_, vt, _)| *vt == t)
+            .map(|(n, _, _)| n.clone())
+            .collect();
         v.extend(struct_fields(t));
         v
     }
 
-    /// An expression of type `t`.
-    pub fn expr(&mut self, t: T) -> Expr {
-        self.depth += 1;
-        let e = self.expr_inner(t);
-        self.depth -= 1;
-        e
-    }
-
-    fn index(&mut self) -> Expr {
-        let (_, lo, hi) = self.prog.array;
+    /// An index into `lo..hi`: a literal in range, a clamped expression, or any
+    /// INT expression (out of range is part of the semantics: the fault flag, a
+    /// read gives 0, a write is dropped).
+    fn index_in(&mut self, lo: i64, hi: i64) -> Expr {
         if self.rng.chance(40) {
             return Expr::Lit(
                 T::Int,
                 format!("{}", lo + self.rng.below((hi - lo + 1) as u64) as i64),
             );
         }
-        // Out-of-range indexes are part of the semantics (fault flag, read 0).
         let i = self.expr(T::Int);
         if self.rng.chance(70) {
             Expr::Call(
@@ -440,9 +811,157 @@ impl<'r> Gen<'r> {
         }
     }
 
+    fn index(&mut self) -> Expr {
+        let (_, lo, hi) = self.prog.array;
+        self.index_in(lo, hi)
+    }
+
+    /// `base[i]rest`, the index into `lo..hi`.
+    fn indexed(&mut self, base: &str, lo: i64, hi: i64, rest: &str) -> Path {
+        let i = self.index_in(lo, hi);
+        Path {
+            parts: vec![format!("{base}["), format!("]{rest}")],
+            idx: vec![i],
+        }
+    }
+
+    /// `recs[i].d[j]`, `pr^.d[j]`, `pd^[j]`: an element of a `Rec`'s array.
+    fn d_elem(&mut self, mut base: Path) -> Path {
+        let j = self.index_in(0, 2);
+        base.parts.last_mut().expect("a path has a part").push('[');
+        base.idx.push(j);
+        base.parts.push("]".into());
+        base
+    }
+
+    /// The places of type `t` reached through a run-time address that the program
+    /// has (FB outputs only when not `write`): one of them, if any.
+    fn computed(&mut self, t: T, write: bool) -> Option<Path> {
+        let mut kinds: Vec<u8> = Vec::new();
+        if self.prog.recs.is_some() && matches!(t, T::Int | T::Real | T::Bool | T::Dint) {
+            kinds.push(0);
+        }
+        if self.prog.fbs.is_some() && t == T::Int {
+            kinds.push(1);
+        }
+        if self.prog.refs {
+            if matches!(t, T::Int | T::Real | T::Bool | T::Dint) {
+                kinds.push(2);
+            }
+            if t == T::Int || t == T::Dint {
+                kinds.push(3);
+            }
+            if t == self.prog.array.0 {
+                kinds.push(4);
+            }
+        }
+        if kinds.is_empty() {
+            return None;
+        }
+        let field = match t {
+            T::Int => ".a",
+            T::Real => ".b",
+            T::Bool => ".c",
+            _ => ".d",
+        };
+        Some(match *self.rng.pick(&kinds) {
+            0 => {
+                let (lo, hi) = self.prog.recs.expect("recs");
+                let p = self.indexed("recs", lo, hi, field);
+                if t == T::Dint {
+                    self.d_elem(p)
+                } else {
+                    p
+                }
+            }
+            1 => {
+                let (lo, hi) = self.prog.fbs.expect("fbs");
+                let f = if write || self.rng.chance(50) {
+                    ".a"
+                } else {
+                    ".r"
+                };
+                self.indexed("fbs", lo, hi, f)
+            }
+            2 => {
+                let p = Path::fixed(&format!("pr^{field}"));
+                if t == T::Dint {
+                    self.d_elem(p)
+                } else {
+                    p
+                }
+            }
+            3 if t == T::Int => Path::fixed("p1^"),
+            3 => self.d_elem(Path::fixed("pd^")),
+            _ => {
+                let (_, lo, hi) = self.prog.array;
+                self.indexed("pa^", lo, hi, "")
+            }
+        })
+    }
+
+    /// An INT place for a VAR_IN_OUT or for `REF()`.
+    fn int_place(&mut self) -> Path {
+        let mut named = self.writable(T::Int);
+        named.push("q".into());
+        if self.prog.array.0 == T::Int && self.rng.chance(20) {
+            let (_, lo, hi) = self.prog.array;
+            return self.indexed("arr", lo, hi, "");
+        }
+        if self.rng.chance(50) {
+            if let Some(p) = self.computed(T::Int, true) {
+                return p;
+            }
+        }
+        let n = self.rng.pick(&named).clone();
+        Path::fixed(&n)
+    }
+
+    /// A `Rec` place.
+    fn rec_place(&mut self) -> Path {
+        match self.rng.below(4) {
+            0 => Path::fixed("r1"),
+            1 => Path::fixed("r2"),
+            2 if self.prog.recs.is_some() => {
+                let (lo, hi) = self.prog.recs.expect("recs");
+                self.indexed("recs", lo, hi, "")
+            }
+            _ if self.prog.refs => Path::fixed("pr^"),
+            _ => Path::fixed("r1"),
+        }
+    }
+
+    /// An `ARRAY[0..2] OF DINT` place.
+    fn darr_place(&mut self) -> Path {
+        match self.rng.below(5) {
+            0 => Path::fixed("r1.d"),
+            1 => Path::fixed("r2.d"),
+            2 if self.prog.recs.is_some() => {
+                let (lo, hi) = self.prog.recs.expect("recs");
+                self.indexed("recs", lo, hi, ".d")
+            }
+            3 if self.prog.refs => Path::fixed("pd^"),
+            _ if self.prog.refs => Path::fixed("pr^.d"),
+            _ => Path::fixed("r2.d"),
+        }
+    }
+
+    /// An expression of type `t`.
+    pub fn expr(&mut self, t: T) -> Expr {
+        self.depth += 1;
+        let e = self.expr_inner(t);
+        self.depth -= 1;
+        e
+    }
+
     fn expr_inner(&mut self, t: T) -> Expr {
         let vars = self.readable(t);
         if self.depth > 3 || self.rng.chance(25) {
+            if self.rng.chance(25) {
+                if let Some(p) = self.computed(t, false) {
+                    return Expr::At(t, p);
+                }
+            }
             if !vars.is_empty() && self.rng.chance(65) {
                 return Expr::Var(t, self.rng.pick(&vars).clone());
             }
@@ -487,6 +1006,7 @@ impl<'r> Gen<'r> {
                 58..=62 => Expr::Call(t, "SQRT".into(), vec![self.expr(t)]),
                 63..=67 => Expr::Un(t, "-", b(self.expr(t))),
                 68..=75 => self.selection(t),
+                76..=89 => self.pow(t),
                 _ => self.conversion(t),
             },
             T::Time => match k {
@@ -563,6 +1083,72 @@ impl<'r> Gen<'r> {
         }
     }
 
+    /// EXPT of a REAL or LREAL with an exact result: an integer base and a
+    /// non-negative integer exponent whose power fits the mantissa, or a base that
+    /// is a power of two (positive or negative) and an exponent of either sign.
+    fn pow(&mut self, t: T) -> Expr {
+        let lreal = t == T::Lreal;
+        let (base, emin, emax) = if self.rng.chance(30) {
+            let mut vals: Vec<i64> = Vec::new();
+            for _ in 0..2 + self.rng.below(4) {
+                vals.push(*self.rng.pick(&[1i64, -1, 2, -2, 4, -4, 8, -8]));
+            }
+            let emax = if lreal { 12 } else { 6 };
+            let base = if self.rng.chance(30) {
+                Operand::Lit(t, *self.rng.pick(&vals))
+            } else {
+                Operand::Choice(t, vals, Box::new(self.expr(T::Int)))
+            };
+            (base, -emax, emax)
+        } else {
+            // |base| <= b and 0 <= exponent <= e: b^e < 2^24 (REAL), 2^53 (LREAL).
+            let (bmax, emax) = if lreal {
+                *self
+                    .rng
+                    .pick(&[(15i64, 6i64), (100, 7), (1000, 5), (3, 33)])
+            } else {
+                *self
+                    .rng
+                    .pick(&[(15i64, 6i64), (3, 15), (255, 3), (4095, 2)])
+            };
+            let base = if self.rng.chance(25) {
+                Operand::Lit(t, self.rng.below(2 * bmax as u64 + 1) as i64 - bmax)
+            } else {
+                let lo = if self.rng.chance(70) { -bmax } else { 0 };
+                Operand::Clamp(t, lo, bmax, Box::new(self.expr(T::Int)))
+            };
+            (base, 0, emax)
+        };
+        let et = if emin < 0 {
+            *self
+                .rng
+                .pick(&[T::Int, T::Int, T::Dint, T::Sint, T::Lint, T::Real, T::Lreal])
+        } else {
+            *self.rng.pick(&[
+                T::Int,
+                T::Int,
+                T::Dint,
+                T::Sint,
+                T::Usint,
+                T::Udint,
+                T::Ulint,
+                T::Real,
+                T::Lreal,
+            ])
+        };
+        let exp = if self.rng.chance(30) {
+            Operand::Lit(et, emin + self.rng.below((emax - emin + 1) as u64) as i64)
+        } else {
+            Operand::Clamp(et, emin, emax, Box::new(self.expr(T::Int)))
+        };
+        Expr::Pow(Box::new(Pow {
+            t,
+            call: self.rng.chance(40),
+            base,
+            exp,
+        }))
+    }
+
     fn selection(&mut self, t: T) -> Expr {
         match self.rng.below(4) {
             0 => Expr::Call(
@@ -622,8 +1208,72 @@ impl<'r> Gen<'r> {
         Expr::Call(t, format!("{}_TO_{}", from.name(), t.name()), vec![arg])
     }
 
+    /// A statement on the parts reached through run-time addresses the program
+    /// has, if it has any.
+    fn pointer_stmt(&mut self) -> Option<Stmt> {
+        let mut kinds: Vec<u8> = Vec::new();
+        if self.prog.recs.is_some() || self.prog.refs || self.prog.fbs.is_some() {
+            kinds.extend([0, 0]);
+        }
+        if self.prog.fbs.is_some() {
+            kinds.push(1);
+        }
+        if self.prog.inout {
+            kinds.extend([2, 2]);
+        }
+        if self.prog.refs {
+            kinds.extend([3, 3]);
+        }
+        if self.prog.recs.is_some() || self.prog.refs {
+            kinds.push(4);
+        }
+        if kinds.is_empty() {
+            return None;
+        }
+        Some(match *self.rng.pick(&kinds) {
+            0 => {
+                let t = *self
+                    .rng
+                    .pick(&[T::Int, T::Real, T::Bool, T::Dint, self.prog.array.0]);
+                let p = self.computed(t, true)?;
+                Stmt::Set(p, self.expr(t))
+            }
+            1 => {
+                let (lo, hi) = self.prog.fbs.expect("fbs");
+                let i = self.index_in(lo, hi);
+                let mut targets = self.writable(T::Int);
+                targets.push("q".into());
+                let target = self.rng.pick(&targets).clone();
+                Stmt::CallFbAt(i, self.expr(T::Int), self.expr(T::Int), target)
+            }
+            2 => {
+                let places = [self.int_place(), self.rec_place(), self.darr_place()];
+                let mut targets = self.writable(T::Dint);
+                if targets.is_empty() {
+                    targets.push("r1.d[1]".into());
+                }
+                let target = self.rng.pick(&targets).clone();
+                Stmt::InOut(self.rng.chance(50), places, self.expr(T::Int), target)
+            }
+            4 if self.rng.chance(50) => Stmt::Copy(self.rec_place(), self.rec_place()),
+            4 => Stmt::Copy(self.darr_place(), self.darr_place()),
+            _ => match self.rng.below(10) {
+                0 => Stmt::Ref((*self.rng.pick(&["p1", "pr", "pd", "pa"])).into(), None),
+                1..=4 => Stmt::Ref("p1".into(), Some(self.int_place())),
+                5..=6 => Stmt::Ref("pr".into(), Some(self.rec_place())),
+                7..=8 => Stmt::Ref("pd".into(), Some(self.darr_place())),
+                _ => Stmt::Ref("pa".into(), Some(Path::fixed("arr"))),
+            },
+        })
+    }
+
     /// A statement.
     pub fn stmt(&mut self) -> Stmt {
+        if self.rng.chance(25) {
+            if let Some(s) = self.pointer_stmt() {
+                return s;
+            }
+        }
         let k = self.rng.below(100);
         let nested = self.depth < 2;
         let (et, lo, hi) = self.prog.array;
@@ -725,6 +1375,76 @@ fn print_expr(e: &Expr, out: &mut String) {
             }
             out.push(')');
         }
+        Expr::At(_, p) => print_path(p, out),
+        Expr::Pow(p) => {
+            if p.call {
+                out.push_str("EXPT(");
+                print_operand(&p.base, out);
+                out.push_str(", ");
+                print_operand(&p.exp, out);
+                out.push(')');
+            } else {
+                out.push('(');
+                print_operand(&p.base, out);
+                out.push_str(" ** ");
+                print_operand(&p.exp, out);
+                out.push(')');
+            }
+        }
+    }
+}
+
+fn print_path(p: &Path, out: &mut String) {
+    for (i, part) in p.parts.iter().enumerate() {
+        out.push_str(part);
+        if let Some(e) = p.idx.get(i) {
+            print_expr(e, out);
+        }
+    }
+}
+
+/// An integer as a literal of type `t` (REAL#-3.0, DINT#4, (-2)).
+fn int_lit(t: T, v: i64) -> String {
+    match t {
+        T::Real | T::Lreal => format!("{}#{:?}", t.name(), v as f64),
+        T::Int if v < 0 => format!("({v})"),
+        T::Int => format!("{v}"),
+        _ if v < 0 => format!("({}#{v})", t.name()),
+        _ => format!("{}#{v}", t.name()),
+    }
+}
+
+fn print_operand(o: &Operand, out: &mut String) {
+    let (t, inner) = match o {
+        Operand::Lit(t, v) => {
+            out.push_str(&int_lit(*t, *v));
+            return;
+        }
+        Operand::Clamp(t, lo, hi, e) => {
+            let mut s = format!("LIMIT({}, ", int_lit(T::Int, *lo));
+            print_expr(e, &mut s);
+            let _ = write!(s, ", {})", int_lit(T::Int, *hi));
+            (*t, s)
+        }
+        Operand::Choice(t, vals, e) => {
+            let mut s = "MUX(LIMIT(0, ".to_string();
+            print_expr(e, &mut s);
+            let _ = write!(s, ", {})", vals.len() - 1);
+            for v in vals {
+                let _ = if *v < 0 {
+                    write!(s, ", (INT#{v})")
+                } else {
+                    write!(s, ", INT#{v}")
+                };
+            }
+            s.push(')');
+            (*t, s)
+        }
+    };
+    if t == T::Int {
+        out.push_str(&inner);
+    } else {
+        let _ = write!(out, "INT_TO_{}({inner})", t.name());
     }
 }
 
@@ -789,23 +1509,96 @@ fn print_stmts(body: &[Stmt], ind: usize, out: &mut String) {
                 print_expr(b, out);
                 let _ = writeln!(out, ");\n{pad}{target} := fb.r;");
             }
+            Stmt::Set(p, e) => {
+                out.push_str(&pad);
+                print_path(p, out);
+                out.push_str(" := ");
+                print_expr(e, out);
+                out.push_str(";\n");
+            }
+            Stmt::CallFbAt(i, a, b, target) => {
+                let mut idx = String::new();
+                print_expr(i, &mut idx);
+                let _ = write!(out, "{pad}fbs[{idx}](a := ");
+                print_expr(a, out);
+                out.push_str(", b := ");
+                print_expr(b, out);
+                let _ = writeln!(out, ");\n{pad}{target} := fbs[{idx}].r;");
+            }
+            Stmt::InOut(fb, [x, s, d], k, target) => {
+                out.push_str(&pad);
+                if *fb {
+                    out.push_str("f2(n := ");
+                } else {
+                    let _ = write!(out, "{target} := fio(x := ");
+                }
+                print_path(x, out);
+                out.push_str(", s := ");
+                print_path(s, out);
+                out.push_str(", d := ");
+                print_path(d, out);
+                out.push_str(", k := ");
+                print_expr(k, out);
+                out.push_str(");\n");
+                if *fb {
+                    let _ = writeln!(out, "{pad}{target} := f2.r;");
+                }
+            }
+            Stmt::Copy(a, b) => {
+                out.push_str(&pad);
+                print_path(a, out);
+                out.push_str(" := ");
+                print_path(b, out);
+                out.push_str(";\n");
+            }
+            Stmt::Ref(r, None) => {
+                let _ = writeln!(out, "{pad}{r} := NULL;");
+            }
+            Stmt::Ref(r, Some(p)) => {
+                let _ = write!(out, "{pad}{r} := REF(");
+                print_path(p, out);
+                out.push_str(");\n");
+            }
         }
     }
 }
 
 impl Prog {
-    /// The ST text: a FUNCTION, an FB and PROGRAM `main`.
+    /// The ST text: a FUNCTION, FBs, the types, PROGRAM `main` and the
+    /// CONFIGURATION, if any.
     pub fn to_st(&self) -> String {
         let mut o = String::new();
-        o.push_str(
-            "FUNCTION fun : DINT\nVAR_INPUT x, y : DINT; END_VAR\n    IF y <> 0 THEN\n        fun := x / y + x MOD 3;\n    ELSE\n        fun := x * 2 - 1;\n    END_IF;\nEND_FUNCTION\n\n",
-        );
-        o.push_str(
-            "FUNCTION_BLOCK FB1\nVAR_INPUT a, b : INT; END_VAR\nVAR_OUTPUT r : INT; END_VAR\nVAR acc : INT; END_VAR\n    acc := acc + a - b;\n    r := acc * 2;\nEND_FUNCTION_BLOCK\n\n",
-        );
-        o.push_str(
-            "TYPE\n    Rec : STRUCT\n        a : INT := 3;\n        b : REAL;\n        c : BOOL;\n        d : ARRAY[0..2] OF DINT := [1, 2, 3];\n    END_STRUCT;\n    Mode : (Idle, Run := 5, Stop);\nEND_TYPE\n\n",
-        );
+        let has = |d: &str| !self.dropped.iter().any(|x| x == d);
+        if has("fun") {
+            o.push_str(
+                "FUNCTION fun : DINT\nVAR_INPUT x, y : DINT; END_VAR\n    IF y <> 0 THEN\n        fun := x / y + x MOD 3;\n    ELSE\n        fun := x * 2 - 1;\n    END_IF;\nEND_FUNCTION\n\n",
+            );
+        }
+        if has("FB1") {
+            o.push_str(
+                "FUNCTION_BLOCK FB1\nVAR_INPUT a, b : INT; END_VAR\nVAR_OUTPUT r : INT; END_VAR\nVAR acc : INT; END_VAR\n    acc := acc + a - b;\n    r := acc * 2;\nEND_FUNCTION_BLOCK\n\n",
+            );
+        }
+        if has("Rec") || has("Mode") {
+            o.push_str("TYPE\n");
+            if has("Rec") {
+                o.push_str("    Rec : STRUCT\n        a : INT := 3;\n        b : REAL;\n        c : BOOL;\n        d : ARRAY[0..2] OF DINT := [1, 2, 3];\n    END_STRUCT;\n");
+            }
+            if has("Mode") {
+                o.push_str("    Mode : (Idle, Run := 5, Stop);\n");
+            }
+            o.push_str("END_TYPE\n\n");
+        }
+        if self.inout {
+            // Every access to a VAR_IN_OUT is through the address the caller passed;
+            // the computed indexes make run-time addresses of those.
+            o.push_str(
+                "FUNCTION fio : DINT\nVAR_IN_OUT x : INT; s : Rec; d : ARRAY[0..2] OF DINT; END_VAR\nVAR_INPUT k : INT; END_VAR\n    x := x + k;\n    s.a := s.a - x;\n    s.d[LIMIT(0, k, 2)] := s.d[0] + INT_TO_DINT(x);\n    d[1] := d[2] * 2 + s.d[1];\n    s.c := NOT s.c;\n    fio := d[0] + INT_TO_DINT(s.a);\nEND_FUNCTION\n\n",
+            );
+            o.push_str(
+                "FUNCTION_BLOCK FB2\nVAR_IN_OUT n : INT; s : Rec; d : ARRAY[0..2] OF DINT; END_VAR\nVAR_INPUT k : INT; END_VAR\nVAR_OUTPUT r : DINT; END_VAR\nVAR calls : INT; END_VAR\n    calls := calls + 1;\n    n := n * 2 + calls;\n    s.b := s.b + INT_TO_REAL(k);\n    s.d[LIMIT(0, n, 2)] := s.d[LIMIT(0, k, 2)] + d[1];\n    d[LIMIT(0, k, 2)] := INT_TO_DINT(s.a) - d[0];\n    r := s.d[0] + s.d[1] + s.d[2];\nEND_FUNCTION_BLOCK\n\n",
+            );
+        }
         o.push_str("PROGRAM main\n");
         if !self.inputs.is_empty() {
             o.push_str("VAR_INPUT\n");
@@ -814,18 +1607,130 @@ impl Prog {
             }
             o.push_str("END_VAR\n");
         }
-        o.push_str("VAR\n");
-        for (n, t, init) in &self.vars {
-            let _ = write!(o, "    {n} : {} := ", t.name());
-            print_expr(init, &mut o);
-            o.push_str(";\n");
+        let outputs = self.outputs.min(self.vars.len());
+        for (section, vars) in [
+            ("VAR_OUTPUT", &self.vars[..outputs]),
+            ("VAR", &self.vars[outputs..]),
+        ] {
+            if section == "VAR_OUTPUT" && vars.is_empty() {
+                continue;
+            }
+            let _ = writeln!(o, "{section}");
+            for (n, t, init) in vars {
+                let _ = write!(o, "    {n} : {} := ", t.name());
+                print_expr(init, &mut o);
+                o.push_str(";\n");
+            }
+            if section == "VAR_OUTPUT" {
+                o.push_str("END_VAR\n");
+            }
         }
         let (et, lo, hi) = self.array;
-        let _ = writeln!(o, "    arr : ARRAY[{lo}..{hi}] OF {};", et.name());
-        o.push_str("    r1, r2 : Rec;\n    m1 : Mode := Mode#Run;\n");
-        o.push_str("    k1, k2, k3, k4 : INT;\n    w1, w2, w3, w4 : INT;\n    q : INT;\n    fb : FB1;\nEND_VAR\n");
-        print_stmts(&self.body, 1, &mut o);
+        if has("arr") {
+            let _ = writeln!(o, "    arr : ARRAY[{lo}..{hi}] OF {};", et.name());
+        }
+        for (name, decl) in [
+            ("r1", "r1 : Rec"),
+            ("r2", "r2 : Rec"),
+            ("m1", "m1 : Mode := Mode#Run"),
+        ] {
+            if has(name) {
+                let _ = writeln!(o, "    {decl};");
+            }
+        }
+        // The loops' control variables, as many as the body uses.
+        let mut body = String::new();
+        print_stmts(&self.body, 1, &mut body);
+        for c in ['k', 'w'] {
+            let used: Vec<String> = (1..=6)
+                .map(|i| format!("{c}{i}"))
+                .filter(|v| body.contains(&format!("{v} :=")))
+                .collect();
+            if !used.is_empty() {
+                let _ = writeln!(o, "    {} : INT;", used.join(", "));
+            }
+        }
+        if has("q") {
+            o.push_str("    q : INT;\n");
+        }
+        if has("fb") {
+            o.push_str("    fb : FB1;\n");
+        }
+        if let Some((lo, hi)) = self.recs {
+            let _ = writeln!(o, "    recs : ARRAY[{lo}..{hi}] OF Rec;");
+        }
+        if let Some((lo, hi)) = self.fbs {
+            let _ = writeln!(o, "    fbs : ARRAY[{lo}..{hi}] OF FB1;");
+        }
+        if self.inout {
+            o.push_str("    f2 : FB2;\n");
+        }
+        if self.refs {
+            o.push_str("    p1 : REF_TO INT := REF(q);\n    pr : REF_TO Rec := REF(r1);\n");
+            o.push_str("    pd : REF_TO ARRAY[0..2] OF DINT := REF(r2.d);\n");
+            let _ = writeln!(
+                o,
+                "    pa : REF_TO ARRAY[{lo}..{hi}] OF {} := REF(arr);",
+                et.name()
+            );
+        }
+        o.push_str("END_VAR\n");
+        o.push_str(&body);
         o.push_str("END_PROGRAM\n");
+        if let Some(c) = &self.config {
+            o.push_str("\nCONFIGURATION cfg\n");
+            if !c.globals.is_empty() {
+                o.push_str("    VAR_GLOBAL\n");
+                for (n, t, init) in &c.globals {
+                    let _ = write!(o, "        {n} : {} := ", t.name());
+                    print_expr(init, &mut o);
+                    o.push_str(";\n");
+                }
+                o.push_str("    END_VAR\n");
+            }
+            let pad = if c.resource {
+                o.push_str("    RESOURCE res ON plc\n");
+                "        "
+            } else {
+                "    "
+            };
+            for (i, (interval, priority)) in c.tasks.iter().enumerate() {
+                let _ = writeln!(
+                    o,
+                    "{pad}TASK t{i} (INTERVAL := T#{interval}ms, PRIORITY := {priority});"
+                );
+            }
+            for inst in &c.instances {
+                let _ = write!(o, "{pad}PROGRAM {}", inst.name);
+                if let Some(t) = inst.task {
+                    let _ = write!(o, " WITH t{t}");
+                }
+                o.push_str(" : main");
+                if !inst.conns.is_empty() {
+                    o.push_str(" (");
+                    for (i, k) in inst.conns.iter().enumerate() {
+                        if i > 0 {
+                            o.push_str(", ");
+                        }
+                        match k {
+                            Conn::In(n, e) => {
+                                let _ = write!(o, "{n} := ");
+                                print_expr(e, &mut o);
+                            }
+                            Conn::Out(n, g) => {
+                                let _ = write!(o, "{n} => {g}");
+                            }
+                        }
+                    }
+                    o.push(')');
+                }
+                o.push_str(";\n");
+            }
+            if c.resource {
+                o.push_str("    END_RESOURCE\n");
+            }
+            o.push_str("END_CONFIGURATION\n");
+        }
         o
     }
 }

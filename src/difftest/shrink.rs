@@ -1,8 +1,12 @@
 //! Shrinking a program that shows a mismatch: statements are removed or replaced by
-//! their bodies and expressions by a plain literal or by a subexpression of their
-//! type, for as long as the mismatch stays.
+//! their bodies, expressions by a plain literal or by a subexpression of their type,
+//! an exact EXPT's operand by a literal, and the declared parts (the CONFIGURATION,
+//! its instances, tasks, connections and globals, the parts reached through
+//! run-time addresses) are dropped, for as long as the mismatch stays. A step that
+//! takes away what the program still uses makes a program the front end rejects,
+//! which is no mismatch, so it is not taken.
 
-use super::gen::{Expr, Prog, Stmt, T};
+use super::gen::{Expr, Operand, Prog, Stmt, FIXED, T};
 
 /// The simplest literal of a type.
 fn plain(t: T) -> Expr {
@@ -23,20 +27,8 @@ fn for_each_list(body: &mut Vec<Stmt>, f: &mut dyn FnMut(&mut Vec<Stmt>) -> bool
     if f(body) {
         return true;
     }
-    for s in body.iter_mut() {
-        let done = match s {
-            Stmt::If(_, a, b) => for_each_list(a, f) || for_each_list(b, f),
-            Stmt::For(_, _, _, b) | Stmt::While(_, b) => for_each_list(b, f),
-            Stmt::Case(_, arms, other) => {
-                arms.iter_mut().any(|(_, b)| for_each_list(b, f)) || for_each_list(other, f)
-            }
-            _ => false,
-        };
-        if done {
-            return true;
-        }
-    }
-    false
+    body.iter_mut()
+        .any(|s| s.bodies_mut().into_iter().any(|b| for_each_list(b, f)))
 }
 
 /// Every expression of the program (statements' and initial values'), depth first.
@@ -48,24 +40,104 @@ fn for_each_expr(p: &mut Prog, f: &mut dyn FnMut(&mut Expr) -> bool) -> bool {
         e.children_mut().into_iter().any(|c| walk(c, f))
     }
     fn stmts(body: &mut [Stmt], f: &mut dyn FnMut(&mut Expr) -> bool) -> bool {
-        body.iter_mut().any(|s| match s {
-            Stmt::Assign(_, e) => walk(e, f),
-            Stmt::AssignElem(i, e) => walk(i, f) || walk(e, f),
-            Stmt::If(c, a, b) => walk(c, f) || stmts(a, f) || stmts(b, f),
-            Stmt::For(_, _, _, b) | Stmt::While(_, b) => stmts(b, f),
-            Stmt::Case(c, arms, other) => {
-                walk(c, f) || arms.iter_mut().any(|(_, b)| stmts(b, f)) || stmts(other, f)
-            }
-            Stmt::CallFb(a, b, _) => walk(a, f) || walk(b, f),
-            Stmt::Raw(_) => false,
+        body.iter_mut().any(|s| {
+            s.exprs_mut().into_iter().any(|e| walk(e, f))
+                || s.bodies_mut().into_iter().any(|b| stmts(b, f))
         })
     }
     p.vars.iter_mut().any(|(_, _, e)| walk(e, f)) || stmts(&mut p.body, f)
 }
 
+/// The programs with one declared part less than `p`: the configuration, an
+/// instance, a task, a connection, a global, an output, one of the parts reached
+/// through run-time addresses.
+fn fewer_parts(p: &Prog) -> Vec<Prog> {
+    let mut out = Vec::new();
+    let mut with = |f: &dyn Fn(&mut Prog)| {
+        let mut q = p.clone();
+        f(&mut q);
+        out.push(q);
+    };
+    if let Some(c) = &p.config {
+        with(&|q| q.config = None);
+        for i in 0..c.instances.len() {
+            if c.instances.len() > 1 {
+                with(&|q| {
+                    q.config.as_mut().expect("config").instances.remove(i);
+                });
+            }
+            for k in 0..c.instances[i].conns.len() {
+                with(&|q| {
+                    q.config.as_mut().expect("config").instances[i]
+                        .conns
+                        .remove(k);
+                });
+            }
+            if c.instances[i].task.is_some() {
+                with(&|q| q.config.as_mut().expect("config").instances[i].task = None);
+            }
+        }
+        for t in 0..c.tasks.len() {
+            with(&|q| {
+                let c = q.config.as_mut().expect("config");
+                c.tasks.remove(t);
+                for inst in &mut c.instances {
+                    inst.task = match inst.task {
+                        Some(x) if x == t => None,
+                        Some(x) if x > t => Some(x - 1),
+                        x => x,
+                    };
+                }
+            });
+        }
+        for g in 0..c.globals.len() {
+            with(&|q| {
+                q.config.as_mut().expect("config").globals.remove(g);
+            });
+        }
+        if c.resource {
+            with(&|q| q.config.as_mut().expect("config").resource = false);
+        }
+    }
+    if p.outputs > 0 {
+        with(&|q| q.outputs = 0);
+    }
+    for i in 0..p.vars.len() {
+        with(&|q| {
+            q.vars.remove(i);
+            if i < q.outputs {
+                q.outputs -= 1;
+            }
+        });
+    }
+    for i in 0..p.inputs.len() {
+        with(&|q| {
+            q.inputs.remove(i);
+        });
+    }
+    for d in FIXED {
+        if !p.dropped.iter().any(|x| x == d) {
+            with(&|q| q.dropped.push(d.to_string()));
+        }
+    }
+    if p.recs.is_some() {
+        with(&|q| q.recs = None);
+    }
+    if p.fbs.is_some() {
+        with(&|q| q.fbs = None);
+    }
+    if p.inout {
+        with(&|q| q.inout = false);
+    }
+    if p.refs {
+        with(&|q| q.refs = false);
+    }
+    out
+}
+
 /// The `n`th one-step simplification of `p`, if there is one: removing a statement,
-/// putting one of a compound statement's bodies in its place, or simplifying an
-/// expression.
+/// putting one of a compound statement's bodies in its place, dropping a declared
+/// part, or simplifying an expression.
 fn candidate(p: &Prog, n: usize) -> Option<Prog> {
     let mut q = p.clone();
     let mut k = 0;
@@ -77,16 +149,7 @@ fn candidate(p: &Prog, n: usize) -> Option<Prog> {
                 return true;
             }
             k += 1;
-            let bodies: Vec<Vec<Stmt>> = match &list[i] {
-                Stmt::If(_, a, b) => vec![a.clone(), b.clone()],
-                Stmt::For(_, _, _, b) | Stmt::While(_, b) => vec![b.clone()],
-                Stmt::Case(_, arms, other) => arms
-                    .iter()
-                    .map(|a| a.1.clone())
-                    .chain([other.clone()])
-                    .collect(),
-                _ => Vec::new(),
-            };
+            let bodies: Vec<Vec<Stmt>> = list[i].bodies().into_iter().cloned().collect();
             for inner in bodies {
                 if k == n {
                     list.splice(i..=i, inner);
@@ -100,7 +163,13 @@ fn candidate(p: &Prog, n: usize) -> Option<Prog> {
     if done {
         return Some(q);
     }
-    // Replace an expression by a plain literal, or by a subexpression of its type.
+    let parts = fewer_parts(p);
+    if n - k < parts.len() {
+        return parts.into_iter().nth(n - k);
+    }
+    k += parts.len();
+    // Replace an expression by a plain literal, or by a subexpression of its type;
+    // an operand of an exact EXPT by a literal.
     let done = for_each_expr(&mut q, &mut |e| {
         let t = e.ty();
         if !matches!(e, Expr::Lit(..)) {
@@ -109,6 +178,20 @@ fn candidate(p: &Prog, n: usize) -> Option<Prog> {
                 return true;
             }
             k += 1;
+        }
+        if let Expr::Pow(pow) = e {
+            for o in [&mut pow.base, &mut pow.exp] {
+                let lit = match o {
+                    Operand::Lit(..) => continue,
+                    Operand::Clamp(t, _, hi, _) => Operand::Lit(*t, (*hi).min(2)),
+                    Operand::Choice(t, vals, _) => Operand::Lit(*t, vals[0]),
+                };
+                if k == n {
+                    *o = lit;
+                    return true;
+                }
+                k += 1;
+            }
         }
         let child = e
             .children_mut()
