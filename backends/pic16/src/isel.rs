@@ -382,6 +382,22 @@ impl<'a> Emitter<'a> {
                     self.i(Inst::Xorwf(a, Dest::F));
                     return;
                 }
+                if dst.0 == reg::INDF || a == reg::INDF {
+                    // Through a pointer the two may be the same bit (`p^ := r` with
+                    // `p = REF(r)`): the source is read before the destination
+                    // changes.
+                    if invert {
+                        self.i(Inst::Movlw(0));
+                        self.skip_then(Inst::Btfss(a, b), Inst::Movlw(1));
+                        self.i(Inst::Bcf(dst.0, dst.1));
+                        self.i(Inst::Iorlw(0));
+                        self.skip_then(Inst::Btfss(reg::STATUS, reg::Z), Inst::Bsf(dst.0, dst.1));
+                    } else {
+                        self.skip_then(Inst::Btfsc(a, b), Inst::Bsf(dst.0, dst.1));
+                        self.skip_then(Inst::Btfss(a, b), Inst::Bcf(dst.0, dst.1));
+                    }
+                    return;
+                }
                 self.i(Inst::Bcf(dst.0, dst.1));
                 self.skip_then(test, Inst::Bsf(dst.0, dst.1));
             }
