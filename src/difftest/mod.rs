@@ -6,6 +6,7 @@
 //! `plcc difftest` runs campaigns; `tests/difftest.rs` runs a fixed-seed batch.
 
 pub mod gen;
+mod print;
 pub mod shrink;
 
 use crate::driver::{build_sources, BuildOptions};
