@@ -232,6 +232,8 @@ bad! {
     lex_bad_date,
     lex_bad_typed_literal,
     lex_bad_address,
+    // a file that declares nothing
+    nothing_to_compile,
     // declarations
     decl_anonymous_location,
     decl_reversed_bounds,
@@ -415,6 +417,7 @@ bad! {
     ld_malformed_xml,
     ld_not_plcopen,
     ld_fbd_body,
+    ld_pous_in_add_data,
     ld_bad_element,
     ld_duplicate_id,
     ld_edge_in_function,

@@ -126,6 +126,14 @@ codes! {
          \n    x = 5;    (* error: expected `:=` *)\n\
          \n    x := 5;   (* fix *)";
 
+    NOTHING_TO_COMPILE = "E0109", "nothing to compile in a file",
+        "A file given to plcc declares no PROGRAM, FUNCTION, FUNCTION_BLOCK, TYPE, \
+         CONFIGURATION or VAR_GLOBAL, so nothing would be compiled from it: an empty file, \
+         one of comments only, or a PLCopen XML file whose POUs are kept where plcc does \
+         not read them (TwinCAT's exports keep them inside `<addData>`).\n\
+         \n    (* only a comment *)          (* error: nothing to compile *)\n\
+         \n    PROGRAM main ... END_PROGRAM   (* fix: declare something, or leave the file out *)";
+
     // ---- names and declarations (E02xx) ----
     E_UNDECLARED = "E0201", "name not declared",
         "A name is used that is not a variable of the POU, its FUNCTION result, or a FUNCTION.\n\n    x := y + 1;   (* y was never declared *)\n\nDeclare it (`VAR y : INT; END_VAR`) or fix the spelling.";

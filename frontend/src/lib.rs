@@ -129,6 +129,11 @@ pub fn compile(
                 let name = sources.get(file).name.clone();
                 let Some(c) = ld::convert(file, &name, &sources.get(file).text, &mut diagnostics)
                 else {
+                    // Reported; an empty unit keeps `units` in step with `inputs`.
+                    units.push(ast::SourceUnit {
+                        file,
+                        items: Vec::new(),
+                    });
                     continue;
                 };
                 let il_file = sources.add(SourceFile::new(ld::il_view_name(&name), c.il));
@@ -146,6 +151,9 @@ pub fn compile(
                 });
             }
         }
+    }
+    for (k, &(file, lang)) in inputs.iter().enumerate() {
+        nothing_to_compile(sources, file, lang, units.get(k), &mut diagnostics);
     }
     if let Some(g) = globals_unit(&mut units, &mut interner) {
         units.push(g);
@@ -276,4 +284,38 @@ fn globals_unit(
             span: first,
         })],
     })
+}
+
+/// A file that declares nothing (no POU, type, configuration or global) compiles to
+/// nothing, which is an error, not a success (E0109) — unless its own errors already
+/// say why. A PLCopen file whose POUs sit in `<addData>` (TwinCAT's exports) gets a
+/// note saying so.
+fn nothing_to_compile(
+    sources: &SourceMap,
+    file: FileId,
+    lang: Lang,
+    unit: Option<&ast::SourceUnit>,
+    diagnostics: &mut Vec<Diagnostic>,
+) {
+    if unit.is_some_and(|u| !u.items.is_empty())
+        || diagnostics
+            .iter()
+            .any(|d| d.is_error() && d.span.is_some_and(|s| s.file == file))
+    {
+        return;
+    }
+    let src = sources.get(file);
+    let d = Diagnostic::error(
+        codes::NOTHING_TO_COMPILE,
+        format!("`{}` declares nothing to compile", src.name),
+        plcc_ir::diag::Span::new(file, 0, 0),
+    );
+    let d = if lang == Lang::Ld && src.text.contains("<addData") && src.text.contains("<pou ") {
+        d.with_note("its POUs are kept inside `<addData>` (as TwinCAT and some CODESYS exports keep them), which plcc does not read yet")
+    } else {
+        d.with_note(
+            "a PROGRAM, FUNCTION, FUNCTION_BLOCK, TYPE, CONFIGURATION or VAR_GLOBAL was expected",
+        )
+    };
+    diagnostics.push(d);
 }
