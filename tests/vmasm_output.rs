@@ -341,8 +341,9 @@ CONFIGURATION c
 VAR_GLOBAL g : INT; END_VAR
 RESOURCE r ON plc
 TASK t (INTERVAL := T#20ms, PRIORITY := 1);
+TASK t2 (INTERVAL := T#30ms, PRIORITY := 2);
 PROGRAM i1 WITH t : p (inp := g);
-PROGRAM i2 WITH t : p (inp := g);
+PROGRAM i2 WITH t2 : p (inp := g);
 END_RESOURCE
 END_CONFIGURATION
 ";
@@ -376,6 +377,8 @@ END_CONFIGURATION
         assert!(dcp.contains("PlccType=\"STRING[10]\""));
         assert!(dcp.contains("TypeStatus=\"program\""));
         assert_eq!(dcp.contains("AddressSize=\"8\""), mode != "16");
+        // The task cycle is the common tick of 20 and 30 ms, so each runs when due.
+        assert!(dcp.contains("Cycle=\"10\""), "the task cycle");
         // plcc's own reader still finds every variable where plcc put it.
         let read = dcp_read::parse(&dcp).unwrap();
         // (Globals are at the top level; a task's hidden state is not listed.)

@@ -315,6 +315,24 @@ impl Module {
             .find(|p| p.name.eq_ignore_ascii_case(name))
     }
 
+    /// The common tick of the configuration's tasks: the greatest common divisor of
+    /// their intervals (ms), as matiec's `common_ticktime__`; `None` when no program
+    /// has a task with an interval. A scan every tick runs each task exactly when due.
+    pub fn task_tick_ms(&self) -> Option<u32> {
+        fn gcd(a: u32, b: u32) -> u32 {
+            if b == 0 {
+                a
+            } else {
+                gcd(b, a % b)
+            }
+        }
+        self.programs
+            .iter()
+            .filter_map(|p| p.interval_ms)
+            .filter(|&i| i > 0)
+            .reduce(gcd)
+    }
+
     /// The program entry named `name`, else the only instance of the PROGRAM type
     /// `name` (a configuration names its instances: `PROGRAM inst WITH t : name`).
     pub fn program_or_instance_of(&self, name: &str) -> Option<&ProgramEntry> {

@@ -29,8 +29,8 @@ use crate::port::Port;
 pub struct Settings {
     /// The addressing mode (`mode=16|32|32a`).
     pub mode: Mode,
-    /// The task cycle written to the DCP, in ms (`cycle=…`; else the shortest
-    /// interval of the programs' tasks, else 100 ms).
+    /// The task cycle written to the DCP, in ms (`cycle=…`; else the common tick
+    /// of the programs' tasks, the GCD of their intervals, else 100 ms).
     pub cycle_ms: Option<u32>,
     /// The VM port the code is for (`port=full|esp32|avr|6502|sdcc`): what it lacks is
     /// a compile error, and its C `int` width picks the UB-free instruction forms.

@@ -380,7 +380,7 @@ pub fn write(module: &Module, b: &Build, options: &Options) -> String {
         "      <TASK LName=\"TASK\" PName=\"plcc.TASK\" LoopType=\"0\" Cycle=\"{}\" CycleUnit=\"ms\" BodyCodeAddres=\"{}\" TaskFlags=\"00000000\" />",
         b.settings
             .cycle_ms
-            .or_else(|| module.programs.iter().filter_map(|p| p.interval_ms).min())
+            .or_else(|| module.task_tick_ms())
             .unwrap_or(100),
         addr(b.loop_addr as u64, mode)
     );
