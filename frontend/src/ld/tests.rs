@@ -352,6 +352,37 @@ fn tc6_1_0_files_and_st_bodies() {
     assert_eq!(&xml[span.start as usize..span.end as usize], "n");
 }
 
+/// Task intervals in each form the editors write: `T#20ms`, an XML duration and the
+/// old schema's `HH:MM:SS.ffffff`.
+#[test]
+fn task_intervals_in_every_form() {
+    for (interval, want) in [
+        ("T#20ms", "T#20ms"),
+        ("PT0.05S", "T#50ms"),
+        ("00:00:00.100000", "T#100ms"),
+        ("00:01:02.5", "T#62500ms"),
+    ] {
+        let xml = format!(
+            r#"<?xml version="1.0"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0201">
+<types><dataTypes/><pous>
+<pou name="p" pouType="program"><interface><localVars><variable name="n"><type><INT/></type></variable></localVars></interface>
+<body><ST><xhtml:p xmlns:xhtml="http://www.w3.org/1999/xhtml"><![CDATA[n := n + 1;]]></xhtml:p></ST></body></pou>
+</pous></types>
+<instances><configurations><configuration name="c"><resource name="r">
+<task name="t" interval="{interval}" priority="0"><pouInstance name="i" typeName="p"/></task>
+</resource></configuration></configurations></instances></project>"#
+        );
+        let (c, d) = convert_text(&xml);
+        assert!(d.is_empty(), "{interval}: {d:#?}");
+        let il = c.unwrap().il;
+        assert!(
+            il.contains(&format!("TASK t(INTERVAL := {want}, PRIORITY := 0);")),
+            "{interval}: {il}"
+        );
+    }
+}
+
 #[test]
 fn not_xml_and_not_plcopen() {
     let (c, d) = convert_text("PROGRAM p END_PROGRAM");

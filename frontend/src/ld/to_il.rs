@@ -331,10 +331,22 @@ fn write_config(o: &mut Out, c: &Config) {
     o.push(&s);
 }
 
-/// A task interval as an IEC TIME literal: PLCopen files write `T#10ms` (TC6 2.01)
-/// or an XML duration such as `PT0.01S`.
+/// A task interval as an IEC TIME literal: PLCopen files write `T#10ms` (TC6 2.01),
+/// an XML duration such as `PT0.01S`, or the old schema's `00:00:00.100000`
+/// (hours, minutes, seconds with a fraction), which Beremiz converts on loading.
 fn iec_duration(text: &str) -> String {
     let t = text.trim();
+    if let [h, m, sec] = t.split(':').collect::<Vec<_>>()[..] {
+        let num = |x: &str| {
+            (!x.is_empty() && x.bytes().all(|c| c.is_ascii_digit() || c == b'.'))
+                .then(|| x.parse::<f64>().ok())
+                .flatten()
+        };
+        if let (Some(h), Some(m), Some(sec)) = (num(h), num(m), num(sec)) {
+            let ms = (h * 3600.0 + m * 60.0 + sec) * 1000.0;
+            return format!("T#{}ms", ms.round() as i64);
+        }
+    }
     let Some(rest) = t.strip_prefix("PT").or_else(|| t.strip_prefix("pt")) else {
         return t.to_string();
     };
