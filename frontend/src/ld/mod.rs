@@ -15,6 +15,7 @@
 //!
 //! `--emit il` prints the text of step 3, `--emit ld-text` the rungs drawn by `text`.
 
+mod decls;
 pub(crate) mod graph;
 pub mod map;
 pub(crate) mod text;
