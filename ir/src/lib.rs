@@ -7,6 +7,7 @@
 //! parameters, explicit widths and signedness in the operations. See `docs/ir.md` for
 //! the semantics of every instruction and the text form.
 
+pub mod analysis;
 pub mod backend;
 pub mod builder;
 pub mod diag;

@@ -169,49 +169,12 @@ fn label_name(module: &Module, id: FuncId) -> String {
 pub const MAX_CALL_DEPTH: usize = 128;
 
 /// Rejects a program whose calls nest deeper than [`MAX_CALL_DEPTH`] (counting the
-/// task's call of a program body). There is no recursion (the front end rejects it),
-/// so the depth is the longest path of the call graph.
+/// task's call of a program body): the longest path of the call graph.
 fn check_call_depth(module: &Module) -> Result<(), Vec<Diagnostic>> {
-    let n = module.funcs.len();
-    // depth[f]: the calls nested inside f, at most; computed callees first.
-    let mut depth: Vec<Option<usize>> = vec![None; n];
-    let callees = |f: FuncId| -> Vec<FuncId> {
-        let func = module.func(f);
-        func.inst_iter()
-            .filter_map(|(_, i)| match func.inst(i) {
-                InstData::Call { func, .. } => Some(*func),
-                _ => None,
-            })
-            .collect()
-    };
-    for root in 0..n {
-        // An explicit stack: (function, its callees, the next one to look at).
-        let mut stack = vec![(FuncId::new(root), callees(FuncId::new(root)), 0usize)];
-        while let Some((f, cs, k)) = stack.last_mut() {
-            if depth[f.index()].is_some() {
-                stack.pop();
-                continue;
-            }
-            if let Some(&c) = cs.get(*k) {
-                *k += 1;
-                if depth[c.index()].is_none() && !stack.iter().any(|e| e.0 == c) {
-                    let cc = callees(c);
-                    stack.push((c, cc, 0));
-                }
-                continue;
-            }
-            let d = cs
-                .iter()
-                .map(|c| depth[c.index()].map_or(1, |x| x + 1))
-                .max()
-                .unwrap_or(0);
-            depth[f.index()] = Some(d);
-            stack.pop();
-        }
-    }
+    let depth = plcc_ir::analysis::call_depths(module);
     for p in &module.programs {
         for f in [p.init, p.body] {
-            let d = depth[f.index()].unwrap_or(0) + 1;
+            let d = depth[f.index()] + 1;
             if d > MAX_CALL_DEPTH {
                 return Err(vec![Diagnostic::error_nowhere(
                     codes::E_MEMORY,

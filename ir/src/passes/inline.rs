@@ -11,6 +11,7 @@
 //! Callees are processed before callers (the call graph is acyclic: front ends reject
 //! recursion), so inlined code is already optimised and itself inlined.
 
+use crate::analysis::{callees, callees_first};
 use crate::entities::{Block, FuncId, Inst, SlotId, Value};
 use crate::function::{FuncKind, Function, ValueDef};
 use crate::inst::{BlockCall, InstData};
@@ -138,50 +139,6 @@ fn inline_into(
         optimize(caller);
     }
     did
-}
-
-/// Function ids ordered so that every callee comes before its callers.
-fn callees_first(module: &Module) -> Vec<FuncId> {
-    let n = module.funcs.len();
-    let mut state = vec![0u8; n];
-    let mut order = Vec::with_capacity(n);
-    for start in 0..n {
-        if state[start] != 0 {
-            continue;
-        }
-        // Iterative post-order DFS over call edges.
-        let mut stack: Vec<(usize, Vec<usize>)> = vec![(start, callees(module, start))];
-        state[start] = 1;
-        while let Some((node, pending)) = stack.last_mut() {
-            if let Some(next) = pending.pop() {
-                if state[next] == 0 {
-                    state[next] = 1;
-                    let c = callees(module, next);
-                    stack.push((next, c));
-                }
-            } else {
-                state[*node] = 2;
-                order.push(FuncId::new(*node));
-                stack.pop();
-            }
-        }
-    }
-    order
-}
-
-/// The functions `f` calls, each once.
-fn callees(module: &Module, f: usize) -> Vec<usize> {
-    let func = &module.funcs[f];
-    let mut out: Vec<usize> = func
-        .inst_iter()
-        .filter_map(|(_, i)| match func.inst(i) {
-            InstData::Call { func, .. } if func.index() < module.funcs.len() => Some(func.index()),
-            _ => None,
-        })
-        .collect();
-    out.sort_unstable();
-    out.dedup();
-    out
 }
 
 /// Replaces the call `inst` in `block` of `caller` by a copy of `callee`'s body.

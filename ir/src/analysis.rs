@@ -1,0 +1,63 @@
+//! Analyses of a whole module shared by the passes and the backends: the call graph.
+
+use crate::entities::FuncId;
+use crate::inst::InstData;
+use crate::module::Module;
+
+/// Function ids ordered so that every callee comes before its callers.
+pub fn callees_first(module: &Module) -> Vec<FuncId> {
+    let n = module.funcs.len();
+    let mut state = vec![0u8; n];
+    let mut order = Vec::with_capacity(n);
+    for start in 0..n {
+        if state[start] != 0 {
+            continue;
+        }
+        // Iterative post-order DFS over call edges.
+        let mut stack: Vec<(usize, Vec<usize>)> = vec![(start, callees(module, start))];
+        state[start] = 1;
+        while let Some((node, pending)) = stack.last_mut() {
+            if let Some(next) = pending.pop() {
+                if state[next] == 0 {
+                    state[next] = 1;
+                    let c = callees(module, next);
+                    stack.push((next, c));
+                }
+            } else {
+                state[*node] = 2;
+                order.push(FuncId::new(*node));
+                stack.pop();
+            }
+        }
+    }
+    order
+}
+
+/// The functions `f` calls, each once.
+pub fn callees(module: &Module, f: usize) -> Vec<usize> {
+    let func = &module.funcs[f];
+    let mut out: Vec<usize> = func
+        .inst_iter()
+        .filter_map(|(_, i)| match func.inst(i) {
+            InstData::Call { func, .. } if func.index() < module.funcs.len() => Some(func.index()),
+            _ => None,
+        })
+        .collect();
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+/// The longest chain of nested calls below each function (0 for one that calls
+/// nothing), indexed by function. There is no recursion (the verifier rejects it).
+pub fn call_depths(module: &Module) -> Vec<usize> {
+    let mut depth = vec![0usize; module.funcs.len()];
+    for f in callees_first(module) {
+        depth[f.index()] = callees(module, f.index())
+            .into_iter()
+            .map(|c| depth[c] + 1)
+            .max()
+            .unwrap_or(0);
+    }
+    depth
+}
