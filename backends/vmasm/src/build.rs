@@ -336,11 +336,7 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
         task.items.push(Item::Label(tskstr));
         // Cold start clears the fault word (the task runs with DPTR at 0).
         task.items.push(Item::Inst(VInst {
-            opcode: if mode == Mode::M32A {
-                op::MCD4A
-            } else {
-                op::MCD
-            },
+            opcode: mode.mcd(),
             args: vec![Arg::Abs(fault_addr), Arg::Bytes(vec![0, 0])],
         }));
         let call = |task: &mut Unit, g: FuncId, inst: Option<u32>| {
@@ -356,11 +352,7 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
                         let (params, _, _) =
                             isel::signature(&layout, module.func(g), Conv::Area, mode);
                         let p = params[0].unwrap_or(0);
-                        let opcode = if mode == Mode::M32A {
-                            op::MCD4A
-                        } else {
-                            op::MCD
-                        };
+                        let opcode = mode.mcd();
                         task.items.push(Item::Inst(VInst {
                             opcode,
                             args: vec![

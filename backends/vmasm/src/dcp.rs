@@ -48,6 +48,9 @@ struct Desc {
     extra: String,
     /// `(lower, upper)` of each dimension, outermost first.
     dims: Vec<(i64, i64)>,
+    /// An array's elements when they are STRUCTs or FBs: their type, and the index
+    /// of the first one (`[0][1]`).
+    agg_elems: Option<(MemType, String)>,
 }
 
 /// The IEC name of a scalar: its source type, else the IR type's natural one (the
@@ -102,12 +105,14 @@ fn describe(
                 status: "build-in type",
                 extra: extra.into(),
                 dims: Vec::new(),
+                agg_elems: None,
             }
         }
         MemType::Agg(a) => match module.agg(a) {
             AggDef::Array(_) => {
                 // Nested arrays are the dimensions of one (ARRAY[1..2, 0..3]).
                 let mut dims = Vec::new();
+                let mut first = String::new();
                 let mut inner = t;
                 let mut inner_elem = elem;
                 while let MemType::Agg(x) = inner {
@@ -115,6 +120,7 @@ fn describe(
                         break;
                     };
                     dims.push((arr.lower, arr.lower + arr.len as i64 - 1));
+                    let _ = write!(first, "[{}]", arr.lower);
                     inner = arr.elem;
                     inner_elem = arr.elem_type;
                 }
@@ -149,6 +155,7 @@ fn describe(
                         string.unwrap_or_default()
                     ),
                     dims,
+                    agg_elems: matches!(inner, MemType::Agg(_)).then_some((inner, first)),
                 }
             }
             AggDef::Struct(st) => {
@@ -163,6 +170,7 @@ fn describe(
                     },
                     extra: String::new(),
                     dims: Vec::new(),
+                    agg_elems: None,
                 }
             }
         },
@@ -260,23 +268,14 @@ fn obj(
             }
             // Elements that are STRUCTs or FBs: the first one's members, from which
             // every element's follow (ElementSize apart).
-            let mut inner = t;
-            let mut first = String::new();
-            while let MemType::Agg(x) = inner {
-                let AggDef::Array(arr) = module.agg(x) else {
-                    break;
-                };
-                let _ = write!(first, "[{}]", arr.lower);
-                inner = arr.elem;
-            }
-            if let MemType::Agg(_) = inner {
+            if let Some((inner, first)) = &d.agg_elems {
                 obj(
                     out,
                     module,
                     b,
                     &format!("{name}{first}"),
                     &format!("{pname}{first}"),
-                    inner,
+                    *inner,
                     None,
                     0,
                     abs,

@@ -49,6 +49,16 @@ impl Mode {
         }
     }
 
+    /// The MCD form plcc writes in this mode: MCD4A in the aligned mode (every
+    /// instruction a multiple of 4 bytes long), else MCD.
+    pub fn mcd(self) -> Opcode {
+        if self == Mode::M32A {
+            op::MCD4A
+        } else {
+            op::MCD
+        }
+    }
+
     /// The name used on the command line (`-s mode=…`) and in messages.
     pub fn name(self) -> &'static str {
         match self {

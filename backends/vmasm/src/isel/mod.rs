@@ -411,11 +411,7 @@ impl<'a, 'p> Fx<'a, 'p> {
     }
 
     fn mcd_inst(&self, dst: Arg, bytes: Vec<u8>) -> VInst {
-        let opcode = if self.mode() == Mode::M32A {
-            op::MCD4A
-        } else {
-            op::MCD
-        };
+        let opcode = self.mode().mcd();
         VInst {
             opcode,
             args: vec![dst, Arg::Bytes(bytes)],
