@@ -58,7 +58,7 @@ pub struct Build {
     /// The syntax trees (see [`plcc_frontend::Compiled::syntax`]).
     pub syntax: Vec<plcc_frontend::ast::SourceUnit>,
     /// The ladder files and their IL views (see [`plcc_frontend::Compiled::ladder`]).
-    pub ladder: Vec<plcc_frontend::ld::View>,
+    pub ladder: Vec<plcc_frontend::plcopen::View>,
 }
 
 impl Build {

@@ -2,7 +2,7 @@
 //!
 //! Every ladder program `tests/programs/ld/NAME.xml` (PLCopen XML) has an IL twin
 //! `NAME.il` beside it, written by hand: the Instruction List a person writes for the
-//! same rungs, in the conventions of plcc's conversion (docs/ladder.md: the seed's
+//! same rungs, in the conventions of plcc's conversion (docs/plcopen.md: the seed's
 //! method of series as AND, parallel branches as OR and `AND(`, hidden variables named
 //! after the localId of the element they stand for). Both share the scenario
 //! `NAME.expect`, which `tests/e2e.rs` runs on every target; this test checks that the

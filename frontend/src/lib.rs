@@ -10,7 +10,7 @@ pub mod ast;
 pub mod codes;
 pub mod il;
 pub mod intern;
-pub mod ld;
+pub mod plcopen;
 pub mod lower;
 pub mod source;
 pub mod st;
@@ -87,7 +87,7 @@ pub struct Compiled {
     /// can skip freeing them node by node.
     pub syntax: Vec<ast::SourceUnit>,
     /// The ladder files of the build and their IL views (for `--emit il`, `ld-text`).
-    pub ladder: Vec<ld::View>,
+    pub ladder: Vec<plcopen::View>,
 }
 
 /// Parses, checks and lowers the given files (already in `sources`) to one module.
@@ -127,7 +127,7 @@ pub fn compile(
                 // The ladder file becomes IL text, a source file of its own, which the
                 // IL front end reads; diagnostics about it go back to the XML below.
                 let name = sources.get(file).name.clone();
-                let Some(c) = ld::convert(file, &name, &sources.get(file).text, &mut diagnostics)
+                let Some(c) = plcopen::convert(file, &name, &sources.get(file).text, &mut diagnostics)
                 else {
                     // Reported; an empty unit keeps `units` in step with `inputs`.
                     units.push(ast::SourceUnit {
@@ -136,14 +136,14 @@ pub fn compile(
                     });
                     continue;
                 };
-                let il_file = sources.add(SourceFile::new(ld::il_view_name(&name), c.il));
+                let il_file = sources.add(SourceFile::new(plcopen::il_view_name(&name), c.il));
                 units.push(il::parse(
                     il_file,
                     &sources.get(il_file).text,
                     &mut interner,
                     &mut diagnostics,
                 ));
-                ladder.push(ld::View {
+                ladder.push(plcopen::View {
                     xml: file,
                     il: il_file,
                     map: c.map,
@@ -160,7 +160,7 @@ pub fn compile(
     }
     let mut timings = vec![("parse", started.elapsed())];
     if diagnostics.iter().any(|d| d.is_error()) {
-        ld::remap_all(&ladder, &mut diagnostics);
+        plcopen::remap_all(&ladder, &mut diagnostics);
         return Compiled {
             module: None,
             diagnostics,
@@ -180,7 +180,7 @@ pub fn compile(
     let (module, mut more) = lowerer.run(1, opts);
     diagnostics.append(&mut more);
     timings.push(("check and lower", started.elapsed()));
-    ld::remap_all(&ladder, &mut diagnostics);
+    plcopen::remap_all(&ladder, &mut diagnostics);
     Compiled {
         module,
         diagnostics,
