@@ -10,8 +10,8 @@ pub mod ast;
 pub mod codes;
 pub mod il;
 pub mod intern;
-pub mod plcopen;
 pub mod lower;
+pub mod plcopen;
 pub mod source;
 pub mod st;
 pub mod stl;
@@ -127,7 +127,8 @@ pub fn compile(
                 // The ladder file becomes IL text, a source file of its own, which the
                 // IL front end reads; diagnostics about it go back to the XML below.
                 let name = sources.get(file).name.clone();
-                let Some(c) = plcopen::convert(file, &name, &sources.get(file).text, &mut diagnostics)
+                let Some(c) =
+                    plcopen::convert(file, &name, &sources.get(file).text, &mut diagnostics)
                 else {
                     // Reported; an empty unit keeps `units` in step with `inputs`.
                     units.push(ast::SourceUnit {

@@ -20,6 +20,7 @@ pub(crate) mod graph;
 pub mod map;
 pub(crate) mod text;
 pub(crate) mod to_il;
+mod view;
 pub(crate) mod xml;
 
 #[cfg(test)]
@@ -85,7 +86,7 @@ fn convert_here(
         .pous
         .iter()
         .map(|pou| match &pou.body {
-            xml::Body::Ld(elems) => {
+            xml::Body::Graph(_, elems) => {
                 let cx = graph::Context {
                     file,
                     pou: &pou.name.value,
@@ -99,7 +100,7 @@ fn convert_here(
     if errors(diags) > before {
         return None;
     }
-    let out = to_il::write(&project, &graphs, file, name, diags);
+    let out = view::write(&project, &graphs, file, name, diags);
     if errors(diags) > before {
         return None;
     }

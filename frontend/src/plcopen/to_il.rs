@@ -31,121 +31,13 @@
 //!   jumps over the call, so the block does not run, its outputs keep their values
 //!   (a function's result is 0) and ENO is FALSE.
 
-use super::decls::{comment_safe, write_config, write_group, write_type, write_value};
+use super::decls::comment_safe;
 use super::graph::{input_name, output_name, Graph, Src};
 use super::map::Out;
-use super::xml::{Body, Edge, Element, Kind, PouKind, Project, Storage, Text, Type, Var, VarGroup};
+use super::xml::{Edge, Element, Kind, PouKind, Project, Storage, Text, Type, Var, VarGroup};
 use crate::codes;
 use plcc_ir::diag::{Diagnostic, FileId};
 use rustc_hash::{FxHashMap, FxHashSet};
-
-/// Writes the IL view of a project. `graphs[i]` is the checked graph of POU `i`'s
-/// ladder body. Errors (a block output whose type cannot be told, a construct not
-/// supported) go to `diags`.
-pub(crate) fn write(
-    project: &Project,
-    graphs: &[Option<Graph>],
-    file: FileId,
-    file_name: &str,
-    diags: &mut Vec<Diagnostic>,
-) -> Out {
-    let mut o = Out::default();
-    o.push(&format!(
-        "(* The IL view of {}, made by plcc from its PLCopen XML. *)\n",
-        comment_safe(file_name)
-    ));
-    if !project.types.is_empty() {
-        o.push("\nTYPE\n");
-        for t in &project.types {
-            let start = o.pos();
-            o.push("    ");
-            o.push_text(&t.name);
-            o.push(" : ");
-            write_type(&mut o, &t.ty, 1);
-            if let Some(v) = &t.init {
-                o.push(" := ");
-                write_value(&mut o, v);
-            }
-            o.push(";");
-            o.mark(start, t.name.range.clone());
-            o.push("\n");
-        }
-        o.push("END_TYPE\n");
-    }
-    for c in &project.configs {
-        let groups = c
-            .globals
-            .iter()
-            .chain(c.resources.iter().flat_map(|r| &r.globals));
-        for g in groups {
-            if !g.vars.is_empty() {
-                o.push("\n");
-                write_group(&mut o, g);
-            }
-        }
-    }
-    let globals: Vec<&Var> = project
-        .configs
-        .iter()
-        .flat_map(|c| {
-            c.globals
-                .iter()
-                .chain(c.resources.iter().flat_map(|r| &r.globals))
-        })
-        .flat_map(|g| &g.vars)
-        .collect();
-    for (i, pou) in project.pous.iter().enumerate() {
-        o.push("\n");
-        let (head, end) = match pou.kind {
-            PouKind::Program => ("PROGRAM ", "END_PROGRAM"),
-            PouKind::Function => ("FUNCTION ", "END_FUNCTION"),
-            PouKind::FunctionBlock => ("FUNCTION_BLOCK ", "END_FUNCTION_BLOCK"),
-        };
-        let start = o.pos();
-        o.push(head);
-        o.push_text(&pou.name);
-        if let Some(r) = &pou.ret {
-            o.push(" : ");
-            write_type(&mut o, r, 1);
-        }
-        o.mark(start, pou.tag.clone());
-        o.push("\n");
-        for g in &pou.groups {
-            write_group(&mut o, g);
-        }
-        match (&pou.body, graphs.get(i).and_then(Option::as_ref)) {
-            (Body::Ld(_), Some(g)) => {
-                let mut names = Names::new(project, pou, &globals, g);
-                let ctx = PouCtx {
-                    project,
-                    pou: &pou.name.value,
-                    pou_vars: &pou.groups,
-                    globals: &globals,
-                    file,
-                };
-                let lines = emit_body(g, &ctx, &mut names, diags);
-                write_hidden(&mut o, &names);
-                for line in &lines {
-                    line.write(&mut o, g.elems);
-                }
-            }
-            (Body::St(t), _) | (Body::Il(t), _) => {
-                o.push("    ");
-                o.push_text(t);
-                if !t.value.ends_with('\n') {
-                    o.push("\n");
-                }
-            }
-            _ => {}
-        }
-        o.push(end);
-        o.push("\n");
-    }
-    for c in &project.configs {
-        write_config(&mut o, c);
-    }
-    o
-}
 
 // ------------------------------------------------------------------ hidden names
 
@@ -164,7 +56,7 @@ enum Hidden {
 
 /// The names of the hidden variables and labels of one POU, chosen so that none
 /// clashes with a name the POU can see.
-struct Names<'g> {
+pub(super) struct Names<'g> {
     taken: FxHashSet<String>,
     made: FxHashMap<Hidden, String>,
     elems: &'g [Element],
@@ -175,7 +67,12 @@ struct Names<'g> {
 }
 
 impl<'g> Names<'g> {
-    fn new(project: &Project, pou: &super::xml::Pou, globals: &[&Var], g: &Graph<'g>) -> Self {
+    pub(super) fn new(
+        project: &Project,
+        pou: &super::xml::Pou,
+        globals: &[&Var],
+        g: &Graph<'g>,
+    ) -> Self {
         let mut taken = FxHashSet::default();
         let mut add = |s: &str| {
             taken.insert(s.to_ascii_uppercase());
@@ -250,7 +147,7 @@ impl<'g> Names<'g> {
     }
 }
 
-fn write_hidden(o: &mut Out, n: &Names) {
+pub(super) fn write_hidden(o: &mut Out, n: &Names) {
     for (kw, list) in [("VAR", &n.vars), ("VAR_TEMP", &n.temps)] {
         if list.is_empty() {
             continue;
@@ -289,7 +186,7 @@ fn text_part(t: &Text) -> Part {
 
 /// One line of IL.
 #[derive(Clone, Debug)]
-struct Line {
+pub(super) struct Line {
     /// A label (its name is the operand) rather than an instruction.
     label: bool,
     /// The operator (`LD`, `AND(`, `CAL`...), or the comment text of a comment line.
@@ -303,7 +200,7 @@ struct Line {
 }
 
 impl Line {
-    fn write(&self, o: &mut Out, elems: &[Element]) {
+    pub(super) fn write(&self, o: &mut Out, elems: &[Element]) {
         if self.comment {
             o.push(&format!("(* {} *)\n", comment_safe(&self.op)));
             return;
@@ -434,17 +331,17 @@ impl Op {
 // ------------------------------------------------------------------ emission
 
 /// What the emission of a POU needs besides the graph.
-struct PouCtx<'a> {
-    project: &'a Project,
-    pou: &'a str,
-    pou_vars: &'a [VarGroup],
-    globals: &'a [&'a Var],
-    file: FileId,
+pub(super) struct PouCtx<'a> {
+    pub(super) project: &'a Project,
+    pub(super) pou: &'a str,
+    pub(super) pou_vars: &'a [VarGroup],
+    pub(super) globals: &'a [&'a Var],
+    pub(super) file: FileId,
 }
 
 /// The IL lines of a ladder body (two passes: the first finds which temporaries are
 /// read, the second stores only those).
-fn emit_body<'g>(
+pub(super) fn emit_body<'g>(
     g: &Graph<'g>,
     ctx: &PouCtx,
     names: &mut Names<'g>,
