@@ -28,15 +28,55 @@ fn parse_lang(lang: Option<&str>) -> Result<Option<Lang>, UsageError> {
     }
 }
 
+/// `--plcopen-order` and `--strict-rungs`, as given.
+#[derive(Clone, Debug, Default)]
+pub struct PlcopenFlags {
+    /// The profile's name.
+    pub order: Option<String>,
+    /// The ladder editor's style rules are errors.
+    pub strict_rungs: bool,
+}
+
+impl PlcopenFlags {
+    /// The flags from the command line.
+    pub fn new(order: Option<String>, strict_rungs: bool) -> PlcopenFlags {
+        PlcopenFlags {
+            order,
+            strict_rungs,
+        }
+    }
+
+    fn options(&self) -> Result<plcc_frontend::plcopen::Options, u8> {
+        let profile = match &self.order {
+            None => plcc_frontend::plcopen::Profile::Iec,
+            Some(name) => match plcc_frontend::plcopen::Profile::from_name(name) {
+                Some(p) => p,
+                None => {
+                    eprintln!(
+                        "error: unknown PLCopen profile `{name}`: use iec, xml2st, openplc3 or beremiz"
+                    );
+                    return Err(EXIT_USAGE);
+                }
+            },
+        };
+        Ok(plcc_frontend::plcopen::Options {
+            profile,
+            strict_rungs: self.strict_rungs,
+        })
+    }
+}
+
 /// Builds and prints the diagnostics; `Err(status)` when the build cannot go on.
 /// The returned build's module has been taken out into the second value.
 fn build_and_report<P: AsRef<Path>>(
     files: &[P],
     lang: Option<&str>,
     dialect: Option<&str>,
+    plcopen: &PlcopenFlags,
     programs: Vec<String>,
     mode: Mode,
 ) -> Result<(Build, Module), u8> {
+    let plcopen = plcopen.options()?;
     let lang = parse_lang(lang).map_err(usage)?;
     let codesys = match dialect.map(|d| d.to_ascii_lowercase()) {
         None => false,
@@ -50,6 +90,7 @@ fn build_and_report<P: AsRef<Path>>(
     let opts = BuildOptions {
         lang,
         codesys,
+        plcopen,
         programs,
         no_opt: mode == Mode::Unoptimised,
         check_only: mode == Mode::Check,
@@ -82,8 +123,13 @@ enum Mode {
 }
 
 /// `plcc check FILE...`
-pub fn check(files: &[PathBuf], lang: Option<&str>, dialect: Option<&str>) -> u8 {
-    match build_and_report(files, lang, dialect, Vec::new(), Mode::Check) {
+pub fn check(
+    files: &[PathBuf],
+    lang: Option<&str>,
+    dialect: Option<&str>,
+    plcopen: &PlcopenFlags,
+) -> u8 {
+    match build_and_report(files, lang, dialect, plcopen, Vec::new(), Mode::Check) {
         Ok((build, module)) => {
             build.report_timings(&[]);
             std::mem::forget(module);
@@ -256,6 +302,8 @@ pub struct RunArgs {
     pub lang: Option<String>,
     /// `--dialect`
     pub dialect: Option<String>,
+    /// `--plcopen-order`, `--strict-rungs`.
+    pub plcopen: PlcopenFlags,
     /// `--target`
     pub target: String,
     /// `--program`
@@ -326,6 +374,7 @@ pub fn run(a: &RunArgs) -> u8 {
         &a.files,
         a.lang.as_deref(),
         a.dialect.as_deref(),
+        &a.plcopen,
         programs,
         Mode::Full,
     ) {
@@ -418,6 +467,8 @@ pub struct TestArgs {
     pub lang: Option<String>,
     /// `--dialect`
     pub dialect: Option<String>,
+    /// `--plcopen-order`, `--strict-rungs`.
+    pub plcopen: PlcopenFlags,
     /// `--scenario`
     pub scenario: PathBuf,
     /// `--target`
@@ -451,6 +502,7 @@ pub fn test(a: &TestArgs) -> u8 {
         &a.files,
         a.lang.as_deref(),
         a.dialect.as_deref(),
+        &a.plcopen,
         programs,
         Mode::Full,
     ) {
@@ -502,6 +554,8 @@ pub struct CompileArgs {
     pub lang: Option<String>,
     /// `--dialect`
     pub dialect: Option<String>,
+    /// `--plcopen-order`, `--strict-rungs`.
+    pub plcopen: PlcopenFlags,
     /// `--target`
     pub target: String,
     /// `-o`
@@ -537,6 +591,7 @@ pub fn compile(a: &CompileArgs) -> u8 {
         &a.files,
         a.lang.as_deref(),
         a.dialect.as_deref(),
+        &a.plcopen,
         a.programs.clone(),
         mode,
     ) {

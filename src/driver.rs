@@ -89,6 +89,8 @@ pub struct BuildOptions {
     pub programs: Vec<String>,
     /// The CODESYS dialect (`--dialect codesys`).
     pub codesys: bool,
+    /// How PLCopen XML files are read.
+    pub plcopen: plcc_frontend::plcopen::Options,
     /// Skip the optimisation passes.
     pub no_opt: bool,
     /// Only check: no verification or optimisation of the IR.
@@ -133,6 +135,7 @@ pub fn build_sources(
     let lower_opts = LowerOptions {
         programs: opts.programs.clone(),
         codesys: opts.codesys,
+        plcopen: opts.plcopen.clone(),
     };
     let compiled = plcc_frontend::compile(&mut sources, &inputs, &lower_opts);
     let mut diagnostics = compiled.diagnostics;

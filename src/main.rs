@@ -38,6 +38,14 @@ struct Common {
     /// numbers)
     #[arg(long)]
     dialect: Option<String>,
+    /// PLCopen XML: whose meaning diagrams get where the standard and the editors
+    /// differ: iec (default), xml2st (OpenPLC Editor v4), openplc3, beremiz
+    #[arg(long = "plcopen-order")]
+    plcopen_order: Option<String>,
+    /// PLCopen XML: the ladder editor's style rules (open and short circuits, upper
+    /// parallel branches, bridges, coils on the left rail) are errors, not warnings
+    #[arg(long = "strict-rungs")]
+    strict_rungs: bool,
 }
 
 #[derive(Args)]
@@ -181,6 +189,7 @@ fn main() -> ExitCode {
             files: common.files,
             lang: common.lang,
             dialect: common.dialect,
+            plcopen: commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs),
             target,
             program,
             scans,
@@ -198,6 +207,7 @@ fn main() -> ExitCode {
             files: common.files,
             lang: common.lang,
             dialect: common.dialect,
+            plcopen: commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs),
             scenario,
             target,
             cycle_ms,
@@ -207,6 +217,7 @@ fn main() -> ExitCode {
             &common.files,
             common.lang.as_deref(),
             common.dialect.as_deref(),
+            &commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs),
         ),
         Some(Command::Explain { code }) => commands::explain(code.as_deref()),
         Some(Command::Difftest {
@@ -224,6 +235,10 @@ fn main() -> ExitCode {
             files: cli.build.common.files,
             lang: cli.build.common.lang,
             dialect: cli.build.common.dialect,
+            plcopen: commands::PlcopenFlags::new(
+                cli.build.common.plcopen_order,
+                cli.build.common.strict_rungs,
+            ),
             target: cli.build.target,
             output: cli.build.output,
             emit: cli.build.emit,

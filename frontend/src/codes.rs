@@ -294,6 +294,13 @@ codes! {
          variable (or typed literal) wired to its inputs; here there is none.\n\
          \n    [ADD IN1:=5 IN2:=3]--+--> (two other blocks)     error: 5 and 3 have no type\n\
          \n    [ADD IN1:=INT#5 IN2:=3]--+--> ...                  fix";
+    W_PLCOPEN_IGNORED = "W0740", "ignored under the chosen PLCopen profile",
+        "Under the editors' profiles (`--plcopen-order xml2st`, `openplc3`, `beremiz`), plcc \
+         gives a diagram the meaning the editor's translator (PLCGenerator) gives it, and \
+         that translator writes nothing for jumps, labels and returns in LD and FBD \
+         bodies: they do nothing. The standard profile (`iec`, the default) runs them.\n\
+         \n    plcc run --plcopen-order openplc3 prog.xml   (* warning: the jump is ignored *)\n\
+         \n    plcc run prog.xml                           (* the jump is taken when powered *)";
 
     // ---- PLC-UD STL (E072x) ----
     STL_UNEXPECTED_CHAR = "E0720", "unexpected character in STL",

@@ -127,9 +127,13 @@ pub fn compile(
                 // The ladder file becomes IL text, a source file of its own, which the
                 // IL front end reads; diagnostics about it go back to the XML below.
                 let name = sources.get(file).name.clone();
-                let Some(c) =
-                    plcopen::convert(file, &name, &sources.get(file).text, &mut diagnostics)
-                else {
+                let Some(c) = plcopen::convert(
+                    file,
+                    &name,
+                    &sources.get(file).text,
+                    &opts.plcopen,
+                    &mut diagnostics,
+                ) else {
                     // Reported; an empty unit keeps `units` in step with `inputs`.
                     units.push(ast::SourceUnit {
                         file,

@@ -59,6 +59,8 @@ pub struct LowerOptions {
     /// (the module is then [`plcc_ir::Module::unchecked_pointers`]), `VAR_INPUT
     /// CONSTANT`, implicit conversions between bit strings and numbers.
     pub codesys: bool,
+    /// How PLCopen XML files are read (the profile, the rung rules).
+    pub plcopen: crate::plcopen::Options,
 }
 
 /// One declared variable of a POU.

@@ -154,6 +154,10 @@ pub(crate) struct Context<'a> {
     pub pou: &'a str,
     /// The POU is a FUNCTION (no memory for edge contacts).
     pub function: bool,
+    /// The ladder editor's style rules are errors (`--strict-rungs`).
+    pub strict: bool,
+    /// A ladder body (the style rules apply); else a function block diagram.
+    pub ladder: bool,
 }
 
 /// Builds and checks the graph of a body. Errors go to `diags`; the graph is returned
@@ -511,75 +515,67 @@ impl Builder<'_, '_, '_> {
         self.diags.last_mut().expect("just pushed")
     }
 
+    /// A style rule of the ladder editor broken: a warning, or an error under
+    /// `--strict-rungs`.
+    fn rule(&mut self, code: &'static str, e: usize, msg: String) -> &mut Diagnostic {
+        let span = self.span(e);
+        self.rule_at(code, span, msg)
+    }
+
+    fn rule_at(&mut self, code: &'static str, span: Span, msg: String) -> &mut Diagnostic {
+        let d = self.severity(code, msg, span);
+        self.diags.push(d);
+        self.diags.last_mut().expect("just pushed")
+    }
+
+    /// A diagnostic for a style rule: a warning, or an error under `--strict-rungs`.
+    fn severity(&self, code: &'static str, msg: String, span: Span) -> Diagnostic {
+        if self.cx.strict {
+            Diagnostic::error(code, msg, span)
+        } else {
+            Diagnostic::warning(code, msg, span)
+        }
+    }
+
+    fn _unused_rule_at(&mut self, code: &'static str, span: Span, msg: String) -> &mut Diagnostic {
+        let d = Diagnostic::warning(code, msg, span);
+        self.diags.push(d);
+        self.diags.last_mut().expect("just pushed")
+    }
+
     /// Orders and checks one rung.
     fn check_rung(&mut self, g: &Graph, number: usize, members: Vec<usize>) -> Rung {
         let errors_before = self.diags.len();
         let positions = members.iter().all(|&e| self.elems[e].pos.is_some());
-        let in_rung: Vec<bool> = {
-            let mut v = vec![false; self.elems.len()];
-            for &e in &members {
-                v[e] = true;
+        // Evaluation order: by data flow, loops cut at blocks; a loop through
+        // contacts and coils alone has no meaning.
+        let order = match super::order::network(g, &members) {
+            Ok(o) => o,
+            Err(stuck) => {
+                let msg = format!(
+                    "feedback loop in rung {number} of `{}`: the output of {} comes back to its \
+                     own input through contacts and coils only",
+                    self.cx.pou,
+                    self.name(stuck)
+                );
+                self.error(codes::LD_LOOP, stuck, msg).notes.push(
+                    "power flows from left to right only: a loop needs a block to cut it (the \
+                     block reads the previous scan's value); or write the value with a coil and \
+                     read it with a contact"
+                        .into(),
+                );
+                return Rung {
+                    number,
+                    order: members,
+                    net: None,
+                };
             }
-            v
         };
-        // Evaluation order: ready elements, topmost then leftmost first.
-        let mut waiting: FxHashMap<usize, usize> = FxHashMap::default();
-        for &e in &members {
-            let n = g.ins[e]
-                .iter()
-                .flatten()
-                .filter(|s| in_rung[s.elem])
-                .count();
-            waiting.insert(e, n);
-        }
-        let mut order = Vec::with_capacity(members.len());
-        let mut ready: Vec<usize> = members
-            .iter()
-            .copied()
-            .filter(|e| waiting[e] == 0)
-            .collect();
-        while !ready.is_empty() {
-            let (i, _) = ready
-                .iter()
-                .enumerate()
-                .min_by(|(_, &a), (_, &b)| {
-                    self.key(a, positions)
-                        .partial_cmp(&self.key(b, positions))
-                        .unwrap_or(std::cmp::Ordering::Equal)
-                })
-                .expect("not empty");
-            let e = ready.swap_remove(i);
-            order.push(e);
-            for port in &g.outs[e] {
-                for &(c, _) in port {
-                    if let Some(w) = waiting.get_mut(&c) {
-                        *w -= 1;
-                        if *w == 0 {
-                            ready.push(c);
-                        }
-                    }
-                }
-            }
-        }
-        if order.len() < members.len() {
-            let stuck = members
-                .iter()
-                .copied()
-                .find(|e| !order.contains(e))
-                .expect("some element is left");
-            let msg = format!(
-                "feedback loop in rung {number} of `{}`: the output of {} comes back to its own input",
-                self.cx.pou,
-                self.name(stuck)
-            );
-            self.error(codes::LD_LOOP, stuck, msg).notes.push(
-                "power flows from left to right only: a rung cannot feed itself; use a variable \
-                 (a coil, then a contact on it) to pass a value to the next scan"
-                    .into(),
-            );
+        let _ = positions;
+        if !self.cx.ladder {
             return Rung {
                 number,
-                order: members,
+                order,
                 net: None,
             };
         }
@@ -588,7 +584,7 @@ impl Builder<'_, '_, '_> {
         self.short_circuits(g, number, &order);
         self.upper_parallels(g, number, &order);
         self.block_inputs(g, number, &order);
-        let net = if self.diags.len() == errors_before {
+        let net = if self.diags.len() == errors_before || !self.cx.strict {
             self.series_parallel(g, number, &order)
         } else {
             None
@@ -613,7 +609,7 @@ impl Builder<'_, '_, '_> {
                     self.cx.pou,
                     self.name(e)
                 );
-                self.error(codes::LD_OPEN_CIRCUIT, e, msg)
+                self.rule(codes::LD_OPEN_CIRCUIT, e, msg)
                     .notes
                     .push("connect it to the left rail or to the element before it".into());
                 continue;
@@ -628,7 +624,7 @@ impl Builder<'_, '_, '_> {
                         self.cx.pou,
                         self.name(e)
                     );
-                    self.error(codes::LD_OPEN_CIRCUIT, e, msg).notes.push(
+                    self.rule(codes::LD_OPEN_CIRCUIT, e, msg).notes.push(
                         "connect its right side to a coil, a block or another contact".into(),
                     );
                 }
@@ -646,7 +642,7 @@ impl Builder<'_, '_, '_> {
                         self.name(e),
                         self.cx.pou
                     );
-                    self.error(codes::LD_COIL_ON_RAIL, e, msg).notes.push(
+                    self.rule(codes::LD_COIL_ON_RAIL, e, msg).notes.push(
                         "a coil takes its power through at least one contact; to write TRUE on \
                          every scan, use a contact on a variable that is always TRUE"
                             .into(),
@@ -689,7 +685,8 @@ impl Builder<'_, '_, '_> {
                                 self.name(e),
                                 self.name(b.elem)
                             );
-                            let d = Diagnostic::error(codes::LD_SHORT_CIRCUIT, msg, conn)
+                            let d = self
+                                .severity(codes::LD_SHORT_CIRCUIT, msg, conn)
                                 .with_label("this connection is in parallel with the branch")
                                 .with_secondary(self.span(b.elem), "this branch is always bypassed")
                                 .with_note(
@@ -806,7 +803,8 @@ impl Builder<'_, '_, '_> {
                 self.name(upper),
                 self.name(other)
             );
-            let d = Diagnostic::error(codes::LD_UPPER_PARALLEL, msg, self.span(upper))
+            let d = self
+                .severity(codes::LD_UPPER_PARALLEL, msg, self.span(upper))
                 .with_secondary(self.span(other), "the main line")
                 .with_note(
                     "draw parallel branches below the main line, as the rung is read top to bottom",
@@ -869,7 +867,7 @@ impl Builder<'_, '_, '_> {
                         ty.value
                     )
                 };
-                self.error(codes::LD_BLOCK_INPUT, e, msg).notes.push(note);
+                self.rule(codes::LD_BLOCK_INPUT, e, msg).notes.push(note);
             }
         }
     }
@@ -1179,7 +1177,7 @@ impl Builder<'_, '_, '_> {
                 self.cx.pou,
                 self.name(e)
             );
-            self.error(codes::LD_BRIDGE, e, msg).notes.push(
+            self.rule(codes::LD_BRIDGE, e, msg).notes.push(
                 "power flows left to right along series and parallel connections only; a wire \
                  from the middle of one branch into another has no meaning in ladder: split the \
                  rung, or repeat the contacts on each branch"

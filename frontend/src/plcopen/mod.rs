@@ -15,18 +15,72 @@
 //!
 //! `--emit il` prints the text of step 3, `--emit ld-text` the rungs drawn by `text`.
 
+mod body;
 mod decls;
 pub(crate) mod graph;
 pub mod map;
+mod order;
 pub(crate) mod text;
-pub(crate) mod to_il;
 mod view;
+mod wiretype;
 pub(crate) mod xml;
 
 #[cfg(test)]
 mod tests;
 
 use plcc_ir::diag::{Diagnostic, FileId};
+
+/// Whose meaning a diagram gets where the standard and the editors differ
+/// (`--plcopen-order`, docs/plcopen.md).
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum Profile {
+    /// IEC 61131-3: each element evaluated once per scan, network by network, in
+    /// data-flow order (then `executionOrderId`, then position); jumps, labels and
+    /// returns run; a coil passes on its power.
+    #[default]
+    Iec,
+    /// OpenPLC Editor v4's translator (xml2st): every statement's formula read when it
+    /// runs, statements sorted by position, one edge detector per visit.
+    Xml2st,
+    /// OpenPLC Editor v3: as xml2st, in document order (variables and coils, then
+    /// blocks, then connectors), and a coil with several wires passes on their AND.
+    Openplc3,
+    /// Beremiz: as OpenPLC Editor v3.
+    Beremiz,
+}
+
+impl Profile {
+    /// The profile named on the command line.
+    pub fn from_name(s: &str) -> Option<Profile> {
+        Some(match s.to_ascii_lowercase().as_str() {
+            "iec" => Profile::Iec,
+            "xml2st" | "openplc4" | "openplc-v4" => Profile::Xml2st,
+            "openplc3" | "openplc-v3" => Profile::Openplc3,
+            "beremiz" => Profile::Beremiz,
+            _ => return None,
+        })
+    }
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Profile::Iec => "iec",
+            Profile::Xml2st => "xml2st",
+            Profile::Openplc3 => "openplc3",
+            Profile::Beremiz => "beremiz",
+        }
+    }
+}
+
+/// How PLCopen files are read.
+#[derive(Clone, Debug, Default)]
+pub struct Options {
+    /// The meaning of diagrams where the standard and the editors differ.
+    pub profile: Profile,
+    /// The ladder editor's style rules (open circuits, short circuits, upper parallel
+    /// branches, bridges, coils on the left rail) are errors rather than warnings.
+    pub strict_rungs: bool,
+}
 
 /// A ladder file converted: its IL view, the map back to the XML, and its drawing.
 pub struct Converted {
@@ -49,6 +103,7 @@ pub fn convert(
     file: FileId,
     name: &str,
     text: &str,
+    opts: &Options,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<Converted> {
     std::thread::scope(|s| {
@@ -57,7 +112,7 @@ pub fn convert(
             .name("plcc-ladder".into())
             .stack_size(STACK)
             .spawn_scoped(s, || {
-                let r = convert_here(file, name, text, &mut own);
+                let r = convert_here(file, name, text, opts, &mut own);
                 (r, own)
             });
         match job.map(|h| h.join()) {
@@ -68,7 +123,7 @@ pub fn convert(
             // A panic in the conversion is a bug: report it rather than go on.
             Ok(Err(p)) => std::panic::resume_unwind(p),
             // No thread to be had: convert on this one.
-            Err(_) => convert_here(file, name, text, diags),
+            Err(_) => convert_here(file, name, text, opts, diags),
         }
     })
 }
@@ -77,6 +132,7 @@ fn convert_here(
     file: FileId,
     name: &str,
     text: &str,
+    opts: &Options,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<Converted> {
     let errors = |d: &[Diagnostic]| d.iter().filter(|x| x.is_error()).count();
@@ -86,11 +142,13 @@ fn convert_here(
         .pous
         .iter()
         .map(|pou| match &pou.body {
-            xml::Body::Graph(_, elems) => {
+            xml::Body::Graph(lang, elems) => {
                 let cx = graph::Context {
                     file,
                     pou: &pou.name.value,
                     function: pou.kind == xml::PouKind::Function,
+                    strict: opts.strict_rungs,
+                    ladder: *lang == xml::Graphic::Ld,
                 };
                 graph::build(elems, &cx, diags)
             }
@@ -100,7 +158,7 @@ fn convert_here(
     if errors(diags) > before {
         return None;
     }
-    let out = view::write(&project, &graphs, file, name, diags);
+    let out = view::write(&project, &graphs, file, name, opts, diags);
     if errors(diags) > before {
         return None;
     }

@@ -6,10 +6,10 @@
 //! configurations. The front end compiles that text like any source file, and
 //! `--emit il` prints it.
 
+use super::body::{emit_body, write_hidden, Names, PouCtx};
 use super::decls::{comment_safe, write_config, write_group, write_type, write_value};
 use super::graph::Graph;
 use super::map::Out;
-use super::to_il::{emit_body, write_hidden, Names, PouCtx};
 use super::xml::{Body, PouKind, Project, Var};
 use plcc_ir::diag::{Diagnostic, FileId};
 
@@ -21,6 +21,7 @@ pub(crate) fn write(
     graphs: &[Option<Graph>],
     file: FileId,
     file_name: &str,
+    opts: &super::Options,
     diags: &mut Vec<Diagnostic>,
 ) -> Out {
     let mut o = Out::default();
@@ -89,13 +90,14 @@ pub(crate) fn write(
         }
         match (&pou.body, graphs.get(i).and_then(Option::as_ref)) {
             (Body::Graph(..), Some(g)) => {
-                let mut names = Names::new(project, pou, &globals, g);
+                let mut names = Names::new(project, pou, &globals);
                 let ctx = PouCtx {
                     project,
                     pou: &pou.name.value,
                     pou_vars: &pou.groups,
                     globals: &globals,
                     file,
+                    opts,
                 };
                 let lines = emit_body(g, &ctx, &mut names, diags);
                 write_hidden(&mut o, &names);

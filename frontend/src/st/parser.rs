@@ -121,6 +121,7 @@ struct Syms {
     resource: Symbol,
     pointer: Symbol,
     ref_: Symbol,
+    jmp: Symbol,
     extends: Symbol,
     implements: Symbol,
     r_edge: Symbol,
@@ -150,6 +151,7 @@ impl Syms {
             resource: i.intern_upper("RESOURCE"),
             pointer: i.intern_upper("POINTER"),
             ref_: i.intern_upper("REF"),
+            jmp: i.intern_upper("JMP"),
             extends: i.intern_upper("EXTENDS"),
             implements: i.intern_upper("IMPLEMENTS"),
             r_edge: i.intern_upper("R_EDGE"),
@@ -2300,6 +2302,34 @@ impl<'a> Parser<'a> {
             }
             Tok::If | Tok::Case | Tok::For | Tok::While | Tok::Repeat => self.compound_stmt(t),
             Tok::Exit | Tok::Continue | Tok::Return => self.jump_stmt(t),
+            // CODESYS's `JMP label;` and `label:` (the PLCopen front end writes them
+            // for jumps and labels of diagrams).
+            Tok::Ident
+                if self.at_sym(0, self.s.jmp)
+                    && self.peek_at(1) == Tok::Ident
+                    && self.peek_at(2) == Tok::Semi =>
+            {
+                self.bump();
+                let l = self.tok();
+                self.bump();
+                self.bump();
+                let label = Ident {
+                    sym: Symbol(l.data),
+                    span: self.tspan(l),
+                };
+                let span = self.span_from(t.start);
+                push(&mut self.stmts, StmtKind::Goto(label), span);
+            }
+            Tok::Ident if self.peek_at(1) == Tok::Colon => {
+                self.bump();
+                self.bump();
+                let label = Ident {
+                    sym: Symbol(t.data),
+                    span: self.tspan(t),
+                };
+                let span = self.tspan(t);
+                push(&mut self.stmts, StmtKind::Label(label), span);
+            }
             Tok::Ident | Tok::Address => self.simple_stmt(),
             _ => {
                 self.expected("a statement");
