@@ -498,7 +498,8 @@ impl Lower<'_, '_, '_, '_> {
                 Err(_) => continue,
             };
             let at = self.lines.len();
-            if self.g.rungs.len() > 1 {
+            let commented = self.g.rungs.len() > 1;
+            if commented {
                 self.lines.push(Line {
                     parts: vec![part(format!("(* network {} *)", n + 1))],
                     elem: None,
@@ -508,7 +509,7 @@ impl Lower<'_, '_, '_, '_> {
             for e in order {
                 self.visit(e);
             }
-            if self.lines.len() == at + 1 {
+            if commented && self.lines.len() == at + 1 {
                 // Nothing came of it: no comment either.
                 self.lines.pop();
             }
@@ -527,7 +528,7 @@ impl Lower<'_, '_, '_, '_> {
                 self.memo.insert(
                     Src { elem: e, port: 0 },
                     Memo {
-                        x: and(t, input),
+                        x: and(input, t),
                         power: true,
                     },
                 );
@@ -717,7 +718,7 @@ impl Lower<'_, '_, '_, '_> {
                 let (var, negated, edge) = (var.clone(), *negated, *edge);
                 let input = self.input(s.elem, 0);
                 let t = self.modified(term(&var), negated, edge, s.elem);
-                and(t, input)
+                and(input, t)
             }
             Kind::Coil { .. } => {
                 let p = self.input(s.elem, 0);

@@ -45,21 +45,31 @@ fn elem(id: u32, tag: &str, var: &str, from: &[u32], attrs: &str) -> String {
 
 fn convert_text(xml: &str) -> (Option<Converted>, Vec<Diagnostic>) {
     let mut diags = Vec::new();
-    let c = convert(FileId(1), "t.xml", xml, &mut diags);
+    let c = convert(
+        FileId(1),
+        "t.xml",
+        xml,
+        &super::Options::default(),
+        &mut diags,
+    );
     (c, diags)
 }
 
-/// The IL of the body of `p` (from its first rung to END_PROGRAM, comments dropped).
-fn body_il(elems: &str) -> String {
+/// The statements of the body of `p` (after its declarations, to END_PROGRAM,
+/// comments dropped).
+fn body_st(elems: &str) -> String {
     let (c, diags) = convert_text(&project(elems));
     assert!(diags.is_empty(), "{diags:#?}");
-    let il = c.expect("converted").il;
-    let start = il.find("(* rung 1 *)").expect("a rung");
-    il[start..]
+    let text = c.expect("converted").il;
+    let start = text.find("PROGRAM p").expect("the program");
+    let body = &text[start..];
+    let body = &body[..body.find("END_PROGRAM").expect("the end")];
+    let start = body.rfind("END_VAR\n").map_or(0, |i| i + 8);
+    body[start..]
         .lines()
+        .map(str::trim)
         .filter(|l| !l.starts_with("(*"))
         .take_while(|l| *l != "END_PROGRAM")
-        .map(str::trim)
         .collect::<Vec<_>>()
         .join("\n")
 }
@@ -73,7 +83,7 @@ fn codes_of(elems: &str) -> Vec<&'static str> {
 #[test]
 fn the_seeds_example() {
     // ((a AND b) OR c OR d) AND e, the seed's X0.0 ... X0.5.
-    let il = body_il(
+    let il = body_st(
         &[
             contact(2, "a", &[1]),
             contact(3, "b", &[2]),
@@ -84,13 +94,13 @@ fn the_seeds_example() {
         ]
         .concat(),
     );
-    assert_eq!(il, "LD a\nAND b\nOR c\nOR d\nAND e\nST x");
+    assert_eq!(il, "x := (a AND b OR c OR d) AND e;");
 }
 
 #[test]
-fn a_parallel_block_after_a_contact_is_deferred() {
+fn a_parallel_block_after_a_contact_is_the_or_of_its_paths() {
     // a AND (b OR (c AND d)): the contact before the block is read once.
-    let il = body_il(
+    let il = body_st(
         &[
             contact(2, "a", &[1]),
             contact(3, "b", &[2]),
@@ -100,12 +110,12 @@ fn a_parallel_block_after_a_contact_is_deferred() {
         ]
         .concat(),
     );
-    assert_eq!(il, "LD a\nAND( b\nOR( c\nAND d\n)\n)\nST x");
+    assert_eq!(il, "x := a AND b OR a AND c AND d;");
 }
 
 #[test]
-fn coils_in_parallel_and_in_series_go_on_from_the_current_result() {
-    let il = body_il(
+fn coils_in_parallel_and_in_series_pass_their_power_on() {
+    let il = body_st(
         &[
             contact(2, "a", &[1]),
             coil(3, "x", &[2]),
@@ -115,12 +125,12 @@ fn coils_in_parallel_and_in_series_go_on_from_the_current_result() {
         ]
         .concat(),
     );
-    assert_eq!(il, "LD a\nST x\nST y\nAND b\nSTN z");
+    assert_eq!(il, "x := a;\ny := a;\nz := NOT(a AND b);");
 }
 
 #[test]
 fn set_and_reset_coils() {
-    let il = body_il(
+    let il = body_st(
         &[
             contact(2, "a", &[1]),
             elem(3, "coil", "x", &[2], " storage=\"set\""),
@@ -129,13 +139,16 @@ fn set_and_reset_coils() {
         ]
         .concat(),
     );
-    assert_eq!(il, "LD a\nS x\nLD b\nR x");
+    assert_eq!(
+        il,
+        "IF a THEN x := TRUE; END_IF;\nIF b THEN x := FALSE; END_IF;"
+    );
 }
 
 #[test]
-fn a_compound_fork_is_kept_in_a_temporary_only_when_loaded_again() {
-    // a AND b feeds c->x and d->y: the second branch loads it back.
-    let il = body_il(
+fn a_fork_is_read_by_both_branches() {
+    // a AND b feeds c->x and d->y.
+    let il = body_st(
         &[
             contact(2, "a", &[1]),
             contact(3, "b", &[2]),
@@ -146,12 +159,9 @@ fn a_compound_fork_is_kept_in_a_temporary_only_when_loaded_again() {
         ]
         .concat(),
     );
-    assert_eq!(
-        il,
-        "LD a\nAND b\nST _TMP3\nAND c\nST x\nLD _TMP3\nAND d\nST y"
-    );
-    // Two coils on the fork: no temporary.
-    let il = body_il(
+    assert_eq!(il, "x := a AND b AND c;\ny := a AND b AND d;");
+    // Two coils on the fork.
+    let il = body_st(
         &[
             contact(2, "a", &[1]),
             contact(3, "b", &[2]),
@@ -160,12 +170,12 @@ fn a_compound_fork_is_kept_in_a_temporary_only_when_loaded_again() {
         ]
         .concat(),
     );
-    assert_eq!(il, "LD a\nAND b\nST x\nST y");
+    assert_eq!(il, "x := a AND b;\ny := a AND b;");
 }
 
 #[test]
-fn edge_contacts_call_their_detector_at_the_start_of_the_rung() {
-    let il = body_il(
+fn edge_contacts_call_their_detector_on_their_variable() {
+    let il = body_st(
         &[
             contact(2, "a", &[1]),
             elem(3, "contact", "b", &[2], " edge=\"falling\""),
@@ -173,12 +183,12 @@ fn edge_contacts_call_their_detector_at_the_start_of_the_rung() {
         ]
         .concat(),
     );
-    assert_eq!(il, "CAL _F_TRIG3(CLK := b)\nLD a\nAND _F_TRIG3.Q\nST x");
+    assert_eq!(il, "F_TRIG1(CLK := b);\nx := a AND F_TRIG1.Q;");
 }
 
 #[test]
 fn edge_coils_detect_the_edge_of_their_power() {
-    let il = body_il(
+    let il = body_st(
         &[
             contact(2, "a", &[1]),
             elem(3, "coil", "x", &[2], " edge=\"rising\""),
@@ -187,15 +197,12 @@ fn edge_coils_detect_the_edge_of_their_power() {
         ]
         .concat(),
     );
-    assert_eq!(
-        il,
-        "LD a\nST _R_TRIG3.CLK\nCAL _R_TRIG3\nLD _R_TRIG3.Q\nST x\nLD a\nAND b\nST y"
-    );
+    assert_eq!(il, "R_TRIG1(CLK := a);\nx := R_TRIG1.Q;\ny := a AND b;");
 }
 
 #[test]
 fn a_continuation_is_what_is_wired_to_its_connector() {
-    let il = body_il(&[
+    let il = body_st(&[
         contact(2, "a", &[1]),
         "<connector localId=\"3\" name=\"c1\"><connectionPointIn><connection refLocalId=\"2\"/></connectionPointIn></connector>\n".to_string(),
         "<continuation localId=\"4\" name=\"c1\"/>\n".to_string(),
@@ -203,24 +210,24 @@ fn a_continuation_is_what_is_wired_to_its_connector() {
         coil(6, "x", &[5]),
     ]
     .concat());
-    assert_eq!(il, "LD a\nAND b\nST x");
+    assert_eq!(il, "x := a AND b;");
 }
 
 #[test]
 fn variables_in_the_power_flow() {
-    let il = body_il(&[
+    let il = body_st(&[
         "<inVariable localId=\"2\"><expression>a</expression></inVariable>\n".to_string(),
         contact(3, "b", &[2]),
         "<outVariable localId=\"4\" negated=\"true\"><connectionPointIn><connection refLocalId=\"3\"/></connectionPointIn><expression>x</expression></outVariable>\n".to_string(),
     ]
     .concat());
-    assert_eq!(il, "LD a\nAND b\nSTN x");
+    assert_eq!(il, "x := NOT(a AND b);");
 }
 
 #[test]
 fn rungs_and_branches_without_positions_go_in_document_order() {
     // Two rungs interleaved in the document: rung order follows the first element.
-    let il = body_il(
+    let il = body_st(
         &[
             contact(2, "a", &[1]),
             contact(3, "b", &[1]),
@@ -229,12 +236,12 @@ fn rungs_and_branches_without_positions_go_in_document_order() {
         ]
         .concat(),
     );
-    assert_eq!(il, "LD a\nST x\nLD b\nST y");
+    assert_eq!(il, "x := a;\ny := b;");
 }
 
 #[test]
 fn hidden_names_avoid_the_names_of_the_pou() {
-    // A variable named `_R_TRIG2` already exists: the detector takes another name.
+    // A variable named `R_TRIG1` already exists: the detector takes the next number.
     let xml = project(
         &[
             elem(2, "contact", "a", &[1], " edge=\"rising\""),
@@ -244,11 +251,11 @@ fn hidden_names_avoid_the_names_of_the_pou() {
     )
     .replace(
         "<localVars>",
-        "<localVars><variable name=\"_R_TRIG2\"><type><BOOL/></type></variable>",
+        "<localVars><variable name=\"r_trig1\"><type><BOOL/></type></variable>",
     );
     let (c, d) = convert_text(&xml);
     assert!(d.is_empty(), "{d:#?}");
-    assert!(c.unwrap().il.contains("CAL _R_TRIG2_1(CLK := a)"));
+    assert!(c.unwrap().il.contains("R_TRIG2(CLK := a);"));
 }
 
 #[test]
