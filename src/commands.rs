@@ -53,7 +53,7 @@ impl PlcopenFlags {
                 Some(p) => p,
                 None => {
                     eprintln!(
-                        "error: unknown PLCopen profile `{name}`: use iec, xml2st, openplc3 or beremiz"
+                        "error: unknown PLCopen profile `{name}`: use iec, xml2st, openplc3, beremiz or legacy"
                     );
                     return Err(EXIT_USAGE);
                 }

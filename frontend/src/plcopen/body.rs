@@ -640,6 +640,7 @@ impl Lower<'_, '_, '_, '_> {
     fn expand(&mut self) {
         let order = match self.ctx.opts.profile {
             Profile::Xml2st => order::Order::Position,
+            Profile::Legacy => order::Order::PositionGrouped,
             _ => order::Order::Document,
         };
         for e in order::sinks(self.g.elems, order) {
@@ -740,7 +741,11 @@ impl Lower<'_, '_, '_, '_> {
     /// wires), or the AND of its wires as Beremiz and OpenPLC Editor v3 compute it.
     fn coil_passthrough(&mut self, e: usize, power: X) -> X {
         let srcs = &self.g.ins[e][0];
-        if srcs.len() < 2 || !matches!(self.ctx.opts.profile, Profile::Openplc3 | Profile::Beremiz)
+        if srcs.len() < 2
+            || !matches!(
+                self.ctx.opts.profile,
+                Profile::Openplc3 | Profile::Beremiz | Profile::Legacy
+            )
         {
             return power;
         }

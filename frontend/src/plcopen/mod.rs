@@ -47,6 +47,10 @@ pub enum Profile {
     Openplc3,
     /// Beremiz: as OpenPLC Editor v3.
     Beremiz,
+    /// The Python-2 era of both editors (Beremiz up to 2022, OpenPLC Editor up to
+    /// 2.x): as OpenPLC Editor v3, but variables and coils sorted by position, then
+    /// blocks sorted by position, then connectors.
+    Legacy,
 }
 
 impl Profile {
@@ -57,6 +61,7 @@ impl Profile {
             "xml2st" | "openplc4" | "openplc-v4" => Profile::Xml2st,
             "openplc3" | "openplc-v3" => Profile::Openplc3,
             "beremiz" => Profile::Beremiz,
+            "legacy" => Profile::Legacy,
             _ => return None,
         })
     }
@@ -68,6 +73,7 @@ impl Profile {
             Profile::Xml2st => "xml2st",
             Profile::Openplc3 => "openplc3",
             Profile::Beremiz => "beremiz",
+            Profile::Legacy => "legacy",
         }
     }
 }

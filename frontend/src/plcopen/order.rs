@@ -14,7 +14,8 @@
 //!   the elements with an `executionOrderId` first, by id; then, in document order,
 //!   every variable and coil, every block, every connector (`Order::Document`); or
 //!   all of them sorted by position as CPython's `list.sort` sorts them with the
-//!   generator's comparator (`Order::Position`).
+//!   generator's comparator (`Order::Position`); or each group sorted by position
+//!   (`Order::PositionGrouped`, the Python-2 era).
 
 use super::graph::Graph;
 use super::xml::{Element, Kind};
@@ -102,6 +103,9 @@ pub(crate) enum Order {
     Document,
     /// All of them sorted by position (OpenPLC Editor v4's xml2st).
     Position,
+    /// Variables and coils sorted by position, then blocks sorted by position, then
+    /// connectors (the Python-2 era of both editors).
+    PositionGrouped,
 }
 
 /// The sinks of a body (the elements that give a statement in PLCGenerator), in the
@@ -129,6 +133,14 @@ pub(crate) fn sinks(elems: &[Element], order: Order) -> Vec<usize> {
     ordered.sort_by_key(|&i| elems[i].order.unwrap_or(0));
     match order {
         Order::Document => {
+            ordered.extend(vars);
+            ordered.extend(blocks);
+            ordered.extend(conns);
+        }
+        Order::PositionGrouped => {
+            let by_pos = |a: usize, b: usize| position_lt(&elems[a], &elems[b]);
+            python_sort(&mut vars, by_pos);
+            python_sort(&mut blocks, by_pos);
             ordered.extend(vars);
             ordered.extend(blocks);
             ordered.extend(conns);
