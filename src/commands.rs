@@ -584,7 +584,7 @@ pub fn compile(a: &CompileArgs) -> u8 {
     let mode = match emit {
         Some("ir-raw") => Mode::Unoptimised,
         // The views of ladder files need the front end's checks only.
-        Some("il") | Some("ld-text") => Mode::Check,
+        Some("il") | Some("st") | Some("ld-text") => Mode::Check,
         _ => Mode::Full,
     };
     let (build, module) = match build_and_report(
@@ -603,15 +603,15 @@ pub fn compile(a: &CompileArgs) -> u8 {
             print_module(&module, &PrintOptions::default()).into_bytes(),
             "ir".to_string(),
         ),
-        Some(view @ ("il" | "ld-text")) => {
+        Some(view @ ("il" | "st" | "ld-text")) => {
             if build.ladder.is_empty() {
                 return usage(format!(
-                    "`--emit {view}` shows ladder diagrams: give a PLCopen XML file (.xml)"
+                    "`--emit {view}` shows what PLCopen diagrams become: give a PLCopen XML file (.xml)"
                 ));
             }
             let mut s = String::new();
             for v in &build.ladder {
-                if view == "il" {
+                if view != "ld-text" {
                     s.push_str(&build.sources.get(v.il).text);
                 } else {
                     if build.ladder.len() > 1 {
@@ -675,7 +675,7 @@ pub fn compile(a: &CompileArgs) -> u8 {
     };
     build.report_timings(&[]);
     let out = a.output.clone().unwrap_or_else(|| {
-        if matches!(ext.as_str(), "ir" | "il" | "ld-text") && a.output.is_none() {
+        if matches!(ext.as_str(), "ir" | "il" | "st" | "ld-text") && a.output.is_none() {
             PathBuf::from("-")
         } else {
             a.files[0].with_extension(&ext)

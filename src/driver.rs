@@ -57,7 +57,7 @@ pub struct Build {
     pub timings: Vec<(&'static str, Duration)>,
     /// The syntax trees (see [`plcc_frontend::Compiled::syntax`]).
     pub syntax: Vec<plcc_frontend::ast::SourceUnit>,
-    /// The ladder files and their IL views (see [`plcc_frontend::Compiled::ladder`]).
+    /// The PLCopen files and their views (see [`plcc_frontend::Compiled::ladder`]).
     pub ladder: Vec<plcc_frontend::plcopen::View>,
 }
 

@@ -59,9 +59,10 @@ struct BuildArgs {
     /// standard output)
     #[arg(short, long)]
     output: Option<PathBuf>,
-    /// What to produce: ir (optimised IR), ir-raw (unoptimised), il (the IL view of
-    /// ladder diagrams), ld-text (ladder diagrams drawn in ASCII), or a target output
-    /// (host: obj, header; pic16f876a: asm, hex; vmasm: xcp, asm)
+    /// What to produce: ir (optimised IR), ir-raw (unoptimised), st (what the LD and
+    /// FBD bodies of a PLCopen XML file become: the project as IEC text; `il` is the
+    /// same), ld-text (the diagrams drawn in ASCII), or a target output (host: obj,
+    /// header; pic16f876a: asm, hex; vmasm: xcp, asm)
     #[arg(long)]
     emit: Option<String>,
     /// PROGRAMs to instantiate (default: all)

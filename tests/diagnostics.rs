@@ -137,6 +137,21 @@ const RUNG_CODES: &[&str] = &[
     "E0743", "E0744", "E0745", "E0746", "E0747", "E0748", "E0749", "E0750",
 ];
 
+/// The ladder files that break the ladder editor's style rules: warnings by default,
+/// built here with `--strict-rungs`, which makes them errors
+/// ([`style_rules_are_warnings_by_default`] builds them without).
+const STRICT_RUNGS: &[&str] = &[
+    "ld_bridge",
+    "ld_open_circuit",
+    "ld_short_circuit",
+    "ld_upper_parallel",
+    "ld_coil_on_rail",
+    "ld_block_input",
+];
+
+/// Ladder files built under the OpenPLC Editor v3 profile (`--plcopen-order openplc3`).
+const OPENPLC3: &[&str] = &["ld_jump_ignored"];
+
 fn read_bad(file: &str) -> (String, Vec<u8>) {
     let rel = format!("tests/bad/{file}");
     let bytes =
@@ -153,7 +168,12 @@ fn check_bad(name: &str) {
     let mut inputs = vec![(rel.clone(), bytes)];
     inputs.extend(expect.with.iter().map(|f| read_bad(f)));
 
-    let build = std::panic::catch_unwind(|| build_sources(inputs, &BuildOptions::default()))
+    let mut opts = BuildOptions::default();
+    opts.plcopen.strict_rungs = STRICT_RUNGS.contains(&name);
+    if OPENPLC3.contains(&name) {
+        opts.plcopen.profile = plcc_frontend::plcopen::Profile::Openplc3;
+    }
+    let build = std::panic::catch_unwind(|| build_sources(inputs, &opts))
         .unwrap_or_else(|_| panic!("{rel}: plcc panicked"))
         .unwrap_or_else(|e| panic!("{rel}: {e}"));
     let rendered = plcc::render::render(&build.sources, &build.diagnostics);
@@ -206,6 +226,27 @@ fn check_bad(name: &str) {
     insta::with_settings!({ description => expect.header.as_str(), omit_expression => true }, {
         insta::assert_snapshot!(name, rendered);
     });
+}
+
+/// Without `--strict-rungs`, a rung that breaks a style rule compiles, with the same
+/// codes as warnings: the editors accept and run such rungs.
+#[test]
+fn style_rules_are_warnings_by_default() {
+    for name in STRICT_RUNGS {
+        let (rel, bytes) = read_bad(&bad_file(name));
+        let build = build_sources(vec![(rel.clone(), bytes)], &BuildOptions::default())
+            .unwrap_or_else(|e| panic!("{rel}: {e}"));
+        let rendered = plcc::render::render(&build.sources, &build.diagnostics);
+        assert!(!build.failed(), "{rel} must compile:\n{rendered}");
+        assert!(
+            !build.diagnostics.is_empty()
+                && build
+                    .diagnostics
+                    .iter()
+                    .all(|d| d.severity == Severity::Warning && RUNG_CODES.contains(&d.code)),
+            "{rel}: expected rung warnings only:\n{rendered}"
+        );
+    }
 }
 
 macro_rules! bad {
@@ -416,7 +457,8 @@ bad! {
     // Ladder diagrams (PLCopen XML): the file
     ld_malformed_xml,
     ld_not_plcopen,
-    ld_fbd_body,
+    ld_sfc_body,
+    ld_jump_ignored,
     ld_pous_in_add_data,
     ld_bad_element,
     ld_duplicate_id,
@@ -652,7 +694,7 @@ fn exit_statuses_of_il_and_stl() {
         ("tests/bad/il_not_with_operand.il", 0, "warning[W0703]"),
         ("tests/programs/st/cpdev/dialect.cst", 0, "warning[W0208]"),
     ] {
-        let o = plcc(&["check", file]);
+        let o = plcc(&["check", "--strict-rungs", file]);
         let err = stderr(&o);
         assert_eq!(status(&o), status_want, "plcc check {file}: stderr:\n{err}");
         assert!(err.contains(code), "plcc check {file}: stderr:\n{err}");

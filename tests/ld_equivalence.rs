@@ -64,7 +64,8 @@ fn module(path: &Path) -> Result<Module, String> {
         let d: Vec<String> = b.diagnostics.iter().map(|d| d.to_string()).collect();
         return Err(format!("diagnostics:\n      {}", d.join("\n      ")));
     }
-    b.module.ok_or_else(|| "no module and no diagnostics".into())
+    b.module
+        .ok_or_else(|| "no module and no diagnostics".into())
 }
 
 /// A variable written at random: one of a program instance (`inst.x`), not a member
@@ -94,9 +95,9 @@ fn every_ladder_program_computes_what_its_il_twin_computes() {
                     }
                     Ok(Some(_)) => {}
                     Ok(None) => problems.push(format!("{stem}: the interpreter cannot run it")),
-                    Err(e) => problems.push(format!(
-                        "{stem}: the ladder and its IL twin differ {e}"
-                    )),
+                    Err(e) => {
+                        problems.push(format!("{stem}: the ladder and its IL twin differ {e}"))
+                    }
                 }
             }
             (a, b) => {

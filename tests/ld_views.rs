@@ -1,9 +1,10 @@
-//! The views of ladder files the binary prints: `--emit ld-text` (the rungs drawn in
-//! ASCII) and `--emit il` (the IL they become), with their exit statuses.
+//! The views of PLCopen files the binary prints: `--emit ld-text` (the rungs drawn in
+//! ASCII) and `--emit st` (the project as IEC text, its diagrams lowered to ST; `il`
+//! is the same), with their exit statuses.
 //!
 //! The drawings of every program of `tests/programs/ld/` are one insta snapshot, so a
 //! change of the drawing (or of how a program is read) shows as a diff to review; the
-//! IL view of one program is another. Review with `cargo insta review`.
+//! ST view of one program is another. Review with `cargo insta review`.
 
 use std::path::Path;
 use std::process::{Command, Output};
@@ -55,15 +56,16 @@ fn ld_text_of_every_program() {
 }
 
 #[test]
-fn il_view_of_a_program() {
-    let o = plcc(&["--emit", "il", "tests/programs/ld/counter_reset.xml"]);
+fn st_view_of_a_program() {
+    let o = plcc(&["--emit", "st", "tests/programs/ld/counter_reset.xml"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     insta::assert_snapshot!(stdout(&o));
 }
 
-/// The IL view is IL that plcc compiles to the program the ladder is.
+/// The view is text that plcc compiles to the program the diagram is (saved as `.il`,
+/// the Instruction List front end reads it, ST bodies and all).
 #[test]
-fn the_il_view_compiles_to_the_same_ir() {
+fn the_view_compiles_to_the_same_ir() {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ld_views");
     std::fs::create_dir_all(&dir).unwrap();
     for p in programs() {
@@ -91,7 +93,7 @@ fn the_il_view_compiles_to_the_same_ir() {
 #[test]
 fn views_of_files_that_are_not_ladder_or_not_valid() {
     // Not a ladder file: a usage error, exit 2.
-    for view in ["il", "ld-text"] {
+    for view in ["il", "st", "ld-text"] {
         let o = plcc(&["--emit", view, "examples/traffic_light.st"]);
         assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
         assert!(
@@ -102,7 +104,12 @@ fn views_of_files_that_are_not_ladder_or_not_valid() {
         assert!(o.stdout.is_empty());
     }
     // A ladder with errors: exit 1, the diagnostics, nothing printed.
-    let o = plcc(&["--emit", "il", "tests/bad/ld_short_circuit.xml"]);
+    let o = plcc(&[
+        "--emit",
+        "st",
+        "--strict-rungs",
+        "tests/bad/ld_short_circuit.xml",
+    ]);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("error[E0745]"), "{}", stderr(&o));
     assert!(o.stdout.is_empty());

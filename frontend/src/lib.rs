@@ -86,7 +86,7 @@ pub struct Compiled {
     /// The syntax trees, handed back so that a short-lived caller (the command line)
     /// can skip freeing them node by node.
     pub syntax: Vec<ast::SourceUnit>,
-    /// The ladder files of the build and their IL views (for `--emit il`, `ld-text`).
+    /// The PLCopen files of the build and their views (for `--emit st`, `ld-text`).
     pub ladder: Vec<plcopen::View>,
 }
 

@@ -552,6 +552,8 @@ impl Lower<'_, '_, '_, '_> {
                 self.memo_outputs(e);
             }
             Kind::OutVariable { .. } | Kind::InOutVariable { .. } => self.variable(e),
+            // An unconnected jump or return does nothing.
+            Kind::Jump { .. } | Kind::Return if self.g.ins[e][0].is_empty() => {}
             Kind::Jump { label } => {
                 let label = label.clone();
                 let p = self.input(e, 0);
@@ -866,14 +868,26 @@ impl Lower<'_, '_, '_, '_> {
         self.push(s, e);
     }
 
-    /// True if `e` is a block whose EN input is wired.
+    /// True if `e` is a block whose EN input is wired (to anything but the left rail
+    /// alone, which is EN always TRUE).
     fn en_wired(&self, e: usize) -> bool {
+        self.en_port(e).is_some()
+    }
+
+    /// The EN input of block `e`, if it is wired to anything but the left rail alone.
+    fn en_port(&self, e: usize) -> Option<usize> {
         let k = &self.elem(e).kind;
-        matches!(k, Kind::Block { .. })
-            && (0..self.g.ins[e].len()).any(|p| {
-                input_name(k, p).is_some_and(|n| n.eq_ignore_ascii_case("EN"))
-                    && !self.g.ins[e][p].is_empty()
-            })
+        if !matches!(k, Kind::Block { .. }) {
+            return None;
+        }
+        (0..self.g.ins[e].len()).find(|&p| {
+            let srcs = &self.g.ins[e][p];
+            input_name(k, p).is_some_and(|n| n.eq_ignore_ascii_case("EN"))
+                && !srcs.is_empty()
+                && !srcs
+                    .iter()
+                    .any(|s| matches!(self.elem(s.elem).kind, Kind::LeftRail))
+        })
     }
 
     /// The variable holding ENO of block `e` (made when the block is called).
@@ -1076,8 +1090,13 @@ impl Lower<'_, '_, '_, '_> {
             _ => String::new(),
         };
         let standard = !is_fb && !self.project_pou(&ty);
+        let en = self.en_port(e);
         let mut args = Vec::new();
         for (port, (pname, negated, edge)) in pins.into_iter().enumerate() {
+            if pname.value.eq_ignore_ascii_case("EN") && Some(port) != en {
+                // Not wired, or wired to the left rail: the block always runs.
+                continue;
+            }
             if self.g.ins[e][port].is_empty() {
                 if port >= n_in {
                     let msg = format!(
@@ -1184,7 +1203,11 @@ impl Lower<'_, '_, '_, '_> {
             // A standard function computes nothing but its results: none is used.
             return;
         }
-        let mut named_form = !standard || self.g.ins[e].iter().any(|w| w.is_empty());
+        let k = &self.elem(e).kind;
+        let mut named_form = !standard
+            || self.g.ins[e].iter().enumerate().any(|(p, w)| {
+                w.is_empty() && !input_name(k, p).is_some_and(|n| n.eq_ignore_ascii_case("EN"))
+            });
         for (port, name) in outs.iter().enumerate() {
             if Some(port) == primary || name.eq_ignore_ascii_case("ENO") {
                 continue;

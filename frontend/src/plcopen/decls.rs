@@ -1,4 +1,4 @@
-//! The declarations of the IL view of a PLCopen file: data types, variable blocks with
+//! The declarations of the view of a PLCopen file: data types, variable blocks with
 //! their initial values, and the configurations with their resources, tasks and
 //! program instances, written as IEC text (`to_il` writes the bodies).
 

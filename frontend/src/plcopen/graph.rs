@@ -609,9 +609,16 @@ impl Builder<'_, '_, '_> {
                     self.cx.pou,
                     self.name(e)
                 );
+                let what = if matches!(k, Kind::Contact { .. } | Kind::Coil { .. }) {
+                    "plcc takes it as connected to the left rail, as the editors do"
+                } else {
+                    "it does nothing"
+                };
                 self.rule(codes::LD_OPEN_CIRCUIT, e, msg)
                     .notes
-                    .push("connect it to the left rail or to the element before it".into());
+                    .push(format!(
+                        "{what}; connect it to the left rail or to the element before it"
+                    ));
                 continue;
             }
             if let Kind::Contact { .. } = k {
@@ -625,7 +632,9 @@ impl Builder<'_, '_, '_> {
                         self.name(e)
                     );
                     self.rule(codes::LD_OPEN_CIRCUIT, e, msg).notes.push(
-                        "connect its right side to a coil, a block or another contact".into(),
+                        "the contact does nothing: connect its right side to a coil, a block or \
+                         another contact"
+                            .into(),
                     );
                 }
             }
@@ -643,8 +652,8 @@ impl Builder<'_, '_, '_> {
                         self.cx.pou
                     );
                     self.rule(codes::LD_COIL_ON_RAIL, e, msg).notes.push(
-                        "a coil takes its power through at least one contact; to write TRUE on \
-                         every scan, use a contact on a variable that is always TRUE"
+                        "the coil writes TRUE on every scan, as the editors run it; the ladder \
+                         editor's style wants at least one contact before a coil"
                             .into(),
                     );
                 }
@@ -1178,9 +1187,10 @@ impl Builder<'_, '_, '_> {
                 self.name(e)
             );
             self.rule(codes::LD_BRIDGE, e, msg).notes.push(
-                "power flows left to right along series and parallel connections only; a wire \
-                 from the middle of one branch into another has no meaning in ladder: split the \
-                 rung, or repeat the contacts on each branch"
+                "power flows in the direction of the wires, so each coil gets the OR of every \
+                 path from the left rail to it (as the editors compute it); the ladder editor's \
+                 style wants series-parallel rungs: split the rung, or repeat the contacts on each \
+                 branch"
                     .into(),
             );
         }

@@ -1,6 +1,6 @@
 //! The IL made from a ladder file, and the map from its text back to the XML.
 //!
-//! The IL view is a source file of its own (so that it can be parsed by the IL front
+//! The view is a source file of its own (so that it can be parsed by the IL front
 //! end, printed by `--emit il` and shown in listings); the map sends a diagnostic about
 //! it back to the XML element it was made from: exactly where the text is copied
 //! verbatim from the file (a variable's name, an ST body), else to the element.

@@ -88,11 +88,12 @@ pub struct Options {
     pub strict_rungs: bool,
 }
 
-/// A ladder file converted: its IL view, the map back to the XML, and its drawing.
+/// A PLCopen file converted: its view (the project as IEC text), the map back to the
+/// XML, and its drawing.
 pub struct Converted {
-    /// The IL view: IEC source text with the ladder bodies as IL.
+    /// The view: IEC source text, the graphical bodies lowered to ST.
     pub il: String,
-    /// From the IL view back to the XML.
+    /// From the view back to the XML.
     pub map: map::SpanMap,
     /// The ladder bodies drawn as ASCII (`--emit ld-text`).
     pub ld_text: String,
@@ -176,19 +177,19 @@ fn convert_here(
     })
 }
 
-/// A ladder file of a build and its IL view.
+/// A PLCopen file of a build and its view.
 pub struct View {
     /// The XML file.
     pub xml: FileId,
-    /// Its IL view, a source file of the build too.
+    /// Its view, a source file of the build too.
     pub il: FileId,
-    /// From the IL view back to the XML.
+    /// From the view back to the XML.
     pub map: map::SpanMap,
     /// The ladder bodies drawn as ASCII.
     pub ld_text: String,
 }
 
-/// Moves the spans of diagnostics about IL views back to their XML files.
+/// Moves the spans of diagnostics about views back to their XML files.
 pub fn remap_all(views: &[View], diags: &mut [Diagnostic]) {
     for d in diags {
         for v in views {
@@ -197,8 +198,8 @@ pub fn remap_all(views: &[View], diags: &mut [Diagnostic]) {
     }
 }
 
-/// The name of the IL view of the ladder file `name`, as diagnostics and listings
+/// The name of the view of the PLCopen file `name`, as diagnostics and listings
 /// show it.
 pub fn il_view_name(name: &str) -> String {
-    format!("{name} (as IL)")
+    format!("{name} (as ST)")
 }

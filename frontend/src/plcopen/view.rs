@@ -13,7 +13,7 @@ use super::map::Out;
 use super::xml::{Body, PouKind, Project, Var};
 use plcc_ir::diag::{Diagnostic, FileId};
 
-/// Writes the IL view of a project. `graphs[i]` is the checked graph of POU `i`'s
+/// Writes the view of a project. `graphs[i]` is the checked graph of POU `i`'s
 /// ladder body. Errors (a block output whose type cannot be told, a construct not
 /// supported) go to `diags`.
 pub(crate) fn write(
@@ -26,7 +26,7 @@ pub(crate) fn write(
 ) -> Out {
     let mut o = Out::default();
     o.push(&format!(
-        "(* The IL view of {}, made by plcc from its PLCopen XML. *)\n",
+        "(* {}, as IEC 61131-3 text: made by plcc from its PLCopen XML. *)\n",
         comment_safe(file_name)
     ));
     if !project.types.is_empty() {
