@@ -210,7 +210,7 @@ struct Builder<'m, 'c, 'd> {
     cx: &'c Context<'c>,
     diags: &'d mut Vec<Diagnostic>,
     /// `localId` to element index.
-    index: FxHashMap<u32, usize>,
+    index: FxHashMap<u64, usize>,
     /// The rung of each element (index into the rung list), `usize::MAX` for rails.
     rung_of: Vec<usize>,
     /// The rung numbers known so far (for messages before the rungs are checked).
@@ -449,7 +449,7 @@ impl Builder<'_, '_, '_> {
             if rail(k) {
                 continue;
             }
-            let conns: Vec<u32> = match k {
+            let conns: Vec<u64> = match k {
                 Kind::Block {
                     inputs, in_outs, ..
                 } => inputs

@@ -326,7 +326,7 @@ pub(crate) enum Storage {
 #[derive(Debug)]
 pub(crate) struct Element {
     /// `localId`.
-    pub id: u32,
+    pub id: u64,
     /// From `<` through the `localId` attribute: what diagnostics underline.
     pub tag: Range<u32>,
     /// `<position x y>`, if given.
@@ -362,7 +362,7 @@ pub(crate) struct Port {
 #[derive(Debug)]
 pub(crate) struct Conn {
     /// The element it comes from.
-    pub from: u32,
+    pub from: u64,
     /// The output of that element (a block's), if named.
     pub param: Option<Text>,
     /// Where the connection is written.

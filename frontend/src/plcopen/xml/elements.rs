@@ -52,7 +52,7 @@ impl Reader<'_, '_> {
                     );
                     continue;
                 };
-                let Ok(from) = r.value.parse::<u32>() else {
+                let Ok(from) = r.value.parse::<u64>() else {
                     self.error(
                         codes::LD_BAD_ELEMENT,
                         format!("`refLocalId=\"{}\"` is not a number", r.value),
@@ -85,7 +85,7 @@ impl Reader<'_, '_> {
         e: Node,
         child: &'static str,
         what: &str,
-        id: u32,
+        id: u64,
         pou: &str,
     ) -> Option<Text> {
         let t = kid(e, child).map(|c| self.text(c).trimmed());
@@ -148,7 +148,7 @@ impl Reader<'_, '_> {
             self.error(codes::LD_BAD_ELEMENT, msg, tag);
             return None;
         };
-        let Ok(id) = id_text.value.parse::<u32>() else {
+        let Ok(id) = id_text.value.parse::<u64>() else {
             self.error(
                 codes::LD_BAD_ELEMENT,
                 format!("`localId=\"{}\"` is not a number", id_text.value),
