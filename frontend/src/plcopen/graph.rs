@@ -755,6 +755,12 @@ impl Builder<'_, '_, '_> {
     /// input above every output feeding it a branch leaving upwards.
     fn upper_parallels(&mut self, g: &Graph, number: usize, order: &[usize]) {
         const SLACK: f64 = 0.5;
+        // Positions that are all the same (a file written by a tool, not drawn) say
+        // nothing about the drawing.
+        let first = order.first().and_then(|&e| self.elems[e].pos);
+        if order.iter().all(|&e| self.elems[e].pos == first) {
+            return;
+        }
         let rail = |e: usize| matches!(self.elems[e].kind, Kind::LeftRail | Kind::RightRail);
         let mut junctions: Vec<(Vec<Src>, Vec<Endpoint>)> = Vec::new();
         let mut index: FxHashMap<Vec<Src>, usize> = FxHashMap::default();

@@ -16,9 +16,19 @@
 //! between `+` junctions; where a block has several inputs or outputs in the power
 //! flow, the wires say which (`>R`, `CV>`). The drawing follows the rung's
 //! series-parallel structure, not the positions in the file.
+//!
+//! What cannot be drawn so (a function block diagram, a rung that is not
+//! series-parallel) is listed as a netlist, one element per line in the order it is
+//! evaluated, each input with what is wired to it:
+//!
+//! ```text
+//! network 1
+//!   #2 [ADD] IN1 <- {a}, IN2 <- #2.OUT
+//!   #3 {=x} <- #2.OUT
+//! ```
 
 use super::graph::{input_name, output_name, Graph, Net};
-use super::xml::{Edge, Element, Kind, PouKind, Project, Storage};
+use super::xml::{Body, Edge, Element, Graphic, Kind, PouKind, Project, Storage};
 
 /// Draws every ladder body of the project.
 pub(crate) fn render(project: &Project, graphs: &[Option<Graph>]) -> String {
@@ -36,6 +46,13 @@ pub(crate) fn render(project: &Project, graphs: &[Option<Graph>]) -> String {
             out.push('\n');
         }
         out.push_str(&format!("(* {kind} {} *)\n", pou.name.value));
+        if matches!(pou.body, Body::Graph(Graphic::Fbd, _)) {
+            for rung in &g.rungs {
+                out.push_str(&format!("network {}\n", rung.number));
+                netlist(g, &rung.order, &mut out);
+            }
+            continue;
+        }
         for rung in &g.rungs {
             if let [e] = rung.order.as_slice() {
                 if let Kind::Label { label } = &g.elems[*e].kind {
@@ -44,6 +61,10 @@ pub(crate) fn render(project: &Project, graphs: &[Option<Graph>]) -> String {
                 }
             }
             out.push_str(&format!("rung {}\n", rung.number));
+            if rung.net.is_none() {
+                netlist(g, &rung.order, &mut out);
+                continue;
+            }
             let mut drawn = Vec::new();
             if let Some(net) = &rung.net {
                 collect(net, &mut drawn);
@@ -69,6 +90,63 @@ pub(crate) fn render(project: &Project, graphs: &[Option<Graph>]) -> String {
         }
     }
     out
+}
+
+/// One line per element of `order`: the element and what is wired to its inputs.
+fn netlist(g: &Graph, order: &[usize], out: &mut String) {
+    let src = |s: super::graph::Src| -> String {
+        let el = &g.elems[s.elem];
+        match &el.kind {
+            Kind::LeftRail => "|".to_string(),
+            Kind::InVariable { expr, negated } => {
+                let n = if *negated { "NOT " } else { "" };
+                format!("{{{n}{}}}", expr.value)
+            }
+            Kind::InOutVariable { expr } => format!("{{{}}}", expr.value),
+            Kind::Block { .. } => format!(
+                "#{}.{}",
+                el.id,
+                output_name(&el.kind, s.port).unwrap_or("?")
+            ),
+            _ => format!("#{}", el.id),
+        }
+    };
+    for &e in order {
+        let el = &g.elems[e];
+        let what = match &el.kind {
+            Kind::InVariable { .. } | Kind::LeftRail | Kind::RightRail => continue,
+            Kind::OutVariable { expr, negated } => {
+                let n = if *negated { "NOT " } else { "" };
+                format!("{{={n}{}}}", expr.value)
+            }
+            Kind::InOutVariable { expr } => format!("{{={}}}", expr.value),
+            Kind::Block { ty, instance, .. } => match instance {
+                Some(i) => format!("[{} {}]", ty.value, i.value),
+                None => format!("[{}]", ty.value),
+            },
+            Kind::Connector { name } => format!(">{}>", name.value),
+            Kind::Continuation { .. } => continue,
+            _ => glyph(g, e),
+        };
+        let mut ins = Vec::new();
+        for (port, srcs) in g.ins[e].iter().enumerate() {
+            if srcs.is_empty() {
+                continue;
+            }
+            let from: Vec<String> = srcs.iter().map(|&s| src(s)).collect();
+            let from = from.join(" | ");
+            match input_name(&el.kind, port) {
+                Some(p) => ins.push(format!("{p} <- {from}")),
+                None => ins.push(format!("<- {from}")),
+            }
+        }
+        out.push_str(&format!("  #{} {what}", el.id));
+        if !ins.is_empty() {
+            out.push(' ');
+            out.push_str(&ins.join(", "));
+        }
+        out.push('\n');
+    }
 }
 
 /// The elements a net draws.
