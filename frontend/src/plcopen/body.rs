@@ -334,6 +334,10 @@ fn idents(s: &str, out: &mut Vec<String>) {
                 }
                 continue;
             }
+            // `x.member`: the member is not a variable of the POU.
+            if s[..start].trim_end().ends_with('.') {
+                continue;
+            }
             out.push(s[start..i].to_ascii_uppercase());
         } else if c.is_ascii_digit() {
             while i < b.len()

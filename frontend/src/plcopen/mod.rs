@@ -27,6 +27,8 @@ pub(crate) mod xml;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_body;
 
 use plcc_ir::diag::{Diagnostic, FileId};
 
