@@ -262,8 +262,9 @@ pub struct RunArgs {
     pub program: Option<String>,
     /// `--scans`
     pub scans: u64,
-    /// `--cycle-ms`
-    pub cycle_ms: u64,
+    /// `--cycle-ms`; without it, the tasks' common tick, else 10 ms
+    /// ([`scenario::Cycle::of`]).
+    pub cycle_ms: Option<u64>,
     /// `--timing`: report the time the scans took.
     pub timing: bool,
     /// `-s KEY=VALUE` target settings.
@@ -336,6 +337,8 @@ pub fn run(a: &RunArgs) -> u8 {
         Ok(p) => p,
         Err(s) => return s,
     };
+    let cycle = scenario::Cycle::of(&module, a.cycle_ms);
+    eprintln!("{cycle}");
     let copy = module.clone();
     let t = std::time::Instant::now();
     let mut m = match targets::machine_owned(target, copy, &a.settings) {
@@ -351,7 +354,7 @@ pub fn run(a: &RunArgs) -> u8 {
         m.cold_start().map_err(|e| e.to_string())?;
         let started = std::time::Instant::now();
         for k in 0..a.scans {
-            m.set_clock_us((k * a.cycle_ms * 1000) as i64);
+            m.set_clock_us((k * cycle.ms * 1000) as i64);
             m.scan().map_err(|e| format!("scan {k}: {e}"))?;
         }
         scan_time = started.elapsed();
@@ -422,8 +425,9 @@ pub struct TestArgs {
     pub scenario: PathBuf,
     /// `--target`
     pub target: String,
-    /// `--cycle-ms`
-    pub cycle_ms: u64,
+    /// `--cycle-ms`; without it, the tasks' common tick, else 10 ms
+    /// ([`scenario::Cycle::of`]).
+    pub cycle_ms: Option<u64>,
     /// `-s KEY=VALUE` target settings.
     pub settings: Vec<(String, String)>,
 }
@@ -468,7 +472,9 @@ pub fn test(a: &TestArgs) -> u8 {
             return EXIT_FAIL;
         }
     };
-    let out = scenario::run(&scn, m.as_mut(), &program, a.cycle_ms);
+    let cycle = scenario::Cycle::of(&module, a.cycle_ms);
+    eprintln!("{cycle}");
+    let out = scenario::run(&scn, m.as_mut(), &program, cycle.ms);
     for c in &out.checks {
         if c.ok {
             println!("ok    line {}: {}", c.line, c.text);

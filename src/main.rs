@@ -86,9 +86,11 @@ enum Command {
         /// Number of scans
         #[arg(long, default_value_t = 1)]
         scans: u64,
-        /// Cycle time in milliseconds (scan k, from 0, runs with the clock at k * cycle)
-        #[arg(long, default_value_t = 10)]
-        cycle_ms: u64,
+        /// Cycle time in milliseconds (scan k, from 0, runs with the clock at k * cycle);
+        /// default: the greatest common divisor of the configuration's task
+        /// intervals, else 10
+        #[arg(long)]
+        cycle_ms: Option<u64>,
         /// Print the time the scans took (cold start and compilation excluded)
         #[arg(long)]
         timing: bool,
@@ -106,9 +108,10 @@ enum Command {
         /// Where to run it: host (JIT), interp, pic16f876a (simulator), vmasm (plcc's VM)
         #[arg(long, default_value = "host")]
         target: String,
-        /// Clock step of `run N` in milliseconds
-        #[arg(long, default_value_t = 10)]
-        cycle_ms: u64,
+        /// Clock step of `run N` in milliseconds; default: the greatest common divisor
+        /// of the configuration's task intervals, else 10
+        #[arg(long)]
+        cycle_ms: Option<u64>,
         /// A target setting KEY=VALUE (vmasm: mode=16|32|32a; pic16f876a: pin.%IX0.0=RA2)
         #[arg(short = 's', long = "set", value_parser = parse_setting)]
         set: Vec<(String, String)>,
