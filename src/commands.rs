@@ -32,6 +32,7 @@ fn parse_lang(lang: Option<&str>) -> Result<Option<Lang>, UsageError> {
 /// The returned build's module has been taken out into the second value.
 fn build_and_report<P: AsRef<Path>>(
     files: &[P],
+    library: &[PathBuf],
     lang: Option<&str>,
     dialect: Option<&str>,
     programs: Vec<String>,
@@ -54,7 +55,7 @@ fn build_and_report<P: AsRef<Path>>(
         no_opt: mode == Mode::Unoptimised,
         check_only: mode == Mode::Check,
     };
-    let mut build = driver::build_files(files, &opts).map_err(usage)?;
+    let mut build = driver::build_files(files, library, &opts).map_err(usage)?;
     render::to_stderr(&build.sources, &build.diagnostics);
     // The syntax trees are no longer needed and the process ends soon: skip freeing
     // them node by node.
@@ -82,8 +83,13 @@ enum Mode {
 }
 
 /// `plcc check FILE...`
-pub fn check(files: &[PathBuf], lang: Option<&str>, dialect: Option<&str>) -> u8 {
-    match build_and_report(files, lang, dialect, Vec::new(), Mode::Check) {
+pub fn check(
+    files: &[PathBuf],
+    library: &[PathBuf],
+    lang: Option<&str>,
+    dialect: Option<&str>,
+) -> u8 {
+    match build_and_report(files, library, lang, dialect, Vec::new(), Mode::Check) {
         Ok((build, module)) => {
             build.report_timings(&[]);
             std::mem::forget(module);
@@ -252,6 +258,8 @@ pub fn explain(code: Option<&str>) -> u8 {
 pub struct RunArgs {
     /// Source files.
     pub files: Vec<PathBuf>,
+    /// Library files (`--lib`): declarations for the rest of the build.
+    pub library: Vec<PathBuf>,
     /// `--lang`
     pub lang: Option<String>,
     /// `--dialect`
@@ -325,6 +333,7 @@ pub fn run(a: &RunArgs) -> u8 {
     let programs: Vec<String> = a.program.iter().cloned().collect();
     let (build, module) = match build_and_report(
         &a.files,
+        &a.library,
         a.lang.as_deref(),
         a.dialect.as_deref(),
         programs,
@@ -417,6 +426,8 @@ pub fn run(a: &RunArgs) -> u8 {
 pub struct TestArgs {
     /// Source files.
     pub files: Vec<PathBuf>,
+    /// Library files (`--lib`): declarations for the rest of the build.
+    pub library: Vec<PathBuf>,
     /// `--lang`
     pub lang: Option<String>,
     /// `--dialect`
@@ -453,6 +464,7 @@ pub fn test(a: &TestArgs) -> u8 {
     let programs: Vec<String> = scn.program.iter().cloned().collect();
     let (build, module) = match build_and_report(
         &a.files,
+        &a.library,
         a.lang.as_deref(),
         a.dialect.as_deref(),
         programs,
@@ -504,6 +516,8 @@ pub fn test(a: &TestArgs) -> u8 {
 pub struct CompileArgs {
     /// Source files.
     pub files: Vec<PathBuf>,
+    /// Library files (`--lib`): declarations for the rest of the build.
+    pub library: Vec<PathBuf>,
     /// `--lang`
     pub lang: Option<String>,
     /// `--dialect`
@@ -541,6 +555,7 @@ pub fn compile(a: &CompileArgs) -> u8 {
     };
     let (build, module) = match build_and_report(
         &a.files,
+        &a.library,
         a.lang.as_deref(),
         a.dialect.as_deref(),
         a.programs.clone(),

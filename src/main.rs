@@ -30,6 +30,11 @@ struct Cli {
 struct Common {
     /// Source files (.st, .il, .stl, .xml; the language comes from the extension or --lang)
     files: Vec<PathBuf>,
+    /// A library file, in any language plcc reads: its POUs and types are declared
+    /// for the other files (e.g. stubs of a vendor's blocks); its PROGRAMs run only
+    /// when named by --program or a configuration. Repeatable.
+    #[arg(long = "lib", value_name = "FILE")]
+    lib: Vec<PathBuf>,
     /// The language of all files: st, il, stl, xml
     #[arg(long)]
     lang: Option<String>,
@@ -182,6 +187,7 @@ fn main() -> ExitCode {
             set,
         }) => commands::run(&commands::RunArgs {
             files: common.files,
+            library: common.lib,
             lang: common.lang,
             dialect: common.dialect,
             target,
@@ -199,6 +205,7 @@ fn main() -> ExitCode {
             set,
         }) => commands::test(&commands::TestArgs {
             files: common.files,
+            library: common.lib,
             lang: common.lang,
             dialect: common.dialect,
             scenario,
@@ -208,6 +215,7 @@ fn main() -> ExitCode {
         }),
         Some(Command::Check { common }) => commands::check(
             &common.files,
+            &common.lib,
             common.lang.as_deref(),
             common.dialect.as_deref(),
         ),
@@ -225,6 +233,7 @@ fn main() -> ExitCode {
         }
         None => commands::compile(&commands::CompileArgs {
             files: cli.build.common.files,
+            library: cli.build.common.lib,
             lang: cli.build.common.lang,
             dialect: cli.build.common.dialect,
             target: cli.build.target,

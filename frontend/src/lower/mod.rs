@@ -59,6 +59,9 @@ pub struct LowerOptions {
     /// (the module is then [`plcc_ir::Module::unchecked_pointers`]), `VAR_INPUT
     /// CONSTANT`, implicit conversions between bit strings and numbers.
     pub codesys: bool,
+    /// Library files (`--lib`): declarations for the rest of the build. Their PROGRAMs
+    /// run only when `programs` or a configuration names them.
+    pub library: Vec<plcc_ir::diag::FileId>,
 }
 
 /// One declared variable of a POU.
