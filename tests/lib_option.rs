@@ -60,8 +60,21 @@ fn has_lines(out: &str, lines: &[&str], what: &str) {
 
 #[test]
 fn the_program_does_not_compile_without_its_library() {
+    // One error per unknown block, however often it is used, suggesting `--lib`.
     let o = plcc(&["check", PROGRAM]);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let err = stderr(&o);
+    for block in ["python_eval", "csv_read_by_int"] {
+        let head = format!("error[E0203]: unknown type `{block}`");
+        assert_eq!(err.matches(&head).count(), 1, "{err}");
+        assert!(
+            err.contains(&format!("`{block}` is used in 3 places")),
+            "{err}"
+        );
+    }
+    assert_eq!(err.matches("also used here").count(), 4, "{err}");
+    assert_eq!(err.matches("`--lib FILE`").count(), 2, "{err}");
+    assert!(err.contains("could not compile: 2 error(s)"), "{err}");
     let o = plcc(&["check", PROGRAM, "--lib", STUBS]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(!stderr(&o).contains("error"), "{}", stderr(&o));
