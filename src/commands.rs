@@ -70,6 +70,7 @@ impl PlcopenFlags {
 /// The returned build's module has been taken out into the second value.
 fn build_and_report<P: AsRef<Path>>(
     files: &[P],
+    library: &[PathBuf],
     lang: Option<&str>,
     dialect: Option<&str>,
     plcopen: &PlcopenFlags,
@@ -95,7 +96,7 @@ fn build_and_report<P: AsRef<Path>>(
         no_opt: mode == Mode::Unoptimised,
         check_only: mode == Mode::Check,
     };
-    let mut build = driver::build_files(files, &opts).map_err(usage)?;
+    let mut build = driver::build_files(files, library, &opts).map_err(usage)?;
     render::to_stderr(&build.sources, &build.diagnostics);
     // The syntax trees are no longer needed and the process ends soon: skip freeing
     // them node by node.
@@ -125,11 +126,12 @@ enum Mode {
 /// `plcc check FILE...`
 pub fn check(
     files: &[PathBuf],
+    library: &[PathBuf],
     lang: Option<&str>,
     dialect: Option<&str>,
     plcopen: &PlcopenFlags,
 ) -> u8 {
-    match build_and_report(files, lang, dialect, plcopen, Vec::new(), Mode::Check) {
+    match build_and_report(files, library, lang, dialect, plcopen, Vec::new(), Mode::Check) {
         Ok((build, module)) => {
             build.report_timings(&[]);
             std::mem::forget(module);
@@ -298,6 +300,8 @@ pub fn explain(code: Option<&str>) -> u8 {
 pub struct RunArgs {
     /// Source files.
     pub files: Vec<PathBuf>,
+    /// Library files (`--lib`): declarations for the rest of the build.
+    pub library: Vec<PathBuf>,
     /// `--lang`
     pub lang: Option<String>,
     /// `--dialect`
@@ -310,8 +314,9 @@ pub struct RunArgs {
     pub program: Option<String>,
     /// `--scans`
     pub scans: u64,
-    /// `--cycle-ms`
-    pub cycle_ms: u64,
+    /// `--cycle-ms`; without it, the tasks' common tick, else 10 ms
+    /// ([`scenario::Cycle::of`]).
+    pub cycle_ms: Option<u64>,
     /// `--timing`: report the time the scans took.
     pub timing: bool,
     /// `-s KEY=VALUE` target settings.
@@ -372,6 +377,7 @@ pub fn run(a: &RunArgs) -> u8 {
     let programs: Vec<String> = a.program.iter().cloned().collect();
     let (build, module) = match build_and_report(
         &a.files,
+        &a.library,
         a.lang.as_deref(),
         a.dialect.as_deref(),
         &a.plcopen,
@@ -385,6 +391,8 @@ pub fn run(a: &RunArgs) -> u8 {
         Ok(p) => p,
         Err(s) => return s,
     };
+    let cycle = scenario::Cycle::of(&module, a.cycle_ms);
+    eprintln!("{cycle}");
     let copy = module.clone();
     let t = std::time::Instant::now();
     let mut m = match targets::machine_owned(target, copy, &a.settings) {
@@ -400,7 +408,7 @@ pub fn run(a: &RunArgs) -> u8 {
         m.cold_start().map_err(|e| e.to_string())?;
         let started = std::time::Instant::now();
         for k in 0..a.scans {
-            m.set_clock_us((k * a.cycle_ms * 1000) as i64);
+            m.set_clock_us((k * cycle.ms * 1000) as i64);
             m.scan().map_err(|e| format!("scan {k}: {e}"))?;
         }
         scan_time = started.elapsed();
@@ -463,6 +471,8 @@ pub fn run(a: &RunArgs) -> u8 {
 pub struct TestArgs {
     /// Source files.
     pub files: Vec<PathBuf>,
+    /// Library files (`--lib`): declarations for the rest of the build.
+    pub library: Vec<PathBuf>,
     /// `--lang`
     pub lang: Option<String>,
     /// `--dialect`
@@ -473,8 +483,9 @@ pub struct TestArgs {
     pub scenario: PathBuf,
     /// `--target`
     pub target: String,
-    /// `--cycle-ms`
-    pub cycle_ms: u64,
+    /// `--cycle-ms`; without it, the tasks' common tick, else 10 ms
+    /// ([`scenario::Cycle::of`]).
+    pub cycle_ms: Option<u64>,
     /// `-s KEY=VALUE` target settings.
     pub settings: Vec<(String, String)>,
 }
@@ -500,6 +511,7 @@ pub fn test(a: &TestArgs) -> u8 {
     let programs: Vec<String> = scn.program.iter().cloned().collect();
     let (build, module) = match build_and_report(
         &a.files,
+        &a.library,
         a.lang.as_deref(),
         a.dialect.as_deref(),
         &a.plcopen,
@@ -520,7 +532,9 @@ pub fn test(a: &TestArgs) -> u8 {
             return EXIT_FAIL;
         }
     };
-    let out = scenario::run(&scn, m.as_mut(), &program, a.cycle_ms);
+    let cycle = scenario::Cycle::of(&module, a.cycle_ms);
+    eprintln!("{cycle}");
+    let out = scenario::run(&scn, m.as_mut(), &program, cycle.ms);
     for c in &out.checks {
         if c.ok {
             println!("ok    line {}: {}", c.line, c.text);
@@ -550,6 +564,8 @@ pub fn test(a: &TestArgs) -> u8 {
 pub struct CompileArgs {
     /// Source files.
     pub files: Vec<PathBuf>,
+    /// Library files (`--lib`): declarations for the rest of the build.
+    pub library: Vec<PathBuf>,
     /// `--lang`
     pub lang: Option<String>,
     /// `--dialect`
@@ -589,6 +605,7 @@ pub fn compile(a: &CompileArgs) -> u8 {
     };
     let (build, module) = match build_and_report(
         &a.files,
+        &a.library,
         a.lang.as_deref(),
         a.dialect.as_deref(),
         &a.plcopen,

@@ -97,19 +97,27 @@ pub struct BuildOptions {
     pub check_only: bool,
 }
 
-/// Reads the files and builds them.
-pub fn build_files<P: AsRef<Path>>(files: &[P], opts: &BuildOptions) -> Result<Build, UsageError> {
+/// Reads the files and the library files (`--lib`) and builds them together.
+pub fn build_files<P: AsRef<Path>, L: AsRef<Path>>(
+    files: &[P],
+    library: &[L],
+    opts: &BuildOptions,
+) -> Result<Build, UsageError> {
     if files.is_empty() {
         return Err(UsageError("no input files".into()));
     }
-    let mut texts = Vec::new();
-    for f in files {
-        let path = f.as_ref();
-        let bytes = std::fs::read(path)
-            .map_err(|e| UsageError(format!("cannot read {}: {e}", path.display())))?;
-        texts.push((path.display().to_string(), bytes));
-    }
-    build_sources(texts, opts)
+    let read = |paths: &mut dyn Iterator<Item = &Path>| {
+        let mut texts = Vec::new();
+        for path in paths {
+            let bytes = std::fs::read(path)
+                .map_err(|e| UsageError(format!("cannot read {}: {e}", path.display())))?;
+            texts.push((path.display().to_string(), bytes));
+        }
+        Ok::<_, UsageError>(texts)
+    };
+    let texts = read(&mut files.iter().map(|f| f.as_ref()))?;
+    let library = read(&mut library.iter().map(|f| f.as_ref()))?;
+    build_sources_with_library(texts, library, opts)
 }
 
 /// Builds sources given as (name, bytes); the language comes from the options or
@@ -118,9 +126,22 @@ pub fn build_sources(
     texts: Vec<(String, Vec<u8>)>,
     opts: &BuildOptions,
 ) -> Result<Build, UsageError> {
+    build_sources_with_library(texts, Vec::new(), opts)
+}
+
+/// Builds sources and library sources (`--lib`), both given as (name, bytes). A
+/// library is compiled like any source, after them; it declares POUs and types for
+/// the rest of the build, and its PROGRAMs run only when `programs` or a
+/// configuration names them.
+pub fn build_sources_with_library(
+    texts: Vec<(String, Vec<u8>)>,
+    library: Vec<(String, Vec<u8>)>,
+    opts: &BuildOptions,
+) -> Result<Build, UsageError> {
     let mut sources = SourceMap::new();
     let mut inputs: Vec<(FileId, Lang)> = Vec::new();
-    for (name, bytes) in texts {
+    let first_library = texts.len();
+    for (name, bytes) in texts.into_iter().chain(library) {
         let lang = match opts.lang.or_else(|| Lang::from_path(&name)) {
             Some(l) => l,
             None => {
@@ -136,6 +157,7 @@ pub fn build_sources(
         programs: opts.programs.clone(),
         codesys: opts.codesys,
         plcopen: opts.plcopen.clone(),
+        library: inputs[first_library..].iter().map(|&(f, _)| f).collect(),
     };
     let compiled = plcc_frontend::compile(&mut sources, &inputs, &lower_opts);
     let mut diagnostics = compiled.diagnostics;

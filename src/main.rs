@@ -30,6 +30,11 @@ struct Cli {
 struct Common {
     /// Source files (.st, .il, .stl, .xml; the language comes from the extension or --lang)
     files: Vec<PathBuf>,
+    /// A library file, in any language plcc reads: its POUs and types are declared
+    /// for the other files (e.g. stubs of a vendor's blocks); its PROGRAMs run only
+    /// when named by --program or a configuration. Repeatable.
+    #[arg(long = "lib", value_name = "FILE")]
+    lib: Vec<PathBuf>,
     /// The language of all files: st, il, stl, xml
     #[arg(long)]
     lang: Option<String>,
@@ -95,9 +100,11 @@ enum Command {
         /// Number of scans
         #[arg(long, default_value_t = 1)]
         scans: u64,
-        /// Cycle time in milliseconds (scan k, from 0, runs with the clock at k * cycle)
-        #[arg(long, default_value_t = 10)]
-        cycle_ms: u64,
+        /// Cycle time in milliseconds (scan k, from 0, runs with the clock at k * cycle);
+        /// default: the greatest common divisor of the configuration's task
+        /// intervals, else 10
+        #[arg(long)]
+        cycle_ms: Option<u64>,
         /// Print the time the scans took (cold start and compilation excluded)
         #[arg(long)]
         timing: bool,
@@ -115,9 +122,10 @@ enum Command {
         /// Where to run it: host (JIT), interp, pic16f876a (simulator), vmasm (plcc's VM)
         #[arg(long, default_value = "host")]
         target: String,
-        /// Clock step of `run N` in milliseconds
-        #[arg(long, default_value_t = 10)]
-        cycle_ms: u64,
+        /// Clock step of `run N` in milliseconds; default: the greatest common divisor
+        /// of the configuration's task intervals, else 10
+        #[arg(long)]
+        cycle_ms: Option<u64>,
         /// A target setting KEY=VALUE (vmasm: mode=16|32|32a; pic16f876a: pin.%IX0.0=RA2)
         #[arg(short = 's', long = "set", value_parser = parse_setting)]
         set: Vec<(String, String)>,
@@ -188,6 +196,7 @@ fn main() -> ExitCode {
             set,
         }) => commands::run(&commands::RunArgs {
             files: common.files,
+            library: common.lib,
             lang: common.lang,
             dialect: common.dialect,
             plcopen: commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs),
@@ -206,6 +215,7 @@ fn main() -> ExitCode {
             set,
         }) => commands::test(&commands::TestArgs {
             files: common.files,
+            library: common.lib,
             lang: common.lang,
             dialect: common.dialect,
             plcopen: commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs),
@@ -216,6 +226,7 @@ fn main() -> ExitCode {
         }),
         Some(Command::Check { common }) => commands::check(
             &common.files,
+            &common.lib,
             common.lang.as_deref(),
             common.dialect.as_deref(),
             &commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs),
@@ -234,6 +245,7 @@ fn main() -> ExitCode {
         }
         None => commands::compile(&commands::CompileArgs {
             files: cli.build.common.files,
+            library: cli.build.common.lib,
             lang: cli.build.common.lang,
             dialect: cli.build.common.dialect,
             plcopen: commands::PlcopenFlags::new(

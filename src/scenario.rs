@@ -6,7 +6,66 @@
 
 use plcc_ir::machine::Machine;
 use plcc_ir::value::PlcValue;
-use plcc_ir::ElemType;
+use plcc_ir::{ElemType, Module};
+
+/// The cycle of `run N` for a build whose tasks have no interval (or that has no
+/// configuration), when none is asked for.
+pub const DEFAULT_CYCLE_MS: u64 = 10;
+
+/// Where the cycle of a run comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CycleFrom {
+    /// Asked for (`--cycle-ms`).
+    Asked,
+    /// The common tick of the configuration's tasks.
+    Tasks,
+    /// [`DEFAULT_CYCLE_MS`]: nothing else gives one.
+    Default,
+}
+
+/// The cycle of a run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Cycle {
+    /// Milliseconds between scans: scan k (from 0) runs with the clock at k * ms.
+    pub ms: u64,
+    /// Where it comes from.
+    pub from: CycleFrom,
+}
+
+impl Cycle {
+    /// The cycle `plcc run` and `plcc test` use for `module`: the one asked for, else
+    /// the common tick of its tasks (the greatest common divisor of their intervals,
+    /// as matiec's `common_ticktime__`, so that each task runs exactly at the ticks it
+    /// is due), else [`DEFAULT_CYCLE_MS`].
+    pub fn of(module: &Module, asked: Option<u64>) -> Cycle {
+        match (asked, module.task_tick_ms()) {
+            (Some(ms), _) => Cycle {
+                ms,
+                from: CycleFrom::Asked,
+            },
+            (None, Some(tick)) => Cycle {
+                ms: u64::from(tick),
+                from: CycleFrom::Tasks,
+            },
+            (None, None) => Cycle {
+                ms: DEFAULT_CYCLE_MS,
+                from: CycleFrom::Default,
+            },
+        }
+    }
+}
+
+impl std::fmt::Display for Cycle {
+    /// `cycle: 5 ms (the common tick of the tasks)`, the line `run` and `test` print.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let why = match self.from {
+            CycleFrom::Asked => "--cycle-ms",
+            CycleFrom::Tasks => "the common tick of the tasks: the GCD of their intervals",
+            CycleFrom::Default => "the default: no task has an interval",
+        };
+        write!(f, "cycle: {} ms ({why})", self.ms)
+    }
+}
 
 /// One command of a scenario.
 #[derive(Clone, Debug, PartialEq)]
@@ -315,5 +374,51 @@ mod tests {
         assert!(parse("frobnicate\n").is_err());
         let s = parse("entry = main\nrun_once\ncheck 5\n").unwrap();
         assert!(s.unsupported.is_some());
+    }
+
+    fn module_with_intervals(intervals: &[Option<u32>]) -> Module {
+        let mut m = Module::default();
+        for (i, &interval_ms) in intervals.iter().enumerate() {
+            m.programs.push(plcc_ir::ProgramEntry {
+                name: format!("p{i}"),
+                data: plcc_ir::DataId::new(0),
+                body: plcc_ir::FuncId::new(0),
+                init: plcc_ir::FuncId::new(0),
+                interval_ms,
+                priority: None,
+            });
+        }
+        m
+    }
+
+    #[test]
+    fn the_cycle_is_the_one_asked_else_the_tasks_tick_else_10_ms() {
+        let tasks = module_with_intervals(&[Some(10), None, Some(15)]);
+        assert_eq!(
+            Cycle::of(&tasks, None),
+            Cycle {
+                ms: 5,
+                from: CycleFrom::Tasks
+            }
+        );
+        assert_eq!(
+            Cycle::of(&tasks, Some(7)),
+            Cycle {
+                ms: 7,
+                from: CycleFrom::Asked
+            }
+        );
+        let none = module_with_intervals(&[None]);
+        assert_eq!(
+            Cycle::of(&none, None),
+            Cycle {
+                ms: DEFAULT_CYCLE_MS,
+                from: CycleFrom::Default
+            }
+        );
+        assert_eq!(
+            Cycle::of(&tasks, None).to_string(),
+            "cycle: 5 ms (the common tick of the tasks: the GCD of their intervals)"
+        );
     }
 }

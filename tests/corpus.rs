@@ -119,7 +119,9 @@ fn judge(st: &Path, expect: &Path, target: &str) -> Verdict {
             return Verdict::Fail(format!("machine: {:?}", d));
         }
     };
-    let out = scenario::run(&scn, m.as_mut(), &program, 10);
+    // The cycle `plcc test` uses: the tasks' common tick, else 10 ms.
+    let cycle = scenario::Cycle::of(&module, None);
+    let out = scenario::run(&scn, m.as_mut(), &program, cycle.ms);
     if out.passed() {
         Verdict::Pass
     } else {

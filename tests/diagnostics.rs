@@ -307,6 +307,7 @@ bad! {
     name_duplicate_pou_a,
     name_duplicate_pou_b,
     name_unknown_type,
+    name_unknown_blocks,
     name_unknown_library_type,
     name_external_without_global,
     type_external_mismatch,
@@ -475,6 +476,7 @@ bad! {
     // Ladder diagrams: the conversion, and errors of the IL made from a ladder
     ld_output_type,
     ld_undeclared,
+    ld_unknown_blocks,
 }
 
 /// Every file in `tests/bad/` has its test above, and every test its file.

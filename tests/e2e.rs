@@ -8,7 +8,9 @@
 //! Every `tests/programs/**/*.{st,il,stl,xml}` has a scenario beside it (`NAME.expect`, the
 //! `corpus-expect v1` format of `../shared/corpus/README.md`) whose expected values were
 //! computed by hand from IEC 61131-3 and `DESIGN.md`, not copied from plcc's output.
-//! Every example (`examples/**`, any language) with an `.expect` runs too.
+//! Every example (`examples/**`, any language) with an `.expect` runs too. `run N` is
+//! N scans of the cycle `plcc test` uses by default: the common tick of the
+//! configuration's tasks (`config/common_tick`, `config/task_order`), else 10 ms.
 //!
 //! - `programs_on_host`, `programs_on_interp`: every scenario passes on that machine.
 //! - `host_and_interp_agree`: the JIT and the IR interpreter hold the same value in
@@ -223,8 +225,11 @@ use plcc_ir::{ElemType, Module};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 
-/// The clock step of `run N`, as `plcc test` uses by default.
-const CYCLE_MS: u64 = 10;
+/// The clock step of `run N` for a compiled case: the rule `plcc test` follows
+/// without `--cycle-ms` (the common tick of the configuration's tasks, else 10 ms).
+fn cycle_ms(module: &Module) -> u64 {
+    scenario::Cycle::of(module, None).ms
+}
 
 /// Fewer programs than this means the discovery is broken.
 const MIN_PROGRAMS: usize = 90;
@@ -456,7 +461,7 @@ fn run_case(case: &Case, target: &str) -> Result<usize, String> {
         &built.scn,
         m.as_mut(),
         &built.program,
-        CYCLE_MS,
+        cycle_ms(&built.module),
     ))
 }
 
@@ -645,7 +650,11 @@ fn differential(case: &Case, first: &str, second: &str) -> Result<usize, String>
         .cold_start()
         .map_err(|e| format!("{second} cold start: {e}"))?;
     compare(host.as_ref(), interp.as_ref(), "after cold start")?;
-    let mut now_us: i64 = 0;
+    // The clock as `scenario::run` keeps it: `run` scans at the next cycle's time and
+    // steps it; `run_at_us T` scans at T and goes on from T + cycle.
+    let cycle = cycle_ms(&built.module);
+    let cycle_us = cycle as i64 * 1000;
+    let mut next_us: i64 = 0;
     let mut scan_at = |host: &mut dyn Machine, interp: &mut dyn Machine, t: i64, line: usize| {
         scans += 1;
         host.set_clock_us(t);
@@ -665,20 +674,22 @@ fn differential(case: &Case, first: &str, second: &str) -> Result<usize, String>
         match step {
             Step::Run(n) => {
                 for _ in 0..*n {
-                    now_us += CYCLE_MS as i64 * 1000;
-                    scan_at(host.as_mut(), interp.as_mut(), now_us, *line)?;
+                    let t = next_us;
+                    next_us += cycle_us;
+                    scan_at(host.as_mut(), interp.as_mut(), t, *line)?;
                 }
             }
             Step::Duration(secs) => {
-                let n = ((secs * 1000.0) / CYCLE_MS as f64).ceil().max(1.0) as u64;
+                let n = ((secs * 1000.0) / cycle.max(1) as f64).ceil().max(1.0) as u64;
                 for _ in 0..n {
-                    now_us += CYCLE_MS as i64 * 1000;
-                    scan_at(host.as_mut(), interp.as_mut(), now_us, *line)?;
+                    let t = next_us;
+                    next_us += cycle_us;
+                    scan_at(host.as_mut(), interp.as_mut(), t, *line)?;
                 }
             }
             Step::RunAt(t) => {
-                now_us = *t;
-                scan_at(host.as_mut(), interp.as_mut(), now_us, *line)?;
+                next_us = *t + cycle_us;
+                scan_at(host.as_mut(), interp.as_mut(), *t, *line)?;
             }
             Step::Set { var, value } => {
                 for m in [&mut host, &mut interp] {
@@ -846,7 +857,7 @@ fn programs_on_pic16() {
                 &built.scn,
                 m.as_mut(),
                 &built.program,
-                CYCLE_MS,
+                cycle_ms(&built.module),
             ))
             .map(Some)
         }));

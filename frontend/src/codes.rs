@@ -136,11 +136,11 @@ codes! {
 
     // ---- names and declarations (E02xx) ----
     E_UNDECLARED = "E0201", "name not declared",
-        "A name is used that is not a variable of the POU, its FUNCTION result, or a FUNCTION.\n\n    x := y + 1;   (* y was never declared *)\n\nDeclare it (`VAR y : INT; END_VAR`) or fix the spelling.";
+        "A name is used that is not a variable of the POU, its FUNCTION result, or a FUNCTION.\n\n    x := y + 1;   (* y was never declared *)\n\nDeclare it (`VAR y : INT; END_VAR`) or fix the spelling. A FUNCTION nothing declares is reported once, at its first use, however often it is called; the note counts the calls and the first few are shown. If it is a vendor's block (implemented by an editor's runtime, such as OpenPLC's or Beremiz's), declare it, e.g. as stubs in a file given with `--lib FILE`.";
     E_DUPLICATE = "E0202", "declared twice",
         "Two POUs, or two variables of one POU, have the same name (names ignore case).\n\n    VAR a : INT; A : BOOL; END_VAR\n\nRename one of them.";
     E_UNKNOWN_TYPE = "E0203", "unknown type",
-        "A declaration names a type that is neither elementary nor a FUNCTION_BLOCK.\n\n    VAR t : TIMER; END_VAR   (* the standard on-delay timer is TON *)";
+        "A declaration names a type that is neither elementary, nor declared by TYPE, nor a FUNCTION_BLOCK.\n\n    VAR t : TIMER; END_VAR   (* the standard on-delay timer is TON *)\n\nEach unknown name is reported once, at its first use, however many variables have the type; the note counts the uses and the first few are shown. Projects made for an editor's runtime use blocks that runtime implements in C (OpenPLC's Arduino, P1AM, MQTT blocks; Beremiz's `python_eval`, `csv_read_by_int`, SVGHMI blocks), which no IEC library declares: declare them, e.g. as stubs in a file given with `--lib FILE` (`plcc run main.st --lib stubs.st`).";
     E_NOT_A_TYPE = "E0204", "not a type",
         "A PROGRAM or FUNCTION name is used where a type is expected; only FUNCTION_BLOCKs can be instantiated.\n\n    VAR x : MyFunction; END_VAR";
     E_BAD_DECLARATION = "E0205", "invalid declaration",

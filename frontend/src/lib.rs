@@ -91,7 +91,9 @@ pub struct Compiled {
 }
 
 /// Parses, checks and lowers the given files (already in `sources`) to one module.
-/// The standard library is added to `sources` so diagnostics can point into it.
+/// The standard library is added to `sources` so diagnostics can point into it. The
+/// files of `opts.library` are compiled like the others, but their PROGRAMs run only
+/// when named (see [`LowerOptions::library`]).
 pub fn compile(
     sources: &mut SourceMap,
     inputs: &[(FileId, Lang)],
@@ -103,6 +105,8 @@ pub fn compile(
     let (std_unit, mut interner, mut diagnostics) = parse_std_library(std_file);
     let mut units = Vec::with_capacity(inputs.len() + 1);
     let mut ladder = Vec::new();
+    // A library's units: a ladder file's unit is its IL view.
+    let mut opts = std::borrow::Cow::Borrowed(opts);
     for &(file, lang) in inputs {
         match lang {
             Lang::St | Lang::Cst => units.push(st::parse(
@@ -142,6 +146,9 @@ pub fn compile(
                     continue;
                 };
                 let il_file = sources.add(SourceFile::new(plcopen::il_view_name(&name), c.il));
+                if opts.library.contains(&file) {
+                    opts.to_mut().library.push(il_file);
+                }
                 units.push(il::parse(
                     il_file,
                     &sources.get(il_file).text,
@@ -182,7 +189,7 @@ pub fn compile(
         .filter(|(_, l)| *l == Lang::Cst)
         .map(|(f, _)| *f)
         .collect();
-    let (module, mut more) = lowerer.run(1, opts);
+    let (module, mut more) = lowerer.run(1, &opts);
     diagnostics.append(&mut more);
     timings.push(("check and lower", started.elapsed()));
     plcopen::remap_all(&ladder, &mut diagnostics);

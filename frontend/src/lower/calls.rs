@@ -9,7 +9,7 @@ use super::{CallNode, Storage};
 use crate::ast::{Arg, ArgKind, Expr, ExprKind, PouKind, VarKind};
 use crate::codes;
 use crate::types::{PouId, Ty};
-use plcc_ir::diag::Span;
+use plcc_ir::diag::{Diagnostic, Span};
 use plcc_ir::{FuncId, MemType, SlotId, Type, UnaryOp, Value};
 
 /// What a call expression calls.
@@ -299,11 +299,12 @@ impl<'s> BodyCx<'_, 's> {
                     return Callee::Error;
                 }
                 let n = self.l.text(id.span).to_string();
-                self.l.error(
+                let d = Diagnostic::error(
                     codes::E_UNDECLARED,
                     format!("no FUNCTION or function block instance named `{n}`"),
                     id.span,
                 );
+                self.l.unknown_block(*id, d);
                 Callee::Error
             }
             ExprKind::Member(base, name) if matches!(self.infer(base), Ty::Fb(p) if self.l.action(p, name.sym).is_some()) =>

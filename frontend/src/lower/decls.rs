@@ -416,7 +416,7 @@ impl<'s> Lowerer<'s> {
                  plcc looks the type up as `{name}` and knows no such type"
             ));
         }
-        self.diags.push(d);
+        self.unknown_block(id, d);
         (Ty::Error, None)
     }
 

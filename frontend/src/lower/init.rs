@@ -11,7 +11,7 @@ use plcc_ir::{
 
 impl Lowerer<'_> {
     /// Creates a data object and a program entry for every PROGRAM to run: the ones
-    /// named in the options, or all of them.
+    /// named in the options, or all of them but a library's.
     pub(super) fn instantiate_programs(&mut self, opts: &super::LowerOptions) {
         if let Some(c) = self.configuration() {
             self.instantiate_configuration(c, &opts.programs);
@@ -23,6 +23,7 @@ impl Lowerer<'_> {
                 if p.kind == PouKind::Program
                     && self.used[i]
                     && Some(PouId(i as u32)) != self.globals_pou
+                    && !opts.library.contains(&self.units[p.unit as usize].file)
                 {
                     chosen.push(i);
                 }

@@ -27,6 +27,7 @@ mod refs;
 mod stmt;
 mod strings;
 mod tasks;
+mod unknown;
 mod usertypes;
 
 use crate::ast::{self, Ident, PouKind, SourceUnit, VarKind};
@@ -61,6 +62,9 @@ pub struct LowerOptions {
     pub codesys: bool,
     /// How PLCopen XML files are read (the profile, the rung rules).
     pub plcopen: crate::plcopen::Options,
+    /// Library files (`--lib`): declarations for the rest of the build. Their PROGRAMs
+    /// run only when `programs` or a configuration names them.
+    pub library: Vec<plcc_ir::diag::FileId>,
 }
 
 /// One declared variable of a POU.
@@ -183,6 +187,8 @@ pub struct Lowerer<'s> {
     /// Names declared by constructs reported as not supported (variables of
     /// sections plcc does not compile): using them gives no second error.
     unsupported_names: rustc_hash::FxHashSet<Symbol>,
+    /// Uses of block names nothing declares, merged at the end (see `unknown`).
+    unknown_uses: Vec<unknown::UnknownUse>,
     /// The synthetic POU holding every VAR_GLOBAL (see `crate::GLOBALS_POU`).
     pub(crate) globals_pou: Option<PouId>,
     /// The data object of the globals.
@@ -225,6 +231,7 @@ impl<'s> Lowerer<'s> {
             used: Vec::new(),
             pending: Vec::new(),
             unsupported_names: Default::default(),
+            unknown_uses: Vec::new(),
             globals_pou: None,
             globals_data: None,
             cpdev_files: Vec::new(),
@@ -251,6 +258,7 @@ impl<'s> Lowerer<'s> {
             self.resolve_interface(PouId(i as u32));
         }
         if !self.check_containment() {
+            self.merge_unknown_blocks();
             return (None, self.diags);
         }
         self.check_externals();
@@ -273,6 +281,7 @@ impl<'s> Lowerer<'s> {
         while let Some(p) = self.pending.pop() {
             self.lower_pou(p);
         }
+        self.merge_unknown_blocks();
         // A STRUCT's field initialisers are lowered for every variable of the type, so
         // their mistakes would be reported once per variable.
         let mut seen = rustc_hash::FxHashSet::default();
