@@ -283,6 +283,7 @@ bad! {
     // types
     type_int_from_dint,
     type_bool_arithmetic,
+    type_int_literal_to_bool,
     type_real_literal_to_int,
     type_literal_out_of_range,
     type_time_vs_int,

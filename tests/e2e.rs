@@ -117,6 +117,9 @@
 //! - `T#1h2m3s4ms`, `T#1.5s`, `LT#…`, negative durations: literals/time_literals
 //! - `1.5E3`, REAL#/LREAL#, `_` in reals: literals/real_literals
 //! - `TRUE`, `BOOL#1`, `BOOL#0`, `BOOL#TRUE`: literals/bool_literals
+//! - plain 0 and 1 as BOOLs (assigned, as inputs, beside a BOOL in logic and
+//!   comparisons, in SEL/AND/EQ, in a CONSTANT): literals/bool_digits (and
+//!   `il/bool_digits.il`)
 //!
 //! Standard functions
 //! - ABS SQRT LN LOG EXP SIN COS TAN ASIN ACOS ATAN: stdfn/math_real,

@@ -158,7 +158,7 @@ codes! {
 
     // ---- types (E03xx) ----
     E_TYPE_MISMATCH = "E0301", "type mismatch",
-        "A value of one type is used where another is needed and IEC 61131-3 does not convert it implicitly (only widening conversions are implicit: INT to DINT, REAL to LREAL, ...).\n\n    VAR i : INT; d : DINT; END_VAR\n    i := d;              (* error: narrowing *)\n    i := DINT_TO_INT(d); (* explicit conversion: fine *)";
+        "A value of one type is used where another is needed and IEC 61131-3 does not convert it implicitly (only widening conversions are implicit: INT to DINT, REAL to LREAL, ...). Of the integer literals only 0 and 1 are BOOLs (IEC's boolean literals), where a BOOL is expected or beside a BOOL operand.\n\n    VAR i : INT; d : DINT; b : BOOL; END_VAR\n    i := d;              (* error: narrowing *)\n    i := DINT_TO_INT(d); (* explicit conversion: fine *)\n    b := 2;              (* error: 2 is not a BOOL; b := 1 and b AND 0 are fine *)";
     E_LITERAL_RANGE = "E0302", "literal out of range",
         "A literal or constant does not fit the type it is given: an elementary type, a subrange (`INT (0..100)`) or the base type of an enumeration.\n\n    VAR s : SINT; p : INT (0..100); END_VAR\n    s := 200;   (* SINT holds -128..127 *)\n    p := 150;   (* the subrange holds 0..100 *)";
     E_BAD_INDEX = "E0303", "invalid index or bit access",
