@@ -225,6 +225,8 @@ bad! {
     // lexical
     lex_bad_char,
     lex_unterminated_comment,
+    lex_c_pragma,
+    lex_unterminated_c_pragma,
     lex_unterminated_string,
     lex_bad_based_number,
     lex_bad_duration,
@@ -355,6 +357,7 @@ bad! {
     il_missing_operand,
     il_operand_not_allowed,
     il_not_with_operand,
+    il_c_pragma,
     il_bad_modifier,
     il_bad_operand,
     il_unknown_operator,

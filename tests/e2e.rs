@@ -117,6 +117,8 @@
 //! - `T#1h2m3s4ms`, `T#1.5s`, `LT#…`, negative durations: literals/time_literals
 //! - `1.5E3`, REAL#/LREAL#, `_` in reals: literals/real_literals
 //! - `TRUE`, `BOOL#1`, `BOOL#0`, `BOOL#TRUE`: literals/bool_literals
+//! - pragmas holding C code (`{...}`, `{{...}}` with `}` inside) skipped, never
+//!   run as ST: pou/c_pragmas
 //! - plain 0 and 1 as BOOLs (assigned, as inputs, beside a BOOL in logic and
 //!   comparisons, in SEL/AND/EQ, in a CONSTANT): literals/bool_digits (and
 //!   `il/bool_digits.il`)

@@ -30,8 +30,9 @@ codes! {
          \n    x := a ? b;      (* error: `?` is not an operator *)\n\
          \n    x := SEL(c, b, a); (* fix: use a function or an IF *)";
     UNTERMINATED_COMMENT = "E0002", "unterminated comment or pragma",
-        "A comment `(* ... *)` or `/* ... */`, or a pragma `{ ... }`, runs to the end of the \
-         file. `(* *)` comments nest, so every `(*` inside one needs its own `*)`.\n\
+        "A comment `(* ... *)` or `/* ... */`, or a pragma `{ ... }` or `{{ ... }}`, runs to \
+         the end of the file. `(* *)` comments nest, so every `(*` inside one needs its own \
+         `*)`; a pragma `{{` ends at the first `}}` and `{` at the first `}`.\n\
          \n    (* outer (* inner *)   x := 1;   (* error: the outer comment is never closed *)\n\
          \n    (* outer (* inner *) *) x := 1;  (* fix *)";
     UNTERMINATED_STRING = "E0003", "unterminated string literal",
@@ -460,6 +461,8 @@ codes! {
         "IEC 61131-3's NOT takes no operand: it negates the current result. Some compilers (matiec) accept `NOT x`; plcc reads it as `LDN x` (load the negation of x) and says so.\n\n    NOT TRUE   (* read as LDN TRUE *)";
 
     // ---- warnings (W0xxx) ----
+    W_C_PRAGMA = "W0010", "C code in a pragma is skipped",
+        "matiec, the compiler of Beremiz and OpenPLC, copies the text of a pragma into the C it generates, so their projects inline C in ST and IL bodies: `{{ ... }}` blocks, or single pragmas such as `{__SET_VAR(data__->,Q,,TRUE);}`. plcc's targets cannot run C: the pragma is skipped, with this warning, and the ST around it is compiled; whatever the C did (set variables, call C functions, read the clock) does not happen, so rewrite it in ST if the program needs it. `{{` ends at the first `}}` and `{` at the first `}`. Pragmas of other compilers that change nothing plcc compiles are skipped silently: CODESYS and TwinCAT ones (`{attribute 'x'}`, `{warning 'x'}`, `{IF ...}`, `{region ...}`, `{flag ...}`, ...), Siemens attributes (`{S7_Optimized_Access := 'TRUE'}`) and matiec's `{disable code generation}`, `{enable code generation}` and `{#include \"f\"}`.\n\n    IF trig THEN\n    {{ printf(\"on\\n\"); }}   (* warning: skipped *)\n    END_IF;";
     W_CASE_OVERLAP = "W0304", "overlapping CASE labels",
         "A CASE label covers values an earlier label already covers. The arms are tried in order, so for those values the earlier arm runs and the later label is (partly) dead: usually a mistake.\n\n    CASE x OF 1..5: a := 1; 3: a := 2; END_CASE   (* 3 never reaches `a := 2` *)";
     W_CPDEV_INTERNAL = "W0208", "an FB instance's internal variable used from outside (CPDev dialect)",
