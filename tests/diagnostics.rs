@@ -304,6 +304,7 @@ bad! {
     type_scalar_to_array,
     type_int_literal_to_time,
     type_struct_compare,
+    type_string_compare_function,
     type_struct_mismatch,
     type_enum_mismatch,
     type_enum_ambiguous,

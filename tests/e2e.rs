@@ -135,6 +135,8 @@
 //! - BOOL ↔ numbers: stdfn/conv_bool; TIME ↔ integers in ms: stdfn/conv_time,
 //!   types/ltime_arith; REAL ↔ LREAL and integers → reals: stdfn/conv_real_lreal
 //! - TO_* conversions: stdfn/conv_generic; TRUNC, *_TRUNC_*: stdfn/trunc
+//! - EQ NE LT LE GT GE on strings (extensible, capacities differ):
+//!   strings/compare_functions
 //!
 //! Standard function blocks
 //! - TON: stdfb/ton (IN dropping early), stdfb/timer_pt_zero (PT = 0),

@@ -568,6 +568,9 @@ impl<'s> BodyCx<'_, 's> {
                 Some(Val { v: acc, ty: t })
             }
             Compare(op) => {
+                if xs.iter().any(|x| matches!(self.infer(x), Ty::Str(_))) {
+                    return self.compare_string_args(op, &xs);
+                }
                 let t = self.common_type(&xs, None, &name)?;
                 let e = match t {
                     Ty::Enum(_, base) if matches!(op, Op::Eq | Op::Ne) => base,
