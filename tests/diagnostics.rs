@@ -325,6 +325,7 @@ bad! {
     // writing, loops, recursion
     write_constant,
     write_fb_output,
+    write_fb_output_instance,
     write_exit_outside_loop,
     write_for_step_zero,
     write_recursion_direct,
@@ -353,6 +354,7 @@ bad! {
     stl_cascade_undeclared,
     // warnings
     warn_write_own_input,
+    warn_std_fb_redeclared,
     // Instruction List: instructions and their operands
     il_malformed,
     il_missing_operand,

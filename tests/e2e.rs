@@ -50,6 +50,9 @@
 //!   apps/motor_starter, apps/batching, stdfb/timers_one_clock (`NOT t.Q` as its own input)
 //! - `inst.IN := x;` then `inst();`: pou/fb_call_forms (`w3.x := -8; w3();`),
 //!   pou/nested_initialisers (`s1();`)
+//! - FB instances as VAR_IN_OUT (of an FB and a FUNCTION), VAR_INPUT (copied, state
+//!   included) and VAR_OUTPUT (read from outside, copied out with `=>`, a TON output
+//!   with an initialiser): pou/fb_instance_params
 //! - FB inputs keep their value between calls, FUNCTION inputs take their default:
 //!   pou/fb_input_retention, pou/fb_inout
 //! - VAR: every file; VAR_INPUT / VAR_OUTPUT: pou/function_outputs, pou/fb_call_forms

@@ -187,7 +187,7 @@ codes! {
     E_WRITE_CONSTANT = "E0501", "assignment to a constant",
         "A VAR CONSTANT cannot be assigned or used as a FOR variable or VAR_IN_OUT argument.\n\n    VAR CONSTANT limit : INT := 10; END_VAR\n    limit := 20;          (* error *)\n    FOR limit := 1 TO 5 DO  (* error *)";
     E_WRITE_OUTPUT = "E0503", "assignment to an output of an instance",
-        "The outputs of a function block instance are written by the instance itself; outside code can only read them.\n\n    t.Q := TRUE;   (* error *)";
+        "The outputs of a function block instance are written by the instance itself; outside code can only read them. An output that is itself an instance (`CU_T : R_TRIG` in a VAR_OUTPUT) can be read (`ud.CU_T.Q`), but not called or written from outside.\n\n    t.Q := TRUE;          (* error *)\n    ud.CU_T(CLK := x);    (* error: CU_T is an output of ud *)";
     E_NOT_A_PLACE = "E0504", "not a variable",
         "Something that is not a variable is assigned, or passed to a VAR_IN_OUT (which needs a variable of exactly the parameter's type).\n\n    sw(io := a + 1);               (* error: the VAR_IN_OUT `io` needs a variable *)\n    tmp := a + 1; sw(io := tmp);   (* fix *)";
     E_RECURSION = "E0505", "recursion",
@@ -469,6 +469,8 @@ codes! {
         "In a `.cst` file (Structured Text as the CPDev compiler reads it), a program may use an internal VAR of a function block instance from outside, as CPDev allows; IEC 61131-3 allows only inputs and outputs (error E0207 in `.st` files). It compiles, but the program now depends on the block's insides.\n\n    ship(rudder := r);\n    heading := ship.psi_internal;   (* W0208 in a .cst file, E0207 in a .st file *)";
     W_PROTOTYPES = "W0209", "prototypes are checked, not compiled",
         "FUNCTIONs declared under matiec's `{disable code generation}` pragma are prototypes: matiec's standard library declares every standard function that way so that its compiler knows their types. plcc has the standard functions built in, so it checks the prototypes' types and compiles nothing; calls keep going to its own functions. One warning per file.\n\n    {disable code generation}\n    FUNCTION BYTE_TO_REAL : REAL VAR_INPUT IN : BYTE; END_VAR RETURN; END_FUNCTION";
+    W_STD_FB_REDECLARED = "W0210", "a standard function block is redeclared",
+        "The project declares a FUNCTION_BLOCK with the name of a standard one (TON, CTU, R_TRIG, ...). Its declaration replaces the standard block for the whole project, as libraries such as Beremiz's `Standard_Function_Blocks` intend; plcc's own standard blocks keep using the standard ones. Check that the replacement does what the standard block does: Beremiz's timers, for instance, read the clock in C pragmas (W0010), which plcc skips, so their times never advance. Rename the block if it is not meant as a replacement.\n\n    FUNCTION_BLOCK TON   (* warning: replaces the standard TON *)\n    VAR_INPUT IN : BOOL; PT : TIME; END_VAR\n    VAR_OUTPUT Q : BOOL; ET : TIME; END_VAR\n    ...";
     W_WRITE_INPUT = "W0502", "assignment to an input of an instance",
         "A FUNCTION_BLOCK or PROGRAM assigns its own VAR_INPUT. It compiles, but the input belongs to the caller: the value it set is lost until its next call, which is usually a mistake. Copy the input into a VAR instead. (A FUNCTION's inputs are its own copies and may be assigned freely.)\n\n    FUNCTION_BLOCK F VAR_INPUT x : INT; END_VAR VAR y : INT; END_VAR\n    x := x + 1;   (* warning: write y := x + 1 *)";
 }
