@@ -266,6 +266,8 @@ bad! {
     // lexical
     lex_bad_char,
     lex_unterminated_comment,
+    lex_c_pragma,
+    lex_unterminated_c_pragma,
     lex_unterminated_string,
     lex_bad_based_number,
     lex_bad_duration,
@@ -325,6 +327,7 @@ bad! {
     // types
     type_int_from_dint,
     type_bool_arithmetic,
+    type_int_literal_to_bool,
     type_real_literal_to_int,
     type_literal_out_of_range,
     type_time_vs_int,
@@ -343,6 +346,7 @@ bad! {
     type_scalar_to_array,
     type_int_literal_to_time,
     type_struct_compare,
+    type_string_compare_function,
     type_struct_mismatch,
     type_enum_mismatch,
     type_enum_ambiguous,
@@ -363,6 +367,7 @@ bad! {
     // writing, loops, recursion
     write_constant,
     write_fb_output,
+    write_fb_output_instance,
     write_exit_outside_loop,
     write_for_step_zero,
     write_recursion_direct,
@@ -391,11 +396,13 @@ bad! {
     stl_cascade_undeclared,
     // warnings
     warn_write_own_input,
+    warn_std_fb_redeclared,
     // Instruction List: instructions and their operands
     il_malformed,
     il_missing_operand,
     il_operand_not_allowed,
     il_not_with_operand,
+    il_c_pragma,
     il_bad_modifier,
     il_bad_operand,
     il_unknown_operator,

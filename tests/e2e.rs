@@ -52,6 +52,9 @@
 //!   apps/motor_starter, apps/batching, stdfb/timers_one_clock (`NOT t.Q` as its own input)
 //! - `inst.IN := x;` then `inst();`: pou/fb_call_forms (`w3.x := -8; w3();`),
 //!   pou/nested_initialisers (`s1();`)
+//! - FB instances as VAR_IN_OUT (of an FB and a FUNCTION), VAR_INPUT (copied, state
+//!   included) and VAR_OUTPUT (read from outside, copied out with `=>`, a TON output
+//!   with an initialiser): pou/fb_instance_params
 //! - FB inputs keep their value between calls, FUNCTION inputs take their default:
 //!   pou/fb_input_retention, pou/fb_inout
 //! - VAR: every file; VAR_INPUT / VAR_OUTPUT: pou/function_outputs, pou/fb_call_forms
@@ -119,6 +122,11 @@
 //! - `T#1h2m3s4ms`, `T#1.5s`, `LT#…`, negative durations: literals/time_literals
 //! - `1.5E3`, REAL#/LREAL#, `_` in reals: literals/real_literals
 //! - `TRUE`, `BOOL#1`, `BOOL#0`, `BOOL#TRUE`: literals/bool_literals
+//! - pragmas holding C code (`{...}`, `{{...}}` with `}` inside) skipped, never
+//!   run as ST: pou/c_pragmas
+//! - plain 0 and 1 as BOOLs (assigned, as inputs, beside a BOOL in logic and
+//!   comparisons, in SEL/AND/EQ, in a CONSTANT): literals/bool_digits (and
+//!   `il/bool_digits.il`)
 //!
 //! Standard functions
 //! - ABS SQRT LN LOG EXP SIN COS TAN ASIN ACOS ATAN: stdfn/math_real,
@@ -132,6 +140,8 @@
 //! - BOOL ↔ numbers: stdfn/conv_bool; TIME ↔ integers in ms: stdfn/conv_time,
 //!   types/ltime_arith; REAL ↔ LREAL and integers → reals: stdfn/conv_real_lreal
 //! - TO_* conversions: stdfn/conv_generic; TRUNC, *_TRUNC_*: stdfn/trunc
+//! - EQ NE LT LE GT GE on strings (extensible, capacities differ):
+//!   strings/compare_functions
 //!
 //! Standard function blocks
 //! - TON: stdfb/ton (IN dropping early), stdfb/timer_pt_zero (PT = 0),

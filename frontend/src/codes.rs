@@ -30,8 +30,9 @@ codes! {
          \n    x := a ? b;      (* error: `?` is not an operator *)\n\
          \n    x := SEL(c, b, a); (* fix: use a function or an IF *)";
     UNTERMINATED_COMMENT = "E0002", "unterminated comment or pragma",
-        "A comment `(* ... *)` or `/* ... */`, or a pragma `{ ... }`, runs to the end of the \
-         file. `(* *)` comments nest, so every `(*` inside one needs its own `*)`.\n\
+        "A comment `(* ... *)` or `/* ... */`, or a pragma `{ ... }` or `{{ ... }}`, runs to \
+         the end of the file. `(* *)` comments nest, so every `(*` inside one needs its own \
+         `*)`; a pragma `{{` ends at the first `}}` and `{` at the first `}`.\n\
          \n    (* outer (* inner *)   x := 1;   (* error: the outer comment is never closed *)\n\
          \n    (* outer (* inner *) *) x := 1;  (* fix *)";
     UNTERMINATED_STRING = "E0003", "unterminated string literal",
@@ -158,7 +159,7 @@ codes! {
 
     // ---- types (E03xx) ----
     E_TYPE_MISMATCH = "E0301", "type mismatch",
-        "A value of one type is used where another is needed and IEC 61131-3 does not convert it implicitly (only widening conversions are implicit: INT to DINT, REAL to LREAL, ...).\n\n    VAR i : INT; d : DINT; END_VAR\n    i := d;              (* error: narrowing *)\n    i := DINT_TO_INT(d); (* explicit conversion: fine *)";
+        "A value of one type is used where another is needed and IEC 61131-3 does not convert it implicitly (only widening conversions are implicit: INT to DINT, REAL to LREAL, ...). Of the integer literals only 0 and 1 are BOOLs (IEC's boolean literals), where a BOOL is expected or beside a BOOL operand.\n\n    VAR i : INT; d : DINT; b : BOOL; END_VAR\n    i := d;              (* error: narrowing *)\n    i := DINT_TO_INT(d); (* explicit conversion: fine *)\n    b := 2;              (* error: 2 is not a BOOL; b := 1 and b AND 0 are fine *)";
     E_LITERAL_RANGE = "E0302", "literal out of range",
         "A literal or constant does not fit the type it is given: an elementary type, a subrange (`INT (0..100)`) or the base type of an enumeration.\n\n    VAR s : SINT; p : INT (0..100); END_VAR\n    s := 200;   (* SINT holds -128..127 *)\n    p := 150;   (* the subrange holds 0..100 *)";
     E_BAD_INDEX = "E0303", "invalid index or bit access",
@@ -186,7 +187,7 @@ codes! {
     E_WRITE_CONSTANT = "E0501", "assignment to a constant",
         "A VAR CONSTANT cannot be assigned or used as a FOR variable or VAR_IN_OUT argument.\n\n    VAR CONSTANT limit : INT := 10; END_VAR\n    limit := 20;          (* error *)\n    FOR limit := 1 TO 5 DO  (* error *)";
     E_WRITE_OUTPUT = "E0503", "assignment to an output of an instance",
-        "The outputs of a function block instance are written by the instance itself; outside code can only read them.\n\n    t.Q := TRUE;   (* error *)";
+        "The outputs of a function block instance are written by the instance itself; outside code can only read them. An output that is itself an instance (`CU_T : R_TRIG` in a VAR_OUTPUT) can be read (`ud.CU_T.Q`), but not called or written from outside.\n\n    t.Q := TRUE;          (* error *)\n    ud.CU_T(CLK := x);    (* error: CU_T is an output of ud *)";
     E_NOT_A_PLACE = "E0504", "not a variable",
         "Something that is not a variable is assigned, or passed to a VAR_IN_OUT (which needs a variable of exactly the parameter's type).\n\n    sw(io := a + 1);               (* error: the VAR_IN_OUT `io` needs a variable *)\n    tmp := a + 1; sw(io := tmp);   (* fix *)";
     E_RECURSION = "E0505", "recursion",
@@ -467,12 +468,16 @@ codes! {
         "IEC 61131-3's NOT takes no operand: it negates the current result. Some compilers (matiec) accept `NOT x`; plcc reads it as `LDN x` (load the negation of x) and says so.\n\n    NOT TRUE   (* read as LDN TRUE *)";
 
     // ---- warnings (W0xxx) ----
+    W_C_PRAGMA = "W0010", "C code in a pragma is skipped",
+        "matiec, the compiler of Beremiz and OpenPLC, copies the text of a pragma into the C it generates, so their projects inline C in ST and IL bodies: `{{ ... }}` blocks, or single pragmas such as `{__SET_VAR(data__->,Q,,TRUE);}`. plcc's targets cannot run C: the pragma is skipped, with this warning, and the ST around it is compiled; whatever the C did (set variables, call C functions, read the clock) does not happen, so rewrite it in ST if the program needs it. `{{` ends at the first `}}` and `{` at the first `}`. Pragmas of other compilers that change nothing plcc compiles are skipped silently: CODESYS and TwinCAT ones (`{attribute 'x'}`, `{warning 'x'}`, `{IF ...}`, `{region ...}`, `{flag ...}`, ...), Siemens attributes (`{S7_Optimized_Access := 'TRUE'}`) and matiec's `{disable code generation}`, `{enable code generation}` and `{#include \"f\"}`.\n\n    IF trig THEN\n    {{ printf(\"on\\n\"); }}   (* warning: skipped *)\n    END_IF;";
     W_CASE_OVERLAP = "W0304", "overlapping CASE labels",
         "A CASE label covers values an earlier label already covers. The arms are tried in order, so for those values the earlier arm runs and the later label is (partly) dead: usually a mistake.\n\n    CASE x OF 1..5: a := 1; 3: a := 2; END_CASE   (* 3 never reaches `a := 2` *)";
     W_CPDEV_INTERNAL = "W0208", "an FB instance's internal variable used from outside (CPDev dialect)",
         "In a `.cst` file (Structured Text as the CPDev compiler reads it), a program may use an internal VAR of a function block instance from outside, as CPDev allows; IEC 61131-3 allows only inputs and outputs (error E0207 in `.st` files). It compiles, but the program now depends on the block's insides.\n\n    ship(rudder := r);\n    heading := ship.psi_internal;   (* W0208 in a .cst file, E0207 in a .st file *)";
     W_PROTOTYPES = "W0209", "prototypes are checked, not compiled",
         "FUNCTIONs declared under matiec's `{disable code generation}` pragma are prototypes: matiec's standard library declares every standard function that way so that its compiler knows their types. plcc has the standard functions built in, so it checks the prototypes' types and compiles nothing; calls keep going to its own functions. One warning per file.\n\n    {disable code generation}\n    FUNCTION BYTE_TO_REAL : REAL VAR_INPUT IN : BYTE; END_VAR RETURN; END_FUNCTION";
+    W_STD_FB_REDECLARED = "W0210", "a standard function block is redeclared",
+        "The project declares a FUNCTION_BLOCK with the name of a standard one (TON, CTU, R_TRIG, ...). Its declaration replaces the standard block for the whole project, as libraries such as Beremiz's `Standard_Function_Blocks` intend; plcc's own standard blocks keep using the standard ones. Check that the replacement does what the standard block does: Beremiz's timers, for instance, read the clock in C pragmas (W0010), which plcc skips, so their times never advance. Rename the block if it is not meant as a replacement.\n\n    FUNCTION_BLOCK TON   (* warning: replaces the standard TON *)\n    VAR_INPUT IN : BOOL; PT : TIME; END_VAR\n    VAR_OUTPUT Q : BOOL; ET : TIME; END_VAR\n    ...";
     W_WRITE_INPUT = "W0502", "assignment to an input of an instance",
         "A FUNCTION_BLOCK or PROGRAM assigns its own VAR_INPUT. It compiles, but the input belongs to the caller: the value it set is lost until its next call, which is usually a mistake. Copy the input into a VAR instead. (A FUNCTION's inputs are its own copies and may be assigned freely.)\n\n    FUNCTION_BLOCK F VAR_INPUT x : INT; END_VAR VAR y : INT; END_VAR\n    x := x + 1;   (* warning: write y := x + 1 *)";
 }

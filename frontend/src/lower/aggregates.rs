@@ -3,11 +3,19 @@
 //! always handled through its address and copied scalar by scalar.
 
 use super::body::{BodyCx, Place};
-use crate::ast::{Expr, ExprKind};
+use super::Storage;
+use crate::ast::{Expr, ExprKind, VarKind};
 use crate::codes;
-use crate::types::{ArrayId, Ty};
+use crate::types::{ArrayId, PouId, Ty};
 use plcc_ir::diag::Span;
 use plcc_ir::{Type, Value};
+
+/// True for the values that are handled through their address and copied whole when
+/// passed: STRUCTs, arrays, strings, and function block instances (as VAR_INPUTs and
+/// VAR_OUTPUTs of function blocks and PROGRAMs).
+pub(super) fn copied_whole(ty: Ty) -> bool {
+    ty.is_aggregate() || matches!(ty, Ty::Fb(_))
+}
 
 /// Arrays up to this many elements per dimension are copied element by element in
 /// straight-line code; longer ones in a loop.
@@ -34,11 +42,42 @@ impl<'s> BodyCx<'_, 's> {
             }
             Ty::Array(a) => self.copy_array(dst, src, a, 0),
             Ty::Str(s) => self.copy_string(dst, s, src),
+            Ty::Fb(p) => self.copy_instance(dst, src, p),
             _ => {
                 if let Some(t) = ty.ir() {
                     let v = self.b.load(t, src);
                     self.b.store(v, dst);
                 }
+            }
+        }
+    }
+
+    /// Copies a function block instance (an FB instance given as a VAR_INPUT, or an
+    /// FB-typed VAR_OUTPUT read with `=>`): every field of its instance struct, its
+    /// internal state included; a VAR_IN_OUT field keeps the address it holds.
+    fn copy_instance(&mut self, dst: Value, src: Value, p: PouId) {
+        let Some(agg) = self.l.ir[p.0 as usize].agg else {
+            return;
+        };
+        let fields: Vec<(u32, Ty, bool)> = self
+            .l
+            .pou(p)
+            .vars
+            .iter()
+            .zip(&self.l.ir[p.0 as usize].storage)
+            .filter_map(|(v, st)| match st {
+                Some(Storage::Field(fi)) => Some((*fi, v.ty, v.section == VarKind::InOut)),
+                _ => None,
+            })
+            .collect();
+        for (fi, fty, inout) in fields {
+            let d = self.b.field_addr(dst, agg, fi);
+            let s = self.b.field_addr(src, agg, fi);
+            if inout {
+                let a = self.b.load(Type::Ptr, s);
+                self.b.store(a, d);
+            } else {
+                self.copy_value(d, s, fty);
             }
         }
     }

@@ -568,6 +568,9 @@ impl<'s> BodyCx<'_, 's> {
                 Some(Val { v: acc, ty: t })
             }
             Compare(op) => {
+                if xs.iter().any(|x| matches!(self.infer(x), Ty::Str(_))) {
+                    return self.compare_string_args(op, &xs);
+                }
                 let t = self.common_type(&xs, None, &name)?;
                 let e = match t {
                     Ty::Enum(_, base) if matches!(op, Op::Eq | Op::Ne) => base,
@@ -816,8 +819,11 @@ impl<'s> BodyCx<'_, 's> {
     fn common_type(&mut self, xs: &[&'s Expr], want: Option<Ty>, name: &str) -> Option<Ty> {
         let mut t = Ty::AnyInt;
         let mut first = true;
-        for x in xs {
-            let u = self.infer(x);
+        let tys: Vec<Ty> = xs.iter().map(|x| self.infer(x)).collect();
+        // `AND(b, 1)`, `SEL(g, 0, 1)` for a BOOL: the 0s and 1s are BOOL literals.
+        let bools = super::literals::bool_digit_args(xs, &tys, want);
+        for (x, &u) in xs.iter().zip(&tys) {
+            let u = if bools { Ty::BOOL } else { u };
             let next = if first { Some(u) } else { unify(t, u) };
             first = false;
             match next {

@@ -1,5 +1,6 @@
 //! Calls of user FUNCTIONs and function block instances.
 
+use super::aggregates::copied_whole;
 use super::body::{BodyCx, Place};
 use super::builtins::Builtin;
 use super::consts::ConstVal;
@@ -87,6 +88,15 @@ impl<'s> BodyCx<'_, 's> {
                     ),
                 );
                 return;
+            }
+        }
+        if let Callee::Instance(place, _) = &callee_kind {
+            // Calling an output of another instance would change it from outside.
+            if place.access == super::body::Access::OtherOutput {
+                if let Some(d) = self.output_write_error(callee, "call") {
+                    self.l.diags.push(d);
+                    return;
+                }
             }
         }
         let span = e.span;
@@ -772,7 +782,7 @@ impl<'s> BodyCx<'_, 's> {
             };
             let Some(agg) = agg else { continue };
             match prm.section {
-                VarKind::Input if v.ty.is_aggregate() => {
+                VarKind::Input if copied_whole(v.ty) => {
                     if let Some(e) = bound[i].and_then(Self::arg_value) {
                         if let Some(src) = self.agg_source(e, v.ty) {
                             let addr = self.b.field_addr(inst.addr, agg, fi);
@@ -822,7 +832,7 @@ impl<'s> BodyCx<'_, 's> {
                 continue;
             };
             let addr = self.b.field_addr(inst.addr, agg, fi);
-            if v.ty.is_aggregate() {
+            if copied_whole(v.ty) {
                 self.output_agg(addr, v.ty, a);
                 continue;
             }

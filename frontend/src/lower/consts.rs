@@ -168,6 +168,16 @@ fn eval_depth(
         ExprKind::Binary(op, l, r) => {
             let (a, ta) = rec(l, depth + 1)?;
             let (b, tb) = rec(r, depth + 1)?;
+            // A 0 or 1 beside a BOOL is a BOOL literal (`TRUE AND 1`).
+            let digit = |v: ConstVal, e: &Expr| match v {
+                ConstVal::Int(i) if super::literals::is_bool_digit(e) => ConstVal::Bool(i == 1),
+                v => v,
+            };
+            let (a, b) = match (a, b) {
+                (ConstVal::Bool(_), _) => (a, digit(b, r)),
+                (_, ConstVal::Bool(_)) => (digit(a, l), b),
+                _ => (a, b),
+            };
             let ty = if ta.is_literal() { tb } else { ta };
             use BinaryOp::*;
             let v = match (a, b) {

@@ -53,6 +53,17 @@ impl<'s> Lowerer<'s> {
                         );
                         continue;
                     }
+                    if prev_info.kind == PouKind::FunctionBlock && !is_std {
+                        let name = self.text(p.name.span).to_string();
+                        self.diags.push(
+                            plcc_ir::diag::Diagnostic::warning(
+                                codes::W_STD_FB_REDECLARED,
+                                format!("`{name}` replaces the standard function block of that name in this project"),
+                                p.name.span,
+                            )
+                            .with_note(format!("every `{name}` instance and call of the project uses this declaration")),
+                        );
+                    }
                 }
                 let is_globals = self.interner.name(p.name.sym) == crate::GLOBALS_POU;
                 let display = if is_globals {
@@ -147,13 +158,15 @@ impl<'s> Lowerer<'s> {
             for (di, decl) in block.decls.iter().enumerate() {
                 let (ty, tag) = self.resolve_type_tagged(&decl.ty, Some(id));
                 if let Ty::Fb(_) = ty {
-                    if matches!(
-                        block.kind,
-                        VarKind::Input | VarKind::Output | VarKind::InOut
-                    ) {
+                    // An instance as a VAR_IN_OUT is passed by address; as a VAR_INPUT
+                    // or VAR_OUTPUT of a function block or PROGRAM it lives in the
+                    // instance and is copied in from the call (or out with `=>`).
+                    if kind == PouKind::Function
+                        && matches!(block.kind, VarKind::Input | VarKind::Output)
+                    {
                         self.error(
                             codes::E_UNSUPPORTED,
-                            "not supported yet: function block instances as inputs, outputs or in-outs",
+                            "not supported yet: function block instances as inputs or outputs of FUNCTIONs (use VAR_IN_OUT)",
                             decl.ty.span(),
                         );
                     }

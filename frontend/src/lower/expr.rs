@@ -7,7 +7,8 @@
 
 use super::body::{BodyCx, Named, Place};
 use super::consts::ConstVal;
-use super::usertypes::{EnumLookup, TypeState};
+use super::literals::bool_digit_operands;
+use super::usertypes::EnumLookup;
 use crate::ast::{BinaryOp as Op, Expr, ExprKind, LiteralKind, UnaryOp as UOp};
 use crate::codes;
 use crate::types::{implicit, Ty};
@@ -379,6 +380,7 @@ impl<'s> BodyCx<'_, 's> {
             | ExprKind::Unary(UOp::Plus, x) => self.infer(x),
             ExprKind::Binary(op, a, b) => {
                 let (l, r) = (self.infer(a), self.infer(b));
+                let (l, r) = bool_digit_operands(*op, l, r, (a, b), None);
                 binary_typing(*op, l, r, &|_| String::new())
                     .ok()
                     .or_else(|| self.codesys_binary_type(*op, l, r))
@@ -415,19 +417,6 @@ impl<'s> BodyCx<'_, 's> {
             EnumLookup::One(e, base, _) => Ty::Enum(e, base),
             _ if self.l.sym_name(sym).eq_ignore_ascii_case("NULL") => Ty::Null,
             _ => Ty::Error,
-        }
-    }
-
-    /// The type a typed literal's prefix names: an elementary type, or a TYPE that
-    /// is one (`Celsius#20.5`).
-    fn prefix_type(&self, sym: crate::intern::Symbol) -> Option<Ty> {
-        if let Some(t) = ElemType::from_name(self.l.sym_name(sym)) {
-            return Some(Ty::Elem(t));
-        }
-        let &i = self.l.user.by_name.get(&sym)?;
-        match self.l.user.named[i as usize].state {
-            TypeState::Done(t @ Ty::Elem(_), _) => Some(t),
-            _ => None,
         }
     }
 
@@ -510,7 +499,7 @@ impl<'s> BodyCx<'_, 's> {
                 );
                 d = match target {
                     Ty::Elem(t) if t.is_duration() => d.with_note("write a duration literal, e.g. `T#5s`"),
-                    Ty::Elem(ElemType::Bool) => d.with_note("write TRUE or FALSE"),
+                    Ty::Elem(ElemType::Bool) => d.with_note("write TRUE or FALSE, or 1 or 0"),
                     Ty::Elem(t) if t.is_integer() || t.is_bit_string() => {
                         d.with_note(format!("{want} holds whole numbers; convert explicitly, e.g. `LREAL_TO_{want}(...)`"))
                     }
@@ -666,120 +655,6 @@ impl<'s> BodyCx<'_, 's> {
         Val { v, ty: Ty::Error }
     }
 
-    /// Emits a literal; `negate` folds a unary minus in (so `-128` is a SINT).
-    fn literal(&mut self, e: &'s Expr, want: Option<Ty>, negate: bool) -> Val {
-        let ExprKind::Literal(lit) = &e.kind else {
-            unreachable!()
-        };
-        if let LiteralKind::String { .. } = lit.kind {
-            return self.string_literal(e, want);
-        }
-        let prefix = match lit.type_prefix {
-            Some(p) => match self.prefix_type(p.sym) {
-                Some(t) => Some(t),
-                None => {
-                    let n = self.l.text(p.span).to_string();
-                    self.l.error(
-                        codes::E_UNKNOWN_TYPE,
-                        format!("unknown type `{n}` in a typed literal"),
-                        p.span,
-                    );
-                    return self.error_val();
-                }
-            },
-            None => None,
-        };
-        let (value, lit_ty) = match &lit.kind {
-            LiteralKind::Int(v) => (ConstVal::Int(if negate { -v } else { *v }), Ty::AnyInt),
-            LiteralKind::Real(text) => {
-                // Keep the text so REAL literals round once, straight to binary32.
-                let ty = concretize(prefix.unwrap_or(Ty::AnyReal), want);
-                let ty = if prefix.is_some() {
-                    prefix.unwrap_or(ty)
-                } else {
-                    ty
-                };
-                return match ty {
-                    Ty::Elem(ElemType::Real) => {
-                        let f: f32 = text.parse().unwrap_or(0.0);
-                        let v = self.b.f32const(if negate { -f } else { f });
-                        Val { v, ty }
-                    }
-                    Ty::Elem(ElemType::LReal) => {
-                        let f: f64 = text.parse().unwrap_or(0.0);
-                        let v = self.b.f64const(if negate { -f } else { f });
-                        Val { v, ty }
-                    }
-                    _ => {
-                        let t = self.l.ty_name(ty);
-                        self.l.error(
-                            codes::E_TYPE_MISMATCH,
-                            format!("a real literal cannot be a {t}"),
-                            e.span,
-                        );
-                        self.error_val()
-                    }
-                };
-            }
-            LiteralKind::Bool(b) => (ConstVal::Bool(*b), Ty::BOOL),
-            LiteralKind::Duration { ns, long } => {
-                let ns = if negate { -ns } else { *ns };
-                if *long {
-                    (ConstVal::Int(ns), Ty::Elem(ElemType::LTime))
-                } else {
-                    (ConstVal::Int(ns / 1_000_000), Ty::TIME)
-                }
-            }
-            kind => match self.date_literal(kind, e.span) {
-                Some(x) => x,
-                None => return self.error_val(),
-            },
-        };
-        let ty = match prefix {
-            Some(p) => {
-                if let (Ty::Elem(ElemType::Bool), ConstVal::Int(v)) = (p, value) {
-                    if v == 0 || v == 1 {
-                        let v = self.b.iconst(Type::I1, v as i64);
-                        return Val { v, ty: p };
-                    }
-                }
-                p
-            }
-            // IEC 61131-3's boolean literals include plain 0 and 1.
-            None if lit_ty == Ty::AnyInt
-                && want == Some(Ty::BOOL)
-                && matches!(value, ConstVal::Int(0 | 1)) =>
-            {
-                Ty::BOOL
-            }
-            None => concretize(lit_ty, want),
-        };
-        self.constant(value, ty, None, e.span)
-    }
-
-    /// Emits a constant of type `ty` (a literal type is made concrete with `want`).
-    pub(super) fn constant(&mut self, c: ConstVal, ty: Ty, want: Option<Ty>, span: Span) -> Val {
-        if let (Ty::Enum(_, base), ConstVal::Int(i)) = (ty, c) {
-            let v = self.b.iconst(base.ir_type(), i as i64);
-            return Val { v, ty };
-        }
-        let ty = concretize(ty, want);
-        let c = match c.coerce(ty) {
-            Ok(c) => c,
-            Err(msg) => {
-                self.l.error(codes::E_LITERAL_RANGE, msg, span);
-                return self.error_val();
-            }
-        };
-        let v = match (c, ty.ir()) {
-            (ConstVal::Bool(b), _) => self.b.iconst(Type::I1, b as i64),
-            (ConstVal::Real(r), Some(t)) => self.b.fconst(t, r),
-            (ConstVal::Int(i), Some(t)) => self.b.iconst(t, i as i64),
-            _ => return self.error_val(),
-        };
-        Val { v, ty }
-    }
-
     fn unary(&mut self, op: UOp, x: &'s Expr, want: Option<Ty>, span: Span) -> Val {
         match op {
             UOp::Plus => self.emit(x, want),
@@ -850,6 +725,7 @@ impl<'s> BodyCx<'_, 's> {
         } else if matches!(rt, Ty::Enum(..)) && lt == Ty::Error && self.is_value_of(a, rt) {
             lt = rt;
         }
+        let (lt, rt) = bool_digit_operands(op, lt, rt, (a, b), want);
         let typing = {
             let l = &*self.l;
             binary_typing(op, lt, rt, &|t| l.ty_name(t))

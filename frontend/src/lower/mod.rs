@@ -21,6 +21,7 @@ mod decls;
 mod en_eno;
 mod expr;
 mod init;
+mod literals;
 mod partial;
 mod prototypes;
 mod refs;

@@ -2,7 +2,7 @@
 
 use super::body::{Access, BodyCx, LoopTargets};
 use super::consts::ConstVal;
-use crate::ast::{self, CaseLabel, Expr, ExprKind, Stmt, StmtKind};
+use crate::ast::{self, CaseLabel, Expr, ExprKind, Stmt, StmtKind, VarKind};
 use crate::codes;
 use crate::types::Ty;
 use plcc_ir::diag::Span;
@@ -210,31 +210,8 @@ impl<'s> BodyCx<'_, 's> {
             return;
         };
         if place.access == Access::OtherOutput {
-            let base_fb = match &target.kind {
-                ExprKind::Member(base, name) => match self.infer(base) {
-                    Ty::Fb(p) => Some((base, name, p)),
-                    _ => None,
-                },
-                _ => None,
-            };
-            if let Some((base, name, p)) = base_fb {
-                let fb = self.l.pou(p).display.clone();
-                let (n, inst) = (
-                    self.l.text(name.span).to_string(),
-                    self.l.text(base.span).to_string(),
-                );
-                self.l.diags.push(
-                    plcc_ir::diag::Diagnostic::error(
-                        codes::E_WRITE_OUTPUT,
-                        format!(
-                            "cannot assign to `{n}`: it is an output of the {fb} instance `{inst}`"
-                        ),
-                        target.span,
-                    )
-                    .with_note(
-                        "an instance writes its own outputs; outside code can only read them",
-                    ),
-                );
+            if let Some(d) = self.output_write_error(target, "assign to") {
+                self.l.diags.push(d);
                 self.check_only(value);
                 return;
             }
@@ -291,6 +268,51 @@ impl<'s> BodyCx<'_, 's> {
     }
 
     /// Reports a write to something that may not be written; true if it may.
+    /// The error for writing `target` (an assignment, or a call of an instance) where
+    /// it is, or is inside, an output of another instance: E0503 naming that output.
+    pub(super) fn output_write_error(
+        &mut self,
+        target: &Expr,
+        what: &str,
+    ) -> Option<plcc_ir::diag::Diagnostic> {
+        let mut e = target;
+        let (base, name, p) = loop {
+            match &e.kind {
+                ExprKind::Member(base, name) => {
+                    if let Ty::Fb(p) = self.infer(base) {
+                        let pou = self.l.pou(p);
+                        let output = pou
+                            .var(name.sym)
+                            .is_some_and(|vi| pou.vars[vi as usize].section == VarKind::Output);
+                        if output {
+                            break (base, name, p);
+                        }
+                    }
+                    e = base;
+                }
+                ExprKind::Index(base, _) | ExprKind::Bit(base, _) | ExprKind::Paren(base) => {
+                    e = base
+                }
+                _ => return None,
+            }
+        };
+        let fb = self.l.pou(p).display.clone();
+        let (n, inst) = (
+            self.l.text(name.span).to_string(),
+            self.l.text(base.span).to_string(),
+        );
+        let msg = if std::ptr::eq(e, target) {
+            format!("cannot {what} `{n}`: it is an output of the {fb} instance `{inst}`")
+        } else {
+            let whole = self.l.text(target.span).to_string();
+            format!("cannot {what} `{whole}`: `{n}` is an output of the {fb} instance `{inst}`")
+        };
+        Some(
+            plcc_ir::diag::Diagnostic::error(codes::E_WRITE_OUTPUT, msg, target.span)
+                .with_note("an instance writes its own outputs; outside code can only read them"),
+        )
+    }
+
     pub(super) fn check_writable(&mut self, place: &super::body::Place, span: Span) -> bool {
         let (code, msg) = match place.access {
             Access::ReadWrite => return true,

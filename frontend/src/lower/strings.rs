@@ -15,7 +15,7 @@ use crate::ast::{BinaryOp as Op, Expr, ExprKind, LiteralKind};
 use crate::codes;
 use crate::types::{StrTy, Ty};
 use plcc_ir::diag::Span;
-use plcc_ir::{AggDef, AggId, ArrayDef, ElemType, IntCC, MemType, Type, Value};
+use plcc_ir::{AggDef, AggId, ArrayDef, BinaryOp, ElemType, IntCC, MemType, Type, Value};
 
 /// Literals up to this many characters are stored character by character where they
 /// are assigned; longer ones are stored once into a temporary and copied.
@@ -403,6 +403,12 @@ impl<'s> BodyCx<'_, 's> {
             return Val { v, ty: Ty::BOOL };
         };
         let _ = span;
+        let v = self.string_cmp(op, x, y, wide);
+        Val { v, ty: Ty::BOOL }
+    }
+
+    /// `x op y` on two emitted strings of one width: a BOOL.
+    fn string_cmp(&mut self, op: Op, x: Val, y: Val, wide: bool) -> Value {
         let (xs, ys) = (
             x.ty.string().expect("string"),
             y.ty.string().expect("string"),
@@ -420,8 +426,30 @@ impl<'s> BodyCx<'_, 's> {
             Op::Gt => IntCC::Sgt,
             _ => IntCC::Sge,
         };
-        let v = self.b.icmp(cc, c, zero);
-        Val { v, ty: Ty::BOOL }
+        self.b.icmp(cc, c, zero)
+    }
+
+    /// A comparison function (`EQ`, `NE`, `LT`, `LE`, `GT`, `GE`) whose inputs are
+    /// strings (IEC 61131-3 defines them on every elementary type, strings included):
+    /// `GT(a, b, c)` is `a > b AND b > c`, each input evaluated once; every input is a
+    /// string of the width of the first string among them.
+    pub(super) fn compare_string_args(&mut self, op: Op, xs: &[&'s Expr]) -> Option<Val> {
+        let tys: Vec<Ty> = xs.iter().map(|x| self.infer(x)).collect();
+        let wide = tys.iter().find_map(|t| t.string())?.wide;
+        let vals: Vec<Option<Val>> = xs.iter().map(|x| self.emit_string(x, Some(wide))).collect();
+        let vals: Vec<Val> = vals.into_iter().collect::<Option<_>>()?;
+        let mut acc: Option<Value> = None;
+        for w in vals.windows(2) {
+            let c = self.string_cmp(op, w[0], w[1], wide);
+            acc = Some(match acc {
+                Some(a) => self.b.binary(BinaryOp::Band, a, c),
+                None => c,
+            });
+        }
+        Some(Val {
+            v: acc?,
+            ty: Ty::BOOL,
+        })
     }
 
     /// The result type of a string function, without emitting anything.

@@ -752,14 +752,17 @@ impl<'a> Lexer<'a> {
         );
     }
 
-    /// `{ ... }`: pragmas and attributes are ignored.
+    /// `{ ... }` or `{{ ... }}`: skipped; one holding C code with a warning
+    /// (see [`super::pragma`]).
     fn pragma(&mut self) {
-        self.skip_to(
-            1,
-            b"}",
-            "unterminated pragma: `{` has no matching `}`",
-            "pragma",
-        );
+        let start = self.pos;
+        let skipped = super::pragma::skip(self.file, self.src, start);
+        if self.src[start..skipped.end].contains(&b'\n') {
+            self.flags |= NEWLINE_BEFORE;
+        }
+        self.pos = skipped.end;
+        self.eof_in_error |= skipped.unterminated;
+        self.diags.extend(skipped.diag);
     }
 
     /// Skips from an opener of `open` bytes through the first `close` (not nested),

@@ -7,6 +7,7 @@
 pub mod lexer;
 mod literals;
 pub mod parser;
+mod pragma;
 
 #[cfg(test)]
 mod tests;

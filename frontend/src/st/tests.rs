@@ -440,6 +440,9 @@ fn corpus_parses_without_diagnostics() {
         let f = SourceFile::from_bytes(p.display().to_string(), &bytes);
         let mut d = Vec::new();
         let unit = parse(FileId(0), &f.text, &mut interner, &mut d);
+        // matiec's timers read the clock in C pragmas (`{__SET_VAR(...)}`): W0010 is
+        // right there and is no parse problem.
+        d.retain(|d| d.code != crate::codes::W_C_PRAGMA);
         let name = p.file_name().unwrap().to_string_lossy().to_string();
         let allowed = CORPUS_UNSUPPORTED.iter().any(|(n, _)| *n == name);
         if !d.is_empty() {
