@@ -1,8 +1,9 @@
 //! End-to-end tests of plcc's own programs, in every language: `tests/programs/st/`
 //! (Structured Text, the checklist below), `il/` (Instruction List), `stl/` (PLC-UD
 //! STL), `ld/` (ladder diagrams in PLCopen XML, each with an IL twin sharing its
-//! scenario; `tests/ld_equivalence.rs` compares their IR), `equiv/` (the same logic
-//! in ST, IL and STL; `tests/equivalence.rs` compares their IR), mixed-language
+//! scenario; `tests/ld_equivalence.rs` compares their IR), `plcopen/` (PLCopen XML
+//! with LD and FBD bodies and multi-task configurations, no twins), `equiv/` (the same
+//! logic in ST, IL and STL; `tests/equivalence.rs` compares their IR), mixed-language
 //! builds among them (`# with:`).
 //!
 //! Every `tests/programs/**/*.{st,il,stl,xml}` has a scenario beside it (`NAME.expect`, the
@@ -221,6 +222,26 @@
 //! - jumps and labels: jumps; RETURN: return_function
 //! - located I/O: motor_start_stop, conveyor; data types and globals of the
 //!   configuration: mixed_bodies
+//!
+//! PLCopen XML (paths under `tests/programs/plcopen/`, the lowering of graphical
+//! bodies; `scripts/plcopen_programs.py` writes the XML)
+//! - LD: bridges (ld_bridge), coils on the left rail (ld_rail_coils), chained coils
+//!   with one and several wires (ld_coil_chain, ld_coil_chain_or), contacts with no
+//!   input (ld_unconnected_contact), edge contacts feeding two coils
+//!   (ld_edge_two_coils), coil modifiers (ld_coil_modifiers), TON, CTU with EN and ADD
+//!   with EN in rungs (ld_ton_rung, ld_ctu_en, ld_add_en), feedback through SR and
+//!   ADD (ld_block_feedback), jumps and RETURN (ld_jump, ld_return), connectors
+//!   (ld_connectors), rung order by position (ld_rung_order, ld_ton_contact),
+//!   executionOrderId (ld_exec_order)
+//! - FBD: standard functions (fbd_arith, fbd_select, fbd_logic, fbd_convert), timers,
+//!   counters, bistables (fbd_timers, fbd_counters, fbd_bistables), negated and edge
+//!   pins (fbd_pins, fbd_counters), connectors (fbd_connectors), unwired function
+//!   inputs (fbd_unwired_input), EN/ENO (fbd_en_eno), feedback (fbd_feedback,
+//!   fbd_inout_var), executionOrderId (fbd_exec_order), user FUNCTIONs and
+//!   FUNCTION_BLOCKs in FBD (fbd_user_function, fbd_user_fb)
+//! - configurations: tasks of 10 and 30 ms (cfg_two_tasks), globals and an instance
+//!   with no task (cfg_globals), the TC6 1.0 format (cfg_old_namespace)
+//! - `tests/plcopen_known_wrong/` (not run): programs plcc does not pass yet
 
 #[path = "common/cpdev_opcodes.rs"]
 mod cpdev_opcodes;
