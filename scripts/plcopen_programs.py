@@ -3,8 +3,7 @@
 
     python3 scripts/plcopen_programs.py [tests/programs/plcopen]
 
-writes NAME.xml for every program below (those plcc does not pass yet, KNOWN_WRONG,
-to tests/plcopen_known_wrong/) (LD and FBD bodies, configurations with
+writes NAME.xml for every program below (LD and FBD bodies, configurations with
 several tasks), laid out as Beremiz / OpenPLC Editor lay them out. The scenarios
 (NAME.expect) beside them are written by hand, each with the computation of its
 expected values from the diagram's meaning under IEC 61131-3: every element is
@@ -809,12 +808,9 @@ and 30 ms): two instances of a ladder program that toggles x and counts its runs
         tasks=[('fast', '00:00:00.010000', 0, [('f', 'toggler')]),
                ('slow', '00:00:00.030000', 1, [('s', 'toggler')])])
 
-# ================================================================ plcc disagrees
-# Programs whose hand-computed scenario plcc does not pass (see their .expect and
-# tests/plcopen_known_wrong/README.md); written to tests/plcopen_known_wrong/, which
-# the tests do not run.
-
-KNOWN_WRONG = ['fbd_loop_order', 'fbd_exec_order_networks', 'fbd_eno_variable']
+# ================================================================ once disagreements
+# Programs whose hand-computed scenarios plcc did not pass at first (a loop cut
+# against executionOrderId, ids across networks, a variable on ENO); fixed since.
 
 # ---------------------------------------------------------------- ids across networks
 b = Body('FBD')
@@ -850,12 +846,8 @@ FALSE (the function's result variable is not written then).''',
 if __name__ == '__main__':
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(
         os.path.dirname(os.path.abspath(__file__)), '..', 'tests', 'programs', 'plcopen')
-    wrong = os.path.join(out, '..', '..', 'plcopen_known_wrong')
-    for d in (out, wrong):
-        os.makedirs(d, exist_ok=True)
+    os.makedirs(out, exist_ok=True)
     for name, text in PROGRAMS.items():
-        d = wrong if name in KNOWN_WRONG else out
-        with open(os.path.join(d, name + '.xml'), 'w') as f:
+        with open(os.path.join(out, name + '.xml'), 'w') as f:
             f.write(text)
-    print(f'{len(PROGRAMS) - len(KNOWN_WRONG)} programs written to {out}, '
-          f'{len(KNOWN_WRONG)} to {os.path.normpath(wrong)}')
+    print(f'{len(PROGRAMS)} programs written to {out}')

@@ -131,7 +131,15 @@ pub fn check(
     dialect: Option<&str>,
     plcopen: &PlcopenFlags,
 ) -> u8 {
-    match build_and_report(files, library, lang, dialect, plcopen, Vec::new(), Mode::Check) {
+    match build_and_report(
+        files,
+        library,
+        lang,
+        dialect,
+        plcopen,
+        Vec::new(),
+        Mode::Check,
+    ) {
         Ok((build, module)) => {
             build.report_timings(&[]);
             std::mem::forget(module);

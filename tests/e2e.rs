@@ -241,7 +241,8 @@
 //!   FUNCTION_BLOCKs in FBD (fbd_user_function, fbd_user_fb)
 //! - configurations: tasks of 10 and 30 ms (cfg_two_tasks), globals and an instance
 //!   with no task (cfg_globals), the TC6 1.0 format (cfg_old_namespace)
-//! - `tests/plcopen_known_wrong/` (not run): programs plcc does not pass yet
+//! - a loop cut where executionOrderId says (fbd_loop_order), ids across networks
+//!   (fbd_exec_order_networks), a variable on ENO (fbd_eno_variable)
 
 #[path = "common/cpdev_opcodes.rs"]
 mod cpdev_opcodes;

@@ -16,6 +16,7 @@
 #[path = "common/lockstep.rs"]
 mod lockstep;
 #[path = "common/rng.rs"]
+#[allow(dead_code)]
 mod rng;
 
 use plcc::driver::{build_sources, BuildOptions};

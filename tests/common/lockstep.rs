@@ -4,7 +4,6 @@
 //! Used where a program exists in two forms that must mean the same: a PLCopen XML
 //! file and the ST its editor made of it, a ladder and its IL twin.
 
-use plcc_ir::machine::Machine;
 use plcc_ir::value::PlcValue;
 use plcc_ir::vars::{variables, VarRef};
 use plcc_ir::{ElemType, Module};

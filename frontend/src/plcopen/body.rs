@@ -656,11 +656,7 @@ impl Lower<'_, '_, '_, '_> {
                     self.coil(e, p);
                 }
                 Kind::OutVariable { .. } | Kind::InOutVariable { .. } => self.variable(e),
-                Kind::Block { .. } => {
-                    if !self.done[e] {
-                        self.block(e);
-                    }
-                }
+                Kind::Block { .. } if !self.done[e] => self.block(e),
                 Kind::Connector { .. } => {
                     // Its value is computed (pulling blocks) where it is first used.
                     let _ = self.input(e, 0);
@@ -732,7 +728,10 @@ impl Lower<'_, '_, '_, '_> {
                 self.coil_passthrough(s.elem, p)
             }
             Kind::Block { .. } => {
-                if !self.done[s.elem] && self.no_pull == 0 {
+                // The editors pull a block when a statement needs it; the standard
+                // runs it at its place, so a block not run yet (a loop cut there) is
+                // read as it is: the previous scan's value.
+                if !self.done[s.elem] && self.no_pull == 0 && !iec {
                     self.block(s.elem);
                 }
                 let x = self.output_term(s.elem, s.port);
@@ -863,7 +862,12 @@ impl Lower<'_, '_, '_, '_> {
         render(&v, true, &mut s);
         s.push(part(";"));
         if let [src] = srcs.as_slice() {
-            if self.en_wired(src.elem) {
+            let from_eno = output_name(&self.elem(src.elem).kind, src.port)
+                .is_some_and(|n| n.eq_ignore_ascii_case("ENO"));
+            // The standard guards the block's results, not ENO itself; the editors
+            // guard whatever the block feeds.
+            let guard = !from_eno || self.ctx.opts.profile != Profile::Iec;
+            if guard && self.en_wired(src.elem) {
                 if let Some(eno) = self.eno_of(src.elem) {
                     self.guarded(named(eno), &mut s);
                 }
@@ -896,7 +900,7 @@ impl Lower<'_, '_, '_, '_> {
 
     /// The variable holding ENO of block `e` (made when the block is called).
     fn eno_of(&mut self, e: usize) -> Option<String> {
-        if !self.done[e] && self.no_pull == 0 {
+        if !self.done[e] && self.no_pull == 0 && self.ctx.opts.profile != Profile::Iec {
             self.block(e);
         }
         self.eno.get(&e).cloned()

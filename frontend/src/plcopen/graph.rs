@@ -1,6 +1,9 @@
 //! A ladder body as a graph: connections resolved, rungs found, the order of
 //! evaluation fixed, and the rung checks of the reference run.
 //!
+//! Networks (rungs) run by their smallest `executionOrderId` when the file numbers
+//! its elements, then top to bottom.
+//!
 //! PLCopen XML has no rungs: a body is elements wired together by `localId`. A rung
 //! is a set of elements connected to each other (the power rails, which every rung
 //! touches, do not connect rungs). Rungs run top to bottom (by the topmost element's
@@ -489,11 +492,20 @@ impl Builder<'_, '_, '_> {
             .filter(|e| !rail(&e.kind))
             .all(|e| e.pos.is_some());
         let mut list: Vec<Vec<usize>> = groups.into_values().collect();
+        // The smallest `executionOrderId` first (ids number the blocks of a whole
+        // body), then the topmost element.
         let key = |b: &Self, g: &[usize]| {
-            g.iter()
+            let id = g
+                .iter()
+                .filter_map(|&e| b.elems[e].order)
+                .min()
+                .unwrap_or(u32::MAX);
+            let (y, x, doc) = g
+                .iter()
                 .map(|&e| b.key(e, positions))
                 .min_by(|a, c| a.partial_cmp(c).unwrap_or(std::cmp::Ordering::Equal))
-                .unwrap_or((0.0, 0.0, 0))
+                .unwrap_or((0.0, 0.0, 0));
+            (id, y, x, doc)
         };
         list.sort_by(|a, c| {
             key(self, a)

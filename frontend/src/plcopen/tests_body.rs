@@ -54,12 +54,15 @@ fn out_var(id: u32, expr: &str, from: &[(u32, &str)]) -> String {
     )
 }
 
+/// An input of a block: (pin, attributes, connections).
+type Pin<'a> = (&'a str, &'a str, &'a [(u32, &'a str)]);
+
 /// A block: `inputs` are (pin, attributes, connections), `outputs` (pin, attributes).
 fn block(
     id: u32,
     ty: &str,
     instance: Option<&str>,
-    inputs: &[(&str, &str, &[(u32, &str)])],
+    inputs: &[Pin],
     outputs: &[(&str, &str)],
 ) -> String {
     let inst = instance.map_or(String::new(), |i| format!(" instanceName=\"{i}\""));
