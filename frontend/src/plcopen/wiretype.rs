@@ -316,6 +316,38 @@ pub(crate) fn output_type(
         }
         _ => {}
     }
+    // Time and date arithmetic: SUB of two dates, times of day or dates and times is
+    // a TIME; ADD and SUB of a TIME to one of those keep its type.
+    if name == "SUB" {
+        let ins: Vec<Option<String>> = g.ins[e]
+            .iter()
+            .enumerate()
+            .filter(|(p, _)| !control_input(&name, input_name(&g.elems[e].kind, *p).unwrap_or("")))
+            .map(|(_, srcs)| {
+                srcs.first()
+                    .and_then(|&s| source_type(g, scope, s, depth + 1))
+            })
+            .collect();
+        if let [Some(a), Some(b)] = ins.as_slice() {
+            let date = |t: &str| {
+                matches!(
+                    t.to_ascii_uppercase().as_str(),
+                    "DATE"
+                        | "TOD"
+                        | "TIME_OF_DAY"
+                        | "DT"
+                        | "DATE_AND_TIME"
+                        | "LDATE"
+                        | "LTOD"
+                        | "LDT"
+                )
+            };
+            if date(a) && date(b) {
+                let long = a.to_ascii_uppercase().starts_with('L');
+                return Some(if long { "LTIME" } else { "TIME" }.into());
+            }
+        }
+    }
     if passes_type(&name) {
         let k = &g.elems[e].kind;
         for (p, srcs) in g.ins[e].iter().enumerate() {
