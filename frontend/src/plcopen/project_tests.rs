@@ -583,3 +583,44 @@ fn transitions_are_read() {
     // They are not compiled (SFC bodies are not, yet): the view has no trace of them.
     assert!(!view(&xml).contains("t1"));
 }
+
+// ---------------------------------------------------------------- values
+
+#[test]
+fn string_values_without_quotes_are_quoted_as_the_editors_quote_them() {
+    let types = r#"<dataTypes>
+<dataType name="Name"><baseType><string length="20"/></baseType><initialValue><simpleValue value="anon"/></initialValue></dataType>
+<dataType name="Label"><baseType><derived name="Name"/></baseType></dataType>
+<dataType name="Rec"><baseType><struct><variable name="tag"><type><derived name="Label"/></type><initialValue><simpleValue value="t"/></initialValue></variable></struct></baseType></dataType>
+</dataTypes>"#;
+    let vars = r#"<variable name="a"><type><string/></type><initialValue><simpleValue value="it's $5"/></initialValue></variable>
+<variable name="b"><type><wstring/></type><initialValue><simpleValue value="wide"/></initialValue></variable>
+<variable name="c"><type><derived name="Label"/></type><initialValue><simpleValue value="x"/></initialValue></variable>
+<variable name="d"><type><string/></type><initialValue><simpleValue value="'kept'"/></initialValue></variable>
+<variable name="e"><type><INT/></type><initialValue><simpleValue value="5"/></initialValue></variable>"#;
+    let pou = format!(
+        r#"<pou name="main" pouType="program"><interface><localVars>{vars}</localVars></interface>{}</pou>"#,
+        st("e := e + 1;")
+    );
+    let text = |header: &str| file(header, &pou, "", "").replace("<dataTypes/>", types);
+    let xml = text("");
+    let v = view(&xml);
+    for decl in [
+        "Name : STRING[20] := 'anon';",
+        "tag : Label := 't';",
+        "a : STRING := 'it$'s $$5';",
+        "b : WSTRING := \"wide\";",
+        "c : Label := 'x';",
+        "d : STRING := 'kept';",
+        "e : INT := 5;",
+    ] {
+        assert!(v.contains(decl), "{decl} in {v}");
+    }
+    // Quoted, the value still maps back to the attribute's text.
+    let (c, _) = convert_text(&xml);
+    assert_eq!(mapped(&c.unwrap(), &xml, "x';"), "x");
+    compiles(&xml);
+    // CODESYS writes initial values as expressions: they are kept as written.
+    let v = view(&text(CODESYS));
+    assert!(v.contains("c : Label := x;"), "{v}");
+}

@@ -765,6 +765,7 @@ impl Reader<'_, '_> {
             }
         }
         self.instances(root, &mut p);
+        types::quote_string_values(&mut p);
         Some(p)
     }
 }

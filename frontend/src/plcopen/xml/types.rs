@@ -238,3 +238,109 @@ impl Reader<'_, '_> {
         }
     }
 }
+
+/// The initial values of STRING and WSTRING variables and types, quoted where the
+/// file leaves the quotes out, as Beremiz's and OpenPLC's translator does: a value of
+/// a string type (or of an alias of one) that neither starts nor ends with the quote
+/// is put between quotes (`hello` is `'hello'`). CODESYS writes initial values as
+/// expressions (`CONCAT(a, 'b')`), so its files are left as they are.
+pub(super) fn quote_string_values(p: &mut Project) {
+    if p.dialect == Dialect::Codesys {
+        return;
+    }
+    // The string types: their names (uppercase) and whether they are wide.
+    let mut strings: Vec<(String, bool)> = Vec::new();
+    loop {
+        let before = strings.len();
+        for t in &p.types {
+            let name = t.name.value.to_ascii_uppercase();
+            if strings.iter().all(|(n, _)| *n != name) {
+                if let Some(wide) = string_kind(&t.ty, &strings) {
+                    strings.push((name, wide));
+                }
+            }
+        }
+        if strings.len() == before {
+            break;
+        }
+    }
+    for t in &mut p.types {
+        if let Some(wide) = string_kind(&t.ty, &strings) {
+            if let Some(v) = &mut t.init {
+                quote(v, wide);
+            }
+        }
+        if let Type::Struct(fields) = &mut t.ty {
+            quote_vars(fields, &strings);
+        }
+    }
+    let groups = p
+        .pous
+        .iter_mut()
+        .flat_map(|pou| &mut pou.groups)
+        .chain(&mut p.globals);
+    let config_groups = p.configs.iter_mut().flat_map(|c| {
+        c.globals
+            .iter_mut()
+            .chain(c.resources.iter_mut().flat_map(|r| &mut r.globals))
+    });
+    for g in groups.chain(config_groups) {
+        quote_vars(&mut g.vars, &strings);
+    }
+}
+
+/// Quotes the initial values of the string variables of `vars`.
+fn quote_vars(vars: &mut [Var], strings: &[(String, bool)]) {
+    for v in vars {
+        if let (Some(wide), Some(init)) = (string_kind(&v.ty, strings), &mut v.init) {
+            quote(init, wide);
+        }
+    }
+}
+
+/// `Some(wide)` if `t` is STRING or WSTRING, or a type named in `strings`.
+fn string_kind(t: &Type, strings: &[(String, bool)]) -> Option<bool> {
+    match t {
+        Type::String { wide, .. } => Some(*wide),
+        Type::Named(n) => {
+            let name = n.value.to_ascii_uppercase();
+            match name.as_str() {
+                "STRING" => Some(false),
+                "WSTRING" => Some(true),
+                _ => strings.iter().find(|(s, _)| *s == name).map(|(_, w)| *w),
+            }
+        }
+        _ => None,
+    }
+}
+
+/// Puts a simple value between quotes unless it starts or ends with one; `$` and
+/// the quote inside are escaped.
+fn quote(v: &mut Value, wide: bool) {
+    let Value::Simple(t) = v else {
+        return;
+    };
+    let q = if wide { '"' } else { '\'' };
+    if t.value.starts_with(q) || t.value.ends_with(q) {
+        return;
+    }
+    let escaped: String = t
+        .value
+        .chars()
+        .flat_map(|c| match c {
+            '$' => vec!['$', '$'],
+            c if c == q => vec!['$', q],
+            c => vec![c],
+        })
+        .collect();
+    // The text is still the file's where nothing was escaped.
+    t.exact = if escaped == t.value {
+        t.exact
+            .iter()
+            .map(|p| Piece { at: p.at + 1, ..*p })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    t.value = format!("{q}{escaped}{q}");
+}
