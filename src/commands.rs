@@ -91,6 +91,7 @@ fn build_and_report<P: AsRef<Path>>(
     let opts = BuildOptions {
         lang,
         codesys,
+        dialect_given: dialect.is_some(),
         plcopen,
         programs,
         no_opt: mode == Mode::Unoptimised,

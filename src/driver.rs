@@ -89,6 +89,9 @@ pub struct BuildOptions {
     pub programs: Vec<String>,
     /// The CODESYS dialect (`--dialect codesys`).
     pub codesys: bool,
+    /// The dialect was given (`--dialect`): a PLCopen file's header does not change
+    /// it (see [`plcc_frontend::LowerOptions::dialect_given`]).
+    pub dialect_given: bool,
     /// How PLCopen XML files are read.
     pub plcopen: plcc_frontend::plcopen::Options,
     /// Skip the optimisation passes.
@@ -156,6 +159,7 @@ pub fn build_sources_with_library(
     let lower_opts = LowerOptions {
         programs: opts.programs.clone(),
         codesys: opts.codesys,
+        dialect_given: opts.dialect_given,
         plcopen: opts.plcopen.clone(),
         library: inputs[first_library..].iter().map(|&(f, _)| f).collect(),
     };

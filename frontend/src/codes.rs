@@ -302,6 +302,15 @@ codes! {
          bodies: they do nothing. The standard profile (`iec`, the default) runs them.\n\
          \n    plcc run --plcopen-order openplc3 prog.xml   (* warning: the jump is ignored *)\n\
          \n    plcc run prog.xml                           (* the jump is taken when powered *)";
+    W_PLCOPEN_SKIPPED = "W0741", "element of a PLCopen file skipped",
+        "An element is where PLCopen TC6 has no such element, and the editors drop it when \
+         they load the file, so plcc skips it too. Today: `<varList>` in a POU's interface \
+         (the schema's name of the type of variable sections, which some tools write as \
+         an element, often holding copies of the variables with empty types). Declare \
+         variables in `<inputVars>`, `<outputVars>`, `<inOutVars>`, `<localVars>`, \
+         `<tempVars>`, `<externalVars>` or `<globalVars>`.\n\
+         \n    <interface><varList><variable name=\"x\">...</variable></varList></interface>      <!-- warning -->\n\
+         \n    <interface><localVars><variable name=\"x\">...</variable></localVars></interface>  <!-- fine -->";
 
     // ---- PLC-UD STL (E072x) ----
     STL_UNEXPECTED_CHAR = "E0720", "unexpected character in STL",

@@ -160,6 +160,7 @@ pub fn compile(
                     il: il_file,
                     map: c.map,
                     ld_text: c.ld_text,
+                    dialect: c.dialect,
                 });
             }
         }
@@ -189,7 +190,7 @@ pub fn compile(
         .filter(|(_, l)| *l == Lang::Cst)
         .map(|(f, _)| *f)
         .collect();
-    let (module, mut more) = lowerer.run(1, &opts);
+    let (module, mut more) = lowerer.run(1, &dialect_of_files(&opts, &ladder));
     diagnostics.append(&mut more);
     timings.push(("check and lower", started.elapsed()));
     plcopen::remap_all(&ladder, &mut diagnostics);
@@ -200,6 +201,20 @@ pub fn compile(
         syntax: units,
         ladder,
     }
+}
+
+/// The options to lower with: in the CODESYS dialect when a PLCopen file of the
+/// build was written by a CODESYS-based editor, unless `--dialect` chose one.
+fn dialect_of_files(opts: &LowerOptions, ladder: &[plcopen::View]) -> LowerOptions {
+    let mut opts = opts.clone();
+    if !opts.dialect_given
+        && ladder
+            .iter()
+            .any(|v| v.dialect == plcopen::Dialect::Codesys)
+    {
+        opts.codesys = true;
+    }
+    opts
 }
 
 /// The standard library's syntax tree, a copy of the interner holding its names, and
@@ -300,8 +315,8 @@ fn globals_unit(
 
 /// A file that declares nothing (no POU, type, configuration or global) compiles to
 /// nothing, which is an error, not a success (E0109) — unless its own errors already
-/// say why. A PLCopen file whose POUs sit in `<addData>` (TwinCAT's exports) gets a
-/// note saying so.
+/// say why. A PLCopen file with POUs in `<addData>` where plcc does not look for them
+/// gets a note saying so.
 fn nothing_to_compile(
     sources: &SourceMap,
     file: FileId,
@@ -323,7 +338,7 @@ fn nothing_to_compile(
         plcc_ir::diag::Span::new(file, 0, 0),
     );
     let d = if lang == Lang::Ld && src.text.contains("<addData") && src.text.contains("<pou ") {
-        d.with_note("its POUs are kept inside `<addData>` (as TwinCAT and some CODESYS exports keep them), which plcc does not read yet")
+        d.with_note("its POUs are kept inside `<addData>` where plcc does not look for them: it reads those of CODESYS's `pou` data, in the project, an `application` or a resource")
     } else {
         d.with_note(
             "a PROGRAM, FUNCTION, FUNCTION_BLOCK, TYPE, CONFIGURATION or VAR_GLOBAL was expected",

@@ -61,6 +61,10 @@ pub struct LowerOptions {
     /// (the module is then [`plcc_ir::Module::unchecked_pointers`]), `VAR_INPUT
     /// CONSTANT`, implicit conversions between bit strings and numbers.
     pub codesys: bool,
+    /// The dialect was chosen (`--dialect`). Otherwise a PLCopen file written by a
+    /// CODESYS-based editor puts the build in the CODESYS dialect
+    /// ([`crate::plcopen::Dialect`]).
+    pub dialect_given: bool,
     /// How PLCopen XML files are read (the profile, the rung rules).
     pub plcopen: crate::plcopen::Options,
     /// Library files (`--lib`): declarations for the rest of the build. Their PROGRAMs

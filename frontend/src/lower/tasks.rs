@@ -275,8 +275,10 @@ impl<'s> Lowerer<'s> {
         let wrapped_body = self.task_body(&name, &inst, body, interval.zip(state));
         let wrapped_init = match state {
             Some((sagg, d)) => {
+                // Not `{name}$init`: that is the init of a PROGRAM of the instance's
+                // name (CODESYS names a task's instance after its PROGRAM).
                 let mut f = Function::new(
-                    format!("{name}$init"),
+                    format!("{name}$task_init"),
                     FuncKind::Init,
                     vec![Type::Ptr],
                     None,

@@ -3,21 +3,30 @@
 //! program instances, written as IEC text (`to_il` writes the bodies).
 
 use super::map::Out;
-use super::xml::{Config, Type, Value, Var, VarGroup};
+use super::xml::{duration_ms, Config, Task, Text, Type, Value, Var, VarGroup};
 
 /// Text safe inside a `(* *)` comment.
 pub(super) fn comment_safe(s: &str) -> String {
     s.replace("(*", "( *").replace("*)", "* )")
 }
 
+/// A variable group: `VAR_INPUT` ... `END_VAR`, with its attributes; a CODESYS
+/// global variable list's name as a comment.
 pub(super) fn write_group(o: &mut Out, g: &VarGroup) {
+    if let Some(n) = &g.name {
+        o.push(&format!("(* {} *)\n", comment_safe(&n.value)));
+    }
+    let start = o.pos();
     o.push(g.section.keyword());
     if g.constant {
         o.push(" CONSTANT");
     }
     if g.retain {
         o.push(" RETAIN");
+    } else if g.non_retain {
+        o.push(" NON_RETAIN");
     }
+    o.mark(start, g.tag.clone());
     o.push("\n");
     for v in &g.vars {
         o.push("    ");
@@ -108,6 +117,10 @@ pub(super) fn write_type(o: &mut Out, t: &Type, depth: usize) {
             o.push("REF_TO ");
             write_type(o, b, depth);
         }
+        Type::Pointer(b) => {
+            o.push("POINTER TO ");
+            write_type(o, b, depth);
+        }
     }
 }
 
@@ -151,81 +164,101 @@ pub(super) fn write_value(o: &mut Out, v: &Value) {
 /// globals are the VAR_GLOBAL blocks written above), so the instances run as their
 /// tasks say.
 pub(super) fn write_config(o: &mut Out, c: &Config) {
-    let mut s = format!("\nCONFIGURATION {}\n", c.name.value);
+    let start = o.pos();
+    o.push("\nCONFIGURATION ");
+    o.push_text(&c.name);
+    o.mark(start, c.name.range.clone());
+    o.push("\n");
     for r in &c.resources {
-        s.push_str(&format!("  RESOURCE {} ON PLC\n", r.name.value));
+        let start = o.pos();
+        o.push("  RESOURCE ");
+        o.push_text(&r.name);
+        o.push(" ON PLC");
+        o.mark(start, r.name.range.clone());
+        o.push("\n");
         for t in &r.tasks {
-            let mut props = Vec::new();
-            if let Some(i) = &t.interval {
-                props.push(format!("INTERVAL := {}", iec_duration(&i.value)));
-            }
-            if let Some(p) = &t.priority {
-                props.push(format!("PRIORITY := {}", p.value));
-            }
-            s.push_str(&format!(
-                "    TASK {}({});\n",
-                t.name.value,
-                props.join(", ")
-            ));
+            write_task(o, t);
         }
-        for t in &r.tasks {
-            for i in &t.instances {
-                s.push_str(&format!(
-                    "    PROGRAM {} WITH {} : {};\n",
-                    i.name.value, t.name.value, i.type_name.value
-                ));
+        let with_task = r
+            .tasks
+            .iter()
+            .flat_map(|t| t.instances.iter().map(move |i| (i, Some(t))));
+        for (i, task) in with_task.chain(r.instances.iter().map(|i| (i, None))) {
+            let start = o.pos();
+            o.push("    PROGRAM ");
+            o.push_text(&i.name);
+            if let Some(t) = task {
+                o.push(" WITH ");
+                o.push_text(&t.name);
             }
+            o.push(" : ");
+            o.push_text(&i.type_name);
+            o.push(";");
+            o.mark(start, i.name.range.clone());
+            o.push("\n");
         }
-        for i in &r.instances {
-            s.push_str(&format!(
-                "    PROGRAM {} : {};\n",
-                i.name.value, i.type_name.value
-            ));
-        }
-        s.push_str("  END_RESOURCE\n");
+        o.push("  END_RESOURCE\n");
     }
-    s.push_str("END_CONFIGURATION\n");
-    o.push(&s);
+    o.push("END_CONFIGURATION\n");
 }
 
-/// A task interval as an IEC TIME literal: PLCopen files write `T#10ms` (TC6 2.01),
-/// an XML duration such as `PT0.01S`, or the old schema's `00:00:00.100000`
-/// (hours, minutes, seconds with a fraction), which Beremiz converts on loading.
-fn iec_duration(text: &str) -> String {
-    let t = text.trim();
-    if let [h, m, sec] = t.split(':').collect::<Vec<_>>()[..] {
-        let num = |x: &str| {
-            (!x.is_empty() && x.bytes().all(|c| c.is_ascii_digit() || c == b'.'))
-                .then(|| x.parse::<f64>().ok())
-                .flatten()
-        };
-        if let (Some(h), Some(m), Some(sec)) = (num(h), num(m), num(sec)) {
-            let ms = (h * 3600.0 + m * 60.0 + sec) * 1000.0;
-            return format!("T#{}ms", ms.round() as i64);
+/// `TASK name(SINGLE := v, INTERVAL := t, PRIORITY := n);`. An interval of zero is
+/// left out: such a task runs in every cycle, as matiec runs it.
+fn write_task(o: &mut Out, t: &Task) {
+    let start = o.pos();
+    o.push("    TASK ");
+    o.push_text(&t.name);
+    o.push("(");
+    let mut first = true;
+    let mut prop = |o: &mut Out, name: &str, value: &Text, text: Option<String>| {
+        if !first {
+            o.push(", ");
         }
-    }
-    let Some(rest) = t.strip_prefix("PT").or_else(|| t.strip_prefix("pt")) else {
-        return t.to_string();
+        first = false;
+        let start = o.pos();
+        o.push(name);
+        o.push(" := ");
+        match text {
+            Some(s) => o.push_as(&s, value),
+            None => o.push_text(value),
+        }
+        o.mark(start, value.range.clone());
     };
-    // PTnHnMn.nS
-    let mut ms = 0f64;
-    let mut num = String::new();
-    for ch in rest.chars() {
-        match ch.to_ascii_uppercase() {
-            'H' => {
-                ms += num.parse::<f64>().unwrap_or(0.0) * 3_600_000.0;
-                num.clear();
-            }
-            'M' => {
-                ms += num.parse::<f64>().unwrap_or(0.0) * 60_000.0;
-                num.clear();
-            }
-            'S' => {
-                ms += num.parse::<f64>().unwrap_or(0.0) * 1000.0;
-                num.clear();
-            }
-            c => num.push(c),
+    if let Some(s) = &t.single {
+        prop(o, "SINGLE", s, None);
+    }
+    if let Some(i) = &t.interval {
+        match iec_duration(&i.value) {
+            Some(None) => {}
+            Some(Some(s)) => prop(o, "INTERVAL", i, Some(s)),
+            None => prop(o, "INTERVAL", i, None),
         }
     }
-    format!("T#{}ms", ms.round() as i64)
+    if let Some(p) = &t.priority {
+        prop(o, "PRIORITY", p, None);
+    }
+    o.push(");");
+    o.mark(start, t.name.range.clone());
+    o.push("\n");
+}
+
+/// A task interval as an IEC TIME literal. PLCopen files write `T#10ms` (TC6 2.01,
+/// kept as written), an XML duration such as `PT0.01S`, or the old schema's
+/// `00:00:00.100000` (hours, minutes, seconds with a fraction), which Beremiz
+/// converts on loading. `Some(None)` for a zero interval; `None` for text that is
+/// none of these (written as it is, for the compiler to report).
+fn iec_duration(text: &str) -> Option<Option<String>> {
+    let ms = duration_ms(text)?;
+    if ms == 0.0 {
+        return Some(None);
+    }
+    if text.contains('#') {
+        return Some(Some(text.trim().to_string()));
+    }
+    let us = (ms * 1000.0).round() as i64;
+    Some(Some(if us % 1000 == 0 {
+        format!("T#{}ms", us / 1000)
+    } else {
+        format!("T#{us}us")
+    }))
 }

@@ -3,8 +3,10 @@
 //! A `.xml` file is a PLCopen project (what Beremiz, OpenPLC Editor and CODESYS
 //! export). It goes through:
 //!
-//! 1. `xml`: the file read into a model (data types, POUs with their interfaces and
-//!    LD, ST or IL bodies, configurations), every string with its place in the file;
+//! 1. `xml`: the file read into a model (data types, POUs with their interfaces,
+//!    LD, FBD, ST or IL bodies and actions, globals, configurations, and what
+//!    CODESYS keeps in `<addData>`), every string with its place in the file, and
+//!    the dialect its header implies ([`Dialect`]);
 //! 2. `graph`: each ladder body's connections resolved, its rungs found and ordered,
 //!    the rung checks of the reference run (errors name the POU, the rung and the
 //!    element's `localId`, at the element in the XML);
@@ -25,6 +27,8 @@ mod view;
 mod wiretype;
 pub(crate) mod xml;
 
+#[cfg(test)]
+mod project_tests;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
@@ -90,6 +94,17 @@ pub struct Options {
     pub strict_rungs: bool,
 }
 
+/// The dialect a PLCopen file is written in, as its header tells.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum Dialect {
+    /// IEC 61131-3 (Beremiz, OpenPLC and any other editor).
+    #[default]
+    Iec,
+    /// CODESYS's (CODESYS, WAGO e!COCKPIT, Beckhoff TwinCAT): `POINTER TO`, `ADR`...
+    /// (`LowerOptions::codesys`).
+    Codesys,
+}
+
 /// A PLCopen file converted: its view (the project as IEC text), the map back to the
 /// XML, and its drawing.
 pub struct Converted {
@@ -99,6 +114,8 @@ pub struct Converted {
     pub map: map::SpanMap,
     /// The ladder bodies drawn as ASCII (`--emit ld-text`).
     pub ld_text: String,
+    /// The dialect of the editor that wrote the file.
+    pub dialect: Dialect,
 }
 
 /// The stack of the thread that converts a file: the conversion recurses along a
@@ -147,36 +164,67 @@ fn convert_here(
     let errors = |d: &[Diagnostic]| d.iter().filter(|x| x.is_error()).count();
     let before = errors(diags);
     let project = xml::read(file, text, diags)?;
+    let function = |pou: &xml::Pou| pou.kind == xml::PouKind::Function;
     let graphs: Vec<Option<graph::Graph>> = project
         .pous
         .iter()
-        .map(|pou| match &pou.body {
-            xml::Body::Graph(lang, elems) => {
-                let cx = graph::Context {
-                    file,
-                    pou: &pou.name.value,
-                    function: pou.kind == xml::PouKind::Function,
-                    strict: opts.strict_rungs,
-                    ladder: *lang == xml::Graphic::Ld,
-                };
-                graph::build(elems, &cx, diags)
-            }
-            _ => None,
+        .map(|pou| build_graph(&pou.body, &pou.name.value, function(pou), file, opts, diags))
+        .collect();
+    // The graphs of the actions' graphical bodies, POU by POU.
+    let actions: Vec<Vec<Option<graph::Graph>>> = project
+        .pous
+        .iter()
+        .map(|pou| {
+            pou.actions
+                .iter()
+                .map(|a| {
+                    let label = format!("{}.{}", pou.name.value, a.name.value);
+                    build_graph(&a.body, &label, function(pou), file, opts, diags)
+                })
+                .collect()
         })
         .collect();
     if errors(diags) > before {
         return None;
     }
+    let graphs = view::Graphs {
+        bodies: &graphs,
+        actions: &actions,
+    };
     let out = view::write(&project, &graphs, file, name, opts, diags);
     if errors(diags) > before {
         return None;
     }
-    let ld_text = text::render(&project, &graphs);
+    let ld_text = text::render(&project, graphs.bodies);
     Some(Converted {
         il: out.text,
         map: out.map,
         ld_text,
+        dialect: project.dialect,
     })
+}
+
+/// The checked graph of a graphical body (LD or FBD); `None` for any other body, or
+/// after an error. `label` names the body in messages (`P`, or `P.A` for an action).
+fn build_graph<'m>(
+    body: &'m xml::Body,
+    label: &str,
+    function: bool,
+    file: FileId,
+    opts: &Options,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<graph::Graph<'m>> {
+    let xml::Body::Graph(lang, elems) = body else {
+        return None;
+    };
+    let cx = graph::Context {
+        file,
+        pou: label,
+        function,
+        strict: opts.strict_rungs,
+        ladder: *lang == xml::Graphic::Ld,
+    };
+    graph::build(elems, &cx, diags)
 }
 
 /// A PLCopen file of a build and its view.
@@ -189,6 +237,8 @@ pub struct View {
     pub map: map::SpanMap,
     /// The ladder bodies drawn as ASCII.
     pub ld_text: String,
+    /// The dialect of the editor that wrote the XML file.
+    pub dialect: Dialect,
 }
 
 /// Moves the spans of diagnostics about views back to their XML files.

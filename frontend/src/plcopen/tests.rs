@@ -45,13 +45,7 @@ fn elem(id: u32, tag: &str, var: &str, from: &[u32], attrs: &str) -> String {
 
 fn convert_text(xml: &str) -> (Option<Converted>, Vec<Diagnostic>) {
     let mut diags = Vec::new();
-    let c = convert(
-        FileId(1),
-        "t.xml",
-        xml,
-        &super::Options::default(),
-        &mut diags,
-    );
+    let c = convert(FileId(1), "t.xml", xml, &Options::default(), &mut diags);
     (c, diags)
 }
 

@@ -1,24 +1,32 @@
 //! The view of a PLCopen file: the whole project written as one IEC source text.
 //!
-//! The data types become `TYPE`, the globals of the configurations and resources
-//! `VAR_GLOBAL`, every POU its interface as declarations and its body: graphical
-//! bodies (LD, FBD) as the lowering writes them, ST and IL bodies as written; then the
-//! configurations. The front end compiles that text like any source file, and
-//! `--emit il` prints it.
+//! The data types become `TYPE`, the globals (of the project, the configurations
+//! and the resources) `VAR_GLOBAL`, every POU its interface as declarations, its
+//! body and its actions (as CODESYS writes them: `ACTION a: ... END_ACTION` inside
+//! the POU): graphical bodies (LD, FBD) as the lowering writes them, ST and IL
+//! bodies as written; then the configurations. The front end compiles that text like
+//! any source file, and `--emit il` prints it.
 
-use super::body::{emit_body, write_hidden, Names, PouCtx};
+use super::body::{emit_body, write_hidden, Line, Names, PouCtx};
 use super::decls::{comment_safe, write_config, write_group, write_type, write_value};
 use super::graph::Graph;
 use super::map::Out;
-use super::xml::{Body, PouKind, Project, Var};
+use super::xml::{Body, Pou, PouKind, Project, Text, Var, VarGroup};
 use plcc_ir::diag::{Diagnostic, FileId};
 
-/// Writes the view of a project. `graphs[i]` is the checked graph of POU `i`'s
-/// ladder body. Errors (a block output whose type cannot be told, a construct not
-/// supported) go to `diags`.
+/// The checked graphs of a project's graphical bodies.
+pub(crate) struct Graphs<'a, 'm> {
+    /// `bodies[i]`: of the body of POU `i`.
+    pub bodies: &'a [Option<Graph<'m>>],
+    /// `actions[i][k]`: of the body of action `k` of POU `i`.
+    pub actions: &'a [Vec<Option<Graph<'m>>>],
+}
+
+/// Writes the view of a project. Errors (a block output whose type cannot be told,
+/// a construct not supported) go to `diags`.
 pub(crate) fn write(
     project: &Project,
-    graphs: &[Option<Graph>],
+    graphs: &Graphs,
     file: FileId,
     file_name: &str,
     opts: &super::Options,
@@ -47,78 +55,143 @@ pub(crate) fn write(
         }
         o.push("END_TYPE\n");
     }
-    for c in &project.configs {
-        let groups = c
-            .globals
-            .iter()
-            .chain(c.resources.iter().flat_map(|r| &r.globals));
-        for g in groups {
-            if !g.vars.is_empty() {
-                o.push("\n");
-                write_group(&mut o, g);
-            }
-        }
-    }
-    let globals: Vec<&Var> = project
-        .configs
-        .iter()
-        .flat_map(|c| {
-            c.globals
-                .iter()
-                .chain(c.resources.iter().flat_map(|r| &r.globals))
-        })
-        .flat_map(|g| &g.vars)
-        .collect();
-    for (i, pou) in project.pous.iter().enumerate() {
-        o.push("\n");
-        let (head, end) = match pou.kind {
-            PouKind::Program => ("PROGRAM ", "END_PROGRAM"),
-            PouKind::Function => ("FUNCTION ", "END_FUNCTION"),
-            PouKind::FunctionBlock => ("FUNCTION_BLOCK ", "END_FUNCTION_BLOCK"),
-        };
-        let start = o.pos();
-        o.push(head);
-        o.push_text(&pou.name);
-        if let Some(r) = &pou.ret {
-            o.push(" : ");
-            write_type(&mut o, r, 1);
-        }
-        o.mark(start, pou.tag.clone());
-        o.push("\n");
-        for g in &pou.groups {
+    for g in global_groups(project) {
+        if !g.vars.is_empty() {
+            o.push("\n");
             write_group(&mut o, g);
         }
-        match (&pou.body, graphs.get(i).and_then(Option::as_ref)) {
-            (Body::Graph(..), Some(g)) => {
-                let mut names = Names::new(project, pou, &globals);
-                let ctx = PouCtx {
-                    project,
-                    pou: &pou.name.value,
-                    pou_vars: &pou.groups,
-                    globals: &globals,
-                    file,
-                    opts,
-                };
-                let lines = emit_body(g, &ctx, &mut names, diags);
-                write_hidden(&mut o, &names);
-                for line in &lines {
-                    line.write(&mut o, g.elems);
-                }
-            }
-            (Body::St(t), _) | (Body::Il(t), _) => {
-                o.push("    ");
-                o.push_text(t);
-                if !t.value.ends_with('\n') {
-                    o.push("\n");
-                }
-            }
-            _ => {}
-        }
-        o.push(end);
-        o.push("\n");
+    }
+    let globals: Vec<&Var> = global_groups(project).flat_map(|g| &g.vars).collect();
+    let cx = Cx {
+        project,
+        globals: &globals,
+        file,
+        opts,
+    };
+    for (i, pou) in project.pous.iter().enumerate() {
+        let body = graphs.bodies.get(i).and_then(Option::as_ref);
+        let actions = graphs.actions.get(i).map_or(&[][..], Vec::as_slice);
+        write_pou(&mut o, &cx, pou, body, actions, diags);
     }
     for c in &project.configs {
         write_config(&mut o, c);
     }
     o
+}
+
+/// Every global variable group: the project's, then each configuration's and its
+/// resources'.
+fn global_groups(project: &Project) -> impl Iterator<Item = &VarGroup> {
+    project
+        .globals
+        .iter()
+        .chain(project.configs.iter().flat_map(|c| {
+            c.globals
+                .iter()
+                .chain(c.resources.iter().flat_map(|r| &r.globals))
+        }))
+}
+
+/// What every POU of the view is written with.
+struct Cx<'a> {
+    project: &'a Project,
+    globals: &'a [&'a Var],
+    file: FileId,
+    opts: &'a super::Options,
+}
+
+/// A POU: its interface, body and actions. The graphical bodies (of the POU and of
+/// its actions) are lowered first, with one set of hidden names, so that their
+/// hidden variables are declared once, in the POU, before the code.
+fn write_pou(
+    o: &mut Out,
+    cx: &Cx,
+    pou: &Pou,
+    body: Option<&Graph>,
+    actions: &[Option<Graph>],
+    diags: &mut Vec<Diagnostic>,
+) {
+    o.push("\n");
+    let (head, end) = match pou.kind {
+        PouKind::Program => ("PROGRAM ", "END_PROGRAM"),
+        PouKind::Function => ("FUNCTION ", "END_FUNCTION"),
+        PouKind::FunctionBlock => ("FUNCTION_BLOCK ", "END_FUNCTION_BLOCK"),
+    };
+    let start = o.pos();
+    o.push(head);
+    o.push_text(&pou.name);
+    if let Some(r) = &pou.ret {
+        o.push(" : ");
+        write_type(o, r, 1);
+    }
+    o.mark(start, pou.tag.clone());
+    o.push("\n");
+    for g in &pou.groups {
+        write_group(o, g);
+    }
+    let mut names = (body.is_some() || actions.iter().any(Option::is_some))
+        .then(|| Names::new(cx.project, pou, cx.globals));
+    let mut lower = |g: &Graph, label: &str, diags: &mut Vec<Diagnostic>| -> Vec<Line> {
+        let ctx = PouCtx {
+            project: cx.project,
+            pou: label,
+            pou_vars: &pou.groups,
+            globals: cx.globals,
+            file: cx.file,
+            opts: cx.opts,
+        };
+        let names = names.as_mut().expect("made for every graph");
+        emit_body(g, &ctx, names, diags)
+    };
+    let body_lines = body.map(|g| lower(g, &pou.name.value, diags));
+    let action_lines: Vec<Option<Vec<Line>>> = pou
+        .actions
+        .iter()
+        .zip(
+            actions
+                .iter()
+                .map(Option::as_ref)
+                .chain(std::iter::repeat(None)),
+        )
+        .map(|(a, g)| g.map(|g| lower(g, &format!("{}.{}", pou.name.value, a.name.value), diags)))
+        .collect();
+    if let Some(n) = &names {
+        write_hidden(o, n);
+    }
+    write_body(o, &pou.body, body.zip(body_lines.as_deref()));
+    for (k, a) in pou.actions.iter().enumerate() {
+        let start = o.pos();
+        o.push("ACTION ");
+        o.push_text(&a.name);
+        o.push(":");
+        o.mark(start, a.tag.clone());
+        o.push("\n");
+        let g = actions.get(k).and_then(Option::as_ref);
+        write_body(o, &a.body, g.zip(action_lines[k].as_deref()));
+        o.push("END_ACTION\n");
+    }
+    o.push(end);
+    o.push("\n");
+}
+
+/// A body: the lines lowered from its graph, or its text as written.
+fn write_body(o: &mut Out, body: &Body, lowered: Option<(&Graph, &[Line])>) {
+    match (body, lowered) {
+        (Body::Graph(..), Some((g, lines))) => {
+            for line in lines {
+                line.write(o, g.elems);
+            }
+        }
+        (Body::St(t) | Body::Il(t), _) => write_text(o, t),
+        _ => {}
+    }
+}
+
+/// An ST or IL body as written, on lines of its own.
+fn write_text(o: &mut Out, t: &Text) {
+    o.push("    ");
+    o.push_text(t);
+    if !t.value.ends_with('\n') {
+        o.push("\n");
+    }
 }

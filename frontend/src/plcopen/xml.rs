@@ -1,18 +1,30 @@
-//! PLCopen TC6 XML read into a model: data types, POUs (interfaces and bodies) and
-//! configurations.
+//! PLCopen TC6 XML read into a model: data types, POUs (interfaces, bodies,
+//! actions and transitions), global variables and configurations, with what
+//! CODESYS-based editors keep in `<addData>` (applications, global variable lists,
+//! POUs), and the dialect the file's header implies.
 //!
 //! Both `http://www.plcopen.org/xml/tc6.xsd` (TC6 1.0) and `tc6_0201` (2.01, also
 //! `tc6_0200`) are read: elements are matched by their local names, which the versions
 //! share, and the few attributes they spell differently are tried both ways. Every
 //! string keeps where it is in the file ([`Text`]), so that diagnostics, and the IL
 //! made from the model, can point back at the XML.
+//!
+//! The reading is split by subject: `types` (data types, variables, values),
+//! `pou` (POUs), `instances` (configurations and CODESYS's vendor data), `elements`
+//! (the elements of graphical bodies).
 
+use super::Dialect;
 use crate::codes;
 use plcc_ir::diag::{Diagnostic, FileId, Span};
 use roxmltree::Node;
 use std::ops::Range;
 
 mod elements;
+mod instances;
+mod pou;
+mod types;
+
+pub(crate) use instances::duration_ms;
 
 /// The namespaces of PLCopen TC6 project files.
 const NAMESPACES: [&str; 3] = [
@@ -81,15 +93,23 @@ pub(crate) enum PouKind {
     FunctionBlock,
 }
 
-/// A project: what the generated IL file declares.
+/// A project: what the view of the file declares.
 #[derive(Debug, Default)]
 pub(crate) struct Project {
     /// `types/dataTypes`.
     pub types: Vec<DataType>,
-    /// `types/pous`.
+    /// `types/pous`, then the POUs CODESYS keeps in `<addData>` (of a resource, an
+    /// application or the project), in document order.
     pub pous: Vec<Pou>,
-    /// `instances/configurations`.
+    /// `instances/configurations`, then CODESYS's applications (a resource outside
+    /// any configuration, made a configuration of the same name when it has tasks or
+    /// program instances; else only its globals are kept, in `globals`).
     pub configs: Vec<Config>,
+    /// Global variable lists outside any configuration: CODESYS keeps a project's
+    /// GVLs in its `<addData>`.
+    pub globals: Vec<VarGroup>,
+    /// The dialect of the editor that wrote the file.
+    pub dialect: Dialect,
 }
 
 /// `<dataType name="...">`.
@@ -116,7 +136,24 @@ pub(crate) struct Pou {
     pub groups: Vec<VarGroup>,
     /// Its body.
     pub body: Body,
+    /// `<actions>`: bodies that share the POU's variables, called by name.
+    pub actions: Vec<NamedBody>,
+    /// `<transitions>` (the conditions of an SFC body), read but not compiled yet.
+    #[allow(dead_code, reason = "read for SFC bodies, which are not compiled yet")]
+    pub transitions: Vec<NamedBody>,
     /// The start tag, for messages about the POU.
+    pub tag: Range<u32>,
+}
+
+/// An `<action name="...">` or a `<transition name="...">` of a POU: a named body
+/// in any language.
+#[derive(Debug)]
+pub(crate) struct NamedBody {
+    /// Its name.
+    pub name: Text,
+    /// Its body.
+    pub body: Body,
+    /// Its tag name, for messages about it.
     pub tag: Range<u32>,
 }
 
@@ -181,10 +218,16 @@ impl Section {
 pub(crate) struct VarGroup {
     /// Which section.
     pub section: Section,
+    /// `name`: a CODESYS global variable list's name (`GVL`).
+    pub name: Option<Text>,
     /// `constant="true"`.
     pub constant: bool,
     /// `retain="true"` or `persistent="true"`.
     pub retain: bool,
+    /// `nonretain="true"`.
+    pub non_retain: bool,
+    /// Its tag name, for messages about the group.
+    pub tag: Range<u32>,
     /// The variables.
     pub vars: Vec<Var>,
 }
@@ -239,8 +282,10 @@ pub(crate) enum Type {
         /// Upper bound.
         hi: Text,
     },
-    /// `<pointer>` (a reference).
+    /// `<pointer>` (a reference, `REF_TO`).
     Ref(Box<Type>),
+    /// `<pointer>` in a file of a CODESYS-based editor: `POINTER TO`.
+    Pointer(Box<Type>),
 }
 
 /// An initial value.
@@ -278,15 +323,17 @@ pub(crate) struct Resource {
     pub instances: Vec<Instance>,
 }
 
-/// `<task name="..." interval="..." priority="...">`.
+/// `<task name="..." interval="..." priority="..." single="...">`.
 #[derive(Debug)]
 pub(crate) struct Task {
     /// Its name.
     pub name: Text,
-    /// `interval`.
+    /// `interval`, or CODESYS's task settings where it is missing or zero.
     pub interval: Option<Text>,
     /// `priority`.
     pub priority: Option<Text>,
+    /// `single`: the variable whose rising edge starts the task.
+    pub single: Option<Text>,
     /// The program instances it runs.
     pub instances: Vec<Instance>,
 }
@@ -296,7 +343,8 @@ pub(crate) struct Task {
 pub(crate) struct Instance {
     /// The instance's name.
     pub name: Text,
-    /// The PROGRAM it instantiates.
+    /// The PROGRAM it instantiates (its own name when `typeName` is empty, as
+    /// CODESYS writes it).
     pub type_name: Text,
 }
 
@@ -506,7 +554,12 @@ pub(crate) fn read(file: FileId, src: &str, diags: &mut Vec<Diagnostic>) -> Opti
             return None;
         }
     };
-    let mut r = Reader { src, file, diags };
+    let mut r = Reader {
+        src,
+        file,
+        diags,
+        dialect: Dialect::Iec,
+    };
     r.project(doc.root_element())
 }
 
@@ -532,6 +585,8 @@ struct Reader<'a, 's> {
     src: &'s str,
     file: FileId,
     diags: &'a mut Vec<Diagnostic>,
+    /// The file's dialect (from its header): what `<pointer>` means.
+    dialect: Dialect,
 }
 
 fn range32(r: Range<usize>) -> Range<u32> {
@@ -557,6 +612,18 @@ fn elements<'a, 'i>(n: Node<'a, 'i>) -> impl Iterator<Item = Node<'a, 'i>> {
 /// True for `true` and `1` (XML Schema booleans).
 fn truthy(v: &str) -> bool {
     matches!(v.trim(), "true" | "1")
+}
+
+/// The `<data>` children of the `<addData>` of `n` whose `name` ends in `/kind`
+/// (CODESYS's are `http://www.3s-software.com/plcopenxml/kind`).
+fn add_data<'a, 'i>(n: Node<'a, 'i>, kind: &'static str) -> impl Iterator<Item = Node<'a, 'i>> {
+    kids(n, "addData").flat_map(move |a| {
+        kids(a, "data").filter(move |d| {
+            d.attribute("name")
+                .and_then(|s| s.rsplit_once('/'))
+                .is_some_and(|(_, k)| k == kind)
+        })
+    })
 }
 
 impl Reader<'_, '_> {
@@ -676,7 +743,11 @@ impl Reader<'_, '_> {
             );
             return None;
         }
-        let mut p = Project::default();
+        self.dialect = instances::dialect(root);
+        let mut p = Project {
+            dialect: self.dialect,
+            ..Project::default()
+        };
         if let Some(types) = kid(root, "types") {
             if let Some(dts) = kid(types, "dataTypes") {
                 for dt in kids(dts, "dataType") {
@@ -693,427 +764,8 @@ impl Reader<'_, '_> {
                 }
             }
         }
-        if let Some(inst) = kid(root, "instances") {
-            if let Some(cs) = kid(inst, "configurations") {
-                for c in kids(cs, "configuration") {
-                    if let Some(x) = self.config(c) {
-                        p.configs.push(x);
-                    }
-                }
-            }
-        }
+        self.instances(root, &mut p);
+        types::quote_string_values(&mut p);
         Some(p)
-    }
-
-    fn data_type(&mut self, n: Node) -> Option<DataType> {
-        let name = self.need_attr(n, "name")?;
-        let Some(base) = kid(n, "baseType") else {
-            self.error(
-                codes::LD_BAD_PROJECT,
-                format!("data type `{}` has no `<baseType>`", name.value),
-                self.qname(n),
-            );
-            return None;
-        };
-        let ty = self.type_in(base)?;
-        let init = kid(n, "initialValue").and_then(|v| self.value_in(v));
-        Some(DataType { name, ty, init })
-    }
-
-    fn pou(&mut self, n: Node) -> Option<Pou> {
-        let name = self.need_attr(n, "name")?;
-        let kind_text = self.need_attr(n, "pouType")?;
-        let kind = match kind_text.value.as_str() {
-            "program" => PouKind::Program,
-            "function" => PouKind::Function,
-            "functionBlock" => PouKind::FunctionBlock,
-            other => {
-                self.error(
-                    codes::LD_BAD_PROJECT,
-                    format!(
-                        "unknown pouType `{other}` of POU `{}` (expected program, function or functionBlock)",
-                        name.value
-                    ),
-                    kind_text.range.clone(),
-                );
-                return None;
-            }
-        };
-        let mut ret = None;
-        let mut groups = Vec::new();
-        if let Some(iface) = kid(n, "interface") {
-            for g in elements(iface) {
-                match g.tag_name().name() {
-                    "returnType" => ret = self.type_in(g),
-                    "documentation" | "addData" => {}
-                    _ => {
-                        if let Some(grp) = self.group(g) {
-                            groups.push(grp);
-                        }
-                    }
-                }
-            }
-        }
-        if kind == PouKind::Function && ret.is_none() {
-            // A function without a result type is allowed (called as a statement).
-        }
-        let tag = self.tag(n);
-        for a in kids(n, "actions").chain(kids(n, "transitions")) {
-            if elements(a).next().is_some() {
-                let what = if a.tag_name().name() == "actions" {
-                    "actions of a POU in PLCopen XML"
-                } else {
-                    "transitions (sequential function charts)"
-                };
-                self.error(
-                    codes::E_UNSUPPORTED,
-                    format!("not supported yet: {what}"),
-                    self.qname(a),
-                );
-            }
-        }
-        let bodies: Vec<Node> = kids(n, "body").collect();
-        if bodies.len() > 1 {
-            self.error(
-                codes::E_UNSUPPORTED,
-                format!("not supported yet: several bodies in POU `{}`", name.value),
-                self.qname(bodies[1]),
-            );
-        }
-        let body = match bodies.first() {
-            None => Body::None,
-            Some(&b) => self.body(b, &name.value)?,
-        };
-        Some(Pou {
-            name,
-            kind,
-            ret,
-            groups,
-            body,
-            tag,
-        })
-    }
-
-    fn body(&mut self, b: Node, pou: &str) -> Option<Body> {
-        let Some(lang) = elements(b).find(|e| {
-            !matches!(
-                e.tag_name().name(),
-                "documentation" | "addData" | "vendorData"
-            )
-        }) else {
-            return Some(Body::None);
-        };
-        Some(match lang.tag_name().name() {
-            "ST" => Body::St(self.text(lang).trimmed()),
-            "IL" => Body::Il(self.text(lang).trimmed()),
-            "LD" | "FBD" => {
-                // A body with a malformed element is not checked further: its rungs
-                // would be incomplete, and every check would report consequences.
-                let before = self.diags.iter().filter(|d| d.is_error()).count();
-                let elems = self.ld(lang, pou);
-                if self.diags.iter().filter(|d| d.is_error()).count() > before {
-                    return Some(Body::None);
-                }
-                let g = if lang.tag_name().name() == "LD" {
-                    Graphic::Ld
-                } else {
-                    Graphic::Fbd
-                };
-                Body::Graph(g, elems)
-            }
-            other => {
-                let what = match other {
-                    "SFC" => "sequential function charts (SFC)",
-                    _ => "this body language",
-                };
-                self.diags.push(
-                    Diagnostic::error(
-                        codes::E_LANGUAGE_UNSUPPORTED,
-                        format!("not supported yet: {what}, in POU `{pou}`"),
-                        self.span(self.qname(lang)),
-                    )
-                    .with_note("plcc compiles LD, FBD, ST and IL bodies of PLCopen XML files"),
-                );
-                return None;
-            }
-        })
-    }
-
-    fn group(&mut self, g: Node) -> Option<VarGroup> {
-        let section = match g.tag_name().name() {
-            "inputVars" => Section::Input,
-            "outputVars" => Section::Output,
-            "inOutVars" => Section::InOut,
-            "localVars" => Section::Local,
-            "tempVars" => Section::Temp,
-            "externalVars" => Section::External,
-            "globalVars" => Section::Global,
-            "accessVars" => {
-                self.error(
-                    codes::E_UNSUPPORTED,
-                    "not supported yet: access variables",
-                    self.qname(g),
-                );
-                return None;
-            }
-            other => {
-                self.error(
-                    codes::LD_BAD_PROJECT,
-                    format!("unknown variable section `<{other}>`"),
-                    self.qname(g),
-                );
-                return None;
-            }
-        };
-        Some(self.vars(g, section))
-    }
-
-    fn vars(&mut self, g: Node, section: Section) -> VarGroup {
-        let constant = g.attribute("constant").is_some_and(truthy);
-        let retain = g.attribute("retain").is_some_and(truthy)
-            || g.attribute("persistent").is_some_and(truthy);
-        let vars = kids(g, "variable").filter_map(|v| self.var(v)).collect();
-        VarGroup {
-            section,
-            constant,
-            retain,
-            vars,
-        }
-    }
-
-    fn var(&mut self, v: Node) -> Option<Var> {
-        let name = self.need_attr(v, "name")?;
-        let Some(t) = kid(v, "type") else {
-            self.error(
-                codes::LD_BAD_PROJECT,
-                format!("variable `{}` has no `<type>`", name.value),
-                self.qname(v),
-            );
-            return None;
-        };
-        let ty = self.type_in(t)?;
-        let address = self.attr(v, "address").filter(|a| !a.value.is_empty());
-        let init = kid(v, "initialValue").and_then(|i| self.value_in(i));
-        Some(Var {
-            name,
-            ty,
-            address,
-            init,
-        })
-    }
-
-    /// The type inside `<type>`, `<baseType>` or `<returnType>`.
-    fn type_in(&mut self, n: Node) -> Option<Type> {
-        let Some(t) = elements(n).next() else {
-            self.error(
-                codes::LD_BAD_PROJECT,
-                "a type element is empty",
-                self.qname(n),
-            );
-            return None;
-        };
-        self.type_of(t)
-    }
-
-    fn type_of(&mut self, t: Node) -> Option<Type> {
-        let tag = t.tag_name().name();
-        let qname = self.qname(t);
-        let named = |value: &str| Text {
-            value: value.to_string(),
-            range: qname.clone(),
-            exact: vec![Piece {
-                at: 0,
-                src: qname.start,
-                len: value.len() as u32,
-            }],
-        };
-        Some(match tag {
-            "derived" => Type::Named(self.need_attr(t, "name")?),
-            "string" | "wstring" => Type::String {
-                wide: tag == "wstring",
-                len: self.attr(t, "length"),
-            },
-            "array" => {
-                let mut dims = Vec::new();
-                for d in kids(t, "dimension") {
-                    let lo = self.need_attr(d, "lower")?;
-                    let hi = self.need_attr(d, "upper")?;
-                    dims.push((lo, hi));
-                }
-                let Some(b) = kid(t, "baseType") else {
-                    self.error(codes::LD_BAD_PROJECT, "an array has no `<baseType>`", qname);
-                    return None;
-                };
-                Type::Array {
-                    dims,
-                    elem: Box::new(self.type_in(b)?),
-                }
-            }
-            "enum" => {
-                let mut values = Vec::new();
-                if let Some(vs) = kid(t, "values") {
-                    for v in kids(vs, "value") {
-                        let name = self.need_attr(v, "name")?;
-                        values.push((name, self.attr(v, "value")));
-                    }
-                }
-                let base = match kid(t, "baseType") {
-                    Some(b) => Some(Box::new(self.type_in(b)?)),
-                    None => None,
-                };
-                Type::Enum { values, base }
-            }
-            "struct" => Type::Struct(kids(t, "variable").filter_map(|v| self.var(v)).collect()),
-            "subrangeSigned" | "subrangeUnsigned" => {
-                let Some(r) = kid(t, "range") else {
-                    self.error(codes::LD_BAD_PROJECT, "a subrange has no `<range>`", qname);
-                    return None;
-                };
-                let lo = self.need_attr(r, "lower")?;
-                let hi = self.need_attr(r, "upper")?;
-                let Some(b) = kid(t, "baseType") else {
-                    self.error(
-                        codes::LD_BAD_PROJECT,
-                        "a subrange has no `<baseType>`",
-                        qname,
-                    );
-                    return None;
-                };
-                Type::Subrange {
-                    base: Box::new(self.type_in(b)?),
-                    lo,
-                    hi,
-                }
-            }
-            "pointer" => {
-                let Some(b) = kid(t, "baseType") else {
-                    self.error(
-                        codes::LD_BAD_PROJECT,
-                        "a pointer has no `<baseType>`",
-                        qname,
-                    );
-                    return None;
-                };
-                Type::Ref(Box::new(self.type_in(b)?))
-            }
-            // The elementary types are elements named after them (`<INT/>`, `<TIME/>`).
-            _ if !tag.is_empty()
-                && tag
-                    .bytes()
-                    .all(|b| b.is_ascii_uppercase() || b.is_ascii_digit() || b == b'_') =>
-            {
-                let t = named(tag);
-                Type::Named(t)
-            }
-            other => {
-                self.error(
-                    codes::LD_BAD_PROJECT,
-                    format!("unknown type element `<{other}>`"),
-                    qname,
-                );
-                return None;
-            }
-        })
-    }
-
-    /// The value inside `<initialValue>` (or an array or struct member).
-    fn value_in(&mut self, n: Node) -> Option<Value> {
-        let Some(v) = elements(n).next() else {
-            self.error(
-                codes::LD_BAD_PROJECT,
-                "an initial value is empty",
-                self.qname(n),
-            );
-            return None;
-        };
-        match v.tag_name().name() {
-            "simpleValue" => Some(Value::Simple(self.need_attr(v, "value")?)),
-            "arrayValue" => {
-                let mut out = Vec::new();
-                for e in kids(v, "value") {
-                    let rep = self.attr(e, "repetitionValue");
-                    out.push((rep, self.value_in(e)?));
-                }
-                Some(Value::Array(out))
-            }
-            "structValue" => {
-                let mut out = Vec::new();
-                for e in kids(v, "value") {
-                    let m = self.need_attr(e, "member")?;
-                    out.push((m, self.value_in(e)?));
-                }
-                Some(Value::Struct(out))
-            }
-            other => {
-                self.error(
-                    codes::LD_BAD_PROJECT,
-                    format!("unknown value element `<{other}>`"),
-                    self.qname(v),
-                );
-                None
-            }
-        }
-    }
-
-    fn config(&mut self, c: Node) -> Option<Config> {
-        let name = self.need_attr(c, "name")?;
-        let globals = kids(c, "globalVars")
-            .map(|g| self.vars(g, Section::Global))
-            .collect();
-        let mut resources = Vec::new();
-        for r in kids(c, "resource") {
-            let Some(rname) = self.need_attr(r, "name") else {
-                continue;
-            };
-            let globals = kids(r, "globalVars")
-                .map(|g| self.vars(g, Section::Global))
-                .collect();
-            let mut tasks = Vec::new();
-            for t in kids(r, "task") {
-                let Some(tname) = self.need_attr(t, "name") else {
-                    continue;
-                };
-                let instances = kids(t, "pouInstance")
-                    .filter_map(|i| self.instance(i))
-                    .collect();
-                tasks.push(Task {
-                    name: tname,
-                    interval: self.attr(t, "interval"),
-                    priority: self.attr(t, "priority"),
-                    instances,
-                });
-            }
-            let instances = kids(r, "pouInstance")
-                .filter_map(|i| self.instance(i))
-                .collect();
-            resources.push(Resource {
-                name: rname,
-                globals,
-                tasks,
-                instances,
-            });
-        }
-        Some(Config {
-            name,
-            globals,
-            resources,
-        })
-    }
-
-    fn instance(&mut self, i: Node) -> Option<Instance> {
-        let name = self.need_attr(i, "name")?;
-        // `typeName` in TC6 2.01, `type` in 1.0.
-        let type_name = match self.attr(i, "typeName").or_else(|| self.attr(i, "type")) {
-            Some(t) if !t.value.is_empty() => t,
-            _ => {
-                self.error(
-                    codes::LD_BAD_PROJECT,
-                    "`<pouInstance>` needs a `typeName` attribute",
-                    self.qname(i),
-                );
-                return None;
-            }
-        };
-        Some(Instance { name, type_name })
     }
 }

@@ -1,0 +1,626 @@
+//! Unit tests of what a PLCopen project holds besides its bodies: globals at every
+//! level, tasks and program instances, what CODESYS keeps in `<addData>`, the
+//! dialect of the file, and the actions and transitions of POUs.
+
+use super::*;
+use crate::codes;
+use crate::source::{SourceFile, SourceMap};
+use crate::{Lang, LowerOptions};
+use plcc_ir::diag::{Diagnostic, Span};
+
+/// A TC6 2.01 project: `header` (a `<fileHeader>`, or nothing), then `types` (inside
+/// `<types>`), `instances` (inside `<instances>`), `add_data` (the project's
+/// `<addData>` content).
+fn file(header: &str, pous: &str, instances: &str, add_data: &str) -> String {
+    format!(
+        r#"<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0201" xmlns:xhtml="http://www.w3.org/1999/xhtml">
+{header}
+<types><dataTypes/><pous>{pous}</pous></types>
+<instances><configurations>{instances}</configurations></instances>
+<addData>{add_data}</addData>
+</project>"#
+    )
+}
+
+/// An ST body.
+fn st(text: &str) -> String {
+    format!("<body><ST><xhtml:p><![CDATA[{text}]]></xhtml:p></ST></body>")
+}
+
+/// A variable of an elementary type.
+fn var(name: &str, ty: &str) -> String {
+    format!(r#"<variable name="{name}"><type><{ty}/></type></variable>"#)
+}
+
+fn convert_text(xml: &str) -> (Option<Converted>, Vec<Diagnostic>) {
+    let mut diags = Vec::new();
+    let c = convert(FileId(1), "t.xml", xml, &Options::default(), &mut diags);
+    (c, diags)
+}
+
+/// The view of a file that converts with no diagnostic at all.
+fn view(xml: &str) -> String {
+    let (c, d) = convert_text(xml);
+    assert!(d.is_empty(), "{d:#?}");
+    c.expect("converted").il
+}
+
+/// The codes of the diagnostics of a file's conversion.
+fn codes_of(xml: &str) -> Vec<&'static str> {
+    convert_text(xml).1.iter().map(|d| d.code).collect()
+}
+
+/// Compiles a PLCopen file with `opts`: the diagnostics (errors and warnings), and
+/// whether a module was made.
+fn compile_with(xml: &str, opts: &LowerOptions) -> (Vec<Diagnostic>, bool) {
+    let mut sources = SourceMap::new();
+    let f = sources.add(SourceFile::new("t.xml", xml));
+    let c = crate::compile(&mut sources, &[(f, Lang::Ld)], opts);
+    (c.diagnostics, c.module.is_some())
+}
+
+/// Compiles a PLCopen file, which must give no diagnostic at all.
+fn compiles(xml: &str) {
+    let (d, ok) = compile_with(xml, &LowerOptions::default());
+    assert!(d.is_empty() && ok, "{d:#?}");
+}
+
+/// The text of the XML that a span of the view is mapped back to.
+fn mapped<'x>(c: &Converted, xml: &'x str, at: &str) -> &'x str {
+    let start = c.il.find(at).unwrap_or_else(|| panic!("{at} in {}", c.il)) as u32;
+    let mut d = Diagnostic::error("E0201", "x", Span::new(FileId(7), start, start + 1));
+    c.map.remap(&mut d, FileId(7), FileId(1));
+    let s = d.span.unwrap();
+    assert_eq!(s.file, FileId(1), "{at} is not mapped back");
+    &xml[s.start as usize..s.end as usize]
+}
+
+// ---------------------------------------------------------------- globals
+
+#[test]
+fn globals_of_configurations_and_resources_with_addresses() {
+    let pou = format!(
+        r#"<pou name="main" pouType="program"><interface>
+<externalVars>{}{}{}</externalVars></interface>{}</pou>"#,
+        var("limit", "INT"),
+        var("start", "BOOL"),
+        var("lamp", "BOOL"),
+        st("lamp := start AND limit > 2;")
+    );
+    let config = format!(
+        r#"<configuration name="c">
+<resource name="r">
+<task name="t" interval="T#10ms" priority="0"><pouInstance name="m" typeName="main"/></task>
+<globalVars><variable name="start" address="%IX0.0"><type><BOOL/></type></variable>
+<variable name="lamp" address="%QX0.1"><type><BOOL/></type></variable></globalVars>
+</resource>
+<globalVars constant="true"><variable name="limit"><type><INT/></type><initialValue><simpleValue value="3"/></initialValue></variable></globalVars>
+<globalVars nonretain="true">{}</globalVars>
+</configuration>"#,
+        var("spare", "WORD")
+    );
+    let xml = file("", &pou, &config, "");
+    let v = view(&xml);
+    assert!(
+        v.contains("VAR_GLOBAL CONSTANT\n    limit : INT := 3;\nEND_VAR"),
+        "{v}"
+    );
+    assert!(
+        v.contains("VAR_GLOBAL NON_RETAIN\n    spare : WORD;\nEND_VAR"),
+        "{v}"
+    );
+    assert!(v.contains("    start AT %IX0.0 : BOOL;\n"), "{v}");
+    assert!(v.contains("    lamp AT %QX0.1 : BOOL;\n"), "{v}");
+    // The address is the attribute's text.
+    let (c, _) = convert_text(&xml);
+    let c = c.unwrap();
+    assert_eq!(mapped(&c, &xml, "%QX0.1"), "%");
+    compiles(&xml);
+}
+
+#[test]
+fn codesys_global_variable_lists_in_add_data() {
+    let gvls = format!(
+        r#"<data name="http://www.3s-software.com/plcopenxml/globalvars" handleUnknown="implementation">
+<globalVars name="GVL_Main">{}</globalVars>
+<globalVars name="GVL_Mixed" constant="true">
+  {}{}
+  <addData><data name="http://www.3s-software.com/plcopenxml/mixedattrsvarlist" handleUnknown="implementation">
+    <MixedAttrsVarList>
+      <globalVars name="GVL_Mixed" constant="true"><variable name="size"><type><INT/></type><initialValue><simpleValue value="8"/></initialValue></variable></globalVars>
+      <globalVars name="GVL_Mixed">{}</globalVars>
+    </MixedAttrsVarList>
+  </data></addData>
+</globalVars>
+</data>"#,
+        var("speed", "INT"),
+        var("size", "INT"),
+        var("used", "INT"),
+        var("used", "INT")
+    );
+    let pou = format!(
+        r#"<pou name="main" pouType="program"><interface/>{}</pou>"#,
+        st("used := size + speed;")
+    );
+    let xml = file("", &pou, "", &gvls);
+    let v = view(&xml);
+    // The mixed list's true lists, not the flattened one (CONSTANT, without the
+    // initial value).
+    assert!(
+        v.contains(
+            "(* GVL_Main *)\nVAR_GLOBAL\n    speed : INT;\nEND_VAR\n\n\
+             (* GVL_Mixed *)\nVAR_GLOBAL CONSTANT\n    size : INT := 8;\nEND_VAR\n\n\
+             (* GVL_Mixed *)\nVAR_GLOBAL\n    used : INT;\nEND_VAR\n"
+        ),
+        "{v}"
+    );
+    compiles(&xml);
+}
+
+// ---------------------------------------------------------------- tasks
+
+/// A project with PROGRAM `p` and one resource holding `resource` (tasks, instances).
+fn tasks_file(header: &str, resource: &str) -> String {
+    let pou = format!(
+        r#"<pou name="p" pouType="program"><interface><localVars>{}</localVars></interface>{}</pou>"#,
+        var("n", "INT"),
+        st("n := n + 1;")
+    );
+    let config = format!(
+        r#"<configuration name="c"><resource name="r">{resource}
+<globalVars>{}</globalVars></resource></configuration>"#,
+        var("go", "BOOL")
+    );
+    file(header, &pou, &config, "")
+}
+
+#[test]
+fn tasks_single_priority_and_instances() {
+    let xml = tasks_file(
+        "",
+        r#"<task name="fast" interval="T#20ms" priority="3"><pouInstance name="i1" typeName="p"/></task>
+<task name="every" interval="PT0S" priority="1"><pouInstance name="i2" typeName="p"/></task>
+<task name="old" interval="00:00:00" priority="2"/>
+<task name="once" single="go" priority="4"/>
+<pouInstance name="free" typeName="p"/>"#,
+    );
+    let v = view(&xml);
+    for line in [
+        "TASK fast(INTERVAL := T#20ms, PRIORITY := 3);",
+        // A zero interval is left out: the task runs in every cycle.
+        "TASK every(PRIORITY := 1);",
+        "TASK old(PRIORITY := 2);",
+        "TASK once(SINGLE := go, PRIORITY := 4);",
+        "PROGRAM i1 WITH fast : p;",
+        "PROGRAM i2 WITH every : p;",
+        "PROGRAM free : p;",
+    ] {
+        assert!(v.contains(line), "{line} in {v}");
+    }
+    // What the compiler says about a task maps back to its attributes.
+    let (c, _) = convert_text(&xml);
+    let c = c.unwrap();
+    assert_eq!(mapped(&c, &xml, "SINGLE"), "go");
+    assert_eq!(mapped(&c, &xml, "PRIORITY := 3"), "3");
+    assert_eq!(mapped(&c, &xml, "TASK fast"), "fast");
+    // SINGLE is not compiled yet: the error is at the attribute.
+    let (d, ok) = compile_with(&xml, &LowerOptions::default());
+    assert!(!ok);
+    let e = d.iter().find(|d| d.is_error()).unwrap();
+    assert_eq!(e.code, codes::E_UNSUPPORTED, "{d:#?}");
+    let s = e.span.unwrap();
+    assert_eq!(&xml[s.start as usize..s.end as usize], "go");
+}
+
+#[test]
+fn a_task_of_several_variables_is_not_supported() {
+    let xml = tasks_file("", r#"<task name="t" single="[a,b]" priority="0"/>"#);
+    assert_eq!(codes_of(&xml), [codes::E_UNSUPPORTED]);
+}
+
+#[test]
+fn codesys_task_settings_and_instances_of_programs_by_name() {
+    // TwinCAT writes `PT0S` and the interval in the task settings; CODESYS writes an
+    // instance of a PROGRAM with `typeName=""`.
+    let settings = |kind: &str, interval: &str, unit: &str| {
+        format!(
+            r#"<addData><data name="http://www.3s-software.com/plcopenxml/tasksettings" handleUnknown="implementation">
+<TaskSettings KindOfTask="{kind}" Interval="{interval}" IntervalUnit="{unit}"/></data></addData>"#
+        )
+    };
+    let xml = tasks_file(
+        "",
+        &format!(
+            r#"<task name="a" interval="PT0S" priority="1"><pouInstance name="p" typeName=""/>{}</task>
+<task name="b" priority="2">{}</task>
+<task name="c" interval="PT0.05S" priority="3">{}</task>
+<task name="d" priority="4">{}</task>"#,
+            settings("Cyclic", "10000", "us"),
+            settings("Cyclic", "t#50ms", "ms"),
+            settings("Cyclic", "20", "ms"),
+            settings("Freewheeling", "20", "ms"),
+        ),
+    );
+    let v = view(&xml);
+    for line in [
+        "TASK a(INTERVAL := T#10000us, PRIORITY := 1);",
+        "TASK b(INTERVAL := t#50ms, PRIORITY := 2);",
+        // The attribute, when it is not zero.
+        "TASK c(INTERVAL := T#50ms, PRIORITY := 3);",
+        "TASK d(PRIORITY := 4);",
+        "PROGRAM p WITH a : p;",
+    ] {
+        assert!(v.contains(line), "{line} in {v}");
+    }
+    compiles(&xml);
+}
+
+#[test]
+fn durations_in_every_form() {
+    for (text, ms) in [
+        ("T#20ms", Some(20.0)),
+        ("t#1.5s", Some(1500.0)),
+        ("TIME#1h_2m", Some(3_720_000.0)),
+        ("T#500us", Some(0.5)),
+        ("LT#1d", Some(86_400_000.0)),
+        ("PT0.05S", Some(50.0)),
+        ("PT1M30S", Some(90_000.0)),
+        ("PT0S", Some(0.0)),
+        ("00:00:00.100000", Some(100.0)),
+        ("00:01:02.5", Some(62_500.0)),
+        ("T#5x", None),
+        ("20", None),
+        ("D#2020-01-01", None),
+    ] {
+        assert_eq!(xml::duration_ms(text), ms, "{text}");
+    }
+}
+
+// ---------------------------------------------------------------- CODESYS
+
+/// A CODESYS "application" export: no configuration, and everything inside the
+/// project's `<addData>`.
+fn application(header: &str, pou_body: &str, locals: &str) -> String {
+    let app = format!(
+        r#"<data name="http://www.3s-software.com/plcopenxml/application" handleUnknown="implementation">
+<resource name="App">
+  <task name="PlcTask" interval="PT0S" priority="20"><pouInstance name="MAIN" typeName=""/>
+    <addData><data name="http://www.3s-software.com/plcopenxml/tasksettings" handleUnknown="implementation">
+      <TaskSettings KindOfTask="Cyclic" Interval="10" IntervalUnit="ms"/></data></addData>
+  </task>
+  <globalVars name="GVL">{}</globalVars>
+  <addData><data name="http://www.3s-software.com/plcopenxml/pou" handleUnknown="implementation">
+    <pou name="MAIN" pouType="program"><interface><localVars>{locals}</localVars></interface>{}</pou>
+  </data></addData>
+</resource></data>"#,
+        var("count", "INT"),
+        st(pou_body)
+    );
+    file(header, "", "", &app)
+}
+
+const CODESYS: &str =
+    r#"<fileHeader companyName="" productName="CODESYS" productVersion="CODESYS V3.5 SP16"/>"#;
+
+#[test]
+fn codesys_applications_and_their_pous_in_add_data() {
+    let xml = application(CODESYS, "count := count + 1;", "");
+    let v = view(&xml);
+    assert!(
+        v.contains("(* GVL *)\nVAR_GLOBAL\n    count : INT;\nEND_VAR"),
+        "{v}"
+    );
+    assert!(v.contains("PROGRAM MAIN\n"), "{v}");
+    assert!(
+        v.contains(
+            "CONFIGURATION App\n  RESOURCE App ON PLC\n    \
+             TASK PlcTask(INTERVAL := T#10ms, PRIORITY := 20);\n    \
+             PROGRAM MAIN WITH PlcTask : MAIN;\n  END_RESOURCE\nEND_CONFIGURATION"
+        ),
+        "{v}"
+    );
+    compiles(&xml);
+}
+
+#[test]
+fn the_dialect_follows_the_header() {
+    let cases = [
+        (CODESYS, Dialect::Codesys),
+        (
+            r#"<fileHeader companyName="WAGO" productName="e!COCKPIT" productVersion="e!COCKPIT"/>"#,
+            Dialect::Codesys,
+        ),
+        (
+            r#"<fileHeader companyName="Beckhoff Automation GmbH" productName="TwinCAT PLC Control" productVersion="3.5"/>"#,
+            Dialect::Codesys,
+        ),
+        (
+            r#"<fileHeader companyName="Beremiz" productName="Beremiz" productVersion="1"/>"#,
+            Dialect::Iec,
+        ),
+        (
+            r#"<fileHeader companyName="Unknown" productName="Unnamed" productVersion="1"/>"#,
+            Dialect::Iec,
+        ),
+        ("", Dialect::Iec),
+    ];
+    for (header, want) in cases {
+        let xml = file(header, "", "", "");
+        let (c, d) = convert_text(&xml);
+        assert!(d.is_empty(), "{d:#?}");
+        assert_eq!(c.unwrap().dialect, want, "{header}");
+    }
+    // CODESYS's vendor data in the content header, whatever the file header says.
+    let xml = file(
+        r#"<fileHeader companyName="ACME" productName="Machine" productVersion="1"/>
+<contentHeader name="x"><addData><data name="http://www.3s-software.com/plcopenxml/projectinformation" handleUnknown="implementation"><ProjectInformation/></data></addData></contentHeader>"#,
+        "",
+        "",
+        "",
+    );
+    assert_eq!(convert_text(&xml).0.unwrap().dialect, Dialect::Codesys);
+}
+
+#[test]
+fn a_codesys_file_compiles_in_the_codesys_dialect_unless_told_otherwise() {
+    let locals = r#"<variable name="p"><type><pointer><baseType><INT/></baseType></pointer></type></variable>"#;
+    let xml = application(CODESYS, "p := ADR(count);\np^ := p^ + 1;", locals);
+    // `<pointer>` is CODESYS's POINTER TO in a CODESYS file, a reference elsewhere.
+    assert!(view(&xml).contains("    p : POINTER TO INT;\n"));
+    compiles(&xml);
+    // `--dialect iec` is obeyed.
+    let iec = LowerOptions {
+        dialect_given: true,
+        ..LowerOptions::default()
+    };
+    let (d, ok) = compile_with(&xml, &iec);
+    assert!(!ok && d.iter().any(|d| d.is_error()), "{d:#?}");
+    // In a file from another editor (and without CODESYS's vendor data) it is a
+    // reference: REF_TO.
+    let pou = format!(
+        r#"<pou name="main" pouType="program"><interface><localVars>{locals}</localVars></interface>{}</pou>"#,
+        st("p := REF(p);")
+    );
+    assert!(view(&file("", &pou, "", "")).contains("    p : REF_TO INT;\n"));
+}
+
+#[test]
+fn methods_and_var_lists() {
+    // CODESYS's methods, in the POU's `<addData>`: not compiled yet.
+    let method = |n: &str| {
+        format!(
+            r#"<data name="http://www.3s-software.com/plcopenxml/method" handleUnknown="implementation"><Method name="{n}"><interface/>{}</Method></data>"#,
+            st("")
+        )
+    };
+    let pou = format!(
+        r#"<pou name="fb" pouType="functionBlock"><interface/>{}<addData>{}{}</addData></pou>"#,
+        st(""),
+        method("Start"),
+        method("Stop")
+    );
+    let (_, d) = convert_text(&file("", &pou, "", ""));
+    assert_eq!(d.len(), 1, "{d:#?}");
+    assert_eq!(d[0].code, codes::E_UNSUPPORTED);
+    assert!(
+        d[0].message.contains("`fb`: Start, Stop"),
+        "{}",
+        d[0].message
+    );
+    // `<varList>` is no variable section: skipped, with one warning for the POU.
+    let pou = format!(
+        r#"<pou name="p" pouType="program"><interface><localVars>{}</localVars>
+<varList>{}</varList><varList><variable name=""><type><derived name=""/></type></variable></varList>
+</interface>{}</pou>"#,
+        var("x", "INT"),
+        var("x", "INT"),
+        st("x := 1;")
+    );
+    let xml = file("", &pou, "", "");
+    let (c, d) = convert_text(&xml);
+    assert_eq!(d.len(), 1, "{d:#?}");
+    assert_eq!(d[0].code, codes::W_PLCOPEN_SKIPPED);
+    assert!(!d[0].is_error());
+    assert!(d[0].message.starts_with("2 `<varList>` elements"), "{d:#?}");
+    let s = d[0].span.unwrap();
+    assert_eq!(&xml[s.start as usize..s.end as usize], "varList");
+    assert_eq!(c.unwrap().il.matches("x : INT;").count(), 1);
+}
+
+// ---------------------------------------------------------------- actions
+
+/// An LD body: `in` through a rising contact to coil `out` (localIds 1 to 4).
+fn ld_rising(input: &str, out: &str) -> String {
+    format!(
+        r#"<body><LD><leftPowerRail localId="1"/>
+<contact localId="2" edge="rising"><connectionPointIn><connection refLocalId="1"/></connectionPointIn><variable>{input}</variable></contact>
+<coil localId="3"><connectionPointIn><connection refLocalId="2"/></connectionPointIn><variable>{out}</variable></coil>
+<rightPowerRail localId="4"><connectionPointIn><connection refLocalId="3"/></connectionPointIn></rightPowerRail>
+</LD></body>"#
+    )
+}
+
+#[test]
+fn actions_in_st_il_and_ld() {
+    let ld = ld_rising("a", "x");
+    let fb = format!(
+        r#"<pou name="fb" pouType="functionBlock"><interface><inputVars>{}{}</inputVars>
+<outputVars>{}{}{}</outputVars></interface>{ld}
+<actions>
+<action name="clear">{}</action>
+<action name="add2"><body><IL><xhtml:p><![CDATA[LD n
+ADD 2
+ST n]]></xhtml:p></IL></body></action>
+<action name="edge">{}</action>
+</actions></pou>"#,
+        var("a", "BOOL"),
+        var("b", "BOOL"),
+        var("x", "BOOL"),
+        var("y", "BOOL"),
+        var("n", "INT"),
+        st("n := 0;"),
+        ld_rising("b", "y"),
+    );
+    let main = format!(
+        r#"<pou name="main" pouType="program"><interface><localVars>
+<variable name="f"><type><derived name="fb"/></type></variable>{}</localVars></interface>{}
+<actions><action name="step">{}</action></actions></pou>"#,
+        var("k", "INT"),
+        st("f(); f.add2(); step();\nIF k > 2 THEN f.clear(); END_IF;"),
+        st("k := k + 1;"),
+    );
+    let xml = file("", &format!("{fb}{main}"), "", "");
+    let v = view(&xml);
+    // The hidden variables of the body and of the LD action are declared once, in
+    // the POU, before the code, with different names.
+    let fb_text = &v[v.find("FUNCTION_BLOCK fb").unwrap()..v.find("END_FUNCTION_BLOCK").unwrap()];
+    assert_eq!(fb_text.matches(": R_TRIG;").count(), 2, "{fb_text}");
+    assert!(fb_text.contains("R_TRIG1 : R_TRIG;"), "{fb_text}");
+    assert!(fb_text.contains("R_TRIG2 : R_TRIG;"), "{fb_text}");
+    assert!(
+        fb_text.find(": R_TRIG;").unwrap() < fb_text.find("ACTION clear:").unwrap(),
+        "{fb_text}"
+    );
+    for part in [
+        "ACTION clear:\n    n := 0;\nEND_ACTION\n",
+        "ACTION add2:\n    LD n\nADD 2\nST n\nEND_ACTION\n",
+        "ACTION edge:\n",
+    ] {
+        assert!(fb_text.contains(part), "{part} in {fb_text}");
+    }
+    assert!(
+        v.contains("ACTION step:\n    k := k + 1;\nEND_ACTION\nEND_PROGRAM"),
+        "{v}"
+    );
+    // The action's header maps back to the action's element.
+    let (c, _) = convert_text(&xml);
+    assert_eq!(mapped(&c.unwrap(), &xml, "ACTION step"), "action");
+    compiles(&xml);
+}
+
+#[test]
+fn errors_in_actions_name_the_action() {
+    let pou = |actions: &str| {
+        file(
+            "",
+            &format!(
+                r#"<pou name="p" pouType="program"><interface><localVars>{}</localVars></interface>{}<actions>{actions}</actions></pou>"#,
+                var("x", "BOOL"),
+                st("x := TRUE;")
+            ),
+            "",
+            "",
+        )
+    };
+    let (_, d) = convert_text(&pou(r#"<action name="a"><body><SFC/></body></action>"#));
+    assert_eq!(d.len(), 1, "{d:#?}");
+    assert_eq!(d[0].code, codes::E_LANGUAGE_UNSUPPORTED);
+    assert!(d[0].message.contains("in action `p.a`"), "{}", d[0].message);
+    let (_, d) = convert_text(&pou(&format!(
+        r#"<action name="a">{0}</action><action name="A">{0}</action>"#,
+        st("x := FALSE;")
+    )));
+    assert_eq!(d.len(), 1, "{d:#?}");
+    assert_eq!(d[0].code, codes::E_DUPLICATE);
+    // A rung check in an action's ladder names it.
+    let open = r#"<action name="a"><body><LD><leftPowerRail localId="1"/>
+<coil localId="3"><connectionPointIn/><variable>x</variable></coil></LD></body></action>"#;
+    let mut strict = Vec::new();
+    let opts = Options {
+        strict_rungs: true,
+        ..Options::default()
+    };
+    assert!(convert(FileId(1), "t.xml", &pou(open), &opts, &mut strict).is_none());
+    assert!(
+        strict.iter().any(|d| d.message.contains("`p.a`")),
+        "{strict:#?}"
+    );
+    // A FUNCTION has no actions: the compiler says so, at the action.
+    let xml = file(
+        "",
+        &format!(
+            r#"<pou name="f" pouType="function"><interface><returnType><INT/></returnType></interface>{}
+<actions><action name="a">{}</action></actions></pou>"#,
+            st("f := 1;"),
+            st("f := 2;")
+        ),
+        "",
+        "",
+    );
+    let (d, ok) = compile_with(&xml, &LowerOptions::default());
+    assert!(!ok);
+    let e = d.iter().find(|d| d.is_error()).unwrap();
+    assert_eq!(e.code, codes::E_BAD_DECLARATION, "{d:#?}");
+    let s = e.span.unwrap();
+    assert_eq!(s.file, FileId(0));
+    assert_eq!(&xml[s.start as usize - 6..s.end as usize], "name=\"a");
+}
+
+#[test]
+fn transitions_are_read() {
+    let xml = file(
+        "",
+        &format!(
+            r#"<pou name="p" pouType="program"><interface><localVars>{}</localVars></interface>{}
+<transitions><transition name="t1"><body><ST><xhtml:p><![CDATA[x AND NOT x]]></xhtml:p></ST></body></transition>
+<transition name="t2">{}</transition></transitions></pou>"#,
+            var("x", "BOOL"),
+            st("x := TRUE;"),
+            ld_rising("x", "t2")
+        ),
+        "",
+        "",
+    );
+    let mut d = Vec::new();
+    let p = xml::read(FileId(1), &xml, &mut d).unwrap();
+    assert!(d.is_empty(), "{d:#?}");
+    let t = &p.pous[0].transitions;
+    assert_eq!(t.len(), 2);
+    assert_eq!(t[0].name.value, "t1");
+    assert!(matches!(&t[0].body, xml::Body::St(s) if s.value == "x AND NOT x"));
+    assert!(matches!(&t[1].body, xml::Body::Graph(xml::Graphic::Ld, e) if e.len() == 4));
+    // They are not compiled (SFC bodies are not, yet): the view has no trace of them.
+    assert!(!view(&xml).contains("t1"));
+}
+
+// ---------------------------------------------------------------- values
+
+#[test]
+fn string_values_without_quotes_are_quoted_as_the_editors_quote_them() {
+    let types = r#"<dataTypes>
+<dataType name="Name"><baseType><string length="20"/></baseType><initialValue><simpleValue value="anon"/></initialValue></dataType>
+<dataType name="Label"><baseType><derived name="Name"/></baseType></dataType>
+<dataType name="Rec"><baseType><struct><variable name="tag"><type><derived name="Label"/></type><initialValue><simpleValue value="t"/></initialValue></variable></struct></baseType></dataType>
+</dataTypes>"#;
+    let vars = r#"<variable name="a"><type><string/></type><initialValue><simpleValue value="it's $5"/></initialValue></variable>
+<variable name="b"><type><wstring/></type><initialValue><simpleValue value="wide"/></initialValue></variable>
+<variable name="c"><type><derived name="Label"/></type><initialValue><simpleValue value="x"/></initialValue></variable>
+<variable name="d"><type><string/></type><initialValue><simpleValue value="'kept'"/></initialValue></variable>
+<variable name="e"><type><INT/></type><initialValue><simpleValue value="5"/></initialValue></variable>"#;
+    let pou = format!(
+        r#"<pou name="main" pouType="program"><interface><localVars>{vars}</localVars></interface>{}</pou>"#,
+        st("e := e + 1;")
+    );
+    let text = |header: &str| file(header, &pou, "", "").replace("<dataTypes/>", types);
+    let xml = text("");
+    let v = view(&xml);
+    for decl in [
+        "Name : STRING[20] := 'anon';",
+        "tag : Label := 't';",
+        "a : STRING := 'it$'s $$5';",
+        "b : WSTRING := \"wide\";",
+        "c : Label := 'x';",
+        "d : STRING := 'kept';",
+        "e : INT := 5;",
+    ] {
+        assert!(v.contains(decl), "{decl} in {v}");
+    }
+    // Quoted, the value still maps back to the attribute's text.
+    let (c, _) = convert_text(&xml);
+    assert_eq!(mapped(&c.unwrap(), &xml, "x';"), "x");
+    compiles(&xml);
+    // CODESYS writes initial values as expressions: they are kept as written.
+    let v = view(&text(CODESYS));
+    assert!(v.contains("c : Label := x;"), "{v}");
+}
