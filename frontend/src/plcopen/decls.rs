@@ -1,6 +1,6 @@
 //! The declarations of the view of a PLCopen file: data types, variable blocks with
 //! their initial values, and the configurations with their resources, tasks and
-//! program instances, written as IEC text (`to_il` writes the bodies).
+//! program instances, written as IEC text (`body` writes the graphical bodies).
 
 use super::map::Out;
 use super::xml::{duration_ms, Config, Task, Text, Type, Value, Var, VarGroup};

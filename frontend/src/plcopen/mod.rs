@@ -1,4 +1,5 @@
-//! Ladder diagrams from PLCopen TC6 XML.
+//! The PLCopen front end: projects in PLCopen TC6 XML (LD and FBD diagrams, ST and
+//! IL bodies, types, globals, configurations).
 //!
 //! A `.xml` file is a PLCopen project (what Beremiz, OpenPLC Editor and CODESYS
 //! export). It goes through:
@@ -7,15 +8,20 @@
 //!    LD, FBD, ST or IL bodies and actions, globals, configurations, and what
 //!    CODESYS keeps in `<addData>`), every string with its place in the file, and
 //!    the dialect its header implies ([`Dialect`]);
-//! 2. `graph`: each ladder body's connections resolved, its rungs found and ordered,
-//!    the rung checks of the reference run (errors name the POU, the rung and the
-//!    element's `localId`, at the element in the XML);
-//! 3. `to_il`: the whole file written as IEC source text with IL bodies (the seed's
-//!    conversion of rungs to IL), with a map from that text back to the XML (`map`);
-//! 4. the IL front end, which compiles that text like any `.il` file; diagnostics about
-//!    it are moved back to the XML where the map knows where they come from.
+//! 2. `graph`: each graphical body's connections resolved, its networks found, the
+//!    ladder editor's style rules checked (warnings, errors under `--strict-rungs`;
+//!    messages name the POU, the rung and the element's `localId`, at the element in
+//!    the XML);
+//! 3. `body` (with `order` and `wiretype`): each LD and FBD body lowered to ST
+//!    statements, with the meaning of the chosen [`Profile`];
+//! 4. `view`: the whole file written as IEC source text (declarations by `decls`),
+//!    with a map from that text back to the XML (`map`);
+//! 5. the front end's parser, which compiles that text like any source file;
+//!    diagnostics about it are moved back to the XML where the map knows where they
+//!    come from.
 //!
-//! `--emit il` prints the text of step 3, `--emit ld-text` the rungs drawn by `text`.
+//! `--emit st` prints the text of step 4, `--emit ld-text` the diagrams drawn by
+//! `text`.
 
 mod body;
 mod decls;
