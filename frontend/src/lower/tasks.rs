@@ -189,7 +189,8 @@ impl<'s> Lowerer<'s> {
                     if ms <= 0 || ms > u32::MAX as i128 {
                         self.error(
                             codes::E_BAD_DECLARATION,
-                            "a task's INTERVAL is a positive TIME",
+                            "a task's INTERVAL is a positive TIME of at least 1 ms (plcc's \
+                             TIME counts whole milliseconds)",
                             value.span,
                         );
                     } else {

@@ -940,6 +940,31 @@ impl Lower<'_, '_, '_, '_> {
             // ENO of a block whose EN is not wired: it always runs.
             return X::True;
         }
+        // The output side of an in-out is the variable wired to its input side (an
+        // in-out is in `inOutVariables`, or, as Beremiz writes it, an input and an
+        // output of the same name).
+        if let Kind::Block {
+            inputs,
+            outputs,
+            in_outs,
+            ..
+        } = &self.elem(e).kind
+        {
+            if port >= outputs.len() && port - outputs.len() < in_outs.len() {
+                let input = inputs.len() + (port - outputs.len());
+                return self.input(e, input);
+            }
+            let same = inputs.iter().position(|p| {
+                p.name
+                    .as_ref()
+                    .is_some_and(|n| n.value.eq_ignore_ascii_case(&pin))
+            });
+            if let Some(input) = same {
+                if !self.g.ins[e][input].is_empty() {
+                    return self.input(e, input);
+                }
+            }
+        }
         match instance {
             Some(i) => {
                 let i = i.clone();
