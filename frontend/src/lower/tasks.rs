@@ -22,9 +22,11 @@ use plcc_ir::{
 };
 
 /// A task of the configuration.
-struct Task {
+struct Task<'s> {
     interval_ms: Option<u32>,
     priority: u32,
+    /// `SINGLE := v`: the task runs once at each rising edge of `v`.
+    single: Option<&'s ast::Expr>,
 }
 
 /// A configured PROGRAM instance.
@@ -68,7 +70,7 @@ impl<'s> Lowerer<'s> {
         c: &'s ast::Configuration,
         programs: &[String],
     ) {
-        let mut tasks: Vec<(ast::Ident, Task)> = Vec::new();
+        let mut tasks: Vec<(ast::Ident, Task<'s>)> = Vec::new();
         let mut instances: Vec<Instance<'s>> = Vec::new();
         for r in &c.resources {
             for t in &r.tasks {
@@ -167,10 +169,11 @@ impl<'s> Lowerer<'s> {
     }
 
     /// A task's INTERVAL and PRIORITY (constants).
-    fn task(&mut self, t: &'s ast::TaskDecl) -> Task {
+    fn task(&mut self, t: &'s ast::TaskDecl) -> Task<'s> {
         let mut task = Task {
             interval_ms: None,
             priority: 0,
+            single: None,
         };
         for (name, value) in &t.props {
             let prop = self.sym_name(name.sym).to_ascii_uppercase();
@@ -200,13 +203,7 @@ impl<'s> Lowerer<'s> {
                 ("PRIORITY", Some(ConstVal::Int(p))) if (0..=u32::MAX as i128).contains(&p) => {
                     task.priority = p as u32;
                 }
-                ("SINGLE", _) => {
-                    self.error(
-                        codes::E_UNSUPPORTED,
-                        "not supported yet: event tasks (SINGLE)",
-                        name.span,
-                    );
-                }
+                ("SINGLE", _) => task.single = Some(value),
                 ("INTERVAL" | "PRIORITY", _) => {
                     self.error(
                         codes::E_NOT_CONSTANT,
@@ -228,7 +225,7 @@ impl<'s> Lowerer<'s> {
     }
 
     /// The data object, wrappers and program entry of one configured instance.
-    fn instantiate_configured(&mut self, inst: Instance<'s>, task: Option<&Task>) {
+    fn instantiate_configured(&mut self, inst: Instance<'s>, task: Option<&Task<'s>>) {
         let ir = &self.ir[inst.pou.0 as usize];
         let (Some(agg), Some(body), Some(init)) = (ir.agg, ir.body, ir.init) else {
             return;
@@ -241,9 +238,14 @@ impl<'s> Lowerer<'s> {
             kind: DataKind::Program,
             location: None,
         });
-        let interval = task.and_then(|t| t.interval_ms);
-        // The task's state: when the instance last ran, and whether it has.
-        let state = interval.map(|_| {
+        let single = task.and_then(|t| t.single);
+        // An event task (SINGLE) runs on its event, whatever its INTERVAL.
+        let interval = task
+            .and_then(|t| t.interval_ms)
+            .filter(|_| single.is_none());
+        // The task's state: when the instance last ran, and whether it has (a timed
+        // task); the event's value at the last scan (an event task).
+        let state = (interval.is_some() || single.is_some()).then(|| {
             let sagg = self.module.add_agg(AggDef::Struct(StructDef {
                 name: format!("{name}$state"),
                 kind: StructKind::Other,
@@ -273,7 +275,11 @@ impl<'s> Lowerer<'s> {
             });
             (sagg, d)
         });
-        let wrapped_body = self.task_body(&name, &inst, body, interval.zip(state));
+        let timing = state.map(|st| match single {
+            Some(e) => Due::Event(e, st),
+            None => Due::Every(interval.expect("a timed task"), st),
+        });
+        let wrapped_body = self.task_body(&name, &inst, body, timing);
         let wrapped_init = match state {
             Some((sagg, d)) => {
                 // Not `{name}$init`: that is the init of a PROGRAM of the instance's
@@ -318,7 +324,7 @@ impl<'s> Lowerer<'s> {
         name: &str,
         inst: &Instance<'s>,
         body: FuncId,
-        timing: Option<(u32, (plcc_ir::AggId, plcc_ir::DataId))>,
+        timing: Option<Due<'s>>,
     ) -> FuncId {
         if timing.is_none() && inst.decl.args.is_empty() {
             return body;
@@ -345,8 +351,10 @@ impl<'s> Lowerer<'s> {
                 _ => Some(p),
             };
             let done = cx.b.create_block();
-            if let Some((interval, (sagg, d))) = timing {
-                cx.due_check(interval, sagg, d, done);
+            match timing {
+                Some(Due::Every(interval, (sagg, d))) => cx.due_check(interval, sagg, d, done),
+                Some(Due::Event(e, (sagg, d))) => cx.event_check(e, sagg, d, done),
+                None => {}
             }
             if decl.args.is_empty() {
                 cx.b.call(body, None, vec![p]);
@@ -362,7 +370,39 @@ impl<'s> Lowerer<'s> {
     }
 }
 
+/// When a configured instance runs: every `interval` ms, or at each rising edge of
+/// an event; with the task's state (its aggregate and data object).
+enum Due<'s> {
+    Every(u32, (plcc_ir::AggId, plcc_ir::DataId)),
+    Event(&'s ast::Expr, (plcc_ir::AggId, plcc_ir::DataId)),
+}
+
 impl<'s> BodyCx<'_, 's> {
+    /// Goes on only at a rising edge of the event `e` (a BOOL, read at every scan):
+    /// TRUE now and FALSE at the previous scan, the task's state keeping the previous
+    /// value (its `started` field; FALSE at cold start, so an event already TRUE at
+    /// the first scan runs the task then, as matiec's R_TRIG on it does). Jumps to
+    /// `done` otherwise.
+    fn event_check(
+        &mut self,
+        e: &'s ast::Expr,
+        sagg: plcc_ir::AggId,
+        d: plcc_ir::DataId,
+        done: plcc_ir::Block,
+    ) {
+        let now = self.emit_as(e, Ty::Elem(plcc_ir::ElemType::Bool));
+        let s = self.b.global_addr(d);
+        let prev_p = self.b.field_addr(s, sagg, 1);
+        let prev = self.b.load(Type::I1, prev_p);
+        self.b.store(now, prev_p);
+        let one = self.b.iconst(Type::I1, 1);
+        let not_prev = self.b.binary(BinaryOp::Bxor, prev, one);
+        let due = self.b.binary(BinaryOp::Band, now, not_prev);
+        let run = self.b.create_block();
+        self.b.brif(due, run, vec![], done, vec![]);
+        self.b.switch_to(run);
+    }
+
     /// Goes on only when the task is due: at its first scan, then once at least
     /// `interval` ms have passed since its last due time (missed periods are
     /// skipped, the phase is kept). Jumps to `done` otherwise.
