@@ -13,7 +13,7 @@ impl Lowerer<'_> {
     /// Creates a data object and a program entry for every PROGRAM to run: the ones
     /// named in the options, or all of them but a library's.
     pub(super) fn instantiate_programs(&mut self, opts: &super::LowerOptions) {
-        if let Some(c) = self.configuration() {
+        if let Some(c) = self.configuration(&opts.library) {
             self.instantiate_configuration(c, &opts.programs);
             return;
         }

@@ -38,11 +38,15 @@ struct Instance<'s> {
 }
 
 impl<'s> Lowerer<'s> {
-    /// The user's configuration, if there is one (a second one is reported).
-    pub(super) fn configuration(&mut self) -> Option<&'s ast::Configuration> {
+    /// The user's configuration, if there is one (a second one is reported). A
+    /// library's (`--lib`) configurations are not the build's: they are left out.
+    pub(super) fn configuration(
+        &mut self,
+        library: &[plcc_ir::diag::FileId],
+    ) -> Option<&'s ast::Configuration> {
         let units = self.units;
         let mut found: Option<&'s ast::Configuration> = None;
-        for unit in units.iter().skip(1) {
+        for unit in units.iter().skip(1).filter(|u| !library.contains(&u.file)) {
             for item in &unit.items {
                 if let ast::Item::Configuration(c) = item {
                     if let Some(first) = found {

@@ -242,14 +242,17 @@ impl Reader<'_, '_> {
 /// The initial values of STRING and WSTRING variables and types, quoted where the
 /// file leaves the quotes out, as Beremiz's and OpenPLC's translator does: a value of
 /// a string type (or of an alias of one) that neither starts nor ends with the quote
-/// is put between quotes (`hello` is `'hello'`). CODESYS writes initial values as
+/// is put between quotes (`hello` is `'hello'`); SVGHMI's `HMI_STRING` counts as a
+/// string type. CODESYS writes initial values as
 /// expressions (`CONCAT(a, 'b')`), so its files are left as they are.
 pub(super) fn quote_string_values(p: &mut Project) {
     if p.dialect == Dialect::Codesys {
         return;
     }
-    // The string types: their names (uppercase) and whether they are wide.
-    let mut strings: Vec<(String, bool)> = Vec::new();
+    // The string types: their names (uppercase) and whether they are wide. Beremiz's
+    // SVGHMI extension declares HMI_STRING (a STRING) in a library of its own, which
+    // its translator knows when it quotes.
+    let mut strings: Vec<(String, bool)> = vec![("HMI_STRING".into(), false)];
     loop {
         let before = strings.len();
         for t in &p.types {
