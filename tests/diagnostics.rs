@@ -376,6 +376,7 @@ bad! {
     // not supported yet
     unsup_method,
     string_width_mismatch,
+    string_selection_mismatch,
     string_capacity_range,
     string_inout_too_short,
     string_number_mix,

@@ -142,7 +142,9 @@
 //!   types/ltime_arith; REAL ↔ LREAL and integers → reals: stdfn/conv_real_lreal
 //! - TO_* conversions: stdfn/conv_generic; TRUNC, *_TRUNC_*: stdfn/trunc
 //! - EQ NE LT LE GT GE on strings (extensible, capacities differ):
-//!   strings/compare_functions
+//!   strings/compare_functions; SEL MUX MOVE on strings (capacities differ,
+//!   literals, cut on assignment, nested in LEN, CONCAT and `=`): strings/selection;
+//!   MAX MIN LIMIT on STRING and WSTRING: strings/min_max
 //!
 //! Standard function blocks
 //! - TON: stdfb/ton (IN dropping early), stdfb/timer_pt_zero (PT = 0),

@@ -352,14 +352,49 @@ impl<'s> BodyCx<'_, 's> {
         Some(out.into_iter().map(|a| a.expect("checked")).collect())
     }
 
+    /// The input expressions of a standard function call in positional order (named
+    /// ones put where their names say, EN and ENO left out), without reporting
+    /// anything: `None` where an input is missing.
+    fn infer_arg_order<'a>(&self, b: Builtin, args: &'a [Arg]) -> Vec<Option<&'a Expr>> {
+        let mut out: Vec<Option<&'a Expr>> = Vec::new();
+        for a in args {
+            match &a.kind {
+                ArgKind::Positional(e) => out.push(Some(e)),
+                ArgKind::Input { name, value } => {
+                    let n = self.l.sym_name(name.sym).to_ascii_uppercase();
+                    if super::en_eno::is_en_eno(&n) {
+                        continue;
+                    }
+                    let Some(i) = (0..args.len() + 3).find(|&i| b.param_name(i) == n) else {
+                        out.push(None);
+                        continue;
+                    };
+                    if out.len() <= i {
+                        out.resize(i + 1, None);
+                    }
+                    out[i] = Some(value);
+                }
+                ArgKind::Output { .. } => {}
+            }
+        }
+        out
+    }
+
     /// The result type of a standard function call, without emitting anything.
     pub(super) fn builtin_infer(&mut self, b: Builtin, args: &[Arg]) -> Ty {
+        let args = self.infer_arg_order(b, args);
         let arg_ty = |cx: &mut Self, i: usize| -> Ty {
-            match args.get(i).map(|a| &a.kind) {
-                Some(ArgKind::Positional(e)) | Some(ArgKind::Input { value: e, .. }) => cx.infer(e),
+            match args.get(i) {
+                Some(Some(e)) => cx.infer(e),
                 _ => Ty::Error,
             }
         };
+        if super::selection::is_selection(b) {
+            let tys: Vec<Ty> = (0..args.len()).map(|i| arg_ty(self, i)).collect();
+            if let Some(t) = super::selection::string_selection_type(&tys) {
+                return t;
+            }
+        }
         use Builtin::*;
         match b {
             Convert { to, .. } => Ty::Elem(to),
@@ -450,6 +485,9 @@ impl<'s> BodyCx<'_, 's> {
             }
         }
         use Builtin::*;
+        if super::selection::is_selection(b) && self.selects_strings(b, &xs) {
+            return self.string_selection(b, &xs, &name);
+        }
         match b {
             Clock => {
                 let v = self.b.intrinsic(Intrinsic::ClockMs, vec![])?;
@@ -678,24 +716,13 @@ impl<'s> BodyCx<'_, 's> {
                 })
             }
             Mux => {
-                let k = self.emit(xs[0], Some(Ty::DINT));
-                let ke = match k.ty.elem() {
-                    Some(e) if k.ty.is_int_like() => e,
-                    _ if k.ty == Ty::Error => return None,
-                    _ => return self.bad_arg(&name, "an integer selector", k.ty, xs[0].span),
-                };
-                let k64 = self.convert(k.v, ke, ElemType::LInt);
+                let k = self.mux_selector(xs[0], &name)?;
                 let t = self.common_type(&xs[1..], want, &name)?;
-                // A selector out of range picks the nearest end (first or last input).
-                let mut acc = self.emit_as(xs[xs.len() - 1], t);
-                for i in (1..xs.len() - 1).rev() {
-                    let y = self.emit_as(xs[i], t);
-                    let lim = self.b.iconst(Type::I64, (i - 1) as i64);
-                    let cc = if i == 1 { IntCC::Sle } else { IntCC::Eq };
-                    let c = self.b.icmp(cc, k64, lim);
-                    acc = self.b.select(c, y, acc);
-                }
-                Some(Val { v: acc, ty: t })
+                let vals: Vec<Value> = xs[1..].iter().map(|x| self.emit_as(x, t)).collect();
+                Some(Val {
+                    v: self.mux_pick(k, &vals),
+                    ty: t,
+                })
             }
             TimeOp(op) => {
                 let x = self.emit_as(xs[0], Ty::TIME);
@@ -872,7 +899,7 @@ impl<'s> BodyCx<'_, 's> {
         }
     }
 
-    fn bad_arg(&mut self, name: &str, wants: &str, got: Ty, span: Span) -> Option<Val> {
+    pub(super) fn bad_arg(&mut self, name: &str, wants: &str, got: Ty, span: Span) -> Option<Val> {
         let g = self.l.ty_name(got);
         self.l.error(
             codes::E_TYPE_MISMATCH,

@@ -25,6 +25,7 @@ mod literals;
 mod partial;
 mod prototypes;
 mod refs;
+mod selection;
 mod stmt;
 mod strings;
 mod tasks;
