@@ -384,6 +384,7 @@ bad! {
     ref_type_mismatch,
     partial_access_range,
     date_arith_mismatch,
+    time_function_mismatch,
     unsup_struct_copy_fb,
     unsup_var_global_in_pou,
     config_errors,

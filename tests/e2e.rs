@@ -145,6 +145,10 @@
 //!   strings/compare_functions; SEL MUX MOVE on strings (capacities differ,
 //!   literals, cut on assignment, nested in LEN, CONCAT and `=`): strings/selection;
 //!   MAX MIN LIMIT on STRING and WSTRING: strings/min_max
+//! - ADD SUB MUL DIV on TIME, LTIME, TOD, DT and DATE (TOD wrapping, negative
+//!   TIMEs, named arguments, nested): dates/time_functions; ADD_TIME … SUB_DT_DT,
+//!   MULTIME, DIVTIME, MUL_TIME, DIV_TIME, CONCAT_DATE_TOD and the LTIME forms:
+//!   dates/time_named_functions, dates/arithmetic
 //!
 //! Standard function blocks
 //! - TON: stdfb/ton (IN dropping early), stdfb/timer_pt_zero (PT = 0),

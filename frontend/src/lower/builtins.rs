@@ -50,8 +50,9 @@ pub(super) enum Builtin {
     Limit,
     /// `MUX(K, IN0, IN1, ...)`
     Mux,
-    /// `ADD_TIME SUB_TIME MUL_TIME DIV_TIME`
-    TimeOp(Op),
+    /// `ADD_TIME SUB_TIME MUL_TIME DIV_TIME` (also `MULTIME DIVTIME`, edition 2's
+    /// names) and their LTIME forms `ADD_LTIME ...`: the duration type they take.
+    TimeOp(Op, ElemType),
     /// `__PLC_CLOCK()`: the PLC clock (TIME), used by the standard timers; also
     /// CPDev's `CUR_TIME()`, so user code reads the same clock the timers do (sampled
     /// once per scan).
@@ -127,10 +128,14 @@ impl Builtin {
             "MIN" => Min,
             "LIMIT" => Limit,
             "MUX" => Mux,
-            "ADD_TIME" => TimeOp(Op::Add),
-            "SUB_TIME" => TimeOp(Op::Sub),
-            "MUL_TIME" => TimeOp(Op::Mul),
-            "DIV_TIME" => TimeOp(Op::Div),
+            "ADD_TIME" => TimeOp(Op::Add, ElemType::Time),
+            "SUB_TIME" => TimeOp(Op::Sub, ElemType::Time),
+            "MUL_TIME" | "MULTIME" => TimeOp(Op::Mul, ElemType::Time),
+            "DIV_TIME" | "DIVTIME" => TimeOp(Op::Div, ElemType::Time),
+            "ADD_LTIME" => TimeOp(Op::Add, ElemType::LTime),
+            "SUB_LTIME" => TimeOp(Op::Sub, ElemType::LTime),
+            "MUL_LTIME" => TimeOp(Op::Mul, ElemType::LTime),
+            "DIV_LTIME" => TimeOp(Op::Div, ElemType::LTime),
             // CODESYS's TIME() is its millisecond clock.
             "__PLC_CLOCK" | "CUR_TIME" | "TIME" => Clock,
             "__STL_INC" => Stl(StlOp::Inc),
@@ -159,6 +164,10 @@ impl Builtin {
         Some(match name {
             "CONCAT_DATE" | "CONCAT_TOD" | "CONCAT_DT" | "SPLIT_DATE" | "SPLIT_TOD"
             | "SPLIT_DT" | "DAY_OF_WEEK" => "date and time functions",
+            "ADD_LTOD_LTIME" | "ADD_LDT_LTIME" | "SUB_LDATE_LDATE" | "SUB_LTOD_LTIME"
+            | "SUB_LTOD_LTOD" | "SUB_LDT_LTIME" | "SUB_LDT_LDT" | "CONCAT_LDATE_LTOD" => {
+                "LDATE, LTOD and LDT (64-bit dates)"
+            }
             "REFERENCE" => "REFERENCE (write REF)",
             "PRINTF" => "printf (a RuSTy extension)",
             _ if name.contains("BCD") => "BCD conversions",
@@ -238,7 +247,7 @@ impl Builtin {
             Clock => (0, 0),
             Stl(StlOp::Set) | Stl(StlOp::Clr) => (2, 2),
             Stl(_) => (1, 1),
-            Expt | Shift(_) | TimeOp(_) | Date(_) => (2, 2),
+            Expt | Shift(_) | TimeOp(..) | Date(_) => (2, 2),
             Arith(Op::Add) | Arith(Op::Mul) | Logic(_) | Max | Min => (2, usize::MAX),
             Arith(_) | Compare(Op::Ne) => (2, 2),
             Compare(_) => (2, usize::MAX),
@@ -427,7 +436,7 @@ impl<'s> BodyCx<'_, 's> {
             Compare(_) => Ty::BOOL,
             Sel | Limit => arg_ty(self, 1),
             Mux => arg_ty(self, 1),
-            TimeOp(_) => Ty::TIME,
+            TimeOp(_, e) => Ty::Elem(e),
             Clock => Ty::TIME,
             Stl(_) => arg_ty(self, 0),
             Str(f) => {
@@ -446,6 +455,16 @@ impl<'s> BodyCx<'_, 's> {
                 })),
             },
             Arith(_) | Logic(_) | Max | Min => {
+                if let Arith(op @ (Op::Add | Op::Sub | Op::Mul | Op::Div)) = b {
+                    let tys: Vec<Ty> = (0..args.len()).map(|i| arg_ty(self, i)).collect();
+                    if tys.iter().any(|&t| super::dates::is_time_or_date(t)) {
+                        // Table 30: two inputs, typed as the operator types them.
+                        return match tys[..] {
+                            [l, r] => super::dates::time_fn_type(op, l, r).unwrap_or(Ty::Error),
+                            _ => Ty::Error,
+                        };
+                    }
+                }
                 let mut t = arg_ty(self, 0);
                 for i in 1..args.len() {
                     let u = arg_ty(self, i);
@@ -487,6 +506,14 @@ impl<'s> BodyCx<'_, 's> {
         use Builtin::*;
         if super::selection::is_selection(b) && self.selects_strings(b, &xs) {
             return self.string_selection(b, &xs, &name);
+        }
+        if let Arith(op @ (Op::Add | Op::Sub | Op::Mul | Op::Div)) = b {
+            if xs.iter().any(|x| {
+                let t = self.infer(x);
+                super::dates::is_time_or_date(t)
+            }) {
+                return self.time_arith_fn(op, &xs, &name, want, span);
+            }
         }
         match b {
             Clock => {
@@ -724,45 +751,22 @@ impl<'s> BodyCx<'_, 's> {
                     ty: t,
                 })
             }
-            TimeOp(op) => {
-                let x = self.emit_as(xs[0], Ty::TIME);
-                match op {
-                    Op::Add | Op::Sub => {
-                        let y = self.emit_as(xs[1], Ty::TIME);
-                        Some(Val {
-                            v: self.arith(op, x, y, ElemType::Time),
-                            ty: Ty::TIME,
-                        })
+            TimeOp(op, e) => {
+                let t = Ty::Elem(e);
+                let x = self.emit_as(xs[0], t);
+                let v = if matches!(op, Op::Add | Op::Sub) {
+                    let y = self.emit_as(xs[1], t);
+                    self.arith(op, x, y, e)
+                } else {
+                    let n = self.emit(xs[1], None);
+                    match n.ty {
+                        Ty::Error => return None,
+                        nt if nt.is_integer() || nt.is_real() => {}
+                        nt => return self.bad_arg(&name, "a number", nt, xs[1].span),
                     }
-                    _ => {
-                        let n = self.emit(xs[1], None);
-                        let v = match n.ty {
-                            t if t.is_real() => {
-                                let nf = self.as_lreal(n);
-                                let xf = self.b.convert(ConvOp::SiToF, Type::F64, x);
-                                let fop = if op == Op::Mul {
-                                    BinaryOp::Fmul
-                                } else {
-                                    BinaryOp::Fdiv
-                                };
-                                let r = self.b.binary(fop, xf, nf);
-                                self.b.convert(ConvOp::FToSi, Type::I32, r)
-                            }
-                            Ty::Elem(ne) if ne.is_integer() => {
-                                let nv = self.convert(n.v, ne, ElemType::DInt);
-                                let iop = if op == Op::Mul {
-                                    BinaryOp::Imul
-                                } else {
-                                    BinaryOp::Sdiv
-                                };
-                                self.b.binary(iop, x, nv)
-                            }
-                            Ty::Error => return None,
-                            t => return self.bad_arg(&name, "a number", t, xs[1].span),
-                        };
-                        Some(Val { v, ty: Ty::TIME })
-                    }
-                }
+                    self.scale_duration(op, x, e, n)
+                };
+                Some(Val { v, ty: t })
             }
         }
     }
