@@ -385,6 +385,7 @@ bad! {
     partial_access_range,
     date_arith_mismatch,
     time_function_mismatch,
+    bcd_mismatch,
     unsup_struct_copy_fb,
     unsup_var_global_in_pou,
     config_errors,

@@ -141,6 +141,9 @@
 //! - BOOL ↔ numbers: stdfn/conv_bool; TIME ↔ integers in ms: stdfn/conv_time,
 //!   types/ltime_arith; REAL ↔ LREAL and integers → reals: stdfn/conv_real_lreal
 //! - TO_* conversions: stdfn/conv_generic; TRUNC, *_TRUNC_*: stdfn/trunc
+//! - BCD conversions both ways, every width, the overloaded and edition 2 names,
+//!   ENO FALSE on an invalid BCD, a negative number or too many digits, EN FALSE:
+//!   stdfn/bcd
 //! - EQ NE LT LE GT GE on strings (extensible, capacities differ):
 //!   strings/compare_functions; SEL MUX MOVE on strings (capacities differ,
 //!   literals, cut on assignment, nested in LEN, CONCAT and `=`): strings/selection;

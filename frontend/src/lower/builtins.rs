@@ -68,6 +68,8 @@ pub(super) enum Builtin {
     SizeOf,
     /// The date and time functions of table 30 (`ADD_TOD_TIME`, ...).
     Date(super::dates::DateFn),
+    /// The BCD conversions (`WORD_BCD_TO_UINT`, `UINT_TO_BCD_WORD`, ...).
+    Bcd(super::bcd::BcdFn),
 }
 
 /// The standard operations of the PLC-UD STL that IEC 61131-3 does not have.
@@ -153,6 +155,9 @@ impl Builtin {
                 if let Some(f) = StrFn::lookup(name) {
                     return Some(Str(f));
                 }
+                if let Some(f) = super::bcd::BcdFn::lookup(name) {
+                    return Some(Bcd(f));
+                }
                 return Self::conversion(name);
             }
         })
@@ -170,7 +175,6 @@ impl Builtin {
             }
             "REFERENCE" => "REFERENCE (write REF)",
             "PRINTF" => "printf (a RuSTy extension)",
-            _ if name.contains("BCD") => "BCD conversions",
             _ if name.contains("STRING") || name.contains("CHAR") => "string conversions",
             _ if name.starts_with("DATE_")
                 || name.starts_with("DT_")
@@ -222,7 +226,7 @@ impl Builtin {
     fn param_name(self, i: usize) -> String {
         use Builtin::*;
         match self {
-            Convert { .. } | Trunc | Abs | Math(_) | Not | Move => "IN".into(),
+            Convert { .. } | Trunc | Abs | Math(_) | Not | Move | Bcd(_) => "IN".into(),
             Stl(_) => ["IN", "N"].get(i).unwrap_or(&"?").to_string(),
             Shift(_) => ["IN", "N"].get(i).unwrap_or(&"?").to_string(),
             Sel => ["G", "IN0", "IN1"].get(i).unwrap_or(&"?").to_string(),
@@ -243,7 +247,9 @@ impl Builtin {
     fn arity(self) -> (usize, usize) {
         use Builtin::*;
         match self {
-            Convert { .. } | Trunc | Abs | Math(_) | Not | Move | Ref { .. } | SizeOf => (1, 1),
+            Convert { .. } | Trunc | Abs | Math(_) | Not | Move | Ref { .. } | SizeOf | Bcd(_) => {
+                (1, 1)
+            }
             Clock => (0, 0),
             Stl(StlOp::Set) | Stl(StlOp::Clr) => (2, 2),
             Stl(_) => (1, 1),
@@ -445,6 +451,7 @@ impl<'s> BodyCx<'_, 's> {
             }
             SizeOf => Ty::AnyInt,
             Date(f) => f.result(),
+            Bcd(f) => f.result(),
             Ref { pointer } => match arg_ty(self, 0) {
                 Ty::Error => Ty::Error,
                 t => Ty::Ref(self.l.types.reference(crate::types::RefTy {
@@ -524,6 +531,7 @@ impl<'s> BodyCx<'_, 's> {
             Str(f) => self.string_fn_call(f, &xs, &name, want),
             Ref { .. } | SizeOf => None,
             Date(f) => self.date_fn_call(f, &xs),
+            Bcd(f) => self.bcd_call(f, xs[0], &name),
             Convert { from, to, trunc } => self.conversion_call(xs[0], from, to, trunc, &name),
             Trunc => {
                 let literal = self.infer(xs[0]).is_literal();

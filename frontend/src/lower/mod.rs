@@ -12,6 +12,7 @@
 
 mod actions;
 mod aggregates;
+mod bcd;
 mod body;
 mod builtins;
 mod calls;
