@@ -376,6 +376,7 @@ bad! {
     // not supported yet
     unsup_method,
     string_width_mismatch,
+    string_selection_mismatch,
     string_capacity_range,
     string_inout_too_short,
     string_number_mix,
@@ -383,6 +384,8 @@ bad! {
     ref_type_mismatch,
     partial_access_range,
     date_arith_mismatch,
+    time_function_mismatch,
+    bcd_mismatch,
     unsup_struct_copy_fb,
     unsup_var_global_in_pou,
     config_errors,

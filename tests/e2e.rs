@@ -141,8 +141,17 @@
 //! - BOOL ↔ numbers: stdfn/conv_bool; TIME ↔ integers in ms: stdfn/conv_time,
 //!   types/ltime_arith; REAL ↔ LREAL and integers → reals: stdfn/conv_real_lreal
 //! - TO_* conversions: stdfn/conv_generic; TRUNC, *_TRUNC_*: stdfn/trunc
+//! - BCD conversions both ways, every width, the overloaded and edition 2 names,
+//!   ENO FALSE on an invalid BCD, a negative number or too many digits, EN FALSE:
+//!   stdfn/bcd
 //! - EQ NE LT LE GT GE on strings (extensible, capacities differ):
-//!   strings/compare_functions
+//!   strings/compare_functions; SEL MUX MOVE on strings (capacities differ,
+//!   literals, cut on assignment, nested in LEN, CONCAT and `=`): strings/selection;
+//!   MAX MIN LIMIT on STRING and WSTRING: strings/min_max
+//! - ADD SUB MUL DIV on TIME, LTIME, TOD, DT and DATE (TOD wrapping, negative
+//!   TIMEs, named arguments, nested): dates/time_functions; ADD_TIME … SUB_DT_DT,
+//!   MULTIME, DIVTIME, MUL_TIME, DIV_TIME, CONCAT_DATE_TOD and the LTIME forms:
+//!   dates/time_named_functions, dates/arithmetic
 //!
 //! Standard function blocks
 //! - TON: stdfb/ton (IN dropping early), stdfb/timer_pt_zero (PT = 0),

@@ -117,6 +117,9 @@ pub(super) struct BodyCx<'a, 's> {
     /// Names this body uses without a declaration: the index of the error reported
     /// at the first use, which later uses are added to instead of repeating it.
     pub undeclared: rustc_hash::FxHashMap<crate::intern::Symbol, usize>,
+    /// Set by a standard function that failed when the value is TRUE (an invalid
+    /// BCD): its call's ENO is then FALSE (`en_eno.rs`).
+    pub eno_error: Option<Value>,
 }
 
 impl<'s> Lowerer<'s> {
@@ -189,6 +192,7 @@ impl<'a, 's> BodyCx<'a, 's> {
             in_init,
             params,
             undeclared: Default::default(),
+            eno_error: None,
         }
     }
 

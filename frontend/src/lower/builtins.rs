@@ -50,8 +50,9 @@ pub(super) enum Builtin {
     Limit,
     /// `MUX(K, IN0, IN1, ...)`
     Mux,
-    /// `ADD_TIME SUB_TIME MUL_TIME DIV_TIME`
-    TimeOp(Op),
+    /// `ADD_TIME SUB_TIME MUL_TIME DIV_TIME` (also `MULTIME DIVTIME`, edition 2's
+    /// names) and their LTIME forms `ADD_LTIME ...`: the duration type they take.
+    TimeOp(Op, ElemType),
     /// `__PLC_CLOCK()`: the PLC clock (TIME), used by the standard timers; also
     /// CPDev's `CUR_TIME()`, so user code reads the same clock the timers do (sampled
     /// once per scan).
@@ -67,6 +68,8 @@ pub(super) enum Builtin {
     SizeOf,
     /// The date and time functions of table 30 (`ADD_TOD_TIME`, ...).
     Date(super::dates::DateFn),
+    /// The BCD conversions (`WORD_BCD_TO_UINT`, `UINT_TO_BCD_WORD`, ...).
+    Bcd(super::bcd::BcdFn),
 }
 
 /// The standard operations of the PLC-UD STL that IEC 61131-3 does not have.
@@ -127,10 +130,14 @@ impl Builtin {
             "MIN" => Min,
             "LIMIT" => Limit,
             "MUX" => Mux,
-            "ADD_TIME" => TimeOp(Op::Add),
-            "SUB_TIME" => TimeOp(Op::Sub),
-            "MUL_TIME" => TimeOp(Op::Mul),
-            "DIV_TIME" => TimeOp(Op::Div),
+            "ADD_TIME" => TimeOp(Op::Add, ElemType::Time),
+            "SUB_TIME" => TimeOp(Op::Sub, ElemType::Time),
+            "MUL_TIME" | "MULTIME" => TimeOp(Op::Mul, ElemType::Time),
+            "DIV_TIME" | "DIVTIME" => TimeOp(Op::Div, ElemType::Time),
+            "ADD_LTIME" => TimeOp(Op::Add, ElemType::LTime),
+            "SUB_LTIME" => TimeOp(Op::Sub, ElemType::LTime),
+            "MUL_LTIME" => TimeOp(Op::Mul, ElemType::LTime),
+            "DIV_LTIME" => TimeOp(Op::Div, ElemType::LTime),
             // CODESYS's TIME() is its millisecond clock.
             "__PLC_CLOCK" | "CUR_TIME" | "TIME" => Clock,
             "__STL_INC" => Stl(StlOp::Inc),
@@ -148,6 +155,9 @@ impl Builtin {
                 if let Some(f) = StrFn::lookup(name) {
                     return Some(Str(f));
                 }
+                if let Some(f) = super::bcd::BcdFn::lookup(name) {
+                    return Some(Bcd(f));
+                }
                 return Self::conversion(name);
             }
         })
@@ -159,9 +169,12 @@ impl Builtin {
         Some(match name {
             "CONCAT_DATE" | "CONCAT_TOD" | "CONCAT_DT" | "SPLIT_DATE" | "SPLIT_TOD"
             | "SPLIT_DT" | "DAY_OF_WEEK" => "date and time functions",
+            "ADD_LTOD_LTIME" | "ADD_LDT_LTIME" | "SUB_LDATE_LDATE" | "SUB_LTOD_LTIME"
+            | "SUB_LTOD_LTOD" | "SUB_LDT_LTIME" | "SUB_LDT_LDT" | "CONCAT_LDATE_LTOD" => {
+                "LDATE, LTOD and LDT (64-bit dates)"
+            }
             "REFERENCE" => "REFERENCE (write REF)",
             "PRINTF" => "printf (a RuSTy extension)",
-            _ if name.contains("BCD") => "BCD conversions",
             _ if name.contains("STRING") || name.contains("CHAR") => "string conversions",
             _ if name.starts_with("DATE_")
                 || name.starts_with("DT_")
@@ -213,7 +226,7 @@ impl Builtin {
     fn param_name(self, i: usize) -> String {
         use Builtin::*;
         match self {
-            Convert { .. } | Trunc | Abs | Math(_) | Not | Move => "IN".into(),
+            Convert { .. } | Trunc | Abs | Math(_) | Not | Move | Bcd(_) => "IN".into(),
             Stl(_) => ["IN", "N"].get(i).unwrap_or(&"?").to_string(),
             Shift(_) => ["IN", "N"].get(i).unwrap_or(&"?").to_string(),
             Sel => ["G", "IN0", "IN1"].get(i).unwrap_or(&"?").to_string(),
@@ -234,11 +247,13 @@ impl Builtin {
     fn arity(self) -> (usize, usize) {
         use Builtin::*;
         match self {
-            Convert { .. } | Trunc | Abs | Math(_) | Not | Move | Ref { .. } | SizeOf => (1, 1),
+            Convert { .. } | Trunc | Abs | Math(_) | Not | Move | Ref { .. } | SizeOf | Bcd(_) => {
+                (1, 1)
+            }
             Clock => (0, 0),
             Stl(StlOp::Set) | Stl(StlOp::Clr) => (2, 2),
             Stl(_) => (1, 1),
-            Expt | Shift(_) | TimeOp(_) | Date(_) => (2, 2),
+            Expt | Shift(_) | TimeOp(..) | Date(_) => (2, 2),
             Arith(Op::Add) | Arith(Op::Mul) | Logic(_) | Max | Min => (2, usize::MAX),
             Arith(_) | Compare(Op::Ne) => (2, 2),
             Compare(_) => (2, usize::MAX),
@@ -352,14 +367,49 @@ impl<'s> BodyCx<'_, 's> {
         Some(out.into_iter().map(|a| a.expect("checked")).collect())
     }
 
+    /// The input expressions of a standard function call in positional order (named
+    /// ones put where their names say, EN and ENO left out), without reporting
+    /// anything: `None` where an input is missing.
+    fn infer_arg_order<'a>(&self, b: Builtin, args: &'a [Arg]) -> Vec<Option<&'a Expr>> {
+        let mut out: Vec<Option<&'a Expr>> = Vec::new();
+        for a in args {
+            match &a.kind {
+                ArgKind::Positional(e) => out.push(Some(e)),
+                ArgKind::Input { name, value } => {
+                    let n = self.l.sym_name(name.sym).to_ascii_uppercase();
+                    if super::en_eno::is_en_eno(&n) {
+                        continue;
+                    }
+                    let Some(i) = (0..args.len() + 3).find(|&i| b.param_name(i) == n) else {
+                        out.push(None);
+                        continue;
+                    };
+                    if out.len() <= i {
+                        out.resize(i + 1, None);
+                    }
+                    out[i] = Some(value);
+                }
+                ArgKind::Output { .. } => {}
+            }
+        }
+        out
+    }
+
     /// The result type of a standard function call, without emitting anything.
     pub(super) fn builtin_infer(&mut self, b: Builtin, args: &[Arg]) -> Ty {
+        let args = self.infer_arg_order(b, args);
         let arg_ty = |cx: &mut Self, i: usize| -> Ty {
-            match args.get(i).map(|a| &a.kind) {
-                Some(ArgKind::Positional(e)) | Some(ArgKind::Input { value: e, .. }) => cx.infer(e),
+            match args.get(i) {
+                Some(Some(e)) => cx.infer(e),
                 _ => Ty::Error,
             }
         };
+        if super::selection::is_selection(b) {
+            let tys: Vec<Ty> = (0..args.len()).map(|i| arg_ty(self, i)).collect();
+            if let Some(t) = super::selection::string_selection_type(&tys) {
+                return t;
+            }
+        }
         use Builtin::*;
         match b {
             Convert { to, .. } => Ty::Elem(to),
@@ -392,7 +442,7 @@ impl<'s> BodyCx<'_, 's> {
             Compare(_) => Ty::BOOL,
             Sel | Limit => arg_ty(self, 1),
             Mux => arg_ty(self, 1),
-            TimeOp(_) => Ty::TIME,
+            TimeOp(_, e) => Ty::Elem(e),
             Clock => Ty::TIME,
             Stl(_) => arg_ty(self, 0),
             Str(f) => {
@@ -401,6 +451,7 @@ impl<'s> BodyCx<'_, 's> {
             }
             SizeOf => Ty::AnyInt,
             Date(f) => f.result(),
+            Bcd(f) => f.result(),
             Ref { pointer } => match arg_ty(self, 0) {
                 Ty::Error => Ty::Error,
                 t => Ty::Ref(self.l.types.reference(crate::types::RefTy {
@@ -411,6 +462,16 @@ impl<'s> BodyCx<'_, 's> {
                 })),
             },
             Arith(_) | Logic(_) | Max | Min => {
+                if let Arith(op @ (Op::Add | Op::Sub | Op::Mul | Op::Div)) = b {
+                    let tys: Vec<Ty> = (0..args.len()).map(|i| arg_ty(self, i)).collect();
+                    if tys.iter().any(|&t| super::dates::is_time_or_date(t)) {
+                        // Table 30: two inputs, typed as the operator types them.
+                        return match tys[..] {
+                            [l, r] => super::dates::time_fn_type(op, l, r).unwrap_or(Ty::Error),
+                            _ => Ty::Error,
+                        };
+                    }
+                }
                 let mut t = arg_ty(self, 0);
                 for i in 1..args.len() {
                     let u = arg_ty(self, i);
@@ -450,6 +511,17 @@ impl<'s> BodyCx<'_, 's> {
             }
         }
         use Builtin::*;
+        if super::selection::is_selection(b) && self.selects_strings(b, &xs) {
+            return self.string_selection(b, &xs, &name);
+        }
+        if let Arith(op @ (Op::Add | Op::Sub | Op::Mul | Op::Div)) = b {
+            if xs.iter().any(|x| {
+                let t = self.infer(x);
+                super::dates::is_time_or_date(t)
+            }) {
+                return self.time_arith_fn(op, &xs, &name, want, span);
+            }
+        }
         match b {
             Clock => {
                 let v = self.b.intrinsic(Intrinsic::ClockMs, vec![])?;
@@ -459,6 +531,7 @@ impl<'s> BodyCx<'_, 's> {
             Str(f) => self.string_fn_call(f, &xs, &name, want),
             Ref { .. } | SizeOf => None,
             Date(f) => self.date_fn_call(f, &xs),
+            Bcd(f) => self.bcd_call(f, xs[0], &name),
             Convert { from, to, trunc } => self.conversion_call(xs[0], from, to, trunc, &name),
             Trunc => {
                 let literal = self.infer(xs[0]).is_literal();
@@ -678,64 +751,30 @@ impl<'s> BodyCx<'_, 's> {
                 })
             }
             Mux => {
-                let k = self.emit(xs[0], Some(Ty::DINT));
-                let ke = match k.ty.elem() {
-                    Some(e) if k.ty.is_int_like() => e,
-                    _ if k.ty == Ty::Error => return None,
-                    _ => return self.bad_arg(&name, "an integer selector", k.ty, xs[0].span),
-                };
-                let k64 = self.convert(k.v, ke, ElemType::LInt);
+                let k = self.mux_selector(xs[0], &name)?;
                 let t = self.common_type(&xs[1..], want, &name)?;
-                // A selector out of range picks the nearest end (first or last input).
-                let mut acc = self.emit_as(xs[xs.len() - 1], t);
-                for i in (1..xs.len() - 1).rev() {
-                    let y = self.emit_as(xs[i], t);
-                    let lim = self.b.iconst(Type::I64, (i - 1) as i64);
-                    let cc = if i == 1 { IntCC::Sle } else { IntCC::Eq };
-                    let c = self.b.icmp(cc, k64, lim);
-                    acc = self.b.select(c, y, acc);
-                }
-                Some(Val { v: acc, ty: t })
+                let vals: Vec<Value> = xs[1..].iter().map(|x| self.emit_as(x, t)).collect();
+                Some(Val {
+                    v: self.mux_pick(k, &vals),
+                    ty: t,
+                })
             }
-            TimeOp(op) => {
-                let x = self.emit_as(xs[0], Ty::TIME);
-                match op {
-                    Op::Add | Op::Sub => {
-                        let y = self.emit_as(xs[1], Ty::TIME);
-                        Some(Val {
-                            v: self.arith(op, x, y, ElemType::Time),
-                            ty: Ty::TIME,
-                        })
+            TimeOp(op, e) => {
+                let t = Ty::Elem(e);
+                let x = self.emit_as(xs[0], t);
+                let v = if matches!(op, Op::Add | Op::Sub) {
+                    let y = self.emit_as(xs[1], t);
+                    self.arith(op, x, y, e)
+                } else {
+                    let n = self.emit(xs[1], None);
+                    match n.ty {
+                        Ty::Error => return None,
+                        nt if nt.is_integer() || nt.is_real() => {}
+                        nt => return self.bad_arg(&name, "a number", nt, xs[1].span),
                     }
-                    _ => {
-                        let n = self.emit(xs[1], None);
-                        let v = match n.ty {
-                            t if t.is_real() => {
-                                let nf = self.as_lreal(n);
-                                let xf = self.b.convert(ConvOp::SiToF, Type::F64, x);
-                                let fop = if op == Op::Mul {
-                                    BinaryOp::Fmul
-                                } else {
-                                    BinaryOp::Fdiv
-                                };
-                                let r = self.b.binary(fop, xf, nf);
-                                self.b.convert(ConvOp::FToSi, Type::I32, r)
-                            }
-                            Ty::Elem(ne) if ne.is_integer() => {
-                                let nv = self.convert(n.v, ne, ElemType::DInt);
-                                let iop = if op == Op::Mul {
-                                    BinaryOp::Imul
-                                } else {
-                                    BinaryOp::Sdiv
-                                };
-                                self.b.binary(iop, x, nv)
-                            }
-                            Ty::Error => return None,
-                            t => return self.bad_arg(&name, "a number", t, xs[1].span),
-                        };
-                        Some(Val { v, ty: Ty::TIME })
-                    }
-                }
+                    self.scale_duration(op, x, e, n)
+                };
+                Some(Val { v, ty: t })
             }
         }
     }
@@ -872,7 +911,7 @@ impl<'s> BodyCx<'_, 's> {
         }
     }
 
-    fn bad_arg(&mut self, name: &str, wants: &str, got: Ty, span: Span) -> Option<Val> {
+    pub(super) fn bad_arg(&mut self, name: &str, wants: &str, got: Ty, span: Span) -> Option<Val> {
         let g = self.l.ty_name(got);
         self.l.error(
             codes::E_TYPE_MISMATCH,

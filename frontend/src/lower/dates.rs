@@ -1,5 +1,6 @@
 //! DATE, TIME_OF_DAY and DATE_AND_TIME: their literals, arithmetic (IEC 61131-3 table
-//! 30, as operators and as functions) and conversions.
+//! 30, as operators and as functions, named (`ADD_DT_TIME`) or overloaded (`ADD`, also
+//! on TIME and LTIME)) and conversions.
 //!
 //! All three are unsigned 32-bit counts: DATE and DATE_AND_TIME in seconds since
 //! 1970-01-01 (a DATE at midnight), TIME_OF_DAY in milliseconds since midnight, as on
@@ -39,6 +40,39 @@ pub(super) fn date_arith_type(op: Op, l: Ty, r: Ty) -> Option<Ty> {
         (Op::Sub, Date, Date) | (Op::Sub, Tod, Tod) | (Op::Sub, Dt, Dt) => Time,
         _ => return None,
     }))
+}
+
+/// True for the types of table 30's arithmetic: TIME, LTIME, DATE, TOD and DT.
+pub(super) fn is_time_or_date(t: Ty) -> bool {
+    super::expr::is_duration(t) || is_date(t)
+}
+
+/// The result of the overloaded function `ADD`, `SUB`, `MUL` or `DIV` (`op`) on `l`
+/// and `r` when one of them is a duration or a date, or `None` if IEC 61131-3 does not
+/// define it (edition 3, table 36; edition 2, table 30): TIME + TIME, TOD + TIME,
+/// DT + TIME; TIME - TIME, DATE - DATE, TOD - TIME, TOD - TOD, DT - TIME, DT - DT;
+/// TIME * ANY_NUM and TIME / ANY_NUM, the TIME first; the same for LTIME.
+pub(super) fn time_fn_type(op: Op, l: Ty, r: Ty) -> Option<Ty> {
+    use super::expr::{is_duration, unify};
+    match op {
+        Op::Add | Op::Sub if is_date(l) || is_date(r) => date_arith_type(op, l, r),
+        Op::Add | Op::Sub => unify(l, r).filter(|t| is_duration(*t)),
+        Op::Mul | Op::Div if is_duration(l) && (r.is_integer() || r.is_real()) => Some(l),
+        _ => None,
+    }
+}
+
+/// What the function `name` (`ADD`, ...) accepts on durations and dates, for a
+/// diagnostic.
+fn time_fn_forms(op: Op) -> &'static str {
+    match op {
+        Op::Add => "TIME + TIME, TOD + TIME and DT + TIME (LTIME + LTIME)",
+        Op::Sub => {
+            "TIME - TIME, DATE - DATE, TOD - TIME, TOD - TOD, DT - TIME and DT - DT (LTIME - LTIME)"
+        }
+        Op::Mul => "a TIME or LTIME (IN1) times a number (IN2)",
+        _ => "a TIME or LTIME (IN1) divided by a number (IN2)",
+    }
 }
 
 /// A function of table 30 by name: the operator it is, or CONCAT_DATE_TOD.
@@ -191,6 +225,66 @@ impl<'s> BodyCx<'_, 's> {
                 })
             }
         }
+    }
+
+    /// `ADD`, `SUB`, `MUL` or `DIV` (`op`) called with a duration or a date among its
+    /// inputs `xs`: two inputs typed by [`time_fn_type`], then computed exactly as the
+    /// operator (`+`, `-`, `*`, `/`) computes them.
+    pub(super) fn time_arith_fn(
+        &mut self,
+        op: Op,
+        xs: &[&'s Expr],
+        name: &str,
+        want: Option<Ty>,
+        span: Span,
+    ) -> Option<Val> {
+        if xs.len() != 2 {
+            for x in xs {
+                let _ = self.emit(x, None);
+            }
+            let d = plcc_ir::diag::Diagnostic::error(
+                codes::E_ARG_COUNT,
+                format!(
+                    "`{name}` on durations and dates takes 2 arguments, {} given",
+                    xs.len()
+                ),
+                span,
+            )
+            .with_note(format!(
+                "IEC 61131-3 gives `{name}` more inputs on numbers only; nest the calls"
+            ));
+            self.l.diags.push(d);
+            return None;
+        }
+        let (l, r) = (self.infer(xs[0]), self.infer(xs[1]));
+        if l == Ty::Error || r == Ty::Error {
+            let _ = self.emit(xs[0], None);
+            let _ = self.emit(xs[1], None);
+            return None;
+        }
+        if time_fn_type(op, l, r).is_none() {
+            let _ = self.emit(xs[0], None);
+            let _ = self.emit(xs[1], None);
+            let name_of = |cx: &Self, t: Ty| match t {
+                Ty::AnyInt => "an integer literal".to_string(),
+                Ty::AnyReal => "a real literal".to_string(),
+                t => cx.l.ty_name(t),
+            };
+            let (a, b) = (name_of(self, l), name_of(self, r));
+            let d = plcc_ir::diag::Diagnostic::error(
+                codes::E_TYPE_MISMATCH,
+                format!("`{name}` is not defined on {a} and {b}"),
+                span,
+            )
+            .with_note(format!(
+                "on durations and dates, `{name}` takes {}",
+                time_fn_forms(op)
+            ));
+            self.l.diags.push(d);
+            return None;
+        }
+        let v = self.binary(op, xs[0], xs[1], want, span);
+        (v.ty != Ty::Error).then_some(v)
     }
 
     /// A conversion from or to a date type (`v` is of type `from`): between the date

@@ -1,7 +1,8 @@
 //! EN and ENO: `f(EN := cond, x, ENO => ok)` calls `f` only when `cond` is TRUE and
 //! sets `ok` to whether it ran (IEC 61131-3, 6.6.1.4: every function and function
 //! block call may take them). When EN is FALSE the outputs keep their values and a
-//! function's value is its type's default.
+//! function's value is its type's default. A standard function that can fail (the BCD
+//! conversions) reports the error with [`BodyCx::set_eno_error`]: ENO is then FALSE.
 
 use super::body::BodyCx;
 use super::expr::Val;
@@ -9,7 +10,7 @@ use crate::ast::{Arg, ArgKind, Expr};
 use crate::codes;
 use crate::types::Ty;
 use plcc_ir::diag::Span;
-use plcc_ir::Type;
+use plcc_ir::{Type, Value};
 
 /// True if `a` is `EN := …` or `ENO => …`, which a call's own parameters skip.
 pub(super) fn is_en_eno(cx_name: &str) -> bool {
@@ -46,12 +47,15 @@ impl<'s> BodyCx<'_, 's> {
     ) -> Option<Val> {
         let (en, eno) = self.en_eno(args);
         if en.is_none() && eno.is_none() {
-            return call(self);
+            let v = call(self);
+            self.eno_error = None;
+            return v;
         }
         let Some(en) = en else {
-            // Without EN the call always runs: ENO is TRUE.
+            // Without EN the call always runs: ENO is TRUE unless it failed.
             let v = call(self);
-            self.store_eno(eno, true);
+            let ok = self.eno_ok();
+            self.store_eno(eno, ok);
             return v;
         };
         let cond = self.emit_as(en, Ty::BOOL);
@@ -61,7 +65,8 @@ impl<'s> BodyCx<'_, 's> {
         self.b.brif(cond, run, vec![], skip, vec![]);
         self.b.switch_to(run);
         let v = call(self);
-        self.store_eno(eno, true);
+        let ok = self.eno_ok();
+        self.store_eno(eno, ok);
         // The value when EN is FALSE: the type's default (an empty string).
         let (param, value_ty) = match v {
             Some(v) if v.ty.ir().is_some() => (
@@ -89,7 +94,8 @@ impl<'s> BodyCx<'_, 's> {
                 .unwrap_or_default(),
         );
         self.b.switch_to(skip);
-        self.store_eno(eno, false);
+        let not_run = self.b.iconst(Type::I1, 0);
+        self.store_eno(eno, not_run);
         let default = match value_ty {
             Ty::Str(s) => {
                 let t = self.string_temp(s);
@@ -105,7 +111,25 @@ impl<'s> BodyCx<'_, 's> {
         param.map(|p| Val { v: p, ty: value_ty })
     }
 
-    fn store_eno(&mut self, eno: Option<(&'s Expr, Span)>, ran: bool) {
+    /// Records that the standard function being emitted failed when `bad` is TRUE:
+    /// the ENO of its call is then FALSE.
+    pub(super) fn set_eno_error(&mut self, bad: Value) {
+        self.eno_error = Some(bad);
+    }
+
+    /// ENO of a call that ran: TRUE, or FALSE where the function reported an error.
+    fn eno_ok(&mut self) -> Value {
+        match self.eno_error.take() {
+            Some(bad) => {
+                let f = self.b.iconst(Type::I1, 0);
+                let t = self.b.iconst(Type::I1, 1);
+                self.b.select(bad, f, t)
+            }
+            None => self.b.iconst(Type::I1, 1),
+        }
+    }
+
+    fn store_eno(&mut self, eno: Option<(&'s Expr, Span)>, ok: Value) {
         let Some((target, _)) = eno else { return };
         let Some(place) = self.place(target) else {
             return;
@@ -122,7 +146,6 @@ impl<'s> BodyCx<'_, 's> {
             );
             return;
         }
-        let v = self.b.iconst(Type::I1, ran as i64);
-        self.store_place(&place, v);
+        self.store_place(&place, ok);
     }
 }

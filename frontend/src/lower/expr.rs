@@ -87,7 +87,7 @@ fn index_chain(e: &Expr) -> (&Expr, Vec<&Expr>) {
     (base, idx)
 }
 
-fn is_duration(t: Ty) -> bool {
+pub(super) fn is_duration(t: Ty) -> bool {
     t.elem().is_some_and(|e| e.is_duration())
 }
 
@@ -717,7 +717,14 @@ impl<'s> BodyCx<'_, 's> {
         }
     }
 
-    fn binary(&mut self, op: Op, a: &'s Expr, b: &'s Expr, want: Option<Ty>, span: Span) -> Val {
+    pub(super) fn binary(
+        &mut self,
+        op: Op,
+        a: &'s Expr,
+        b: &'s Expr,
+        want: Option<Ty>,
+        span: Span,
+    ) -> Val {
         let (mut lt, mut rt) = (self.infer(a), self.infer(b));
         // `c = Red` with `Red` a value of several enumerations: `c` says which.
         if matches!(lt, Ty::Enum(..)) && rt == Ty::Error && self.is_value_of(b, lt) {
@@ -915,10 +922,16 @@ impl<'s> BodyCx<'_, 's> {
             let v = self.power(x, e, n, span);
             return Val { v, ty: operand };
         }
-        // TIME scaled by a number: integers multiply/divide the count of ms, reals go
-        // through LREAL and truncate toward zero.
+        let v = self.scale_duration(op, x, e, n);
+        Val { v, ty: operand }
+    }
+
+    /// `x * n` or `x / n` (`op`) for a duration `x` of type `e` (TIME, LTIME) and a
+    /// number `n`: integers multiply or divide the count (ms, ns), reals go through
+    /// LREAL and truncate toward zero. Also the function forms (MUL, MUL_TIME, ...).
+    pub(super) fn scale_duration(&mut self, op: Op, x: Value, e: ElemType, n: Val) -> Value {
         let t = e.ir_type();
-        let v = match n.ty {
+        match n.ty {
             Ty::Error => x,
             nt if nt.is_real() => {
                 let nf = self.as_lreal(n);
@@ -947,8 +960,7 @@ impl<'s> BodyCx<'_, 's> {
                 )
             }
             _ => x,
-        };
-        Val { v, ty: operand }
+        }
     }
 
     /// A REAL or LREAL value as LREAL.

@@ -12,6 +12,7 @@
 
 mod actions;
 mod aggregates;
+mod bcd;
 mod body;
 mod builtins;
 mod calls;
@@ -25,6 +26,7 @@ mod literals;
 mod partial;
 mod prototypes;
 mod refs;
+mod selection;
 mod stmt;
 mod strings;
 mod tasks;

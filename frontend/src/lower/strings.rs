@@ -408,7 +408,7 @@ impl<'s> BodyCx<'_, 's> {
     }
 
     /// `x op y` on two emitted strings of one width: a BOOL.
-    fn string_cmp(&mut self, op: Op, x: Val, y: Val, wide: bool) -> Value {
+    pub(super) fn string_cmp(&mut self, op: Op, x: Val, y: Val, wide: bool) -> Value {
         let (xs, ys) = (
             x.ty.string().expect("string"),
             y.ty.string().expect("string"),
