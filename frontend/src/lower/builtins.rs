@@ -67,6 +67,8 @@ pub(super) enum Builtin {
     SizeOf,
     /// The date and time functions of table 30 (`ADD_TOD_TIME`, ...).
     Date(super::dates::DateFn),
+    /// BCD conversions (`BCD_TO_UINT`, `UINT_TO_BCD_WORD`, ...).
+    Bcd(super::bcd::BcdFn),
 }
 
 /// The standard operations of the PLC-UD STL that IEC 61131-3 does not have.
@@ -141,6 +143,9 @@ impl Builtin {
             "REF" => Ref { pointer: false },
             "ADR" => Ref { pointer: true },
             "SIZEOF" => SizeOf,
+            n if super::bcd::BcdFn::lookup(n).is_some() => {
+                Bcd(super::bcd::BcdFn::lookup(n).expect("checked"))
+            }
             n if super::dates::DateFn::lookup(n).is_some() => {
                 Date(super::dates::DateFn::lookup(n).expect("checked"))
             }
@@ -213,7 +218,7 @@ impl Builtin {
     fn param_name(self, i: usize) -> String {
         use Builtin::*;
         match self {
-            Convert { .. } | Trunc | Abs | Math(_) | Not | Move => "IN".into(),
+            Convert { .. } | Trunc | Abs | Math(_) | Not | Move | Bcd(_) => "IN".into(),
             Stl(_) => ["IN", "N"].get(i).unwrap_or(&"?").to_string(),
             Shift(_) => ["IN", "N"].get(i).unwrap_or(&"?").to_string(),
             Sel => ["G", "IN0", "IN1"].get(i).unwrap_or(&"?").to_string(),
@@ -234,7 +239,9 @@ impl Builtin {
     fn arity(self) -> (usize, usize) {
         use Builtin::*;
         match self {
-            Convert { .. } | Trunc | Abs | Math(_) | Not | Move | Ref { .. } | SizeOf => (1, 1),
+            Convert { .. } | Trunc | Abs | Math(_) | Not | Move | Ref { .. } | SizeOf | Bcd(_) => {
+                (1, 1)
+            }
             Clock => (0, 0),
             Stl(StlOp::Set) | Stl(StlOp::Clr) => (2, 2),
             Stl(_) => (1, 1),
@@ -401,6 +408,7 @@ impl<'s> BodyCx<'_, 's> {
             }
             SizeOf => Ty::AnyInt,
             Date(f) => f.result(),
+            Bcd(f) => f.result(),
             Ref { pointer } => match arg_ty(self, 0) {
                 Ty::Error => Ty::Error,
                 t => Ty::Ref(self.l.types.reference(crate::types::RefTy {
@@ -459,6 +467,7 @@ impl<'s> BodyCx<'_, 's> {
             Str(f) => self.string_fn_call(f, &xs, &name, want),
             Ref { .. } | SizeOf => None,
             Date(f) => self.date_fn_call(f, &xs),
+            Bcd(f) => self.bcd_call(f, xs[0], &name),
             Convert { from, to, trunc } => self.conversion_call(xs[0], from, to, trunc, &name),
             Trunc => {
                 let literal = self.infer(xs[0]).is_literal();

@@ -12,6 +12,7 @@
 
 mod actions;
 mod aggregates;
+mod bcd;
 mod body;
 mod builtins;
 mod calls;
@@ -28,6 +29,7 @@ mod refs;
 mod stmt;
 mod strings;
 mod tasks;
+mod timestr;
 mod unknown;
 mod usertypes;
 
@@ -467,12 +469,17 @@ impl<'s> Lowerer<'s> {
 pub fn std_library_source() -> (&'static str, &'static [u32]) {
     static SOURCE: std::sync::OnceLock<(String, Vec<u32>)> = std::sync::OnceLock::new();
     let (text, lines) = SOURCE.get_or_init(|| {
-        let strings = include_str!("../stdlib/strings.st");
+        let strings = format!(
+            "{}\n{}",
+            include_str!("../stdlib/strings.st"),
+            include_str!("../stdlib/timestrings.st")
+        );
         // The WSTRING helpers are the STRING ones over 16-bit characters.
         let wide = strings.replace("BYTE", "WORD").replace("__STR_", "__WSTR_");
         let text = format!(
-            "{}\n{strings}\n{wide}",
-            include_str!("../stdlib/std_fbs.st")
+            "{}\n{}\n{strings}\n{wide}",
+            include_str!("../stdlib/std_fbs.st"),
+            include_str!("../stdlib/bcd.st")
         );
         let lines = crate::source::line_starts(&text);
         (text, lines)
