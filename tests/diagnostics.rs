@@ -383,6 +383,7 @@ bad! {
     ref_type_mismatch,
     partial_access_range,
     date_arith_mismatch,
+    bcd_and_time_text,
     unsup_struct_copy_fb,
     unsup_var_global_in_pou,
     config_errors,

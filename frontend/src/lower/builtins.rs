@@ -166,7 +166,9 @@ impl Builtin {
             | "SPLIT_DT" | "DAY_OF_WEEK" => "date and time functions",
             "REFERENCE" => "REFERENCE (write REF)",
             "PRINTF" => "printf (a RuSTy extension)",
-            _ if name.contains("BCD") => "BCD conversions",
+            _ if name.contains("BCD") => {
+                "BCD conversions other than between an integer and a BYTE, WORD, DWORD or LWORD"
+            }
             _ if name.contains("STRING") || name.contains("CHAR") => "string conversions",
             _ if name.starts_with("DATE_")
                 || name.starts_with("DT_")
