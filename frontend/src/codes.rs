@@ -201,7 +201,7 @@ codes! {
 
     // ---- not supported yet (E06xx) ----
     E_UNSUPPORTED = "E0601", "not supported yet",
-        "The construct is valid IEC 61131-3 (or a common dialect) but plcc does not compile it yet. The message names the construct.\n\n    s := TIME_TO_STRING(t);   (* error: not supported yet *)";
+        "The construct is valid IEC 61131-3 (or a common dialect) but plcc does not compile it yet. The message names the construct.\n\n    r := BCD_TO_REAL(w);   (* error: not supported yet (BCD conversions give integers) *)";
     E_LANGUAGE_UNSUPPORTED = "E0602", "language not supported yet",
         "A body of a PLCopen XML file is written in a language plcc has no front end for: \
          function block diagrams (`<FBD>`) and sequential function charts (`<SFC>`). plcc \

@@ -148,6 +148,9 @@ impl Builtin {
             "REF" => Ref { pointer: false },
             "ADR" => Ref { pointer: true },
             "SIZEOF" => SizeOf,
+            n if super::bcd::BcdFn::lookup(n).is_some() => {
+                Bcd(super::bcd::BcdFn::lookup(n).expect("checked"))
+            }
             n if super::dates::DateFn::lookup(n).is_some() => {
                 Date(super::dates::DateFn::lookup(n).expect("checked"))
             }

@@ -30,6 +30,7 @@ mod selection;
 mod stmt;
 mod strings;
 mod tasks;
+mod timestr;
 mod unknown;
 mod usertypes;
 
@@ -469,7 +470,11 @@ impl<'s> Lowerer<'s> {
 pub fn std_library_source() -> (&'static str, &'static [u32]) {
     static SOURCE: std::sync::OnceLock<(String, Vec<u32>)> = std::sync::OnceLock::new();
     let (text, lines) = SOURCE.get_or_init(|| {
-        let strings = include_str!("../stdlib/strings.st");
+        let strings = format!(
+            "{}\n{}",
+            include_str!("../stdlib/strings.st"),
+            include_str!("../stdlib/timestrings.st")
+        );
         // The WSTRING helpers are the STRING ones over 16-bit characters.
         let wide = strings.replace("BYTE", "WORD").replace("__STR_", "__WSTR_");
         let text = format!(

@@ -158,7 +158,12 @@ impl Lowerer<'_> {
 impl<'s> BodyCx<'_, 's> {
     /// Calls the string helper `name` (`LEN`, `COPY`, ...) of the given width with
     /// `args` in its declaration order: its result, if it has one.
-    fn call_helper(&mut self, wide: bool, name: &str, args: Vec<Value>) -> Option<Value> {
+    pub(super) fn call_helper(
+        &mut self,
+        wide: bool,
+        name: &str,
+        args: Vec<Value>,
+    ) -> Option<Value> {
         let full = format!("{}{name}", if wide { "__WSTR_" } else { "__STR_" });
         let sym = self.l.interner.intern(&full);
         let p = *self.l.pou_by_name.get(&sym)?;
@@ -776,6 +781,7 @@ impl<'s> BodyCx<'_, 's> {
                 let u = self.b.iconst(Type::I1, (!e.is_signed()) as i64);
                 self.call_helper(rs.wide, "FROM_DINT", vec![d, dc, x, u]);
             }
+            _ if super::timestr::is_time_like(e) => self.format_time(d, rs, v.v, e),
             other => {
                 self.l.error(
                     codes::E_UNSUPPORTED,
@@ -831,6 +837,8 @@ impl<'s> BodyCx<'_, 's> {
             let z16 = self.b.iconst(Type::I16, 0);
             let is_true = self.b.icmp(IntCC::Eq, c, z16);
             self.b.binary(plcc_ir::BinaryOp::Bor, nz, is_true)
+        } else if super::timestr::is_time_like(to) {
+            return self.parse_time(s.v, st, to);
         } else {
             self.l.error(
                 codes::E_UNSUPPORTED,
