@@ -241,7 +241,14 @@ const CASES: &[Case] = &[
     ),
     case("beremiz__matiec__tests_LD_TEST", Compiles),
     case("beremiz__matiec__tests_SFC_TEST", Sfc),
-    case("beremiz__matiec__tests_STD_TEST", Compiles),
+    case(
+        "beremiz__matiec__tests_STD_TEST",
+        Fails(
+            "one MUX selects among INT and BOOL inputs (the results of LEN, EQ, EQ and \
+             FIND), which IEC's MUX, whose inputs have one type, does not allow",
+            &["E0301"],
+        ),
+    ),
     case(
         "elian15122000__TINF19C-PLCOpen-Editor__SOURCE_src_assets",
         Sfc,
@@ -318,6 +325,9 @@ const CASES: &[Case] = &[
         Compiles,
     ),
 ];
+
+/// Files without SFC bodies that compile (alone, or with their libraries and stubs).
+const MIN_COMPILED: usize = 44;
 
 fn corpus() -> Option<PathBuf> {
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/plcopen");
@@ -419,8 +429,9 @@ fn every_corpus_project_comes_out_as_listed() {
          their editor's libraries or a user's stubs, {failed} fail; {sfc} have SFC bodies"
     );
     assert!(problems.is_empty(), "{}", problems.join("\n"));
+    // The floor is today's count: the files that fail are each listed with why.
     assert!(
-        compiled + with_help >= without_sfc - 6,
+        compiled + with_help >= MIN_COMPILED,
         "too few files compile: {} of {without_sfc}",
         compiled + with_help
     );

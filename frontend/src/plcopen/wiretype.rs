@@ -328,23 +328,25 @@ pub(crate) fn output_type(
                     .and_then(|&s| source_type(g, scope, s, depth + 1))
             })
             .collect();
-        if let [Some(a), Some(b)] = ins.as_slice() {
-            let date = |t: &str| {
-                matches!(
-                    t.to_ascii_uppercase().as_str(),
-                    "DATE"
-                        | "TOD"
-                        | "TIME_OF_DAY"
-                        | "DT"
-                        | "DATE_AND_TIME"
-                        | "LDATE"
-                        | "LTOD"
-                        | "LDT"
-                )
-            };
-            if date(a) && date(b) {
-                let long = a.to_ascii_uppercase().starts_with('L');
+        let date = |t: &str| {
+            matches!(
+                t.to_ascii_uppercase().as_str(),
+                "DATE" | "TOD" | "TIME_OF_DAY" | "DT" | "DATE_AND_TIME" | "LDATE" | "LTOD" | "LDT"
+            )
+        };
+        // IEC's SUB has no overload subtracting a date from a TIME: a date as the
+        // second input means two dates, a TIME.
+        if let [_, Some(b)] = ins.as_slice() {
+            if date(b) {
+                let long = b.to_ascii_uppercase().starts_with('L');
                 return Some(if long { "LTIME" } else { "TIME" }.into());
+            }
+        }
+        // A date minus something unknown is a TIME or a date: what the result is
+        // wired to tells.
+        if ins.iter().flatten().any(|t| date(t)) && ins.iter().any(Option::is_none) {
+            if let Some(t) = consumer_type(g, scope, e, port) {
+                return Some(t);
             }
         }
     }
@@ -361,7 +363,11 @@ pub(crate) fn output_type(
             }
         }
     }
-    // From what the result is wired to.
+    consumer_type(g, scope, e, port)
+}
+
+/// The type of output `port` of block `e` from what it is wired to.
+fn consumer_type(g: &Graph, scope: &Scope, e: usize, port: usize) -> Option<String> {
     for &(c, cp) in &g.outs[e][port] {
         match &g.elems[c].kind {
             Kind::Contact { .. } | Kind::Coil { .. } | Kind::Jump { .. } | Kind::Return => {
@@ -372,10 +378,31 @@ pub(crate) fn output_type(
                     return Some(t);
                 }
             }
-            Kind::Block { ty, .. } => {
+            Kind::Block { ty, instance, .. } => {
                 let pin = input_name(&g.elems[c].kind, cp).unwrap_or("");
                 if let Some(t) = scope.pin_type(&ty.value, pin, false) {
                     return Some(t);
+                }
+                // A comparison or a function that takes one type for its inputs:
+                // the type of its other inputs.
+                let name = ty.value.to_ascii_uppercase();
+                let same = matches!(name.as_str(), "GT" | "GE" | "EQ" | "NE" | "LE" | "LT")
+                    || (passes_type(&name) && name != "SUB" && name != "ADD");
+                if instance.is_none() && same && !control_input(&name, pin) {
+                    for (p, srcs) in g.ins[c].iter().enumerate() {
+                        let other = input_name(&g.elems[c].kind, p).unwrap_or("");
+                        if p == cp || control_input(&name, other) {
+                            continue;
+                        }
+                        for &s in srcs {
+                            if s.elem == e {
+                                continue;
+                            }
+                            if let Some(t) = source_type(g, scope, s, 16) {
+                                return Some(t);
+                            }
+                        }
+                    }
                 }
             }
             _ => {}
