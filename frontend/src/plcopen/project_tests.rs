@@ -182,7 +182,7 @@ fn tasks_single_priority_and_instances() {
         r#"<task name="fast" interval="T#20ms" priority="3"><pouInstance name="i1" typeName="p"/></task>
 <task name="every" interval="PT0S" priority="1"><pouInstance name="i2" typeName="p"/></task>
 <task name="old" interval="00:00:00" priority="2"/>
-<task name="once" single="go" priority="4"/>
+<task name="once" single="go" priority="4"><pouInstance name="i3" typeName="p"/></task>
 <pouInstance name="free" typeName="p"/>"#,
     );
     let v = view(&xml);
@@ -204,13 +204,17 @@ fn tasks_single_priority_and_instances() {
     assert_eq!(mapped(&c, &xml, "SINGLE"), "go");
     assert_eq!(mapped(&c, &xml, "PRIORITY := 3"), "3");
     assert_eq!(mapped(&c, &xml, "TASK fast"), "fast");
-    // SINGLE is not compiled yet: the error is at the attribute.
+    // An event task compiles (the global `go` is its event).
     let (d, ok) = compile_with(&xml, &LowerOptions::default());
+    assert!(ok && d.iter().all(|d| !d.is_error()), "{d:#?}");
+    // An error about the event is at the attribute: `stop` is declared nowhere.
+    let bad = xml.replace(r#"single="go""#, r#"single="stop""#);
+    let (d, ok) = compile_with(&bad, &LowerOptions::default());
     assert!(!ok);
     let e = d.iter().find(|d| d.is_error()).unwrap();
-    assert_eq!(e.code, codes::E_UNSUPPORTED, "{d:#?}");
+    assert_eq!(e.code, codes::E_UNDECLARED, "{d:#?}");
     let s = e.span.unwrap();
-    assert_eq!(&xml[s.start as usize..s.end as usize], "go");
+    assert_eq!(&bad[s.start as usize..s.end as usize], "stop");
 }
 
 #[test]
