@@ -253,21 +253,26 @@ pub fn difftest(a: &DifftestArgs) -> u8 {
     }
     let started = std::time::Instant::now();
     let mut findings = 0;
-    let mut profiles = 0;
+    let (mut profiles, mut twins) = (0, 0);
     for seed in first..first.saturating_add(count) {
         if a.show && xml {
             let p = plcopen::program_with(seed, a.known_bugs);
             let v = plcopen::check(&p, &machines, scans, seed);
-            println!("{}<!-- seed {seed}: {v:?} -->", p.to_xml());
+            let twin = plcopen::twin::twin(&p, !a.known_bugs)
+                .map_or("no twin".to_string(), |t| t.replace("--", "- -"));
+            println!(
+                "{}<!-- seed {seed}: {v:?} -->\n<!-- the twin:\n{twin}-->",
+                p.to_xml()
+            );
         } else if a.show {
             let p = crate::difftest::program(seed);
             let v = crate::difftest::check(&p, &machines, scans, seed);
             println!("(* seed {seed}: {v:?} *)\n{}", p.to_st());
         }
         let finding = if xml {
-            if plcopen::profiles_agree(&plcopen::program_with(seed, a.known_bugs)) {
-                profiles += 1;
-            }
+            let p = plcopen::program_with(seed, a.known_bugs);
+            profiles += plcopen::profiles_agree(&p) as u64;
+            twins += plcopen::twin::twin(&p, !a.known_bugs).is_some() as u64;
             plcopen::run_seed(seed, &machines, scans, a.known_bugs)
         } else {
             crate::difftest::run_seed(seed, &machines, scans)
@@ -288,7 +293,7 @@ pub fn difftest(a: &DifftestArgs) -> u8 {
         }
     }
     let what = if xml {
-        format!("PLCopen programs ({profiles} also under every profile)")
+        format!("PLCopen programs ({twins} beside their twin, {profiles} under every profile)")
     } else {
         "programs".to_string()
     };

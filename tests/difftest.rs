@@ -133,7 +133,7 @@ use std::collections::BTreeMap;
 #[test]
 fn three_hundred_random_plcopen_programs_agree_on_every_machine() {
     let mut machines_ran = 0;
-    let mut profiles = 0;
+    let (mut profiles, mut twins) = (0, 0);
     let mut findings = Vec::new();
     for seed in 1..=300 {
         let p = plcopen::program(seed);
@@ -143,6 +143,11 @@ fn three_hundred_random_plcopen_programs_agree_on_every_machine() {
                 findings.push(format!("seed {seed}: {v:?}\n{}", p.to_xml()));
                 continue;
             }
+        }
+        match plcopen::check_twin(&p, "interp", 5, seed, false) {
+            Some(Verdict::Agree { .. }) => twins += 1,
+            Some(v) => findings.push(format!("seed {seed}, twin: {v:?}\n{}", p.to_xml())),
+            None => {}
         }
         if plcopen::profiles_agree(&p) {
             profiles += 1;
@@ -178,6 +183,57 @@ fn the_profiles_disagree_where_they_may() {
         })
         .count();
     assert!(differ >= 20, "{differ} programs where the profiles differ");
+}
+
+#[test]
+fn the_twin_sees_a_changed_diagram() {
+    // A program whose XML has one plain coil negated (or made plain), run beside
+    // the twin of the program as generated: the comparison must see the
+    // difference in nearly all (not where a jump or a return skips the coil).
+    let (mut tried, mut seen) = (0, 0);
+    for seed in 1..=200 {
+        let p = plcopen::program(seed);
+        let Some(twin) = plcopen::twin::twin(&p, true) else {
+            continue;
+        };
+        let mut q = p.clone();
+        // A plain coil of `main` whose variable nothing else writes.
+        let main = q.pous.last_mut().expect("main");
+        let writes = |v: &str, k: &plcopen::Kind| match k {
+            plcopen::Kind::Coil { var, .. } => var == v,
+            plcopen::Kind::OutVar { expr, .. } => expr == v,
+            _ => false,
+        };
+        let only = (0..main.elems.len()).find(|&i| match &main.elems[i].kind {
+            plcopen::Kind::Coil {
+                var,
+                storage: plcopen::Storage::None,
+                edge: plcopen::Edge::None,
+                ..
+            } => main.elems.iter().filter(|e| writes(var, &e.kind)).count() == 1,
+            _ => false,
+        });
+        let flipped = only.is_some_and(|i| match &mut main.elems[i].kind {
+            plcopen::Kind::Coil { negated, .. } => {
+                *negated = !*negated;
+                true
+            }
+            _ => false,
+        });
+        if !flipped {
+            continue;
+        }
+        tried += 1;
+        if matches!(
+            plcopen::compare_twin(&q, &twin, "interp", 5, seed),
+            Some(Verdict::Mismatch(_))
+        ) {
+            seen += 1;
+        }
+    }
+    println!("{seen} of {tried} changes seen");
+    assert!(tried >= 40, "{tried} programs with such a coil");
+    assert!(seen * 10 >= tried * 8, "{seen} of {tried} changes seen");
 }
 
 /// Compiles a program and returns its diagnostics' codes.

@@ -16,6 +16,7 @@
 pub mod gen;
 pub mod shrink;
 mod sigs;
+pub mod twin;
 pub mod xml;
 
 use super::gen::Rng;
@@ -137,6 +138,8 @@ pub struct Wire {
 pub struct Pin {
     /// The formal parameter.
     pub name: String,
+    /// Its type (the function's one type resolved).
+    pub ty: Ty,
     /// `negated="true"`.
     pub negated: bool,
     /// The edge modifier.
@@ -788,21 +791,97 @@ pub fn check_profiles(p: &XmlProg, machine: &str, scans: u32, seed: u64) -> Verd
     super::run(ms, &vars, &p.input_paths(), scans, seed)
 }
 
-/// Checks the PLCopen program of seed `seed` ([`program_with`]) on `machines`,
-/// then, when the profiles must agree on it, the profiles on the first machine; on
-/// a finding, shrinks it ([`shrink::shrink`]) to a reproducer in XML.
+/// Runs `p` and its twin ([`twin::twin`]: its diagrams written as ST by the
+/// documented rules) side by side on `machine`, comparing the variables it declares
+/// after every scan; `None` when the rules do not fix the program's meaning (or,
+/// without `known_bugs`, where plcc is known to differ from them).
+pub fn check_twin(
+    p: &XmlProg,
+    machine: &str,
+    scans: u32,
+    seed: u64,
+    known_bugs: bool,
+) -> Option<Verdict> {
+    let st = twin::twin(p, !known_bugs)?;
+    compare_twin(p, &st, machine, scans, seed)
+}
+
+/// Runs `p` beside the ST program `twin` on `machine` (see [`check_twin`]);
+/// `None` if the machine cannot hold them.
+pub fn compare_twin(
+    p: &XmlProg,
+    twin: &str,
+    machine: &str,
+    scans: u32,
+    seed: u64,
+) -> Option<Verdict> {
+    let name = super::machine_for_seed(machine, seed);
+    let xml = match compile(p, Profile::Iec) {
+        Ok(m) => m,
+        Err(e) => return Some(Verdict::Rejected(e)),
+    };
+    let tw = match super::build_text("twin.st", twin, &BuildOptions::default()) {
+        Ok(m) => m,
+        Err(e) => return Some(Verdict::Rejected(format!("the twin: {e}"))),
+    };
+    let vars = declared_paths(p, &xml);
+    let mut ms = Vec::new();
+    for (what, m) in [("xml", &xml), ("twin", &tw)] {
+        match super::machine(&name, m) {
+            Ok(Some(m)) => ms.push((format!("{name} ({what})"), m)),
+            Ok(None) => return None,
+            Err(e) => return Some(Verdict::Mismatch(e)),
+        }
+    }
+    Some(super::run(ms, &vars, &p.input_paths(), scans, seed))
+}
+
+/// Which comparison showed a finding.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum Stage {
+    /// The machines ([`check`]).
+    Machines,
+    /// The program and its twin ([`check_twin`]).
+    Twin,
+    /// The profiles ([`check_profiles`]).
+    Profiles,
+}
+
+/// Every comparison of a program, in turn: the machines, the twin on the first
+/// machine, the profiles on the first machine when they must agree; the first that
+/// does not agree, or the machines' agreement.
+pub fn check_all(
+    p: &XmlProg,
+    machines: &[&str],
+    scans: u32,
+    seed: u64,
+    known_bugs: bool,
+) -> (Verdict, Stage) {
+    let agree = check(p, machines, scans, seed);
+    if !matches!(agree, Verdict::Agree { .. }) {
+        return (agree, Stage::Machines);
+    }
+    if let Some(v) = check_twin(p, machines[0], scans, seed, known_bugs) {
+        if !matches!(v, Verdict::Agree { .. }) {
+            return (v, Stage::Twin);
+        }
+    }
+    if profiles_agree(p) {
+        let v = check_profiles(p, machines[0], scans, seed);
+        if !matches!(v, Verdict::Agree { .. }) {
+            return (v, Stage::Profiles);
+        }
+    }
+    (agree, Stage::Machines)
+}
+
+/// Checks the PLCopen program of seed `seed` ([`program_with`]) by every
+/// comparison ([`check_all`]); on a finding, shrinks it ([`shrink::shrink`]) to a
+/// reproducer in XML that the same comparison finds.
 pub fn run_seed(seed: u64, machines: &[&str], scans: u32, known_bugs: bool) -> Option<Finding> {
     let p = program_with(seed, known_bugs);
-    let both = |q: &XmlProg| {
-        let v = check(q, machines, scans, seed);
-        match v {
-            Verdict::Agree { .. } if profiles_agree(q) => {
-                (check_profiles(q, machines[0], scans, seed), true)
-            }
-            v => (v, false),
-        }
-    };
-    let (verdict, profiles) = both(&p);
+    let both = |q: &XmlProg| check_all(q, machines, scans, seed, known_bugs);
+    let (verdict, stage) = both(&p);
     if matches!(verdict, Verdict::Agree { .. }) {
         return None;
     }
@@ -811,8 +890,8 @@ pub fn run_seed(seed: u64, machines: &[&str], scans: u32, known_bugs: bool) -> O
     let small = shrink::shrink(
         &p,
         &mut |q| {
-            let (v, prof) = both(q);
-            prof == profiles
+            let (v, st) = both(q);
+            st == stage
                 && if mismatch {
                     matches!(v, Verdict::Mismatch(_))
                 } else {
@@ -821,10 +900,20 @@ pub fn run_seed(seed: u64, machines: &[&str], scans: u32, known_bugs: bool) -> O
         },
         1500,
     );
+    let (verdict, _) = both(&small);
+    let mut reproducer = small.to_xml();
+    if stage == Stage::Twin {
+        if let Some(t) = twin::twin(&small, !known_bugs) {
+            reproducer.push_str(&format!(
+                "<!-- {verdict:?}\n\nThe twin (the documented meaning, as ST):\n\n{}-->\n",
+                t.replace("--", "- -")
+            ));
+        }
+    }
     Some(Finding {
         seed,
-        verdict: both(&small).0,
-        reproducer: small.to_xml(),
+        verdict,
+        reproducer,
         ext: "xml",
     })
 }
