@@ -157,10 +157,15 @@ fn three_hundred_random_plcopen_programs_agree_on_every_machine() {
             }
         }
     }
-    println!("300 PLCopen programs, {machines_ran} machine runs, {profiles} under every profile");
+    println!(
+        "300 PLCopen programs, {machines_ran} machine runs, {twins} beside their twin, \
+         {profiles} under every profile"
+    );
     assert!(findings.is_empty(), "{}", findings.join("\n\n"));
-    // Nearly all fit the PIC16 too; a quarter are compared under every profile.
+    // Nearly all fit the PIC16 too; most run beside their twin; a quarter are
+    // compared under every profile.
     assert!(machines_ran > 300 * 4 - 30, "{machines_ran} machine runs");
+    assert!(twins > 250, "{twins} beside their twin");
     assert!(
         (50..=110).contains(&profiles),
         "{profiles} under every profile"

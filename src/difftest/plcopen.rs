@@ -379,24 +379,31 @@ impl<'a> Index<'a> {
 }
 
 /// What a connection from `id` stands for: the element itself, or for a
-/// continuation what is wired to its connector.
+/// continuation what is wired to its connector (through any chain of them).
 fn resolve(p: &Pou, id: u64) -> Vec<u64> {
-    let Some(e) = p.elems.iter().find(|e| e.id == id) else {
-        return Vec::new();
-    };
-    match &e.kind {
-        Kind::Continuation { name } => p
-            .elems
-            .iter()
-            .filter_map(|c| match &c.kind {
-                Kind::Connector { name: n, wires } if n == name => Some(wires),
-                _ => None,
-            })
-            .flatten()
-            .map(|w| w.from)
-            .collect(),
-        _ => vec![id],
+    fn walk(p: &Pou, id: u64, depth: u32, out: &mut Vec<u64>) {
+        let Some(e) = p.elems.iter().find(|e| e.id == id) else {
+            return;
+        };
+        match &e.kind {
+            Kind::Continuation { name } if depth < 16 => {
+                for c in &p.elems {
+                    if let Kind::Connector { name: n, wires } = &c.kind {
+                        if n == name {
+                            for w in wires {
+                                walk(p, w.from, depth + 1, out);
+                            }
+                        }
+                    }
+                }
+            }
+            Kind::Continuation { .. } => {}
+            _ => out.push(id),
+        }
     }
+    let mut out = Vec::new();
+    walk(p, id, 0, &mut out);
+    out
 }
 
 /// The networks of a body as plcc finds them: the elements wired to each other (the
