@@ -2,17 +2,21 @@
 # A long differential-testing campaign: `plcc difftest` over COUNT seeds from FIRST,
 # in JOBS parallel slices, on TARGETS (default interp, host, vmasm and pic16f876a;
 # plain vmasm runs in the addressing mode each seed picks). Reproducers of any
-# finding go to OUT; each slice's summary line goes to OUT/log.txt.
+# finding go to OUT; each slice's summary line goes to OUT/log.txt. LANGUAGE is st
+# (random ST programs, the default) or xml (random PLCopen projects with LD and FBD
+# bodies; reproducers are .xml files).
 #
-#   scripts/difftest_campaign.sh [FIRST] [COUNT] [JOBS] [OUT] [TARGETS]
+#   scripts/difftest_campaign.sh [FIRST] [COUNT] [JOBS] [OUT] [TARGETS] [LANGUAGE]
 #   scripts/difftest_campaign.sh 1 100000 2 difftest-out
 #   scripts/difftest_campaign.sh 1 20000 2 out-vm interp,host,vmasm
+#   scripts/difftest_campaign.sh 1 20000 2 out-xml interp,host,vmasm,pic16f876a xml
 set -eu
 first=${1:-1}
 count=${2:-10000}
 jobs=${3:-2}
 out=${4:-difftest-out}
 targets=${5:-interp,host,vmasm,pic16f876a}
+language=${6:-st}
 cd "$(dirname "$0")/.."
 cargo build --release --quiet
 plcc="${CARGO_TARGET_DIR:-target}/release/plcc"
@@ -23,7 +27,7 @@ while [ "$i" -lt "$jobs" ]; do
     start=$(( first + i * per ))
     n=$per
     if [ $(( start + n )) -gt $(( first + count )) ]; then n=$(( first + count - start )); fi
-    "$plcc" difftest --seed "$start" --count "$n" --targets "$targets" --out "$out" \
+    "$plcc" difftest --seed "$start" --count "$n" --targets "$targets" --out "$out" --lang "$language" \
         > "$out/slice_$i.txt" 2>&1 &
     i=$(( i + 1 ))
 done

@@ -207,18 +207,40 @@ pub fn disasm(xcp: &Path, mode: Option<&str>, dcp: Option<&Path>) -> u8 {
     }
 }
 
-/// `plcc difftest`: random programs on every machine (see [`crate::difftest`]).
-/// Prints a line per finding and a summary; writes each shrunk reproducer to `out`
-/// when given. Exit status 1 when anything disagreed or was rejected.
-pub fn difftest(
-    first: u64,
-    count: u64,
-    machines: &str,
-    scans: u32,
-    out: Option<&Path>,
-    show: bool,
-) -> u8 {
-    let machines: Vec<&str> = machines.split(',').map(str::trim).collect();
+/// The arguments of `plcc difftest`.
+pub struct DifftestArgs<'a> {
+    /// The first seed.
+    pub first: u64,
+    /// How many seeds.
+    pub count: u64,
+    /// The machines, comma-separated, the reference first.
+    pub machines: &'a str,
+    /// Scans per program.
+    pub scans: u32,
+    /// Where to write the reproducers.
+    pub out: Option<&'a Path>,
+    /// Print every program and its verdict.
+    pub show: bool,
+    /// `st` or `xml`.
+    pub lang: &'a str,
+    /// PLCopen programs also with the constructs of the known front-end bugs.
+    pub known_bugs: bool,
+}
+
+/// `plcc difftest`: random programs on every machine (see [`crate::difftest`]): ST
+/// programs, or with `--lang xml` PLCopen projects with LD and FBD bodies
+/// ([`crate::difftest::plcopen`]). Prints a line per finding and a summary; writes
+/// each shrunk reproducer to `out` when given. Exit status 1 when anything disagreed
+/// or was rejected.
+pub fn difftest(a: &DifftestArgs) -> u8 {
+    use crate::difftest::plcopen;
+    let (first, count, scans, out) = (a.first, a.count, a.scans, a.out);
+    let xml = match a.lang {
+        "st" => false,
+        "xml" => true,
+        l => return usage(format!("`{l}` is not a language of difftest (st or xml)")),
+    };
+    let machines: Vec<&str> = a.machines.split(',').map(str::trim).collect();
     for m in &machines {
         match targets::find(m.split(':').next().unwrap_or(m)) {
             Some(t) if t.runs => {}
@@ -232,19 +254,37 @@ pub fn difftest(
     }
     let started = std::time::Instant::now();
     let mut findings = 0;
+    let (mut profiles, mut twins) = (0, 0);
     for seed in first..first.saturating_add(count) {
-        if show {
+        if a.show && xml {
+            let p = plcopen::program_with(seed, a.known_bugs);
+            let v = plcopen::check(&p, &machines, scans, seed);
+            let twin = plcopen::twin::twin(&p, !a.known_bugs)
+                .map_or("no twin".to_string(), |t| t.replace("--", "- -"));
+            println!(
+                "{}<!-- seed {seed}: {v:?} -->\n<!-- the twin:\n{twin}-->",
+                p.to_xml()
+            );
+        } else if a.show {
             let p = crate::difftest::program(seed);
             let v = crate::difftest::check(&p, &machines, scans, seed);
             println!("(* seed {seed}: {v:?} *)\n{}", p.to_st());
         }
-        let Some(f) = crate::difftest::run_seed(seed, &machines, scans) else {
+        let finding = if xml {
+            let p = plcopen::program_with(seed, a.known_bugs);
+            profiles += plcopen::profiles_agree(&p) as u64;
+            twins += plcopen::twin::twin(&p, !a.known_bugs).is_some() as u64;
+            plcopen::run_seed(seed, &machines, scans, a.known_bugs)
+        } else {
+            crate::difftest::run_seed(seed, &machines, scans)
+        };
+        let Some(f) = finding else {
             continue;
         };
         findings += 1;
         println!("seed {seed}: {:?}", f.verdict);
         if let Some(dir) = out {
-            let p = dir.join(format!("difftest_{seed}.st"));
+            let p = dir.join(format!("difftest_{seed}.{}", f.ext));
             if let Err(e) = output::write_atomic(&p, f.reproducer.as_bytes()) {
                 return usage(format!("cannot write {}: {e}", p.display()));
             }
@@ -253,8 +293,13 @@ pub fn difftest(
             println!("{}", f.reproducer);
         }
     }
+    let what = if xml {
+        format!("PLCopen programs ({twins} beside their twin, {profiles} under every profile)")
+    } else {
+        "programs".to_string()
+    };
     println!(
-        "{count} programs from seed {first} on {}: {findings} findings ({:.1} s)",
+        "{count} {what} from seed {first} on {}: {findings} findings ({:.1} s)",
         machines.join(", "),
         started.elapsed().as_secs_f64()
     );

@@ -156,6 +156,14 @@ enum Command {
         /// Print every program and its verdict
         #[arg(long)]
         show: bool,
+        /// The language of the programs: st (random ST programs) or xml (random
+        /// PLCopen projects with LD and FBD bodies)
+        #[arg(long, default_value = "st")]
+        lang: String,
+        /// With --lang xml: also generate the constructs of the front-end bugs known
+        /// so far, which the generator otherwise steers around (TESTING.md)
+        #[arg(long)]
+        known_bugs: bool,
     },
     /// Print the VMASM listing of a CPDev code image (.xcp)
     Disasm {
@@ -239,7 +247,18 @@ fn main() -> ExitCode {
             scans,
             out,
             show,
-        }) => commands::difftest(seed, count, &targets, scans, out.as_deref(), show),
+            lang,
+            known_bugs,
+        }) => commands::difftest(&commands::DifftestArgs {
+            first: seed,
+            count,
+            machines: &targets,
+            scans,
+            out: out.as_deref(),
+            show,
+            lang: &lang,
+            known_bugs,
+        }),
         Some(Command::Disasm { xcp, mode, dcp }) => {
             commands::disasm(&xcp, mode.as_deref(), dcp.as_deref())
         }

@@ -6,6 +6,7 @@
 //! `plcc difftest` runs campaigns; `tests/difftest.rs` runs a fixed-seed batch.
 
 pub mod gen;
+pub mod plcopen;
 mod print;
 pub mod shrink;
 
@@ -34,20 +35,7 @@ pub enum Verdict {
 const UNFIT: [&str; 6] = ["E9001", "E9002", "E9003", "E9004", "E9101", "E9102"];
 
 fn compile(p: &Prog) -> Result<Module, String> {
-    let b = build_sources(
-        vec![("difftest.st".into(), p.to_st().into_bytes())],
-        &BuildOptions::default(),
-    )
-    .map_err(|e| e.0)?;
-    b.module.ok_or_else(|| {
-        b.diagnostics
-            .iter()
-            .filter(|d| d.is_error())
-            .take(3)
-            .map(|d| d.to_string())
-            .collect::<Vec<_>>()
-            .join("; ")
-    })
+    build_text("difftest.st", &p.to_st(), &BuildOptions::default())
 }
 
 /// Two values are the same: bit for bit, except that any two NaNs are equal.
@@ -93,59 +81,103 @@ pub fn machine_for_seed(name: &str, seed: u64) -> String {
 /// target setting, `vmasm:mode=32a`; plain `vmasm` gets a mode from the seed, see
 /// [`machine_for_seed`]) for `scans` scans.
 pub fn check(p: &Prog, machines: &[&str], scans: u32, seed: u64) -> Verdict {
-    let module = match compile(p) {
-        Ok(m) => m,
-        Err(e) => return Verdict::Rejected(e),
+    match compile(p) {
+        Ok(module) => check_module(&module, &p.input_paths(), machines, scans, seed),
+        Err(e) => Verdict::Rejected(e),
+    }
+}
+
+/// Builds one source text (the language from the name's extension).
+pub(crate) fn build_text(name: &str, text: &str, opts: &BuildOptions) -> Result<Module, String> {
+    let b = build_sources(vec![(name.into(), text.as_bytes().to_vec())], opts).map_err(|e| e.0)?;
+    b.module.ok_or_else(|| {
+        b.diagnostics
+            .iter()
+            .filter(|d| d.is_error())
+            .take(3)
+            .map(|d| d.to_string())
+            .collect::<Vec<_>>()
+            .join("; ")
+    })
+}
+
+/// The machine of a name with its setting (`vmasm:mode=32a`).
+pub(crate) fn machine(name: &str, module: &Module) -> Result<Option<Box<dyn Machine>>, String> {
+    let (target, settings) = match name.split_once(':') {
+        Some((t, kv)) => match kv.split_once('=') {
+            Some((k, v)) => (t, vec![(k.to_string(), v.to_string())]),
+            None => (t, Vec::new()),
+        },
+        None => (name, Vec::new()),
     };
+    match targets::machine_with(target, module, &settings) {
+        Ok(m) => Ok(Some(m)),
+        Err(d) if d.iter().any(|x| UNFIT.contains(&x.code)) => Ok(None),
+        Err(d) => Err(format!(
+            "{name} cannot build it: {}",
+            d.iter()
+                .map(|x| x.to_string())
+                .collect::<Vec<_>>()
+                .join("; ")
+        )),
+    }
+}
+
+/// Runs a compiled program on `machines` for `scans` scans, setting `inputs` to
+/// random values before each (see [`check`]).
+pub fn check_module(
+    module: &Module,
+    inputs: &[(String, T)],
+    machines: &[&str],
+    scans: u32,
+    seed: u64,
+) -> Verdict {
     if module.programs.is_empty() {
         return Verdict::Rejected("no program".into());
     }
     // Every variable of every program instance, and the globals.
-    let mut vars: Vec<_> = module
+    let mut vars: Vec<String> = module
         .programs
         .iter()
-        .flat_map(|e| plcc_ir::vars::variables(&module, e.data))
+        .flat_map(|e| plcc_ir::vars::variables(module, e.data))
+        .map(|v| v.path)
         .collect();
     if let Some(g) = module.data_by_name(plcc_frontend::GLOBALS_DATA) {
-        vars.extend(plcc_ir::vars::variables(&module, g));
+        vars.extend(
+            plcc_ir::vars::variables(module, g)
+                .into_iter()
+                .map(|v| v.path),
+        );
     }
     let machines: Vec<String> = machines.iter().map(|m| machine_for_seed(m, seed)).collect();
     let mut ms: Vec<(String, Box<dyn Machine>)> = Vec::new();
     for name in &machines {
-        let name = name.as_str();
-        // `vmasm:mode=32a`: a target with one setting.
-        let (target, settings) = match name.split_once(':') {
-            Some((t, kv)) => match kv.split_once('=') {
-                Some((k, v)) => (t, vec![(k.to_string(), v.to_string())]),
-                None => (t, Vec::new()),
-            },
-            None => (name, Vec::new()),
-        };
-        match targets::machine_with(target, &module, &settings) {
-            Ok(m) => ms.push((name.to_string(), m)),
-            Err(d) if d.iter().any(|x| UNFIT.contains(&x.code)) => {}
-            Err(d) => {
-                return Verdict::Mismatch(format!(
-                    "{name} cannot build it: {}",
-                    d.iter()
-                        .map(|x| x.to_string())
-                        .collect::<Vec<_>>()
-                        .join("; ")
-                ))
-            }
+        match machine(name, module) {
+            Ok(Some(m)) => ms.push((name.clone(), m)),
+            Ok(None) => {}
+            Err(e) => return Verdict::Mismatch(e),
         }
     }
+    run(ms, &vars, inputs, scans, seed)
+}
+
+/// Runs machines side by side (the first is the reference), comparing the variables
+/// `vars` and the fault flag after cold start and after every scan.
+pub(crate) fn run(
+    mut ms: Vec<(String, Box<dyn Machine>)>,
+    vars: &[String],
+    inputs: &[(String, T)],
+    scans: u32,
+    seed: u64,
+) -> Verdict {
     let compare = |ms: &[(String, Box<dyn Machine>)], when: &str| -> Result<(), String> {
         let (rname, r) = &ms[0];
         for (name, m) in &ms[1..] {
-            for v in &vars {
-                let a = r.read(&v.path).map_err(|e| format!("{rname}: {e}"))?;
-                let b = m.read(&v.path).map_err(|e| format!("{name}: {e}"))?;
+            for v in vars {
+                let a = r.read(v).map_err(|e| format!("{rname}: {e}"))?;
+                let b = m.read(v).map_err(|e| format!("{name}: {e}"))?;
                 if !same(a, b) {
-                    return Err(format!(
-                        "{when}: {} is {a} on {rname}, {b} on {name}",
-                        v.path
-                    ));
+                    return Err(format!("{when}: {v} is {a} on {rname}, {b} on {name}"));
                 }
             }
             if r.fault() != m.fault() {
@@ -168,10 +200,10 @@ pub fn check(p: &Prog, machines: &[&str], scans: u32, seed: u64) -> Verdict {
     }
     let mut rng = Rng::new(seed ^ 0x5EED_1A7A);
     for s in 0..scans {
-        for (path, t) in p.input_paths() {
-            let bits = random_value(&mut rng, t);
+        for (path, t) in inputs {
+            let bits = random_value(&mut rng, *t);
             for (i, (name, m)) in ms.iter_mut().enumerate() {
-                let cur = match m.read(&path) {
+                let cur = match m.read(path) {
                     Ok(cur) => cur,
                     // The reference holds every variable: a path it does not know
                     // is the generator's mistake.
@@ -180,7 +212,7 @@ pub fn check(p: &Prog, machines: &[&str], scans: u32, seed: u64) -> Verdict {
                     }
                     Err(_) => continue,
                 };
-                let _ = m.write(&path, PlcValue::from_bits(cur.ty, bits));
+                let _ = m.write(path, PlcValue::from_bits(cur.ty, bits));
             }
         }
         for (name, m) in ms.iter_mut() {
@@ -209,8 +241,28 @@ pub struct Finding {
     pub seed: u64,
     /// What was wrong.
     pub verdict: Verdict,
-    /// The shrunk reproducer (ST text).
+    /// The shrunk reproducer (ST text, or PLCopen XML).
     pub reproducer: String,
+    /// The reproducer's file extension: `st` or `xml`.
+    pub ext: &'static str,
+}
+
+/// The error codes of a rejected program (`E0204,E0751`), to shrink it to one
+/// rejected for the same reasons; empty for other verdicts.
+pub(crate) fn codes(v: &Verdict) -> String {
+    match v {
+        Verdict::Rejected(e) => {
+            let mut c: Vec<&str> = e
+                .split("error[")
+                .skip(1)
+                .filter_map(|x| x.split(']').next())
+                .collect();
+            c.sort();
+            c.dedup();
+            c.join(",")
+        }
+        _ => String::new(),
+    }
 }
 
 /// Checks seed `seed`; on a mismatch or a rejected program, shrinks it.
@@ -223,19 +275,6 @@ pub fn run_seed(seed: u64, machines: &[&str], scans: u32) -> Option<Finding> {
     }
     // A rejected program shrinks to one rejected for the same reasons (codes), not
     // to one that uses what a step took away.
-    let codes = |v: &Verdict| match v {
-        Verdict::Rejected(e) => {
-            let mut c: Vec<&str> = e
-                .split("error[")
-                .skip(1)
-                .filter_map(|x| x.split(']').next())
-                .collect();
-            c.sort();
-            c.dedup();
-            c.join(",")
-        }
-        _ => String::new(),
-    };
     let want = codes(&verdict);
     let mismatch = matches!(verdict, Verdict::Mismatch(_));
     let small = shrink::shrink(
@@ -255,5 +294,6 @@ pub fn run_seed(seed: u64, machines: &[&str], scans: u32) -> Option<Finding> {
         seed,
         verdict,
         reproducer: small.to_st(),
+        ext: "st",
     })
 }
