@@ -29,7 +29,7 @@
 use super::graph::{input_name, output_name, Graph, Src};
 use super::map::Out;
 use super::order;
-use super::wiretype::{output_type, Scope};
+use super::wiretype::{control_input, output_type, passes_type, source_type, Scope};
 use super::xml::{Edge, Element, Kind, Project, Storage, Text, Var, VarGroup};
 use super::{Options, Profile};
 use crate::codes;
@@ -415,12 +415,10 @@ pub(super) fn emit_body(
         l.expand();
     }
     let mut lines = l.lines;
-    // A body that starts with a label would be taken for Instruction List.
-    if lines
-        .iter()
-        .find(|l| l.elem.is_some())
-        .is_some_and(|l| l.label)
-    {
+    // A body that starts with a label or a jump (`JMP` is an IL operator too) would
+    // be taken for Instruction List.
+    let il_like = |l: &Line| l.label || l.parts.first().is_some_and(|p| p.s.starts_with("JMP "));
+    if lines.iter().find(|l| l.elem.is_some()).is_some_and(il_like) {
         lines.insert(
             0,
             Line {
@@ -937,6 +935,11 @@ impl Lower<'_, '_, '_, '_> {
             if let Some(n) = self.eno.get(&e) {
                 return named(n.clone());
             }
+            if self.en_wired(e) {
+                // Read before the block runs (a loop back to it): the variable that
+                // keeps its ENO, as the previous scan left it.
+                return named(self.eno_var(e));
+            }
             // ENO of a block whose EN is not wired: it always runs.
             return X::True;
         }
@@ -998,6 +1001,21 @@ impl Lower<'_, '_, '_, '_> {
                 }
             }
         }
+    }
+
+    /// The variable keeping ENO of block `e`, declared on first use.
+    fn eno_var(&mut self, e: usize) -> String {
+        if let Some(n) = self.eno.get(&e) {
+            return n.clone();
+        }
+        let id = self.elem(e).id;
+        let ty = match &self.elem(e).kind {
+            Kind::Block { ty, .. } => ty.value.to_ascii_uppercase(),
+            _ => String::new(),
+        };
+        let name = self.names.var(&format!("_TMP_{ty}{id}_ENO"), "BOOL");
+        self.eno.insert(e, name.clone());
+        name
     }
 
     /// The variable keeping output `port` of function block `e`, declared on first use.
@@ -1064,12 +1082,9 @@ impl Lower<'_, '_, '_, '_> {
         let Some(mut args) = args else {
             return;
         };
-        if self.needs_eno(e) {
-            let id = self.elem(e).id;
-            let base = format!("_TMP_{}{id}_ENO", ty.value.to_ascii_uppercase());
-            let name = self.names.var(&base, "BOOL");
+        if self.needs_eno(e) || self.eno.contains_key(&e) {
+            let name = self.eno_var(e);
             args.push(vec![part(format!("ENO => {name}"))]);
-            self.eno.insert(e, name);
         }
         let writes: Vec<String> = match &instance {
             Some(i) => vec![root(&i.value)],
@@ -1189,12 +1204,33 @@ impl Lower<'_, '_, '_, '_> {
             pou_vars: self.ctx.pou_vars,
             globals: self.ctx.globals,
         };
-        let port = (0..self.g.outs[e].len())
-            .find(|&p| {
-                !output_name(&self.elem(e).kind, p).is_some_and(|n| n.eq_ignore_ascii_case("ENO"))
+        // The input's type: a conversion's source type; for a comparison or a
+        // function whose inputs have one type, the type of the other inputs; else the
+        // result's type.
+        let k = &self.elem(e).kind;
+        let from_inputs = || {
+            self.g.ins[e].iter().enumerate().find_map(|(p, srcs)| {
+                let other = input_name(k, p).unwrap_or("");
+                if other.eq_ignore_ascii_case(pin) || control_input(&f, other) {
+                    return None;
+                }
+                srcs.iter().find_map(|&s| source_type(self.g, &scope, s, 1))
             })
-            .unwrap_or(0);
-        let t = output_type(self.g, &scope, e, port, 0)
+        };
+        let t = if let Some((src, _)) = f.split_once("_TO_") {
+            Some(src.to_string())
+        } else if matches!(f.as_str(), "GT" | "GE" | "EQ" | "NE" | "LE" | "LT") || passes_type(&f) {
+            from_inputs()
+        } else {
+            None
+        };
+        let t = t
+            .or_else(|| {
+                let port = (0..self.g.outs[e].len())
+                    .find(|&p| !output_name(k, p).is_some_and(|n| n.eq_ignore_ascii_case("ENO")))
+                    .unwrap_or(0);
+                output_type(self.g, &scope, e, port, 0)
+            })
             .unwrap_or_default()
             .to_ascii_uppercase();
         match t.as_str() {

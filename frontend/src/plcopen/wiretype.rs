@@ -107,9 +107,6 @@ fn std_fb_pins() -> &'static [(String, String, String, bool)] {
                         is_out,
                     ));
                 }
-                if l.contains("END_VAR") {
-                    section = None;
-                }
             }
         }
         out
@@ -217,7 +214,7 @@ impl Scope<'_> {
 }
 
 /// The standard functions whose result has the type of their (data) inputs.
-fn passes_type(name: &str) -> bool {
+pub(crate) fn passes_type(name: &str) -> bool {
     matches!(
         name,
         "ADD"
@@ -256,7 +253,7 @@ fn passes_type(name: &str) -> bool {
 }
 
 /// Inputs that do not give the result's type (selectors, shift counts).
-fn control_input(func: &str, pin: &str) -> bool {
+pub(crate) fn control_input(func: &str, pin: &str) -> bool {
     let p = pin.to_ascii_uppercase();
     p == "EN"
         || (func == "SEL" && p == "G")
