@@ -668,6 +668,13 @@ pub fn features(prog: &XmlProg) -> BTreeSet<String> {
 pub fn profiles_agree(prog: &XmlProg) -> bool {
     prog.pous.iter().all(|p| {
         let ix = Index::new(p);
+        // Something but a right rail reads it.
+        let fed = |id: u64| {
+            ix.users.get(&id).is_some_and(|u| {
+                u.iter()
+                    .any(|(c, _)| !matches!(ix.kind(*c), Some(Kind::RightRail { .. })))
+            })
+        };
         let (own, through) = loops(p);
         if own || through {
             return false;
@@ -683,9 +690,7 @@ pub fn profiles_agree(prog: &XmlProg) -> bool {
                 Kind::InVar { negated: true, .. } | Kind::OutVar { negated: true, .. } => {
                     return false
                 }
-                Kind::Coil { wires, .. } if wires.len() > 1 && ix.users.contains_key(&e.id) => {
-                    return false
-                }
+                Kind::Coil { wires, .. } if wires.len() > 1 && fed(e.id) => return false,
                 _ => {}
             }
             match &e.kind {
