@@ -662,7 +662,7 @@ pub fn features(prog: &XmlProg) -> BTreeSet<String> {
 /// True if every profile must give `prog` the same meaning (docs/plcopen.md, "The
 /// editors' orders"): no jump, label or return; no negated variable; no
 /// `executionOrderId`; no loop; no coil with several wires that feeds a later
-/// element; and no variable both read and written by the body, nor written twice
+/// element; no variable wired to an ENO; and no variable both read and written by the body, nor written twice
 /// (an FB instance is written by its call), so that the order of the statements
 /// and the number of times a contact's variable is read do not matter.
 pub fn profiles_agree(prog: &XmlProg) -> bool {
@@ -691,6 +691,17 @@ pub fn profiles_agree(prog: &XmlProg) -> bool {
                     return false
                 }
                 Kind::Coil { wires, .. } if wires.len() > 1 && fed(e.id) => return false,
+                // The editors write a variable on an ENO only when ENO is TRUE (the
+                // ENO may come through a connector).
+                Kind::OutVar { wires, .. } | Kind::Connector { wires, .. }
+                    if wires.iter().any(|w| {
+                        w.pin
+                            .as_deref()
+                            .is_some_and(|p| p.eq_ignore_ascii_case("ENO"))
+                    }) =>
+                {
+                    return false
+                }
                 _ => {}
             }
             match &e.kind {

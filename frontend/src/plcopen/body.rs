@@ -1290,6 +1290,11 @@ impl Lower<'_, '_, '_, '_> {
         if self.eno.contains_key(&e) || self.en_wired(e) {
             named_form = true;
         }
+        if named_form && ty.value.eq_ignore_ascii_case("NOT") {
+            // `NOT(EN := .., IN := ..)` reads as the NOT operator: written out.
+            self.not_with_en(e, ty, args, primary);
+            return;
+        }
         if !named_form {
             // `IN1 := a` becomes `a`: the positional form, in the XML's order.
             for a in &mut args {
@@ -1305,6 +1310,62 @@ impl Lower<'_, '_, '_, '_> {
         s.push(part("("));
         join(&mut s, args);
         s.push(part(");"));
+        self.push(s, e);
+    }
+}
+
+impl Lower<'_, '_, '_, '_> {
+    /// A NOT block in the named form (EN wired, or its input unwired), which ST
+    /// cannot call by name: `IF en THEN r := NOT(in); eno := TRUE; ELSE r := <0>;
+    /// eno := FALSE; END_IF;` (the EN and ENO parts only when EN is wired).
+    fn not_with_en(&mut self, e: usize, ty: &Text, args: Vec<Vec<Part>>, primary: Option<usize>) {
+        let (mut en, mut input, mut eno) = (None, None, None);
+        for a in args {
+            let head = a
+                .first()
+                .map(|p| p.s.to_ascii_uppercase())
+                .unwrap_or_default();
+            if head.starts_with("ENO =>") {
+                eno = Some(head.trim_start_matches("ENO =>").trim().to_string());
+            } else if head == "EN" {
+                en = Some(a[2..].to_vec());
+            } else if head.starts_with("IN") {
+                // `IN := value` (wired) or `IN := FALSE` (a default, one part).
+                input = Some(if a.len() > 2 {
+                    a[2..].to_vec()
+                } else {
+                    vec![part(a[1].s.trim_start_matches(" := ").to_string())]
+                });
+            }
+        }
+        let input = input.unwrap_or_else(|| vec![part("FALSE")]);
+        let target = primary.map(|p| self.result_var(e, p, &ty.value));
+        let mut s = Vec::new();
+        if let Some(en) = &en {
+            s.push(part("IF "));
+            s.extend(en.iter().cloned());
+            s.push(part(" THEN "));
+        }
+        if let Some(t) = &target {
+            s.push(part(format!("{t} := ")));
+            s.push(text_part(ty));
+            s.push(part("("));
+            s.extend(input);
+            s.push(part("); "));
+        }
+        if en.is_some() {
+            if let Some(n) = &eno {
+                s.push(part(format!("{n} := TRUE; ")));
+            }
+            s.push(part("ELSE "));
+            if let Some(t) = &target {
+                s.push(part(format!("{t} := {t} XOR {t}; ")));
+            }
+            if let Some(n) = &eno {
+                s.push(part(format!("{n} := FALSE; ")));
+            }
+            s.push(part("END_IF;"));
+        }
         self.push(s, e);
     }
 }

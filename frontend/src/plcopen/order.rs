@@ -6,8 +6,8 @@
 //!   an element runs once, after every element wired to its inputs; among the
 //!   elements ready at the same time the one with the smaller `executionOrderId` goes
 //!   first, then the topmost, then the leftmost, then the first in the document. A
-//!   loop is cut at a block: when nothing is ready, the first block left runs, reading
-//!   what the loop gives it from the previous scan. A loop through contacts and coils
+//!   loop is cut at a block: when nothing is ready, the first block on a loop runs,
+//!   reading what the loop gives it from the previous scan. A loop through contacts and coils
 //!   alone has no meaning (no block to cut it at).
 //! - [`sinks`]: the editors'. PLCGenerator (Beremiz, OpenPLC Editor) writes one
 //!   statement per sink (variable, coil, block, connector) in an order of its own:
@@ -48,11 +48,32 @@ pub(crate) fn network(g: &Graph, members: &[usize]) -> Result<Vec<usize>, usize>
     let mut order = Vec::with_capacity(members.len());
     while order.len() < members.len() {
         if ready.is_empty() {
-            // A loop: the first block left runs with what it has.
+            // A loop: its first block runs with what it has. (Only a block on a loop
+            // among the elements left: one that merely waits for a loop must wait.)
+            let on_loop = |b: usize| {
+                let mut seen = vec![false; n];
+                let mut stack = vec![b];
+                while let Some(x) = stack.pop() {
+                    for port in &g.outs[x] {
+                        for &(c, _) in port {
+                            if c == b {
+                                return true;
+                            }
+                            if inside[c] && !done[c] && !seen[c] {
+                                seen[c] = true;
+                                stack.push(c);
+                            }
+                        }
+                    }
+                }
+                false
+            };
             let cut = members
                 .iter()
                 .copied()
-                .filter(|&e| !done[e] && matches!(g.elems[e].kind, Kind::Block { .. }))
+                .filter(|&e| {
+                    !done[e] && matches!(g.elems[e].kind, Kind::Block { .. }) && on_loop(e)
+                })
                 .min_by(|&a, &b| {
                     key(&g.elems[a], a)
                         .partial_cmp(&key(&g.elems[b], b))

@@ -6,8 +6,9 @@
 //! The rules, as the twin applies them:
 //!
 //! - a body is cut into networks (elements wired to each other; rails join nothing;
-//!   a continuation joins its connector), run top to bottom by their topmost, then
-//!   leftmost element, then the first in the document;
+//!   a continuation joins its connector), run by their smallest `executionOrderId`
+//!   (networks without one last), then top to bottom by their topmost, then leftmost
+//!   element, then the first in the document;
 //! - within a network an element runs once, after everything wired to its inputs;
 //!   among those ready together the smaller `executionOrderId` first (none counts
 //!   as 0), then the topmost, the leftmost, the first in the document; when nothing
@@ -418,8 +419,13 @@ impl<'a> Tw<'a> {
         let v = self.input(wires, Ty::Bool)?;
         let v = if *negated { format!("NOT {v}") } else { v };
         let mut s = format!("{expr} := {v};");
-        if let [(b, _)] = srcs.as_slice() {
-            if self.en_wired(*b) {
+        // Fed by a block whose EN is wired: written only when the block ran (its
+        // ENO itself is not guarded: it is the variable's value).
+        if let [(b, pin)] = srcs.as_slice() {
+            let from_eno = pin
+                .as_deref()
+                .is_some_and(|p| p.eq_ignore_ascii_case("ENO"));
+            if self.en_wired(*b) && !from_eno {
                 s = format!("IF zz_eno{b} THEN {s} END_IF;");
             }
         }
@@ -568,12 +574,19 @@ fn pou(p: &Pou, avoid: bool) -> Option<String> {
     };
     let mut nets = networks(p);
     nets.sort_by_key(|n| {
-        n.iter()
+        let id = n
+            .iter()
+            .filter_map(|&id| tw.elem(id).order.filter(|&o| o > 0))
+            .min()
+            .unwrap_or(u32::MAX);
+        let top = n
+            .iter()
             .map(|&id| {
                 let e = tw.elem(id);
                 (e.pos.1, e.pos.0, tw.at[&id])
             })
-            .min()
+            .min();
+        (id, top)
     });
     for net in nets {
         tw.lines.push(String::new());
