@@ -26,7 +26,7 @@
 //! for a function's outputs and ENO (kept between scans, as the editors keep them),
 //! `_P<localId>` for a value kept within a scan.
 
-use super::graph::{input_name, output_name, Graph, Src};
+use super::graph::{input_name, output_name, output_port, Graph, Src};
 use super::map::Out;
 use super::order;
 use super::wiretype::{control_input, output_type, passes_type, source_type, Scope};
@@ -781,14 +781,9 @@ impl Lower<'_, '_, '_, '_> {
 
     /// (negated, edge) of output `port` of block `e`.
     fn out_pin(&self, e: usize, port: usize) -> (bool, Edge) {
-        match &self.elem(e).kind {
-            Kind::Block {
-                outputs, in_outs, ..
-            } => match outputs.iter().chain(in_outs).nth(port) {
-                Some(p) => (p.negated, p.edge.unwrap_or(Edge::None)),
-                None => (false, Edge::None),
-            },
-            _ => (false, Edge::None),
+        match output_port(&self.elem(e).kind, port) {
+            Some(p) => (p.negated, p.edge.unwrap_or(Edge::None)),
+            None => (false, Edge::None),
         }
     }
 
@@ -971,16 +966,7 @@ impl Lower<'_, '_, '_, '_> {
         match instance {
             Some(i) => {
                 let i = i.clone();
-                let pname = match &self.elem(e).kind {
-                    Kind::Block {
-                        outputs, in_outs, ..
-                    } => outputs
-                        .iter()
-                        .chain(in_outs)
-                        .nth(port)
-                        .and_then(|p| p.name.clone()),
-                    _ => None,
-                };
+                let pname = output_port(&self.elem(e).kind, port).and_then(|p| p.name.clone());
                 let mut parts = vec![text_part(&i), part(".")];
                 match pname {
                     Some(p) => parts.push(text_part(&p)),

@@ -134,19 +134,21 @@ pub(crate) fn input_name(k: &Kind, port: usize) -> Option<&str> {
     }
 }
 
-/// The name of a block's output `port`.
-pub(crate) fn output_name(k: &Kind, port: usize) -> Option<&str> {
+/// A block's output `port` (its outputs, then its in-outs).
+pub(crate) fn output_port(k: &Kind, port: usize) -> Option<&super::xml::Port> {
     match k {
         Kind::Block {
             outputs, in_outs, ..
-        } => outputs
-            .iter()
-            .chain(in_outs)
-            .nth(port)
-            .and_then(|p| p.name.as_ref())
-            .map(|n| n.value.as_str()),
+        } => outputs.iter().chain(in_outs).nth(port),
         _ => None,
     }
+}
+
+/// The name of a block's output `port`.
+pub(crate) fn output_name(k: &Kind, port: usize) -> Option<&str> {
+    output_port(k, port)
+        .and_then(|p| p.name.as_ref())
+        .map(|n| n.value.as_str())
 }
 
 /// What the checks need to know about the POU.
