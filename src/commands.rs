@@ -368,9 +368,9 @@ pub struct RunArgs {
     pub program: Option<String>,
     /// `--scans`
     pub scans: u64,
-    /// `--cycle-ms`; without it, the tasks' common tick, else 10 ms
+    /// `--cycle-ms` in microseconds; without it, the tasks' common tick, else 10 ms
     /// ([`scenario::Cycle::of`]).
-    pub cycle_ms: Option<u64>,
+    pub cycle_us: Option<u64>,
     /// `--timing`: report the time the scans took.
     pub timing: bool,
     /// `-s KEY=VALUE` target settings.
@@ -445,7 +445,7 @@ pub fn run(a: &RunArgs) -> u8 {
         Ok(p) => p,
         Err(s) => return s,
     };
-    let cycle = scenario::Cycle::of(&module, a.cycle_ms);
+    let cycle = scenario::Cycle::of(&module, a.cycle_us);
     eprintln!("{cycle}");
     let copy = module.clone();
     let t = std::time::Instant::now();
@@ -462,7 +462,7 @@ pub fn run(a: &RunArgs) -> u8 {
         m.cold_start().map_err(|e| e.to_string())?;
         let started = std::time::Instant::now();
         for k in 0..a.scans {
-            m.set_clock_us((k * cycle.ms * 1000) as i64);
+            m.set_clock_us((k * cycle.us) as i64);
             m.scan().map_err(|e| format!("scan {k}: {e}"))?;
         }
         scan_time = started.elapsed();
@@ -537,9 +537,9 @@ pub struct TestArgs {
     pub scenario: PathBuf,
     /// `--target`
     pub target: String,
-    /// `--cycle-ms`; without it, the tasks' common tick, else 10 ms
+    /// `--cycle-ms` in microseconds; without it, the tasks' common tick, else 10 ms
     /// ([`scenario::Cycle::of`]).
-    pub cycle_ms: Option<u64>,
+    pub cycle_us: Option<u64>,
     /// `-s KEY=VALUE` target settings.
     pub settings: Vec<(String, String)>,
 }
@@ -586,9 +586,9 @@ pub fn test(a: &TestArgs) -> u8 {
             return EXIT_FAIL;
         }
     };
-    let cycle = scenario::Cycle::of(&module, a.cycle_ms);
+    let cycle = scenario::Cycle::of(&module, a.cycle_us);
     eprintln!("{cycle}");
-    let out = scenario::run(&scn, m.as_mut(), &program, cycle.ms);
+    let out = scenario::run(&scn, m.as_mut(), &program, cycle.us);
     for c in &out.checks {
         if c.ok {
             println!("ok    line {}: {}", c.line, c.text);

@@ -100,10 +100,10 @@ enum Command {
         /// Number of scans
         #[arg(long, default_value_t = 1)]
         scans: u64,
-        /// Cycle time in milliseconds (scan k, from 0, runs with the clock at k * cycle);
-        /// default: the greatest common divisor of the configuration's task
-        /// intervals, else 10
-        #[arg(long)]
+        /// Cycle time in milliseconds, e.g. 10 or 0.5 (scan k, from 0, runs with the
+        /// clock at k * cycle); default: the greatest common divisor of the
+        /// configuration's task intervals, else 10
+        #[arg(long, value_parser = plcc::scenario::parse_ms)]
         cycle_ms: Option<u64>,
         /// Print the time the scans took (cold start and compilation excluded)
         #[arg(long)]
@@ -122,9 +122,9 @@ enum Command {
         /// Where to run it: host (JIT), interp, pic16f876a (simulator), vmasm (plcc's VM)
         #[arg(long, default_value = "host")]
         target: String,
-        /// Clock step of `run N` in milliseconds; default: the greatest common divisor
-        /// of the configuration's task intervals, else 10
-        #[arg(long)]
+        /// Clock step of `run N` in milliseconds, e.g. 10 or 0.5; default: the greatest
+        /// common divisor of the configuration's task intervals, else 10
+        #[arg(long, value_parser = plcc::scenario::parse_ms)]
         cycle_ms: Option<u64>,
         /// A target setting KEY=VALUE (vmasm: mode=16|32|32a; pic16f876a: pin.%IX0.0=RA2)
         #[arg(short = 's', long = "set", value_parser = parse_setting)]
@@ -211,7 +211,7 @@ fn main() -> ExitCode {
             target,
             program,
             scans,
-            cycle_ms,
+            cycle_us: cycle_ms,
             timing,
             settings: set,
         }),
@@ -229,7 +229,7 @@ fn main() -> ExitCode {
             plcopen: commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs),
             scenario,
             target,
-            cycle_ms,
+            cycle_us: cycle_ms,
             settings: set,
         }),
         Some(Command::Check { common }) => commands::check(

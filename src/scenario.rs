@@ -26,8 +26,8 @@ pub enum CycleFrom {
 /// The cycle of a run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Cycle {
-    /// Milliseconds between scans: scan k (from 0) runs with the clock at k * ms.
-    pub ms: u64,
+    /// Microseconds between scans: scan k (from 0) runs with the clock at k * us.
+    pub us: u64,
     /// Where it comes from.
     pub from: CycleFrom,
 }
@@ -37,18 +37,19 @@ impl Cycle {
     /// the common tick of its tasks (the greatest common divisor of their intervals,
     /// as matiec's `common_ticktime__`, so that each task runs exactly at the ticks it
     /// is due), else [`DEFAULT_CYCLE_MS`].
+    /// `asked` is in microseconds.
     pub fn of(module: &Module, asked: Option<u64>) -> Cycle {
-        match (asked, module.task_tick_ms()) {
-            (Some(ms), _) => Cycle {
-                ms,
+        match (asked, module.task_tick_us()) {
+            (Some(us), _) => Cycle {
+                us,
                 from: CycleFrom::Asked,
             },
             (None, Some(tick)) => Cycle {
-                ms: u64::from(tick),
+                us: tick,
                 from: CycleFrom::Tasks,
             },
             (None, None) => Cycle {
-                ms: DEFAULT_CYCLE_MS,
+                us: DEFAULT_CYCLE_MS * 1000,
                 from: CycleFrom::Default,
             },
         }
@@ -63,7 +64,41 @@ impl std::fmt::Display for Cycle {
             CycleFrom::Tasks => "the common tick of the tasks: the GCD of their intervals",
             CycleFrom::Default => "the default: no task has an interval",
         };
-        write!(f, "cycle: {} ms ({why})", self.ms)
+        write!(f, "cycle: {} ms ({why})", format_ms(self.us))
+    }
+}
+
+/// `us` microseconds as milliseconds: `20`, `0.5`, `1.25`.
+pub fn format_ms(us: u64) -> String {
+    if us.is_multiple_of(1000) {
+        (us / 1000).to_string()
+    } else {
+        let frac = format!("{:03}", us % 1000);
+        format!("{}.{}", us / 1000, frac.trim_end_matches('0'))
+    }
+}
+
+/// Reads a number of milliseconds (`20`, `0.5`) as microseconds: positive, in whole
+/// microseconds. The parser of `--cycle-ms`.
+pub fn parse_ms(text: &str) -> Result<u64, String> {
+    let bad = || format!("`{text}` is not a positive number of milliseconds in whole µs");
+    let (whole, frac) = text.split_once('.').unwrap_or((text, ""));
+    if whole.is_empty() && frac.is_empty()
+        || !whole.bytes().all(|b| b.is_ascii_digit())
+        || !frac.bytes().all(|b| b.is_ascii_digit())
+        || frac.len() > 3
+    {
+        return Err(bad());
+    }
+    let whole: u64 = if whole.is_empty() {
+        0
+    } else {
+        whole.parse().map_err(|_| bad())?
+    };
+    let frac: u64 = format!("{frac:0<3}").parse().map_err(|_| bad())?;
+    match whole.checked_mul(1000).and_then(|w| w.checked_add(frac)) {
+        Some(us) if us > 0 => Ok(us),
+        _ => Err(bad()),
     }
 }
 
@@ -229,13 +264,13 @@ impl Outcome {
 }
 
 /// Runs a scenario on a machine that has the program `program` (the instance name
-/// variables are relative to). `cycle_ms` is the clock step of `run N`.
-pub fn run(s: &Scenario, m: &mut dyn Machine, program: &str, cycle_ms: u64) -> Outcome {
+/// variables are relative to). `cycle_us` is the clock step of `run N`.
+pub fn run(s: &Scenario, m: &mut dyn Machine, program: &str, cycle_us: u64) -> Outcome {
     let mut out = Outcome::default();
     // The clock of the next scan: `run` scans at it and steps it by one cycle;
     // `run_at_us T` scans at T and continues from T + cycle.
     let mut next_us: i64 = 0;
-    let cycle_us = cycle_ms as i64 * 1000;
+    let cycle_us = cycle_us as i64;
     if let Err(e) = m.cold_start() {
         out.error = Some(format!("cold start failed: {e}"));
         return out;
@@ -256,7 +291,7 @@ pub fn run(s: &Scenario, m: &mut dyn Machine, program: &str, cycle_ms: u64) -> O
                 scan(m, *t)
             }
             Step::Duration(secs) => {
-                let n = ((secs * 1000.0) / cycle_ms.max(1) as f64).ceil().max(1.0) as u64;
+                let n = ((secs * 1e6) / cycle_us.max(1) as f64).ceil().max(1.0) as u64;
                 (0..n).try_for_each(|_| {
                     let t = next_us;
                     next_us += cycle_us;
@@ -376,15 +411,15 @@ mod tests {
         assert!(s.unsupported.is_some());
     }
 
-    fn module_with_intervals(intervals: &[Option<u32>]) -> Module {
+    fn module_with_intervals(intervals: &[Option<u64>]) -> Module {
         let mut m = Module::default();
-        for (i, &interval_ms) in intervals.iter().enumerate() {
+        for (i, &interval_us) in intervals.iter().enumerate() {
             m.programs.push(plcc_ir::ProgramEntry {
                 name: format!("p{i}"),
                 data: plcc_ir::DataId::new(0),
                 body: plcc_ir::FuncId::new(0),
                 init: plcc_ir::FuncId::new(0),
-                interval_ms,
+                interval_us,
                 priority: None,
             });
         }
@@ -393,18 +428,18 @@ mod tests {
 
     #[test]
     fn the_cycle_is_the_one_asked_else_the_tasks_tick_else_10_ms() {
-        let tasks = module_with_intervals(&[Some(10), None, Some(15)]);
+        let tasks = module_with_intervals(&[Some(10_000), None, Some(15_000)]);
         assert_eq!(
             Cycle::of(&tasks, None),
             Cycle {
-                ms: 5,
+                us: 5_000,
                 from: CycleFrom::Tasks
             }
         );
         assert_eq!(
-            Cycle::of(&tasks, Some(7)),
+            Cycle::of(&tasks, Some(7_000)),
             Cycle {
-                ms: 7,
+                us: 7_000,
                 from: CycleFrom::Asked
             }
         );
@@ -412,7 +447,7 @@ mod tests {
         assert_eq!(
             Cycle::of(&none, None),
             Cycle {
-                ms: DEFAULT_CYCLE_MS,
+                us: DEFAULT_CYCLE_MS * 1000,
                 from: CycleFrom::Default
             }
         );
@@ -420,5 +455,33 @@ mod tests {
             Cycle::of(&tasks, None).to_string(),
             "cycle: 5 ms (the common tick of the tasks: the GCD of their intervals)"
         );
+        let fine = module_with_intervals(&[Some(500), Some(1_250)]);
+        assert_eq!(
+            Cycle::of(&fine, None).to_string(),
+            "cycle: 0.25 ms (the common tick of the tasks: the GCD of their intervals)"
+        );
+    }
+
+    #[test]
+    fn cycle_ms_reads_whole_microseconds() {
+        assert_eq!(parse_ms("20"), Ok(20_000));
+        assert_eq!(parse_ms("0.5"), Ok(500));
+        assert_eq!(parse_ms("1.250"), Ok(1_250));
+        assert_eq!(parse_ms(".5"), Ok(500));
+        for bad in [
+            "0",
+            "0.0",
+            "",
+            ".",
+            "-1",
+            "1.0001",
+            "1e3",
+            "x",
+            "99999999999999999999",
+        ] {
+            assert!(parse_ms(bad).is_err(), "{bad}");
+        }
+        assert_eq!(format_ms(1_250), "1.25");
+        assert_eq!(format_ms(20_000), "20");
     }
 }

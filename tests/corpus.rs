@@ -121,7 +121,7 @@ fn judge(st: &Path, expect: &Path, target: &str) -> Verdict {
     };
     // The cycle `plcc test` uses: the tasks' common tick, else 10 ms.
     let cycle = scenario::Cycle::of(&module, None);
-    let out = scenario::run(&scn, m.as_mut(), &program, cycle.ms);
+    let out = scenario::run(&scn, m.as_mut(), &program, cycle.us);
     if out.passed() {
         Verdict::Pass
     } else {

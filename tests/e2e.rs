@@ -268,8 +268,8 @@ use std::path::{Path, PathBuf};
 
 /// The clock step of `run N` for a compiled case: the rule `plcc test` follows
 /// without `--cycle-ms` (the common tick of the configuration's tasks, else 10 ms).
-fn cycle_ms(module: &Module) -> u64 {
-    scenario::Cycle::of(module, None).ms
+fn cycle_us(module: &Module) -> u64 {
+    scenario::Cycle::of(module, None).us
 }
 
 /// Fewer programs than this means the discovery is broken.
@@ -307,11 +307,42 @@ fn source_files(dir: &Path, out: &mut Vec<PathBuf>) {
 /// A program and its scenario, named by its path relative to the crate. A scenario
 /// may name more source files to build with the program, in a comment line
 /// `# with: lib.st other.il` (paths relative to the scenario): that is how the
-/// mixed-language cases are written.
+/// mixed-language cases are written. A line `# rejected-by: vmasm E9101` says that
+/// a target refuses the program with that code (a feature it cannot have): the tests
+/// then check that it does, instead of running the scenario there.
 struct Case {
     name: String,
     sources: Vec<PathBuf>,
     expect: PathBuf,
+}
+
+impl Case {
+    /// The code `target` (`vmasm`, `vmasm:mode=32`, …) must refuse the program with.
+    fn rejected_by(&self, target: &str) -> Option<String> {
+        let base = target.split(':').next().unwrap_or(target);
+        let text = std::fs::read_to_string(&self.expect).unwrap_or_default();
+        text.lines()
+            .filter_map(|l| l.trim().strip_prefix("# rejected-by:"))
+            .find_map(|rest| {
+                let mut w = rest.split_whitespace();
+                (w.next() == Some(base)).then(|| w.next().unwrap_or("").to_string())
+            })
+    }
+
+    /// `Ok(true)` when `target` refused the program as its scenario says it must
+    /// (`made` is what building the machine gave), `Ok(false)` when the scenario
+    /// lists no refusal by `target` (the caller handles `made`), an error when the
+    /// target did not refuse as listed.
+    fn refusal<T>(&self, target: &str, made: &Result<T, String>) -> Result<bool, String> {
+        match (self.rejected_by(target), made) {
+            (Some(code), Err(e)) if e.contains(&code) => Ok(true),
+            (Some(code), Ok(_)) => Err(format!(
+                "{target} was to refuse it with {code}, and did not"
+            )),
+            (Some(code), Err(e)) => Err(format!("{target} was to refuse it with {code}: {e}")),
+            (None, _) => Ok(false),
+        }
+    }
 }
 
 /// The files a scenario's `# with:` lines add, resolved beside the scenario.
@@ -497,12 +528,16 @@ fn panic_text(p: Box<dyn std::any::Any + Send>) -> String {
 /// Runs one case's scenario on one target; the failures as text.
 fn run_case(case: &Case, target: &str) -> Result<usize, String> {
     let built = build(case)?;
-    let mut m = machine(target, &built.module)?;
+    let made = machine(target, &built.module);
+    if case.refusal(target, &made)? {
+        return Ok(0);
+    }
+    let mut m = made?;
     checked(scenario::run(
         &built.scn,
         m.as_mut(),
         &built.program,
-        cycle_ms(&built.module),
+        cycle_us(&built.module),
     ))
 }
 
@@ -651,7 +686,11 @@ fn differential(case: &Case, first: &str, second: &str) -> Result<usize, String>
     // Two machines with the same math library must agree bit for bit.
     let approx = second == "pic16f876a" && uses_transcendentals(&built.module);
     let mut host = machine(first, &built.module)?;
-    let mut interp = match machine(second, &built.module) {
+    let made = machine(second, &built.module);
+    if case.refusal(second, &made)? {
+        return Ok(0);
+    }
+    let mut interp = match made {
         Ok(m) => m,
         Err(e) if does_not_fit(&e) => return Ok(0),
         Err(e) => return Err(e),
@@ -693,8 +732,7 @@ fn differential(case: &Case, first: &str, second: &str) -> Result<usize, String>
     compare(host.as_ref(), interp.as_ref(), "after cold start")?;
     // The clock as `scenario::run` keeps it: `run` scans at the next cycle's time and
     // steps it; `run_at_us T` scans at T and goes on from T + cycle.
-    let cycle = cycle_ms(&built.module);
-    let cycle_us = cycle as i64 * 1000;
+    let cycle_us = cycle_us(&built.module) as i64;
     let mut next_us: i64 = 0;
     let mut scan_at = |host: &mut dyn Machine, interp: &mut dyn Machine, t: i64, line: usize| {
         scans += 1;
@@ -721,7 +759,7 @@ fn differential(case: &Case, first: &str, second: &str) -> Result<usize, String>
                 }
             }
             Step::Duration(secs) => {
-                let n = ((secs * 1000.0) / cycle.max(1) as f64).ceil().max(1.0) as u64;
+                let n = ((secs * 1e6) / cycle_us.max(1) as f64).ceil().max(1.0) as u64;
                 for _ in 0..n {
                     let t = next_us;
                     next_us += cycle_us;
@@ -813,10 +851,14 @@ fn vmasm_emits_only_what_the_c_vms_execute() {
                 settings: vec![("mode".into(), mode.into())],
                 ..Default::default()
             };
-            let arts = match plcc_vmasm::VmasmBackend::new().compile(&built.module, &options) {
-                Ok(a) => a,
-                Err(d) => {
-                    failures.push(format!("{} (mode {mode}): {}", case.name, d[0]));
+            let made = plcc_vmasm::VmasmBackend::new()
+                .compile(&built.module, &options)
+                .map_err(|d| d[0].to_string());
+            let arts = match (case.refusal("vmasm", &made), made) {
+                (Ok(true), _) => continue,
+                (Ok(false), Ok(a)) => a,
+                (Err(e), _) | (Ok(false), Err(e)) => {
+                    failures.push(format!("{} (mode {mode}): {e}", case.name));
                     continue;
                 }
             };
@@ -898,7 +940,7 @@ fn programs_on_pic16() {
                 &built.scn,
                 m.as_mut(),
                 &built.program,
-                cycle_ms(&built.module),
+                cycle_us(&built.module),
             ))
             .map(Some)
         }));

@@ -88,7 +88,7 @@ fn every_ladder_program_computes_what_its_il_twin_computes() {
         }
         match (module(&xml), module(&il)) {
             (Ok(a), Ok(b)) => {
-                let cycle = a.task_tick_ms().unwrap_or(10);
+                let cycle = a.task_tick_us().map_or(10, |us| us.div_ceil(1000) as u32);
                 let seed = 0xD1B5_4A32_D192_ED03 ^ stem.len() as u64;
                 match lockstep::run(&a, &b, "interp", SCANS, cycle, seed, &writable, &|_| true) {
                     Ok(Some(o)) if o.compared == 0 || o.inputs == 0 => problems.push(format!(

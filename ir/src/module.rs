@@ -207,8 +207,9 @@ pub struct ProgramEntry {
     pub body: FuncId,
     /// `init(instance: ptr)`, run at cold start.
     pub init: FuncId,
-    /// The task's cycle time, if a configuration gives one (milliseconds).
-    pub interval_ms: Option<u32>,
+    /// The task's cycle time, if a configuration gives one (microseconds: a task may
+    /// run every 0.5 ms although TIME counts whole milliseconds).
+    pub interval_us: Option<u64>,
     /// The task's priority (0 is the most urgent), if a configuration gives one.
     pub priority: Option<u32>,
 }
@@ -316,10 +317,10 @@ impl Module {
     }
 
     /// The common tick of the configuration's tasks: the greatest common divisor of
-    /// their intervals (ms), as matiec's `common_ticktime__`; `None` when no program
+    /// their intervals (µs), as matiec's `common_ticktime__`; `None` when no program
     /// has a task with an interval. A scan every tick runs each task exactly when due.
-    pub fn task_tick_ms(&self) -> Option<u32> {
-        fn gcd(a: u32, b: u32) -> u32 {
+    pub fn task_tick_us(&self) -> Option<u64> {
+        fn gcd(a: u64, b: u64) -> u64 {
             if b == 0 {
                 a
             } else {
@@ -328,7 +329,7 @@ impl Module {
         }
         self.programs
             .iter()
-            .filter_map(|p| p.interval_ms)
+            .filter_map(|p| p.interval_us)
             .filter(|&i| i > 0)
             .reduce(gcd)
     }

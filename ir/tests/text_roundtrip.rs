@@ -110,7 +110,7 @@ fn kitchen_sink_text_mentions_everything() {
         "call @helper.$x(",
         "global_addr @\"q x\"",
         "init_globals @\"globals init\"",
-        "program \"fast \\\"one\\\"\" data @main body @main init @main$init interval 10 priority 0",
+        "program \"fast \\\"one\\\"\" data @main body @main init @main$init interval_us 10000 priority 0",
         "file 1 \"odd \\\"name\\\"\\\\\\n.st\"",
         "array %pts = [4 x %Point] lower -2",
         "array %a0 = [10 x i16 INT] lower 1",

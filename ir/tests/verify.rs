@@ -1212,7 +1212,7 @@ fn with_program(body: Function, init: Function) -> Module {
         data: DataId(0),
         body: b,
         init: i,
-        interval_ms: None,
+        interval_us: None,
         priority: None,
     });
     m

@@ -197,6 +197,22 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
             "unchecked pointers (CODESYS pointer arithmetic, a pointer given the address of another type, or the address of a temporary kept) are not supported on the vmasm target: run the program on interp",
         )]);
     }
+    if let Some(p) = module
+        .programs
+        .iter()
+        .find(|p| p.interval_us.is_some_and(|us| us % 1000 != 0))
+    {
+        let us = p.interval_us.unwrap_or_default();
+        return Err(vec![Diagnostic::error_nowhere(
+            codes::E_UNSUPPORTED,
+            format!(
+                "the task of `{}` runs every {}.{:03} ms, but the CPDev VM's clock counts whole milliseconds: give the task a whole number of milliseconds, or run the program on host, interp or pic16f876a",
+                p.name,
+                us / 1000,
+                us % 1000
+            ),
+        )]);
+    }
     let settings = Settings::from_options(options).map_err(|d| vec![*d])?;
     check_call_depth(module)?;
     let mode = settings.mode;

@@ -379,7 +379,13 @@ pub fn write(module: &Module, b: &Build, options: &Options) -> String {
         "      <TASK LName=\"TASK\" PName=\"plcc.TASK\" LoopType=\"0\" Cycle=\"{}\" CycleUnit=\"ms\" BodyCodeAddres=\"{}\" TaskFlags=\"00000000\" />",
         b.settings
             .cycle_ms
-            .or_else(|| module.task_tick_ms())
+            .or_else(|| {
+                // Whole milliseconds, as CPDev counts them: `build` refuses tasks
+                // finer than that.
+                module
+                    .task_tick_us()
+                    .map(|us| u32::try_from(us.div_ceil(1000)).unwrap_or(u32::MAX))
+            })
             .unwrap_or(100),
         addr(b.loop_addr as u64, mode)
     );

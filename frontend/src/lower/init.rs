@@ -62,7 +62,7 @@ impl Lowerer<'_> {
                 data,
                 body,
                 init,
-                interval_ms: None,
+                interval_us: None,
                 priority: None,
             });
         }

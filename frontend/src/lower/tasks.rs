@@ -23,7 +23,8 @@ use plcc_ir::{
 
 /// A task of the configuration.
 struct Task<'s> {
-    interval_ms: Option<u32>,
+    /// INTERVAL in microseconds.
+    interval_us: Option<u64>,
     priority: u32,
     /// `SINGLE := v`: the task runs once at each rising edge of `v`.
     single: Option<&'s ast::Expr>,
@@ -175,7 +176,7 @@ impl<'s> Lowerer<'s> {
     /// A task's INTERVAL and PRIORITY (constants).
     fn task(&mut self, t: &'s ast::TaskDecl) -> Task<'s> {
         let mut task = Task {
-            interval_ms: None,
+            interval_us: None,
             priority: 0,
             single: None,
         };
@@ -183,25 +184,31 @@ impl<'s> Lowerer<'s> {
             let prop = self.sym_name(name.sym).to_ascii_uppercase();
             let c = self.const_eval_in(value, None, None).map(|(c, _)| c);
             match (prop.as_str(), c) {
-                ("INTERVAL", Some(ConstVal::Int(ms))) => {
-                    // TIME constants are milliseconds; LTIME ones nanoseconds.
-                    let ms = if matches!(
-                        self.const_eval_in(value, None, None),
-                        Some((_, Ty::Elem(plcc_ir::ElemType::LTime)))
-                    ) {
-                        ms / 1_000_000
-                    } else {
-                        ms
+                ("INTERVAL", Some(ConstVal::Int(n))) => {
+                    // A literal keeps its nanoseconds (`T#0.5ms`); other TIME
+                    // constants are milliseconds, LTIME ones nanoseconds.
+                    let ns = match &value.kind {
+                        ast::ExprKind::Literal(ast::Literal {
+                            kind: ast::LiteralKind::Duration { ns, .. },
+                            ..
+                        }) => *ns,
+                        _ if matches!(
+                            self.const_eval_in(value, None, None),
+                            Some((_, Ty::Elem(plcc_ir::ElemType::LTime)))
+                        ) =>
+                        {
+                            n
+                        }
+                        _ => n * 1_000_000,
                     };
-                    if ms <= 0 || ms > u32::MAX as i128 {
+                    if ns <= 0 || ns % 1000 != 0 || ns / 1_000_000 > i32::MAX as i128 {
                         self.error(
                             codes::E_BAD_DECLARATION,
-                            "a task's INTERVAL is a positive TIME of at least 1 ms (plcc's \
-                             TIME counts whole milliseconds)",
+                            "a task's INTERVAL is a positive TIME in whole microseconds, under 24 days",
                             value.span,
                         );
                     } else {
-                        task.interval_ms = Some(ms as u32);
+                        task.interval_us = Some((ns / 1000) as u64);
                     }
                 }
                 ("PRIORITY", Some(ConstVal::Int(p))) if (0..=u32::MAX as i128).contains(&p) => {
@@ -245,8 +252,12 @@ impl<'s> Lowerer<'s> {
         let single = task.and_then(|t| t.single);
         // An event task (SINGLE) runs on its event, whatever its INTERVAL.
         let interval = task
-            .and_then(|t| t.interval_ms)
+            .and_then(|t| t.interval_us)
             .filter(|_| single.is_none());
+        // The task's clock: milliseconds (TIME) for an interval of whole
+        // milliseconds, nanoseconds (LTIME) for a finer one.
+        let fine = interval.is_some_and(|us| us % 1000 != 0);
+        let last_ty = if fine { Type::I64 } else { Type::I32 };
         // The task's state: when the instance last ran, and whether it has (a timed
         // task); the event's value at the last scan (an event task).
         let state = (interval.is_some() || single.is_some()).then(|| {
@@ -256,7 +267,7 @@ impl<'s> Lowerer<'s> {
                 fields: vec![
                     Field {
                         name: "last".into(),
-                        ty: MemType::Scalar(Type::I32),
+                        ty: MemType::Scalar(last_ty),
                         elem: None,
                         role: FieldRole::Hidden,
                         location: None,
@@ -302,7 +313,7 @@ impl<'s> Lowerer<'s> {
                     let no = b.iconst(Type::I1, 0);
                     b.store(no, started);
                     let last = b.field_addr(s, sagg, 0);
-                    let zero = b.iconst(Type::I32, 0);
+                    let zero = b.iconst(last_ty, 0);
                     b.store(zero, last);
                     b.call(init, None, vec![p]);
                     b.ret(None);
@@ -316,7 +327,7 @@ impl<'s> Lowerer<'s> {
             data,
             body: wrapped_body,
             init: wrapped_init,
-            interval_ms: interval,
+            interval_us: interval,
             priority: task.map(|t| t.priority),
         });
     }
@@ -374,10 +385,10 @@ impl<'s> Lowerer<'s> {
     }
 }
 
-/// When a configured instance runs: every `interval` ms, or at each rising edge of
+/// When a configured instance runs: every `interval` µs, or at each rising edge of
 /// an event; with the task's state (its aggregate and data object).
 enum Due<'s> {
-    Every(u32, (plcc_ir::AggId, plcc_ir::DataId)),
+    Every(u64, (plcc_ir::AggId, plcc_ir::DataId)),
     Event(&'s ast::Expr, (plcc_ir::AggId, plcc_ir::DataId)),
 }
 
@@ -408,19 +419,26 @@ impl<'s> BodyCx<'_, 's> {
     }
 
     /// Goes on only when the task is due: at its first scan, then once at least
-    /// `interval` ms have passed since its last due time (missed periods are
-    /// skipped, the phase is kept). Jumps to `done` otherwise.
+    /// `interval` µs have passed since its last due time (missed periods are
+    /// skipped, the phase is kept). Jumps to `done` otherwise. The clock is TIME's
+    /// milliseconds for an interval of whole milliseconds (every target has it
+    /// cheaply), LTIME's nanoseconds otherwise.
     fn due_check(
         &mut self,
-        interval: u32,
+        interval: u64,
         sagg: plcc_ir::AggId,
         d: plcc_ir::DataId,
         done: plcc_ir::Block,
     ) {
+        let (clock, ty, interval) = if interval.is_multiple_of(1000) {
+            (Intrinsic::ClockMs, Type::I32, interval / 1000)
+        } else {
+            (Intrinsic::ClockNs, Type::I64, interval * 1000)
+        };
         let now = self
             .b
-            .intrinsic(Intrinsic::ClockMs, vec![])
-            .expect("clock_ms has a result");
+            .intrinsic(clock, vec![])
+            .expect("the clock has a result");
         let s = self.b.global_addr(d);
         let started_p = self.b.field_addr(s, sagg, 1);
         let last_p = self.b.field_addr(s, sagg, 0);
@@ -435,9 +453,9 @@ impl<'s> BodyCx<'_, 's> {
         self.b.store(now, last_p);
         self.b.jump(run, vec![]);
         self.b.switch_to(later);
-        let last = self.b.load(Type::I32, last_p);
+        let last = self.b.load(ty, last_p);
         let elapsed = self.b.binary(BinaryOp::Isub, now, last);
-        let iv = self.b.iconst(Type::I32, interval as i64);
+        let iv = self.b.iconst(ty, interval as i64);
         let due = self.b.icmp(IntCC::Sge, elapsed, iv);
         let advance = self.b.create_block();
         self.b.brif(due, advance, vec![], done, vec![]);

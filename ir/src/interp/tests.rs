@@ -891,7 +891,7 @@ impl Fixture {
             data: self.main,
             body,
             init,
-            interval_ms: None,
+            interval_us: None,
             priority: None,
         });
     }

@@ -489,7 +489,7 @@ struct RawProgram<'a> {
     data: Named<'a>,
     body: Named<'a>,
     init: Named<'a>,
-    interval_ms: Option<u32>,
+    interval_us: Option<u64>,
     priority: Option<u32>,
 }
 
@@ -1032,11 +1032,15 @@ impl<'a> Parser<'a> {
         let body = self.global("a function name")?;
         self.keyword("init")?;
         let init = self.global("a function name")?;
-        let mut interval_ms = None;
+        let mut interval_us = None;
         let mut priority = None;
-        if self.is_word("interval") {
+        if self.is_word("interval_us") {
             self.bump();
-            interval_ms = Some(self.u32_num("an interval in ms")?);
+            let (n, pos) = self.num_text("an interval in µs")?;
+            interval_us = match n.parse::<u64>() {
+                Ok(v) => Some(v),
+                Err(_) => return self.err(pos, format!("`{n}` is not an interval in µs")),
+            };
         }
         if self.is_word("priority") {
             self.bump();
@@ -1047,7 +1051,7 @@ impl<'a> Parser<'a> {
             data,
             body,
             init,
-            interval_ms,
+            interval_us,
             priority,
         });
         Ok(())
@@ -1592,7 +1596,7 @@ impl<'a> Resolver<'a> {
                 data,
                 body: func_ref(&p.body)?,
                 init: func_ref(&p.init)?,
-                interval_ms: p.interval_ms,
+                interval_us: p.interval_us,
                 priority: p.priority,
             });
         }

@@ -72,8 +72,8 @@ pub fn print_module(m: &Module, opts: &PrintOptions) -> String {
             write_func_ref(&mut s, m, p.body);
             s.push_str(" init ");
             write_func_ref(&mut s, m, p.init);
-            if let Some(ms) = p.interval_ms {
-                let _ = write!(s, " interval {ms}");
+            if let Some(us) = p.interval_us {
+                let _ = write!(s, " interval_us {us}");
             }
             if let Some(prio) = p.priority {
                 let _ = write!(s, " priority {prio}");

@@ -198,10 +198,10 @@ fn declaration_errors() {
         "expected the instance name as a string",
     );
     assert_err(
-        "data @d: i32 global\nprogram \"p\" data @d body @b init @i interval x",
+        "data @d: i32 global\nprogram \"p\" data @d body @b init @i interval_us x",
         2,
-        46,
-        "expected an interval in ms",
+        49,
+        "expected an interval in µs",
     );
 }
 
@@ -626,7 +626,7 @@ func @gi() init {
 block0:
     return
 }
-program "p" data @d body @b init @i interval 5
+program "p" data @d body @b init @i interval_us 5000
 init_globals @gi
 "#;
 

@@ -497,7 +497,7 @@ pub fn kitchen_sink() -> Module {
         data: main_d,
         body: body_id,
         init: init_id,
-        interval_ms: None,
+        interval_us: None,
         priority: None,
     });
     m.programs.push(ProgramEntry {
@@ -505,7 +505,7 @@ pub fn kitchen_sink() -> Module {
         data: main_d,
         body: body_id,
         init: init_id,
-        interval_ms: Some(10),
+        interval_us: Some(10_000),
         priority: Some(0),
     });
     m.init_globals = Some(gi_id);

@@ -146,7 +146,7 @@ impl Prog {
             data: self.data,
             body: body_id,
             init: init_id,
-            interval_ms: None,
+            interval_us: None,
             priority: None,
         });
         self.module
