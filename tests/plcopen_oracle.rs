@@ -43,17 +43,23 @@ const LIBS: &[(&str, &str)] = &[(
     "beremiz__beremiz__plcopen_Additional_Function_Blocks.xml",
 )];
 
-/// Projects with an editor translation that plcc does not build, and why.
-const NOT_BUILT: &[(&str, &str)] = &[
+/// Stubs of vendor blocks (`tests/plcopen_stubs/`, as the corpus test builds the
+/// projects) that both builds of a project take, as `--lib`: the vendor's blocks are
+/// the same stub on both sides, so the comparison is of the diagram's meaning.
+const STUBS: &[(&str, &str)] = &[
     (
         "gracesrm__OpenPLC_Sample_Programs__RobotStudio_Estun",
-        "vendor blocks SFUN_* of the RobotStudio runtime, which no file declares",
+        "openplc_robotstudio.st",
     ),
-    (
-        "sakunamary__Roaster_s7-200__I2C_test",
-        "the I2C_AHT20 block and NODE_PIN_* constants of an ESP8266 board library",
-    ),
+    ("sakunamary__Roaster_s7-200__I2C_test", "openplc_boards.st"),
 ];
+
+/// Projects with an editor translation that plcc does not build, and why.
+const NOT_BUILT: &[(&str, &str)] = &[(
+    "sakunamary__Roaster_s7-200__I2C_test",
+    "the editor's ST reads `I2C_AHT200.ENO` after the call: an FB instance's ENO kept \
+     as an output, which plcc does not keep yet (issue 20: ENO in FBs); the XML builds",
+)];
 
 fn corpus() -> Option<PathBuf> {
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/plcopen");
@@ -137,6 +143,11 @@ fn xml_and_the_editors_st_agree_scan_by_scan() {
             .iter()
             .filter(|(n, _)| *n == stem)
             .map(|(_, l)| dir.join(l))
+            .chain(STUBS.iter().filter(|(n, _)| *n == stem).map(|(_, l)| {
+                Path::new(env!("CARGO_MANIFEST_DIR"))
+                    .join("tests/plcopen_stubs")
+                    .join(l)
+            }))
             .collect();
         let (a, b) = match (build(&xml, &libs, profile), build(st, &libs, Profile::Iec)) {
             (Ok(a), Ok(b)) => (a, b),
@@ -150,7 +161,7 @@ fn xml_and_the_editors_st_agree_scan_by_scan() {
                 continue;
             }
         };
-        let cycle = a.task_tick_ms().unwrap_or(10);
+        let cycle = a.task_tick_us().map_or(10, |us| us.div_ceil(1000) as u32);
         let mut ran = Vec::new();
         for target in ["interp", "host", "vmasm", "pic16f876a"] {
             let seed = 0x9E37_79B9_7F4A_7C15 ^ stem.len() as u64;
