@@ -28,13 +28,15 @@ fn parse_lang(lang: Option<&str>) -> Result<Option<Lang>, UsageError> {
     }
 }
 
-/// `--plcopen-order` and `--strict-rungs`, as given.
+/// `--plcopen-order`, `--strict-rungs` and `--sfc`, as given.
 #[derive(Clone, Debug, Default)]
 pub struct PlcopenFlags {
     /// The profile's name.
     pub order: Option<String>,
     /// The ladder editor's style rules are errors.
     pub strict_rungs: bool,
+    /// The SFC profile's name.
+    pub sfc: Option<String>,
 }
 
 impl PlcopenFlags {
@@ -43,6 +45,23 @@ impl PlcopenFlags {
         PlcopenFlags {
             order,
             strict_rungs,
+            sfc: None,
+        }
+    }
+
+    /// With `--sfc`.
+    pub fn with_sfc(mut self, sfc: Option<String>) -> PlcopenFlags {
+        self.sfc = sfc;
+        self
+    }
+
+    fn sfc_profile(&self) -> Result<plcc_frontend::sfc::Profile, u8> {
+        match &self.sfc {
+            None => Ok(plcc_frontend::sfc::Profile::Iec),
+            Some(name) => plcc_frontend::sfc::Profile::from_name(name).ok_or_else(|| {
+                eprintln!("error: unknown SFC profile `{name}`: use iec, matiec or codesys");
+                EXIT_USAGE
+            }),
         }
     }
 
@@ -77,6 +96,7 @@ fn build_and_report<P: AsRef<Path>>(
     programs: Vec<String>,
     mode: Mode,
 ) -> Result<(Build, Module), u8> {
+    let sfc = plcopen.sfc_profile()?;
     let plcopen = plcopen.options()?;
     let lang = parse_lang(lang).map_err(usage)?;
     let codesys = match dialect.map(|d| d.to_ascii_lowercase()) {
@@ -93,6 +113,7 @@ fn build_and_report<P: AsRef<Path>>(
         codesys,
         dialect_given: dialect.is_some(),
         plcopen,
+        sfc,
         programs,
         no_opt: mode == Mode::Unoptimised,
         check_only: mode == Mode::Check,

@@ -94,6 +94,8 @@ pub struct BuildOptions {
     pub dialect_given: bool,
     /// How PLCopen XML files are read.
     pub plcopen: plcc_frontend::plcopen::Options,
+    /// How sequential function charts evolve (`--sfc`).
+    pub sfc: plcc_frontend::sfc::Profile,
     /// Skip the optimisation passes.
     pub no_opt: bool,
     /// Only check: no verification or optimisation of the IR.
@@ -161,6 +163,7 @@ pub fn build_sources_with_library(
         codesys: opts.codesys,
         dialect_given: opts.dialect_given,
         plcopen: opts.plcopen.clone(),
+        sfc: opts.sfc,
         library: inputs[first_library..].iter().map(|&(f, _)| f).collect(),
     };
     let compiled = plcc_frontend::compile(&mut sources, &inputs, &lower_opts);

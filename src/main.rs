@@ -51,6 +51,10 @@ struct Common {
     /// parallel branches, bridges, coils on the left rail) are errors, not warnings
     #[arg(long = "strict-rungs")]
     strict_rungs: bool,
+    /// Sequential function charts: how they evolve: iec (default), matiec (OpenPLC,
+    /// Beremiz), codesys
+    #[arg(long)]
+    sfc: Option<String>,
 }
 
 #[derive(Args)]
@@ -207,7 +211,8 @@ fn main() -> ExitCode {
             library: common.lib,
             lang: common.lang,
             dialect: common.dialect,
-            plcopen: commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs),
+            plcopen: commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs)
+                .with_sfc(common.sfc),
             target,
             program,
             scans,
@@ -226,7 +231,8 @@ fn main() -> ExitCode {
             library: common.lib,
             lang: common.lang,
             dialect: common.dialect,
-            plcopen: commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs),
+            plcopen: commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs)
+                .with_sfc(common.sfc),
             scenario,
             target,
             cycle_us: cycle_ms,
@@ -237,7 +243,8 @@ fn main() -> ExitCode {
             &common.lib,
             common.lang.as_deref(),
             common.dialect.as_deref(),
-            &commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs),
+            &commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs)
+                .with_sfc(common.sfc),
         ),
         Some(Command::Explain { code }) => commands::explain(code.as_deref()),
         Some(Command::Difftest {
@@ -270,7 +277,8 @@ fn main() -> ExitCode {
             plcopen: commands::PlcopenFlags::new(
                 cli.build.common.plcopen_order,
                 cli.build.common.strict_rungs,
-            ),
+            )
+            .with_sfc(cli.build.common.sfc),
             target: cli.build.target,
             output: cli.build.output,
             emit: cli.build.emit,

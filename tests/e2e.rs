@@ -468,9 +468,24 @@ fn build(case: &Case) -> Result<Built, String> {
         .sources
         .iter()
         .any(|s| s.components().any(|c| c.as_os_str() == "codesys"));
+    // A scenario line `# sfc: matiec` chooses how charts evolve.
+    let sfc = std::fs::read_to_string(&case.expect)
+        .unwrap_or_default()
+        .lines()
+        .find_map(|l| {
+            l.trim()
+                .strip_prefix("# sfc:")
+                .map(|p| p.trim().to_string())
+        });
+    let sfc = match sfc {
+        None => plcc_frontend::sfc::Profile::Iec,
+        Some(p) => plcc_frontend::sfc::Profile::from_name(&p)
+            .ok_or_else(|| format!("unknown SFC profile `{p}`"))?,
+    };
     let opts = BuildOptions {
         programs: scn.program.iter().cloned().collect(),
         codesys,
+        sfc,
         ..Default::default()
     };
     let b = build_sources(texts, &opts).map_err(|e| e.0)?;

@@ -74,7 +74,70 @@ pub struct Pou {
     /// METHODs and other object-oriented members, kept only so that analysis can
     /// report them as not supported (span of each member header).
     pub unsupported_members: Vec<Span>,
+    /// A sequential function chart written as the body (IEC 61131-3, 6.7.2: steps
+    /// and transitions instead of statements; the chart's ACTIONs are in
+    /// `actions`). The front end turns it into statements before lowering
+    /// ([`crate::sfc`]).
+    pub sfc: Option<Sfc>,
     /// From the POU keyword to the end of its END_ keyword.
+    pub span: Span,
+}
+
+/// A textual sequential function chart: its steps and transitions in text order.
+#[derive(Clone, Debug, Default)]
+pub struct Sfc {
+    /// `INITIAL_STEP` and `STEP` in order.
+    pub steps: Vec<SfcStep>,
+    /// `TRANSITION` in order.
+    pub transitions: Vec<SfcTransition>,
+    /// From the first element to the end of the last.
+    pub span: Span,
+}
+
+/// `STEP name: assoc; … END_STEP` (or `INITIAL_STEP`).
+#[derive(Clone, Debug)]
+pub struct SfcStep {
+    /// The step's name (its flags are `name.X` and `name.T`).
+    pub name: Ident,
+    /// `INITIAL_STEP`.
+    pub initial: bool,
+    /// Its action associations in order.
+    pub assocs: Vec<SfcAssoc>,
+    /// The whole step.
+    pub span: Span,
+}
+
+/// `action(qualifier, duration, indicator);` in a step.
+#[derive(Clone, Debug)]
+pub struct SfcAssoc {
+    /// The ACTION, or a BOOL variable used as an action.
+    pub action: Ident,
+    /// N, R, S, L, D, P, P0, P1, SD, DS, SL; `None` when left out (`A();`).
+    pub qualifier: Option<Ident>,
+    /// The duration of a timed qualifier: a TIME expression (its span, to copy).
+    pub duration: Option<Span>,
+    /// Indicator variables (kept, not used: IEC gives them no effect on the chart).
+    pub indicators: Vec<Ident>,
+    /// The whole association.
+    pub span: Span,
+}
+
+/// `TRANSITION [name] [(PRIORITY := p)] FROM … TO … := cond; END_TRANSITION`.
+#[derive(Clone, Debug)]
+pub struct SfcTransition {
+    /// Its name, if it has one.
+    pub name: Option<Ident>,
+    /// `PRIORITY := p` and where it is written.
+    pub priority: Option<(u32, Span)>,
+    /// The steps before it.
+    pub from: Vec<Ident>,
+    /// The steps after it.
+    pub to: Vec<Ident>,
+    /// The condition: a BOOL expression (its span, to copy); `None` if missing.
+    pub condition: Option<Span>,
+    /// The keyword `TRANSITION` and the name, for messages.
+    pub head: Span,
+    /// The whole transition.
     pub span: Span,
 }
 

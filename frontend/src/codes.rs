@@ -209,6 +209,32 @@ codes! {
          \n    <body><FBD> ... </FBD></body>   <!-- error -->\n\
          \n    <body><LD> ... </LD></body>     <!-- fine: a ladder diagram -->";
 
+    // ---- sequential function charts (E078x) ----
+    SFC_NO_INITIAL_STEP = "E0780", "chart without an initial step",
+        "A sequential function chart needs an INITIAL_STEP: the step that is active when \
+         the POU starts. Without one no step would ever be active.\n\
+         \n    STEP Idle: END_STEP            (* error: no initial step *)\n\
+         \n    INITIAL_STEP Idle: END_STEP    (* fix *)";
+    SFC_UNKNOWN_STEP = "E0781", "transition to or from an unknown step",
+        "A TRANSITION names, after FROM or TO, a step the chart does not declare (a jump \
+         to a missing step).\n\
+         \n    TRANSITION FROM Fill TO Drian := full; END_TRANSITION   (* the step is `Drain` *)";
+    SFC_QUALIFIER = "E0782", "bad action qualifier",
+        "An action association has a qualifier that is not one of N, R, S, L, D, P, P1, P0, \
+         SD, DS and SL, a timed qualifier (L, D, SD, DS, SL) without its duration, or a \
+         duration on a qualifier that takes none.\n\
+         \n    Pump(L);          (* error: L needs a duration *)\n\
+         \n    Pump(L, T#5s);    (* fix *)";
+    W_SFC_UNREACHABLE = "W0780", "step never active",
+        "No chain of transitions leads to the step from an initial step, so it is never \
+         active and its actions never run. matiec and the editors drop such steps \
+         silently.\n\
+         \n    INITIAL_STEP A: END_STEP\n    STEP B: END_STEP   (* no TRANSITION ... TO B *)";
+    W_SFC_DEAD_END = "W0781", "step with no way out",
+        "No transition leaves the step: once active, it stays active for good. That may be \
+         meant (a final state); usually a transition is missing.\n\
+         \n    TRANSITION FROM Run TO Stop := halt; END_TRANSITION\n    (* and none FROM Stop *)";
+
     // ---- ladder diagrams in PLCopen XML (E074x, E075x) ----
     LD_MALFORMED_XML = "E0740", "malformed XML",
         "The file is not well-formed XML (a tag not closed, an attribute without quotes, a \

@@ -12,6 +12,7 @@ pub mod il;
 pub mod intern;
 pub mod lower;
 pub mod plcopen;
+pub mod sfc;
 pub mod source;
 pub mod st;
 pub mod stl;
@@ -168,11 +169,19 @@ pub fn compile(
     for (k, &(file, lang)) in inputs.iter().enumerate() {
         nothing_to_compile(sources, file, lang, units.get(k), &mut diagnostics);
     }
+    let charts = sfc::expand(
+        &mut units,
+        sources,
+        &mut interner,
+        opts.sfc,
+        &mut diagnostics,
+    );
     if let Some(g) = globals_unit(&mut units, &mut interner) {
         units.push(g);
     }
     let mut timings = vec![("parse", started.elapsed())];
     if diagnostics.iter().any(|d| d.is_error()) {
+        sfc::remap_all(&charts, &mut diagnostics);
         plcopen::remap_all(&ladder, &mut diagnostics);
         return Compiled {
             module: None,
@@ -193,6 +202,7 @@ pub fn compile(
     let (module, mut more) = lowerer.run(1, &dialect_of_files(&opts, &ladder));
     diagnostics.append(&mut more);
     timings.push(("check and lower", started.elapsed()));
+    sfc::remap_all(&charts, &mut diagnostics);
     plcopen::remap_all(&ladder, &mut diagnostics);
     Compiled {
         module,
@@ -308,6 +318,7 @@ fn globals_unit(
             body: ast::Body::default(),
             actions: Vec::new(),
             unsupported_members: Vec::new(),
+            sfc: None,
             span: first,
         })],
     })

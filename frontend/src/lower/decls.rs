@@ -774,7 +774,12 @@ impl<'s> Lowerer<'s> {
             if matches!(v.section, VarKind::Temp | VarKind::External) {
                 continue;
             }
+            // `__` starts no IEC name: the compiler's own variables (an SFC's clock
+            // and controls), and the inputs of its own FBs, are not listed.
+            let internal =
+                v.display.starts_with("__") || is_std && self.pou(id).display.starts_with("__");
             let role = match v.section {
+                VarKind::Input | VarKind::Var if internal => FieldRole::Hidden,
                 VarKind::Input => FieldRole::Input,
                 VarKind::Output => FieldRole::Output,
                 VarKind::InOut => FieldRole::InOut,

@@ -70,6 +70,8 @@ pub struct LowerOptions {
     pub dialect_given: bool,
     /// How PLCopen XML files are read (the profile, the rung rules).
     pub plcopen: crate::plcopen::Options,
+    /// How sequential function charts evolve (`--sfc`).
+    pub sfc: crate::sfc::Profile,
     /// Library files (`--lib`): declarations for the rest of the build. Their PROGRAMs
     /// run only when `programs` or a configuration names them.
     pub library: Vec<plcc_ir::diag::FileId>,
@@ -478,8 +480,9 @@ pub fn std_library_source() -> (&'static str, &'static [u32]) {
         // The WSTRING helpers are the STRING ones over 16-bit characters.
         let wide = strings.replace("BYTE", "WORD").replace("__STR_", "__WSTR_");
         let text = format!(
-            "{}\n{strings}\n{wide}",
-            include_str!("../stdlib/std_fbs.st")
+            "{}\n{strings}\n{wide}\n{}",
+            include_str!("../stdlib/std_fbs.st"),
+            include_str!("../stdlib/sfc.st")
         );
         let lines = crate::source::line_starts(&text);
         (text, lines)

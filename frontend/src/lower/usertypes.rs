@@ -580,7 +580,13 @@ impl<'s> Lowerer<'s> {
                         name: f.display.clone(),
                         ty,
                         elem,
-                        role: FieldRole::Var,
+                        // `__` starts no IEC name: the compiler's own (an SFC step's
+                        // state), not listed.
+                        role: if f.display.starts_with("__") {
+                            FieldRole::Hidden
+                        } else {
+                            FieldRole::Var
+                        },
                         location: None,
                     });
                 }

@@ -21,6 +21,7 @@ use crate::intern::{Interner, Symbol};
 use plcc_ir::diag::{Diagnostic, FileId, Span};
 
 mod body;
+mod sfc;
 
 use body::append;
 
@@ -1159,6 +1160,8 @@ impl<'a> Parser<'a> {
         let mut body_end = self.prev_end();
         let mut decl_end = self.prev_end();
         let mut actions = Vec::new();
+        let mut sfc: Option<Sfc> = None;
+        let mut sfc_start: Option<u32> = None;
         // The body was parsed by the hook (IL): what follows belongs to it too.
         let mut foreign = false;
         loop {
@@ -1222,6 +1225,16 @@ impl<'a> Parser<'a> {
                                 }
                             }
                             Member::Interface | Member::Class => self.unsupported_member(m),
+                            Member::Step | Member::Transition if kind != PouKind::Function => {
+                                let chart = sfc.get_or_insert_with(Sfc::default);
+                                if m == Member::Step {
+                                    chart.steps.extend(self.sfc_step());
+                                } else {
+                                    chart.transitions.extend(self.sfc_transition());
+                                }
+                                let start = *sfc_start.get_or_insert(t.start);
+                                chart.span = self.sp(start, self.prev_end());
+                            }
                             _ => {
                                 let h = self.skip_member(m);
                                 unsupported.push(h);
@@ -1286,6 +1299,7 @@ impl<'a> Parser<'a> {
                 unsupported.append(&mut self.extensible);
                 unsupported
             },
+            sfc,
             span: self.sp(kw.start, end),
         })
     }

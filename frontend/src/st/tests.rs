@@ -797,12 +797,28 @@ fn object_oriented_members_are_recorded_not_parsed() {
 }
 
 #[test]
-fn sfc_elements_are_recorded_not_parsed() {
+fn sfc_elements_make_a_chart() {
     let src = "FUNCTION_BLOCK sfc\nVAR c : INT; END_VAR\nINITIAL_STEP Start:\nEND_STEP\n\
-               TRANSITION FROM Start TO Mid\n  := c > 1;\nEND_TRANSITION\nSTEP Mid:\n  RESET(N);\nEND_STEP\n\
+               TRANSITION (PRIORITY := 3) FROM Start TO (Mid, Other)\n  := c > 1;\nEND_TRANSITION\n\
+               STEP Mid:\n  RESET(N);\n  RESET(L, T#2s, c);\nEND_STEP\n\
                ACTION RESET:\n  c := 0;\nEND_ACTION\nEND_FUNCTION_BLOCK";
     let (p, i) = pou(src);
-    assert_eq!(p.unsupported_members.len(), 3);
+    assert!(p.unsupported_members.is_empty());
+    let chart = p.sfc.as_ref().expect("a chart");
+    assert_eq!(chart.steps.len(), 2);
+    assert!(chart.steps[0].initial && !chart.steps[1].initial);
+    let assocs = &chart.steps[1].assocs;
+    assert_eq!(assocs.len(), 2);
+    assert_eq!(i.name(assocs[1].qualifier.expect("L").sym), "L");
+    assert!(assocs[1].duration.is_some());
+    assert_eq!(i.name(assocs[1].indicators[0].sym), "C");
+    let t = &chart.transitions[0];
+    assert_eq!(t.priority.map(|(p, _)| p), Some(3));
+    assert_eq!(t.to.len(), 2);
+    assert_eq!(
+        &src[t.condition.expect("a condition").start as usize..][..5],
+        "c > 1"
+    );
     assert_eq!(p.actions.len(), 1);
     assert_eq!(i.name(p.actions[0].name.sym), "RESET");
     assert!(p.actions[0].pou.is_none());

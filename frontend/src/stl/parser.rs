@@ -805,6 +805,7 @@ impl Parser<'_> {
             },
             actions: Vec::new(),
             unsupported_members: Vec::new(),
+            sfc: None,
             span: self.sp(kw_start, self.prev_end().max(kw_start)),
         })
     }
@@ -1148,6 +1149,7 @@ impl Parser<'_> {
             },
             actions: Vec::new(),
             unsupported_members: Vec::new(),
+            sfc: None,
             span: self.span_from(kw.start),
         })
         .filter(|_| ok)

@@ -1,0 +1,310 @@
+//! The rules a chart must keep before it is written as ST, and what the writer needs
+//! to know about it ([`Facts`]).
+
+use crate::ast::{Ident, Pou, Sfc};
+use crate::codes;
+use crate::intern::{Interner, Symbol};
+use plcc_ir::diag::{Diagnostic, Span};
+use std::collections::HashMap;
+
+/// An action qualifier (IEC 61131-3, table 76).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(super) enum Qual {
+    /// Non-stored: while the step is active.
+    N,
+    /// Reset a stored action.
+    R,
+    /// Set (stored).
+    S,
+    /// Time limited.
+    L,
+    /// Time delayed.
+    D,
+    /// Pulse (at activation).
+    P,
+    /// Pulse at activation (edition 3).
+    P1,
+    /// Pulse at deactivation (edition 3).
+    P0,
+    /// Stored and time delayed.
+    Sd,
+    /// Delayed and stored.
+    Ds,
+    /// Stored and time limited.
+    Sl,
+    /// Written without a qualifier (`A();`).
+    Bare,
+}
+
+impl Qual {
+    fn from_name(name: &str) -> Option<Qual> {
+        Some(match name {
+            "N" => Qual::N,
+            "R" => Qual::R,
+            "S" => Qual::S,
+            "L" => Qual::L,
+            "D" => Qual::D,
+            "P" => Qual::P,
+            "P1" => Qual::P1,
+            "P0" => Qual::P0,
+            "SD" => Qual::Sd,
+            "DS" => Qual::Ds,
+            "SL" => Qual::Sl,
+            _ => return None,
+        })
+    }
+
+    /// L, D, SD, DS and SL take a duration.
+    pub(super) fn timed(self) -> bool {
+        matches!(self, Qual::L | Qual::D | Qual::Sd | Qual::Ds | Qual::Sl)
+    }
+}
+
+/// What an association drives: an ACTION of the POU or a BOOL variable.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(super) enum Target {
+    /// The index of the ACTION in the POU's `actions`.
+    Action(usize),
+    /// The index of the variable in [`Facts::vars`].
+    Var(usize),
+}
+
+/// One association, resolved.
+#[derive(Clone, Debug)]
+pub(super) struct Assoc {
+    /// The step (its index in the chart).
+    pub step: usize,
+    /// What it drives.
+    pub target: Target,
+    /// Its qualifier.
+    pub qual: Qual,
+    /// Its duration, if timed.
+    pub duration: Option<Span>,
+}
+
+/// What the writer needs about a chart that keeps the rules.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Facts {
+    /// The POU's ACTIONs that associations drive (indexes in `actions`), in
+    /// declaration order.
+    pub actions: Vec<usize>,
+    /// BOOL variables used as actions, in order of first use.
+    pub vars: Vec<Ident>,
+    /// Every association, step by step in text order.
+    pub assocs: Vec<Assoc>,
+    /// For each transition, its steps before and after (indexes in the chart).
+    pub from: Vec<Vec<usize>>,
+    /// See `from`.
+    pub to: Vec<Vec<usize>>,
+    /// The order transitions are tested in: prioritised ones by ascending
+    /// priority (equal ones in text order) inserted before the first of higher
+    /// priority, unprioritised ones where they come (as matiec orders them).
+    pub order: Vec<usize>,
+}
+
+fn err(code: &'static str, msg: impl Into<String>, span: Span) -> Diagnostic {
+    Diagnostic::error(code, msg.into(), span)
+}
+
+/// Checks `chart`, the body of `pou`; `text` is the file's text. `None` when an
+/// error was reported.
+pub(super) fn check(
+    pou: &Pou,
+    chart: &Sfc,
+    text: &str,
+    interner: &Interner,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Facts> {
+    let name_of = |i: &Ident| text[i.span.start as usize..i.span.end as usize].to_string();
+    let before = diags.len();
+    let mut steps: HashMap<Symbol, usize> = HashMap::new();
+    for (k, s) in chart.steps.iter().enumerate() {
+        if let Some(&first) = steps.get(&s.name.sym) {
+            diags.push(
+                err(
+                    codes::E_DUPLICATE,
+                    format!("step `{}` is declared twice", name_of(&s.name)),
+                    s.name.span,
+                )
+                .with_secondary(chart.steps[first].name.span, "first declared here"),
+            );
+        } else {
+            steps.insert(s.name.sym, k);
+        }
+    }
+    if !chart.steps.iter().any(|s| s.initial) {
+        diags.push(
+            err(
+                codes::SFC_NO_INITIAL_STEP,
+                format!(
+                    "the chart of `{}` has no INITIAL_STEP: nothing would ever be active",
+                    name_of(&pou.name)
+                ),
+                chart.span,
+            )
+            .with_note("mark the step the chart starts in: `INITIAL_STEP Start: … END_STEP`"),
+        );
+    }
+    let mut facts = Facts::default();
+    for t in &chart.transitions {
+        let resolve = |list: &[Ident], diags: &mut Vec<Diagnostic>| -> Vec<usize> {
+            list.iter()
+                .filter_map(|i| match steps.get(&i.sym) {
+                    Some(&k) => Some(k),
+                    None => {
+                        diags.push(err(
+                            codes::SFC_UNKNOWN_STEP,
+                            format!("no step named `{}` in this chart", name_of(i)),
+                            i.span,
+                        ));
+                        None
+                    }
+                })
+                .collect()
+        };
+        let from = resolve(&t.from, diags);
+        let to = resolve(&t.to, diags);
+        facts.from.push(from);
+        facts.to.push(to);
+    }
+    // Associations.
+    let actions: HashMap<Symbol, usize> = pou
+        .actions
+        .iter()
+        .enumerate()
+        .map(|(k, a)| (a.name.sym, k))
+        .collect();
+    let mut used_actions = Vec::new();
+    for (k, s) in chart.steps.iter().enumerate() {
+        for a in &s.assocs {
+            let qual = match &a.qualifier {
+                None => Qual::Bare,
+                Some(q) => match Qual::from_name(interner.name(q.sym)) {
+                    Some(q) => q,
+                    None => {
+                        diags.push(
+                            err(
+                                codes::SFC_QUALIFIER,
+                                format!("`{}` is not an action qualifier", name_of(q)),
+                                q.span,
+                            )
+                            .with_note(
+                                "the qualifiers are N, R, S, L, D, P, P1, P0, SD, DS and SL",
+                            ),
+                        );
+                        continue;
+                    }
+                },
+            };
+            match (qual.timed(), a.duration) {
+                (true, None) => diags.push(err(
+                    codes::SFC_QUALIFIER,
+                    format!(
+                        "qualifier {} needs a duration: `{}({}, T#2s);`",
+                        interner.name(a.qualifier.expect("timed").sym),
+                        name_of(&a.action),
+                        interner.name(a.qualifier.expect("timed").sym)
+                    ),
+                    a.span,
+                )),
+                (false, Some(d)) => diags.push(err(
+                    codes::SFC_QUALIFIER,
+                    "only the qualifiers L, D, SD, DS and SL take a duration",
+                    d,
+                )),
+                _ => {}
+            }
+            let target = match actions.get(&a.action.sym) {
+                Some(&i) => {
+                    if !used_actions.contains(&i) {
+                        used_actions.push(i);
+                    }
+                    Target::Action(i)
+                }
+                None => match facts.vars.iter().position(|v| v.sym == a.action.sym) {
+                    Some(v) => Target::Var(v),
+                    None => {
+                        facts.vars.push(a.action);
+                        Target::Var(facts.vars.len() - 1)
+                    }
+                },
+            };
+            facts.assocs.push(Assoc {
+                step: k,
+                target,
+                qual,
+                duration: a.duration,
+            });
+        }
+    }
+    used_actions.sort_unstable();
+    facts.actions = used_actions;
+    if diags[before..].iter().any(|d| d.is_error()) {
+        return None;
+    }
+    // Evaluation order.
+    for (k, t) in chart.transitions.iter().enumerate() {
+        match t.priority {
+            None => facts.order.push(k),
+            Some((p, _)) => {
+                let prio = |j: usize| chart.transitions[j].priority.map_or(0, |(q, _)| q);
+                let at = facts
+                    .order
+                    .iter()
+                    .position(|&j| prio(j) > p)
+                    .unwrap_or(facts.order.len());
+                facts.order.insert(at, k);
+            }
+        }
+    }
+    warn_structure(chart, &facts, &name_of, diags);
+    Some(facts)
+}
+
+/// Warnings about the chart's shape: steps no token can reach, steps with no way out.
+fn warn_structure(
+    chart: &Sfc,
+    facts: &Facts,
+    name_of: &dyn Fn(&Ident) -> String,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let n = chart.steps.len();
+    let mut reached = vec![false; n];
+    let mut work: Vec<usize> = (0..n).filter(|&k| chart.steps[k].initial).collect();
+    for &k in &work {
+        reached[k] = true;
+    }
+    while let Some(k) = work.pop() {
+        for (t, from) in facts.from.iter().enumerate() {
+            if from.contains(&k) {
+                for &s in &facts.to[t] {
+                    if !reached[s] {
+                        reached[s] = true;
+                        work.push(s);
+                    }
+                }
+            }
+        }
+    }
+    for (k, s) in chart.steps.iter().enumerate() {
+        if !reached[k] {
+            diags.push(Diagnostic::warning(
+                codes::W_SFC_UNREACHABLE,
+                format!(
+                    "step `{}` is never active: no transition leads to it from an initial step",
+                    name_of(&s.name)
+                ),
+                s.name.span,
+            ));
+        } else if !facts.from.iter().any(|f| f.contains(&k)) {
+            diags.push(Diagnostic::warning(
+                codes::W_SFC_DEAD_END,
+                format!(
+                    "step `{}` has no way out: no transition leaves it, so the chart stays there",
+                    name_of(&s.name)
+                ),
+                s.name.span,
+            ));
+        }
+    }
+}

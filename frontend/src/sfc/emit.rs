@@ -1,0 +1,473 @@
+//! Writes a chart's POU as ST: one call of the body is one evolution of the chart.
+//!
+//! The variables: a `__SFC_STEP` per step, named as the step (`S.X`, `S.T`,
+//! `S.__PREV`); per action, its control named as the action (`A.Q`): the standard's
+//! `__SFC_ACTION_CONTROL` FB, or matiec's `__SFC_MATIEC_ACTION` state; a BOOL variable
+//! used as an action gets a control named `__SFC_V_<name>`. The ACTIONs the chart
+//! drives are renamed `__SFC_A_<name>` (their names belong to their controls). The
+//! clock: `__SFC_LAST` (the clock at the last call) and `__SFC_DT` (the time since).
+//!
+//! The body, under [`Profile::Iec`]: advance the active steps' T; test the transitions
+//! in evaluation order on the states the previous call left, a firing one
+//! deactivating its steps at once (so one branch of a selective divergence fires);
+//! activate the steps after the fired ones (T := 0); run every action control and
+//! the actions whose A is TRUE, in declaration order. [`Profile::Codesys`] runs the
+//! actions before the transitions. [`Profile::Matiec`] follows matiec's algorithm
+//! step by step (reference §6.2; docs/sfc.md).
+
+use super::check::{Facts, Qual, Target};
+use super::Profile;
+use crate::ast::{Pou, PouKind, Sfc};
+use crate::plcopen::map::Out;
+use crate::plcopen::xml::{Piece, Text};
+use plcc_ir::diag::Span;
+use std::fmt::Write as _;
+
+/// Writes `pou`, whose body is `chart`, as ST to `out`.
+pub(super) fn pou(
+    out: &mut Out,
+    pou: &Pou,
+    chart: &Sfc,
+    facts: &Facts,
+    text: &str,
+    profile: Profile,
+) {
+    let w = W { text, chart, pou };
+    // The header and declarations, as written.
+    let header_end = pou
+        .var_blocks
+        .iter()
+        .map(|b| b.span.end)
+        .chain(std::iter::once(pou.name.span.end))
+        .max()
+        .unwrap_or(pou.name.span.end);
+    w.copy(out, Span::new(pou.span.file, pou.span.start, header_end));
+    out.push("\n");
+    w.declarations(out, facts, profile);
+    match profile {
+        Profile::Iec => {
+            w.clock(out);
+            w.transitions(out, facts, true);
+            w.actions_iec(out, facts);
+        }
+        Profile::Codesys => {
+            w.clock(out);
+            w.actions_iec(out, facts);
+            w.transitions(out, facts, true);
+        }
+        Profile::Matiec => {
+            w.clock(out);
+            w.matiec(out, facts);
+        }
+    }
+    // The chart's actions, renamed; the others as written.
+    for (k, a) in pou.actions.iter().enumerate() {
+        let start = out.pos();
+        if facts.actions.contains(&k) {
+            out.push("ACTION __SFC_A_");
+            w.copy(out, a.name.span);
+            out.push(":\n");
+        } else {
+            out.push("ACTION ");
+            w.copy(out, a.name.span);
+            out.push(":\n");
+        }
+        if a.body.span.end > a.body.span.start {
+            w.copy(out, a.body.span);
+        }
+        out.push("\nEND_ACTION\n");
+        out.mark(start, a.span.start..a.span.end);
+    }
+    out.push(match pou.kind {
+        PouKind::Program => "END_PROGRAM\n\n",
+        PouKind::FunctionBlock => "END_FUNCTION_BLOCK\n\n",
+        PouKind::Function => "END_FUNCTION\n\n",
+    });
+}
+
+struct W<'a> {
+    text: &'a str,
+    chart: &'a Sfc,
+    pou: &'a Pou,
+}
+
+impl W<'_> {
+    /// Copies the file's text at `span`, mapped byte for byte.
+    fn copy(&self, out: &mut Out, span: Span) {
+        let value = &self.text[span.start as usize..span.end as usize];
+        out.push_text(&Text {
+            value: value.to_string(),
+            range: span.start..span.end,
+            exact: vec![Piece {
+                at: 0,
+                src: span.start,
+                len: span.end - span.start,
+            }],
+        });
+    }
+
+    /// Generated text made from the element at `from`.
+    fn gen(&self, out: &mut Out, s: &str, from: Span) {
+        let start = out.pos();
+        out.push(s);
+        out.mark(start, from.start..from.end);
+    }
+
+    fn step_name(&self, k: usize) -> &str {
+        let s = &self.chart.steps[k].name.span;
+        &self.text[s.start as usize..s.end as usize]
+    }
+
+    /// The name of the control of `target`.
+    fn control(&self, t: Target, facts: &Facts) -> String {
+        match t {
+            Target::Action(i) => {
+                let s = self.pou.actions[i].name.span;
+                self.text[s.start as usize..s.end as usize].to_string()
+            }
+            Target::Var(v) => {
+                let s = facts.vars[v].span;
+                format!("__SFC_V_{}", &self.text[s.start as usize..s.end as usize])
+            }
+        }
+    }
+
+    fn declarations(&self, out: &mut Out, facts: &Facts, profile: Profile) {
+        out.push("VAR\n");
+        for s in &self.chart.steps {
+            let start = out.pos();
+            out.push("  ");
+            self.copy(out, s.name.span);
+            out.push(if s.initial {
+                " : __SFC_STEP := (X := TRUE);\n"
+            } else {
+                " : __SFC_STEP;\n"
+            });
+            out.mark(start, s.span.start..s.span.end);
+        }
+        let control_ty = match profile {
+            Profile::Matiec => "__SFC_MATIEC_ACTION",
+            _ => "__SFC_ACTION_CONTROL",
+        };
+        for &i in &facts.actions {
+            let a = &self.pou.actions[i];
+            let start = out.pos();
+            out.push("  ");
+            self.copy(out, a.name.span);
+            let _ = writeln!(out.text, " : {control_ty};");
+            out.mark(start, a.name.span.start..a.name.span.end);
+        }
+        for (v, name) in facts.vars.iter().enumerate() {
+            let c = self.control(Target::Var(v), facts);
+            self.gen(out, &format!("  {c} : {control_ty};\n"), name.span);
+        }
+        out.push("  __SFC_STARTED : BOOL;\n  __SFC_LAST : TIME;\nEND_VAR\nVAR_TEMP\n  __SFC_DT : TIME;\n");
+        for k in 0..self.chart.transitions.len() {
+            let _ = writeln!(out.text, "  __SFC_F{k} : BOOL;");
+        }
+        out.push("END_VAR\n");
+    }
+
+    /// The time since the last call, and the active steps' T (and PREV).
+    fn clock(&self, out: &mut Out) {
+        out.push(
+            "IF NOT __SFC_STARTED THEN\n  __SFC_STARTED := TRUE;\n  __SFC_LAST := __PLC_CLOCK();\nEND_IF;\n\
+             __SFC_DT := __PLC_CLOCK() - __SFC_LAST;\n__SFC_LAST := __SFC_LAST + __SFC_DT;\n",
+        );
+        for (k, s) in self.chart.steps.iter().enumerate() {
+            let n = self.step_name(k);
+            self.gen(
+                out,
+                &format!(
+                    "{n}.__PREV := {n}.X;\nIF {n}.X THEN {n}.T := {n}.T + __SFC_DT; END_IF;\n"
+                ),
+                s.name.span,
+            );
+        }
+    }
+
+    /// `S1.X AND S2.X`: all the steps before transition `t` are active.
+    fn sources_active(&self, facts: &Facts, t: usize) -> String {
+        facts.from[t]
+            .iter()
+            .map(|&k| format!("{}.X", self.step_name(k)))
+            .collect::<Vec<_>>()
+            .join(" AND ")
+    }
+
+    /// The fire test of every transition in evaluation order (a fired one
+    /// deactivating its steps at once when `exclusive`, else only prioritised
+    /// ones), then the activation of the steps after the fired ones.
+    fn transitions(&self, out: &mut Out, facts: &Facts, exclusive: bool) {
+        for &t in &facts.order {
+            let tr = &self.chart.transitions[t];
+            let start = out.pos();
+            let _ = write!(
+                out.text,
+                "__SFC_F{t} := FALSE;\nIF {} THEN\n  IF (",
+                self.sources_active(facts, t)
+            );
+            if let Some(c) = tr.condition {
+                self.copy(out, c);
+            }
+            let _ = write!(out.text, ") THEN\n    __SFC_F{t} := TRUE;\n");
+            if exclusive || tr.priority.is_some() {
+                for &k in &facts.from[t] {
+                    let _ = writeln!(out.text, "    {}.X := FALSE;", self.step_name(k));
+                }
+            }
+            out.push("  END_IF;\nEND_IF;\n");
+            out.mark(start, tr.head.start..tr.head.end);
+        }
+        if !exclusive {
+            for (t, tr) in self.chart.transitions.iter().enumerate() {
+                if tr.priority.is_some() {
+                    continue;
+                }
+                let start = out.pos();
+                let _ = writeln!(out.text, "IF __SFC_F{t} THEN");
+                for &k in &facts.from[t] {
+                    let _ = writeln!(out.text, "  {}.X := FALSE;", self.step_name(k));
+                }
+                out.push("END_IF;\n");
+                out.mark(start, tr.head.start..tr.head.end);
+            }
+        }
+        for (t, tr) in self.chart.transitions.iter().enumerate() {
+            let start = out.pos();
+            let _ = writeln!(out.text, "IF __SFC_F{t} THEN");
+            for &k in &facts.to[t] {
+                let n = self.step_name(k);
+                let _ = writeln!(out.text, "  {n}.X := TRUE;\n  {n}.T := T#0s;");
+            }
+            out.push("END_IF;\n");
+            out.mark(start, tr.head.start..tr.head.end);
+        }
+    }
+
+    /// The standard's action control: each control called with its associations
+    /// combined, each action run while its A is TRUE, in declaration order; a BOOL
+    /// variable action takes its control's Q.
+    fn actions_iec(&self, out: &mut Out, facts: &Facts) {
+        let targets: Vec<Target> = facts
+            .actions
+            .iter()
+            .map(|&i| Target::Action(i))
+            .chain((0..facts.vars.len()).map(Target::Var))
+            .collect();
+        for t in targets {
+            let c = self.control(t, facts);
+            let mine: Vec<_> = facts.assocs.iter().filter(|a| a.target == t).collect();
+            let from = match t {
+                Target::Action(i) => self.pou.actions[i].name.span,
+                Target::Var(v) => facts.vars[v].span,
+            };
+            let start = out.pos();
+            let _ = write!(out.text, "{c}(");
+            let mut first = true;
+            let inputs = [
+                ("N", &[Qual::N, Qual::Bare][..]),
+                ("R", &[Qual::R]),
+                ("S", &[Qual::S]),
+                ("L", &[Qual::L]),
+                ("D", &[Qual::D]),
+                ("P", &[Qual::P]),
+                ("P1", &[Qual::P1]),
+                ("P0", &[Qual::P0]),
+                ("SD", &[Qual::Sd]),
+                ("DS", &[Qual::Ds]),
+                ("SL", &[Qual::Sl]),
+            ];
+            for (input, quals) in inputs {
+                let steps: Vec<String> = mine
+                    .iter()
+                    .filter(|a| quals.contains(&a.qual))
+                    .map(|a| format!("{}.X", self.step_name(a.step)))
+                    .collect();
+                if steps.is_empty() {
+                    continue;
+                }
+                if !first {
+                    out.push(", ");
+                }
+                first = false;
+                let _ = write!(out.text, "{input} := {}", steps.join(" OR "));
+            }
+            // The duration: the timed association's whose step is active (the
+            // first one's when none is).
+            let timed: Vec<_> = mine.iter().filter(|a| a.qual.timed()).collect();
+            if !timed.is_empty() {
+                if !first {
+                    out.push(", ");
+                }
+                out.push("T := ");
+                for a in timed.iter().skip(1).rev() {
+                    let _ = write!(out.text, "SEL({}.X, ", self.step_name(a.step));
+                }
+                out.push("(");
+                self.copy(out, timed[0].duration.expect("timed"));
+                out.push(")");
+                for a in timed.iter().skip(1) {
+                    out.push(", (");
+                    self.copy(out, a.duration.expect("timed"));
+                    out.push("))");
+                }
+            }
+            out.push(");\n");
+            match t {
+                Target::Action(_) => {
+                    let _ = writeln!(out.text, "IF {c}.A THEN __SFC_A_{c}(); END_IF;");
+                }
+                Target::Var(v) => {
+                    self.copy(out, facts.vars[v].span);
+                    let _ = writeln!(out.text, " := {c}.Q;");
+                }
+            }
+            out.mark(start, from.start..from.end);
+        }
+    }
+
+    /// matiec's evolution (reference §6.2, steps 3 to 10; 1 and 2 are [`Self::clock`]).
+    fn matiec(&self, out: &mut Out, facts: &Facts) {
+        let targets: Vec<Target> = facts
+            .actions
+            .iter()
+            .map(|&i| Target::Action(i))
+            .chain((0..facts.vars.len()).map(Target::Var))
+            .collect();
+        // 3: the states start off; stored timers count down.
+        for &t in &targets {
+            let c = self.control(t, facts);
+            let _ = write!(
+                out.text,
+                "{c}.Q := FALSE;\n{c}.__SET := FALSE;\n{c}.__RESET := FALSE;\n\
+                 IF {c}.__SET_REMAINING > T#0s THEN\n  {c}.__SET_REMAINING := {c}.__SET_REMAINING - __SFC_DT;\n  \
+                 IF {c}.__SET_REMAINING <= T#0s THEN {c}.__SET_REMAINING := T#0s; {c}.__SET := TRUE; END_IF;\nEND_IF;\n\
+                 IF {c}.__RESET_REMAINING > T#0s THEN\n  {c}.__RESET_REMAINING := {c}.__RESET_REMAINING - __SFC_DT;\n  \
+                 IF {c}.__RESET_REMAINING <= T#0s THEN {c}.__RESET_REMAINING := T#0s; {c}.__RESET := TRUE; END_IF;\nEND_IF;\n"
+            );
+        }
+        // 4 to 6: transitions.
+        self.transitions(out, facts, false);
+        // 7: associations, step by step in text order; the last write wins.
+        for a in &facts.assocs {
+            let c = self.control(a.target, facts);
+            let n = self.step_name(a.step);
+            let var = match a.target {
+                Target::Var(v) => Some(self.control_var_text(facts, v)),
+                Target::Action(_) => None,
+            };
+            let on = match &var {
+                Some(v) => format!("{v} := TRUE;"),
+                None => format!("{c}.Q := TRUE;"),
+            };
+            let off = match &var {
+                Some(v) => format!("{v} := FALSE;"),
+                None => format!("{c}.Q := FALSE;"),
+            };
+            let activated = format!("{n}.X AND NOT {n}.__PREV");
+            let deactivated = format!("NOT {n}.X AND {n}.__PREV");
+            let start = out.pos();
+            let dur = |w: &Self, out: &mut Out| {
+                out.push("(");
+                w.copy(out, a.duration.expect("timed"));
+                out.push(")");
+            };
+            match a.qual {
+                Qual::N => {
+                    let _ = writeln!(
+                        out.text,
+                        "IF {n}.X THEN {on} ELSIF {deactivated} THEN {off} END_IF;"
+                    );
+                }
+                Qual::Bare => {
+                    if var.is_none() {
+                        let _ = writeln!(out.text, "IF {n}.X THEN {on} END_IF;");
+                    }
+                }
+                Qual::S => {
+                    let _ = writeln!(out.text, "IF {n}.X THEN {c}.__SET := TRUE; END_IF;");
+                }
+                Qual::R => {
+                    let _ = writeln!(out.text, "IF {n}.X THEN {c}.__RESET := TRUE; END_IF;");
+                }
+                Qual::L => {
+                    let _ = write!(out.text, "IF {n}.X AND {n}.T < ");
+                    dur(self, out);
+                    let _ = writeln!(
+                        out.text,
+                        " THEN {on} ELSIF {n}.X OR {n}.__PREV THEN {off} END_IF;"
+                    );
+                }
+                Qual::D => {
+                    let _ = write!(out.text, "IF {n}.X AND {n}.T >= ");
+                    dur(self, out);
+                    let _ = writeln!(
+                        out.text,
+                        " THEN {on} ELSIF {deactivated} THEN {off} END_IF;"
+                    );
+                }
+                Qual::P | Qual::P1 => {
+                    let _ = writeln!(out.text, "IF {activated} THEN {on} ELSE {off} END_IF;");
+                }
+                Qual::P0 => {
+                    let _ = writeln!(out.text, "IF {deactivated} THEN {on} ELSE {off} END_IF;");
+                }
+                Qual::Sl => {
+                    let _ = write!(
+                        out.text,
+                        "IF {activated} THEN {c}.__SET := TRUE; {c}.__RESET_REMAINING := "
+                    );
+                    dur(self, out);
+                    out.push("; END_IF;\n");
+                }
+                Qual::Sd => {
+                    let _ = write!(out.text, "IF {activated} THEN {c}.__SET_REMAINING := ");
+                    dur(self, out);
+                    out.push("; END_IF;\n");
+                }
+                Qual::Ds => {
+                    let _ = write!(out.text, "IF {activated} THEN {c}.__SET_REMAINING := ");
+                    dur(self, out);
+                    let _ = writeln!(
+                        out.text,
+                        "; ELSIF {deactivated} THEN {c}.__SET_REMAINING := T#0s; END_IF;"
+                    );
+                }
+            }
+            let from = self.chart.steps[a.step].span;
+            out.mark(start, from.start..from.end);
+        }
+        // 8: stored states.
+        for &t in &targets {
+            let c = self.control(t, facts);
+            let _ = write!(
+                out.text,
+                "IF {c}.__SET THEN {c}.__STORED := TRUE; {c}.__SET_REMAINING := T#0s; END_IF;\n\
+                 IF {c}.__RESET THEN {c}.__STORED := FALSE; {c}.__RESET_REMAINING := T#0s; END_IF;\n\
+                 {c}.Q := {c}.Q OR {c}.__STORED;\n"
+            );
+        }
+        // 9: BOOL variables set or reset.
+        for v in 0..facts.vars.len() {
+            let c = self.control(Target::Var(v), facts);
+            let start = out.pos();
+            let _ = write!(out.text, "IF {c}.__RESET THEN ");
+            self.copy(out, facts.vars[v].span);
+            let _ = write!(out.text, " := FALSE; ELSIF {c}.__SET THEN ");
+            self.copy(out, facts.vars[v].span);
+            out.push(" := TRUE; END_IF;\n");
+            out.mark(start, facts.vars[v].span.start..facts.vars[v].span.end);
+        }
+        // 10: the actions whose state is on, in declaration order.
+        for &i in &facts.actions {
+            let c = self.control(Target::Action(i), facts);
+            let _ = writeln!(out.text, "IF {c}.Q THEN __SFC_A_{c}(); END_IF;");
+        }
+    }
+
+    fn control_var_text(&self, facts: &Facts, v: usize) -> String {
+        let s = facts.vars[v].span;
+        self.text[s.start as usize..s.end as usize].to_string()
+    }
+}

@@ -1,0 +1,78 @@
+//! The chart checks and the text written for a chart.
+
+use crate::intern::Interner;
+use crate::source::{SourceFile, SourceMap};
+use plcc_ir::diag::Diagnostic;
+
+/// Parses `text` as an ST file and expands its charts under `profile`: the
+/// diagnostics, and the generated ST if any.
+fn expand(text: &str, profile: super::Profile) -> (Vec<Diagnostic>, Option<String>) {
+    let mut sources = SourceMap::default();
+    let file = sources.add(SourceFile::new("t.st".to_string(), text.to_string()));
+    let mut interner = Interner::new();
+    let mut diags = Vec::new();
+    let unit = crate::st::parse(file, text, &mut interner, &mut diags);
+    let mut units = vec![unit];
+    let views = super::expand(&mut units, &mut sources, &mut interner, profile, &mut diags);
+    let st = views.first().map(|v| sources.get(v.st).text.to_string());
+    (diags, st)
+}
+
+fn codes(d: &[Diagnostic]) -> Vec<&str> {
+    d.iter().map(|d| d.code).collect()
+}
+
+#[test]
+fn a_chart_needs_an_initial_step_known_steps_and_good_qualifiers() {
+    let (d, st) = expand(
+        "PROGRAM p VAR x : BOOL; END_VAR\n\
+         STEP A: act(L); act(Q); act(N, T#1s); END_STEP\n\
+         TRANSITION FROM A TO Nowhere := x; END_TRANSITION\n\
+         ACTION act: x := TRUE; END_ACTION\n\
+         END_PROGRAM",
+        super::Profile::Iec,
+    );
+    assert!(st.is_none(), "a chart with errors is not written");
+    let c = codes(&d);
+    assert!(c.contains(&"E0780"), "{c:?}");
+    assert!(c.contains(&"E0781"), "{c:?}");
+    assert_eq!(c.iter().filter(|c| **c == "E0782").count(), 3, "{c:?}");
+}
+
+#[test]
+fn unreachable_steps_and_dead_ends_are_warnings() {
+    let (d, st) = expand(
+        "PROGRAM p VAR x : BOOL; END_VAR\n\
+         INITIAL_STEP A: END_STEP\n\
+         TRANSITION FROM A TO B := x; END_TRANSITION\n\
+         STEP B: END_STEP\n\
+         STEP Island: END_STEP\n\
+         TRANSITION FROM Island TO A := x; END_TRANSITION\n\
+         END_PROGRAM",
+        super::Profile::Iec,
+    );
+    assert_eq!(codes(&d), ["W0781", "W0780"]);
+    assert!(st.is_some());
+}
+
+#[test]
+fn the_profiles_order_the_phases() {
+    let chart = "PROGRAM p VAR x : BOOL; n : INT; END_VAR\n\
+         INITIAL_STEP A: act(N); END_STEP\n\
+         TRANSITION FROM A TO B := x; END_TRANSITION\n\
+         STEP B: END_STEP\n\
+         TRANSITION FROM B TO A := NOT x; END_TRANSITION\n\
+         ACTION act: n := n + 1; END_ACTION\n\
+         END_PROGRAM";
+    let pos = |st: &str, s: &str| st.find(s).unwrap_or_else(|| panic!("`{s}` in\n{st}"));
+    let (_, iec) = expand(chart, super::Profile::Iec);
+    let iec = iec.expect("written");
+    assert!(pos(&iec, "__SFC_F0 := FALSE") < pos(&iec, "act("));
+    let (_, cds) = expand(chart, super::Profile::Codesys);
+    let cds = cds.expect("written");
+    assert!(pos(&cds, "act(") < pos(&cds, "__SFC_F0 := FALSE"));
+    let (_, mat) = expand(chart, super::Profile::Matiec);
+    let mat = mat.expect("written");
+    assert!(mat.contains("act : __SFC_MATIEC_ACTION"));
+    assert!(mat.contains("IF act.Q THEN __SFC_A_act(); END_IF;"));
+}

@@ -1,0 +1,165 @@
+//! Charts under `--sfc matiec` against matiec itself: the textual SFC programs of
+//! `../shared/reference/plcopen-semantics-samples/sfc_text_*.st` were run by matiec
+//! (10 ms ticks from 0), and their `.trace.txt` files hold the state after every scan.
+//! plcc's build of each program must give the same state after every scan on every
+//! machine. Skipped, with a notice, when `../shared` is absent.
+
+use plcc::driver::{build_sources, BuildOptions};
+use plcc::targets;
+use plcc_frontend::sfc::Profile;
+use std::path::{Path, PathBuf};
+
+/// The codes of a program too large for the target.
+const UNFIT: [&str; 4] = ["E9001", "E9002", "E9003", "E9004"];
+
+/// Each trace's columns and the variables they show.
+const TRACES: &[(&str, &[(&str, &str)])] = &[
+    (
+        "sfc_text_qualifiers",
+        &[
+            ("S0", "inst.S0.X"),
+            ("S1", "inst.S1.X"),
+            ("S2", "inst.S2.X"),
+            ("T2", "inst.S2.T"),
+            ("P", "inst.pcnt"),
+            ("P0", "inst.p0cnt"),
+            ("vN", "inst.vN"),
+            ("N", "inst.ncnt"),
+            ("L", "inst.lcnt"),
+            ("D", "inst.dcnt"),
+            ("S", "inst.scnt"),
+            ("vS", "inst.vS"),
+            ("vD", "inst.vD"),
+        ],
+    ),
+    (
+        "sfc_text_selfloop",
+        &[
+            ("S0", "inst.S0.X"),
+            ("S1", "inst.S1.X"),
+            ("T1", "inst.S1.T"),
+            ("P", "inst.pc"),
+            ("N", "inst.nc"),
+            ("tInAction", "inst.t1"),
+        ],
+    ),
+    (
+        "sfc_text_stored_and_p_override",
+        &[
+            ("S0", "inst.S0.X"),
+            ("S1", "inst.S1.X"),
+            ("S2", "inst.S2.X"),
+            ("S3", "inst.S3.X"),
+            ("A", "inst.acnt"),
+            ("SL", "inst.slcnt"),
+            ("SD", "inst.sdcnt"),
+            ("DS", "inst.dscnt"),
+            ("S", "inst.scnt"),
+        ],
+    ),
+    (
+        "sfc_text_unprioritised_divergence",
+        &[
+            ("S0", "inst.S0.X"),
+            ("S1", "inst.S1.X"),
+            ("S2", "inst.S2.X"),
+            ("cnt1", "inst.cnt1"),
+            ("cnt2", "inst.cnt2"),
+            ("pcnt", "inst.pcnt"),
+        ],
+    ),
+];
+
+fn samples() -> Option<PathBuf> {
+    let p =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/reference/plcopen-semantics-samples");
+    p.is_dir().then_some(p)
+}
+
+/// A value as the traces write it: `1`/`0` for BOOL, `10ms` for TIME.
+fn trace_form(v: plcc_ir::value::PlcValue) -> String {
+    let s = v.to_string();
+    match s.as_str() {
+        "TRUE" => "1".into(),
+        "FALSE" => "0".into(),
+        _ => s.strip_prefix("T#").map_or(s.clone(), str::to_string),
+    }
+}
+
+#[test]
+fn matiec_profile_matches_matiec_scan_by_scan() {
+    let Some(dir) = samples() else {
+        eprintln!("NOTICE: ../shared/reference is absent: the matiec SFC traces are skipped");
+        return;
+    };
+    let mut failures = Vec::new();
+    let mut compared = 0;
+    let mut unfit = 0;
+    for (name, columns) in TRACES {
+        let st = dir.join(format!("{name}.st"));
+        let trace = std::fs::read_to_string(dir.join(format!("{name}.trace.txt")))
+            .unwrap_or_else(|e| panic!("{name}.trace.txt: {e}"));
+        let bytes = std::fs::read(&st).unwrap_or_else(|e| panic!("{name}.st: {e}"));
+        let opts = BuildOptions {
+            sfc: Profile::Matiec,
+            ..Default::default()
+        };
+        let build = build_sources(vec![(st.display().to_string(), bytes)], &opts)
+            .unwrap_or_else(|e| panic!("{name}: {}", e.0));
+        let Some(module) = build.module else {
+            let errs: Vec<String> = build.diagnostics.iter().map(|d| d.to_string()).collect();
+            failures.push(format!("{name} does not compile: {}", errs.join("; ")));
+            continue;
+        };
+        for target in ["interp", "host", "vmasm", "pic16f876a"] {
+            let mut m = match targets::machine(target, &module) {
+                Ok(m) => m,
+                // The program does not fit the chip: counted, not a failure.
+                Err(d) if UNFIT.contains(&d[0].code) => {
+                    eprintln!("{name} does not fit {target}: {}", d[0]);
+                    unfit += 1;
+                    continue;
+                }
+                Err(d) => {
+                    failures.push(format!("{name} on {target}: {}", d[0]));
+                    continue;
+                }
+            };
+            m.cold_start().expect("cold start");
+            for (k, line) in trace.lines().enumerate() {
+                m.set_clock_us(k as i64 * 10_000);
+                m.scan().expect("scan");
+                let want: Vec<(&str, &str)> = line
+                    .split_once(':')
+                    .map(|(_, rest)| rest)
+                    .unwrap_or("")
+                    .split_whitespace()
+                    .filter_map(|kv| kv.split_once('='))
+                    .collect();
+                for (col, value) in want {
+                    let path = columns
+                        .iter()
+                        .find(|(c, _)| *c == col)
+                        .map(|(_, p)| *p)
+                        .unwrap_or_else(|| panic!("{name}: no variable for column {col}"));
+                    let got = trace_form(
+                        m.read(path)
+                            .unwrap_or_else(|e| panic!("{name} on {target}: {path}: {e}")),
+                    );
+                    compared += 1;
+                    if got != value {
+                        failures.push(format!(
+                            "{name} on {target}, scan {k}: {col} ({path}) is {got}, matiec {value}"
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    eprintln!("{compared} values compared; {unfit} builds do not fit their target");
+    assert!(
+        unfit <= 1,
+        "more programs than sfc_text_qualifiers on pic16f876a do not fit"
+    );
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
