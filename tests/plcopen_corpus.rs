@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 enum Expect {
     /// It compiles.
     Compiles,
-    /// It has SFC bodies (error E0602): issue 18.
+    /// It has SFC bodies, written as textual SFC in the view (issue 18): any outcome.
     Sfc,
     /// It does not compile, for the reason given; its errors carry these codes only.
     Fails(&'static str, &'static [&'static str]),
@@ -397,10 +397,12 @@ fn every_corpus_project_comes_out_as_listed() {
             }
         };
         let outcome = match (&c.expect, codes.as_slice()) {
-            (Compiles, []) => "compiles",
-            (Sfc, codes) if codes.contains(&"E0602") => "SFC (issue 18)",
+            (Compiles, []) => "compiles".to_string(),
+            // The charts become textual SFC in the view; whether that compiles is the
+            // ST front end's business (issue 18): any outcome, shown.
+            (Sfc, codes) => format!("SFC (issue 18): errors {codes:?}"),
             (Fails(_, want), got) if !got.is_empty() && got.iter().all(|g| want.contains(g)) => {
-                "fails as listed"
+                "fails as listed".to_string()
             }
             (want, got) => {
                 problems.push(format!("{}: expected {want:?}, got errors {got:?}", c.file));

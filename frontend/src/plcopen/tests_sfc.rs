@@ -499,155 +499,156 @@ fn a_graphical_condition_in_the_chart_with_an_edge() {
     assert_eq!(at(&xml, &d), r#"<transition localId="2""#);
 }
 
-#[test]
-fn a_macro_step_is_ignored_with_a_warning() {
-    let xml = chart(
-        "",
-        &format!("{}<macroStep localId=\"9\" name=\"M\"/>", two_steps()),
-    );
-    let d = diags_of(&xml);
-    assert_eq!(d.len(), 1, "{d:#?}");
-    assert_eq!(d[0].code, codes::W_SFC_MACRO_STEP);
-    assert_eq!(at(&xml, &d[0]), r#"<macroStep localId="9""#);
-}
-
-#[test]
-fn an_island_is_dropped_with_warnings() {
-    let island = [
-        step(20, "S9", false, Some(23)),
-        trans(21, 20, "a"),
-        step(22, "S10", false, Some(21)),
-        trans(23, 22, "b"),
-    ]
-    .concat();
-    let xml = chart("", &format!("{}{island}", two_steps()));
-    let d = diags_of(&xml);
-    assert_eq!(
-        d.iter().map(|d| d.code).collect::<Vec<_>>(),
-        vec![codes::W_SFC_DROPPED; 4],
-        "{d:#?}"
-    );
-    assert!(d[0].message.contains("step `S9`"), "{}", d[0].message);
-    assert_eq!(at(&xml, &d[0]), r#"<step localId="20""#);
-    let v = view_of(&xml);
-    assert!(!v.contains("S9") && !v.contains("S10"), "{v}");
-}
-
 // ---------------------------------------------------------------- diagnostics
 
-/// The one error of a conversion: its code and the XML it points at.
-fn one_error(xml: &str) -> (&'static str, String, String) {
-    let d: Vec<Diagnostic> = diags_of(xml).into_iter().filter(|d| d.is_error()).collect();
-    assert_eq!(d.len(), 1, "{d:#?}");
-    (d[0].code, at(xml, &d[0]).to_string(), d[0].message.clone())
-}
+/// Each diagnostic of charts, its code written out (so that a renumbered code shows).
+#[cfg(test)]
+mod diagnostics {
+    use super::*;
 
-#[test]
-fn a_chart_without_an_initial_step() {
-    let sfc = two_steps().replace(r#"initialStep="true""#, r#"initialStep="false""#);
-    let (code, place, msg) = one_error(&chart("", &sfc));
-    assert_eq!(code, codes::SFC_NO_INITIAL_STEP);
-    assert_eq!(place, "SFC");
-    assert!(msg.contains("`P`"), "{msg}");
-}
-
-#[test]
-fn a_jump_to_a_missing_step() {
-    let sfc = two_steps().replace(r#"targetName="Init""#, r#"targetName="Inti""#);
-    let (code, place, _) = one_error(&chart("", &sfc));
-    assert_eq!(code, codes::SFC_JUMP_TARGET);
-    assert_eq!(place, "Inti");
-}
-
-#[test]
-fn a_transition_without_a_step_before_or_after() {
-    // Nothing before: its input is not connected.
-    let sfc = format!(
-        "{}{}",
-        two_steps(),
-        r#"<transition localId="8"><connectionPointIn/><condition><inline name=""><ST><xhtml:p>c</xhtml:p></ST></inline></condition></transition><step localId="9" name="S9"><connectionPointIn><connection refLocalId="8"/></connectionPointIn></step>"#
-    );
-    let xml = chart("", &sfc);
-    let d: Vec<Diagnostic> = diags_of(&xml)
-        .into_iter()
-        .filter(|d| d.is_error())
-        .collect();
-    assert_eq!(d.len(), 1, "{d:#?}");
-    assert_eq!(d[0].code, codes::SFC_TRANSITION_UNCONNECTED);
-    assert_eq!(at(&xml, &d[0]), r#"<transition localId="8""#);
-    assert!(d[0].message.contains("no step before"), "{}", d[0].message);
-    // Nothing after.
-    let sfc = [step(1, "Init", true, None), trans(2, 1, "a")].concat();
-    let (code, place, msg) = one_error(&chart("", &sfc));
-    assert_eq!(code, codes::SFC_TRANSITION_UNCONNECTED);
-    assert_eq!(place, r#"<transition localId="2""#);
-    assert!(msg.contains("no step after"), "{msg}");
-}
-
-#[test]
-fn timed_qualifiers_need_a_duration_and_dl_is_refused() {
-    for (q, code) in [
-        ("L", codes::SFC_NO_DURATION),
-        ("SD", codes::SFC_NO_DURATION),
-        ("DL", codes::SFC_QUALIFIER),
-        ("Q", codes::SFC_QUALIFIER),
-    ] {
-        let a = format!(r#"<action localId="0" qualifier="{q}"><reference name="x"/></action>"#);
-        let xml = chart("", &format!("{}{}", two_steps(), action_block(6, 1, &a)));
-        let (got, place, _) = one_error(&xml);
-        assert_eq!((got, place.as_str()), (code, q));
+    #[test]
+    fn a_macro_step_is_ignored_with_a_warning() {
+        let xml = chart(
+            "",
+            &format!("{}<macroStep localId=\"9\" name=\"M\"/>", two_steps()),
+        );
+        let d = diags_of(&xml);
+        assert_eq!(d.len(), 1, "{d:#?}");
+        assert_eq!(d[0].code, "W0761");
+        assert_eq!(at(&xml, &d[0]), r#"<macroStep localId="9""#);
     }
-}
 
-#[test]
-fn conditions_that_cannot_be_used() {
-    // A reference to a transition the POU does not have.
-    let sfc = two_steps().replace(
-        r#"<condition><inline name=""><ST><xhtml:p><![CDATA[a]]></xhtml:p></ST></inline></condition>"#,
-        r#"<condition><reference name="T9"/></condition>"#,
-    );
-    let (code, place, _) = one_error(&chart("", &sfc));
-    assert_eq!((code, place.as_str()), (codes::SFC_NO_CONDITION, "T9"));
-    // No condition at all.
-    let sfc = two_steps().replace(
-        r#"<condition><inline name=""><ST><xhtml:p><![CDATA[a]]></xhtml:p></ST></inline></condition>"#,
-        "",
-    );
-    let (code, place, _) = one_error(&chart("", &sfc));
-    assert_eq!(
-        (code, place.as_str()),
-        (codes::SFC_NO_CONDITION, r#"<transition localId="2""#)
-    );
-}
+    #[test]
+    fn an_island_is_dropped_with_warnings() {
+        let island = [
+            step(20, "S9", false, Some(23)),
+            trans(21, 20, "a"),
+            step(22, "S10", false, Some(21)),
+            trans(23, 22, "b"),
+        ]
+        .concat();
+        let xml = chart("", &format!("{}{island}", two_steps()));
+        let d = diags_of(&xml);
+        assert_eq!(
+            d.iter().map(|d| d.code).collect::<Vec<_>>(),
+            vec!["W0760"; 4],
+            "{d:#?}"
+        );
+        assert!(d[0].message.contains("step `S9`"), "{}", d[0].message);
+        assert_eq!(at(&xml, &d[0]), r#"<step localId="20""#);
+        let v = view_of(&xml);
+        assert!(!v.contains("S9") && !v.contains("S10"), "{v}");
+    }
 
-#[test]
-fn a_graphical_transition_without_its_coil() {
-    let transitions = r#"<transitions><transition name="T1"><body><FBD><inVariable localId="1"><connectionPointOut/><expression>a</expression></inVariable><outVariable localId="2"><connectionPointIn><connection refLocalId="1"/></connectionPointIn><expression>x</expression></outVariable></FBD></body></transition></transitions>"#;
-    let sfc = two_steps().replace(
-        r#"<condition><inline name=""><ST><xhtml:p><![CDATA[a]]></xhtml:p></ST></inline></condition>"#,
-        r#"<condition><reference name="T1"/></condition>"#,
-    );
-    let (code, place, msg) = one_error(&chart(transitions, &sfc));
-    assert_eq!(
-        (code, place.as_str()),
-        (codes::SFC_TRANSITION_BODY, "transition")
-    );
-    assert!(msg.contains("`T1`"), "{msg}");
-}
+    /// The one error of a conversion: its code and the XML it points at.
+    fn one_error(xml: &str) -> (&'static str, String, String) {
+        let d: Vec<Diagnostic> = diags_of(xml).into_iter().filter(|d| d.is_error()).collect();
+        assert_eq!(d.len(), 1, "{d:#?}");
+        (d[0].code, at(xml, &d[0]).to_string(), d[0].message.clone())
+    }
 
-#[test]
-fn two_steps_with_one_name() {
-    let sfc = format!("{}{}", two_steps(), step(9, "S1", false, None));
-    let (code, place, _) = one_error(&chart("", &sfc));
-    assert_eq!(
-        (code, place.as_str()),
-        (codes::SFC_BAD_ELEMENT, r#"<step localId="9""#)
-    );
-}
+    #[test]
+    fn a_chart_without_an_initial_step() {
+        let sfc = two_steps().replace(r#"initialStep="true""#, r#"initialStep="false""#);
+        let (code, place, msg) = one_error(&chart("", &sfc));
+        assert_eq!(code, "E0761");
+        assert_eq!(place, "SFC");
+        assert!(msg.contains("`P`"), "{msg}");
+    }
 
-#[test]
-fn an_sfc_action_body_is_still_refused() {
-    let actions = r#"<actions><action name="A"><body><SFC/></body></action></actions>"#;
-    let (code, _, _) = one_error(&chart(actions, &two_steps()));
-    assert_eq!(code, codes::E_LANGUAGE_UNSUPPORTED);
+    #[test]
+    fn a_jump_to_a_missing_step() {
+        let sfc = two_steps().replace(r#"targetName="Init""#, r#"targetName="Inti""#);
+        let (code, place, _) = one_error(&chart("", &sfc));
+        assert_eq!(code, "E0762");
+        assert_eq!(place, "Inti");
+    }
+
+    #[test]
+    fn a_transition_without_a_step_before_or_after() {
+        // Nothing before: its input is not connected.
+        let sfc = format!(
+            "{}{}",
+            two_steps(),
+            r#"<transition localId="8"><connectionPointIn/><condition><inline name=""><ST><xhtml:p>c</xhtml:p></ST></inline></condition></transition><step localId="9" name="S9"><connectionPointIn><connection refLocalId="8"/></connectionPointIn></step>"#
+        );
+        let xml = chart("", &sfc);
+        let d: Vec<Diagnostic> = diags_of(&xml)
+            .into_iter()
+            .filter(|d| d.is_error())
+            .collect();
+        assert_eq!(d.len(), 1, "{d:#?}");
+        assert_eq!(d[0].code, "E0763");
+        assert_eq!(at(&xml, &d[0]), r#"<transition localId="8""#);
+        assert!(d[0].message.contains("no step before"), "{}", d[0].message);
+        // Nothing after.
+        let sfc = [step(1, "Init", true, None), trans(2, 1, "a")].concat();
+        let (code, place, msg) = one_error(&chart("", &sfc));
+        assert_eq!(code, "E0763");
+        assert_eq!(place, r#"<transition localId="2""#);
+        assert!(msg.contains("no step after"), "{msg}");
+    }
+
+    #[test]
+    fn timed_qualifiers_need_a_duration_and_dl_is_refused() {
+        for (q, code) in [
+            ("L", "E0764"),
+            ("SD", "E0764"),
+            ("DL", "E0765"),
+            ("Q", "E0765"),
+        ] {
+            let a =
+                format!(r#"<action localId="0" qualifier="{q}"><reference name="x"/></action>"#);
+            let xml = chart("", &format!("{}{}", two_steps(), action_block(6, 1, &a)));
+            let (got, place, _) = one_error(&xml);
+            assert_eq!((got, place.as_str()), (code, q));
+        }
+    }
+
+    #[test]
+    fn conditions_that_cannot_be_used() {
+        // A reference to a transition the POU does not have.
+        let sfc = two_steps().replace(
+            r#"<condition><inline name=""><ST><xhtml:p><![CDATA[a]]></xhtml:p></ST></inline></condition>"#,
+            r#"<condition><reference name="T9"/></condition>"#,
+        );
+        let (code, place, _) = one_error(&chart("", &sfc));
+        assert_eq!((code, place.as_str()), ("E0766", "T9"));
+        // No condition at all.
+        let sfc = two_steps().replace(
+            r#"<condition><inline name=""><ST><xhtml:p><![CDATA[a]]></xhtml:p></ST></inline></condition>"#,
+            "",
+        );
+        let (code, place, _) = one_error(&chart("", &sfc));
+        assert_eq!(
+            (code, place.as_str()),
+            ("E0766", r#"<transition localId="2""#)
+        );
+    }
+
+    #[test]
+    fn a_graphical_transition_without_its_coil() {
+        let transitions = r#"<transitions><transition name="T1"><body><FBD><inVariable localId="1"><connectionPointOut/><expression>a</expression></inVariable><outVariable localId="2"><connectionPointIn><connection refLocalId="1"/></connectionPointIn><expression>x</expression></outVariable></FBD></body></transition></transitions>"#;
+        let sfc = two_steps().replace(
+            r#"<condition><inline name=""><ST><xhtml:p><![CDATA[a]]></xhtml:p></ST></inline></condition>"#,
+            r#"<condition><reference name="T1"/></condition>"#,
+        );
+        let (code, place, msg) = one_error(&chart(transitions, &sfc));
+        assert_eq!((code, place.as_str()), ("E0767", "transition"));
+        assert!(msg.contains("`T1`"), "{msg}");
+    }
+
+    #[test]
+    fn two_steps_with_one_name() {
+        let sfc = format!("{}{}", two_steps(), step(9, "S1", false, None));
+        let (code, place, _) = one_error(&chart("", &sfc));
+        assert_eq!((code, place.as_str()), ("E0760", r#"<step localId="9""#));
+    }
+
+    #[test]
+    fn an_sfc_action_body_is_still_refused() {
+        let actions = r#"<actions><action name="A"><body><SFC/></body></action></actions>"#;
+        let (code, _, _) = one_error(&chart(actions, &two_steps()));
+        assert_eq!(code, "E0602");
+    }
 }
