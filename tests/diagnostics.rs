@@ -263,6 +263,8 @@ macro_rules! bad {
 }
 
 bad! {
+    // sequential function charts
+    sfc_errors,
     // lexical
     lex_bad_char,
     lex_unterminated_comment,

@@ -135,6 +135,9 @@ pub struct SfcTransition {
     pub to: Vec<Ident>,
     /// The condition: a BOOL expression (its span, to copy); `None` if missing.
     pub condition: Option<Span>,
+    /// The condition is an IL list (`TRANSITION FROM a TO b : LD x END_TRANSITION`)
+    /// whose result is the condition, not an expression.
+    pub il: bool,
     /// The keyword `TRANSITION` and the name, for messages.
     pub head: Span,
     /// The whole transition.

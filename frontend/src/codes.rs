@@ -5,7 +5,8 @@
 //! `E00xx` lexical, `E01xx` syntax, `E02xx` names and declarations, `E03xx` types,
 //! `E04xx` calls, `E05xx` rules about writing and recursion, `E06xx` constructs not
 //! supported yet, `E070x`–`E071x` Instruction List, `E072x`–`E073x` PLC-UD STL,
-//! `E074x`–`E075x` ladder diagrams (PLCopen XML), `W0xxx` warnings.
+//! `E074x`–`E075x` ladder diagrams (PLCopen XML), `E076x` sequential function charts
+//! (PLCopen XML), `E078x` textual sequential function charts, `W0xxx` warnings.
 
 use plcc_ir::diag::CodeInfo;
 
@@ -203,28 +204,35 @@ codes! {
     E_UNSUPPORTED = "E0601", "not supported yet",
         "The construct is valid IEC 61131-3 (or a common dialect) but plcc does not compile it yet. The message names the construct.\n\n    r := BCD_TO_REAL(w);   (* error: not supported yet (BCD conversions give integers) *)";
     E_LANGUAGE_UNSUPPORTED = "E0602", "language not supported yet",
-        "A body of a PLCopen XML file is written in a language plcc has no front end for: \
-         function block diagrams (`<FBD>`) and sequential function charts (`<SFC>`). plcc \
-         compiles the `<LD>`, `<ST>` and `<IL>` bodies of such files.\n\
-         \n    <body><FBD> ... </FBD></body>   <!-- error -->\n\
-         \n    <body><LD> ... </LD></body>     <!-- fine: a ladder diagram -->";
+        "A body of a PLCopen XML file is written in a language plcc has no front end for \
+         there: a sequential function chart (`<SFC>`) as the body of an action or a \
+         transition (a chart is the body of a PROGRAM or FUNCTION_BLOCK only), or an \
+         unknown language element. plcc compiles `<LD>`, `<FBD>`, `<ST>` and `<IL>` bodies, \
+         and `<SFC>` bodies of POUs.\n\
+         \n    <action name=\"A\"><body><SFC> ... </SFC></body></action>   <!-- error -->\n\
+         \n    <action name=\"A\"><body><ST> ... </ST></body></action>     <!-- fine -->";
 
-    // ---- sequential function charts (E078x) ----
-    SFC_NO_INITIAL_STEP = "E0780", "chart without an initial step",
+    // ---- textual sequential function charts (E078x, W078x) ----
+    SFC_TEXT_NO_INITIAL_STEP = "E0780", "chart without an initial step",
         "A sequential function chart needs an INITIAL_STEP: the step that is active when \
          the POU starts. Without one no step would ever be active.\n\
          \n    STEP Idle: END_STEP            (* error: no initial step *)\n\
          \n    INITIAL_STEP Idle: END_STEP    (* fix *)";
-    SFC_UNKNOWN_STEP = "E0781", "transition to or from an unknown step",
+    SFC_TEXT_UNKNOWN_STEP = "E0781", "transition to or from an unknown step",
         "A TRANSITION names, after FROM or TO, a step the chart does not declare (a jump \
          to a missing step).\n\
          \n    TRANSITION FROM Fill TO Drian := full; END_TRANSITION   (* the step is `Drain` *)";
-    SFC_QUALIFIER = "E0782", "bad action qualifier",
+    SFC_TEXT_QUALIFIER = "E0782", "bad action qualifier",
         "An action association has a qualifier that is not one of N, R, S, L, D, P, P1, P0, \
          SD, DS and SL, a timed qualifier (L, D, SD, DS, SL) without its duration, or a \
          duration on a qualifier that takes none.\n\
          \n    Pump(L);          (* error: L needs a duration *)\n\
          \n    Pump(L, T#5s);    (* fix *)";
+    SFC_TEXT_ACTION = "E0783", "association of something that is no action",
+        "An action association in a step names something that is neither an ACTION of the \
+         POU nor a BOOL variable (which the chart then sets while the action is active).\n\
+         \n    VAR count : INT; END_VAR\n    STEP Run: count(N); END_STEP      (* error: count is an INT *)\n\
+         \n    STEP Run: Counting(N); END_STEP   (* fix: ACTION Counting: count := count + 1; END_ACTION *)";
     W_SFC_UNREACHABLE = "W0780", "step never active",
         "No chain of transitions leads to the step from an initial step, so it is never \
          active and its actions never run. matiec and the editors drop such steps \
@@ -337,6 +345,69 @@ codes! {
          `<tempVars>`, `<externalVars>` or `<globalVars>`.\n\
          \n    <interface><varList><variable name=\"x\">...</variable></varList></interface>      <!-- warning -->\n\
          \n    <interface><localVars><variable name=\"x\">...</variable></localVars></interface>  <!-- fine -->";
+
+    // ---- sequential function charts in PLCopen XML (E076x, W076x) ----
+    SFC_BAD_ELEMENT = "E0760", "invalid SFC element",
+        "An element of a sequential function chart is malformed or wired where the chart \
+         cannot use it: a step without `name`, two steps with one name, a `priority` that \
+         is not a number, a step, jump or action block connected to an element that is \
+         not of the kind it needs (a step follows a transition; an action block hangs on a \
+         step), or an inline action in another language than ST.\n\
+         \n    <step localId=\"3\" name=\"S1\"/> ... <step localId=\"7\" name=\"S1\"/>   <!-- error: two steps S1 -->\n\
+         \n    <step localId=\"3\" name=\"S1\"/> ... <step localId=\"7\" name=\"S2\"/>   <!-- fix -->";
+    SFC_NO_INITIAL_STEP = "E0761", "SFC without an initial step",
+        "A sequential function chart has no step with `initialStep=\"true\"`. The chart \
+         is written out from its initial steps (the editors' translator does the same), so \
+         without one nothing of it would run; the editors' translator stops with \"No body \
+         defined\".\n\
+         \n    <step localId=\"1\" name=\"Init\"/>                      <!-- error -->\n\
+         \n    <step localId=\"1\" name=\"Init\" initialStep=\"true\"/>  <!-- fix -->";
+    SFC_JUMP_TARGET = "E0762", "jump to a missing step",
+        "A `<jumpStep>` names a step (`targetName`) that the chart does not have.\n\
+         \n    <jumpStep localId=\"9\" targetName=\"Strat\"/>   <!-- error: the step is `Start` -->\n\
+         \n    <jumpStep localId=\"9\" targetName=\"Start\"/>   <!-- fix -->";
+    SFC_TRANSITION_UNCONNECTED = "E0763", "transition without a step before or after it",
+        "A transition of the chart leads from no step or to no step: its \
+         `connectionPointIn` is not connected to a step (or to a divergence or convergence \
+         of steps), or nothing after it (a step, a jump, a convergence or divergence \
+         leading to one) is connected to it. Textual SFC needs both `FROM` and `TO`.\n\
+         \n    TRANSITION FROM S1 TO ???   (* error: nothing follows the transition *)\n\
+         \n    TRANSITION FROM S1 TO S2    (* fix: connect a step or a jump after it *)";
+    SFC_NO_DURATION = "E0764", "timed qualifier without a duration",
+        "An action of an action block has a timed qualifier (L, D, SD, DS or SL) but no \
+         `duration`. The qualifier needs the time, and IEC compilers reject the \
+         association without it.\n\
+         \n    <action qualifier=\"L\"><reference name=\"Fill\"/></action>                  <!-- error -->\n\
+         \n    <action qualifier=\"L\" duration=\"T#2s\"><reference name=\"Fill\"/></action>  <!-- fix -->";
+    SFC_QUALIFIER = "E0765", "action qualifier not accepted",
+        "An action's qualifier is not one of N, R, S, P, P0, P1, L, D, SD, DS and SL. The \
+         PLCopen schema also allows DL (delayed and time limited), which textual SFC \
+         (and so every compiler of the editors' translations) does not have.\n\
+         \n    <action qualifier=\"DL\" duration=\"T#1s\"> ...   <!-- error -->\n\
+         \n    <action qualifier=\"D\" duration=\"T#1s\"> ...    <!-- e.g. a delay: D, or split the step -->";
+    SFC_NO_CONDITION = "E0766", "transition without a usable condition",
+        "A transition of the chart has no condition, or one plcc cannot use: an inline \
+         condition in another language than ST, a `<reference name=\"T\">` to a \
+         transition the POU does not define in `<transitions>`, or a graphical condition \
+         whose `connectionPointIn` is connected to nothing.\n\
+         \n    <condition><reference name=\"T9\"/></condition>    <!-- error if the POU has no transition T9 -->\n\
+         \n    <condition><inline name=\"\"><ST><xhtml:p>start</xhtml:p></ST></inline></condition>   <!-- e.g. an ST expression -->";
+    SFC_TRANSITION_BODY = "E0767", "transition body without its result",
+        "A transition of the POU (`<transitions><transition name=\"T\">`) written in LD or \
+         FBD must compute its value in a coil named `T` or an output variable whose \
+         expression is `T`; this one has neither.\n\
+         \n    |--[a]--[b]--(done)--|     error in transition `T`: no coil T\n\
+         \n    |--[a]--[b]--(T)--|        fix";
+    W_SFC_DROPPED = "W0760", "SFC element not reachable, dropped",
+        "A step, transition or action of a sequential function chart cannot be reached \
+         from an initial step (or an action of the POU is used by no step), so it is left \
+         out, as the editors' translator leaves it out: it never runs.\n\
+         \n    INITIAL_STEP S0 -> S1 -> S0;  S9 -> S10 -> S9   (* warning: the island S9/S10 is dropped *)";
+    W_SFC_MACRO_STEP = "W0761", "macro step ignored",
+        "A `<macroStep>` is ignored, as the editors' translator ignores it: the chart is \
+         written out without it, and what hangs on it only is not reached. Draw the \
+         macro step's body in the chart itself.\n\
+         \n    <macroStep localId=\"5\" name=\"M\"> ... </macroStep>   <!-- warning -->";
 
     // ---- PLC-UD STL (E072x) ----
     STL_UNEXPECTED_CHAR = "E0720", "unexpected character in STL",

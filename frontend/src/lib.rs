@@ -169,11 +169,19 @@ pub fn compile(
     for (k, &(file, lang)) in inputs.iter().enumerate() {
         nothing_to_compile(sources, file, lang, units.get(k), &mut diagnostics);
     }
+    // The units the IL front end read (IL files, the ST views of PLCopen files).
+    let il_files: Vec<FileId> = units
+        .iter()
+        .zip(inputs)
+        .filter(|(_, (_, lang))| matches!(lang, Lang::Il | Lang::Ld))
+        .map(|(u, _)| u.file)
+        .collect();
     let charts = sfc::expand(
         &mut units,
         sources,
         &mut interner,
         opts.sfc,
+        &il_files,
         &mut diagnostics,
     );
     if let Some(g) = globals_unit(&mut units, &mut interner) {

@@ -76,6 +76,11 @@ impl Names {
         }
     }
 
+    /// Marks a name as taken (a step or an action of a chart).
+    pub(super) fn take(&mut self, name: &str) {
+        self.taken.insert(name.to_ascii_uppercase());
+    }
+
     /// Marks the labels of a body as taken.
     fn labels(&mut self, elems: &[Element]) {
         for e in elems {
@@ -408,6 +413,7 @@ pub(super) fn emit_body(
         no_pull: 0,
         eno: FxHashMap::default(),
         results: FxHashMap::default(),
+        pull: false,
     };
     if ctx.opts.profile == Profile::Iec {
         l.once();
@@ -429,6 +435,60 @@ pub(super) fn emit_body(
         );
     }
     lines
+}
+
+/// What the conditions read from one graph have computed so far: the blocks called,
+/// the variables holding ENOs and function results. Kept from one condition to the
+/// next, so that a block is called once however many conditions read it.
+#[derive(Default)]
+pub(super) struct CondState {
+    done: Vec<bool>,
+    eno: FxHashMap<usize, String>,
+    results: FxHashMap<(usize, usize), String>,
+}
+
+/// The value reaching the input of `sink` (a coil or an output variable of `g`) as a
+/// transition condition, `:= <value>;`, and the statements it needs first: the calls
+/// of the blocks it reads (pulled on demand, under every profile) and of its edge
+/// detectors, which the chart runs in its `COMPUTE_FUNCTION_BLOCKS` action (as the
+/// editors' translator does). Hidden variables go to `names`.
+pub(super) fn emit_condition(
+    g: &Graph,
+    sink: usize,
+    state: &mut CondState,
+    ctx: &PouCtx,
+    names: &mut Names,
+    diags: &mut Vec<Diagnostic>,
+) -> (Vec<Line>, Line) {
+    if state.done.len() != g.elems.len() {
+        state.done = vec![false; g.elems.len()];
+    }
+    let mut l = Lower {
+        g,
+        ctx,
+        names,
+        diags,
+        lines: Vec::new(),
+        done: std::mem::take(&mut state.done),
+        memo: FxHashMap::default(),
+        no_pull: 0,
+        eno: std::mem::take(&mut state.eno),
+        results: std::mem::take(&mut state.results),
+        pull: true,
+    };
+    let x = l.input(sink, 0);
+    let mut parts = vec![part(":= ")];
+    render(&x, true, &mut parts);
+    parts.push(part(";"));
+    state.done = l.done;
+    state.eno = l.eno;
+    state.results = l.results;
+    let cond = Line {
+        parts,
+        elem: Some(sink),
+        label: false,
+    };
+    (l.lines, cond)
 }
 
 /// A value computed once (profile iec): the formula, and whether it is power flow
@@ -454,6 +514,9 @@ struct Lower<'a, 'g, 'n, 'd> {
     eno: FxHashMap<usize, String>,
     /// The variables holding a function's outputs, by port.
     results: FxHashMap<(usize, usize), String>,
+    /// Blocks are pulled when a value needs them, under every profile (a transition
+    /// condition).
+    pull: bool,
 }
 
 impl Lower<'_, '_, '_, '_> {
@@ -729,7 +792,7 @@ impl Lower<'_, '_, '_, '_> {
                 // The editors pull a block when a statement needs it; the standard
                 // runs it at its place, so a block not run yet (a loop cut there) is
                 // read as it is: the previous scan's value.
-                if !self.done[s.elem] && self.no_pull == 0 && !iec {
+                if !self.done[s.elem] && self.no_pull == 0 && (!iec || self.pull) {
                     self.block(s.elem);
                 }
                 let x = self.output_term(s.elem, s.port);
@@ -893,7 +956,10 @@ impl Lower<'_, '_, '_, '_> {
 
     /// The variable holding ENO of block `e` (made when the block is called).
     fn eno_of(&mut self, e: usize) -> Option<String> {
-        if !self.done[e] && self.no_pull == 0 && self.ctx.opts.profile != Profile::Iec {
+        if !self.done[e]
+            && self.no_pull == 0
+            && (self.ctx.opts.profile != Profile::Iec || self.pull)
+        {
             self.block(e);
         }
         self.eno.get(&e).cloned()

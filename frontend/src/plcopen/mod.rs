@@ -13,7 +13,8 @@
 //!    messages name the POU, the rung and the element's `localId`, at the element in
 //!    the XML);
 //! 3. `body` (with `order` and `wiretype`): each LD and FBD body lowered to ST
-//!    statements, with the meaning of the chosen [`Profile`];
+//!    statements, with the meaning of the chosen [`Profile`]; `sfc`: each sequential
+//!    function chart written as textual SFC, as the editors' translator writes it;
 //! 4. `view`: the whole file written as IEC source text (declarations by `decls`),
 //!    with a map from that text back to the XML (`map`);
 //! 5. the front end's parser, which compiles that text like any source file;
@@ -28,6 +29,7 @@ mod decls;
 pub(crate) mod graph;
 pub mod map;
 mod order;
+mod sfc;
 pub(crate) mod text;
 mod view;
 mod wiretype;
@@ -39,6 +41,8 @@ mod project_tests;
 mod tests;
 #[cfg(test)]
 mod tests_body;
+#[cfg(test)]
+mod tests_sfc;
 
 use plcc_ir::diag::{Diagnostic, FileId};
 
@@ -190,12 +194,45 @@ fn convert_here(
                 .collect()
         })
         .collect();
+    // The graphs of the charts' graphical conditions, and of the POUs' transitions.
+    let charts: Vec<Option<graph::Graph>> = project
+        .pous
+        .iter()
+        .map(|pou| match &pou.body {
+            xml::Body::Sfc(s) => {
+                let cx = graph::Context {
+                    file,
+                    pou: &pou.name.value,
+                    function: function(pou),
+                    strict: opts.strict_rungs,
+                    ladder: false,
+                };
+                graph::build(&s.graphic, &cx, diags)
+            }
+            _ => None,
+        })
+        .collect();
+    let transitions: Vec<Vec<Option<graph::Graph>>> = project
+        .pous
+        .iter()
+        .map(|pou| {
+            pou.transitions
+                .iter()
+                .map(|t| {
+                    let label = format!("{}.{}", pou.name.value, t.name.value);
+                    build_graph(&t.body, &label, function(pou), file, opts, diags)
+                })
+                .collect()
+        })
+        .collect();
     if errors(diags) > before {
         return None;
     }
     let graphs = view::Graphs {
         bodies: &graphs,
         actions: &actions,
+        charts: &charts,
+        transitions: &transitions,
     };
     let out = view::write(&project, &graphs, file, name, opts, diags);
     if errors(diags) > before {

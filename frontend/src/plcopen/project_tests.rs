@@ -584,7 +584,7 @@ fn transitions_are_read() {
     assert_eq!(t[0].name.value, "t1");
     assert!(matches!(&t[0].body, xml::Body::St(s) if s.value == "x AND NOT x"));
     assert!(matches!(&t[1].body, xml::Body::Graph(xml::Graphic::Ld, e) if e.len() == 4));
-    // They are not compiled (SFC bodies are not, yet): the view has no trace of them.
+    // Only a chart (an SFC body) uses them: beside an ST body the view has no trace of them.
     assert!(!view(&xml).contains("t1"));
 }
 

@@ -4,22 +4,27 @@
 //! and the resources) `VAR_GLOBAL`, every POU its interface as declarations, its
 //! body and its actions (as CODESYS writes them: `ACTION a: ... END_ACTION` inside
 //! the POU): graphical bodies (LD, FBD) as the lowering writes them, ST and IL
-//! bodies as written; then the configurations. The front end compiles that text like
+//! bodies as written, charts (SFC) as textual SFC (`sfc`); then the configurations. The front end compiles that text like
 //! any source file, and `--emit il` prints it.
 
 use super::body::{emit_body, write_hidden, Line, Names, PouCtx};
 use super::decls::{comment_safe, write_config, write_group, write_type, write_value};
 use super::graph::Graph;
 use super::map::Out;
+use super::sfc;
 use super::xml::{Body, Pou, PouKind, Project, Text, Var, VarGroup};
 use plcc_ir::diag::{Diagnostic, FileId};
 
 /// The checked graphs of a project's graphical bodies.
 pub(crate) struct Graphs<'a, 'm> {
-    /// `bodies[i]`: of the body of POU `i`.
+    /// `bodies[i]`: of the body of POU `i` (LD or FBD).
     pub bodies: &'a [Option<Graph<'m>>],
     /// `actions[i][k]`: of the body of action `k` of POU `i`.
     pub actions: &'a [Vec<Option<Graph<'m>>>],
+    /// `charts[i]`: of the graphical conditions of the chart of POU `i` (SFC).
+    pub charts: &'a [Option<Graph<'m>>],
+    /// `transitions[i][k]`: of the body of transition `k` of POU `i`.
+    pub transitions: &'a [Vec<Option<Graph<'m>>>],
 }
 
 /// Writes the view of a project. Errors (a block output whose type cannot be told,
@@ -71,6 +76,17 @@ pub(crate) fn write(
     for (i, pou) in project.pous.iter().enumerate() {
         let body = graphs.bodies.get(i).and_then(Option::as_ref);
         let actions = graphs.actions.get(i).map_or(&[][..], Vec::as_slice);
+        if let Body::Sfc(sfc) = &pou.body {
+            let inp = sfc::Inputs {
+                pou,
+                sfc,
+                graph: graphs.charts.get(i).and_then(Option::as_ref),
+                transitions: graphs.transitions.get(i).map_or(&[][..], Vec::as_slice),
+                actions,
+            };
+            write_chart(&mut o, &cx, &inp, diags);
+            continue;
+        }
         write_pou(&mut o, &cx, pou, body, actions, diags);
     }
     for c in &project.configs {
@@ -100,17 +116,8 @@ struct Cx<'a> {
     opts: &'a super::Options,
 }
 
-/// A POU: its interface, body and actions. The graphical bodies (of the POU and of
-/// its actions) are lowered first, with one set of hidden names, so that their
-/// hidden variables are declared once, in the POU, before the code.
-fn write_pou(
-    o: &mut Out,
-    cx: &Cx,
-    pou: &Pou,
-    body: Option<&Graph>,
-    actions: &[Option<Graph>],
-    diags: &mut Vec<Diagnostic>,
-) {
+/// The start of a POU: its head and its interface.
+fn write_head(o: &mut Out, pou: &Pou) -> &'static str {
     o.push("\n");
     let (head, end) = match pou.kind {
         PouKind::Program => ("PROGRAM ", "END_PROGRAM"),
@@ -129,6 +136,45 @@ fn write_pou(
     for g in &pou.groups {
         write_group(o, g);
     }
+    end
+}
+
+/// A POU whose body is a sequential function chart: its interface, the hidden
+/// variables of its graphical conditions and actions, and the chart as textual SFC
+/// (with the actions it uses inside, `ACTION a: ... END_ACTION`).
+fn write_chart(o: &mut Out, cx: &Cx, inp: &sfc::Inputs, diags: &mut Vec<Diagnostic>) {
+    let pou = inp.pou;
+    let mut names = Names::new(cx.project, pou, cx.globals);
+    let ctx = PouCtx {
+        project: cx.project,
+        pou: &pou.name.value,
+        pou_vars: &pou.groups,
+        globals: cx.globals,
+        file: cx.file,
+        opts: cx.opts,
+    };
+    let chart = sfc::plan(inp, &ctx, &mut names, diags);
+    let end = write_head(o, pou);
+    write_hidden(o, &names);
+    if let Some(chart) = &chart {
+        sfc::write(o, chart);
+    }
+    o.push(end);
+    o.push("\n");
+}
+
+/// A POU: its interface, body and actions. The graphical bodies (of the POU and of
+/// its actions) are lowered first, with one set of hidden names, so that their
+/// hidden variables are declared once, in the POU, before the code.
+fn write_pou(
+    o: &mut Out,
+    cx: &Cx,
+    pou: &Pou,
+    body: Option<&Graph>,
+    actions: &[Option<Graph>],
+    diags: &mut Vec<Diagnostic>,
+) {
+    let end = write_head(o, pou);
     let mut names = (body.is_some() || actions.iter().any(Option::is_some))
         .then(|| Names::new(cx.project, pou, cx.globals));
     let mut lower = |g: &Graph, label: &str, diags: &mut Vec<Diagnostic>| -> Vec<Line> {
@@ -188,7 +234,7 @@ fn write_body(o: &mut Out, body: &Body, lowered: Option<(&Graph, &[Line])>) {
 }
 
 /// An ST or IL body as written, on lines of its own.
-fn write_text(o: &mut Out, t: &Text) {
+pub(super) fn write_text(o: &mut Out, t: &Text) {
     o.push("    ");
     o.push_text(t);
     if !t.value.ends_with('\n') {

@@ -11,7 +11,7 @@
 //!
 //! The reading is split by subject: `types` (data types, variables, values),
 //! `pou` (POUs), `instances` (configurations and CODESYS's vendor data), `elements`
-//! (the elements of graphical bodies).
+//! (the elements of graphical bodies), `sfc` (sequential function charts).
 
 use super::Dialect;
 use crate::codes;
@@ -22,9 +22,11 @@ use std::ops::Range;
 mod elements;
 mod instances;
 mod pou;
+mod sfc;
 mod types;
 
 pub(crate) use instances::duration_ms;
+pub(crate) use sfc::{ActionTarget, Cond, NodeKind, Sfc, SfcNode};
 
 /// The namespaces of PLCopen TC6 project files.
 const NAMESPACES: [&str; 3] = [
@@ -138,8 +140,7 @@ pub(crate) struct Pou {
     pub body: Body,
     /// `<actions>`: bodies that share the POU's variables, called by name.
     pub actions: Vec<NamedBody>,
-    /// `<transitions>` (the conditions of an SFC body), read but not compiled yet.
-    #[allow(dead_code, reason = "read for SFC bodies, which are not compiled yet")]
+    /// `<transitions>`: the conditions an SFC body refers to by name.
     pub transitions: Vec<NamedBody>,
     /// The start tag, for messages about the POU.
     pub tag: Range<u32>,
@@ -168,6 +169,8 @@ pub(crate) enum Body {
     Il(Text),
     /// A ladder diagram or a function block diagram: its elements in document order.
     Graph(Graphic, Vec<Element>),
+    /// A sequential function chart (the body of a POU only).
+    Sfc(Sfc),
 }
 
 /// The language of a graphical body.

@@ -1,7 +1,7 @@
 //! The rules a chart must keep before it is written as ST, and what the writer needs
 //! to know about it ([`Facts`]).
 
-use crate::ast::{Ident, Pou, Sfc};
+use crate::ast::{self, Ident, Pou, Sfc};
 use crate::codes;
 use crate::intern::{Interner, Symbol};
 use plcc_ir::diag::{Diagnostic, Span};
@@ -132,10 +132,35 @@ pub(super) fn check(
             steps.insert(s.name.sym, k);
         }
     }
+    // A step is a variable of the POU (`S.X`): its name must be free.
+    for s in &chart.steps {
+        let var = pou
+            .var_blocks
+            .iter()
+            .flat_map(|b| &b.decls)
+            .flat_map(|d| &d.names)
+            .find(|n| n.sym == s.name.sym);
+        let action = pou.actions.iter().find(|a| a.name.sym == s.name.sym);
+        if let Some(other) = var.map(|v| v.span).or(action.map(|a| a.name.span)) {
+            diags.push(
+                err(
+                    codes::E_DUPLICATE,
+                    format!(
+                        "step `{}` has the name of a {} of `{}` (names ignore case)",
+                        name_of(&s.name),
+                        if var.is_some() { "variable" } else { "action" },
+                        name_of(&pou.name)
+                    ),
+                    s.name.span,
+                )
+                .with_secondary(other, "declared here"),
+            );
+        }
+    }
     if !chart.steps.iter().any(|s| s.initial) {
         diags.push(
             err(
-                codes::SFC_NO_INITIAL_STEP,
+                codes::SFC_TEXT_NO_INITIAL_STEP,
                 format!(
                     "the chart of `{}` has no INITIAL_STEP: nothing would ever be active",
                     name_of(&pou.name)
@@ -153,7 +178,7 @@ pub(super) fn check(
                     Some(&k) => Some(k),
                     None => {
                         diags.push(err(
-                            codes::SFC_UNKNOWN_STEP,
+                            codes::SFC_TEXT_UNKNOWN_STEP,
                             format!("no step named `{}` in this chart", name_of(i)),
                             i.span,
                         ));
@@ -184,7 +209,7 @@ pub(super) fn check(
                     None => {
                         diags.push(
                             err(
-                                codes::SFC_QUALIFIER,
+                                codes::SFC_TEXT_QUALIFIER,
                                 format!("`{}` is not an action qualifier", name_of(q)),
                                 q.span,
                             )
@@ -198,7 +223,7 @@ pub(super) fn check(
             };
             match (qual.timed(), a.duration) {
                 (true, None) => diags.push(err(
-                    codes::SFC_QUALIFIER,
+                    codes::SFC_TEXT_QUALIFIER,
                     format!(
                         "qualifier {} needs a duration: `{}({}, T#2s);`",
                         interner.name(a.qualifier.expect("timed").sym),
@@ -208,7 +233,7 @@ pub(super) fn check(
                     a.span,
                 )),
                 (false, Some(d)) => diags.push(err(
-                    codes::SFC_QUALIFIER,
+                    codes::SFC_TEXT_QUALIFIER,
                     "only the qualifiers L, D, SD, DS and SL take a duration",
                     d,
                 )),
@@ -220,6 +245,21 @@ pub(super) fn check(
                         used_actions.push(i);
                     }
                     Target::Action(i)
+                }
+                None if !declared_bool(pou, a.action.sym, interner) => {
+                    diags.push(
+                        err(
+                            codes::SFC_TEXT_ACTION,
+                            format!(
+                                "`{}` is neither an ACTION of `{}` nor a BOOL variable: an association drives an action",
+                                name_of(&a.action),
+                                name_of(&pou.name)
+                            ),
+                            a.action.span,
+                        )
+                        .with_note("declare `ACTION name: … END_ACTION` in the POU, or use a BOOL variable"),
+                    );
+                    continue;
                 }
                 None => match facts.vars.iter().position(|v| v.sym == a.action.sym) {
                     Some(v) => Target::Var(v),
@@ -307,4 +347,17 @@ fn warn_structure(
             ));
         }
     }
+}
+
+/// False only when `name` is declared in `pou` with a type other than BOOL (a
+/// variable declared elsewhere, a global, is left to the type checks).
+fn declared_bool(pou: &Pou, name: Symbol, interner: &Interner) -> bool {
+    for b in &pou.var_blocks {
+        for d in &b.decls {
+            if d.names.iter().any(|n| n.sym == name) {
+                return matches!(&d.ty, ast::TypeSpec::Named(t) if interner.name(t.sym) == "BOOL");
+            }
+        }
+    }
+    true
 }

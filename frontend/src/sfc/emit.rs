@@ -78,6 +78,17 @@ pub(super) fn pou(
         out.push("\nEND_ACTION\n");
         out.mark(start, a.span.start..a.span.end);
     }
+    // The transitions written in IL, each an action storing its result.
+    for (k, t) in chart.transitions.iter().enumerate() {
+        let (true, Some(c)) = (t.il, t.condition) else {
+            continue;
+        };
+        let start = out.pos();
+        let _ = writeln!(out.text, "ACTION __SFC_TC{k}:");
+        w.copy(out, c);
+        let _ = writeln!(out.text, "\nST __SFC_C{k}\nEND_ACTION");
+        out.mark(start, t.head.start..t.head.end);
+    }
     out.push(match pou.kind {
         PouKind::Program => "END_PROGRAM\n\n",
         PouKind::FunctionBlock => "END_FUNCTION_BLOCK\n\n",
@@ -85,7 +96,8 @@ pub(super) fn pou(
     });
 }
 
-struct W<'a> {
+/// The writer of one chart's POU.
+pub(super) struct W<'a> {
     text: &'a str,
     chart: &'a Sfc,
     pou: &'a Pou,
@@ -113,13 +125,19 @@ impl W<'_> {
         out.mark(start, from.start..from.end);
     }
 
-    fn step_name(&self, k: usize) -> &str {
+    /// The file's text at `span`.
+    pub(super) fn source(&self, span: Span) -> &str {
+        &self.text[span.start as usize..span.end as usize]
+    }
+
+    /// The name of step `k` as written.
+    pub(super) fn step_name(&self, k: usize) -> &str {
         let s = &self.chart.steps[k].name.span;
         &self.text[s.start as usize..s.end as usize]
     }
 
     /// The name of the control of `target`.
-    fn control(&self, t: Target, facts: &Facts) -> String {
+    pub(super) fn control(&self, t: Target, facts: &Facts) -> String {
         match t {
             Target::Action(i) => {
                 let s = self.pou.actions[i].name.span;
@@ -147,7 +165,7 @@ impl W<'_> {
         }
         let control_ty = match profile {
             Profile::Matiec => "__SFC_MATIEC_ACTION",
-            _ => "__SFC_ACTION_CONTROL",
+            _ => "__SFC_ACTION",
         };
         for &i in &facts.actions {
             let a = &self.pou.actions[i];
@@ -160,6 +178,18 @@ impl W<'_> {
         for (v, name) in facts.vars.iter().enumerate() {
             let c = self.control(Target::Var(v), facts);
             self.gen(out, &format!("  {c} : {control_ty};\n"), name.span);
+        }
+        if profile != Profile::Matiec {
+            for t in targets(facts) {
+                for (name, ty, init) in super::control::state(self, t, facts) {
+                    let _ = writeln!(out.text, "  {name} : {ty}{init};");
+                }
+            }
+        }
+        for (k, t) in self.chart.transitions.iter().enumerate() {
+            if t.il {
+                let _ = writeln!(out.text, "  __SFC_C{k} : BOOL;");
+            }
         }
         out.push("  __SFC_STARTED : BOOL;\n  __SFC_LAST : TIME;\nEND_VAR\nVAR_TEMP\n  __SFC_DT : TIME;\n");
         for k in 0..self.chart.transitions.len() {
@@ -204,11 +234,17 @@ impl W<'_> {
             let start = out.pos();
             let _ = write!(
                 out.text,
-                "__SFC_F{t} := FALSE;\nIF {} THEN\n  IF (",
+                "__SFC_F{t} := FALSE;\nIF {} THEN\n",
                 self.sources_active(facts, t)
             );
-            if let Some(c) = tr.condition {
-                self.copy(out, c);
+            if tr.il {
+                // The IL list is an action of its own that stores its result.
+                let _ = write!(out.text, "  __SFC_TC{t}();\n  IF (__SFC_C{t}");
+            } else {
+                out.push("  IF (");
+                if let Some(c) = tr.condition {
+                    self.copy(out, c);
+                }
             }
             let _ = write!(out.text, ") THEN\n    __SFC_F{t} := TRUE;\n");
             if exclusive || tr.priority.is_some() {
@@ -249,71 +285,14 @@ impl W<'_> {
     /// combined, each action run while its A is TRUE, in declaration order; a BOOL
     /// variable action takes its control's Q.
     fn actions_iec(&self, out: &mut Out, facts: &Facts) {
-        let targets: Vec<Target> = facts
-            .actions
-            .iter()
-            .map(|&i| Target::Action(i))
-            .chain((0..facts.vars.len()).map(Target::Var))
-            .collect();
-        for t in targets {
+        for t in targets(facts) {
             let c = self.control(t, facts);
-            let mine: Vec<_> = facts.assocs.iter().filter(|a| a.target == t).collect();
             let from = match t {
                 Target::Action(i) => self.pou.actions[i].name.span,
                 Target::Var(v) => facts.vars[v].span,
             };
             let start = out.pos();
-            let _ = write!(out.text, "{c}(");
-            let mut first = true;
-            let inputs = [
-                ("N", &[Qual::N, Qual::Bare][..]),
-                ("R", &[Qual::R]),
-                ("S", &[Qual::S]),
-                ("L", &[Qual::L]),
-                ("D", &[Qual::D]),
-                ("P", &[Qual::P]),
-                ("P1", &[Qual::P1]),
-                ("P0", &[Qual::P0]),
-                ("SD", &[Qual::Sd]),
-                ("DS", &[Qual::Ds]),
-                ("SL", &[Qual::Sl]),
-            ];
-            for (input, quals) in inputs {
-                let steps: Vec<String> = mine
-                    .iter()
-                    .filter(|a| quals.contains(&a.qual))
-                    .map(|a| format!("{}.X", self.step_name(a.step)))
-                    .collect();
-                if steps.is_empty() {
-                    continue;
-                }
-                if !first {
-                    out.push(", ");
-                }
-                first = false;
-                let _ = write!(out.text, "{input} := {}", steps.join(" OR "));
-            }
-            // The duration: the timed association's whose step is active (the
-            // first one's when none is).
-            let timed: Vec<_> = mine.iter().filter(|a| a.qual.timed()).collect();
-            if !timed.is_empty() {
-                if !first {
-                    out.push(", ");
-                }
-                out.push("T := ");
-                for a in timed.iter().skip(1).rev() {
-                    let _ = write!(out.text, "SEL({}.X, ", self.step_name(a.step));
-                }
-                out.push("(");
-                self.copy(out, timed[0].duration.expect("timed"));
-                out.push(")");
-                for a in timed.iter().skip(1) {
-                    out.push(", (");
-                    self.copy(out, a.duration.expect("timed"));
-                    out.push("))");
-                }
-            }
-            out.push(");\n");
+            super::control::write(self, out, t, facts);
             match t {
                 Target::Action(_) => {
                     let _ = writeln!(out.text, "IF {c}.A THEN __SFC_A_{c}(); END_IF;");
@@ -329,12 +308,7 @@ impl W<'_> {
 
     /// matiec's evolution (reference §6.2, steps 3 to 10; 1 and 2 are [`Self::clock`]).
     fn matiec(&self, out: &mut Out, facts: &Facts) {
-        let targets: Vec<Target> = facts
-            .actions
-            .iter()
-            .map(|&i| Target::Action(i))
-            .chain((0..facts.vars.len()).map(Target::Var))
-            .collect();
+        let targets = targets(facts);
         // 3: the states start off; stored timers count down.
         for &t in &targets {
             let c = self.control(t, facts);
@@ -470,4 +444,15 @@ impl W<'_> {
         let s = facts.vars[v].span;
         self.text[s.start as usize..s.end as usize].to_string()
     }
+}
+
+/// What the chart drives: its ACTIONs in declaration order, then its BOOL variables in
+/// order of first use.
+fn targets(facts: &Facts) -> Vec<Target> {
+    facts
+        .actions
+        .iter()
+        .map(|&i| Target::Action(i))
+        .chain((0..facts.vars.len()).map(Target::Var))
+        .collect()
 }

@@ -12,6 +12,7 @@
 //! Every later stage sees ordinary ST, so every target runs charts.
 
 mod check;
+mod control;
 mod emit;
 #[cfg(test)]
 mod tests;
@@ -79,12 +80,15 @@ pub fn view_name(name: &str) -> String {
 
 /// Writes every chart of `units` as ST, parses it and puts the POUs it gives in place
 /// of the charts. Returns the views (for [`remap_all`]). A chart with errors is
-/// reported and left out (its POU keeps an empty body).
+/// reported and left out (its POU keeps an empty body). The text of a file in
+/// `il_files` (IL, and the ST views of PLCopen files), or with a transition written
+/// in IL, is read by the IL front end, which tells IL bodies from ST ones.
 pub fn expand(
     units: &mut [SourceUnit],
     sources: &mut SourceMap,
     interner: &mut Interner,
     profile: Profile,
+    il_files: &[FileId],
     diags: &mut Vec<Diagnostic>,
 ) -> Vec<View> {
     let mut views = Vec::new();
@@ -103,6 +107,7 @@ pub fn expand(
         let text = sources.get(file).text.clone();
         let mut out = crate::plcopen::map::Out::default();
         let mut made = Vec::new();
+        let mut il = il_files.contains(&file);
         for &k in &charts {
             let Item::Pou(pou) = &mut unit.items[k] else {
                 continue;
@@ -114,6 +119,7 @@ pub fn expand(
                 continue;
             }
             let facts = facts.expect("checked without errors");
+            il |= chart.transitions.iter().any(|t| t.il);
             emit::pou(&mut out, pou, &chart, &facts, &text, profile);
             made.push(k);
         }
@@ -122,7 +128,11 @@ pub fn expand(
         }
         let name = view_name(&sources.get(file).name);
         let st = sources.add(SourceFile::new(name, out.text));
-        let parsed = crate::st::parse(st, &sources.get(st).text, interner, diags);
+        let parsed = if il {
+            crate::il::parse(st, &sources.get(st).text, interner, diags)
+        } else {
+            crate::st::parse(st, &sources.get(st).text, interner, diags)
+        };
         // The generated file holds the charts' POUs in the order of `made`.
         let mut pous = parsed
             .items

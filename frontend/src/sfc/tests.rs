@@ -13,7 +13,14 @@ fn expand(text: &str, profile: super::Profile) -> (Vec<Diagnostic>, Option<Strin
     let mut diags = Vec::new();
     let unit = crate::st::parse(file, text, &mut interner, &mut diags);
     let mut units = vec![unit];
-    let views = super::expand(&mut units, &mut sources, &mut interner, profile, &mut diags);
+    let views = super::expand(
+        &mut units,
+        &mut sources,
+        &mut interner,
+        profile,
+        &[],
+        &mut diags,
+    );
     let st = views.first().map(|v| sources.get(v.st).text.to_string());
     (diags, st)
 }

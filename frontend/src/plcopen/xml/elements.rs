@@ -40,40 +40,47 @@ impl Reader<'_, '_> {
     }
 
     /// The connections of every `connectionPointIn` child of `n`.
-    fn conns(&mut self, n: Node) -> Vec<Conn> {
+    pub(super) fn conns(&mut self, n: Node) -> Vec<Conn> {
         let mut out = Vec::new();
         for cp in kids(n, "connectionPointIn") {
-            for c in kids(cp, "connection") {
-                let Some(r) = self.attr(c, "refLocalId") else {
-                    self.error(
-                        codes::LD_BAD_ELEMENT,
-                        "`<connection>` needs a `refLocalId` attribute",
-                        self.qname(c),
-                    );
-                    continue;
-                };
-                let Ok(from) = r.value.parse::<u64>() else {
-                    self.error(
-                        codes::LD_BAD_ELEMENT,
-                        format!("`refLocalId=\"{}\"` is not a number", r.value),
-                        r.range,
-                    );
-                    continue;
-                };
-                let param = self
-                    .attr(c, "formalParameter")
-                    .filter(|p| !p.value.is_empty());
-                let tag = {
-                    let start = c.range().start as u32;
-                    let a = c.attribute_node("refLocalId").expect("checked above");
-                    start..(a.range_value().end as u32 + 1).min(self.src.len() as u32)
-                };
-                out.push(Conn {
-                    from,
-                    param,
-                    range: tag,
-                });
-            }
+            out.extend(self.point_conns(cp));
+        }
+        out
+    }
+
+    /// The connections of one `connectionPointIn`.
+    pub(super) fn point_conns(&mut self, cp: Node) -> Vec<Conn> {
+        let mut out = Vec::new();
+        for c in kids(cp, "connection") {
+            let Some(r) = self.attr(c, "refLocalId") else {
+                self.error(
+                    codes::LD_BAD_ELEMENT,
+                    "`<connection>` needs a `refLocalId` attribute",
+                    self.qname(c),
+                );
+                continue;
+            };
+            let Ok(from) = r.value.parse::<u64>() else {
+                self.error(
+                    codes::LD_BAD_ELEMENT,
+                    format!("`refLocalId=\"{}\"` is not a number", r.value),
+                    r.range,
+                );
+                continue;
+            };
+            let param = self
+                .attr(c, "formalParameter")
+                .filter(|p| !p.value.is_empty());
+            let tag = {
+                let start = c.range().start as u32;
+                let a = c.attribute_node("refLocalId").expect("checked above");
+                start..(a.range_value().end as u32 + 1).min(self.src.len() as u32)
+            };
+            out.push(Conn {
+                from,
+                param,
+                range: tag,
+            });
         }
         out
     }
@@ -121,7 +128,7 @@ impl Reader<'_, '_> {
         }
     }
 
-    fn element(&mut self, e: Node, name: &str, pou: &str) -> Option<Element> {
+    pub(super) fn element(&mut self, e: Node, name: &str, pou: &str) -> Option<Element> {
         let tag = self.tag(e);
         let Some(id_text) = self.attr(e, "localId") else {
             let known = matches!(
@@ -233,9 +240,29 @@ impl Reader<'_, '_> {
                         })
                         .collect()
                 };
-                let inputs = ports(self, "inputVariables", true);
+                let mut inputs = ports(self, "inputVariables", true);
                 let in_outs = ports(self, "inOutVariables", true);
-                let outputs = ports(self, "outputVariables", false);
+                let mut outputs = ports(self, "outputVariables", false);
+                // Pins written without names (`formalParameter=""`, as some tools
+                // export a standard function's box): the inputs by position, IN1,
+                // IN2…, and the only output OUT, when every pin of the kind is
+                // unnamed.
+                let unnamed = |p: &Port| p.name.as_ref().is_none_or(|n| n.value.is_empty());
+                let named = |p: &mut Port, n: String| {
+                    p.name = Some(Text {
+                        value: n,
+                        range: tag.clone(),
+                        exact: Vec::new(),
+                    });
+                };
+                if !inputs.is_empty() && inputs.iter().all(unnamed) {
+                    for (k, p) in inputs.iter_mut().enumerate() {
+                        named(p, format!("IN{}", k + 1));
+                    }
+                }
+                if outputs.len() == 1 && unnamed(&outputs[0]) {
+                    named(&mut outputs[0], "OUT".into());
+                }
                 for p in inputs.iter().chain(&in_outs).chain(&outputs) {
                     if p.name.as_ref().is_none_or(|n| n.value.is_empty()) {
                         self.error(

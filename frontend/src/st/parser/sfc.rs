@@ -52,25 +52,28 @@ impl<'a> Parser<'a> {
         let mut indicators = Vec::new();
         if self.at(Tok::Ident) {
             let q = self.bump();
+            let timed = matches!(
+                self.slice(q).to_ascii_uppercase().as_str(),
+                "L" | "D" | "SD" | "DS" | "SL"
+            );
             qualifier = Some(self.ident(q));
+            // A timed qualifier's first item is its duration (a TIME expression);
+            // the other items are indicator variables.
+            let mut k = 0;
             while self.eat(Tok::Comma) {
-                // A duration is a TIME expression; an indicator is a variable name.
                 let start = self.tok().start;
-                let plain_name = self.at(Tok::Ident)
-                    && matches!(self.peek_at(1), Tok::Comma | Tok::RParen)
-                    && duration.is_some();
-                if plain_name {
-                    let t = self.bump();
-                    indicators.push(self.ident(t));
-                } else {
+                if (timed && k == 0) || !self.at(Tok::Ident) {
                     self.expr()?;
-                    if duration.is_none() {
-                        duration = Some(self.span_from(start));
-                    } else {
+                    if duration.is_some() {
                         self.expected("an indicator variable");
                         return None;
                     }
+                    duration = Some(self.span_from(start));
+                } else {
+                    let t = self.bump();
+                    indicators.push(self.ident(t));
                 }
+                k += 1;
             }
         }
         self.expect_close(Tok::RParen, "`)`", open)?;
@@ -137,6 +140,7 @@ impl<'a> Parser<'a> {
             return None;
         }
         let to = self.sfc_steps()?;
+        let mut il = false;
         let condition = if self.eat(Tok::Assign) {
             let start = self.tok().start;
             self.expr()?;
@@ -144,15 +148,23 @@ impl<'a> Parser<'a> {
             self.expect_tok(Tok::Semi, "`;` after the condition")?;
             Some(span)
         } else if self.at(Tok::Colon) {
-            let t = self.tok();
-            let d = Diagnostic::error(
-                codes::E_UNSUPPORTED,
-                "not supported yet: a transition condition in IL (write it as `:= expression;`)",
-                self.tspan(t),
-            );
-            self.emit(self.pos, d);
-            self.skip_member_body(Tok::EndTransition);
-            return None;
+            // An IL list whose result is the condition: kept as text, up to
+            // END_TRANSITION (`crate::sfc` makes it an action of its own).
+            self.bump();
+            let start = self.tok().start;
+            while !self.at(Tok::EndTransition)
+                && !self.at(Tok::Eof)
+                && !is_pou_end(self.peek())
+                && self.member_at().is_none()
+            {
+                self.bump();
+            }
+            if !self.at(Tok::EndTransition) {
+                self.expected("`END_TRANSITION` after the IL condition");
+                return None;
+            }
+            il = true;
+            Some(self.sp(start, self.prev_end().max(start)))
         } else {
             self.expected("`:=` and the transition's condition");
             self.skip_member_body(Tok::EndTransition);
@@ -172,6 +184,7 @@ impl<'a> Parser<'a> {
             from,
             to,
             condition,
+            il,
             head,
             span,
         })
