@@ -675,7 +675,7 @@ pub fn compile(a: &CompileArgs) -> u8 {
     let mode = match emit {
         Some("ir-raw") => Mode::Unoptimised,
         // The views of ladder files need the front end's checks only.
-        Some("il") | Some("st") | Some("ld-text") => Mode::Check,
+        Some("il") | Some("st") | Some("ld-text") | Some("sfc-text") => Mode::Check,
         _ => Mode::Full,
     };
     let (build, module) = match build_and_report(
@@ -695,6 +695,22 @@ pub fn compile(a: &CompileArgs) -> u8 {
             print_module(&module, &PrintOptions::default()).into_bytes(),
             "ir".to_string(),
         ),
+        Some("sfc-text") => {
+            if build.charts.is_empty() {
+                return usage(
+                    "`--emit sfc-text` draws sequential function charts: the files have none",
+                );
+            }
+            let mut s = String::new();
+            for v in &build.charts {
+                if build.charts.len() > 1 {
+                    s.push_str(&format!("(* {} *)\n", build.sources.get(v.file).name));
+                }
+                s.push_str(&v.drawing);
+            }
+            std::mem::forget(module);
+            (s.into_bytes(), "sfc.txt".to_string())
+        }
         Some(view @ ("il" | "st" | "ld-text")) => {
             if build.ladder.is_empty() {
                 return usage(format!(
@@ -767,7 +783,8 @@ pub fn compile(a: &CompileArgs) -> u8 {
     };
     build.report_timings(&[]);
     let out = a.output.clone().unwrap_or_else(|| {
-        if matches!(ext.as_str(), "ir" | "il" | "st" | "ld-text") && a.output.is_none() {
+        if matches!(ext.as_str(), "ir" | "il" | "st" | "ld-text" | "sfc.txt") && a.output.is_none()
+        {
             PathBuf::from("-")
         } else {
             a.files[0].with_extension(&ext)

@@ -59,6 +59,8 @@ pub struct Build {
     pub syntax: Vec<plcc_frontend::ast::SourceUnit>,
     /// The PLCopen files and their views (see [`plcc_frontend::Compiled::ladder`]).
     pub ladder: Vec<plcc_frontend::plcopen::View>,
+    /// The files with charts (see [`plcc_frontend::Compiled::charts`]).
+    pub charts: Vec<plcc_frontend::sfc::View>,
 }
 
 impl Build {
@@ -204,6 +206,7 @@ pub fn build_sources_with_library(
         timings,
         syntax: compiled.syntax,
         ladder: compiled.ladder,
+        charts: compiled.charts,
     })
 }
 

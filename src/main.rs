@@ -70,7 +70,8 @@ struct BuildArgs {
     output: Option<PathBuf>,
     /// What to produce: ir (optimised IR), ir-raw (unoptimised), st (what the LD and
     /// FBD bodies of a PLCopen XML file become: the project as IEC text; `il` is the
-    /// same), ld-text (the diagrams drawn in ASCII), or a target output (host: obj,
+    /// same), ld-text (the diagrams drawn in ASCII), sfc-text (sequential function
+    /// charts drawn as text), or a target output (host: obj,
     /// header; pic16f876a: asm, hex; vmasm: xcp, asm)
     #[arg(long)]
     emit: Option<String>,

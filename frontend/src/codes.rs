@@ -233,6 +233,14 @@ codes! {
          POU nor a BOOL variable (which the chart then sets while the action is active).\n\
          \n    VAR count : INT; END_VAR\n    STEP Run: count(N); END_STEP      (* error: count is an INT *)\n\
          \n    STEP Run: Counting(N); END_STEP   (* fix: ACTION Counting: count := count + 1; END_ACTION *)";
+    SFC_TEXT_UNSAFE = "E0784", "unsafe chart",
+        "A transition can activate a step that is already active: two tokens would meet on \
+         one step. It comes from a simultaneous divergence whose branches are closed by a \
+         selective convergence (or a loop that laps a branch). IEC 61131-3 rejects such \
+         charts; under `--sfc matiec` it is warning W0782, as matiec runs it (the step \
+         stays active).\n\
+         \n    TRANSITION FROM S0 TO (A, B) := go; END_TRANSITION\n    TRANSITION FROM A TO C := x; END_TRANSITION\n    TRANSITION FROM B TO C := y; END_TRANSITION   (* error: A and B both reach C *)\n\
+         \n    TRANSITION FROM (A, B) TO C := x AND y; END_TRANSITION   (* fix *)";
     W_SFC_UNREACHABLE = "W0780", "step never active",
         "No chain of transitions leads to the step from an initial step, so it is never \
          active and its actions never run. matiec and the editors drop such steps \
@@ -242,6 +250,16 @@ codes! {
         "No transition leaves the step: once active, it stays active for good. That may be \
          meant (a final state); usually a transition is missing.\n\
          \n    TRANSITION FROM Run TO Stop := halt; END_TRANSITION\n    (* and none FROM Stop *)";
+    W_SFC_UNSAFE = "W0782", "unsafe chart, run as matiec runs it",
+        "Under `--sfc matiec`, an unsafe chart (E0784: a transition can activate a step \
+         that is already active) is compiled, as matiec compiles it: the step stays \
+         active and the second token is lost.\n\
+         \n    TRANSITION FROM S0 TO (A, B) := go; END_TRANSITION\n    TRANSITION FROM A TO C := x; END_TRANSITION\n    TRANSITION FROM B TO C := y; END_TRANSITION";
+    W_SFC_DEAD_TRANSITION = "W0783", "transition that never fires",
+        "The steps before the transition are never active together, whatever the \
+         conditions: it waits for steps of branches that exclude each other (a selective \
+         divergence closed by a simultaneous convergence).\n\
+         \n    TRANSITION FROM S0 TO A := x; END_TRANSITION\n    TRANSITION FROM S0 TO B := y; END_TRANSITION\n    TRANSITION FROM (A, B) TO C := TRUE; END_TRANSITION   (* warning *)";
 
     // ---- ladder diagrams in PLCopen XML (E074x, E075x) ----
     LD_MALFORMED_XML = "E0740", "malformed XML",

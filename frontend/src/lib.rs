@@ -89,6 +89,8 @@ pub struct Compiled {
     pub syntax: Vec<ast::SourceUnit>,
     /// The PLCopen files of the build and their views (for `--emit st`, `ld-text`).
     pub ladder: Vec<plcopen::View>,
+    /// The files with charts, their ST and drawings (for `--emit sfc-text`).
+    pub charts: Vec<sfc::View>,
 }
 
 /// Parses, checks and lowers the given files (already in `sources`) to one module.
@@ -197,6 +199,7 @@ pub fn compile(
             timings,
             syntax: units,
             ladder,
+            charts,
         };
     }
     let started = std::time::Instant::now();
@@ -218,6 +221,7 @@ pub fn compile(
         timings,
         syntax: units,
         ladder,
+        charts,
     }
 }
 

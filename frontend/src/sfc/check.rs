@@ -113,6 +113,7 @@ pub(super) fn check(
     chart: &Sfc,
     text: &str,
     interner: &Interner,
+    profile: super::Profile,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<Facts> {
     let name_of = |i: &Ident| text[i.span.start as usize..i.span.end as usize].to_string();
@@ -297,17 +298,55 @@ pub(super) fn check(
             }
         }
     }
-    warn_structure(chart, &facts, &name_of, diags);
+    let reached = warn_structure(chart, &facts, &name_of, diags);
+    if let Some(safety) = super::safety::check(chart, &facts) {
+        if let Some((t, k)) = safety.unsafe_at {
+            let tr = &chart.transitions[t];
+            let msg = format!(
+                "unsafe chart: transition #{} can activate step `{}` while it is active \
+                 (a simultaneous branch closed by a selective convergence, or a loop that \
+                 laps a branch)",
+                t + 1,
+                name_of(&chart.steps[k].name)
+            );
+            if profile == super::Profile::Matiec {
+                diags.push(
+                    Diagnostic::warning(codes::W_SFC_UNSAFE, msg, tr.head)
+                        .with_note("matiec runs it: the step simply stays active"),
+                );
+            } else {
+                diags.push(
+                    err(codes::SFC_TEXT_UNSAFE, msg, tr.head)
+                        .with_secondary(chart.steps[k].name.span, "this step")
+                        .with_note("close a simultaneous divergence with a simultaneous convergence: `TRANSITION FROM (A, B) TO C`"),
+                );
+                return None;
+            }
+        }
+        for t in safety.dead {
+            if facts.from[t].iter().all(|&k| reached[k]) {
+                diags.push(Diagnostic::warning(
+                    codes::W_SFC_DEAD_TRANSITION,
+                    format!(
+                        "transition #{} never fires: its steps are never active together",
+                        t + 1
+                    ),
+                    chart.transitions[t].head,
+                ));
+            }
+        }
+    }
     Some(facts)
 }
 
 /// Warnings about the chart's shape: steps no token can reach, steps with no way out.
+/// Returns which steps a token can reach.
 fn warn_structure(
     chart: &Sfc,
     facts: &Facts,
     name_of: &dyn Fn(&Ident) -> String,
     diags: &mut Vec<Diagnostic>,
-) {
+) -> Vec<bool> {
     let n = chart.steps.len();
     let mut reached = vec![false; n];
     let mut work: Vec<usize> = (0..n).filter(|&k| chart.steps[k].initial).collect();
@@ -347,6 +386,7 @@ fn warn_structure(
             ));
         }
     }
+    reached
 }
 
 /// False only when `name` is declared in `pou` with a type other than BOOL (a

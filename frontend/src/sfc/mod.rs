@@ -13,7 +13,9 @@
 
 mod check;
 mod control;
+mod draw;
 mod emit;
+mod safety;
 #[cfg(test)]
 mod tests;
 
@@ -71,6 +73,8 @@ pub struct View {
     pub st: FileId,
     /// From the generated text to the file.
     pub map: SpanMap,
+    /// The charts drawn as text (`--emit sfc-text`).
+    pub drawing: String,
 }
 
 /// The name of the ST view of the charts of file `name`.
@@ -108,13 +112,18 @@ pub fn expand(
         let mut out = crate::plcopen::map::Out::default();
         let mut made = Vec::new();
         let mut il = il_files.contains(&file);
+        let mut drawing = String::new();
         for &k in &charts {
             let Item::Pou(pou) = &mut unit.items[k] else {
                 continue;
             };
             let chart = pou.sfc.take().expect("a chart");
+            if !drawing.is_empty() {
+                drawing.push('\n');
+            }
+            drawing.push_str(&draw::draw(pou, &chart, &text));
             let before = diags.iter().filter(|d| d.is_error()).count();
-            let facts = check::check(pou, &chart, &text, interner, diags);
+            let facts = check::check(pou, &chart, &text, interner, profile, diags);
             if diags.iter().filter(|d| d.is_error()).count() > before {
                 continue;
             }
@@ -147,6 +156,7 @@ pub fn expand(
             file,
             st,
             map: out.map,
+            drawing,
         });
     }
     views

@@ -83,3 +83,79 @@ fn the_profiles_order_the_phases() {
     assert!(mat.contains("act : __SFC_MATIEC_ACTION"));
     assert!(mat.contains("IF act.Q THEN __SFC_A_act(); END_IF;"));
 }
+
+#[test]
+fn a_chart_is_drawn_step_by_step() {
+    let text = "PROGRAM p VAR go, full : BOOL; END_VAR\n\
+         INITIAL_STEP Idle: END_STEP\n\
+         TRANSITION (PRIORITY := 1) FROM Idle TO (Fill, Wait) := go; END_TRANSITION\n\
+         STEP Fill: Valve(L, T#2s); END_STEP\n\
+         STEP Wait: END_STEP\n\
+         TRANSITION FROM (Fill, Wait) TO Idle := full; END_TRANSITION\n\
+         STEP Lost: END_STEP\n\
+         ACTION Valve: full := TRUE; END_ACTION\n\
+         END_PROGRAM";
+    let mut sources = SourceMap::default();
+    let file = sources.add(SourceFile::new("t.st".to_string(), text.to_string()));
+    let mut interner = Interner::new();
+    let mut diags = Vec::new();
+    let mut units = vec![crate::st::parse(file, text, &mut interner, &mut diags)];
+    let views = super::expand(
+        &mut units,
+        &mut sources,
+        &mut interner,
+        super::Profile::Iec,
+        &[],
+        &mut diags,
+    );
+    assert_eq!(
+        views[0].drawing,
+        "PROGRAM p: 4 steps, 2 transitions\n\
+         \n[[Idle]]  (initial)\n  +--> #1 go  ==> (Fill, Wait)  PRIORITY 1\n\
+         \n[Fill]\n  | L  Valve (T#2s)\n  +--> #2 full  (with Wait)  --> Idle\n\
+         \n[Wait]\n  +--> #2 (under Fill)\n\
+         \n[Lost]  (never reached)\n  (no way out)\n"
+    );
+}
+
+#[test]
+fn unsafe_charts_are_errors_under_iec_and_warnings_under_matiec() {
+    let chart = "PROGRAM p VAR go, x, y : BOOL; END_VAR\n\
+         INITIAL_STEP S0: END_STEP\n\
+         TRANSITION FROM S0 TO (A, B) := go; END_TRANSITION\n\
+         STEP A: END_STEP\nSTEP B: END_STEP\n\
+         TRANSITION FROM A TO C := x; END_TRANSITION\n\
+         TRANSITION FROM B TO C := y; END_TRANSITION\n\
+         STEP C: END_STEP\n\
+         TRANSITION FROM C TO S0 := TRUE; END_TRANSITION\n\
+         END_PROGRAM";
+    let (d, st) = expand(chart, super::Profile::Iec);
+    assert_eq!(codes(&d), ["E0784"]);
+    assert!(st.is_none());
+    let (d, st) = expand(chart, super::Profile::Matiec);
+    assert_eq!(codes(&d), ["W0782"]);
+    assert!(st.is_some());
+    // Closed by a simultaneous convergence, it is safe.
+    let safe = chart.replace(
+        "TRANSITION FROM A TO C := x; END_TRANSITION\nTRANSITION FROM B TO C := y; END_TRANSITION",
+        "TRANSITION FROM (A, B) TO C := x AND y; END_TRANSITION",
+    );
+    let (d, _) = expand(&safe, super::Profile::Iec);
+    assert!(d.is_empty(), "{:?}", codes(&d));
+}
+
+#[test]
+fn a_convergence_of_exclusive_branches_never_fires() {
+    let (d, st) = expand(
+        "PROGRAM p VAR x, y : BOOL; END_VAR\n\
+         INITIAL_STEP S0: END_STEP\n\
+         TRANSITION FROM S0 TO A := x; END_TRANSITION\n\
+         TRANSITION FROM S0 TO B := y; END_TRANSITION\n\
+         STEP A: END_STEP\nSTEP B: END_STEP\n\
+         TRANSITION FROM (A, B) TO S0 := TRUE; END_TRANSITION\n\
+         END_PROGRAM",
+        super::Profile::Iec,
+    );
+    assert_eq!(codes(&d), ["W0783"]);
+    assert!(st.is_some());
+}
