@@ -96,11 +96,19 @@ pub(super) struct Facts {
     pub from: Vec<Vec<usize>>,
     /// See `from`.
     pub to: Vec<Vec<usize>>,
+    /// The editors' `COMPUTE_FUNCTION_BLOCKS` action (the blocks of graphical
+    /// conditions), outside the matiec profile: run before the transitions are
+    /// tested, not through its association (the index in the POU's actions).
+    pub compute: Option<usize>,
     /// The order transitions are tested in: prioritised ones by ascending
     /// priority (equal ones in text order) inserted before the first of higher
     /// priority, unprioritised ones where they come (as matiec orders them).
     pub order: Vec<usize>,
 }
+
+/// The action in which the editors' translator puts the blocks and edge detectors of
+/// graphical transition conditions (reference §5.3).
+const COMPUTE_FUNCTION_BLOCKS: &str = "COMPUTE_FUNCTION_BLOCKS";
 
 fn err(code: &'static str, msg: impl Into<String>, span: Span) -> Diagnostic {
     Diagnostic::error(code, msg.into(), span)
@@ -241,6 +249,13 @@ pub(super) fn check(
                 _ => {}
             }
             let target = match actions.get(&a.action.sym) {
+                Some(&i)
+                    if profile != super::Profile::Matiec
+                        && interner.name(a.action.sym) == COMPUTE_FUNCTION_BLOCKS =>
+                {
+                    facts.compute = Some(i);
+                    continue;
+                }
                 Some(&i) => {
                     if !used_actions.contains(&i) {
                         used_actions.push(i);

@@ -229,6 +229,12 @@ impl W<'_> {
     /// deactivating its steps at once when `exclusive`, else only prioritised
     /// ones), then the activation of the steps after the fired ones.
     fn transitions(&self, out: &mut Out, facts: &Facts, exclusive: bool) {
+        // The blocks of graphical conditions, computed for the tests (not under
+        // matiec, which runs them with the actions, after the tests: one scan late).
+        if let Some(i) = facts.compute {
+            self.copy(out, self.pou.actions[i].name.span);
+            out.push("();\n");
+        }
         for &t in &facts.order {
             let tr = &self.chart.transitions[t];
             let start = out.pos();
