@@ -293,6 +293,14 @@ pub(super) fn check(
             });
         }
     }
+    // Every ACTION of the chart's POU has its flags (`A.Q`), driven or not (one no
+    // step drives never runs), but the blocks of graphical conditions, called
+    // directly.
+    for k in 0..pou.actions.len() {
+        if !used_actions.contains(&k) && facts.compute != Some(k) {
+            used_actions.push(k);
+        }
+    }
     used_actions.sort_unstable();
     facts.actions = used_actions;
     if diags[before..].iter().any(|d| d.is_error()) {
