@@ -395,9 +395,14 @@ impl<'a, 'm, 'c> Reg<'a, 'm, 'c, '_> {
         if *initial {
             self.initial.push(idx);
         }
+        self.lead_to(i, &name.value.clone());
+    }
+
+    /// The transitions before element `i` lead to the step `step`.
+    fn lead_to(&mut self, i: usize, step: &str) {
         for t in self.transitions_before(i) {
             if let Some(ti) = self.transition(t) {
-                self.trans[ti].to.push(name.value.clone());
+                self.trans[ti].to.push(step.to_string());
             }
         }
     }
@@ -424,11 +429,7 @@ impl<'a, 'm, 'c> Reg<'a, 'm, 'c, '_> {
             self.diags.push(d);
             // The transitions before it still lead somewhere (no second error).
         }
-        for t in self.transitions_before(i) {
-            if let Some(ti) = self.transition(t) {
-                self.trans[ti].to.push(target.value.clone());
-            }
-        }
+        self.lead_to(i, &target.value.clone());
     }
 
     /// An action block: its step registered, and the step's associations.

@@ -4,6 +4,21 @@
 use super::*;
 
 impl Reader<'_, '_> {
+    /// The number of a `localId` attribute, else an error with `code`.
+    pub(super) fn local_id(&mut self, t: Text, code: &'static str) -> Option<u64> {
+        match t.value.parse::<u64>() {
+            Ok(id) => Some(id),
+            Err(_) => {
+                self.error(
+                    code,
+                    format!("`localId=\"{}\"` is not a number", t.value),
+                    t.range,
+                );
+                None
+            }
+        }
+    }
+
     pub(super) fn ld(&mut self, body: Node, pou: &str) -> Vec<Element> {
         let mut out = Vec::new();
         for e in elements(body) {
@@ -155,14 +170,7 @@ impl Reader<'_, '_> {
             self.error(codes::LD_BAD_ELEMENT, msg, tag);
             return None;
         };
-        let Ok(id) = id_text.value.parse::<u64>() else {
-            self.error(
-                codes::LD_BAD_ELEMENT,
-                format!("`localId=\"{}\"` is not a number", id_text.value),
-                id_text.range,
-            );
-            return None;
-        };
+        let id = self.local_id(id_text, codes::LD_BAD_ELEMENT)?;
         let pos = Self::position(e);
         let negated = e.attribute("negated").is_some_and(truthy);
         let out_y = Self::point_y(pos, kid(e, "connectionPointOut"));

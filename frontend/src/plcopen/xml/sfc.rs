@@ -206,14 +206,7 @@ impl Reader<'_, '_> {
             );
             return None;
         };
-        let Ok(id) = id_text.value.parse::<u64>() else {
-            self.error(
-                codes::SFC_BAD_ELEMENT,
-                format!("`localId=\"{}\"` is not a number", id_text.value),
-                id_text.range,
-            );
-            return None;
-        };
+        let id = self.local_id(id_text, codes::SFC_BAD_ELEMENT)?;
         let kind = match name {
             "step" => {
                 let Some(name) = self.attr(e, "name").filter(|n| !n.value.is_empty()) else {
