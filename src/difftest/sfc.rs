@@ -222,9 +222,20 @@ pub fn compile(p: &SfcProg, profile: Profile) -> Result<plcc_ir::Module, String>
 /// the reference) for `scans` scans. `Agree` counts the machine runs of all three
 /// builds (a machine the program does not fit is not run).
 pub fn check(p: &SfcProg, machines: &[&str], scans: u32, seed: u64) -> Verdict {
+    check_under(p, &PROFILES, machines, scans, seed)
+}
+
+/// [`check`] under some of the profiles only (of [`PROFILES`]).
+pub fn check_under(
+    p: &SfcProg,
+    profiles: &[(Profile, &str)],
+    machines: &[&str],
+    scans: u32,
+    seed: u64,
+) -> Verdict {
     let inputs = p.input_paths();
     let mut ran = 0;
-    for (profile, name) in PROFILES {
+    for &(profile, name) in profiles {
         let module = match compile(p, profile) {
             Ok(m) => m,
             Err(e) => return Verdict::Rejected(format!("--sfc {name}: {e}")),
@@ -285,4 +296,88 @@ pub fn run_seed(seed: u64, machines: &[&str], scans: u32, avoid: bool) -> Result
         reproducer: small.to_st(),
         ext: "st",
     })
+}
+
+/// What a program shows of the features of charts, by name (`qualifier SD`,
+/// `simultaneous divergence`, …), for the test that the generator reaches each.
+pub fn features(p: &SfcProg) -> std::collections::BTreeSet<String> {
+    let mut f = std::collections::BTreeSet::new();
+    let mut pous = vec![&p.main];
+    if let Some((fb, instances)) = &p.fb {
+        f.insert("FB with a chart".to_string());
+        if instances.len() > 1 {
+            f.insert("FB instantiated twice".into());
+        }
+        pous.push(fb);
+    }
+    for pou in pous {
+        let c = &pou.chart;
+        if c.steps.iter().filter(|s| s.initial).count() > 1 {
+            f.insert("two initial steps".into());
+        }
+        for s in &c.steps {
+            for a in &s.assocs {
+                f.insert(format!("qualifier {}", a.qual));
+                if pou.bools.contains(&a.target) {
+                    f.insert("BOOL variable as action".into());
+                } else if !c.actions.iter().any(|x| x.name == a.target) {
+                    f.insert("declared BOOL variable as action".into());
+                }
+            }
+        }
+        let index = |n: &String| c.steps.iter().position(|s| &s.name == n);
+        for t in &c.transitions {
+            if t.priority.is_some() {
+                f.insert("PRIORITY".into());
+            }
+            if t.to.len() > 1 {
+                f.insert("simultaneous divergence".into());
+            }
+            if t.from.len() > 1 {
+                f.insert("simultaneous convergence".into());
+            }
+            if t.from.iter().any(|s| t.to.contains(s)) {
+                f.insert("self loop".into());
+            }
+            if let ([a], [b]) = (&t.from[..], &t.to[..]) {
+                if let (Some(i), Some(j)) = (index(a), index(b)) {
+                    if j != i && j != (i + 1) % c.steps.len() {
+                        f.insert("jump".into());
+                    }
+                }
+            }
+            let cond = expr_text(&t.cond);
+            if cond.contains(".T >= T#") {
+                f.insert("S.T in a condition".into());
+            }
+            if cond.contains(".X") {
+                f.insert("S.X in a condition".into());
+            }
+            if cond.contains(".Q") {
+                f.insert("A.Q in a condition".into());
+            }
+        }
+        for s in &c.steps {
+            let leaving = c.transitions.iter().filter(|t| t.from.contains(&s.name));
+            if leaving.count() > 1 {
+                f.insert("selective divergence".into());
+            }
+            let entering = c.transitions.iter().filter(|t| t.to.contains(&s.name));
+            if entering.count() > 1 {
+                f.insert("selective convergence".into());
+            }
+        }
+        let bodies = c
+            .actions
+            .iter()
+            .map(|a| stmts_text(&a.body, 1))
+            .collect::<String>();
+        if bodies.contains(".Q") {
+            f.insert("A.Q in an action".into());
+        }
+        if bodies.contains(".T") || bodies.contains(".X") {
+            f.insert("step flag in an action".into());
+        }
+    }
+    f
 }
