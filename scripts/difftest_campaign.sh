@@ -3,13 +3,15 @@
 # in JOBS parallel slices, on TARGETS (default interp, host, vmasm and pic16f876a;
 # plain vmasm runs in the addressing mode each seed picks). Reproducers of any
 # finding go to OUT; each slice's summary line goes to OUT/log.txt. LANGUAGE is st
-# (random ST programs, the default) or xml (random PLCopen projects with LD and FBD
-# bodies; reproducers are .xml files).
+# (random ST programs, the default), xml (random PLCopen projects with LD and FBD
+# bodies; reproducers are .xml files) or sfc (random sequential function charts,
+# each under the three --sfc profiles).
 #
 #   scripts/difftest_campaign.sh [FIRST] [COUNT] [JOBS] [OUT] [TARGETS] [LANGUAGE]
 #   scripts/difftest_campaign.sh 1 100000 2 difftest-out
 #   scripts/difftest_campaign.sh 1 20000 2 out-vm interp,host,vmasm
 #   scripts/difftest_campaign.sh 1 20000 2 out-xml interp,host,vmasm,pic16f876a xml
+#   scripts/difftest_campaign.sh 1 3000 2 out-sfc interp,host,vmasm,pic16f876a sfc
 set -eu
 first=${1:-1}
 count=${2:-10000}

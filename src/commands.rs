@@ -242,9 +242,9 @@ pub struct DifftestArgs<'a> {
     pub out: Option<&'a Path>,
     /// Print every program and its verdict.
     pub show: bool,
-    /// `st` or `xml`.
+    /// `st`, `xml` or `sfc`.
     pub lang: &'a str,
-    /// PLCopen programs also with the constructs of the known front-end bugs.
+    /// PLCopen and SFC programs also with the constructs of the known front-end bugs.
     pub known_bugs: bool,
 }
 
@@ -256,10 +256,15 @@ pub struct DifftestArgs<'a> {
 pub fn difftest(a: &DifftestArgs) -> u8 {
     use crate::difftest::plcopen;
     let (first, count, scans, out) = (a.first, a.count, a.scans, a.out);
-    let xml = match a.lang {
-        "st" => false,
-        "xml" => true,
-        l => return usage(format!("`{l}` is not a language of difftest (st or xml)")),
+    let (xml, sfc) = match a.lang {
+        "st" => (false, false),
+        "xml" => (true, false),
+        "sfc" => (false, true),
+        l => {
+            return usage(format!(
+                "`{l}` is not a language of difftest (st, xml or sfc)"
+            ))
+        }
     };
     let machines: Vec<&str> = a.machines.split(',').map(str::trim).collect();
     for m in &machines {
@@ -275,7 +280,7 @@ pub fn difftest(a: &DifftestArgs) -> u8 {
     }
     let started = std::time::Instant::now();
     let mut findings = 0;
-    let (mut profiles, mut twins) = (0, 0);
+    let (mut profiles, mut twins, mut runs) = (0, 0, 0u64);
     for seed in first..first.saturating_add(count) {
         if a.show && xml {
             let p = plcopen::program_with(seed, a.known_bugs);
@@ -286,6 +291,10 @@ pub fn difftest(a: &DifftestArgs) -> u8 {
                 "{}<!-- seed {seed}: {v:?} -->\n<!-- the twin:\n{twin}-->",
                 p.to_xml()
             );
+        } else if a.show && sfc {
+            let p = crate::difftest::sfc::program_with(seed, !a.known_bugs);
+            let v = crate::difftest::sfc::check(&p, &machines, scans, seed);
+            println!("(* seed {seed}: {v:?} *)\n{}", p.to_st());
         } else if a.show {
             let p = crate::difftest::program(seed);
             let v = crate::difftest::check(&p, &machines, scans, seed);
@@ -296,6 +305,14 @@ pub fn difftest(a: &DifftestArgs) -> u8 {
             profiles += plcopen::profiles_agree(&p) as u64;
             twins += plcopen::twin::twin(&p, !a.known_bugs).is_some() as u64;
             plcopen::run_seed(seed, &machines, scans, a.known_bugs)
+        } else if sfc {
+            match crate::difftest::sfc::run_seed(seed, &machines, scans, !a.known_bugs) {
+                Ok(n) => {
+                    runs += n as u64;
+                    None
+                }
+                Err(f) => Some(f),
+            }
         } else {
             crate::difftest::run_seed(seed, &machines, scans)
         };
@@ -316,6 +333,12 @@ pub fn difftest(a: &DifftestArgs) -> u8 {
     }
     let what = if xml {
         format!("PLCopen programs ({twins} beside their twin, {profiles} under every profile)")
+    } else if sfc {
+        format!(
+            "charts (each under --sfc iec, matiec and codesys; {runs} machine runs of the \
+             agreeing ones, of {} possible: the others did not fit)",
+            3 * machines.len() as u64 * (count - findings)
+        )
     } else {
         "programs".to_string()
     };

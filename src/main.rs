@@ -152,20 +152,21 @@ enum Command {
         /// vmasm:mode=32a)
         #[arg(long, default_value = "interp,host,vmasm,pic16f876a")]
         targets: String,
-        /// Scans per program
-        #[arg(long, default_value_t = 5)]
-        scans: u32,
+        /// Scans per program (default 5; 10 with --lang sfc)
+        #[arg(long)]
+        scans: Option<u32>,
         /// Where to write the shrunk reproducers
         #[arg(long)]
         out: Option<PathBuf>,
         /// Print every program and its verdict
         #[arg(long)]
         show: bool,
-        /// The language of the programs: st (random ST programs) or xml (random
-        /// PLCopen projects with LD and FBD bodies)
+        /// The language of the programs: st (random ST programs), xml (random
+        /// PLCopen projects with LD and FBD bodies) or sfc (random sequential
+        /// function charts, each under the three --sfc profiles)
         #[arg(long, default_value = "st")]
         lang: String,
-        /// With --lang xml: also generate the constructs of the front-end bugs known
+        /// With --lang xml or sfc: also generate the constructs of the front-end bugs known
         /// so far, which the generator otherwise steers around (TESTING.md)
         #[arg(long)]
         known_bugs: bool,
@@ -261,7 +262,7 @@ fn main() -> ExitCode {
             first: seed,
             count,
             machines: &targets,
-            scans,
+            scans: scans.unwrap_or(if lang == "sfc" { 10 } else { 5 }),
             out: out.as_deref(),
             show,
             lang: &lang,

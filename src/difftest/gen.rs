@@ -502,6 +502,9 @@ pub struct Gen<'r> {
     rng: &'r mut Rng,
     prog: Prog,
     depth: u32,
+    /// Names expressions may read besides the program's variables (an SFC's step
+    /// and action flags: `S1.X`, `S1.T`, `A0.Q`); nothing assigns them.
+    pub extra: Vec<(String, T)>,
 }
 
 /// The fields of the STRUCT variables `r1`, `r2` (type `Rec`, see [`Prog::to_st`])
@@ -530,7 +533,8 @@ const RAW: [&str; 6] = [
     "r1.d[LIMIT(0, r2.a, 2)] := r1.d[0] * 3;",
 ];
 
-fn lit(rng: &mut Rng, t: T) -> Expr {
+/// A random literal of type `t`.
+pub(crate) fn lit(rng: &mut Rng, t: T) -> Expr {
     let text = match t {
         T::Bool => if rng.chance(50) { "TRUE" } else { "FALSE" }.to_string(),
         T::Real | T::Lreal => {
@@ -617,7 +621,29 @@ impl<'r> Gen<'r> {
                 dropped: Vec::new(),
             },
             depth: 0,
+            extra: Vec::new(),
         }
+    }
+
+    /// A generator of statements and expressions over the declarations of `prog`
+    /// (its body is not used).
+    pub fn over(rng: &'r mut Rng, prog: Prog) -> Gen<'r> {
+        Gen {
+            rng,
+            prog,
+            depth: 0,
+            extra: Vec::new(),
+        }
+    }
+
+    /// The random generator.
+    pub fn rng(&mut self) -> &mut Rng {
+        self.rng
+    }
+
+    /// The program the generator works on.
+    pub fn prog(&self) -> &Prog {
+        &self.prog
     }
 
     /// A whole program.
@@ -763,6 +789,12 @@ impl<'r> Gen<'r> {
         v.extend(
             self.prog
                 .inputs
+                .iter()
+                .filter(|(_, vt)| *vt == t)
+                .map(|(n, _)| n.clone()),
+        );
+        v.extend(
+            self.extra
                 .iter()
                 .filter(|(_, vt)| *vt == t)
                 .map(|(n, _)| n.clone()),

@@ -8,6 +8,7 @@
 pub mod gen;
 pub mod plcopen;
 mod print;
+pub mod sfc;
 pub mod shrink;
 
 use crate::driver::{build_sources, BuildOptions};

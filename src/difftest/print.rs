@@ -223,10 +223,38 @@ fn print_stmts(body: &[Stmt], ind: usize, out: &mut String) {
     }
 }
 
+/// The text of an expression, as the printer writes it.
+pub(crate) fn expr_text(e: &Expr) -> String {
+    let mut s = String::new();
+    print_expr(e, &mut s);
+    s
+}
+
+/// The text of statements at indentation `ind` (the loops' control variables are
+/// named by their depth: `k1`, `w2`).
+pub(crate) fn stmts_text(body: &[Stmt], ind: usize) -> String {
+    let mut s = String::new();
+    print_stmts(body, ind, &mut s);
+    s
+}
+
 impl Prog {
     /// The ST text: a FUNCTION, FBs, the types, PROGRAM `main` and the
     /// CONFIGURATION, if any.
     pub fn to_st(&self) -> String {
+        let body = stmts_text(&self.body, 1);
+        let mut o = self.prelude();
+        o.push_str("PROGRAM main\n");
+        o.push_str(&self.decls(&body, ""));
+        o.push_str(&body);
+        o.push_str("END_PROGRAM\n");
+        o.push_str(&self.config_text());
+        o
+    }
+
+    /// The POUs and types before `main`: the FUNCTION `fun`, the FB `FB1`, the
+    /// types, and the VAR_IN_OUT POUs when the program has them.
+    pub(crate) fn prelude(&self) -> String {
         let mut o = String::new();
         let has = |d: &str| !self.dropped.iter().any(|x| x == d);
         if has("fun") {
@@ -259,7 +287,15 @@ impl Prog {
                 "FUNCTION_BLOCK FB2\nVAR_IN_OUT n : INT; s : Rec; d : ARRAY[0..2] OF DINT; END_VAR\nVAR_INPUT k : INT; END_VAR\nVAR_OUTPUT r : DINT; END_VAR\nVAR calls : INT; END_VAR\n    calls := calls + 1;\n    n := n * 2 + calls;\n    s.b := s.b + INT_TO_REAL(k);\n    s.d[LIMIT(0, n, 2)] := s.d[LIMIT(0, k, 2)] + d[1];\n    d[LIMIT(0, k, 2)] := INT_TO_DINT(s.a) - d[0];\n    r := s.d[0] + s.d[1] + s.d[2];\nEND_FUNCTION_BLOCK\n\n",
             );
         }
-        o.push_str("PROGRAM main\n");
+        o
+    }
+
+    /// The variable sections of `main` (or of a POU declared like it), through the
+    /// last END_VAR: `code` is the text of the body, whose loop control variables
+    /// are declared; `extra` is more declarations for the VAR section.
+    pub(crate) fn decls(&self, code: &str, extra: &str) -> String {
+        let mut o = String::new();
+        let has = |d: &str| !self.dropped.iter().any(|x| x == d);
         if !self.inputs.is_empty() {
             o.push_str("VAR_INPUT\n");
             for (n, t) in &self.inputs {
@@ -299,12 +335,10 @@ impl Prog {
             }
         }
         // The loops' control variables, as many as the body uses.
-        let mut body = String::new();
-        print_stmts(&self.body, 1, &mut body);
         for c in ['k', 'w'] {
             let used: Vec<String> = (1..=6)
                 .map(|i| format!("{c}{i}"))
-                .filter(|v| body.contains(&format!("{v} :=")))
+                .filter(|v| code.contains(&format!("{v} :=")))
                 .collect();
             if !used.is_empty() {
                 let _ = writeln!(o, "    {} : INT;", used.join(", "));
@@ -334,9 +368,14 @@ impl Prog {
                 et.name()
             );
         }
+        o.push_str(extra);
         o.push_str("END_VAR\n");
-        o.push_str(&body);
-        o.push_str("END_PROGRAM\n");
+        o
+    }
+
+    /// The CONFIGURATION, if the program has one.
+    fn config_text(&self) -> String {
+        let mut o = String::new();
         if let Some(c) = &self.config {
             o.push_str("\nCONFIGURATION cfg\n");
             if !c.globals.is_empty() {
