@@ -336,7 +336,8 @@ pub fn difftest(a: &DifftestArgs) -> u8 {
     } else if sfc {
         format!(
             "charts (each under --sfc iec, matiec and codesys; {runs} machine runs of the \
-             agreeing ones, of {} possible: the others did not fit)",
+             agreeing ones, of {} possible: the others did not fit the machine, or were the \
+             builds of unsafe charts, which iec and codesys refuse, E0784)",
             3 * machines.len() as u64 * (count - findings)
         )
     } else {
