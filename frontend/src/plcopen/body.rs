@@ -1269,10 +1269,24 @@ impl Lower<'_, '_, '_, '_> {
                 srcs.iter().find_map(|&s| source_type(self.g, &scope, s, 1))
             })
         };
+        // The other inputs' untyped literals: the kind of value they are (an integer
+        // literal makes the default `0`, which takes the literal's type).
+        let from_literals = || {
+            self.g.ins[e].iter().enumerate().find_map(|(p, srcs)| {
+                let other = input_name(k, p).unwrap_or("");
+                if other.eq_ignore_ascii_case(pin) || control_input(&f, other) {
+                    return None;
+                }
+                srcs.iter().find_map(|&s| match &self.g.elems[s.elem].kind {
+                    Kind::InVariable { expr, .. } => literal_kind(&expr.value),
+                    _ => None,
+                })
+            })
+        };
         let t = if let Some((src, _)) = f.split_once("_TO_") {
             Some(src.to_string())
         } else if matches!(f.as_str(), "GT" | "GE" | "EQ" | "NE" | "LE" | "LT") || passes_type(&f) {
-            from_inputs()
+            from_inputs().or_else(from_literals)
         } else {
             None
         };
@@ -1429,4 +1443,32 @@ fn join(s: &mut Vec<Part>, args: Vec<Vec<Part>>) {
         }
         s.extend(a);
     }
+}
+
+/// The kind of value an untyped literal is, as `default_input` names
+/// types: `ANY_INT` for an integer (whose default `0` then takes the literal's
+/// type), `REAL`, `BOOL`, `TIME`, `STRING`; `None` for anything else.
+fn literal_kind(text: &str) -> Option<String> {
+    let t = text.trim().to_ascii_uppercase();
+    let kind = if t == "TRUE" || t == "FALSE" {
+        "BOOL"
+    } else if t.starts_with("T#") || t.starts_with("TIME#") {
+        "TIME"
+    } else if t.starts_with('\'') {
+        "STRING"
+    } else if t
+        .trim_start_matches(['-', '+'])
+        .starts_with(|c: char| c.is_ascii_digit())
+    {
+        if t.contains('#') {
+            "ANY_INT"
+        } else if t.contains(['.', 'E']) {
+            "REAL"
+        } else {
+            "ANY_INT"
+        }
+    } else {
+        return None;
+    };
+    Some(kind.to_string())
 }
