@@ -195,6 +195,27 @@ fn an_unwired_function_input_takes_its_default_not_the_next_wire() {
 }
 
 #[test]
+fn an_unwired_comparison_input_beside_a_literal_takes_the_literals_kind() {
+    // EQ's output is BOOL; its other input, an untyped 4, says IN1 is a number.
+    let elems = [
+        in_var(1, "4"),
+        block(
+            2,
+            "EQ",
+            None,
+            &[("IN1", "", &[]), ("IN2", "", &[(1, "")])],
+            &[("OUT", "")],
+        ),
+        out_var(3, "x", &[(2, "OUT")]),
+    ]
+    .concat();
+    assert_eq!(
+        iec("FBD", &elems),
+        "_TMP_EQ2_OUT := EQ(IN1 := 0, IN2 := 4);\nx := _TMP_EQ2_OUT;"
+    );
+}
+
+#[test]
 fn a_variable_fed_by_a_disabled_function_is_not_written() {
     let elems = [
         in_var(1, "a"),
