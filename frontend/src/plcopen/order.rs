@@ -49,16 +49,15 @@ pub(crate) fn network(g: &Graph, members: &[usize]) -> Result<Vec<usize>, usize>
     while order.len() < members.len() {
         if ready.is_empty() {
             // A loop: its first block runs with what it has. (Only a block on a loop
-            // among the elements left: one that merely waits for a loop must wait.)
-            let on_loop = |b: usize| {
+            // among the elements left: one that merely waits for a loop must wait;
+            // and first a block whose inputs still missing all come from its own
+            // loops, so that a block fed by another loop waits for it.)
+            let reach = |b: usize| {
                 let mut seen = vec![false; n];
                 let mut stack = vec![b];
                 while let Some(x) = stack.pop() {
                     for port in &g.outs[x] {
                         for &(c, _) in port {
-                            if c == b {
-                                return true;
-                            }
                             if inside[c] && !done[c] && !seen[c] {
                                 seen[c] = true;
                                 stack.push(c);
@@ -66,19 +65,32 @@ pub(crate) fn network(g: &Graph, members: &[usize]) -> Result<Vec<usize>, usize>
                         }
                     }
                 }
-                false
+                seen
             };
-            let cut = members
-                .iter()
-                .copied()
-                .filter(|&e| {
-                    !done[e] && matches!(g.elems[e].kind, Kind::Block { .. }) && on_loop(e)
-                })
-                .min_by(|&a, &b| {
+            let first = |list: &mut dyn Iterator<Item = usize>| {
+                list.min_by(|&a, &b| {
                     key(&g.elems[a], a)
                         .partial_cmp(&key(&g.elems[b], b))
                         .unwrap_or(std::cmp::Ordering::Equal)
-                });
+                })
+            };
+            let on_loop: Vec<(usize, bool)> = members
+                .iter()
+                .copied()
+                .filter(|&e| !done[e] && matches!(g.elems[e].kind, Kind::Block { .. }))
+                .filter_map(|e| {
+                    let r = reach(e);
+                    r[e].then(|| {
+                        let closed = g.ins[e]
+                            .iter()
+                            .flatten()
+                            .all(|s| !inside[s.elem] || done[s.elem] || r[s.elem]);
+                        (e, closed)
+                    })
+                })
+                .collect();
+            let cut = first(&mut on_loop.iter().filter(|x| x.1).map(|x| x.0))
+                .or_else(|| first(&mut on_loop.iter().map(|x| x.0)));
             match cut {
                 Some(b) => ready.push(b),
                 None => {

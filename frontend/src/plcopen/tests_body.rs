@@ -216,6 +216,37 @@ fn an_unwired_comparison_input_beside_a_literal_takes_the_literals_kind() {
 }
 
 #[test]
+fn a_block_fed_by_another_loop_waits_for_it() {
+    // Two loops, each through one ADD; the first drawn (3) also reads the other's
+    // output: the other (2), whose only missing input is its own loop, runs first.
+    let elems = [
+        block(
+            3,
+            "ADD",
+            None,
+            &[("IN1", "", &[(3, "OUT")]), ("IN2", "", &[(2, "OUT")])],
+            &[("OUT", "")],
+        ),
+        in_var(1, "DINT#1"),
+        block(
+            2,
+            "ADD",
+            None,
+            &[("IN1", "", &[(2, "OUT")]), ("IN2", "", &[(1, "")])],
+            &[("OUT", "")],
+        ),
+        out_var(4, "x", &[(3, "OUT")]),
+    ]
+    .concat();
+    let st = iec("FBD", &elems);
+    let first = |s: &str| st.find(s).unwrap_or_else(|| panic!("`{s}` in\n{st}"));
+    assert!(
+        first("_TMP_ADD2_OUT := ADD") < first("_TMP_ADD3_OUT := ADD"),
+        "{st}"
+    );
+}
+
+#[test]
 fn a_variable_fed_by_a_disabled_function_is_not_written() {
     let elems = [
         in_var(1, "a"),
