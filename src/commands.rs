@@ -735,10 +735,20 @@ pub fn compile(a: &CompileArgs) -> u8 {
             std::mem::forget(module);
             (s.into_bytes(), "sfc.txt".to_string())
         }
+        Some("st") if build.ladder.is_empty() && !build.charts.is_empty() => {
+            // The ST the charts of ST and IL files are written as.
+            let mut s = String::new();
+            for v in &build.charts {
+                s.push_str(&format!("(* {} *)\n", build.sources.get(v.st).name));
+                s.push_str(&build.sources.get(v.st).text);
+            }
+            std::mem::forget(module);
+            (s.into_bytes(), "st".to_string())
+        }
         Some(view @ ("il" | "st" | "ld-text")) => {
             if build.ladder.is_empty() {
                 return usage(format!(
-                    "`--emit {view}` shows what PLCopen diagrams become: give a PLCopen XML file (.xml)"
+                    "`--emit {view}` shows what PLCopen diagrams (and sequential function charts) become: give a PLCopen XML file (.xml) or a file with a chart"
                 ));
             }
             let mut s = String::new();

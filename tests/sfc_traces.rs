@@ -304,3 +304,32 @@ fn graphical_condition_blocks_are_late_only_under_matiec() {
         }
     }
 }
+
+/// `plcc --emit sfc-text` draws a chart and `--emit st` shows the ST it is written
+/// as (a file of the repository: never skipped).
+#[test]
+fn the_cli_draws_a_chart_and_shows_its_st() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs/sfc/mixing_tank.st");
+    let run = |emit: &str| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_plcc"))
+            .args(["--emit", emit])
+            .arg(&file)
+            .output()
+            .expect("plcc runs");
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8(o.stdout).expect("UTF-8")
+    };
+    let drawing = run("sfc-text");
+    assert!(
+        drawing.starts_with("PROGRAM main: 7 steps, 6 transitions\n"),
+        "{drawing}"
+    );
+    assert!(
+        drawing.contains("[[Idle]]  (initial)\n  +--> #1 start  ==> (FillA, FillB)\n"),
+        "{drawing}"
+    );
+    assert!(drawing.contains("  | L  stirrer (T#40ms)\n"), "{drawing}");
+    let st = run("st");
+    assert!(st.contains("Idle : __SFC_STEP := (X := TRUE);"), "{st}");
+    assert!(st.contains("END_PROGRAM"), "{st}");
+}
