@@ -64,6 +64,20 @@ pub struct Build {
 }
 
 impl Build {
+    /// The module, else the build's first three errors joined by `; ` (for tests
+    /// and tools that report a failed build in one line).
+    pub fn into_module(self) -> Result<Module, String> {
+        self.module.ok_or_else(|| {
+            self.diagnostics
+                .iter()
+                .filter(|d| d.is_error())
+                .take(3)
+                .map(|d| d.to_string())
+                .collect::<Vec<_>>()
+                .join("; ")
+        })
+    }
+
     /// Prints the phase timings to standard error when `PLCC_TIME_PASSES` is set.
     pub fn report_timings(&self, extra: &[(&'static str, Duration)]) {
         if std::env::var_os("PLCC_TIME_PASSES").is_none() {

@@ -202,11 +202,10 @@ fn xml_charts_run_as_the_editors_text() {
             sfc: Profile::Matiec,
             ..Default::default()
         };
-        let b = build_sources(files, &opts).unwrap_or_else(|e| panic!("{}", e.0));
-        b.module.unwrap_or_else(|| {
-            let errs: Vec<String> = b.diagnostics.iter().map(|d| d.to_string()).collect();
-            panic!("{}", errs.join("\n"))
-        })
+        build_sources(files, &opts)
+            .unwrap_or_else(|e| panic!("{}", e.0))
+            .into_module()
+            .unwrap_or_else(|e| panic!("{e}"))
     };
     let mut failures = Vec::new();
     let (mut compared, mut written) = (0, 0);

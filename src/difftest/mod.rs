@@ -90,16 +90,9 @@ pub fn check(p: &Prog, machines: &[&str], scans: u32, seed: u64) -> Verdict {
 
 /// Builds one source text (the language from the name's extension).
 pub(crate) fn build_text(name: &str, text: &str, opts: &BuildOptions) -> Result<Module, String> {
-    let b = build_sources(vec![(name.into(), text.as_bytes().to_vec())], opts).map_err(|e| e.0)?;
-    b.module.ok_or_else(|| {
-        b.diagnostics
-            .iter()
-            .filter(|d| d.is_error())
-            .take(3)
-            .map(|d| d.to_string())
-            .collect::<Vec<_>>()
-            .join("; ")
-    })
+    build_sources(vec![(name.into(), text.as_bytes().to_vec())], opts)
+        .map_err(|e| e.0)?
+        .into_module()
 }
 
 /// The machine of a name with its setting (`vmasm:mode=32a`).
