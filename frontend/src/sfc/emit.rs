@@ -106,7 +106,7 @@ pub(super) struct W<'a> {
 impl W<'_> {
     /// Copies the file's text at `span`, mapped byte for byte.
     fn copy(&self, out: &mut Out, span: Span) {
-        let value = &self.text[span.start as usize..span.end as usize];
+        let value = self.source(span);
         out.push_text(&Text {
             value: value.to_string(),
             range: span.start..span.end,
@@ -132,20 +132,15 @@ impl W<'_> {
 
     /// The name of step `k` as written.
     pub(super) fn step_name(&self, k: usize) -> &str {
-        let s = &self.chart.steps[k].name.span;
-        &self.text[s.start as usize..s.end as usize]
+        self.source(self.chart.steps[k].name.span)
     }
 
     /// The name of the control of `target`.
     pub(super) fn control(&self, t: Target, facts: &Facts) -> String {
         match t {
-            Target::Action(i) => {
-                let s = self.pou.actions[i].name.span;
-                self.text[s.start as usize..s.end as usize].to_string()
-            }
+            Target::Action(i) => self.source(self.pou.actions[i].name.span).to_string(),
             Target::Var(v) => {
-                let s = facts.vars[v].span;
-                format!("__SFC_V_{}", &self.text[s.start as usize..s.end as usize])
+                format!("__SFC_V_{}", self.source(facts.vars[v].span))
             }
         }
     }
@@ -334,7 +329,7 @@ impl W<'_> {
             let c = self.control(a.target, facts);
             let n = self.step_name(a.step);
             let var = match a.target {
-                Target::Var(v) => Some(self.control_var_text(facts, v)),
+                Target::Var(v) => Some(self.source(facts.vars[v].span).to_string()),
                 Target::Action(_) => None,
             };
             let on = match &var {
@@ -444,11 +439,6 @@ impl W<'_> {
             let c = self.control(Target::Action(i), facts);
             let _ = writeln!(out.text, "IF {c}.Q THEN __SFC_A_{c}(); END_IF;");
         }
-    }
-
-    fn control_var_text(&self, facts: &Facts, v: usize) -> String {
-        let s = facts.vars[v].span;
-        self.text[s.start as usize..s.end as usize].to_string()
     }
 }
 
