@@ -161,8 +161,11 @@ pub struct Action {
     pub pou: Option<Ident>,
     /// The action's name.
     pub name: Ident,
-    /// Its body.
+    /// Its body (empty when it is a chart).
     pub body: Body,
+    /// The chart, when the action is written in SFC; `crate::sfc` writes it as ST
+    /// into `body`.
+    pub sfc: Option<Sfc>,
     /// Whole declaration.
     pub span: Span,
 }

@@ -241,6 +241,27 @@ codes! {
          stays active).\n\
          \n    TRANSITION FROM S0 TO (A, B) := go; END_TRANSITION\n    TRANSITION FROM A TO C := x; END_TRANSITION\n    TRANSITION FROM B TO C := y; END_TRANSITION   (* error: A and B both reach C *)\n\
          \n    TRANSITION FROM (A, B) TO C := x AND y; END_TRANSITION   (* fix *)";
+    W_SFC_SHARED = "W0784", "action driven by several charts",
+        "An ACTION is associated with steps of two charts of one POU (the body's and an \
+         action's written as a chart, or two such actions). Each chart has a control of \
+         its own for it, and the action runs for each, as CODESYS runs it (twice in a \
+         scan when both are active); its flags (`A.Q`, `A.A`) are those of the first \
+         chart. CODESYS rejects it when the charts are nested in one another.\n\
+         \n    ACTION Sub:\n      INITIAL_STEP S1: Pump(N); END_STEP ...\n    END_ACTION\n    \
+         INITIAL_STEP Main: Sub(N); Pump(N); END_STEP   (* warning: Pump in both charts *)";
+    W_SFC_STEP_RENAMED = "W0785", "step named like a step of another chart",
+        "A chart of an ACTION has a step of the name of a step of another chart of the \
+         POU (its body's, or another action's). CODESYS scopes step names by chart, so \
+         plcc keeps them apart: the later step is a variable of its own, and `S.X` in \
+         that chart's conditions and durations reads it; elsewhere (the POU's code, \
+         other charts, scenarios) `S.X` is the first chart's step. Rename one of them \
+         to read both from everywhere.\n\
+         \n    ACTION Up:\n      INITIAL_STEP Stop: END_STEP ...\n    END_ACTION\n    \
+         ACTION Down:\n      INITIAL_STEP Stop: END_STEP ...   (* warning: Stop again *)\n    END_ACTION";
+    SFC_TEXT_RECURSIVE = "E0785", "charts that drive each other",
+        "An ACTION written as a chart drives itself, directly or through other actions \
+         written as charts: running it would run it again, without end.\n\
+         \n    ACTION Sub:\n      INITIAL_STEP S1: Sub(N); END_STEP   (* error *)\n    END_ACTION";
     W_SFC_UNREACHABLE = "W0780", "step never active",
         "No chain of transitions leads to the step from an initial step, so it is never \
          active and its actions never run. matiec and the editors drop such steps \

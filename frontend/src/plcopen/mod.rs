@@ -189,7 +189,12 @@ fn convert_here(
                 .iter()
                 .map(|a| {
                     let label = format!("{}.{}", pou.name.value, a.name.value);
-                    build_graph(&a.body, &label, function(pou), file, opts, diags)
+                    match &a.body {
+                        xml::Body::Sfc(s) => {
+                            chart_graph(s, &label, function(pou), file, opts, diags)
+                        }
+                        b => build_graph(b, &label, function(pou), file, opts, diags),
+                    }
                 })
                 .collect()
         })
@@ -199,16 +204,7 @@ fn convert_here(
         .pous
         .iter()
         .map(|pou| match &pou.body {
-            xml::Body::Sfc(s) => {
-                let cx = graph::Context {
-                    file,
-                    pou: &pou.name.value,
-                    function: function(pou),
-                    strict: opts.strict_rungs,
-                    ladder: false,
-                };
-                graph::build(&s.graphic, &cx, diags)
-            }
+            xml::Body::Sfc(s) => chart_graph(s, &pou.name.value, function(pou), file, opts, diags),
             _ => None,
         })
         .collect();
@@ -245,6 +241,26 @@ fn convert_here(
         ld_text,
         dialect: project.dialect,
     })
+}
+
+/// The graph of the graphical conditions of a chart (`label` names its POU, or `P.A`
+/// for an action written as a chart).
+fn chart_graph<'m>(
+    s: &'m xml::Sfc,
+    label: &str,
+    function: bool,
+    file: FileId,
+    opts: &Options,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<graph::Graph<'m>> {
+    let cx = graph::Context {
+        file,
+        pou: label,
+        function,
+        strict: opts.strict_rungs,
+        ladder: false,
+    };
+    graph::build(&s.graphic, &cx, diags)
 }
 
 /// The checked graph of a graphical body (LD or FBD); `None` for any other body, or

@@ -39,7 +39,8 @@ use std::ops::Range;
 /// The name of the action that calls the blocks of graphical conditions.
 pub(super) const COMPUTE: &str = "COMPUTE_FUNCTION_BLOCKS";
 
-/// What the chart of one POU is made from.
+/// What the chart of one POU (or of one of its actions) is made from.
+#[derive(Clone, Copy)]
 pub(super) struct Inputs<'a, 'm> {
     /// The POU.
     pub pou: &'a Pou,
@@ -49,8 +50,12 @@ pub(super) struct Inputs<'a, 'm> {
     pub graph: Option<&'a Graph<'m>>,
     /// The graphs of the POU's transitions (`pou.transitions`), where graphical.
     pub transitions: &'a [Option<Graph<'m>>],
-    /// The graphs of the POU's actions (`pou.actions`), where graphical.
+    /// The graphs of the POU's actions (`pou.actions`), where graphical (for an
+    /// action written as a chart, the graph of its graphical conditions).
     pub actions: &'a [Option<Graph<'m>>],
+    /// The action whose body the chart is (an index in `pou.actions`); `None` for
+    /// the POU's body.
+    pub action: Option<usize>,
 }
 
 /// A chart ready to be written: its steps, actions and transitions in text order.
@@ -100,6 +105,9 @@ enum ActionBody<'a, 'm> {
     Lines(Vec<Line>, &'a Graph<'m>),
     /// The calls of `COMPUTE_FUNCTION_BLOCKS`, each with the graph it comes from.
     Compute(Vec<(Line, &'a Graph<'m>)>),
+    /// An action written as a chart: its steps and transitions (the actions it
+    /// uses are written after it, at the POU's level).
+    Chart(Chart<'a, 'm>),
     Empty,
 }
 
@@ -139,7 +147,10 @@ struct ActionInfo<'a, 'm> {
 }
 
 struct Reg<'a, 'm, 'c, 'd> {
-    inp: &'a Inputs<'a, 'm>,
+    inp: Inputs<'a, 'm>,
+    /// The name of the action of the blocks of graphical conditions:
+    /// `COMPUTE_FUNCTION_BLOCKS`, with `_<action>` for an action's chart.
+    compute_name: String,
     ctx: &'c PouCtx<'c>,
     names: &'d mut Names,
     diags: &'d mut Vec<Diagnostic>,
@@ -163,7 +174,7 @@ struct Reg<'a, 'm, 'c, 'd> {
 /// conditions and the graphical bodies of the actions it uses (hidden variables go to
 /// `names`). `None` after an error (reported to `diags`).
 pub(super) fn plan<'a, 'm>(
-    inp: &'a Inputs<'a, 'm>,
+    inp: Inputs<'a, 'm>,
     ctx: &PouCtx,
     names: &mut Names,
     diags: &mut Vec<Diagnostic>,
@@ -176,10 +187,23 @@ pub(super) fn plan<'a, 'm>(
     }
     for a in &inp.pou.actions {
         names.take(&a.name.value);
+        // The steps of actions written as charts are variables of the POU too.
+        if let Body::Sfc(s) = &a.body {
+            for n in &s.nodes {
+                if let NodeKind::Step { name, .. } = &n.kind {
+                    names.take(&name.value);
+                }
+            }
+        }
     }
-    names.take(COMPUTE);
+    let compute_name = match inp.action {
+        None => COMPUTE.to_string(),
+        Some(k) => format!("{COMPUTE}_{}", inp.pou.actions[k].name.value),
+    };
+    names.take(&compute_name);
     let mut r = Reg {
         inp,
+        compute_name,
         ctx,
         names,
         diags,
@@ -210,7 +234,7 @@ pub(super) fn plan<'a, 'm>(
     let Some(&first) = r.initial.first() else {
         let d = Diagnostic::error(
             codes::SFC_NO_INITIAL_STEP,
-            format!("the chart of `{}` has no initial step", inp.pou.name.value),
+            format!("the chart of `{}` has no initial step", r.label()),
             r.span(inp.sfc.tag.clone()),
         )
         .with_note("mark the step the chart starts from with `initialStep=\"true\"`");
@@ -219,7 +243,7 @@ pub(super) fn plan<'a, 'm>(
     };
     if !r.compute.is_empty() {
         r.steps[first].assocs.push(Assoc {
-            name: COMPUTE.into(),
+            name: r.compute_name.clone(),
             text: None,
             qualifier: None,
             duration: None,
@@ -228,7 +252,7 @@ pub(super) fn plan<'a, 'm>(
         });
         let calls = std::mem::take(&mut r.compute);
         r.add_action(ActionInfo {
-            name: COMPUTE.into(),
+            name: r.compute_name.clone(),
             text: None,
             tag: inp.sfc.tag.clone(),
             body: Some(ActionBody::Compute(calls)),
@@ -251,6 +275,14 @@ impl<'a, 'm, 'c> Reg<'a, 'm, 'c, '_> {
 
     fn pou_name(&self) -> &'a str {
         &self.inp.pou.name.value
+    }
+
+    /// The chart's owner in messages: `P`, or `P.A` for an action's chart.
+    fn label(&self) -> String {
+        match self.inp.action {
+            None => self.pou_name().to_string(),
+            Some(k) => format!("{}.{}", self.pou_name(), self.inp.pou.actions[k].name.value),
+        }
     }
 
     fn describe(&self, i: usize) -> String {
@@ -311,11 +343,49 @@ impl<'a, 'm, 'c> Reg<'a, 'm, 'c, '_> {
         }
     }
 
-    /// The nodes connected to the inputs of convergence `c`.
+    /// The nodes connected to the inputs of convergence `c`; a convergence of the
+    /// same kind on an input (CODESYS nests them: a branch closed inside a branch)
+    /// gives its own inputs.
     fn convergence_inputs(&mut self, c: usize) -> Vec<usize> {
-        (0..self.node(c).ins.len())
-            .filter_map(|p| self.source(c, p))
-            .collect()
+        let mut out = Vec::new();
+        let mut work = vec![c];
+        let mut seen = vec![c];
+        while let Some(c) = work.pop() {
+            for p in 0..self.node(c).ins.len() {
+                let Some(x) = self.source(c, p) else { continue };
+                let same = std::mem::discriminant(&self.node(x).kind)
+                    == std::mem::discriminant(&self.node(c).kind);
+                if same {
+                    if !seen.contains(&x) {
+                        seen.push(x);
+                        work.push(x);
+                    }
+                } else {
+                    out.push(x);
+                }
+            }
+        }
+        out
+    }
+
+    /// The node before divergence `d`, through divergences of the same kind
+    /// (CODESYS nests them: a branch opened inside a branch).
+    fn divergence_source(&mut self, d: usize) -> Option<usize> {
+        let mut d = d;
+        let mut seen = vec![d];
+        loop {
+            let x = self.source(d, 0)?;
+            if std::mem::discriminant(&self.node(x).kind)
+                != std::mem::discriminant(&self.node(d).kind)
+            {
+                return Some(x);
+            }
+            if seen.contains(&x) {
+                return None;
+            }
+            seen.push(x);
+            d = x;
+        }
     }
 
     /// The transitions right before step or jump `i`.
@@ -326,7 +396,7 @@ impl<'a, 'm, 'c> Reg<'a, 'm, 'c, '_> {
         let found = match &self.node(t).kind {
             NodeKind::Transition { .. } => vec![t],
             NodeKind::SelectionConvergence => self.convergence_inputs(t),
-            NodeKind::SimultaneousDivergence => match self.source(t, 0) {
+            NodeKind::SimultaneousDivergence => match self.divergence_source(t) {
                 Some(x) if matches!(self.node(x).kind, NodeKind::Transition { .. }) => vec![x],
                 Some(x) if matches!(self.node(x).kind, NodeKind::SelectionConvergence) => {
                     self.convergence_inputs(x)
@@ -357,7 +427,7 @@ impl<'a, 'm, 'c> Reg<'a, 'm, 'c, '_> {
         };
         let found = match &self.node(s).kind {
             NodeKind::Step { .. } => vec![s],
-            NodeKind::SelectionDivergence => match self.source(s, 0) {
+            NodeKind::SelectionDivergence => match self.divergence_source(s) {
                 Some(x) if matches!(self.node(x).kind, NodeKind::Step { .. }) => vec![x],
                 Some(x) if matches!(self.node(x).kind, NodeKind::SimultaneousConvergence) => {
                     self.convergence_inputs(x)
@@ -513,6 +583,18 @@ impl<'a, 'm, 'c> Reg<'a, 'm, 'c, '_> {
         let a = &pou.actions[k];
         let body = match (&a.body, self.inp.actions.get(k).and_then(Option::as_ref)) {
             (Body::St(t) | Body::Il(t), _) => ActionBody::Text(t),
+            (Body::Sfc(sfc), graph) => {
+                let inner = Inputs {
+                    sfc,
+                    graph,
+                    action: Some(k),
+                    ..self.inp
+                };
+                match plan(inner, self.ctx, self.names, self.diags) {
+                    Some(c) => ActionBody::Chart(c),
+                    None => ActionBody::Empty,
+                }
+            }
             (Body::Graph(..), Some(g)) => {
                 let label = format!("{}.{}", pou.name.value, a.name.value);
                 let ctx = self.sub_ctx(&label);
@@ -775,11 +857,20 @@ impl<'a, 'm> Reg<'a, 'm, '_, '_> {
                 self.diags.push(d);
             }
         }
-        for a in &self.inp.pou.actions {
-            let used = self
-                .action_by_name
-                .get(&a.name.value.to_ascii_uppercase())
-                .is_some_and(|&ai| e.actions[ai]);
+        // The POU's actions no chart uses (those of actions' charts count; an action's
+        // chart leaves this to its POU's).
+        let mut written = Vec::new();
+        action_names(&e.items, &mut written);
+        for a in self
+            .inp
+            .pou
+            .actions
+            .iter()
+            .filter(|_| self.inp.action.is_none())
+        {
+            let used = written
+                .iter()
+                .any(|n| n.eq_ignore_ascii_case(&a.name.value));
             if !used {
                 let d = Diagnostic::warning(
                     codes::W_SFC_DROPPED,
@@ -870,6 +961,28 @@ impl<'a, 'm> Reg<'a, 'm, '_, '_> {
     }
 }
 
+impl Chart<'_, '_> {
+    /// The names of the actions the chart writes (its own and those of the charts
+    /// of its actions).
+    pub(super) fn action_names(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        action_names(&self.items, &mut out);
+        out
+    }
+}
+
+/// The names of the actions among `items`, and among those of the charts of actions.
+fn action_names(items: &[Item], out: &mut Vec<String>) {
+    for i in items {
+        if let Item::Action { name, body, .. } = i {
+            out.push(name.clone());
+            if let ActionBody::Chart(c) = body {
+                action_names(&c.items, out);
+            }
+        }
+    }
+}
+
 struct Emit<'a, 'm> {
     steps: Vec<bool>,
     trans: Vec<bool>,
@@ -882,7 +995,41 @@ struct Emit<'a, 'm> {
 /// Writes a chart (the body of its POU, actions included) as textual SFC, mapped to
 /// the XML elements it comes from.
 pub(super) fn write(o: &mut Out, chart: &Chart) {
+    write_items(o, chart, true, true, &mut Vec::new());
+}
+
+/// Writes the steps and transitions of an action's chart (the ACTION's body).
+pub(super) fn write_elements(o: &mut Out, chart: &Chart) {
+    write_items(o, chart, true, false, &mut Vec::new());
+}
+
+/// Writes the actions an action's chart uses (after the ACTION), but those in
+/// `written` (an action several charts use is written once); adds their names.
+pub(super) fn write_actions(o: &mut Out, chart: &Chart, written: &mut Vec<String>) {
+    write_items(o, chart, false, true, written);
+}
+
+/// The items of `chart`: its steps and transitions when `elements`, its actions
+/// (and those of the charts of its actions, after them) when `actions`, but those
+/// in `written`.
+fn write_items(
+    o: &mut Out,
+    chart: &Chart,
+    elements: bool,
+    actions: bool,
+    written: &mut Vec<String>,
+) {
     for item in &chart.items {
+        let is_action = matches!(item, Item::Action { .. });
+        if (is_action && !actions) || (!is_action && !elements) {
+            continue;
+        }
+        if let Item::Action { name, .. } = item {
+            if written.iter().any(|w| w.eq_ignore_ascii_case(name)) {
+                continue;
+            }
+            written.push(name.clone());
+        }
         match item {
             Item::Step {
                 node,
@@ -928,9 +1075,13 @@ pub(super) fn write(o: &mut Out, chart: &Chart) {
                             l.write(o, g.elems);
                         }
                     }
+                    ActionBody::Chart(c) => write_elements(o, c),
                     ActionBody::Empty => {}
                 }
                 o.push("END_ACTION\n");
+                if let ActionBody::Chart(c) = body {
+                    write_actions(o, c, written);
+                }
             }
             Item::Transition {
                 node,
@@ -985,7 +1136,7 @@ fn write_assoc(o: &mut Out, a: &Assoc, step_tag: &Range<u32>) {
     o.push("(");
     match a.qualifier {
         Some(q) => o.push_as(&q.value.to_ascii_uppercase(), q),
-        None if a.name == COMPUTE => o.push("S"),
+        None if a.name.starts_with(COMPUTE) => o.push("S"),
         None => o.push("N"),
     }
     for x in [a.duration, a.indicator].into_iter().flatten() {

@@ -326,6 +326,70 @@ fn a_loop_of_steps_with_a_jump() {
     );
 }
 
+/// An action written as a chart: its steps and transitions inside its ACTION, the
+/// actions it uses after it (once, though the body's chart uses one of them too).
+#[test]
+fn an_action_written_as_a_chart() {
+    let inner = [
+        step(1, "SubA", true, None),
+        action_block(
+            2,
+            1,
+            r#"<action localId="0"><reference name="Count"/></action>"#,
+        ),
+        trans(3, 1, "x"),
+        jump(4, 3, "SubA"),
+    ]
+    .concat();
+    let actions = format!(
+        r#"<actions><action name="Sub"><body><SFC>{inner}</SFC></body></action>
+<action name="Count"><body><ST><xhtml:p><![CDATA[n := n + 1;]]></xhtml:p></ST></body></action></actions>"#
+    );
+    let sfc = format!(
+        "{}{}",
+        two_steps(),
+        action_block(
+            6,
+            3,
+            r#"<action localId="0"><reference name="Sub"/></action><action localId="0"><reference name="Count"/></action>"#
+        )
+    );
+    let v = view_of(&chart(&actions, &sfc));
+    assert_eq!(
+        body(&v),
+        "INITIAL_STEP Init:\nEND_STEP\nTRANSITION FROM Init TO S1\n    := a;\nEND_TRANSITION\n\
+         STEP S1:\n    Sub(N);\n    Count(N);\nEND_STEP\n\
+         ACTION Sub:\nINITIAL_STEP SubA:\n    Count(N);\nEND_STEP\n\
+         TRANSITION FROM SubA TO SubA\n    := x;\nEND_TRANSITION\nEND_ACTION\n\
+         ACTION Count:\n    n := n + 1;\nEND_ACTION\n\
+         TRANSITION FROM S1 TO Init\n    := b;\nEND_TRANSITION\n"
+    );
+}
+
+/// CODESYS nests convergences (a branch closed inside a branch): the transitions of
+/// the inner one lead to the step after the outer one.
+#[test]
+fn nested_selection_convergences() {
+    let sfc = [
+        step(1, "Init", true, None),
+        fork("selectionDivergence", 2, &[1]),
+        trans(3, 2, "a"),
+        trans(4, 2, "b"),
+        trans(5, 2, "c"),
+        fork("selectionConvergence", 6, &[3, 4]),
+        fork("selectionConvergence", 7, &[6, 5]),
+        step(8, "S1", false, Some(7)),
+        trans(9, 8, "x"),
+        jump(10, 9, "Init"),
+    ]
+    .concat();
+    let v = view_of(&chart("", &sfc));
+    for (from, cond) in [("Init", "a"), ("Init", "b"), ("Init", "c")] {
+        let t = format!("TRANSITION FROM {from} TO S1\n    := {cond};");
+        assert!(v.contains(&t), "{t} in\n{v}");
+    }
+}
+
 #[test]
 fn selection_and_simultaneous_sequences() {
     // Init -> (selection) t10 [PRIORITY 2] -> A, t11 -> B; A and B converge (selection)
@@ -646,9 +710,10 @@ mod diagnostics {
     }
 
     #[test]
-    fn an_sfc_action_body_is_still_refused() {
-        let actions = r#"<actions><action name="A"><body><SFC/></body></action></actions>"#;
-        let (code, _, _) = one_error(&chart(actions, &two_steps()));
+    fn a_transition_body_written_as_a_chart_is_refused() {
+        let t =
+            r#"<transitions><transition name="T"><body><SFC/></body></transition></transitions>"#;
+        let (code, _, _) = one_error(&chart(t, &two_steps()));
         assert_eq!(code, "E0602");
     }
 }

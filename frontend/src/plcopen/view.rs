@@ -83,11 +83,13 @@ pub(crate) fn write(
                 graph: graphs.charts.get(i).and_then(Option::as_ref),
                 transitions: graphs.transitions.get(i).map_or(&[][..], Vec::as_slice),
                 actions,
+                action: None,
             };
             write_chart(&mut o, &cx, &inp, diags);
             continue;
         }
-        write_pou(&mut o, &cx, pou, body, actions, diags);
+        let transitions = graphs.transitions.get(i).map_or(&[][..], Vec::as_slice);
+        write_pou(&mut o, &cx, pou, body, actions, transitions, diags);
     }
     for c in &project.configs {
         write_config(&mut o, c);
@@ -153,7 +155,7 @@ fn write_chart(o: &mut Out, cx: &Cx, inp: &sfc::Inputs, diags: &mut Vec<Diagnost
         file: cx.file,
         opts: cx.opts,
     };
-    let chart = sfc::plan(inp, &ctx, &mut names, diags);
+    let chart = sfc::plan(*inp, &ctx, &mut names, diags);
     let end = write_head(o, pou);
     write_hidden(o, &names);
     if let Some(chart) = &chart {
@@ -165,18 +167,57 @@ fn write_chart(o: &mut Out, cx: &Cx, inp: &sfc::Inputs, diags: &mut Vec<Diagnost
 
 /// A POU: its interface, body and actions. The graphical bodies (of the POU and of
 /// its actions) are lowered first, with one set of hidden names, so that their
-/// hidden variables are declared once, in the POU, before the code.
+/// hidden variables are declared once, in the POU, before the code. An action
+/// written as a chart is written as textual SFC, followed by the actions its chart
+/// uses (which are not written again).
 fn write_pou(
     o: &mut Out,
     cx: &Cx,
     pou: &Pou,
     body: Option<&Graph>,
     actions: &[Option<Graph>],
+    transitions: &[Option<Graph>],
     diags: &mut Vec<Diagnostic>,
 ) {
     let end = write_head(o, pou);
     let mut names = (body.is_some() || actions.iter().any(Option::is_some))
         .then(|| Names::new(cx.project, pou, cx.globals));
+    // The actions written as charts, planned first.
+    let mut charts: Vec<Option<sfc::Chart>> = Vec::new();
+    for (k, a) in pou.actions.iter().enumerate() {
+        let Body::Sfc(s) = &a.body else {
+            charts.push(None);
+            continue;
+        };
+        let inp = sfc::Inputs {
+            pou,
+            sfc: s,
+            graph: actions.get(k).and_then(Option::as_ref),
+            transitions,
+            actions,
+            action: Some(k),
+        };
+        let ctx = PouCtx {
+            project: cx.project,
+            pou: &pou.name.value,
+            pou_vars: &pou.groups,
+            globals: cx.globals,
+            file: cx.file,
+            opts: cx.opts,
+        };
+        let names = names.get_or_insert_with(|| Names::new(cx.project, pou, cx.globals));
+        charts.push(sfc::plan(inp, &ctx, names, diags));
+    }
+    let by_charts: Vec<String> = charts
+        .iter()
+        .flatten()
+        .flat_map(|c| c.action_names())
+        .collect();
+    let by_chart = |a: &super::xml::NamedBody| {
+        by_charts
+            .iter()
+            .any(|n| n.eq_ignore_ascii_case(&a.name.value))
+    };
     let mut lower = |g: &Graph, label: &str, diags: &mut Vec<Diagnostic>| -> Vec<Line> {
         let ctx = PouCtx {
             project: cx.project,
@@ -199,22 +240,36 @@ fn write_pou(
                 .map(Option::as_ref)
                 .chain(std::iter::repeat(None)),
         )
-        .map(|(a, g)| g.map(|g| lower(g, &format!("{}.{}", pou.name.value, a.name.value), diags)))
+        .map(|(a, g)| {
+            g.filter(|_| !by_chart(a) && !matches!(a.body, Body::Sfc(_)))
+                .map(|g| lower(g, &format!("{}.{}", pou.name.value, a.name.value), diags))
+        })
         .collect();
     if let Some(n) = &names {
         write_hidden(o, n);
     }
     write_body(o, &pou.body, body.zip(body_lines.as_deref()));
+    let mut written = Vec::new();
     for (k, a) in pou.actions.iter().enumerate() {
+        if by_chart(a) {
+            continue;
+        }
         let start = o.pos();
         o.push("ACTION ");
         o.push_text(&a.name);
         o.push(":");
         o.mark(start, a.tag.clone());
         o.push("\n");
-        let g = actions.get(k).and_then(Option::as_ref);
-        write_body(o, &a.body, g.zip(action_lines[k].as_deref()));
+        if let Some(c) = &charts[k] {
+            sfc::write_elements(o, c);
+        } else {
+            let g = actions.get(k).and_then(Option::as_ref);
+            write_body(o, &a.body, g.zip(action_lines[k].as_deref()));
+        }
         o.push("END_ACTION\n");
+        if let Some(c) = &charts[k] {
+            sfc::write_actions(o, c, &mut written);
+        }
     }
     o.push(end);
     o.push("\n");

@@ -86,7 +86,8 @@ pub(super) struct Assoc {
 #[derive(Clone, Debug, Default)]
 pub(super) struct Facts {
     /// The POU's ACTIONs that associations drive (indexes in `actions`), in
-    /// declaration order.
+    /// declaration order; for the body's chart, every other ACTION of the POU too
+    /// (see [`check_pou`]).
     pub actions: Vec<usize>,
     /// BOOL variables used as actions, in order of first use.
     pub vars: Vec<Ident>,
@@ -100,6 +101,13 @@ pub(super) struct Facts {
     /// conditions), outside the matiec profile: run before the transitions are
     /// tested, not through its association (the index in the POU's actions).
     pub compute: Option<usize>,
+    /// The steps whose names an earlier chart of the POU has: they are declared as
+    /// `<prefix>S_<name>` (CODESYS scopes step names by chart).
+    pub renamed: Vec<usize>,
+    /// Actions of `actions` that an earlier chart of the POU drives too: their
+    /// control in this chart is hidden (`<prefix>K_<action>`), their flags (`A.Q`)
+    /// are the earlier chart's.
+    pub borrowed: Vec<usize>,
     /// The order transitions are tested in: prioritised ones by ascending
     /// priority (equal ones in text order) inserted before the first of higher
     /// priority, unprioritised ones where they come (as matiec orders them).
@@ -109,6 +117,13 @@ pub(super) struct Facts {
 /// The action in which the editors' translator puts the blocks and edge detectors of
 /// graphical transition conditions (reference §5.3).
 const COMPUTE_FUNCTION_BLOCKS: &str = "COMPUTE_FUNCTION_BLOCKS";
+
+/// True for `COMPUTE_FUNCTION_BLOCKS`, and `COMPUTE_FUNCTION_BLOCKS_<action>` (the
+/// blocks of an action's chart).
+fn is_compute(name: &str) -> bool {
+    name.strip_prefix(COMPUTE_FUNCTION_BLOCKS)
+        .is_some_and(|rest| rest.is_empty() || rest.starts_with('_'))
+}
 
 fn err(code: &'static str, msg: impl Into<String>, span: Span) -> Diagnostic {
     Diagnostic::error(code, msg.into(), span)
@@ -251,7 +266,7 @@ pub(super) fn check(
             let target = match actions.get(&a.action.sym) {
                 Some(&i)
                     if profile != super::Profile::Matiec
-                        && interner.name(a.action.sym) == COMPUTE_FUNCTION_BLOCKS =>
+                        && is_compute(interner.name(a.action.sym)) =>
                 {
                     facts.compute = Some(i);
                     continue;
@@ -291,14 +306,6 @@ pub(super) fn check(
                 qual,
                 duration: a.duration,
             });
-        }
-    }
-    // Every ACTION of the chart's POU has its flags (`A.Q`), driven or not (one no
-    // step drives never runs), but the blocks of graphical conditions, called
-    // directly.
-    for k in 0..pou.actions.len() {
-        if !used_actions.contains(&k) && facts.compute != Some(k) {
-            used_actions.push(k);
         }
     }
     used_actions.sort_unstable();
@@ -358,6 +365,147 @@ pub(super) fn check(
                 ));
             }
         }
+    }
+    Some(facts)
+}
+
+/// Checks the charts of `pou`: `charts` holds each with the ACTION it is the body of
+/// (`None` for the POU's body; that one first). Beyond each chart's own rules: step
+/// names are unique in the POU, and no action written as a chart drives itself
+/// through any chain of charts; an action driven by several charts is a warning.
+/// `None` when an error was reported.
+pub(super) fn check_pou(
+    pou: &Pou,
+    charts: &[(Option<usize>, &Sfc)],
+    text: &str,
+    interner: &Interner,
+    profile: super::Profile,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Vec<Facts>> {
+    let name_of = |i: &Ident| text[i.span.start as usize..i.span.end as usize].to_string();
+    let facts: Vec<Option<Facts>> = charts
+        .iter()
+        .map(|&(_, c)| check(pou, c, text, interner, profile, diags))
+        .collect();
+    let before = diags.len();
+    // Step names across the charts: a later chart's step of an earlier one's name
+    // is renamed (CODESYS scopes step names by chart); its flags are read by that
+    // name in its own chart only.
+    let mut renamed: Vec<Vec<usize>> = vec![Vec::new(); charts.len()];
+    let mut steps: HashMap<Symbol, usize> = HashMap::new();
+    for (c, (_, chart)) in charts.iter().enumerate() {
+        for (k, s) in chart.steps.iter().enumerate() {
+            match steps.get(&s.name.sym) {
+                Some(&first) if first != c => {
+                    diags.push(
+                        Diagnostic::warning(
+                            codes::W_SFC_STEP_RENAMED,
+                            format!(
+                                "step `{}` has the name of a step of another chart of `{}`: here it is a step of its own, whose flags only this chart reads by that name",
+                                name_of(&s.name),
+                                name_of(&pou.name)
+                            ),
+                            s.name.span,
+                        )
+                    );
+                    renamed[c].push(k);
+                }
+                Some(_) => {}
+                None => {
+                    steps.insert(s.name.sym, c);
+                }
+            }
+        }
+    }
+    let mut facts: Vec<Facts> = facts.into_iter().collect::<Option<_>>()?;
+    for (f, r) in facts.iter_mut().zip(renamed) {
+        f.renamed = r;
+    }
+    // Actions driven by several charts: each chart has a control of its own, and
+    // the action runs for each (as CODESYS runs it); its flags are the first
+    // chart's.
+    let mut driver: HashMap<usize, usize> = HashMap::new();
+    for k in 0..facts.len() {
+        for i in facts[k].actions.clone() {
+            match driver.get(&i) {
+                Some(&other) => {
+                    let chart = |j: usize| match charts[j].0 {
+                        None => format!("the chart of `{}`", name_of(&pou.name)),
+                        Some(a) => {
+                            format!("the chart of action `{}`", name_of(&pou.actions[a].name))
+                        }
+                    };
+                    diags.push(
+                        Diagnostic::warning(
+                            codes::W_SFC_SHARED,
+                            format!(
+                                "action `{}` is driven by {} and by {}: it runs for each, and its flags are those of the first",
+                                name_of(&pou.actions[i].name),
+                                chart(other),
+                                chart(k)
+                            ),
+                            charts[k].1.span,
+                        )
+                        .with_secondary(charts[other].1.span, "the first chart"),
+                    );
+                    facts[k].borrowed.push(i);
+                }
+                None => {
+                    driver.insert(i, k);
+                }
+            }
+        }
+    }
+    // Actions written as charts that drive themselves.
+    for (k, &(me, c)) in charts.iter().enumerate() {
+        let Some(me) = me else { continue };
+        let mut seen = vec![false; charts.len()];
+        let mut work = vec![k];
+        let mut cycle = false;
+        while let Some(j) = work.pop() {
+            for &i in &facts[j].actions {
+                if i == me {
+                    cycle = true;
+                }
+                if let Some(n) = charts.iter().position(|&(a, _)| a == Some(i)) {
+                    if !seen[n] {
+                        seen[n] = true;
+                        work.push(n);
+                    }
+                }
+            }
+        }
+        if cycle {
+            diags.push(err(
+                codes::SFC_TEXT_RECURSIVE,
+                format!(
+                    "action `{}` is a chart that drives itself (through its own steps or \
+                     other actions written as charts): it would run without end",
+                    name_of(&pou.actions[me].name)
+                ),
+                c.span,
+            ));
+        }
+    }
+    if diags[before..].iter().any(|d| d.is_error()) {
+        return None;
+    }
+    // Every other ACTION of a POU whose body is a chart has its flags (`A.Q`),
+    // driven or not (one no step drives never runs), but the blocks of graphical
+    // conditions, called directly, and actions another chart drives.
+    if charts.first().is_some_and(|c| c.0.is_none()) {
+        let driven: Vec<usize> = facts
+            .iter()
+            .skip(1)
+            .flat_map(|f| f.actions.clone())
+            .collect();
+        let main = &mut facts[0];
+        for k in 0..pou.actions.len() {
+            if !main.actions.contains(&k) && main.compute != Some(k) && !driven.contains(&k) {
+                main.actions.push(k);
+            }
+        }
+        main.actions.sort_unstable();
     }
     Some(facts)
 }

@@ -106,7 +106,8 @@ pub(super) fn write(w: &W<'_>, out: &mut Out, t: Target, facts: &Facts) {
     let pt = if timed.is_empty() {
         String::new()
     } else {
-        let dur = |a: &super::check::Assoc| format!("({})", w.source(a.duration.expect("timed")));
+        let dur =
+            |a: &super::check::Assoc| format!("({})", w.expr_text(a.duration.expect("timed")));
         let mut e = dur(timed[0]);
         for a in timed.iter().skip(1) {
             e = format!("SEL({}.X, {e}, {})", w.step_name(a.step), dur(a));

@@ -16,12 +16,14 @@
 //! `+--> #k cond --> S` a transition (number k in text order; `==>` when it activates
 //! several steps at once, `(with A, B)` when it waits for several steps, `PRIORITY p`
 //! when it has one). A step no transition reaches, or that none leaves, is marked.
+//! An action written as a chart is drawn after its POU's (`PROGRAM main, ACTION Sub: …`).
 
 use crate::ast::{Pou, PouKind, Sfc};
 use std::fmt::Write as _;
 
-/// The drawing of `chart`, the body of `pou`; `text` is the file's text.
-pub(super) fn draw(pou: &Pou, chart: &Sfc, text: &str) -> String {
+/// The drawing of `chart`, the body of `pou` or of its ACTION `action`; `text` is the
+/// file's text.
+pub(super) fn draw(pou: &Pou, action: Option<usize>, chart: &Sfc, text: &str) -> String {
     let src = |s: plcc_ir::diag::Span| {
         text[s.start as usize..s.end as usize]
             .split_whitespace()
@@ -34,10 +36,13 @@ pub(super) fn draw(pou: &Pou, chart: &Sfc, text: &str) -> String {
         PouKind::Function => "FUNCTION",
     };
     let mut o = String::new();
+    let _ = write!(o, "{kind} {}", src(pou.name.span));
+    if let Some(a) = action {
+        let _ = write!(o, ", ACTION {}", src(pou.actions[a].name.span));
+    }
     let _ = writeln!(
         o,
-        "{kind} {}: {} steps, {} transitions",
-        src(pou.name.span),
+        ": {} steps, {} transitions",
         chart.steps.len(),
         chart.transitions.len()
     );

@@ -3,9 +3,13 @@
 //! The variables: a `__SFC_STEP` per step, named as the step (`S.X`, `S.T`,
 //! `S.__PREV`); per action, its control named as the action (`A.Q`): the standard's
 //! `__SFC_ACTION_CONTROL` FB, or matiec's `__SFC_MATIEC_ACTION` state; a BOOL variable
-//! used as an action gets a control named `__SFC_V_<name>`. The ACTIONs the chart
+//! used as an action gets a control named `__SFC_V_<name>`; an action a chart shares
+//! with an earlier chart of the POU a control `<prefix>K_<name>`. The ACTIONs the chart
 //! drives are renamed `__SFC_A_<name>` (their names belong to their controls). The
 //! clock: `__SFC_LAST` (the clock at the last call) and `__SFC_DT` (the time since).
+//! An ACTION written as a chart evolves once per execution of the action; its
+//! hidden variables start `__SFC_IN_<action>_` and its steps are variables of the
+//! POU as the body's are (step names are unique in the POU, as in CODESYS).
 //!
 //! The body, under [`Profile::Iec`]: advance the active steps' T; test the transitions
 //! in evaluation order on the states the previous call left, a firing one
@@ -23,16 +27,26 @@ use crate::plcopen::xml::{Piece, Text};
 use plcc_ir::diag::Span;
 use std::fmt::Write as _;
 
-/// Writes `pou`, whose body is `chart`, as ST to `out`.
-pub(super) fn pou(
+/// A chart of a POU: its body's, or an ACTION's written as a chart.
+pub(super) struct Chart<'a> {
+    /// The chart.
+    pub sfc: &'a Sfc,
+    /// The ACTION it is the body of (an index in the POU's `actions`); `None` for the
+    /// POU's body.
+    pub action: Option<usize>,
+    /// What the checks found.
+    pub facts: Facts,
+}
+
+/// Writes `pou`, whose body or actions are `charts`, as ST to `out`.
+pub(super) fn pou<'a>(
     out: &mut Out,
-    pou: &Pou,
-    chart: &Sfc,
-    facts: &Facts,
-    text: &str,
+    pou: &'a Pou,
+    charts: &[Chart<'a>],
+    text: &'a str,
     profile: Profile,
 ) {
-    let w = W { text, chart, pou };
+    let writer = |c: &Chart<'a>| W::new(text, pou, c);
     // The header and declarations, as written.
     let header_end = pou
         .var_blocks
@@ -41,53 +55,61 @@ pub(super) fn pou(
         .chain(std::iter::once(pou.name.span.end))
         .max()
         .unwrap_or(pou.name.span.end);
-    w.copy(out, Span::new(pou.span.file, pou.span.start, header_end));
-    out.push("\n");
-    w.declarations(out, facts, profile);
-    match profile {
-        Profile::Iec => {
-            w.clock(out);
-            w.transitions(out, facts, true);
-            w.actions_iec(out, facts);
-        }
-        Profile::Codesys => {
-            w.clock(out);
-            w.actions_iec(out, facts);
-            w.transitions(out, facts, true);
-        }
-        Profile::Matiec => {
-            w.clock(out);
-            w.matiec(out, facts);
+    // Copies the POU's own text (any chart's writer does).
+    let first = writer(&charts[0]);
+    first.copy(out, Span::new(pou.span.file, pou.span.start, header_end));
+    out.push("\nVAR\n");
+    for c in charts {
+        writer(c).variables(out, &c.facts, profile);
+    }
+    out.push("END_VAR\nVAR_TEMP\n");
+    for c in charts {
+        writer(c).temporaries(out);
+    }
+    out.push("END_VAR\n");
+    // The body: the chart's evolution, or the body as written.
+    match charts.iter().find(|c| c.action.is_none()) {
+        Some(c) => writer(c).evolution(out, &c.facts, profile),
+        None => {
+            if pou.body.span.end > pou.body.span.start {
+                first.copy(out, pou.body.span);
+                out.push("\n");
+            }
         }
     }
-    // The chart's actions, renamed; the others as written.
+    // The actions: those a chart drives renamed, those written as charts their
+    // chart's evolution, the others as written.
+    let driven = |k: usize| charts.iter().any(|c| c.facts.actions.contains(&k));
     for (k, a) in pou.actions.iter().enumerate() {
         let start = out.pos();
-        if facts.actions.contains(&k) {
-            out.push("ACTION __SFC_A_");
-            w.copy(out, a.name.span);
-            out.push(":\n");
+        out.push(if driven(k) {
+            "ACTION __SFC_A_"
         } else {
-            out.push("ACTION ");
-            w.copy(out, a.name.span);
-            out.push(":\n");
-        }
-        if a.body.span.end > a.body.span.start {
-            w.copy(out, a.body.span);
+            "ACTION "
+        });
+        first.copy(out, a.name.span);
+        out.push(":\n");
+        if let Some(c) = charts.iter().find(|c| c.action == Some(k)) {
+            writer(c).evolution(out, &c.facts, profile);
+        } else if a.body.span.end > a.body.span.start {
+            first.copy(out, a.body.span);
         }
         out.push("\nEND_ACTION\n");
         out.mark(start, a.span.start..a.span.end);
     }
     // The transitions written in IL, each an action storing its result.
-    for (k, t) in chart.transitions.iter().enumerate() {
-        let (true, Some(c)) = (t.il, t.condition) else {
-            continue;
-        };
-        let start = out.pos();
-        let _ = writeln!(out.text, "ACTION __SFC_TC{k}:");
-        w.copy(out, c);
-        let _ = writeln!(out.text, "\nST __SFC_C{k}\nEND_ACTION");
-        out.mark(start, t.head.start..t.head.end);
+    for c in charts {
+        let w = writer(c);
+        for (k, t) in c.sfc.transitions.iter().enumerate() {
+            let (true, Some(cond)) = (t.il, t.condition) else {
+                continue;
+            };
+            let start = out.pos();
+            let _ = writeln!(out.text, "ACTION {}TC{k}:", w.p);
+            w.copy_expr(out, cond);
+            let _ = writeln!(out.text, "\nST {}C{k}\nEND_ACTION", w.p);
+            out.mark(start, t.head.start..t.head.end);
+        }
     }
     out.push(match pou.kind {
         PouKind::Program => "END_PROGRAM\n\n",
@@ -96,14 +118,36 @@ pub(super) fn pou(
     });
 }
 
-/// The writer of one chart's POU.
+/// The writer of one chart of a POU.
 pub(super) struct W<'a> {
     text: &'a str,
     chart: &'a Sfc,
     pou: &'a Pou,
+    /// The prefix of the chart's hidden variables (`__SFC_` for the body's chart,
+    /// `__SFC_IN_<action>_` for an action's).
+    p: String,
+    /// The chart's steps whose names an earlier chart of the POU has taken.
+    renamed: Vec<usize>,
 }
 
-impl W<'_> {
+impl<'a> W<'a> {
+    /// The writer of `chart`, a chart of `pou`.
+    fn new(text: &'a str, pou: &'a Pou, chart: &Chart<'a>) -> W<'a> {
+        W {
+            text,
+            chart: chart.sfc,
+            pou,
+            renamed: chart.facts.renamed.clone(),
+            p: match chart.action {
+                None => "__SFC_".to_string(),
+                Some(i) => {
+                    let n = pou.actions[i].name.span;
+                    format!("__SFC_IN_{}_", &text[n.start as usize..n.end as usize])
+                }
+            },
+        }
+    }
+
     /// Copies the file's text at `span`, mapped byte for byte.
     fn copy(&self, out: &mut Out, span: Span) {
         let value = self.source(span);
@@ -130,27 +174,106 @@ impl W<'_> {
         &self.text[span.start as usize..span.end as usize]
     }
 
-    /// The name of step `k` as written.
-    pub(super) fn step_name(&self, k: usize) -> &str {
-        self.source(self.chart.steps[k].name.span)
+    /// The name of step `k`: as written, or `<prefix>S_<name>` when an earlier chart
+    /// of the POU has a step of that name.
+    pub(super) fn step_name(&self, k: usize) -> String {
+        let n = self.source(self.chart.steps[k].name.span);
+        if self.renamed.contains(&k) {
+            format!("{}S_{n}", self.p)
+        } else {
+            n.to_string()
+        }
+    }
+
+    /// The text of an expression of the chart (a condition, a duration) at `span`,
+    /// the flags of its renamed steps (`S.X`) renamed, with the pieces copied as
+    /// written.
+    fn expr(&self, span: Span) -> Text {
+        let src = self.source(span);
+        let b = src.as_bytes();
+        let mut value = String::new();
+        let mut exact = Vec::new();
+        let mut copied = 0;
+        let mut i = 0;
+        let ident = |c: u8| c.is_ascii_alphanumeric() || c == b'_';
+        while i < b.len() {
+            if !(b[i].is_ascii_alphabetic() || b[i] == b'_') || (i > 0 && ident(b[i - 1])) {
+                i += 1;
+                continue;
+            }
+            let start = i;
+            while i < b.len() && ident(b[i]) {
+                i += 1;
+            }
+            let word = &src[start..i];
+            let dot = src[i..].trim_start().starts_with('.');
+            let step = self.renamed.iter().find(|&&k| {
+                self.source(self.chart.steps[k].name.span)
+                    .eq_ignore_ascii_case(word)
+            });
+            if let (true, Some(&k)) = (dot, step) {
+                exact.push(Piece {
+                    at: value.len() as u32,
+                    src: span.start + copied as u32,
+                    len: (start - copied) as u32,
+                });
+                value.push_str(&src[copied..start]);
+                value.push_str(&self.step_name(k));
+                copied = i;
+            }
+        }
+        exact.push(Piece {
+            at: value.len() as u32,
+            src: span.start + copied as u32,
+            len: (b.len() - copied) as u32,
+        });
+        value.push_str(&src[copied..]);
+        Text {
+            value,
+            range: span.start..span.end,
+            exact,
+        }
+    }
+
+    /// Copies an expression of the chart (see [`Self::expr`]).
+    fn copy_expr(&self, out: &mut Out, span: Span) {
+        out.push_text(&self.expr(span));
+    }
+
+    /// The text of an expression of the chart (see [`Self::expr`]).
+    pub(super) fn expr_text(&self, span: Span) -> String {
+        self.expr(span).value
+    }
+
+    /// The name of ACTION `i` as written.
+    fn action_name(&self, i: usize) -> &str {
+        self.source(self.pou.actions[i].name.span)
     }
 
     /// The name of the control of `target`.
     pub(super) fn control(&self, t: Target, facts: &Facts) -> String {
         match t {
-            Target::Action(i) => self.source(self.pou.actions[i].name.span).to_string(),
+            Target::Action(i) if facts.borrowed.contains(&i) => {
+                format!("{}K_{}", self.p, self.action_name(i))
+            }
+            Target::Action(i) => self.action_name(i).to_string(),
             Target::Var(v) => {
-                format!("__SFC_V_{}", self.source(facts.vars[v].span))
+                format!("{}V_{}", self.p, self.source(facts.vars[v].span))
             }
         }
     }
 
-    fn declarations(&self, out: &mut Out, facts: &Facts, profile: Profile) {
-        out.push("VAR\n");
-        for s in &self.chart.steps {
+    /// The chart's variables: its steps, the controls of what it drives, its
+    /// clock.
+    fn variables(&self, out: &mut Out, facts: &Facts, profile: Profile) {
+        for (k, s) in self.chart.steps.iter().enumerate() {
             let start = out.pos();
             out.push("  ");
-            self.copy(out, s.name.span);
+            if self.renamed.contains(&k) {
+                out.push(&self.step_name(k));
+            } else {
+                self.copy(out, s.name.span);
+            }
             out.push(if s.initial {
                 " : __SFC_STEP := (X := TRUE);\n"
             } else {
@@ -166,7 +289,11 @@ impl W<'_> {
             let a = &self.pou.actions[i];
             let start = out.pos();
             out.push("  ");
-            self.copy(out, a.name.span);
+            if facts.borrowed.contains(&i) {
+                out.push(&self.control(Target::Action(i), facts));
+            } else {
+                self.copy(out, a.name.span);
+            }
             let _ = writeln!(out.text, " : {control_ty};");
             out.mark(start, a.name.span.start..a.name.span.end);
         }
@@ -181,31 +308,53 @@ impl W<'_> {
                 }
             }
         }
+        let p = &self.p;
         for (k, t) in self.chart.transitions.iter().enumerate() {
             if t.il {
-                let _ = writeln!(out.text, "  __SFC_C{k} : BOOL;");
+                let _ = writeln!(out.text, "  {p}C{k} : BOOL;");
             }
         }
-        out.push("  __SFC_STARTED : BOOL;\n  __SFC_LAST : TIME;\nEND_VAR\nVAR_TEMP\n  __SFC_DT : TIME;\n");
+        let _ = writeln!(out.text, "  {p}STARTED : BOOL;\n  {p}LAST : TIME;");
+    }
+
+    /// The chart's temporaries: the time since the last call, the fired flags.
+    fn temporaries(&self, out: &mut Out) {
+        let p = &self.p;
+        let _ = writeln!(out.text, "  {p}DT : TIME;");
         for k in 0..self.chart.transitions.len() {
-            let _ = writeln!(out.text, "  __SFC_F{k} : BOOL;");
+            let _ = writeln!(out.text, "  {p}F{k} : BOOL;");
         }
-        out.push("END_VAR\n");
+    }
+
+    /// One evolution of the chart under `profile`.
+    fn evolution(&self, out: &mut Out, facts: &Facts, profile: Profile) {
+        self.clock(out);
+        match profile {
+            Profile::Iec => {
+                self.transitions(out, facts, true);
+                self.actions_iec(out, facts);
+            }
+            Profile::Codesys => {
+                self.actions_iec(out, facts);
+                self.transitions(out, facts, true);
+            }
+            Profile::Matiec => self.matiec(out, facts),
+        }
     }
 
     /// The time since the last call, and the active steps' T (and PREV).
     fn clock(&self, out: &mut Out) {
-        out.push(
-            "IF NOT __SFC_STARTED THEN\n  __SFC_STARTED := TRUE;\n  __SFC_LAST := __PLC_CLOCK();\nEND_IF;\n\
-             __SFC_DT := __PLC_CLOCK() - __SFC_LAST;\n__SFC_LAST := __SFC_LAST + __SFC_DT;\n",
+        let p = &self.p;
+        let _ = write!(
+            out.text,
+            "IF NOT {p}STARTED THEN\n  {p}STARTED := TRUE;\n  {p}LAST := __PLC_CLOCK();\nEND_IF;\n\
+             {p}DT := __PLC_CLOCK() - {p}LAST;\n{p}LAST := {p}LAST + {p}DT;\n",
         );
         for (k, s) in self.chart.steps.iter().enumerate() {
             let n = self.step_name(k);
             self.gen(
                 out,
-                &format!(
-                    "{n}.__PREV := {n}.X;\nIF {n}.X THEN {n}.T := {n}.T + __SFC_DT; END_IF;\n"
-                ),
+                &format!("{n}.__PREV := {n}.X;\nIF {n}.X THEN {n}.T := {n}.T + {p}DT; END_IF;\n"),
                 s.name.span,
             );
         }
@@ -235,19 +384,20 @@ impl W<'_> {
             let start = out.pos();
             let _ = write!(
                 out.text,
-                "__SFC_F{t} := FALSE;\nIF {} THEN\n",
-                self.sources_active(facts, t)
+                "{p}F{t} := FALSE;\nIF {} THEN\n",
+                self.sources_active(facts, t),
+                p = self.p
             );
             if tr.il {
                 // The IL list is an action of its own that stores its result.
-                let _ = write!(out.text, "  __SFC_TC{t}();\n  IF (__SFC_C{t}");
+                let _ = write!(out.text, "  {p}TC{t}();\n  IF ({p}C{t}", p = self.p);
             } else {
                 out.push("  IF (");
                 if let Some(c) = tr.condition {
-                    self.copy(out, c);
+                    self.copy_expr(out, c);
                 }
             }
-            let _ = write!(out.text, ") THEN\n    __SFC_F{t} := TRUE;\n");
+            let _ = write!(out.text, ") THEN\n    {}F{t} := TRUE;\n", self.p);
             if exclusive || tr.priority.is_some() {
                 for &k in &facts.from[t] {
                     let _ = writeln!(out.text, "    {}.X := FALSE;", self.step_name(k));
@@ -262,7 +412,7 @@ impl W<'_> {
                     continue;
                 }
                 let start = out.pos();
-                let _ = writeln!(out.text, "IF __SFC_F{t} THEN");
+                let _ = writeln!(out.text, "IF {}F{t} THEN", self.p);
                 for &k in &facts.from[t] {
                     let _ = writeln!(out.text, "  {}.X := FALSE;", self.step_name(k));
                 }
@@ -272,7 +422,7 @@ impl W<'_> {
         }
         for (t, tr) in self.chart.transitions.iter().enumerate() {
             let start = out.pos();
-            let _ = writeln!(out.text, "IF __SFC_F{t} THEN");
+            let _ = writeln!(out.text, "IF {}F{t} THEN", self.p);
             for &k in &facts.to[t] {
                 let n = self.step_name(k);
                 let _ = writeln!(out.text, "  {n}.X := TRUE;\n  {n}.T := T#0s;");
@@ -295,8 +445,9 @@ impl W<'_> {
             let start = out.pos();
             super::control::write(self, out, t, facts);
             match t {
-                Target::Action(_) => {
-                    let _ = writeln!(out.text, "IF {c}.A THEN __SFC_A_{c}(); END_IF;");
+                Target::Action(i) => {
+                    let a = self.action_name(i);
+                    let _ = writeln!(out.text, "IF {c}.A THEN __SFC_A_{a}(); END_IF;");
                 }
                 Target::Var(v) => {
                     self.copy(out, facts.vars[v].span);
@@ -316,10 +467,11 @@ impl W<'_> {
             let _ = write!(
                 out.text,
                 "{c}.Q := FALSE;\n{c}.__SET := FALSE;\n{c}.__RESET := FALSE;\n\
-                 IF {c}.__SET_REMAINING > T#0s THEN\n  {c}.__SET_REMAINING := {c}.__SET_REMAINING - __SFC_DT;\n  \
+                 IF {c}.__SET_REMAINING > T#0s THEN\n  {c}.__SET_REMAINING := {c}.__SET_REMAINING - {p}DT;\n  \
                  IF {c}.__SET_REMAINING <= T#0s THEN {c}.__SET_REMAINING := T#0s; {c}.__SET := TRUE; END_IF;\nEND_IF;\n\
-                 IF {c}.__RESET_REMAINING > T#0s THEN\n  {c}.__RESET_REMAINING := {c}.__RESET_REMAINING - __SFC_DT;\n  \
-                 IF {c}.__RESET_REMAINING <= T#0s THEN {c}.__RESET_REMAINING := T#0s; {c}.__RESET := TRUE; END_IF;\nEND_IF;\n"
+                 IF {c}.__RESET_REMAINING > T#0s THEN\n  {c}.__RESET_REMAINING := {c}.__RESET_REMAINING - {p}DT;\n  \
+                 IF {c}.__RESET_REMAINING <= T#0s THEN {c}.__RESET_REMAINING := T#0s; {c}.__RESET := TRUE; END_IF;\nEND_IF;\n",
+                p = self.p
             );
         }
         // 4 to 6: transitions.
@@ -345,7 +497,7 @@ impl W<'_> {
             let start = out.pos();
             let dur = |w: &Self, out: &mut Out| {
                 out.push("(");
-                w.copy(out, a.duration.expect("timed"));
+                w.copy_expr(out, a.duration.expect("timed"));
                 out.push(")");
             };
             match a.qual {
@@ -437,7 +589,8 @@ impl W<'_> {
         // 10: the actions whose state is on, in declaration order.
         for &i in &facts.actions {
             let c = self.control(Target::Action(i), facts);
-            let _ = writeln!(out.text, "IF {c}.Q THEN __SFC_A_{c}(); END_IF;");
+            let a = self.action_name(i);
+            let _ = writeln!(out.text, "IF {c}.Q THEN __SFC_A_{a}(); END_IF;");
         }
     }
 }

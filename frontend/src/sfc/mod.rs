@@ -19,7 +19,7 @@ mod safety;
 #[cfg(test)]
 mod tests;
 
-use crate::ast::{self, Item, SourceUnit};
+use crate::ast::{self, Item, Sfc, SourceUnit};
 use crate::intern::Interner;
 use crate::plcopen::map::SpanMap;
 use crate::source::{SourceFile, SourceMap};
@@ -101,7 +101,7 @@ pub fn expand(
             .items
             .iter()
             .enumerate()
-            .filter(|(_, i)| matches!(i, Item::Pou(p) if p.sfc.is_some()))
+            .filter(|(_, i)| matches!(i, Item::Pou(p) if pou_has_chart(p)))
             .map(|(k, _)| k)
             .collect();
         if charts.is_empty() {
@@ -117,19 +117,36 @@ pub fn expand(
             let Item::Pou(pou) = &mut unit.items[k] else {
                 continue;
             };
-            let chart = pou.sfc.take().expect("a chart");
-            if !drawing.is_empty() {
-                drawing.push('\n');
+            // The body's chart first, then the actions'.
+            let mut sfcs: Vec<(Option<usize>, Sfc)> = Vec::new();
+            if let Some(c) = pou.sfc.take() {
+                sfcs.push((None, c));
             }
-            drawing.push_str(&draw::draw(pou, &chart, &text));
+            for (i, a) in pou.actions.iter_mut().enumerate() {
+                if let Some(c) = a.sfc.take() {
+                    sfcs.push((Some(i), c));
+                }
+            }
+            for (action, chart) in &sfcs {
+                if !drawing.is_empty() {
+                    drawing.push('\n');
+                }
+                drawing.push_str(&draw::draw(pou, *action, chart, &text));
+            }
+            let refs: Vec<(Option<usize>, &Sfc)> = sfcs.iter().map(|(a, c)| (*a, c)).collect();
             let before = diags.iter().filter(|d| d.is_error()).count();
-            let facts = check::check(pou, &chart, &text, interner, profile, diags);
+            let facts = check::check_pou(pou, &refs, &text, interner, profile, diags);
             if diags.iter().filter(|d| d.is_error()).count() > before {
                 continue;
             }
             let facts = facts.expect("checked without errors");
-            il |= chart.transitions.iter().any(|t| t.il);
-            emit::pou(&mut out, pou, &chart, &facts, &text, profile);
+            il |= sfcs.iter().any(|(_, c)| c.transitions.iter().any(|t| t.il));
+            let charts: Vec<emit::Chart<'_>> = refs
+                .iter()
+                .zip(facts)
+                .map(|(&(action, sfc), facts)| emit::Chart { sfc, action, facts })
+                .collect();
+            emit::pou(&mut out, pou, &charts, &text, profile);
             made.push(k);
         }
         if made.is_empty() {
@@ -175,5 +192,10 @@ pub fn remap_all(views: &[View], diags: &mut [Diagnostic]) {
 pub fn has_chart(unit: &SourceUnit) -> bool {
     unit.items
         .iter()
-        .any(|i| matches!(i, Item::Pou(ast::Pou { sfc: Some(_), .. })))
+        .any(|i| matches!(i, Item::Pou(p) if pou_has_chart(p)))
+}
+
+/// True if the body of `pou` or one of its actions is a chart.
+fn pou_has_chart(pou: &ast::Pou) -> bool {
+    pou.sfc.is_some() || pou.actions.iter().any(|a| a.sfc.is_some())
 }

@@ -159,3 +159,52 @@ fn a_convergence_of_exclusive_branches_never_fires() {
     assert_eq!(codes(&d), ["W0783"]);
     assert!(st.is_some());
 }
+
+#[test]
+fn action_charts_that_drive_each_other_are_refused() {
+    let (d, st) = expand(
+        "PROGRAM p VAR x : BOOL; END_VAR\n\
+         INITIAL_STEP A: Sub1(N); END_STEP\n\
+         TRANSITION FROM A TO A := x; END_TRANSITION\n\
+         ACTION Sub1:\n  INITIAL_STEP B: Sub2(N); END_STEP\n  TRANSITION FROM B TO B := x; END_TRANSITION\nEND_ACTION\n\
+         ACTION Sub2:\n  INITIAL_STEP C: Sub1(N); END_STEP\n  TRANSITION FROM C TO C := x; END_TRANSITION\nEND_ACTION\n\
+         END_PROGRAM",
+        super::Profile::Iec,
+    );
+    assert!(st.is_none());
+    assert_eq!(
+        codes(&d).iter().filter(|c| **c == "E0785").count(),
+        2,
+        "{d:#?}"
+    );
+}
+
+#[test]
+fn a_shared_action_and_a_repeated_step_name_across_charts() {
+    let (d, st) = expand(
+        "PROGRAM p VAR x : BOOL; n : INT; END_VAR\n\
+         INITIAL_STEP Idle: Sub(N); Count(N); END_STEP\n\
+         TRANSITION FROM Idle TO Idle := x; END_TRANSITION\n\
+         ACTION Sub:\n  INITIAL_STEP Idle: Count(N); END_STEP\n  TRANSITION FROM Idle TO Idle := Idle.T > T#1s; END_TRANSITION\nEND_ACTION\n\
+         ACTION Count: n := n + 1; END_ACTION\n\
+         END_PROGRAM",
+        super::Profile::Iec,
+    );
+    let st = st.expect("written");
+    let c = codes(&d);
+    assert!(c.contains(&"W0784"), "{c:?}");
+    assert!(c.contains(&"W0785"), "{c:?}");
+    // The inner chart's step is a variable of its own, read by its own condition;
+    // the shared action has a control per chart and one body.
+    assert!(
+        st.contains("__SFC_IN_Sub_S_Idle : __SFC_STEP := (X := TRUE);"),
+        "{st}"
+    );
+    assert!(st.contains("(__SFC_IN_Sub_S_Idle.T > T#1s)"), "{st}");
+    assert!(st.contains("__SFC_IN_Sub_K_Count : __SFC_ACTION;"), "{st}");
+    assert!(
+        st.contains("IF __SFC_IN_Sub_K_Count.A THEN __SFC_A_Count(); END_IF;"),
+        "{st}"
+    );
+    assert_eq!(st.matches("ACTION __SFC_A_Count:").count(), 1, "{st}");
+}

@@ -1331,13 +1331,42 @@ impl<'a> Parser<'a> {
             pou = self.last_pou;
         }
         self.eat(Tok::Colon);
-        let body = self.code_body(Tok::EndAction, kw, decls);
+        // An action written as a chart (IEC 61131-3 6.7; CODESYS's SFC actions).
+        let mut sfc: Option<Sfc> = None;
+        let body = if matches!(self.member_at(), Some(Member::Step | Member::Transition)) {
+            let start = self.tok().start;
+            let chart = sfc.get_or_insert_with(Sfc::default);
+            while let Some(m @ (Member::Step | Member::Transition)) = self.member_at() {
+                if m == Member::Step {
+                    chart.steps.extend(self.sfc_step());
+                } else {
+                    chart.transitions.extend(self.sfc_transition());
+                }
+            }
+            chart.span = self.sp(start, self.prev_end());
+            let at = self.prev_end();
+            if !self.eat(Tok::EndAction) {
+                let msg = format!(
+                    "expected `END_ACTION` after the chart, found {}",
+                    self.describe(self.pos)
+                );
+                self.error_here(codes::UNCLOSED_BLOCK, msg, "expected `END_ACTION`");
+                self.skip_member_body(Tok::EndAction);
+            }
+            Body {
+                stmts: Vec::new(),
+                span: self.sp(at, at),
+            }
+        } else {
+            self.code_body(Tok::EndAction, kw, decls)
+        };
         let span = self.span_from(kw.start);
         self.eat(Tok::Semi);
         Some(Action {
             pou,
             name: name?,
             body,
+            sfc,
             span,
         })
     }

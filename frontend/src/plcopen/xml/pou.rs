@@ -177,7 +177,7 @@ impl Reader<'_, '_> {
                 };
                 Body::Graph(g, elems)
             }
-            "SFC" if kind == "POU" => Body::Sfc(self.sfc(lang, label)),
+            "SFC" if kind == "POU" || kind == "action" => Body::Sfc(self.sfc(lang, label)),
             other => {
                 let what_lang = match other {
                     "SFC" => "sequential function charts (SFC)",
