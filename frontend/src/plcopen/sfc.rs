@@ -93,6 +93,9 @@ struct Assoc<'a> {
     /// The reference's name in the XML, for the map.
     text: Option<&'a Text>,
     qualifier: Option<&'a Text>,
+    /// A CODESYS step action's kind (`ENTRY`, `ACTIVE`, `EXIT`), written as its
+    /// qualifier.
+    step_action: Option<&'static str>,
     duration: Option<&'a Text>,
     indicator: Option<&'a Text>,
     tag: Option<Range<u32>>,
@@ -246,6 +249,7 @@ pub(super) fn plan<'a, 'm>(
             name: r.compute_name.clone(),
             text: None,
             qualifier: None,
+            step_action: None,
             duration: None,
             indicator: None,
             tag: None,
@@ -446,7 +450,12 @@ impl<'a, 'm, 'c> Reg<'a, 'm, 'c, '_> {
     /// Registers step `i` (once per name) and makes it the target of the transitions
     /// before it.
     fn step(&mut self, i: usize) {
-        let NodeKind::Step { name, initial } = &self.node(i).kind else {
+        let NodeKind::Step {
+            name,
+            initial,
+            step_actions,
+        } = &self.node(i).kind
+        else {
             return;
         };
         let key = name.value.to_ascii_uppercase();
@@ -454,12 +463,26 @@ impl<'a, 'm, 'c> Reg<'a, 'm, 'c, '_> {
             return;
         }
         let idx = self.steps.len();
+        // CODESYS's step actions, as plcc's pseudo-qualifiers ENTRY, ACTIVE, EXIT.
+        let mut assocs = Vec::new();
+        for (kind, action) in step_actions {
+            self.pou_action(action);
+            assocs.push(Assoc {
+                name: action.value.clone(),
+                text: Some(action),
+                qualifier: None,
+                step_action: Some(kind),
+                duration: None,
+                indicator: None,
+                tag: Some(action.range.clone()),
+            });
+        }
         self.steps.push(StepInfo {
             node: i,
             name,
             initial: *initial,
             transitions: Vec::new(),
-            assocs: Vec::new(),
+            assocs,
         });
         self.step_by_name.insert(key, idx);
         if *initial {
@@ -547,6 +570,7 @@ impl<'a, 'm, 'c> Reg<'a, 'm, 'c, '_> {
                 name: content,
                 text,
                 qualifier: a.qualifier.as_ref(),
+                step_action: None,
                 duration: a.duration.as_ref(),
                 indicator: a.indicator.as_ref(),
                 tag: Some(a.tag.clone()),
@@ -1135,6 +1159,7 @@ fn write_assoc(o: &mut Out, a: &Assoc, step_tag: &Range<u32>) {
     }
     o.push("(");
     match a.qualifier {
+        _ if a.step_action.is_some() => o.push(a.step_action.unwrap_or("N")),
         Some(q) => o.push_as(&q.value.to_ascii_uppercase(), q),
         None if a.name.starts_with(COMPUTE) => o.push("S"),
         None => o.push("N"),

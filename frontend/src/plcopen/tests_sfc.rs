@@ -366,6 +366,55 @@ fn an_action_written_as_a_chart() {
     );
 }
 
+/// CODESYS's step actions (entry, active, exit), named in the step's `addData`, are
+/// written with plcc's pseudo-qualifiers (in the order of the data), before the
+/// step's action blocks.
+#[test]
+fn codesys_step_actions_from_add_data() {
+    let attrs = |pairs: &[(&str, &str)]| -> String {
+        let a: String = pairs
+            .iter()
+            .map(|(g, v)| format!(r#"<attribute guid="{g}">{v}</attribute>"#))
+            .collect();
+        format!(
+            r#"<addData><data name="http://www.3s-software.com/plcopenxml/sfc/element" handleUnknown="implementation"><attributes xmlns="">{a}</attributes></data></addData>"#
+        )
+    };
+    let s1 = attrs(&[
+        ("38391c6d-6d4a-42f8-8ee7-9f45e5adafa8", "S1"),
+        ("700a583f-b4d4-43e4-8c14-629c7cd3bec8", "Work"),
+        ("a6b08bd8-b696-47e3-9cbf-7408b61c9ff8", "Enter"),
+        ("a2621e18-7de3-4ea6-ae6d-89e9e0b7befd", "Leave"),
+    ]);
+    let sfc = [
+        step(1, "Init", true, None),
+        trans(2, 1, "a"),
+        format!(
+            r#"<step localId="3" name="S1"><connectionPointIn><connection refLocalId="2"/></connectionPointIn><connectionPointOut/>{s1}</step>"#
+        ),
+        trans(4, 3, "b"),
+        jump(5, 4, "Init"),
+    ]
+    .concat();
+    let body_of = |n: &str| {
+        format!(
+            r#"<action name="{n}"><body><ST><xhtml:p><![CDATA[n := n + 1;]]></xhtml:p></ST></body></action>"#
+        )
+    };
+    let actions = format!(
+        "<actions>{}{}{}</actions>",
+        body_of("Enter"),
+        body_of("Work"),
+        body_of("Leave")
+    );
+    let v = view_of(&chart(&actions, &sfc));
+    assert!(
+        v.contains("STEP S1:\n    Work(ACTIVE);\n    Enter(ENTRY);\n    Leave(EXIT);\nEND_STEP\n"),
+        "{v}"
+    );
+    assert!(v.contains("ACTION Enter:"), "{v}");
+}
+
 /// CODESYS nests convergences (a branch closed inside a branch): the transitions of
 /// the inner one lead to the step after the outer one.
 #[test]

@@ -34,6 +34,13 @@ pub(super) enum Qual {
     Sl,
     /// Written without a qualifier (`A();`).
     Bare,
+    /// CODESYS's entry step action (plcc's `A(ENTRY);`): once when the step becomes
+    /// active.
+    Entry,
+    /// CODESYS's step action (`A(ACTIVE);`): every scan the step is active.
+    Active,
+    /// CODESYS's exit step action (`A(EXIT);`): once when the step is left.
+    Exit,
 }
 
 impl Qual {
@@ -50,6 +57,9 @@ impl Qual {
             "SD" => Qual::Sd,
             "DS" => Qual::Ds,
             "SL" => Qual::Sl,
+            "ENTRY" => Qual::Entry,
+            "ACTIVE" => Qual::Active,
+            "EXIT" => Qual::Exit,
             _ => return None,
         })
     }
@@ -91,8 +101,11 @@ pub(super) struct Facts {
     pub actions: Vec<usize>,
     /// BOOL variables used as actions, in order of first use.
     pub vars: Vec<Ident>,
-    /// Every association, step by step in text order.
+    /// Every association, step by step in text order, but step actions.
     pub assocs: Vec<Assoc>,
+    /// CODESYS's step actions (ENTRY, ACTIVE, EXIT), step by step in text order:
+    /// called directly, with no action control.
+    pub step_actions: Vec<Assoc>,
     /// For each transition, its steps before and after (indexes in the chart).
     pub from: Vec<Vec<usize>>,
     /// See `from`.
@@ -238,7 +251,8 @@ pub(super) fn check(
                                 q.span,
                             )
                             .with_note(
-                                "the qualifiers are N, R, S, L, D, P, P1, P0, SD, DS and SL",
+                                "the qualifiers are N, R, S, L, D, P, P1, P0, SD, DS and SL \
+                                 (and ENTRY, ACTIVE, EXIT for CODESYS's step actions)",
                             ),
                         );
                         continue;
@@ -271,11 +285,32 @@ pub(super) fn check(
                     facts.compute = Some(i);
                     continue;
                 }
+                Some(&i) if matches!(qual, Qual::Entry | Qual::Active | Qual::Exit) => {
+                    facts.step_actions.push(Assoc {
+                        step: k,
+                        target: Target::Action(i),
+                        qual,
+                        duration: None,
+                    });
+                    continue;
+                }
                 Some(&i) => {
                     if !used_actions.contains(&i) {
                         used_actions.push(i);
                     }
                     Target::Action(i)
+                }
+                None if matches!(qual, Qual::Entry | Qual::Active | Qual::Exit) => {
+                    diags.push(err(
+                        codes::SFC_TEXT_ACTION,
+                        format!(
+                            "`{}` is no ACTION of `{}`: a step action (ENTRY, ACTIVE, EXIT) runs an action",
+                            name_of(&a.action),
+                            name_of(&pou.name)
+                        ),
+                        a.action.span,
+                    ));
+                    continue;
                 }
                 None if !declared_bool(pou, a.action.sym, interner) => {
                     diags.push(
@@ -494,10 +529,18 @@ pub(super) fn check_pou(
     // driven or not (one no step drives never runs), but the blocks of graphical
     // conditions, called directly, and actions another chart drives.
     if charts.first().is_some_and(|c| c.0.is_none()) {
+        let stepped = facts
+            .iter()
+            .flat_map(|f| &f.step_actions)
+            .filter_map(|a| match a.target {
+                Target::Action(i) => Some(i),
+                Target::Var(_) => None,
+            });
         let driven: Vec<usize> = facts
             .iter()
             .skip(1)
             .flat_map(|f| f.actions.clone())
+            .chain(stepped)
             .collect();
         let main = &mut facts[0];
         for k in 0..pou.actions.len() {

@@ -79,7 +79,15 @@ pub(super) fn pou<'a>(
     }
     // The actions: those a chart drives renamed, those written as charts their
     // chart's evolution, the others as written.
-    let driven = |k: usize| charts.iter().any(|c| c.facts.actions.contains(&k));
+    let driven = |k: usize| {
+        charts.iter().any(|c| {
+            c.facts.actions.contains(&k)
+                || c.facts
+                    .step_actions
+                    .iter()
+                    .any(|a| a.target == Target::Action(k))
+        })
+    };
     for (k, a) in pou.actions.iter().enumerate() {
         let start = out.pos();
         out.push(if driven(k) {
@@ -309,6 +317,9 @@ impl<'a> W<'a> {
             }
         }
         let p = &self.p;
+        for k in Self::stepped(facts) {
+            let _ = writeln!(out.text, "  {p}W{k} : BOOL;");
+        }
         for (k, t) in self.chart.transitions.iter().enumerate() {
             if t.il {
                 let _ = writeln!(out.text, "  {p}C{k} : BOOL;");
@@ -332,9 +343,11 @@ impl<'a> W<'a> {
         match profile {
             Profile::Iec => {
                 self.transitions(out, facts, true);
+                self.step_actions(out, facts);
                 self.actions_iec(out, facts);
             }
             Profile::Codesys => {
+                self.step_actions(out, facts);
                 self.actions_iec(out, facts);
                 self.transitions(out, facts, true);
             }
@@ -432,6 +445,52 @@ impl<'a> W<'a> {
         }
     }
 
+    /// The steps (indexes) that have step actions, in text order.
+    fn stepped(facts: &Facts) -> Vec<usize> {
+        let mut out: Vec<usize> = facts.step_actions.iter().map(|a| a.step).collect();
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+
+    /// CODESYS's step actions, in its order: the exit actions of the steps left
+    /// since the last time, the entry actions of the steps entered, then the actions
+    /// of the active steps; each step in text order. `<prefix>W<k>` is whether step k
+    /// was active then.
+    fn step_actions(&self, out: &mut Out, facts: &Facts) {
+        if facts.step_actions.is_empty() {
+            return;
+        }
+        let p = &self.p;
+        for (qual, cond) in [
+            (Qual::Exit, "NOT {n}.X AND {w}"),
+            (Qual::Entry, "{n}.X AND NOT {w}"),
+            (Qual::Active, "{n}.X"),
+        ] {
+            if qual == Qual::Active {
+                for k in Self::stepped(facts) {
+                    let _ = writeln!(out.text, "{p}W{k} := {}.X;", self.step_name(k));
+                }
+            }
+            for a in facts.step_actions.iter().filter(|a| a.qual == qual) {
+                let Target::Action(i) = a.target else {
+                    continue;
+                };
+                let test = cond
+                    .replace("{n}", &self.step_name(a.step))
+                    .replace("{w}", &format!("{p}W{}", a.step));
+                let start = out.pos();
+                let _ = writeln!(
+                    out.text,
+                    "IF {test} THEN __SFC_A_{}(); END_IF;",
+                    self.action_name(i)
+                );
+                let from = self.chart.steps[a.step].span;
+                out.mark(start, from.start..from.end);
+            }
+        }
+    }
+
     /// The standard's action control: each control called with its associations
     /// combined, each action run while its A is TRUE, in declaration order; a BOOL
     /// variable action takes its control's Q.
@@ -501,6 +560,8 @@ impl<'a> W<'a> {
                 out.push(")");
             };
             match a.qual {
+                // Not among the associations (see `Facts::step_actions`).
+                Qual::Entry | Qual::Active | Qual::Exit => {}
                 Qual::N => {
                     let _ = writeln!(
                         out.text,
@@ -586,6 +647,7 @@ impl<'a> W<'a> {
             out.push(" := TRUE; END_IF;\n");
             out.mark(start, facts.vars[v].span.start..facts.vars[v].span.end);
         }
+        self.step_actions(out, facts);
         // 10: the actions whose state is on, in declaration order.
         for &i in &facts.actions {
             let c = self.control(Target::Action(i), facts);

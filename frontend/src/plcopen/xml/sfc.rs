@@ -45,6 +45,10 @@ pub(crate) enum NodeKind {
         name: Text,
         /// `initialStep="true"`.
         initial: bool,
+        /// CODESYS's step actions (entry, active, exit), from the step's `addData`:
+        /// the kind (`ENTRY`, `ACTIVE`, `EXIT`, as plcc's textual SFC writes them)
+        /// and the action's name.
+        step_actions: Vec<(&'static str, Text)>,
     },
     /// `macroStep`: ignored (with a warning), as the editors ignore it.
     MacroStep,
@@ -218,7 +222,12 @@ impl Reader<'_, '_> {
                     return None;
                 };
                 let initial = e.attribute("initialStep").is_some_and(truthy);
-                NodeKind::Step { name, initial }
+                let step_actions = self.step_actions(e);
+                NodeKind::Step {
+                    name,
+                    initial,
+                    step_actions,
+                }
             }
             "macroStep" => {
                 let d = Diagnostic::warning(
@@ -411,5 +420,37 @@ impl Reader<'_, '_> {
             target,
             tag,
         })
+    }
+}
+
+/// The `guid`s under which CODESYS's `sfc/element` data of a step names its step
+/// actions, with plcc's textual name of each kind (in CODESYS's order of execution:
+/// exit, entry, active).
+const STEP_ACTION_GUIDS: [(&str, &str); 3] = [
+    ("a2621e18-7de3-4ea6-ae6d-89e9e0b7befd", "EXIT"),
+    ("a6b08bd8-b696-47e3-9cbf-7408b61c9ff8", "ENTRY"),
+    ("700a583f-b4d4-43e4-8c14-629c7cd3bec8", "ACTIVE"),
+];
+
+impl Reader<'_, '_> {
+    /// CODESYS's step actions of step `e` (its `addData`), each with its kind.
+    fn step_actions(&self, e: Node) -> Vec<(&'static str, Text)> {
+        let mut out = Vec::new();
+        for d in add_data(e, "element") {
+            for attrs in kids(d, "attributes") {
+                for a in kids(attrs, "attribute") {
+                    let guid = a.attribute("guid").unwrap_or("");
+                    let Some(&(_, kind)) = STEP_ACTION_GUIDS.iter().find(|(g, _)| *g == guid)
+                    else {
+                        continue;
+                    };
+                    let t = self.text(a).trimmed();
+                    if !t.value.is_empty() {
+                        out.push((kind, t));
+                    }
+                }
+            }
+        }
+        out
     }
 }

@@ -50,13 +50,21 @@ impl<'a> Parser<'a> {
         let mut qualifier = None;
         let mut duration = None;
         let mut indicators = Vec::new();
-        if self.at(Tok::Ident) {
+        if self.at(Tok::Ident) || self.at(Tok::Exit) {
             let q = self.bump();
             let timed = matches!(
                 self.slice(q).to_ascii_uppercase().as_str(),
                 "L" | "D" | "SD" | "DS" | "SL"
             );
-            qualifier = Some(self.ident(q));
+            qualifier = Some(if q.kind == Tok::Exit {
+                // CODESYS's exit step action: `A(EXIT);` (EXIT is a keyword).
+                Ident {
+                    sym: self.interner().intern_upper("EXIT"),
+                    span: self.tspan(q),
+                }
+            } else {
+                self.ident(q)
+            });
             // A timed qualifier's first item is its duration (a TIME expression);
             // the other items are indicator variables.
             let mut k = 0;
