@@ -493,7 +493,7 @@ fn the_chart_generator_reaches_every_feature() {
     .iter()
     .map(|s| s.to_string())
     .collect();
-    for q in sfc::QUALIFIERS {
+    for q in sfc::QUALIFIERS.iter().chain(&sfc::STEP_ACTIONS) {
         wanted.push(format!("qualifier {q}"));
     }
     println!("{n} charts:");

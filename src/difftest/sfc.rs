@@ -34,6 +34,9 @@ pub const PROFILES: [(Profile, &str); 3] = [
 /// The action qualifiers; the timed ones take a duration.
 pub const QUALIFIERS: [&str; 11] = ["N", "R", "S", "L", "D", "P", "P1", "P0", "SD", "DS", "SL"];
 
+/// CODESYS's step actions, as plcc writes them (pseudo-qualifiers of actions).
+pub const STEP_ACTIONS: [&str; 3] = ["ENTRY", "ACTIVE", "EXIT"];
+
 /// A qualifier that takes a duration (L, D, SD, DS, SL).
 pub fn timed(q: &str) -> bool {
     matches!(q, "L" | "D" | "SD" | "DS" | "SL")

@@ -526,21 +526,14 @@ pub(super) fn check_pou(
         return None;
     }
     // Every other ACTION of a POU whose body is a chart has its flags (`A.Q`),
-    // driven or not (one no step drives never runs), but the blocks of graphical
-    // conditions, called directly, and actions another chart drives.
+    // driven or not (one no step drives never runs; a step action's stay FALSE),
+    // but the blocks of graphical conditions, called directly, and actions another
+    // chart drives.
     if charts.first().is_some_and(|c| c.0.is_none()) {
-        let stepped = facts
-            .iter()
-            .flat_map(|f| &f.step_actions)
-            .filter_map(|a| match a.target {
-                Target::Action(i) => Some(i),
-                Target::Var(_) => None,
-            });
         let driven: Vec<usize> = facts
             .iter()
             .skip(1)
             .flat_map(|f| f.actions.clone())
-            .chain(stepped)
             .collect();
         let main = &mut facts[0];
         for k in 0..pou.actions.len() {

@@ -4,7 +4,7 @@
 //! readable in every expression; the FB with a chart has slim declarations of its
 //! own.
 
-use super::{Action, Assoc, Chart, ChartPou, SfcProg, Step, Transition, QUALIFIERS};
+use super::{Action, Assoc, Chart, ChartPou, SfcProg, Step, Transition, QUALIFIERS, STEP_ACTIONS};
 use crate::difftest::gen::{lit, Expr, Gen, Prog, Rng, Stmt, ALL, T};
 use crate::difftest::print::expr_text;
 
@@ -160,6 +160,18 @@ fn chart(rng: &mut Rng, decl: &Prog, n: usize, _avoid: bool) -> (Chart, Vec<Stri
             };
             let ms = super::timed(qual).then(|| *g.rng().pick(&MS));
             s.assocs.push(Assoc { target, qual, ms });
+        }
+    }
+    // CODESYS's step actions on some steps.
+    for s in &mut steps {
+        if g.rng().chance(20) {
+            let target = g.rng().pick(&actions).clone();
+            let qual = *g.rng().pick(&STEP_ACTIONS);
+            s.assocs.push(Assoc {
+                target,
+                qual,
+                ms: None,
+            });
         }
     }
     // Every action is associated somewhere (most of the time).
