@@ -475,6 +475,7 @@ bad! {
     ld_pous_in_add_data,
     ld_var_list,
     ld_sfc_action,
+    ld_sfc_transition,
     ld_action_of_function,
     ld_bad_element,
     ld_duplicate_id,

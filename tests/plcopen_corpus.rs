@@ -95,7 +95,7 @@ const CASES: &[Case] = &[
     case("VerifAPS__verifaps-lib__share_PPU_Scenario9_Final", Compiles),
     case(
         "VerifAPS__verifaps-lib__share_xPPU_PLCOpenXML_Scenario_1",
-        Fails("its charts compile (actions written as charts, nested branches); the ST needs CODESYS's access to an FB instance's internal variables, a global variable list's name as a qualifier (`GVL.x`) and a PROGRAM's variables read from another POU (`Main.x`)", &["E0201", "E0207"]),
+        Fails("its charts compile (actions written as charts, nested branches); the ST needs CODESYS's access to an FB instance's internal variables, a global variable list's name as a qualifier (`GVL.x`) and a PROGRAM's variables read from another POU (`Main.x`), and actions of FB instances called with arguments and read as flags (`inst.Act(IN := x)`, `inst.Act`)", &["E0201", "E0207", "E0402"]),
     ),
     case(
         "VerifAPS__verifaps-lib__xml_src_test_resources_FBDExample",

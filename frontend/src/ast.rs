@@ -112,6 +112,9 @@ pub struct SfcStep {
 pub struct SfcAssoc {
     /// The ACTION, or a BOOL variable used as an action.
     pub action: Ident,
+    /// For `inst.A(ACTIVE);` (a CODESYS step action running an action of an FB
+    /// instance): the whole dotted name; `action` is its first part.
+    pub qualified: Option<Span>,
     /// N, R, S, L, D, P, P0, P1, SD, DS, SL; `None` when left out (`A();`).
     pub qualifier: Option<Ident>,
     /// The duration of a timed qualifier: a TIME expression (its span, to copy).

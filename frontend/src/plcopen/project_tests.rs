@@ -519,8 +519,8 @@ fn errors_in_actions_name_the_action() {
     };
     let (_, d) = convert_text(&pou(r#"<action name="a"><body><SFC/></body></action>"#));
     assert_eq!(d.len(), 1, "{d:#?}");
-    assert_eq!(d[0].code, codes::E_LANGUAGE_UNSUPPORTED);
-    assert!(d[0].message.contains("in action `p.a`"), "{}", d[0].message);
+    assert_eq!(d[0].code, codes::SFC_NO_INITIAL_STEP);
+    assert!(d[0].message.contains("`p.a`"), "{}", d[0].message);
     let (_, d) = convert_text(&pou(&format!(
         r#"<action name="a">{0}</action><action name="A">{0}</action>"#,
         st("x := FALSE;")

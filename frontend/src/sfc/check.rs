@@ -92,6 +92,19 @@ pub(super) struct Assoc {
     pub duration: Option<Span>,
 }
 
+/// A CODESYS step action (`A(ENTRY);`, `inst.A(ACTIVE);`), resolved.
+#[derive(Clone, Debug)]
+pub(super) struct StepAction {
+    /// The step (its index in the chart).
+    pub step: usize,
+    /// ENTRY, ACTIVE or EXIT.
+    pub qual: Qual,
+    /// The POU's ACTION it runs; `None` for an action of an FB instance.
+    pub action: Option<usize>,
+    /// The name as written (`A`, `inst.A`).
+    pub name: Span,
+}
+
 /// What the writer needs about a chart that keeps the rules.
 #[derive(Clone, Debug, Default)]
 pub(super) struct Facts {
@@ -105,7 +118,7 @@ pub(super) struct Facts {
     pub assocs: Vec<Assoc>,
     /// CODESYS's step actions (ENTRY, ACTIVE, EXIT), step by step in text order:
     /// called directly, with no action control.
-    pub step_actions: Vec<Assoc>,
+    pub step_actions: Vec<StepAction>,
     /// For each transition, its steps before and after (indexes in the chart).
     pub from: Vec<Vec<usize>>,
     /// See `from`.
@@ -277,6 +290,27 @@ pub(super) fn check(
                 )),
                 _ => {}
             }
+            let step_action = matches!(qual, Qual::Entry | Qual::Active | Qual::Exit);
+            if let Some(name) = a.qualified {
+                if step_action {
+                    facts.step_actions.push(StepAction {
+                        step: k,
+                        qual,
+                        action: None,
+                        name,
+                    });
+                } else {
+                    diags.push(err(
+                        codes::SFC_TEXT_ACTION,
+                        format!(
+                            "`{}` is an action of an instance: only a step action (ENTRY, ACTIVE, EXIT) can run one",
+                            &text[name.start as usize..name.end as usize]
+                        ),
+                        name,
+                    ));
+                }
+                continue;
+            }
             let target = match actions.get(&a.action.sym) {
                 Some(&i)
                     if profile != super::Profile::Matiec
@@ -285,12 +319,12 @@ pub(super) fn check(
                     facts.compute = Some(i);
                     continue;
                 }
-                Some(&i) if matches!(qual, Qual::Entry | Qual::Active | Qual::Exit) => {
-                    facts.step_actions.push(Assoc {
+                Some(&i) if step_action => {
+                    facts.step_actions.push(StepAction {
                         step: k,
-                        target: Target::Action(i),
                         qual,
-                        duration: None,
+                        action: Some(i),
+                        name: a.action.span,
                     });
                     continue;
                 }
@@ -300,7 +334,7 @@ pub(super) fn check(
                     }
                     Target::Action(i)
                 }
-                None if matches!(qual, Qual::Entry | Qual::Active | Qual::Exit) => {
+                None if step_action => {
                     diags.push(err(
                         codes::SFC_TEXT_ACTION,
                         format!(

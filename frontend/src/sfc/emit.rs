@@ -81,11 +81,7 @@ pub(super) fn pou<'a>(
     // chart's evolution, the others as written.
     let driven = |k: usize| {
         charts.iter().any(|c| {
-            c.facts.actions.contains(&k)
-                || c.facts
-                    .step_actions
-                    .iter()
-                    .any(|a| a.target == Target::Action(k))
+            c.facts.actions.contains(&k) || c.facts.step_actions.iter().any(|a| a.action == Some(k))
         })
     };
     for (k, a) in pou.actions.iter().enumerate() {
@@ -473,18 +469,19 @@ impl<'a> W<'a> {
                 }
             }
             for a in facts.step_actions.iter().filter(|a| a.qual == qual) {
-                let Target::Action(i) = a.target else {
-                    continue;
-                };
                 let test = cond
                     .replace("{n}", &self.step_name(a.step))
                     .replace("{w}", &format!("{p}W{}", a.step));
                 let start = out.pos();
-                let _ = writeln!(
-                    out.text,
-                    "IF {test} THEN __SFC_A_{}(); END_IF;",
-                    self.action_name(i)
-                );
+                let _ = write!(out.text, "IF {test} THEN ");
+                match a.action {
+                    Some(i) => {
+                        let _ = write!(out.text, "__SFC_A_{}", self.action_name(i));
+                    }
+                    // An FB instance's action, as written.
+                    None => self.copy(out, a.name),
+                }
+                out.push("(); END_IF;\n");
                 let from = self.chart.steps[a.step].span;
                 out.mark(start, from.start..from.end);
             }

@@ -46,6 +46,13 @@ impl<'a> Parser<'a> {
     fn sfc_assoc(&mut self) -> Option<SfcAssoc> {
         let first = self.bump();
         let action = self.ident(first);
+        // `inst.A` (CODESYS step actions of FB instances).
+        let mut qualified = None;
+        while self.at(Tok::Dot) && self.peek_at(1) == Tok::Ident {
+            self.bump();
+            self.bump();
+            qualified = Some(self.span_from(first.start));
+        }
         let open = self.expect_tok(Tok::LParen, "`(` after the action name")?;
         let mut qualifier = None;
         let mut duration = None;
@@ -89,6 +96,7 @@ impl<'a> Parser<'a> {
         self.expect_tok(Tok::Semi, "`;` after the association")?;
         Some(SfcAssoc {
             action,
+            qualified,
             qualifier,
             duration,
             indicators,
