@@ -101,6 +101,16 @@ impl<'s> Lowerer<'s> {
     pub(super) fn action(&self, p: PouId, name: Symbol) -> Option<FuncId> {
         self.actions.get(&(p, name)).copied()
     }
+
+    /// The function of action `name` of POU `p` when a chart drives it: `crate::sfc`
+    /// renames it `__SFC_A_<name>` (its name is its control's), and a call by its
+    /// name runs it.
+    pub(super) fn chart_action(&self, p: PouId, name: Symbol) -> Option<FuncId> {
+        let renamed = format!("__SFC_A_{}", self.interner.name(name));
+        self.interner
+            .lookup(&renamed)
+            .and_then(|sym| self.action(p, sym))
+    }
 }
 
 impl<'s> BodyCx<'_, 's> {

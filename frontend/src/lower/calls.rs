@@ -221,6 +221,25 @@ impl<'s> BodyCx<'_, 's> {
 
     fn classify(&mut self, callee: &'s Expr, args: &'s [Arg]) -> Callee {
         match &callee.kind {
+            // An ACTION a chart drives: its name is its control's (`A.Q`), the call
+            // runs the action (`crate::sfc`).
+            ExprKind::Name(id)
+                if self.l.chart_action(self.pou, id.sym).is_some() && self.self_ptr.is_some() =>
+            {
+                let f = self.l.chart_action(self.pou, id.sym).expect("checked");
+                Callee::Action(f, self.self_ptr.expect("checked"))
+            }
+            ExprKind::Member(base, name) if matches!(self.infer(base), Ty::Fb(p) if self.l.chart_action(p, name.sym).is_some()) =>
+            {
+                let Ty::Fb(p) = self.infer(base) else {
+                    return Callee::Error;
+                };
+                let f = self.l.chart_action(p, name.sym).expect("checked");
+                match self.place(base) {
+                    Some(bp) => Callee::Action(f, bp.addr),
+                    None => Callee::Error,
+                }
+            }
             ExprKind::Name(id) => {
                 let is_global = !self.l.pou(self.pou).std
                     && self
