@@ -17,7 +17,9 @@
 //! - `host_and_interp_agree`: the JIT and the IR interpreter hold the same value in
 //!   every variable (and the same fault flag) after every scan of every scenario;
 //!   `interp_and_vmasm_agree` (16-bit and aligned 32-bit modes) and
-//!   `interp_and_pic16_agree` compare the VM and the chip with the interpreter.
+//!   `interp_and_pic16_agree` compare the VM and the chip with the interpreter;
+//!   `programs_on_c` and `interp_and_c_agree` run the `c` target (its C built with the
+//!   undefined-behaviour sanitizer) as a fifth machine.
 //! - `vmasm_emits_only_what_the_c_vms_execute`: every instruction of every image is
 //!   in the reference's table of what the C VMs execute.
 //!
@@ -601,6 +603,13 @@ fn programs_on_interp() {
     run_all("interp");
 }
 
+/// The C machine, its library built with the undefined-behaviour sanitizer (which
+/// stops the process at the first undefined operation).
+#[test]
+fn programs_on_c() {
+    run_all("c:sanitize=undefined");
+}
+
 #[test]
 fn programs_on_vmasm() {
     run_all("vmasm");
@@ -835,6 +844,13 @@ fn interp_and_vmasm_agree() {
 #[test]
 fn interp_and_vmasm_32a_agree() {
     agree("interp", "vmasm:mode=32a");
+}
+
+/// The C machine (built with the undefined-behaviour sanitizer) against the
+/// interpreter.
+#[test]
+fn interp_and_c_agree() {
+    agree("interp", "c:sanitize=undefined");
 }
 
 #[test]
