@@ -255,6 +255,8 @@
 //! - a loop cut where executionOrderId says (fbd_loop_order), ids across networks
 //!   (fbd_exec_order_networks), a variable on ENO (fbd_eno_variable)
 
+#[path = "common/c_driver.rs"]
+mod c_driver;
 #[path = "common/cpdev_opcodes.rs"]
 mod cpdev_opcodes;
 
@@ -851,6 +853,40 @@ fn interp_and_vmasm_32a_agree() {
 #[test]
 fn interp_and_c_agree() {
     agree("interp", "c:sanitize=undefined");
+}
+
+/// Every program's C compiles as C++ too (`g++ -std=gnu++11`, as OpenPLC builds
+/// it), with `-Wall -Wextra -Werror`.
+#[test]
+fn c_files_compile_as_cpp() {
+    let (cases, mut failures) = cases();
+    for case in &cases {
+        let r = build(case).and_then(|b| c_driver::compiles_as_cpp(&b.module));
+        if let Err(e) = r {
+            failures.push(format!("{}: {e}", case.name));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Every program, built with a `main` of its own under the address and
+/// undefined-behaviour sanitizers (the address sanitizer cannot be loaded into the
+/// running test, so the C machine cannot use it), runs cold start and 20 scans with no
+/// inputs and ends with every variable and the fault flag as the interpreter has them.
+#[test]
+fn c_under_address_sanitizer() {
+    let (cases, mut failures) = cases();
+    let mut compared = 0;
+    for case in &cases {
+        let r = build(case)
+            .and_then(|b| c_driver::agrees_under_asan(&b.module, 20, cycle_us(&b.module)));
+        match r {
+            Ok(n) => compared += n,
+            Err(e) => failures.push(format!("{}: {e}", case.name)),
+        }
+    }
+    println!("{} programs, {compared} values compared", cases.len());
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 #[test]

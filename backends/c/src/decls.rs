@@ -157,11 +157,13 @@ pub fn types(module: &Module, names: &Names) -> String {
         match module.agg(a) {
             AggDef::Struct(st) => {
                 let _ = writeln!(s, "/* {} {} */", st.kind.name(), st.name);
-                s.push_str("typedef struct {\n");
+                // Tagged, so that a field may be declared `struct T T;` (C++ forbids
+                // a member that changes the meaning of a type name used before it).
+                let _ = writeln!(s, "typedef struct {name} {{");
                 for (k, f) in st.fields.iter().enumerate() {
                     let ty = match f.ty {
                         MemType::Scalar(t) => field_type(t, f.elem).to_string(),
-                        MemType::Agg(b) => names.aggs[b.index()].clone(),
+                        MemType::Agg(b) => format!("struct {}", names.aggs[b.index()]),
                     };
                     let _ = writeln!(s, "    {};", declare(&ty, &names.fields[a.index()][k]));
                 }
@@ -174,13 +176,13 @@ pub fn types(module: &Module, names: &Names) -> String {
             AggDef::Array(ar) => {
                 let ty = match ar.elem {
                     MemType::Scalar(t) => field_type(t, ar.elem_type).to_string(),
-                    MemType::Agg(b) => names.aggs[b.index()].clone(),
+                    MemType::Agg(b) => format!("struct {}", names.aggs[b.index()]),
                 };
                 // C has no arrays of no element; such an array is never indexed.
                 let len = ar.len.max(1);
                 let _ = writeln!(
                     s,
-                    "/* array {} [{} .. {}] */\ntypedef struct {{\n    {}[{len}];\n}} {name};\n",
+                    "/* array {} [{} .. {}] */\ntypedef struct {name} {{\n    {}[{len}];\n}} {name};\n",
                     ar.name,
                     ar.lower,
                     ar.lower + ar.len as i64 - 1,
