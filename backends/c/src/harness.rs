@@ -41,7 +41,7 @@ pub fn source(module: &Module, names: &Names) -> String {
     let list = |items: Vec<String>| -> String {
         let mut t = String::new();
         for i in items {
-            let _ = write!(t, "    {i},\n");
+            let _ = writeln!(t, "    {i},");
         }
         t.push_str("    0\n");
         t

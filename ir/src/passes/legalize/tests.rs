@@ -440,7 +440,7 @@ fn shifts_agree_with_the_interpreter() {
                      return v2\n}}\n",
                     ty.canon_int(c)
                 );
-                agree(&text, Defines::NONE, &[e.clone()]);
+                agree(&text, Defines::NONE, std::slice::from_ref(&e));
             }
         }
     }
