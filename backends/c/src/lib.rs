@@ -77,7 +77,8 @@ default) or `headers` (plcc's own headers). Example: `-s sanitize=thread` fails;
         explanation: "`plcc run` and `plcc test` on the `c` target build the generated C \
 into a shared library with the system's C compiler, and none was found: neither `$CC` nor \
 `cc`, `gcc` or `clang` runs. Install one (`apt-get install gcc`), or name it with \
-`-s cc=PATH`. Compiling to C files (`plcc --target c`) needs no compiler.",
+`-s cc=PATH`. Example: `plcc test prog.st --scenario prog.expect --target c -s \
+cc=/no/such/cc` fails. Compiling to C files (`plcc --target c`) needs no compiler.",
     },
     CodeInfo {
         code: codes::E_CC_FAILED,
