@@ -178,6 +178,7 @@ fn all_codes() -> impl Iterator<Item = &'static plcc_ir::diag::CodeInfo> {
         .chain(plcc_native::CODES.iter())
         .chain(plcc_pic16::CODES.iter())
         .chain(plcc_vmasm::CODES.iter())
+        .chain(plcc_c::CODES.iter())
         .chain(driver::CODES.iter())
 }
 
@@ -269,7 +270,7 @@ pub fn difftest(a: &DifftestArgs) -> u8 {
     let machines: Vec<&str> = a.machines.split(',').map(str::trim).collect();
     for m in &machines {
         match targets::find(m.split(':').next().unwrap_or(m)) {
-            Some(t) if t.runs => {}
+            Some(t) if t.runs() => {}
             _ => return usage(format!("`{m}` is not a target that runs programs")),
         }
     }
@@ -424,7 +425,7 @@ pub struct RunArgs {
 
 fn runnable_target(name: &str) -> Result<&'static str, u8> {
     match targets::find(name) {
-        Some(t) if t.runs => Ok(t.name),
+        Some(t) if t.runs() => Ok(t.name),
         Some(t) => Err(usage(format!(
             "target `{}` cannot run programs here (targets that can: {})",
             t.name,
@@ -792,6 +793,11 @@ pub fn compile(a: &CompileArgs) -> u8 {
                     if let Some(s) = &arts.summary {
                         eprintln!("{s}");
                     }
+                    // A set of named files (the C target's, like iec2c's) goes into
+                    // the directory `-o` names (default: here), each name printed.
+                    if arts.files.iter().all(|f| f.kind.contains('.')) {
+                        return write_file_set(a.output.as_deref(), &arts.files, &build);
+                    }
                     // Secondary files (a C header, a description) go beside the main one.
                     let base = a
                         .output
@@ -833,4 +839,26 @@ pub fn compile(a: &CompileArgs) -> u8 {
         Ok(()) => 0,
         Err(e) => usage(format!("cannot write {}: {e}", out.display())),
     }
+}
+
+/// Writes a backend's named files into `dir` (created if need be; the current
+/// directory when `None`) and prints each file's name on stdout as it is written, as
+/// matiec's `iec2c` does.
+fn write_file_set(dir: Option<&Path>, files: &[plcc_ir::backend::Artifact], build: &Build) -> u8 {
+    let dir = dir.unwrap_or(Path::new("."));
+    if dir.as_os_str() == "-" {
+        return usage("this target writes several files: give a directory with -o");
+    }
+    if let Err(e) = std::fs::create_dir_all(dir) {
+        return usage(format!("cannot create {}: {e}", dir.display()));
+    }
+    for f in files {
+        let p = dir.join(&f.kind);
+        if let Err(e) = output::write_atomic(&p, &f.bytes) {
+            return usage(format!("cannot write {}: {e}", p.display()));
+        }
+        println!("{}", f.kind);
+    }
+    build.report_timings(&[]);
+    0
 }

@@ -5,15 +5,42 @@ use plcc_ir::diag::Diagnostic;
 use plcc_ir::machine::Machine;
 use plcc_ir::Module;
 
-/// A target plcc knows.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+/// A target plcc knows: one line of [`TARGETS`] each.
+#[derive(Copy, Clone)]
 pub struct TargetInfo {
     /// Its name on the command line.
     pub name: &'static str,
     /// One line for `--help` and errors.
     pub about: &'static str,
     /// True if `plcc run`/`plcc test` can run programs on it here.
-    pub runs: bool,
+    pub can_run: fn() -> bool,
+    /// Its backend, if it generates code (the interpreter does not).
+    pub backend: Option<fn() -> Box<dyn Backend>>,
+}
+
+impl TargetInfo {
+    /// True if `plcc run`/`plcc test` can run programs on it here.
+    pub fn runs(&self) -> bool {
+        (self.can_run)()
+    }
+}
+
+impl std::fmt::Debug for TargetInfo {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("TargetInfo")
+            .field("name", &self.name)
+            .finish_non_exhaustive()
+    }
+}
+
+impl PartialEq for TargetInfo {
+    fn eq(&self, other: &Self) -> bool {
+        self.name == other.name
+    }
+}
+
+fn always() -> bool {
+    true
 }
 
 /// Every target, the default first.
@@ -21,22 +48,32 @@ pub const TARGETS: &[TargetInfo] = &[
     TargetInfo {
         name: "host",
         about: "this machine: Cranelift JIT for run/test, relocatable object files",
-        runs: true,
+        can_run: always,
+        backend: Some(|| Box::new(plcc_native::NativeBackend::new())),
     },
     TargetInfo {
         name: "pic16f876a",
         about: "the PIC16F876A: MPASM assembly (--emit hex: Intel HEX); run/test on plcc's simulator of the chip",
-        runs: true,
+        can_run: always,
+        backend: Some(|| Box::new(plcc_pic16::Pic16Backend::new())),
     },
     TargetInfo {
         name: "vmasm",
         about: "the CPDev virtual machine: XCP code image and DCP description (--emit asm: the VMASM listing); run/test on plcc's VM",
-        runs: true,
+        can_run: always,
+        backend: Some(|| Box::new(plcc_vmasm::VmasmBackend::new())),
+    },
+    TargetInfo {
+        name: "c",
+        about: "C against matiec's ABI (POUS.c, POUS.h, Config0.c, Config0.h, Res0.c; --emit headers: plcc's own headers); run/test built by the system's C compiler",
+        can_run: plcc_c::can_run,
+        backend: Some(|| Box::new(plcc_c::CBackend::new())),
     },
     TargetInfo {
         name: "interp",
         about: "plcc's reference IR interpreter (run/test only)",
-        runs: true,
+        can_run: always,
+        backend: None,
     },
 ];
 
@@ -49,7 +86,7 @@ pub fn find(name: &str) -> Option<&'static TargetInfo> {
 pub fn names(runnable_only: bool) -> String {
     TARGETS
         .iter()
-        .filter(|t| t.runs || !runnable_only)
+        .filter(|t| !runnable_only || t.runs())
         .map(|t| t.name)
         .collect::<Vec<_>>()
         .join(", ")
@@ -57,12 +94,11 @@ pub fn names(runnable_only: bool) -> String {
 
 /// The backend of a target that generates code.
 pub fn backend(name: &str) -> Option<Box<dyn Backend>> {
-    match name {
-        "host" => Some(Box::new(plcc_native::NativeBackend::new())),
-        "pic16f876a" => Some(Box::new(plcc_pic16::Pic16Backend::new())),
-        "vmasm" => Some(Box::new(plcc_vmasm::VmasmBackend::new())),
-        _ => None,
-    }
+    TARGETS
+        .iter()
+        .find(|t| t.name == name)
+        .and_then(|t| t.backend)
+        .map(|make| make())
 }
 
 /// How long one scan may run under `plcc run`/`plcc test` before the watchdog stops it.

@@ -1,6 +1,7 @@
 //! The CODESYS dialect's pointer arithmetic (`tests/codesys/*.st`, each with its
 //! scenario): it runs on the IR interpreter, which checks every access; the host JIT
-//! refuses it (E8007: a wrong address would corrupt plcc's own process), and the
+//! refuses it (E8007: a wrong address would corrupt plcc's own process), so does the
+//! C machine (E9205, for the same reason: it runs in plcc's process), and the
 //! vmasm and PIC16 targets reject it at compile time. The dialect's other features
 //! run on every target as e2e programs (`tests/programs/st/codesys`).
 
@@ -51,6 +52,15 @@ fn the_host_refuses_unchecked_pointers() {
         let (code, text) = test_on(&src, "host");
         assert_eq!(code, 1, "{}:\n{text}", src.display());
         assert!(text.contains("E8007"), "{}:\n{text}", src.display());
+    }
+}
+
+#[test]
+fn the_c_machine_refuses_unchecked_pointers() {
+    for src in programs() {
+        let (code, text) = test_on(&src, "c");
+        assert_eq!(code, 1, "{}:\n{text}", src.display());
+        assert!(text.contains("E9205"), "{}:\n{text}", src.display());
     }
 }
 

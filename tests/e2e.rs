@@ -17,7 +17,9 @@
 //! - `host_and_interp_agree`: the JIT and the IR interpreter hold the same value in
 //!   every variable (and the same fault flag) after every scan of every scenario;
 //!   `interp_and_vmasm_agree` (16-bit and aligned 32-bit modes) and
-//!   `interp_and_pic16_agree` compare the VM and the chip with the interpreter.
+//!   `interp_and_pic16_agree` compare the VM and the chip with the interpreter;
+//!   `programs_on_c` and `interp_and_c_agree` run the `c` target (its C built with the
+//!   undefined-behaviour sanitizer) as a fifth machine.
 //! - `vmasm_emits_only_what_the_c_vms_execute`: every instruction of every image is
 //!   in the reference's table of what the C VMs execute.
 //!
@@ -253,6 +255,8 @@
 //! - a loop cut where executionOrderId says (fbd_loop_order), ids across networks
 //!   (fbd_exec_order_networks), a variable on ENO (fbd_eno_variable)
 
+#[path = "common/c_driver.rs"]
+mod c_driver;
 #[path = "common/cpdev_opcodes.rs"]
 mod cpdev_opcodes;
 
@@ -601,6 +605,13 @@ fn programs_on_interp() {
     run_all("interp");
 }
 
+/// The C machine, its library built with the undefined-behaviour sanitizer (which
+/// stops the process at the first undefined operation).
+#[test]
+fn programs_on_c() {
+    run_all("c:sanitize=undefined");
+}
+
 #[test]
 fn programs_on_vmasm() {
     run_all("vmasm");
@@ -835,6 +846,47 @@ fn interp_and_vmasm_agree() {
 #[test]
 fn interp_and_vmasm_32a_agree() {
     agree("interp", "vmasm:mode=32a");
+}
+
+/// The C machine (built with the undefined-behaviour sanitizer) against the
+/// interpreter.
+#[test]
+fn interp_and_c_agree() {
+    agree("interp", "c:sanitize=undefined");
+}
+
+/// Every program's C compiles as C++ too (`g++ -std=gnu++11`, as OpenPLC builds
+/// it), with `-Wall -Wextra -Werror`.
+#[test]
+fn c_files_compile_as_cpp() {
+    let (cases, mut failures) = cases();
+    for case in &cases {
+        let r = build(case).and_then(|b| c_driver::compiles_as_cpp(&b.module));
+        if let Err(e) = r {
+            failures.push(format!("{}: {e}", case.name));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Every program, built with a `main` of its own under the address and
+/// undefined-behaviour sanitizers (the address sanitizer cannot be loaded into the
+/// running test, so the C machine cannot use it), runs cold start and 20 scans with no
+/// inputs and ends with every variable and the fault flag as the interpreter has them.
+#[test]
+fn c_under_address_sanitizer() {
+    let (cases, mut failures) = cases();
+    let mut compared = 0;
+    for case in &cases {
+        let r = build(case)
+            .and_then(|b| c_driver::agrees_under_asan(&b.module, 20, cycle_us(&b.module)));
+        match r {
+            Ok(n) => compared += n,
+            Err(e) => failures.push(format!("{}: {e}", case.name)),
+        }
+    }
+    println!("{} programs, {compared} values compared", cases.len());
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 #[test]

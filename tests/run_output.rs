@@ -8,7 +8,7 @@ use std::process::Command;
 fn run_prints_unsigned_64_bit_values_unsigned_on_every_target() {
     let prog =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs/st/regress/ulint_printing.st");
-    for target in ["host", "interp", "vmasm", "pic16f876a"] {
+    for target in ["host", "interp", "vmasm", "pic16f876a", "c"] {
         let out = Command::new(env!("CARGO_BIN_EXE_plcc"))
             .args([
                 "run",
@@ -61,7 +61,7 @@ fn run_scans_at_the_tasks_common_tick_unless_told() {
             ["a.runs = 31", "b.runs = 21", "clk.et = T#300ms"],
         ),
     ];
-    for target in ["host", "interp", "vmasm", "pic16f876a"] {
+    for target in ["host", "interp", "vmasm", "pic16f876a", "c"] {
         for (extra, cycle, lines) in &cases {
             let out = Command::new(env!("CARGO_BIN_EXE_plcc"))
                 .args(["run", prog.to_str().unwrap(), "--target", target])

@@ -28,7 +28,7 @@ fn endless_loops_are_stopped() {
     )
     .unwrap();
     let module = b.module.expect("compiles");
-    for target in ["host", "interp", "vmasm"] {
+    for target in ["host", "interp", "vmasm", "c"] {
         let mut m = targets::machine(target, &module).unwrap();
         m.set_watchdog(Some(Duration::from_millis(100)));
         m.cold_start().unwrap();

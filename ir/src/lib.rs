@@ -25,6 +25,7 @@ pub mod types;
 pub mod value;
 pub mod vars;
 pub mod verify;
+pub mod watchdog;
 
 pub use builder::FuncBuilder;
 pub use entities::{AggId, Block, DataId, FuncId, Inst, SlotId, Value};

@@ -46,7 +46,7 @@ pub struct Jit {
     data_layout: DataLayout,
     code_size: u64,
     /// Stops scans that run too long (dropped before the runtime it points into).
-    watchdog: Option<crate::watchdog::Watchdog>,
+    watchdog: Option<plcc_ir::watchdog::Watchdog>,
 }
 
 impl Jit {
@@ -284,9 +284,9 @@ impl Machine for Jit {
         self.watchdog = None;
         if let Some(limit) = limit {
             // SAFETY: `rt` lives until `self` is dropped, and the watchdog is dropped
-            // first.
+            // first; the compiled code only reads the byte.
             let stop = unsafe { std::ptr::addr_of_mut!((*self.rt).stop) };
-            self.watchdog = Some(crate::watchdog::Watchdog::start(stop, limit));
+            self.watchdog = Some(unsafe { plcc_ir::watchdog::Watchdog::start(stop, limit) });
         }
     }
 

@@ -31,7 +31,6 @@ mod jit;
 mod object;
 mod runtime;
 mod translate;
-mod watchdog;
 
 pub use jit::{Jit, GARBAGE};
 pub use runtime::{data_symbol, func_symbol, mangle, Runtime, DATA_SYMBOL, RT_SYMBOL};

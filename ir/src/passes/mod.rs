@@ -15,6 +15,7 @@ pub mod copy_prop;
 pub mod dce;
 pub mod gvn;
 pub mod inline;
+pub mod legalize;
 pub mod load_store;
 pub mod mem2reg;
 pub mod promote;

@@ -1,8 +1,9 @@
-//! The JIT's scan watchdog: a thread that asks a scan to stop when it runs too long.
+//! A scan watchdog for machines that run compiled code natively (the JIT, the C
+//! machine): a thread that asks a scan to stop when it runs too long.
 //!
-//! Compiled code checks the runtime's `stop` byte on every loop back edge (the IR's
-//! `watchdog` pass puts the checks there) and leaves its functions when it is set. The
-//! thread only watches the clock, so a scan pays two atomic stores for it.
+//! Compiled code checks a `stop` byte on every loop back edge (the IR's `watchdog`
+//! pass puts the checks there) and leaves its functions when it is set. The thread
+//! only watches the clock, so a scan pays two atomic stores for it.
 
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicU8, Ordering};
 use std::sync::{Arc, OnceLock};
@@ -31,15 +32,18 @@ fn now_ns() -> u64 {
 }
 
 /// A running watchdog. Dropping it stops and joins the thread.
-pub(crate) struct Watchdog {
+pub struct Watchdog {
     shared: Arc<Shared>,
     thread: Option<JoinHandle<()>>,
 }
 
 impl Watchdog {
-    /// Starts a watchdog for the stop byte at `stop`, which must stay valid until the
-    /// watchdog is dropped.
-    pub(crate) fn start(stop: *mut u8, limit: Duration) -> Watchdog {
+    /// Starts a watchdog for the stop byte at `stop`.
+    ///
+    /// # Safety
+    /// `stop` must stay valid until the watchdog is dropped, and be written by others
+    /// only atomically (or while no scan runs).
+    pub unsafe fn start(stop: *mut u8, limit: Duration) -> Watchdog {
         let shared = Arc::new(Shared {
             scan_started: AtomicU64::new(0),
             limit,
@@ -67,19 +71,19 @@ impl Watchdog {
     }
 
     /// The limit it enforces.
-    pub(crate) fn limit(&self) -> Duration {
+    pub fn limit(&self) -> Duration {
         self.shared.limit
     }
 
     /// Marks the start of a scan (and clears an old stop request).
-    pub(crate) fn scan_begins(&self) {
+    pub fn scan_begins(&self) {
         // SAFETY: see `start`.
         unsafe { AtomicU8::from_ptr(self.shared.stop as *mut u8) }.store(0, Ordering::Release);
         self.shared.scan_started.store(now_ns(), Ordering::Release);
     }
 
     /// Marks the end of a scan; true if the scan was asked to stop.
-    pub(crate) fn scan_ends(&self) -> bool {
+    pub fn scan_ends(&self) -> bool {
         self.shared.scan_started.store(0, Ordering::Release);
         // SAFETY: see `start`.
         unsafe { AtomicU8::from_ptr(self.shared.stop as *mut u8) }.load(Ordering::Acquire) != 0

@@ -1,0 +1,508 @@
+//! One IR function as one C function.
+//!
+//! Every SSA value that something uses is a C local, declared (and zeroed) at the top
+//! of the function, so no `goto` crosses an initialisation (C++ forbids that); every
+//! block is a label, reached by `goto`; a block's parameters are locals the branches
+//! to it assign (through temporaries when an argument is itself a parameter of the
+//! destination: the assignments are parallel). Stack slots are locals of their type.
+//!
+//! Integers are unsigned locals; a signed operation converts its operands to the
+//! signed type of the width (a conversion, never an overflow), and arithmetic is done
+//! in a type at least as wide as `unsigned int`, so it wraps by C's rules. The module
+//! must have been legalized with nothing defined (`legalize::Defines::NONE`): then no
+//! division, shift or float-to-integer conversion sees an operand C leaves undefined.
+
+use crate::decls::{mem_type, signature};
+use crate::names::{signed_type, value_type, wide_type, FuncForm, Names};
+use plcc_ir::inst::{BinaryOp, BlockCall, ConvOp, FloatCC, InstData, IntCC, Intrinsic, UnaryOp};
+use plcc_ir::module::AggDef;
+use plcc_ir::types::MemType;
+use plcc_ir::{FuncId, Function, Module, Type, Value};
+use std::fmt::Write;
+
+/// The C definition of function `f`.
+pub fn function(module: &Module, names: &Names, f: FuncId) -> String {
+    let func = module.func(f);
+    let mut e = Emitter {
+        module,
+        names,
+        func,
+        used: used_values(func),
+        out: String::new(),
+    };
+    e.emit(f);
+    e.out
+}
+
+/// Which values are operands of some live instruction.
+fn used_values(func: &Function) -> Vec<bool> {
+    let mut used = vec![false; func.values.len()];
+    for (_, i) in func.inst_iter() {
+        func.inst(i).for_each_arg(|v| used[v.index()] = true);
+    }
+    used
+}
+
+struct Emitter<'a> {
+    module: &'a Module,
+    names: &'a Names,
+    func: &'a Function,
+    used: Vec<bool>,
+    out: String,
+}
+
+fn v(x: Value) -> String {
+    format!("v{}", x.index())
+}
+
+/// The suffix of the memory helpers for a type.
+fn access(ty: Type) -> &'static str {
+    match ty {
+        Type::I1 | Type::I8 => "u8",
+        Type::I16 => "u16",
+        Type::I32 => "u32",
+        Type::I64 => "u64",
+        Type::F32 => "f32",
+        Type::F64 => "f64",
+        Type::Ptr => "ptr",
+    }
+}
+
+/// An integer constant of type `ty` as a C expression of that type.
+fn int_const(ty: Type, imm: i64) -> String {
+    match ty {
+        Type::I1 => format!("{}", imm & 1),
+        Type::I64 => format!("(uint64_t)0x{:x}ull", imm as u64),
+        Type::Ptr => "(unsigned char *)0".to_string(),
+        _ => format!("({})0x{:x}u", value_type(ty), ty.zext_bits(imm)),
+    }
+}
+
+/// The C library's name of a float operation in the precision of `ty`.
+fn math(name: &str, ty: Type) -> String {
+    if ty == Type::F32 {
+        format!("{name}f")
+    } else {
+        name.to_string()
+    }
+}
+
+impl Emitter<'_> {
+    fn ty(&self, x: Value) -> Type {
+        self.func.value_type(x)
+    }
+
+    fn emit(&mut self, f: FuncId) {
+        let func = self.func;
+        let _ = writeln!(
+            self.out,
+            "/* {} {} */\n{} {{",
+            func.kind.name(),
+            func.name,
+            signature(self.module, self.names, f)
+        );
+        let Some(entry) = func.entry() else {
+            // A function without code: it returns zero.
+            let _ = match func.ret {
+                Some(t) if t.is_float() => writeln!(self.out, "    return 0;"),
+                Some(t) => writeln!(self.out, "    return {};", int_const(t, 0)),
+                None => Ok(()),
+            };
+            self.out.push_str("}\n");
+            return;
+        };
+        // Locals: every used block parameter and instruction result.
+        let mut declared = vec![false; func.values.len()];
+        for &b in &func.layout {
+            let params = func.block(b).params.iter().copied();
+            let results = func.block(b).insts.iter().filter_map(|&i| func.result(i));
+            for x in params.chain(results) {
+                if self.used[x.index()] && !declared[x.index()] {
+                    declared[x.index()] = true;
+                    let _ = writeln!(self.out, "    {} = 0;", decl(self.ty(x), &v(x)));
+                }
+            }
+        }
+        for (k, slot) in func.slots.iter().enumerate() {
+            let _ = writeln!(
+                self.out,
+                "    {}; /* {} */",
+                decl_mem(&mem_type(self.names, slot.ty), &format!("ss{k}")),
+                slot.name
+            );
+        }
+        for k in 0..func.slots.len() {
+            let _ = writeln!(self.out, "    memset(&ss{k}, 0, sizeof ss{k});");
+        }
+        // The parameters are the entry block's.
+        let form = self.names.forms[f.index()];
+        match form {
+            FuncForm::Body(_) | FuncForm::Init(_) => {
+                if let FuncForm::Init(_) = form {
+                    self.out.push_str("    (void)retain;\n");
+                }
+                match func.block(entry).params.first() {
+                    Some(&p) if self.used[p.index()] => {
+                        let _ = writeln!(self.out, "    {} = (unsigned char *)data__;", v(p));
+                    }
+                    _ => self.out.push_str("    (void)data__;\n"),
+                }
+            }
+            FuncForm::Plain => {
+                for (k, &p) in func.block(entry).params.iter().enumerate() {
+                    if self.used[p.index()] {
+                        let _ = writeln!(self.out, "    {} = p{k};", v(p));
+                    } else {
+                        let _ = writeln!(self.out, "    (void)p{k};");
+                    }
+                }
+            }
+        }
+        // Labels only where a branch goes (an unused label is a warning).
+        let mut target = vec![false; func.blocks.len()];
+        for &b in &func.layout {
+            for s in func.successors(b) {
+                target[s.index()] = true;
+            }
+        }
+        for &b in &func.layout {
+            if target[b.index()] {
+                let _ = writeln!(self.out, "b{}:;", b.index());
+            }
+            for &i in &func.block(b).insts {
+                self.inst(i);
+            }
+        }
+        self.out.push_str("}\n");
+    }
+
+    fn line(&mut self, text: &str) {
+        let _ = writeln!(self.out, "    {text}");
+    }
+
+    fn inst(&mut self, i: plcc_ir::Inst) {
+        let func = self.func;
+        let data = func.inst(i);
+        let result = func.result(i);
+        match data {
+            InstData::Store { value, addr } => {
+                let t = self.ty(*value);
+                self.line(&format!(
+                    "__plcc_st_{}({}, {});",
+                    access(t),
+                    v(*addr),
+                    v(*value)
+                ));
+            }
+            InstData::Intrinsic {
+                op: Intrinsic::RaiseFault,
+                ..
+            } => self.line("__plcc_rt.fault = 1;"),
+            InstData::Jump { dest } => {
+                let text = self.edge(dest);
+                self.line(&text);
+            }
+            InstData::Brif {
+                cond,
+                then_dest,
+                else_dest,
+            } => {
+                let (t, e) = (self.edge(then_dest), self.edge(else_dest));
+                self.line(&format!("if ({}) {{ {t} }} else {{ {e} }}", v(*cond)));
+            }
+            InstData::Return { value } => match value {
+                Some(x) => self.line(&format!("return {};", v(*x))),
+                None => self.line("return;"),
+            },
+            InstData::Call { func: callee, args } => {
+                let call = self.call(*callee, args);
+                match result {
+                    Some(r) if self.used[r.index()] => self.line(&format!("{} = {call};", v(r))),
+                    Some(_) => self.line(&format!("(void){call};")),
+                    None => self.line(&format!("{call};")),
+                }
+            }
+            _ => {
+                // Everything else computes a value with no effect.
+                let Some(r) = result else { return };
+                if !self.used[r.index()] {
+                    return;
+                }
+                let expr = self.expr(data, self.ty(r));
+                self.line(&format!("{} = {expr};", v(r)));
+            }
+        }
+    }
+
+    /// The assignments to a destination's parameters and the jump.
+    fn edge(&self, dest: &BlockCall) -> String {
+        let params = &self.func.block(dest.block).params;
+        let moves: Vec<(Value, Value)> = params
+            .iter()
+            .zip(&dest.args)
+            .filter(|(p, a)| self.used[p.index()] && p != a)
+            .map(|(p, a)| (*p, *a))
+            .collect();
+        let goto = format!("goto b{};", dest.block.index());
+        if moves.is_empty() {
+            return goto;
+        }
+        // Parallel assignment: through temporaries when an argument is a parameter.
+        let overlap = moves.iter().any(|(_, a)| params.contains(a));
+        let mut s = String::new();
+        if overlap {
+            s.push('{');
+            for (k, (p, a)) in moves.iter().enumerate() {
+                let _ = write!(s, " {} = {};", decl(self.ty(*p), &format!("t{k}")), v(*a));
+            }
+            for (k, (p, _)) in moves.iter().enumerate() {
+                let _ = write!(s, " {} = t{k};", v(*p));
+            }
+            s.push_str(" }");
+        } else {
+            for (p, a) in &moves {
+                let _ = write!(s, "{} = {}; ", v(*p), v(*a));
+            }
+        }
+        format!("{} {goto}", s.trim_end())
+    }
+
+    fn call(&self, callee: FuncId, args: &[Value]) -> String {
+        let name = &self.names.funcs[callee.index()];
+        match self.names.forms[callee.index()] {
+            FuncForm::Body(a) => {
+                format!("{name}(({} *){})", self.names.aggs[a.index()], v(args[0]))
+            }
+            FuncForm::Init(a) => {
+                format!(
+                    "{name}(({} *){}, 0)",
+                    self.names.aggs[a.index()],
+                    v(args[0])
+                )
+            }
+            FuncForm::Plain => {
+                let a: Vec<String> = args.iter().map(|x| v(*x)).collect();
+                format!("{name}({})", a.join(", "))
+            }
+        }
+    }
+
+    /// The C expression of a value-producing instruction without effects.
+    fn expr(&self, data: &InstData, rty: Type) -> String {
+        match data {
+            InstData::Iconst { ty, imm } => int_const(*ty, *imm),
+            InstData::Fconst { ty, bits } => {
+                if *ty == Type::F32 {
+                    format!("__plcc_f32(0x{:08x}u)", *bits as u32)
+                } else {
+                    format!("__plcc_f64(0x{bits:016x}ull)")
+                }
+            }
+            InstData::Unary { op, arg } => self.unary(*op, *arg),
+            InstData::Binary { op, args } => self.binary(*op, args[0], args[1]),
+            InstData::Icmp { cond, args } => self.icmp(*cond, args[0], args[1]),
+            InstData::Fcmp { cond, args } => {
+                let op = match cond {
+                    FloatCC::Eq => "==",
+                    FloatCC::Ne => "!=",
+                    FloatCC::Lt => "<",
+                    FloatCC::Le => "<=",
+                    FloatCC::Gt => ">",
+                    FloatCC::Ge => ">=",
+                };
+                format!("(uint8_t)({} {op} {})", v(args[0]), v(args[1]))
+            }
+            InstData::Convert { op, ty, arg } => self.convert(*op, *ty, *arg),
+            InstData::Select {
+                cond,
+                if_true,
+                if_false,
+            } => format!("({} ? {} : {})", v(*cond), v(*if_true), v(*if_false)),
+            InstData::GlobalAddr { data } => {
+                format!("(unsigned char *)&{}", self.names.data[data.index()])
+            }
+            InstData::SlotAddr { slot } => format!("(unsigned char *)&ss{}", slot.index()),
+            InstData::FieldAddr { base, agg, field } => format!(
+                "({} + offsetof({}, {}))",
+                v(*base),
+                self.names.aggs[agg.index()],
+                self.names.fields[agg.index()][*field as usize]
+            ),
+            InstData::ElemAddr { base, agg, index } => {
+                let elem = match self.module.agg(*agg) {
+                    AggDef::Array(a) => a.elem,
+                    AggDef::Struct(_) => MemType::Scalar(Type::I8),
+                };
+                let elem = match elem {
+                    MemType::Agg(b) => self.names.aggs[b.index()].clone(),
+                    MemType::Scalar(t) => value_type(t).to_string(),
+                };
+                let ity = self.ty(*index);
+                let idx = if ity == Type::I1 {
+                    v(*index)
+                } else {
+                    format!("({}){}", signed_type(ity), v(*index))
+                };
+                format!(
+                    "({} + (ptrdiff_t){idx} * (ptrdiff_t)sizeof({elem}))",
+                    v(*base)
+                )
+            }
+            InstData::Load { ty, addr } => format!("__plcc_ld_{}({})", access(*ty), v(*addr)),
+            InstData::Intrinsic { op, .. } => match op {
+                Intrinsic::ClockMs => "(uint32_t)__plcc_rt.clock_ms".into(),
+                Intrinsic::ClockNs => "(uint64_t)__plcc_rt.clock_ns".into(),
+                Intrinsic::StopRequested => "__plcc_stop_requested()".into(),
+                Intrinsic::RaiseFault => unreachable!("an effect, not a value"),
+            },
+            // Effects and terminators are statements (see `inst`).
+            InstData::Store { .. }
+            | InstData::Call { .. }
+            | InstData::Jump { .. }
+            | InstData::Brif { .. }
+            | InstData::Return { .. } => {
+                unreachable!("{data:?} is not an expression of type {rty}")
+            }
+        }
+    }
+
+    fn unary(&self, op: UnaryOp, a: Value) -> String {
+        let ty = self.ty(a);
+        let (u, s, w) = (value_type(ty), signed_type(ty), wide_type(ty));
+        let x = v(a);
+        match op {
+            UnaryOp::Ineg => format!("({u})(0u - ({w}){x})"),
+            UnaryOp::Bnot if ty == Type::I1 => format!("(uint8_t)({x} ^ 1u)"),
+            UnaryOp::Bnot => format!("({u})~({w}){x}"),
+            UnaryOp::Iabs => format!("(({s}){x} < 0 ? ({u})(0u - ({w}){x}) : {x})"),
+            UnaryOp::Fneg => format!("(-{x})"),
+            UnaryOp::Fabs => format!("{}({x})", math("fabs", ty)),
+            UnaryOp::Fsqrt => format!("{}({x})", math("sqrt", ty)),
+            // Round to nearest, ties to even: the default rounding mode.
+            UnaryOp::Fnearest => format!("{}({x})", math("nearbyint", ty)),
+            UnaryOp::Ftrunc => format!("{}({x})", math("trunc", ty)),
+            UnaryOp::Ffloor => format!("{}({x})", math("floor", ty)),
+            UnaryOp::Fceil => format!("{}({x})", math("ceil", ty)),
+            UnaryOp::Sin => format!("{}({x})", math("sin", ty)),
+            UnaryOp::Cos => format!("{}({x})", math("cos", ty)),
+            UnaryOp::Tan => format!("{}({x})", math("tan", ty)),
+            UnaryOp::Asin => format!("{}({x})", math("asin", ty)),
+            UnaryOp::Acos => format!("{}({x})", math("acos", ty)),
+            UnaryOp::Atan => format!("{}({x})", math("atan", ty)),
+            UnaryOp::Ln => format!("{}({x})", math("log", ty)),
+            UnaryOp::Log10 => format!("{}({x})", math("log10", ty)),
+            UnaryOp::Exp => format!("{}({x})", math("exp", ty)),
+        }
+    }
+
+    fn binary(&self, op: BinaryOp, a: Value, b: Value) -> String {
+        let ty = self.ty(a);
+        let (u, s, w) = (value_type(ty), signed_type(ty), wide_type(ty));
+        let bits = ty.bits();
+        let (x, y) = (v(a), v(b));
+        let arith = |o: &str| format!("({u})(({w}){x} {o} ({w}){y})");
+        match op {
+            BinaryOp::Iadd => arith("+"),
+            BinaryOp::Isub => arith("-"),
+            BinaryOp::Imul => arith("*"),
+            // Legalized: the divisor is not 0, and not -1 with MIN.
+            BinaryOp::Sdiv => format!("({u})(({s}){x} / ({s}){y})"),
+            BinaryOp::Srem => format!("({u})(({s}){x} % ({s}){y})"),
+            BinaryOp::Udiv => format!("({u})({x} / {y})"),
+            BinaryOp::Urem => format!("({u})({x} % {y})"),
+            BinaryOp::Band => format!("({u})({x} & {y})"),
+            BinaryOp::Bor => format!("({u})({x} | {y})"),
+            BinaryOp::Bxor => format!("({u})({x} ^ {y})"),
+            // Legalized: the count is below the width.
+            BinaryOp::Ishl => format!("({u})(({w}){x} << {y})"),
+            BinaryOp::Ushr => format!("({u})({x} >> {y})"),
+            BinaryOp::Sshr => format!("({u})(({s}){x} >> {y})"),
+            BinaryOp::Rotl | BinaryOp::Rotr => {
+                // Both shifts below the width: c and (w - c) taken modulo the width.
+                let c = if op == BinaryOp::Rotl {
+                    format!("({y} % {bits}u)")
+                } else {
+                    format!("(({bits}u - {y} % {bits}u) % {bits}u)")
+                };
+                format!("({u})((({w}){x} << {c}) | (({w}){x} >> (({bits}u - {c}) % {bits}u)))")
+            }
+            BinaryOp::Fadd => format!("({x} + {y})"),
+            BinaryOp::Fsub => format!("({x} - {y})"),
+            BinaryOp::Fmul => format!("({x} * {y})"),
+            BinaryOp::Fdiv => format!("({x} / {y})"),
+            BinaryOp::Fpow => format!("{}({x}, {y})", math("pow", ty)),
+            BinaryOp::Fatan2 => format!("{}({x}, {y})", math("atan2", ty)),
+        }
+    }
+
+    fn icmp(&self, cond: IntCC, a: Value, b: Value) -> String {
+        let ty = self.ty(a);
+        let (x, y) = if ty == Type::Ptr {
+            // Pointers to different objects compare as addresses.
+            (
+                format!("(uintptr_t){}", v(a)),
+                format!("(uintptr_t){}", v(b)),
+            )
+        } else {
+            (v(a), v(b))
+        };
+        let s = signed_type(ty);
+        let (op, signed) = match cond {
+            IntCC::Eq => ("==", false),
+            IntCC::Ne => ("!=", false),
+            IntCC::Slt => ("<", true),
+            IntCC::Sle => ("<=", true),
+            IntCC::Sgt => (">", true),
+            IntCC::Sge => (">=", true),
+            IntCC::Ult => ("<", false),
+            IntCC::Ule => ("<=", false),
+            IntCC::Ugt => (">", false),
+            IntCC::Uge => (">=", false),
+        };
+        if signed {
+            format!("(uint8_t)(({s}){x} {op} ({s}){y})")
+        } else {
+            format!("(uint8_t)({x} {op} {y})")
+        }
+    }
+
+    fn convert(&self, op: ConvOp, to: Type, a: Value) -> String {
+        let from = self.ty(a);
+        let x = v(a);
+        let u = value_type(to);
+        match op {
+            ConvOp::Sext => format!("({u})({})({}){x}", signed_type(to), signed_type(from)),
+            ConvOp::Uext => format!("({u}){x}"),
+            ConvOp::Itrunc if to == Type::I1 => format!("(uint8_t)({x} & 1u)"),
+            ConvOp::Itrunc => format!("({u}){x}"),
+            ConvOp::Fpromote => format!("(double){x}"),
+            ConvOp::Fdemote => format!("(float){x}"),
+            ConvOp::SiToF => format!("({u})({}){x}", signed_type(from)),
+            ConvOp::UiToF => format!("({u}){x}"),
+            // Legalized: the truncated operand fits the result type.
+            ConvOp::FToSi => format!("({u})({}){x}", signed_type(to)),
+            ConvOp::FToUi => format!("({u}){x}"),
+            ConvOp::Bitcast => match to {
+                Type::F32 => format!("__plcc_f32({x})"),
+                Type::F64 => format!("__plcc_f64({x})"),
+                Type::I32 => format!("__plcc_bits_f32({x})"),
+                _ => format!("__plcc_bits_f64({x})"),
+            },
+            ConvOp::PtrToInt => format!("({u})(uintptr_t){x}"),
+            ConvOp::IntToPtr => format!("(unsigned char *)(uintptr_t){x}"),
+        }
+    }
+}
+
+/// A declaration of a local of SSA type `ty`.
+fn decl(ty: Type, name: &str) -> String {
+    decl_mem(value_type(ty), name)
+}
+
+fn decl_mem(ty: &str, name: &str) -> String {
+    if ty.ends_with('*') {
+        format!("{ty}{name}")
+    } else {
+        format!("{ty} {name}")
+    }
+}
