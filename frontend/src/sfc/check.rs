@@ -92,6 +92,19 @@ pub(super) struct Assoc {
     pub duration: Option<Span>,
 }
 
+/// CODESYS's SFC flags plcc implements (BOOL variables the POU declares with these
+/// names; CODESYS's "SFC flags").
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(super) enum SfcFlag {
+    /// `SFCInit`: while TRUE, the chart is held in its initial state.
+    Init,
+    /// `SFCReset`: while TRUE, the chart is put back in its initial state at the
+    /// start of each evolution, which then goes on.
+    Reset,
+    /// `SFCPause`: while TRUE, the chart does not evolve.
+    Pause,
+}
+
 /// A CODESYS step action (`A(ENTRY);`, `inst.A(ACTIVE);`), resolved.
 #[derive(Clone, Debug)]
 pub(super) struct StepAction {
@@ -130,6 +143,8 @@ pub(super) struct Facts {
     /// The steps whose names an earlier chart of the POU has: they are declared as
     /// `<prefix>S_<name>` (CODESYS scopes step names by chart).
     pub renamed: Vec<usize>,
+    /// CODESYS's SFC flags the POU declares, with their names as declared.
+    pub flags: Vec<(SfcFlag, String)>,
     /// Actions of `actions` that an earlier chart of the POU drives too: their
     /// control in this chart is hidden (`<prefix>K_<action>`), their flags (`A.Q`)
     /// are the earlier chart's.
@@ -487,8 +502,10 @@ pub(super) fn check_pou(
         }
     }
     let mut facts: Vec<Facts> = facts.into_iter().collect::<Option<_>>()?;
+    let flags = sfc_flags(pou, text, interner);
     for (f, r) in facts.iter_mut().zip(renamed) {
         f.renamed = r;
+        f.flags = flags.clone();
     }
     // Actions driven by several charts: each chart has a control of its own, and
     // the action runs for each (as CODESYS runs it); its flags are the first
@@ -578,6 +595,30 @@ pub(super) fn check_pou(
         main.actions.sort_unstable();
     }
     Some(facts)
+}
+
+/// CODESYS's SFC flags among the BOOL variables `pou` declares.
+fn sfc_flags(pou: &Pou, text: &str, interner: &Interner) -> Vec<(SfcFlag, String)> {
+    let mut out = Vec::new();
+    for b in &pou.var_blocks {
+        for d in &b.decls {
+            let bool_ty =
+                matches!(&d.ty, ast::TypeSpec::Named(t) if interner.name(t.sym) == "BOOL");
+            for n in d.names.iter().filter(|_| bool_ty) {
+                let flag = match interner.name(n.sym) {
+                    "SFCINIT" => SfcFlag::Init,
+                    "SFCRESET" => SfcFlag::Reset,
+                    "SFCPAUSE" => SfcFlag::Pause,
+                    _ => continue,
+                };
+                out.push((
+                    flag,
+                    text[n.span.start as usize..n.span.end as usize].to_string(),
+                ));
+            }
+        }
+    }
+    out
 }
 
 /// Warnings about the chart's shape: steps no token can reach, steps with no way out.

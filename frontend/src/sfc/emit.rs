@@ -336,6 +336,27 @@ impl<'a> W<'a> {
     /// One evolution of the chart under `profile`.
     fn evolution(&self, out: &mut Out, facts: &Facts, profile: Profile) {
         self.clock(out);
+        // CODESYS's SFC flags, when the POU declares them: SFCInit and SFCReset put
+        // the chart back in its initial state; under SFCInit (and SFCPause) nothing
+        // else happens.
+        let flag =
+            |k: super::check::SfcFlag| facts.flags.iter().find(|f| f.0 == k).map(|f| f.1.clone());
+        let (init, reset, pause) = (
+            flag(super::check::SfcFlag::Init),
+            flag(super::check::SfcFlag::Reset),
+            flag(super::check::SfcFlag::Pause),
+        );
+        let resets: Vec<String> = init.iter().chain(&reset).cloned().collect();
+        if !resets.is_empty() {
+            let _ = writeln!(out.text, "IF {} THEN", resets.join(" OR "));
+            self.reset(out, facts, profile);
+            out.push("END_IF;\n");
+        }
+        let stops: Vec<String> = init.iter().chain(&pause).cloned().collect();
+        if !stops.is_empty() {
+            let _ = writeln!(out.text, "IF NOT ({}) THEN", stops.join(" OR "));
+        }
+        self.step_times(out);
         match profile {
             Profile::Iec => {
                 self.transitions(out, facts, true);
@@ -349,9 +370,53 @@ impl<'a> W<'a> {
             }
             Profile::Matiec => self.matiec(out, facts),
         }
+        if !stops.is_empty() {
+            out.push("END_IF;\n");
+        }
     }
 
-    /// The time since the last call, and the active steps' T (and PREV).
+    /// The chart put back in its initial state (CODESYS's SFCInit, SFCReset): the
+    /// initial steps active, the others not, times zero, every action control and
+    /// step action as at cold start.
+    fn reset(&self, out: &mut Out, facts: &Facts, profile: Profile) {
+        for (k, s) in self.chart.steps.iter().enumerate() {
+            let n = self.step_name(k);
+            let x = if s.initial { "TRUE" } else { "FALSE" };
+            let _ = writeln!(
+                out.text,
+                "  {n}.X := {x}; {n}.T := T#0s; {n}.__PREV := FALSE;"
+            );
+        }
+        for t in targets(facts) {
+            let c = self.control(t, facts);
+            if profile == Profile::Matiec {
+                let _ = writeln!(
+                    out.text,
+                    "  {c}.Q := FALSE; {c}.__STORED := FALSE; {c}.__SET := FALSE; {c}.__RESET := FALSE; \
+                     {c}.__SET_REMAINING := T#0s; {c}.__RESET_REMAINING := T#0s;"
+                );
+            } else {
+                let _ = writeln!(
+                    out.text,
+                    "  {c}.Q := FALSE; {c}.A := FALSE; {c}.__QPREV := FALSE;"
+                );
+                for (name, ty, init) in super::control::state(self, t, facts) {
+                    let v = match (ty, init.contains("TRUE")) {
+                        ("BOOL", true) => "TRUE",
+                        ("BOOL", false) => "FALSE",
+                        _ => "T#0s",
+                    };
+                    let _ = writeln!(out.text, "  {name} := {v};");
+                }
+            }
+        }
+        let p = &self.p;
+        for k in Self::stepped(facts) {
+            let _ = writeln!(out.text, "  {p}W{k} := FALSE;");
+        }
+    }
+
+    /// The time since the last call.
     fn clock(&self, out: &mut Out) {
         let p = &self.p;
         let _ = write!(
@@ -359,6 +424,11 @@ impl<'a> W<'a> {
             "IF NOT {p}STARTED THEN\n  {p}STARTED := TRUE;\n  {p}LAST := __PLC_CLOCK();\nEND_IF;\n\
              {p}DT := __PLC_CLOCK() - {p}LAST;\n{p}LAST := {p}LAST + {p}DT;\n",
         );
+    }
+
+    /// The active steps' T advanced (and every step's PREV kept).
+    fn step_times(&self, out: &mut Out) {
+        let p = &self.p;
         for (k, s) in self.chart.steps.iter().enumerate() {
             let n = self.step_name(k);
             self.gen(
