@@ -489,6 +489,10 @@ fn the_chart_generator_reaches_every_feature() {
         "A.Q in a condition",
         "A.Q in an action",
         "step flag in an action",
+        "action written as a chart",
+        "SFC flag SFCInit",
+        "SFC flag SFCReset",
+        "SFC flag SFCPause",
     ]
     .iter()
     .map(|s| s.to_string())

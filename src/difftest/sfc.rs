@@ -84,6 +84,10 @@ pub struct Action {
     pub name: String,
     /// Its statements.
     pub body: Vec<Stmt>,
+    /// An action written as a chart (its steps and transitions; its associations
+    /// name actions of the POU's chart, its own `actions` are empty): written in
+    /// place of `body`.
+    pub chart: Option<Chart>,
 }
 
 /// A chart: the body of a POU.
@@ -156,7 +160,10 @@ fn print_chart(c: &Chart, o: &mut String) {
     }
     for a in &c.actions {
         let _ = writeln!(o, "ACTION {}:", a.name);
-        o.push_str(&stmts_text(&a.body, 1));
+        match &a.chart {
+            Some(inner) => print_chart(inner, o),
+            None => o.push_str(&stmts_text(&a.body, 1)),
+        }
         o.push_str("END_ACTION\n");
     }
 }
@@ -357,7 +364,14 @@ pub fn features(p: &SfcProg) -> std::collections::BTreeSet<String> {
         if c.steps.iter().filter(|s| s.initial).count() > 1 {
             f.insert("two initial steps".into());
         }
-        for s in &c.steps {
+        if c.actions.iter().any(|a| a.chart.is_some()) {
+            f.insert("action written as a chart".into());
+        }
+        for (flag, _) in pou.decl.inputs.iter().filter(|v| v.0.starts_with("SFC")) {
+            f.insert(format!("SFC flag {flag}"));
+        }
+        let inner = c.actions.iter().filter_map(|a| a.chart.as_ref());
+        for s in c.steps.iter().chain(inner.flat_map(|i| &i.steps)) {
             for a in &s.assocs {
                 f.insert(format!("qualifier {}", a.qual));
                 if pou.bools.contains(&a.target) {

@@ -30,6 +30,11 @@ pub fn program(rng: &mut Rng, avoid: bool) -> SfcProg {
         let n = decl.inputs.len();
         decl.inputs.push((format!("in{n}"), T::Bool));
     }
+    // CODESYS's SFC flags, as inputs (written at random between scans).
+    if rng.chance(20) {
+        let flag = *rng.pick(&["SFCInit", "SFCReset", "SFCPause"]);
+        decl.inputs.push((flag.to_string(), T::Bool));
+    }
     let fb = rng.chance(30).then(|| {
         let decl = fb_decl(rng);
         let n = 2 + rng.below(4) as usize;
@@ -239,7 +244,46 @@ fn chart(rng: &mut Rng, decl: &Prog, n: usize, _avoid: bool) -> (Chart, Vec<Stri
         acts.push(Action {
             name: a.clone(),
             body,
+            chart: None,
         });
+    }
+    // Sometimes the first action is a chart of two steps, driving the others.
+    if acts.len() > 1 && g.rng().chance(25) {
+        let a = acts[0].name.clone();
+        let inner: Vec<String> = (0..2).map(|i| format!("{a}_S{i}")).collect();
+        let mut steps: Vec<Step> = inner
+            .iter()
+            .enumerate()
+            .map(|(i, name)| Step {
+                name: name.clone(),
+                initial: i == 0,
+                assocs: Vec::new(),
+            })
+            .collect();
+        for s in &mut steps {
+            if g.rng().chance(80) {
+                let target = acts[1 + g.rng().below(acts.len() as u64 - 1) as usize]
+                    .name
+                    .clone();
+                let qual = if g.rng().chance(50) {
+                    "N"
+                } else {
+                    *g.rng().pick(&QUALIFIERS)
+                };
+                let ms = super::timed(qual).then(|| *g.rng().pick(&MS));
+                s.assocs.push(Assoc { target, qual, ms });
+            }
+        }
+        let transitions = vec![
+            transition(&mut g, &inner, vec![0], vec![1]),
+            transition(&mut g, &inner, vec![1], vec![0]),
+        ];
+        acts[0].chart = Some(Chart {
+            steps,
+            transitions,
+            actions: Vec::new(),
+        });
+        acts[0].body.clear();
     }
     (
         Chart {

@@ -64,6 +64,10 @@ fn chart_steps(pou: &ChartPou) -> Vec<ChartPou> {
         }
         with(&|q| {
             let name = q.chart.actions.remove(i).name;
+            let inner = q.chart.actions.iter_mut().filter_map(|a| a.chart.as_mut());
+            for s in inner.flat_map(|c| c.steps.iter_mut()) {
+                s.assocs.retain(|a| a.target != name);
+            }
             for s in &mut q.chart.steps {
                 s.assocs.retain(|a| a.target != name);
             }
