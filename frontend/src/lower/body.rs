@@ -21,6 +21,9 @@ pub(super) enum Access {
     OtherOutput,
     /// A CONSTANT kept in memory (a string, array or STRUCT).
     Constant,
+    /// An internal variable (VAR) of another instance, or something inside one,
+    /// which the CODESYS dialect lets outside code read but not write.
+    Internal,
 }
 
 /// A variable, element or member in memory.
@@ -1006,7 +1009,15 @@ impl<'a, 's> BodyCx<'a, 's> {
                 return None;
             }
         }
-        if !visible && v.section == VarKind::Var && self.l.cpdev_files.contains(&name.span.file) {
+        // CODESYS lets outside code read the internal variables of an instance (of an
+        // FB or a PROGRAM), not write them.
+        let outside_read = !visible && v.section == VarKind::Var && self.l.codesys;
+        if outside_read {
+            // Read only: `Access::Internal` below.
+        } else if !visible
+            && v.section == VarKind::Var
+            && self.l.cpdev_files.contains(&name.span.file)
+        {
             let n = self.l.text(name.span).to_string();
             let fbn = self.l.pou(fb).display.clone();
             self.l.diags.push(plcc_ir::diag::Diagnostic::warning(
@@ -1018,7 +1029,7 @@ impl<'a, 's> BodyCx<'a, 's> {
             ));
         } else if !visible {
             let n = self.l.text(name.span).to_string();
-            self.l.error(
+            let mut d = plcc_ir::diag::Diagnostic::error(
                 codes::E_NO_MEMBER,
                 format!(
                     "`{n}` is internal to `{}`: only its inputs and outputs can be used from outside",
@@ -1026,6 +1037,13 @@ impl<'a, 's> BodyCx<'a, 's> {
                 ),
                 name.span,
             );
+            if v.section == VarKind::Var {
+                d = d.with_note(
+                    "CODESYS lets code outside an instance read its internal variables \
+                     (not write them): `--dialect codesys` accepts such reads",
+                );
+            }
+            self.l.diags.push(d);
             return None;
         }
         if v.section == VarKind::InOut {
@@ -1049,6 +1067,8 @@ impl<'a, 's> BodyCx<'a, 's> {
         let addr = self.b.field_addr(base, agg, fi);
         let access = if v.section == VarKind::Output && !init {
             Access::OtherOutput
+        } else if outside_read && !init {
+            Access::Internal
         } else {
             Access::ReadWrite
         };
