@@ -366,6 +366,7 @@ bad! {
     call_expression_to_in_out,
     call_fb_call_as_value,
     call_no_result_as_value,
+    call_action_arguments,
     // writing, loops, recursion
     write_constant,
     write_fb_output,
