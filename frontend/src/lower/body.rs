@@ -913,7 +913,10 @@ impl<'a, 's> BodyCx<'a, 's> {
             }
             self.undeclared.insert(id.sym, self.l.diags.len());
             let name = self.l.text(id.span).to_string();
-            let msg = if let Some(&p) = self.l.pou_by_name.get(&id.sym) {
+            let mut note = None;
+            let msg = if self.l.is_global_list(id.sym) && !self.l.pou(pou).std {
+                format!("`{name}` is a global variable list, not a variable: name one of its variables, `{name}.x`")
+            } else if let Some(&p) = self.l.pou_by_name.get(&id.sym) {
                 match self.l.pou(p).kind {
                     PouKind::Function => {
                         format!("`{name}` is a FUNCTION: call it with `{name}(...)`")
@@ -921,18 +924,29 @@ impl<'a, 's> BodyCx<'a, 's> {
                     PouKind::FunctionBlock => {
                         format!("`{name}` is a FUNCTION_BLOCK type: declare an instance of it")
                     }
-                    PouKind::Program => format!("`{name}` is a PROGRAM, not a variable"),
+                    PouKind::Program => {
+                        note = Some(if self.l.codesys {
+                            format!("its variables are read as `{name}.x`")
+                        } else {
+                            format!("CODESYS reads a PROGRAM's variables from other POUs as `{name}.x`: `--dialect codesys` accepts that")
+                        });
+                        format!("`{name}` is a PROGRAM, not a variable")
+                    }
                 }
             } else {
                 format!("`{name}` is not declared")
             };
-            self.l.error(codes::E_UNDECLARED, msg, id.span);
+            let mut d = plcc_ir::diag::Diagnostic::error(codes::E_UNDECLARED, msg, id.span);
+            if let Some(n) = note {
+                d = d.with_note(n);
+            }
+            self.l.diags.push(d);
         }
         Named::Error
     }
 
     /// A global variable or constant (VAR_GLOBAL), if there is one by this name.
-    fn resolve_global(&mut self, id: ast::Ident, report: bool) -> Option<Named> {
+    pub(super) fn resolve_global(&mut self, id: ast::Ident, report: bool) -> Option<Named> {
         // The standard library does not see the user's globals.
         let g = self
             .l

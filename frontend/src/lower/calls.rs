@@ -5,6 +5,7 @@ use super::body::{BodyCx, Place};
 use super::builtins::Builtin;
 use super::consts::ConstVal;
 use super::expr::Val;
+use super::qualified::Qualifier;
 use super::usertypes::TagDefault;
 use super::{CallNode, Storage};
 use crate::ast::{Arg, ArgKind, Expr, ExprKind, PouKind, VarKind};
@@ -336,6 +337,29 @@ impl<'s> BodyCx<'_, 's> {
                 );
                 self.l.unknown_block(*id, d);
                 Callee::Error
+            }
+            // CODESYS: `Prog.A()`, an ACTION of the PROGRAM's running instance.
+            ExprKind::Member(base, name)
+                if matches!(self.qualifier(base), Some(Qualifier::Program(p))
+                    if self.l.chart_action(p, name.sym).or(self.l.action(p, name.sym)).is_some()) =>
+            {
+                let Some(Qualifier::Program(p)) = self.qualifier(base) else {
+                    return Callee::Error;
+                };
+                let f = self
+                    .l
+                    .chart_action(p, name.sym)
+                    .or(self.l.action(p, name.sym));
+                let inst = if p == self.pou {
+                    self.self_ptr.map(|me| Place::new(me, Ty::Fb(p)))
+                } else {
+                    let what = self.l.text(callee.span).to_string();
+                    self.program_place(p, base, &what)
+                };
+                match (f, inst) {
+                    (Some(f), Some(inst)) => Callee::Action(f, inst, p),
+                    _ => Callee::Error,
+                }
             }
             ExprKind::Member(base, name) if matches!(self.infer(base), Ty::Fb(p) if self.l.action(p, name.sym).is_some()) =>
             {

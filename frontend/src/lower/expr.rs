@@ -337,6 +337,10 @@ impl<'s> BodyCx<'_, 's> {
                 }
             }
             ExprKind::Name(id) => self.name_type(id.sym),
+            ExprKind::Member(base, name) if self.qualifier(base).is_some() => {
+                let q = self.qualifier(base).expect("checked");
+                self.qualified_type(q, *name)
+            }
             ExprKind::Member(base, name) => match self.infer(base) {
                 Ty::Fb(p) => self
                     .l
@@ -575,6 +579,47 @@ impl<'s> BodyCx<'_, 's> {
         )
     }
 
+    /// The value of what a name stands for.
+    fn named_val(&mut self, named: Named, want: Option<Ty>, span: Span) -> Val {
+        match named {
+            Named::Place(p) if matches!(p.ty, Ty::Str(_)) => {
+                let v = self.readable_addr(&p);
+                Val { v, ty: p.ty }
+            }
+            Named::Place(p) => {
+                let p = self.auto_deref(p);
+                if let Ty::Str(_) = p.ty {
+                    let v = self.readable_addr(&p);
+                    return Val { v, ty: p.ty };
+                }
+                let v = self.load_place(&p);
+                Val { v, ty: p.ty }
+            }
+            Named::Const(c, ty) => self.constant(c, ty, want, span),
+            Named::Error => self.error_val(),
+        }
+    }
+
+    /// The value of a member, element, bit or dereference at `p`: a string's
+    /// address, or a scalar.
+    fn member_val(&mut self, p: Place, span: Span) -> Val {
+        if matches!(p.ty, Ty::Str(_)) {
+            let v = self.readable_addr(&p);
+            return Val { v, ty: p.ty };
+        }
+        if !matches!(p.ty, Ty::Elem(_) | Ty::Enum(..) | Ty::Ref(_) | Ty::Error) {
+            let t = self.l.ty_name(p.ty);
+            self.l.error(
+                codes::E_TYPE_MISMATCH,
+                format!("a whole {t} cannot be used as a value here"),
+                span,
+            );
+            return self.error_val();
+        }
+        let v = self.load_place(&p);
+        Val { v, ty: p.ty }
+    }
+
     /// Emits an expression. `want` is the type the context would like (it decides the
     /// type of untyped literals); the result may still have another type.
     pub(super) fn emit(&mut self, e: &'s Expr, want: Option<Ty>) -> Val {
@@ -582,42 +627,24 @@ impl<'s> BodyCx<'_, 's> {
             ExprKind::Paren(x) | ExprKind::UsedBy { value: x, .. } => self.emit(x, want),
             ExprKind::Literal(_) => self.literal(e, want, false),
             ExprKind::Name(_) if self.is_null_name(e) => self.null_val(),
-            ExprKind::Name(id) => match self.resolve_name(*id, true, want) {
-                Named::Place(p) if matches!(p.ty, Ty::Str(_)) => {
-                    let v = self.readable_addr(&p);
-                    Val { v, ty: p.ty }
-                }
-                Named::Place(p) => {
-                    let p = self.auto_deref(p);
-                    if let Ty::Str(_) = p.ty {
-                        let v = self.readable_addr(&p);
-                        return Val { v, ty: p.ty };
+            ExprKind::Name(id) => {
+                let named = self.resolve_name(*id, true, want);
+                self.named_val(named, want, e.span)
+            }
+            // `GVL.x`, `Prog.x` (see `qualified`).
+            ExprKind::Member(base, name) if self.qualifier(base).is_some() => {
+                let q = self.qualifier(base).expect("checked");
+                match self.qualified(q, base, *name) {
+                    Named::Place(p) => {
+                        let p = self.auto_deref(p);
+                        self.member_val(p, e.span)
                     }
-                    let v = self.load_place(&p);
-                    Val { v, ty: p.ty }
+                    named => self.named_val(named, want, e.span),
                 }
-                Named::Const(c, ty) => self.constant(c, ty, want, e.span),
-                Named::Error => self.error_val(),
-            },
+            }
             ExprKind::Member(..) | ExprKind::Index(..) | ExprKind::Bit(..) | ExprKind::Deref(_) => {
                 match self.place(e) {
-                    Some(p) if matches!(p.ty, Ty::Str(_)) => {
-                        let v = self.readable_addr(&p);
-                        Val { v, ty: p.ty }
-                    }
-                    Some(p) => {
-                        if !matches!(p.ty, Ty::Elem(_) | Ty::Enum(..) | Ty::Ref(_) | Ty::Error) {
-                            let t = self.l.ty_name(p.ty);
-                            self.l.error(
-                                codes::E_TYPE_MISMATCH,
-                                format!("a whole {t} cannot be used as a value here"),
-                                e.span,
-                            );
-                            return self.error_val();
-                        }
-                        let v = self.load_place(&p);
-                        Val { v, ty: p.ty }
-                    }
+                    Some(p) => self.member_val(p, e.span),
                     None => self.error_val(),
                 }
             }
@@ -1236,6 +1263,21 @@ impl<'s> BodyCx<'_, 's> {
                 Named::Error => None,
             },
             ExprKind::Member(base, name) => {
+                if let Some(q) = self.qualifier(base) {
+                    return match self.qualified(q, base, *name) {
+                        Named::Place(p) => Some(p),
+                        Named::Const(..) => {
+                            let n = self.l.text(e.span).to_string();
+                            self.l.error(
+                                codes::E_WRITE_CONSTANT,
+                                format!("`{n}` is a constant"),
+                                e.span,
+                            );
+                            None
+                        }
+                        Named::Error => None,
+                    };
+                }
                 if matches!(base.kind, ExprKind::Call { .. }) && self.infer(base).is_aggregate() {
                     self.l.error(
                         codes::E_UNSUPPORTED,
