@@ -24,6 +24,7 @@ mod expr;
 mod init;
 mod literals;
 mod partial;
+mod places;
 mod prototypes;
 mod qualified;
 mod refs;
