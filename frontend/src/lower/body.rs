@@ -1024,14 +1024,12 @@ impl<'a, 's> BodyCx<'a, 's> {
             }
         }
         // CODESYS lets outside code read the internal variables of an instance (of an
-        // FB or a PROGRAM), not write them.
-        let outside_read = !visible && v.section == VarKind::Var && self.l.codesys;
+        // FB or a PROGRAM), not write them; CPDev's dialect lets it do both.
+        let cpdev = self.l.cpdev_files.contains(&name.span.file);
+        let outside_read = !visible && v.section == VarKind::Var && self.l.codesys && !cpdev;
         if outside_read {
             // Read only: `Access::Internal` below.
-        } else if !visible
-            && v.section == VarKind::Var
-            && self.l.cpdev_files.contains(&name.span.file)
-        {
+        } else if !visible && v.section == VarKind::Var && cpdev {
             let n = self.l.text(name.span).to_string();
             let fbn = self.l.pou(fb).display.clone();
             self.l.diags.push(plcc_ir::diag::Diagnostic::warning(
