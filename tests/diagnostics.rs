@@ -152,6 +152,9 @@ const STRICT_RUNGS: &[&str] = &[
 /// Ladder files built under the OpenPLC Editor v3 profile (`--plcopen-order openplc3`).
 const OPENPLC3: &[&str] = &["ld_jump_ignored"];
 
+/// Files built in the CODESYS dialect (`--dialect codesys`).
+const CODESYS: &[&str] = &["codesys_write_internal", "codesys_program_instances"];
+
 fn read_bad(file: &str) -> (String, Vec<u8>) {
     let rel = format!("tests/bad/{file}");
     let bytes =
@@ -173,6 +176,7 @@ fn check_bad(name: &str) {
     if OPENPLC3.contains(&name) {
         opts.plcopen.profile = plcc_frontend::plcopen::Profile::Openplc3;
     }
+    opts.codesys = CODESYS.contains(&name);
     let build = std::panic::catch_unwind(|| build_sources(inputs, &opts))
         .unwrap_or_else(|_| panic!("{rel}: plcc panicked"))
         .unwrap_or_else(|e| panic!("{rel}: {e}"));
@@ -320,6 +324,7 @@ bad! {
     name_fb_type_called,
     name_unknown_fb_member,
     name_fb_internal_var,
+    name_program_variable,
     name_unknown_parameter,
     name_assign_to_function,
     name_struct_no_field,
@@ -366,6 +371,7 @@ bad! {
     call_expression_to_in_out,
     call_fb_call_as_value,
     call_no_result_as_value,
+    call_action_arguments,
     // writing, loops, recursion
     write_constant,
     write_fb_output,
@@ -375,6 +381,9 @@ bad! {
     write_recursion_direct,
     write_recursion_mutual,
     write_recursion_action,
+    // the CODESYS dialect
+    codesys_write_internal,
+    codesys_program_instances,
     // not supported yet
     unsup_method,
     string_width_mismatch,

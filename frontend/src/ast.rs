@@ -207,6 +207,9 @@ pub struct VarBlock {
     pub constant: bool,
     /// `RETAIN` (or `PERSISTENT`) qualifier.
     pub retain: bool,
+    /// The name of a global variable list (CODESYS's GVLs: `VAR_GLOBAL GVL`), by which
+    /// its variables may be qualified (`GVL.x`).
+    pub list: Option<Ident>,
     /// The declarations.
     pub decls: Vec<VarDecl>,
     /// From the section keyword to END_VAR.

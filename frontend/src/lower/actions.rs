@@ -1,16 +1,17 @@
 //! ACTIONs of PROGRAMs and function blocks: bodies that share their POU's variables,
-//! called by name inside the POU (`act();`) or on an instance (`inst.act();`).
+//! called by name inside the POU (`act();`) or on an instance (`inst.act();`); in the
+//! CODESYS dialect with the POU's arguments (`inst.act(IN := x);`).
 //!
 //! Each action is a function of its own with the POU body's signature (the instance
 //! address); it is lowered with the POU's variables in scope, as the body is.
 
-use super::body::BodyCx;
+use super::body::{BodyCx, Place};
 use super::{CallNode, Lowerer};
 use crate::ast::{self, PouKind};
 use crate::codes;
 use crate::intern::Symbol;
 use crate::types::PouId;
-use plcc_ir::{FuncId, FuncKind, Function, Type, Value};
+use plcc_ir::{FuncId, FuncKind, Function, Type};
 
 impl<'s> Lowerer<'s> {
     /// Creates the functions of the actions of every used PROGRAM and FB: those
@@ -114,23 +115,36 @@ impl<'s> Lowerer<'s> {
 }
 
 impl<'s> BodyCx<'_, 's> {
-    /// Calls an action on the instance at `inst`; actions take no arguments.
+    /// Calls an action on the instance `inst` of `p`. IEC 61131-3's actions take no
+    /// arguments; CODESYS passes them as to a call of the POU (`inst.A(IN := x, Q
+    /// => y)` stores the inputs, runs the action, reads the outputs).
     pub(super) fn action_call(
         &mut self,
         f: FuncId,
-        inst: Value,
+        inst: Place,
+        p: PouId,
         args: &'s [ast::Arg],
         span: plcc_ir::diag::Span,
     ) {
-        if !args.is_empty() {
-            self.l.error(
-                codes::E_ARG_COUNT,
-                "an ACTION takes no arguments: it works on its POU's variables",
-                span,
+        if args.is_empty() {
+            self.l.calls.push((self.caller, CallNode::Action(f), span));
+            self.b.call(f, None, vec![inst.addr]);
+            return;
+        }
+        if !self.l.codesys {
+            self.l.diags.push(
+                plcc_ir::diag::Diagnostic::error(
+                    codes::E_ARG_COUNT,
+                    "an ACTION takes no arguments: it works on its POU's variables",
+                    span,
+                )
+                .with_note(
+                    "CODESYS passes an action's arguments as to a call of its POU: \
+                     `--dialect codesys` compiles this call",
+                ),
             );
             return;
         }
-        self.l.calls.push((self.caller, CallNode::Action(f), span));
-        self.b.call(f, None, vec![inst]);
+        self.instance_call(inst, p, Some(f), args, span);
     }
 }

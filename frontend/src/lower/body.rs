@@ -21,6 +21,9 @@ pub(super) enum Access {
     OtherOutput,
     /// A CONSTANT kept in memory (a string, array or STRUCT).
     Constant,
+    /// An internal variable (VAR) of another instance, or something inside one,
+    /// which the CODESYS dialect lets outside code read but not write.
+    Internal,
 }
 
 /// A variable, element or member in memory.
@@ -910,7 +913,10 @@ impl<'a, 's> BodyCx<'a, 's> {
             }
             self.undeclared.insert(id.sym, self.l.diags.len());
             let name = self.l.text(id.span).to_string();
-            let msg = if let Some(&p) = self.l.pou_by_name.get(&id.sym) {
+            let mut note = None;
+            let msg = if self.l.is_global_list(id.sym) && !self.l.pou(pou).std {
+                format!("`{name}` is a global variable list, not a variable: name one of its variables, `{name}.x`")
+            } else if let Some(&p) = self.l.pou_by_name.get(&id.sym) {
                 match self.l.pou(p).kind {
                     PouKind::Function => {
                         format!("`{name}` is a FUNCTION: call it with `{name}(...)`")
@@ -918,18 +924,29 @@ impl<'a, 's> BodyCx<'a, 's> {
                     PouKind::FunctionBlock => {
                         format!("`{name}` is a FUNCTION_BLOCK type: declare an instance of it")
                     }
-                    PouKind::Program => format!("`{name}` is a PROGRAM, not a variable"),
+                    PouKind::Program => {
+                        note = Some(if self.l.codesys {
+                            format!("its variables are read as `{name}.x`")
+                        } else {
+                            format!("CODESYS reads a PROGRAM's variables from other POUs as `{name}.x`: `--dialect codesys` accepts that")
+                        });
+                        format!("`{name}` is a PROGRAM, not a variable")
+                    }
                 }
             } else {
                 format!("`{name}` is not declared")
             };
-            self.l.error(codes::E_UNDECLARED, msg, id.span);
+            let mut d = plcc_ir::diag::Diagnostic::error(codes::E_UNDECLARED, msg, id.span);
+            if let Some(n) = note {
+                d = d.with_note(n);
+            }
+            self.l.diags.push(d);
         }
         Named::Error
     }
 
     /// A global variable or constant (VAR_GLOBAL), if there is one by this name.
-    fn resolve_global(&mut self, id: ast::Ident, report: bool) -> Option<Named> {
+    pub(super) fn resolve_global(&mut self, id: ast::Ident, report: bool) -> Option<Named> {
         // The standard library does not see the user's globals.
         let g = self
             .l
@@ -1006,7 +1023,13 @@ impl<'a, 's> BodyCx<'a, 's> {
                 return None;
             }
         }
-        if !visible && v.section == VarKind::Var && self.l.cpdev_files.contains(&name.span.file) {
+        // CODESYS lets outside code read the internal variables of an instance (of an
+        // FB or a PROGRAM), not write them; CPDev's dialect lets it do both.
+        let cpdev = self.l.cpdev_files.contains(&name.span.file);
+        let outside_read = !visible && v.section == VarKind::Var && self.l.codesys && !cpdev;
+        if outside_read {
+            // Read only: `Access::Internal` below.
+        } else if !visible && v.section == VarKind::Var && cpdev {
             let n = self.l.text(name.span).to_string();
             let fbn = self.l.pou(fb).display.clone();
             self.l.diags.push(plcc_ir::diag::Diagnostic::warning(
@@ -1018,7 +1041,7 @@ impl<'a, 's> BodyCx<'a, 's> {
             ));
         } else if !visible {
             let n = self.l.text(name.span).to_string();
-            self.l.error(
+            let mut d = plcc_ir::diag::Diagnostic::error(
                 codes::E_NO_MEMBER,
                 format!(
                     "`{n}` is internal to `{}`: only its inputs and outputs can be used from outside",
@@ -1026,6 +1049,13 @@ impl<'a, 's> BodyCx<'a, 's> {
                 ),
                 name.span,
             );
+            if v.section == VarKind::Var {
+                d = d.with_note(
+                    "CODESYS lets code outside an instance read its internal variables \
+                     (not write them): `--dialect codesys` accepts such reads",
+                );
+            }
+            self.l.diags.push(d);
             return None;
         }
         if v.section == VarKind::InOut {
@@ -1049,6 +1079,8 @@ impl<'a, 's> BodyCx<'a, 's> {
         let addr = self.b.field_addr(base, agg, fi);
         let access = if v.section == VarKind::Output && !init {
             Access::OtherOutput
+        } else if outside_read && !init {
+            Access::Internal
         } else {
             Access::ReadWrite
         };

@@ -5,6 +5,7 @@ use super::body::{BodyCx, Place};
 use super::builtins::Builtin;
 use super::consts::ConstVal;
 use super::expr::Val;
+use super::qualified::Qualifier;
 use super::usertypes::TagDefault;
 use super::{CallNode, Storage};
 use crate::ast::{Arg, ArgKind, Expr, ExprKind, PouKind, VarKind};
@@ -21,8 +22,8 @@ enum Callee {
     Function(PouId),
     /// A standard function.
     Builtin(Builtin),
-    /// An action, on the instance at the address.
-    Action(FuncId, Value),
+    /// An action, on the instance at the place, of the given POU.
+    Action(FuncId, Place, PouId),
     /// Already reported.
     Error,
 }
@@ -109,7 +110,7 @@ impl<'s> BodyCx<'_, 's> {
                 Callee::Builtin(b) => {
                     cx.builtin_call(b, args, None, span);
                 }
-                Callee::Action(f, inst) => cx.action_call(f, inst, args, span),
+                Callee::Action(f, inst, p) => cx.action_call(f, inst, p, args, span),
                 Callee::Error => {}
             }
             None
@@ -227,7 +228,8 @@ impl<'s> BodyCx<'_, 's> {
                 if self.l.chart_action(self.pou, id.sym).is_some() && self.self_ptr.is_some() =>
             {
                 let f = self.l.chart_action(self.pou, id.sym).expect("checked");
-                Callee::Action(f, self.self_ptr.expect("checked"))
+                let me = self.self_ptr.expect("checked");
+                Callee::Action(f, Place::new(me, Ty::Fb(self.pou)), self.pou)
             }
             ExprKind::Member(base, name) if matches!(self.infer(base), Ty::Fb(p) if self.l.chart_action(p, name.sym).is_some()) =>
             {
@@ -236,7 +238,7 @@ impl<'s> BodyCx<'_, 's> {
                 };
                 let f = self.l.chart_action(p, name.sym).expect("checked");
                 match self.place(base) {
-                    Some(bp) => Callee::Action(f, bp.addr),
+                    Some(bp) => Callee::Action(f, bp, p),
                     None => Callee::Error,
                 }
             }
@@ -266,7 +268,7 @@ impl<'s> BodyCx<'_, 's> {
                     };
                 }
                 if let (Some(f), Some(me)) = (self.l.action(self.pou, id.sym), self.self_ptr) {
-                    return Callee::Action(f, me);
+                    return Callee::Action(f, Place::new(me, Ty::Fb(self.pou)), self.pou);
                 }
                 let in_std = self.l.pou(self.pou).std;
                 if let Some(p) = self.visible_pou(id.sym) {
@@ -336,6 +338,29 @@ impl<'s> BodyCx<'_, 's> {
                 self.l.unknown_block(*id, d);
                 Callee::Error
             }
+            // CODESYS: `Prog.A()`, an ACTION of the PROGRAM's running instance.
+            ExprKind::Member(base, name)
+                if matches!(self.qualifier(base), Some(Qualifier::Program(p))
+                    if self.l.chart_action(p, name.sym).or(self.l.action(p, name.sym)).is_some()) =>
+            {
+                let Some(Qualifier::Program(p)) = self.qualifier(base) else {
+                    return Callee::Error;
+                };
+                let f = self
+                    .l
+                    .chart_action(p, name.sym)
+                    .or(self.l.action(p, name.sym));
+                let inst = if p == self.pou {
+                    self.self_ptr.map(|me| Place::new(me, Ty::Fb(p)))
+                } else {
+                    let what = self.l.text(callee.span).to_string();
+                    self.program_place(p, base, &what)
+                };
+                match (f, inst) {
+                    (Some(f), Some(inst)) => Callee::Action(f, inst, p),
+                    _ => Callee::Error,
+                }
+            }
             ExprKind::Member(base, name) if matches!(self.infer(base), Ty::Fb(p) if self.l.action(p, name.sym).is_some()) =>
             {
                 let Ty::Fb(p) = self.infer(base) else {
@@ -343,7 +368,7 @@ impl<'s> BodyCx<'_, 's> {
                 };
                 let f = self.l.action(p, name.sym).expect("checked");
                 match self.place(base) {
-                    Some(bp) => Callee::Action(f, bp.addr),
+                    Some(bp) => Callee::Action(f, bp, p),
                     None => Callee::Error,
                 }
             }
@@ -775,7 +800,23 @@ impl<'s> BodyCx<'_, 's> {
     /// Calls an FB instance: stores the inputs, runs the body, reads the outputs. A
     /// call on an array element whose index was out of bounds is skipped.
     pub(super) fn fb_call(&mut self, inst: Place, fb: PouId, args: &'s [Arg], span: Span) {
-        self.l.calls.push((self.caller, CallNode::Pou(fb), span));
+        self.instance_call(inst, fb, None, args, span);
+    }
+
+    /// Calls the body of the instance `inst` of `fb`, or its ACTION `action` (CODESYS
+    /// passes an action's arguments as its POU's call does): stores the inputs, runs
+    /// the code, reads the outputs. An action's call may leave out the VAR_IN_OUTs:
+    /// they keep what the last call bound.
+    pub(super) fn instance_call(
+        &mut self,
+        inst: Place,
+        fb: PouId,
+        action: Option<FuncId>,
+        args: &'s [Arg],
+        span: Span,
+    ) {
+        let node = action.map_or(CallNode::Pou(fb), CallNode::Action);
+        self.l.calls.push((self.caller, node, span));
         let params = params_of(self, fb);
         let bound = self.bind_args(fb, &params, args);
         // A call on an element whose index was out of bounds is skipped (and raises
@@ -825,6 +866,7 @@ impl<'s> BodyCx<'_, 's> {
                                 self.b.store(p, addr);
                             }
                         }
+                        None if action.is_some() => {}
                         None => {
                             self.l.error(
                             codes::E_MISSING_ARG,
@@ -841,7 +883,7 @@ impl<'s> BodyCx<'_, 's> {
                 }
             }
         }
-        if let Some(f) = self.l.ir[fb.0 as usize].body {
+        if let Some(f) = action.or(self.l.ir[fb.0 as usize].body) {
             self.b.call(f, None, vec![inst.addr]);
         }
         for (vi, a) in outs {

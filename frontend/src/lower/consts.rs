@@ -63,9 +63,11 @@ impl ConstVal {
 /// How deep constant definitions may refer to each other (stops cycles).
 const MAX_DEPTH: u32 = 32;
 
-/// Resolves the name of a constant; it gets the evaluator back (expression, depth,
-/// wanted type) to evaluate the constant's initialiser.
+/// Resolves the name of a constant, qualified by a global variable list's name
+/// (`GVL.c`) or not; it gets the evaluator back (expression, depth, wanted type) to
+/// evaluate the constant's initialiser.
 type Lookup<'a> = dyn Fn(
+        Option<Symbol>,
         Symbol,
         u32,
         &dyn Fn(&Expr, u32, Option<Ty>) -> Option<(ConstVal, Ty)>,
@@ -147,9 +149,15 @@ fn eval_depth(
                 None => Some((v, t)),
             }
         }
-        ExprKind::Name(id) => lookup(id.sym, depth, &|x, d, w| {
+        ExprKind::Name(id) => lookup(None, id.sym, depth, &|x, d, w| {
             eval_depth(x, interner, lookup, d, w)
         }),
+        ExprKind::Member(base, name) => match &base.kind {
+            ExprKind::Name(list) => lookup(Some(list.sym), name.sym, depth, &|x, d, w| {
+                eval_depth(x, interner, lookup, d, w)
+            }),
+            _ => None,
+        },
         ExprKind::Unary(op, inner) => {
             let (v, t) = rec(inner, depth + 1)?;
             let r = match (op, v) {

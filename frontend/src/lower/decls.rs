@@ -488,12 +488,28 @@ impl<'s> Lowerer<'s> {
             .globals_pou
             .filter(|&g| Some(g) != scope)
             .map(|g| self.pou_ast(g));
+        let all_globals = self.globals_pou.map(|g| self.pou_ast(g));
         let interner = &*self.interner;
         type Eval<'e> = dyn Fn(&ast::Expr, u32, Option<Ty>) -> Option<(ConstVal, Ty)> + 'e;
-        let lookup = |sym: crate::intern::Symbol, depth: u32, this: &Eval<'_>| {
-            let scopes = own.into_iter().chain(globals);
+        type Sym = crate::intern::Symbol;
+        let declares = |a: &ast::Pou, sym: Sym| {
+            a.var_blocks
+                .iter()
+                .flat_map(|b| &b.decls)
+                .any(|d| d.names.iter().any(|n| n.sym == sym))
+        };
+        let lookup = |list: Option<Sym>, sym: Sym, depth: u32, this: &Eval<'_>| {
+            // `GVL.c`: a constant of the global variable list `GVL`, where `GVL` names
+            // no variable of the POU.
+            if list.is_some_and(|l| own.is_some_and(|a| declares(a, l))) {
+                return None;
+            }
+            let scopes = match list {
+                None => own.into_iter().chain(globals),
+                Some(_) => None.into_iter().chain(all_globals),
+            };
             for block in scopes.flat_map(|a| a.var_blocks.iter()) {
-                if !block.constant {
+                if !block.constant || list.is_some_and(|l| block.list.is_none_or(|n| n.sym != l)) {
                     continue;
                 }
                 for decl in &block.decls {

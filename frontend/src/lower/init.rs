@@ -4,10 +4,7 @@ use super::Lowerer;
 use crate::ast::PouKind;
 use crate::codes;
 use crate::types::PouId;
-use plcc_ir::{
-    BinaryOp, DataDef, DataKind, FuncBuilder, FuncId, FuncKind, Function, IntCC, MemType,
-    ProgramEntry, Type,
-};
+use plcc_ir::{BinaryOp, FuncBuilder, FuncId, FuncKind, Function, IntCC, ProgramEntry, Type};
 
 impl Lowerer<'_> {
     /// Creates a data object and a program entry for every PROGRAM to run: the ones
@@ -46,17 +43,13 @@ impl Lowerer<'_> {
         }
         for i in chosen {
             let ir = &self.ir[i];
-            let (Some(agg), Some(body), Some(init)) = (ir.agg, ir.body, ir.init) else {
+            let (Some(_), Some(body), Some(init)) = (ir.agg, ir.body, ir.init) else {
                 continue;
             };
             let name = self.pous[i].display.clone();
-            let data = self.module.add_data(DataDef {
-                name: name.clone(),
-                ty: MemType::Agg(agg),
-                elem: None,
-                kind: DataKind::Program,
-                location: None,
-            });
+            let Some(data) = self.program_data(&name, PouId(i as u32)) else {
+                continue;
+            };
             self.module.programs.push(ProgramEntry {
                 name,
                 data,

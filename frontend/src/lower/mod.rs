@@ -24,7 +24,9 @@ mod expr;
 mod init;
 mod literals;
 mod partial;
+mod places;
 mod prototypes;
+mod qualified;
 mod refs;
 mod selection;
 mod stmt;
@@ -207,6 +209,13 @@ pub struct Lowerer<'s> {
     pub(crate) cpdev_files: Vec<plcc_ir::diag::FileId>,
     /// The CODESYS dialect (`LowerOptions::codesys`).
     pub(crate) codesys: bool,
+    /// The PROGRAMs to run (`LowerOptions::programs`).
+    run_programs: Vec<String>,
+    /// The library files (`LowerOptions::library`).
+    library: Vec<plcc_ir::diag::FileId>,
+    /// The data objects of PROGRAM instances, by instance name (see
+    /// `Lowerer::program_data`).
+    program_data: FxHashMap<String, plcc_ir::DataId>,
     /// How many reference targets are being resolved (see `TypeState::Building`).
     pub(crate) ref_depth: u32,
 }
@@ -246,6 +255,9 @@ impl<'s> Lowerer<'s> {
             globals_data: None,
             cpdev_files: Vec::new(),
             codesys: false,
+            run_programs: Vec::new(),
+            library: Vec::new(),
+            program_data: FxHashMap::default(),
             ref_depth: 0,
         }
     }
@@ -259,6 +271,8 @@ impl<'s> Lowerer<'s> {
         opts: &LowerOptions,
     ) -> (Option<Module>, Vec<Diagnostic>) {
         self.codesys = opts.codesys;
+        self.run_programs = opts.programs.clone();
+        self.library = opts.library.clone();
         self.collect_pous(std_units);
         self.collect_types();
         self.report_unsupported_items();

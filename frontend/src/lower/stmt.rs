@@ -334,6 +334,20 @@ impl<'s> BodyCx<'_, 's> {
                 "cannot assign to an output of a function block instance from outside",
             ),
             Access::Constant => (codes::E_WRITE_CONSTANT, "this is a CONSTANT"),
+            Access::Internal => {
+                let t = self.l.text(span).to_string();
+                self.l.diags.push(
+                    plcc_ir::diag::Diagnostic::error(
+                        codes::E_WRITE_INTERNAL,
+                        format!(
+                            "cannot write `{t}`: outside its instance, an internal variable (VAR) and what it holds are read-only"
+                        ),
+                        span,
+                    )
+                    .with_note("CODESYS lets code outside an instance read its internal variables, not write them"),
+                );
+                return false;
+            }
         };
         self.l.error(code, msg, span);
         false

@@ -238,17 +238,13 @@ impl<'s> Lowerer<'s> {
     /// The data object, wrappers and program entry of one configured instance.
     fn instantiate_configured(&mut self, inst: Instance<'s>, task: Option<&Task<'s>>) {
         let ir = &self.ir[inst.pou.0 as usize];
-        let (Some(agg), Some(body), Some(init)) = (ir.agg, ir.body, ir.init) else {
+        let (Some(_), Some(body), Some(init)) = (ir.agg, ir.body, ir.init) else {
             return;
         };
         let name = self.text(inst.decl.name.span).to_string();
-        let data = self.module.add_data(DataDef {
-            name: name.clone(),
-            ty: MemType::Agg(agg),
-            elem: None,
-            kind: DataKind::Program,
-            location: None,
-        });
+        let Some(data) = self.program_data(&name, inst.pou) else {
+            return;
+        };
         let single = task.and_then(|t| t.single);
         // An event task (SINGLE) runs on its event, whatever its INTERVAL.
         let interval = task

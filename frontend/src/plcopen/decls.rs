@@ -3,21 +3,33 @@
 //! program instances, written as IEC text (`body` writes the graphical bodies).
 
 use super::map::Out;
-use super::xml::{duration_ms, Config, Task, Text, Type, Value, Var, VarGroup};
+use super::xml::{duration_ms, Config, Section, Task, Text, Type, Value, Var, VarGroup};
 
 /// Text safe inside a `(* *)` comment.
 pub(super) fn comment_safe(s: &str) -> String {
     s.replace("(*", "( *").replace("*)", "* )")
 }
 
-/// A variable group: `VAR_INPUT` ... `END_VAR`, with its attributes; a CODESYS
-/// global variable list's name as a comment.
+/// A variable group: `VAR_INPUT` ... `END_VAR`, with its attributes. A CODESYS
+/// global variable list keeps its name (`VAR_GLOBAL GVL`), by which its variables
+/// may be qualified (`GVL.x`); a name that is not an identifier, or a name of
+/// another group, is a comment.
 pub(super) fn write_group(o: &mut Out, g: &VarGroup) {
-    if let Some(n) = &g.name {
+    let list = g
+        .name
+        .as_ref()
+        .filter(|n| g.section == Section::Global && crate::st::lexer::is_identifier(&n.value));
+    if let Some(n) = g.name.as_ref().filter(|_| list.is_none()) {
         o.push(&format!("(* {} *)\n", comment_safe(&n.value)));
     }
     let start = o.pos();
     o.push(g.section.keyword());
+    o.mark(start, g.tag.clone());
+    if let Some(n) = list {
+        o.push(" ");
+        o.push_text(n);
+    }
+    let start = o.pos();
     if g.constant {
         o.push(" CONSTANT");
     }

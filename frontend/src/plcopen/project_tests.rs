@@ -141,17 +141,17 @@ fn codesys_global_variable_lists_in_add_data() {
     );
     let pou = format!(
         r#"<pou name="main" pouType="program"><interface/>{}</pou>"#,
-        st("used := size + speed;")
+        st("GVL_Mixed.used := size + GVL_Main.speed + GVL_Mixed.size;")
     );
     let xml = file("", &pou, "", &gvls);
     let v = view(&xml);
     // The mixed list's true lists, not the flattened one (CONSTANT, without the
-    // initial value).
+    // initial value), with their names, which qualify their variables.
     assert!(
         v.contains(
-            "(* GVL_Main *)\nVAR_GLOBAL\n    speed : INT;\nEND_VAR\n\n\
-             (* GVL_Mixed *)\nVAR_GLOBAL CONSTANT\n    size : INT := 8;\nEND_VAR\n\n\
-             (* GVL_Mixed *)\nVAR_GLOBAL\n    used : INT;\nEND_VAR\n"
+            "VAR_GLOBAL GVL_Main\n    speed : INT;\nEND_VAR\n\n\
+             VAR_GLOBAL GVL_Mixed CONSTANT\n    size : INT := 8;\nEND_VAR\n\n\
+             VAR_GLOBAL GVL_Mixed\n    used : INT;\nEND_VAR\n"
         ),
         "{v}"
     );
@@ -312,7 +312,7 @@ fn codesys_applications_and_their_pous_in_add_data() {
     let xml = application(CODESYS, "count := count + 1;", "");
     let v = view(&xml);
     assert!(
-        v.contains("(* GVL *)\nVAR_GLOBAL\n    count : INT;\nEND_VAR"),
+        v.contains("VAR_GLOBAL GVL\n    count : INT;\nEND_VAR"),
         "{v}"
     );
     assert!(v.contains("PROGRAM MAIN\n"), "{v}");

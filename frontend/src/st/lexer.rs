@@ -451,6 +451,16 @@ fn is_ident_byte(b: u8) -> bool {
     b.is_ascii_alphanumeric() || b == b'_'
 }
 
+/// True if `s` is read as one identifier: a name, not a keyword (for text that
+/// generates ST, such as the PLCopen view).
+pub fn is_identifier(s: &str) -> bool {
+    let b = s.as_bytes();
+    !b.is_empty()
+        && !b[0].is_ascii_digit()
+        && b.iter().all(|&c| is_ident_byte(c))
+        && !KEYWORDS.iter().any(|(k, _)| k.eq_ignore_ascii_case(s))
+}
+
 /// Splits `text` into tokens. Errors go to `diags`; the result always ends with
 /// [`Tok::Eof`].
 pub fn lex(

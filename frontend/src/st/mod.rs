@@ -11,6 +11,8 @@ mod pragma;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_globals;
 
 use crate::ast::SourceUnit;
 use crate::intern::Interner;

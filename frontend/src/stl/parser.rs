@@ -899,6 +899,7 @@ impl Parser<'_> {
             kind,
             constant: false,
             retain: false,
+            list: None,
             decls,
             span: self.span_from(kw.start),
         }
@@ -917,6 +918,7 @@ impl Parser<'_> {
             kind,
             constant: true,
             retain: false,
+            list: None,
             decls,
             span: self.span_from(start),
         }
@@ -1132,6 +1134,7 @@ impl Parser<'_> {
                 kind: VarKind::Input,
                 constant: false,
                 retain: false,
+                list: None,
                 decls: inputs,
                 span: params_span,
             });

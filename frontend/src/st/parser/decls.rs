@@ -16,11 +16,23 @@ impl<'a> Parser<'a> {
         };
         let mut constant = false;
         let mut retain = false;
+        let mut list = None;
         loop {
             match self.peek() {
                 Tok::Constant => constant = true,
                 Tok::Retain | Tok::Persistent => retain = true,
                 Tok::NonRetain => retain = false,
+                // A global variable list's name (CODESYS's GVLs): on the keyword's
+                // line, a name that starts no declaration (`VAR_GLOBAL GVL`).
+                Tok::Ident
+                    if kind == VarKind::Global
+                        && ctx == DeclCtx::Global
+                        && list.is_none()
+                        && !self.tok().newline_before()
+                        && !matches!(self.peek_at(1), Tok::Comma | Tok::Colon | Tok::At) =>
+                {
+                    list = Some(self.ident(self.tok()));
+                }
                 _ => break,
             }
             self.bump();
@@ -69,6 +81,7 @@ impl<'a> Parser<'a> {
             kind,
             constant,
             retain,
+            list,
             decls,
             span: self.span_from(kw.start),
         })
