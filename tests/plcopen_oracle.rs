@@ -54,11 +54,17 @@ const STUBS: &[(&str, &str)] = &[
     ("sakunamary__Roaster_s7-200__I2C_test", "openplc_boards.st"),
 ];
 
-/// Projects with an editor translation that plcc does not build, and why.
-const NOT_BUILT: &[(&str, &str)] = &[(
+/// Projects with an editor translation that plcc does not build, and why (none: the
+/// last one, Roaster's I2C_test, reads an FB instance's ENO, which plcc now keeps).
+const NOT_BUILT: &[(&str, &str)] = &[];
+
+/// Projects whose editor translation is of another revision of the project: both
+/// sides must build, and are not compared.
+const OTHER_REVISION: &[(&str, &str)] = &[(
     "sakunamary__Roaster_s7-200__I2C_test",
-    "the editor's ST reads `I2C_AHT200.ENO` after the call: an FB instance's ENO kept \
-     as an output, which plcc does not keep yet (issue 20: ENO in FBs); the XML builds",
+    "the translation's get_temp initialises sck := 5 and sda := 4 and calls the block with \
+     EN := TRUE under IF I2C_AHT200.ENO, where the XML has NODE_PIN_D5 and NODE_PIN_D4 \
+     (the board's constants: 14 and 2) and no EN or ENO",
 )];
 
 fn corpus() -> Option<PathBuf> {
@@ -152,6 +158,10 @@ fn xml_and_the_editors_st_agree_scan_by_scan() {
                 continue;
             }
         };
+        if let Some((_, why)) = OTHER_REVISION.iter().find(|(n, _)| *n == stem) {
+            report.push(format!("{stem}: both build, not compared: {why}"));
+            continue;
+        }
         let cycle = a.task_tick_us().map_or(10, |us| us.div_ceil(1000) as u32);
         let mut ran = Vec::new();
         for target in ["interp", "host", "vmasm", "pic16f876a"] {

@@ -8,6 +8,7 @@
 
 pub mod ast;
 pub mod codes;
+pub mod eno;
 pub mod il;
 pub mod intern;
 pub mod lower;
@@ -202,6 +203,7 @@ pub fn compile(
             charts,
         };
     }
+    eno::declare(&mut units, sources, &mut interner);
     let started = std::time::Instant::now();
     let all: Vec<&ast::SourceUnit> = std::iter::once(std_unit).chain(&units).collect();
     let mut lowerer = lower::Lowerer::new(sources, &mut interner, &all);

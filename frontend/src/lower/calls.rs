@@ -101,6 +101,14 @@ impl<'s> BodyCx<'_, 's> {
             }
         }
         let span = e.span;
+        // A call whose EN is FALSE leaves the FB's ENO FALSE (the call sets it TRUE
+        // when it runs).
+        if let (Callee::Instance(place, fb), (Some(_), _)) = (&callee_kind, self.en_eno(args)) {
+            if let Some(addr) = self.eno_addr(place.addr, *fb) {
+                let f = self.b.iconst(Type::I1, 0);
+                self.b.store(f, addr);
+            }
+        }
         self.with_en_eno(args, |cx| {
             match callee_kind {
                 Callee::Instance(place, fb) => cx.fb_call(place, fb, args, span),
@@ -799,6 +807,22 @@ impl<'s> BodyCx<'_, 's> {
 
     /// Calls an FB instance: stores the inputs, runs the body, reads the outputs. A
     /// call on an array element whose index was out of bounds is skipped.
+    /// The address of the ENO output of the instance at `inst` of `fb`, if the FB
+    /// has one (declared by the user or by `crate::eno`).
+    fn eno_addr(&mut self, inst: Value, fb: PouId) -> Option<Value> {
+        let sym = self.l.interner.lookup("ENO")?;
+        let vi = self.l.pou(fb).var(sym)? as usize;
+        let v = &self.l.pou(fb).vars[vi];
+        if v.ty != Ty::BOOL || v.section != VarKind::Output {
+            return None;
+        }
+        let Some(Storage::Field(fi)) = self.l.ir[fb.0 as usize].storage[vi] else {
+            return None;
+        };
+        let agg = self.l.ir[fb.0 as usize].agg?;
+        Some(self.b.field_addr(inst, agg, fi))
+    }
+
     pub(super) fn fb_call(&mut self, inst: Place, fb: PouId, args: &'s [Arg], span: Span) {
         self.instance_call(inst, fb, None, args, span);
     }
@@ -883,8 +907,20 @@ impl<'s> BodyCx<'_, 's> {
                 }
             }
         }
+        // The FB's ENO (`crate::eno`): TRUE as the body starts, which may clear it;
+        // what it holds after is the call's ENO.
+        let eno = self.eno_addr(inst.addr, fb);
+        if let Some(addr) = eno {
+            let t = self.b.iconst(Type::I1, 1);
+            self.b.store(t, addr);
+        }
         if let Some(f) = action.or(self.l.ir[fb.0 as usize].body) {
             self.b.call(f, None, vec![inst.addr]);
+        }
+        if let Some(addr) = eno {
+            let ok = self.b.load(Type::I1, addr);
+            let bad = self.b.unary(plcc_ir::inst::UnaryOp::Bnot, ok);
+            self.set_eno_error(bad);
         }
         for (vi, a) in outs {
             let v = self.l.pou(fb).vars[vi].clone();

@@ -207,7 +207,14 @@ impl<'s> Lowerer<'s> {
                     lookup.insert(name.sym, vars.len() as u32);
                     vars.push(VarInfo {
                         name: *name,
-                        display: self.text(name.span).to_string(),
+                        // A declaration plcc adds (the implicit ENO of `crate::eno`)
+                        // points at text of another name: it is shown as interned.
+                        display: match self.text(name.span) {
+                            t if t.eq_ignore_ascii_case(self.interner.name(name.sym)) => {
+                                t.to_string()
+                            }
+                            _ => self.interner.name(name.sym).to_string(),
+                        },
                         section: block.kind,
                         constant: block.constant && !codesys_input_constant && !ty.is_aggregate(),
                         read_only: block.constant && !codesys_input_constant && ty.is_aggregate(),
