@@ -286,6 +286,7 @@ bad! {
     // declarations
     decl_anonymous_location,
     decl_reversed_bounds,
+    decl_edge_misuse,
     decl_array_bounds_overflow,
     decl_constant_from_variable,
     lex_int_too_large,

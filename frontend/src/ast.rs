@@ -227,6 +227,9 @@ pub struct VarDecl {
     pub ty: TypeSpec,
     /// The initial value, if any.
     pub init: Option<Init>,
+    /// `R_EDGE` (TRUE) or `F_EDGE` (FALSE) after the type of a BOOL input, with its
+    /// span (`crate::edges` gives it its meaning).
+    pub edge: Option<(bool, Span)>,
     /// The whole declaration.
     pub span: Span,
 }

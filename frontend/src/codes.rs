@@ -117,8 +117,7 @@ codes! {
          \n    VAR lamp AT %QX0.1 : BOOL; END_VAR   (* fix *)";
     SYNTAX_NOT_SUPPORTED = "E0107", "syntax not supported",
         "The construct is valid in some IEC 61131-3 dialect (object-oriented INTERFACE, \
-         CLASS, METHOD or PROPERTY outside a FUNCTION_BLOCK, R_EDGE/F_EDGE inputs, VAR_ACCESS \
-         paths) but plcc does not support it. The parser skips it and goes on.\n\
+         CLASS, METHOD or PROPERTY outside a FUNCTION_BLOCK, VAR_ACCESS paths) but plcc does not support it. The parser skips it and goes on.\n\
          \n    INTERFACE I_Motor ... END_INTERFACE   (* error: not supported *)\n\
          \n    (* fix: use FUNCTION_BLOCKs and FUNCTIONs *)";
     NOT_A_STATEMENT = "E0108", "expression is not a statement",
@@ -146,7 +145,7 @@ codes! {
     E_NOT_A_TYPE = "E0204", "not a type",
         "A PROGRAM or FUNCTION name is used where a type is expected; only FUNCTION_BLOCKs can be instantiated.\n\n    VAR x : MyFunction; END_VAR";
     E_BAD_DECLARATION = "E0205", "invalid declaration",
-        "A declaration breaks a rule of IEC 61131-3: array bounds reversed, an initial value where none is allowed, a CONSTANT section other than VAR, an array too large.\n\n    VAR a : ARRAY[10..1] OF INT; END_VAR";
+        "A declaration breaks a rule of IEC 61131-3: array bounds reversed, an initial value where none is allowed, a CONSTANT section other than VAR, an array too large, R_EDGE or F_EDGE on anything but a BOOL VAR_INPUT of a FUNCTION_BLOCK or PROGRAM.\n\n    VAR a : ARRAY[10..1] OF INT; END_VAR";
     E_NOT_CONSTANT = "E0206", "not a constant expression",
         "Array bounds, CASE labels, repetition counts, initial values and CONSTANT values must be computable at compile time from literals and constants.\n\n    VAR CONSTANT n : INT := x; END_VAR   (* x is a variable *)";
     E_NO_MEMBER = "E0207", "no such member or parameter",

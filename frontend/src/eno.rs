@@ -76,6 +76,7 @@ pub fn declare(units: &mut [SourceUnit], sources: &SourceMap, interner: &mut Int
                         span: at,
                     }),
                     init: None,
+                    edge: None,
                     span: at,
                 }],
                 span: at,

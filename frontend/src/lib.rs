@@ -8,6 +8,7 @@
 
 pub mod ast;
 pub mod codes;
+pub mod edges;
 pub mod eno;
 pub mod il;
 pub mod intern;
@@ -190,6 +191,8 @@ pub fn compile(
     if let Some(g) = globals_unit(&mut units, &mut interner) {
         units.push(g);
     }
+    eno::declare(&mut units, sources, &mut interner);
+    edges::expand(&mut units, &mut interner, &mut diagnostics);
     let mut timings = vec![("parse", started.elapsed())];
     if diagnostics.iter().any(|d| d.is_error()) {
         sfc::remap_all(&charts, &mut diagnostics);
@@ -203,7 +206,6 @@ pub fn compile(
             charts,
         };
     }
-    eno::declare(&mut units, sources, &mut interner);
     let started = std::time::Instant::now();
     let all: Vec<&ast::SourceUnit> = std::iter::once(std_unit).chain(&units).collect();
     let mut lowerer = lower::Lowerer::new(sources, &mut interner, &all);

@@ -989,6 +989,7 @@ impl Parser<'_> {
             location: None,
             ty,
             init,
+            edge: None,
             span: self.sp(start, start),
         })
     }
@@ -1184,6 +1185,7 @@ impl Parser<'_> {
                 location: None,
                 ty,
                 init: None,
+                edge: None,
                 span: self.span_from(start),
             });
             match self.peek() {

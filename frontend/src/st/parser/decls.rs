@@ -161,18 +161,10 @@ impl<'a> Parser<'a> {
         }
         self.expect_tok(Tok::Colon, "`:`")?;
         let ty = self.type_spec()?;
+        let mut edge = None;
         if self.at_sym(0, self.s.r_edge) || self.at_sym(0, self.s.f_edge) {
-            let t = self.tok();
-            let msg = format!(
-                "`{}` edge-detecting inputs are not supported",
-                self.slice(t).to_ascii_uppercase()
-            );
-            self.error_here(
-                codes::SYNTAX_NOT_SUPPORTED,
-                msg,
-                "not supported; use an R_TRIG or F_TRIG instance",
-            );
-            self.bump();
+            let t = self.bump();
+            edge = Some((t.data == self.s.r_edge.0, self.tspan(t)));
         }
         let init = if self.eat(Tok::Assign) {
             Some(self.decl_init(&ty)?)
@@ -186,6 +178,7 @@ impl<'a> Parser<'a> {
             location,
             ty,
             init,
+            edge,
             span,
         })
     }
