@@ -8,6 +8,7 @@
 
 pub mod ast;
 pub mod codes;
+pub mod direct;
 pub mod edges;
 pub mod eno;
 pub mod il;
@@ -188,6 +189,7 @@ pub fn compile(
         &il_files,
         &mut diagnostics,
     );
+    direct::resolve(&mut units, &mut interner, &mut diagnostics);
     if let Some(g) = globals_unit(&mut units, &mut interner) {
         units.push(g);
     }
