@@ -1297,6 +1297,43 @@ impl<'r> Gen<'r> {
         })
     }
 
+    /// A statement on directly represented memory used without a declaration
+    /// (`%MW11 := INT_TO_WORD(e);`, `%MX2.5 := c;`, `v := WORD_TO_INT(%MW11) + e;`).
+    fn direct_stmt(&mut self) -> Stmt {
+        let w = 10 + self.rng.below(3);
+        match self.rng.below(3) {
+            0 => {
+                let e = crate::difftest::print::expr_text(&self.expr(T::Int));
+                Stmt::Raw(format!("%MW{w} := INT_TO_WORD({e});"))
+            }
+            1 => {
+                let e = crate::difftest::print::expr_text(&self.expr(T::Bool));
+                Stmt::Raw(format!(
+                    "%MX{}.{} := {e};",
+                    self.rng.below(2),
+                    self.rng.below(8)
+                ))
+            }
+            _ => {
+                let ints: Vec<String> = self
+                    .prog
+                    .vars
+                    .iter()
+                    .filter(|v| v.1 == T::Int)
+                    .map(|v| v.0.clone())
+                    .collect();
+                let e = crate::difftest::print::expr_text(&self.expr(T::Int));
+                match ints.is_empty() {
+                    true => Stmt::Raw(format!("%MW{w} := %MW{w} + INT_TO_WORD({e});")),
+                    false => {
+                        let v = self.rng.pick(&ints).clone();
+                        Stmt::Raw(format!("{v} := WORD_TO_INT(%MW{w}) + {e};"))
+                    }
+                }
+            }
+        }
+    }
+
     /// A statement.
     pub fn stmt(&mut self) -> Stmt {
         if self.rng.chance(25) {
@@ -1318,6 +1355,7 @@ impl<'r> Gen<'r> {
                 let f = self.rng.pick(&fields).clone();
                 Stmt::Assign(f, self.expr(t))
             }
+            41..=44 if self.rng.chance(40) => self.direct_stmt(),
             41..=44 => Stmt::Raw(self.rng.pick(&RAW).to_string()),
             45..=59 => {
                 let i = self.index();
