@@ -5,12 +5,16 @@
 //! plcc declares it, as an ordinary `VAR_OUTPUT ENO : BOOL`, in the user's function
 //! blocks that need it: those whose text names ENO (the body sets it), and all of
 //! them when some source reads `<something>.ENO`, so that programs that never use it
-//! pay nothing (an instance on the PIC16 would carry one more bit). An FB that
-//! declares ENO itself keeps its declaration. The call protocol is in
-//! `lower/calls.rs` (`instance_call`) and `lower/en_eno.rs`.
+//! pay nothing (an instance on the PIC16 would carry one more bit). A FUNCTION whose
+//! text names ENO gets `VAR_OUTPUT ENO : BOOL := TRUE` (TRUE at every call unless the
+//! body clears it), which its caller's `ENO => x` reads. A POU that declares ENO
+//! itself keeps its declaration. The call protocol is in `lower/calls.rs`
+//! (`instance_call`, `func_call`) and `lower/en_eno.rs`.
 
-use crate::ast::PouKind;
-use crate::ast::{Ident, Item, SourceUnit, TypeSpec, VarBlock, VarDecl, VarKind};
+use crate::ast::{
+    Expr, ExprKind, Ident, Init, Item, Literal, LiteralKind, PouKind, SourceUnit, TypeSpec,
+    VarBlock, VarDecl, VarKind,
+};
 use crate::intern::Interner;
 use crate::source::SourceMap;
 
@@ -47,7 +51,7 @@ pub fn declare(units: &mut [SourceUnit], sources: &SourceMap, interner: &mut Int
         let text = &sources.get(unit.file).text;
         for item in &mut unit.items {
             let Item::Pou(pou) = item else { continue };
-            if pou.kind != PouKind::FunctionBlock {
+            if pou.kind == PouKind::Program {
                 continue;
             }
             let declared = pou
@@ -59,7 +63,9 @@ pub fn declare(units: &mut [SourceUnit], sources: &SourceMap, interner: &mut Int
             let own = text
                 .get(pou.span.start as usize..pou.span.end as usize)
                 .is_some_and(|t| names_eno(t, false));
-            if declared || !(read_anywhere || own) {
+            // A FUNCTION's ENO is read only by its caller's `ENO => x`.
+            let function = pou.kind == PouKind::Function;
+            if declared || !(own || (read_anywhere && !function)) {
                 continue;
             }
             let at = pou.name.span;
@@ -75,7 +81,17 @@ pub fn declare(units: &mut [SourceUnit], sources: &SourceMap, interner: &mut Int
                         sym: bool_ty,
                         span: at,
                     }),
-                    init: None,
+                    // A FUNCTION's outputs start from their initial values at every
+                    // call: its ENO starts TRUE.
+                    init: function.then(|| {
+                        Init::Expr(Expr {
+                            kind: ExprKind::Literal(Literal {
+                                kind: LiteralKind::Bool(true),
+                                type_prefix: None,
+                            }),
+                            span: at,
+                        })
+                    }),
                     edge: None,
                     span: at,
                 }],

@@ -592,6 +592,7 @@ impl<'s> BodyCx<'_, 's> {
         let bound = self.bind_args(p, &params, args);
         let mut ir_args = Vec::with_capacity(params.len());
         let mut outs: Vec<(SlotId, Ty, &'s Arg)> = Vec::new();
+        let mut eno_slot: Option<SlotId> = None;
         let callee_name = self.l.pou(p).display.clone();
         for (i, prm) in params.iter().enumerate() {
             let v = self.l.pou(p).vars[prm.var].clone();
@@ -664,6 +665,9 @@ impl<'s> BodyCx<'_, 's> {
                     let s = self.b.slot(format!("{callee_name}.{}", v.display), mt);
                     let addr = self.b.slot_addr(s);
                     ir_args.push(addr);
+                    if v.ty == Ty::BOOL && v.display.eq_ignore_ascii_case("ENO") {
+                        eno_slot = Some(s);
+                    }
                     if let Some(a) = bound[i] {
                         outs.push((s, v.ty, a));
                     }
@@ -681,6 +685,13 @@ impl<'s> BodyCx<'_, 's> {
             ir_args.push(r);
         }
         let r = self.b.call(f, ret.ir(), ir_args);
+        // The FUNCTION's own ENO (`crate::eno`), as the body left it, is the call's.
+        if let Some(slot) = eno_slot {
+            let addr = self.b.slot_addr(slot);
+            let ok = self.b.load(Type::I1, addr);
+            let bad = self.b.unary(plcc_ir::inst::UnaryOp::Bnot, ok);
+            self.set_eno_error(bad);
+        }
         for (slot, ty, a) in outs {
             let addr = self.b.slot_addr(slot);
             if ty.is_aggregate() {
