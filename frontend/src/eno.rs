@@ -83,7 +83,7 @@ pub fn declare(units: &mut [SourceUnit], sources: &SourceMap, interner: &mut Int
                     }),
                     // A FUNCTION's outputs start from their initial values at every
                     // call: its ENO starts TRUE.
-                    init: function.then(|| {
+                    init: function.then_some({
                         Init::Expr(Expr {
                             kind: ExprKind::Literal(Literal {
                                 kind: LiteralKind::Bool(true),
