@@ -380,7 +380,10 @@ impl<'s> BodyCx<'_, 's> {
                     None => Callee::Error,
                 }
             }
-            ExprKind::Member(..) | ExprKind::Index(..) | ExprKind::Paren(_) => {
+            ExprKind::Member(..)
+            | ExprKind::Index(..)
+            | ExprKind::Paren(_)
+            | ExprKind::Deref(_) => {
                 let Some(place) = self.place(callee) else {
                     return Callee::Error;
                 };
