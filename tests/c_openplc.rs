@@ -7,7 +7,7 @@
 //! Built as C99 and as C++ (gnu++11 and gnu++17) with `-Wall -Wextra -Werror`
 //! against plcc's own headers (`--emit headers`). Also: the exact
 //! `LOCATED_VARIABLES.h`, `VARIABLES.csv` and `Config0.h`, the C++ names of the
-//! entry points and `POUS.c` compiled alone.
+//! entry points, `POUS.c` compiled alone, and `plcc iec2c` writing the same files.
 
 use plcc_c::cc::{run, TempDir, WARNINGS};
 use std::path::{Path, PathBuf};
@@ -169,3 +169,76 @@ fn the_runtimes_files() {
     run(cmd).unwrap();
 }
 
+/// Runs `exe` with `args` in `dir`: its status, stdout and stderr.
+fn run_in(dir: &Path, exe: &Path, args: &[&str]) -> (i32, String, String) {
+    let o = Command::new(exe)
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("runs");
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn plcc_as_iec2c() {
+    let dir = TempDir::new().unwrap();
+    let plcc = Path::new(env!("CARGO_BIN_EXE_plcc"));
+    let st = here().join("plant.st");
+    let st = st.to_str().unwrap();
+    let reference = generate();
+    let same_files = |d: &Path| {
+        for name in FILES.lines() {
+            let a = std::fs::read(d.join(name)).unwrap();
+            let b = std::fs::read(reference.path().join(name)).unwrap();
+            assert!(a == b, "{name} differs from --target c's");
+        }
+    };
+    // OpenPLC's call, in the directory the files go to.
+    let (status, out, err) = run_in(
+        dir.path(),
+        plcc,
+        &["iec2c", "-f", "-l", "-p", "-r", "-R", "-a", st],
+    );
+    assert_eq!((status, out.as_str()), (0, FILES), "{err}");
+    same_files(dir.path());
+    // Beremiz's: -I and -T, options grouped, and plcc installed as `iec2c`.
+    let iec2c = dir.path().join("iec2c");
+    std::os::unix::fs::symlink(plcc, &iec2c).unwrap();
+    let (status, out, err) = run_in(dir.path(), &iec2c, &["-flp", "-I", "lib", "-Tbuild", st]);
+    assert_eq!((status, out.as_str()), (0, FILES), "{err}");
+    same_files(&dir.path().join("build"));
+    // The help names the options Beremiz looks for.
+    let (status, out, _) = run_in(dir.path(), &iec2c, &["-h"]);
+    assert_eq!(status, 0);
+    for opt in [" -f : ", " -l : ", " -p : ", " -I : ", " -T : "] {
+        assert!(out.contains(opt), "{opt} not in\n{out}");
+    }
+    let (status, out, _) = run_in(dir.path(), &iec2c, &["-v"]);
+    assert!(status == 0 && out.contains("version"), "{out}");
+    // Failures: status 1, as iec2c's.
+    for (args, says) in [
+        (&[][..], "Missing input file"),
+        (&["-x", st][..], "Unrecognized option: -x"),
+        (&[st, st][..], "Too many input files"),
+        (&[st, "-T"][..], "Option -T requires an operand"),
+    ] {
+        let (status, out, err) = run_in(dir.path(), &iec2c, args);
+        assert_eq!(status, 1, "{args:?}");
+        assert!(err.contains(says), "{args:?}: {err}");
+        assert!(out.contains("syntax:"), "{args:?}: the usage follows");
+    }
+    let bad = dir.path().join("bad.st");
+    std::fs::write(&bad, "PROGRAM p VAR x : INT; END_VAR x := y; END_PROGRAM\n").unwrap();
+    let (status, out, err) = run_in(
+        dir.path(),
+        &iec2c,
+        &[bad.to_str().unwrap(), "-T", "nothing"],
+    );
+    assert_eq!((status, out.as_str()), (1, ""), "{err}");
+    assert!(err.contains("E0201"), "{err}");
+    assert!(!dir.path().join("nothing").exists());
+}
