@@ -21,7 +21,7 @@
 //! - [`body`]: one IR function as a C function (SSA values as locals, blocks as
 //!   labels, block parameters assigned on the edges, variables through the
 //!   runtime's accessors).
-//! - [`variables`]: `VARIABLES.csv`.
+//! - [`variables`]: the debuggers' list, `VARIABLES.csv`.
 //! - [`files`]: the file set (`POUS.c`, `POUS.h`, `LOCATED_VARIABLES.h`,
 //!   `VARIABLES.csv`, `<Config>.c`, `<Config>.h`, one `<Res>.c` per resource).
 //! - [`cc`]: finding and running the C compiler.
