@@ -2,7 +2,7 @@
 //! variables, prototypes), `POUS.c` (every function, no `#include`: the first
 //! resource's file includes it), `LOCATED_VARIABLES.h` (one line per located address,
 //! see [`located`](crate::located)), `VARIABLES.csv` (the debuggers' list, see
-//! [`variables`](crate::variables)), `<Config>.c` (the configuration's globals, their
+//! [`variables`]), `<Config>.c` (the configuration's globals, their
 //! accessors, `config_init__`, `config_run__`, `common_ticktime__`,
 //! `greatest_tick_count__`, the runtime context), `<Config>.h` (the accessors'
 //! prototypes) and one `<Res>.c` per resource (its globals, its program instances,

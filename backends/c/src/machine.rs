@@ -1,5 +1,5 @@
 //! The `c` target's machine: the module's C built by the system's compiler into a
-//! shared library (with the [`harness`](crate::harness)), loaded into this process,
+//! shared library (with the [`harness`]), loaded into this process,
 //! run scan by scan.
 //!
 //! Variables are found through the layout tables the library exports (filled in by

@@ -1,6 +1,6 @@
 //! How each variable is held in C, as matiec holds it: a located variable of a
 //! PROGRAM or FUNCTION_BLOCK (or a located global) is an `__IEC_<T>_p` field bound to
-//! the runtime's storage (see [`located`](crate::located)); every other field of a
+//! the runtime's storage (see [`located`]); every other field of a
 //! PROGRAM or FUNCTION_BLOCK, and every global, is wrapped with its flags
 //! (`__IEC_<T>_t`, or `__IEC_<NAME>_t` for a STRUCT or array variable), so that a
 //! runtime's debugger can force it; FB instances are nested by value, unwrapped;
