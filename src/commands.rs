@@ -862,3 +862,146 @@ fn write_file_set(dir: Option<&Path>, files: &[plcc_ir::backend::Artifact], buil
     build.report_timings(&[]);
     0
 }
+
+/// The usage text of the `iec2c` mode, in the form matiec prints it (Beremiz looks
+/// for the flags it passes in it).
+fn iec2c_usage(cmd: &str) -> String {
+    const OPTIONS: [(char, &str); 15] = [
+        ('h', "show this help message"),
+        ('v', "print version number"),
+        (
+            'f',
+            "display full token location on error messages (plcc always does)",
+        ),
+        ('p', "allow use of forward references (plcc always does)"),
+        (
+            'l',
+            "use a relaxed datatype equivalence model (accepted; plcc types as it does)",
+        ),
+        ('s', "allow use of safe datatypes (accepted, not read)"),
+        ('n', "allow use of nested comments (accepted, not read)"),
+        (
+            'r',
+            "allow use of references (REF_TO, REF, ^, NULL) (plcc always does)",
+        ),
+        (
+            'R',
+            "allow use of REF_TO ANY datatypes (accepted, not read)",
+        ),
+        ('a', "allow non-literal array bounds (accepted, not read)"),
+        (
+            'c',
+            "create conversion functions for enumerated data types (accepted, not read)",
+        ),
+        ('e', "disable EN/ENO generation (accepted, not read)"),
+        (
+            'O',
+            "options for output (code generation) stage (accepted, not read)",
+        ),
+        (
+            'I',
+            "the runtime's library directory (accepted; plcc compiles its own standard library)",
+        ),
+        (
+            'T',
+            "the directory the files are written into (default: the current directory)",
+        ),
+    ];
+    let mut s = format!(
+        "\nsyntax: {cmd} [<options>] [-O <output_options>] [-I <include_directory>] [-T <target_directory>] <input_file>\n"
+    );
+    for (c, what) in OPTIONS {
+        s.push_str(&format!(" -{c} : {what}\n"));
+    }
+    s.push_str(&format!(
+        "\nplcc {} in iec2c mode: writes matiec's files for the C target (see docs/c.md).\n",
+        env!("CARGO_PKG_VERSION")
+    ));
+    s
+}
+
+/// `iec2c [options] [-I dir] [-T dir] file.st`, as matiec's compiler is called by
+/// OpenPLC's and Beremiz's builds (`plcc iec2c ...`, or plcc installed under the name
+/// `iec2c`): the file set of the C target written into `-T`'s directory (default:
+/// here), each name printed on stdout. Options are read as `getopt` reads matiec's
+/// (`-flp`, `-Tdir`, `-T dir`, options after the file); those that change matiec's
+/// parsing are accepted and have no effect. Charts evolve as matiec's (`--sfc
+/// matiec`). The exit status is 0 on success and 1 otherwise, as iec2c's (usage
+/// errors print the usage).
+pub fn iec2c(cmd: &str, args: &[String]) -> u8 {
+    const FLAGS: &str = "nhvfplsrRcae";
+    let fail = |msg: String| {
+        if !msg.is_empty() {
+            eprintln!("{msg}");
+        }
+        print!("{}", iec2c_usage(cmd));
+        EXIT_FAIL
+    };
+    let mut out: Option<PathBuf> = None;
+    let mut files: Vec<PathBuf> = Vec::new();
+    let mut k = 0;
+    let mut only_files = false;
+    while k < args.len() {
+        let a = &args[k];
+        k += 1;
+        if only_files || !a.starts_with('-') || a == "-" {
+            files.push(PathBuf::from(a));
+            continue;
+        }
+        if a == "--" {
+            only_files = true;
+            continue;
+        }
+        for (i, c) in a[1..].char_indices() {
+            match c {
+                'h' => {
+                    print!("{}", iec2c_usage(cmd));
+                    return 0;
+                }
+                'v' => {
+                    println!("plcc version {} (iec2c mode)", env!("CARGO_PKG_VERSION"));
+                    return 0;
+                }
+                'I' | 'T' | 'O' => {
+                    let rest = &a[1 + i + 1..];
+                    let operand = if !rest.is_empty() {
+                        rest.to_string()
+                    } else if k < args.len() {
+                        k += 1;
+                        args[k - 1].clone()
+                    } else {
+                        return fail(format!("Option -{c} requires an operand"));
+                    };
+                    if c == 'T' {
+                        out = Some(PathBuf::from(operand.trim_end_matches('\\')));
+                    }
+                    break;
+                }
+                c if FLAGS.contains(c) => {}
+                c => return fail(format!("Unrecognized option: -{c}")),
+            }
+        }
+    }
+    match files.len() {
+        0 => return fail("Missing input file".into()),
+        1 => {}
+        _ => return fail("Too many input files".into()),
+    }
+    let status = compile(&CompileArgs {
+        files,
+        library: Vec::new(),
+        lang: None,
+        dialect: None,
+        plcopen: PlcopenFlags::default().with_sfc(Some("matiec".into())),
+        target: "c".into(),
+        output: Some(out.unwrap_or_else(|| PathBuf::from("."))),
+        emit: None,
+        programs: Vec::new(),
+        settings: Vec::new(),
+    });
+    if status == 0 {
+        0
+    } else {
+        EXIT_FAIL
+    }
+}

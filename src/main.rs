@@ -16,7 +16,7 @@ static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
     version,
     about = "A compiler for PLC programs: IEC 61131-3 Structured Text, Instruction List and ladder diagrams (PLCopen XML), PLC-UD STL",
     args_conflicts_with_subcommands = true,
-    after_help = "Examples:\n  plcc run examples/traffic_light.st --scans 100 --cycle-ms 100\n  plcc test prog.st --scenario prog.expect --target interp\n  plcc --emit ir prog.st\n  plcc --emit il motor.xml      (the IL of a ladder diagram; --emit ld-text draws it)\n  plcc --target host prog.st -o prog.o"
+    after_help = "Examples:\n  plcc run examples/traffic_light.st --scans 100 --cycle-ms 100\n  plcc test prog.st --scenario prog.expect --target interp\n  plcc --emit ir prog.st\n  plcc --emit il motor.xml      (the IL of a ladder diagram; --emit ld-text draws it)\n  plcc --target host prog.st -o prog.o\n  plcc iec2c -f -l -p prog.st   (matiec's iec2c: the C target's files here; docs/c.md)"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -197,6 +197,20 @@ fn main() -> ExitCode {
     // SAFETY: setting a signal's disposition to its default before any thread starts.
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+    // matiec's command line: `plcc iec2c ...`, or plcc installed as `iec2c`.
+    let args: Vec<String> = std::env::args_os()
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect();
+    let invoked = args.first().map(std::path::Path::new);
+    if invoked
+        .and_then(|p| p.file_stem())
+        .is_some_and(|s| s == "iec2c")
+    {
+        return ExitCode::from(commands::iec2c(&args[0], &args[1..]));
+    }
+    if args.get(1).is_some_and(|a| a == "iec2c") {
+        return ExitCode::from(commands::iec2c("plcc iec2c", &args[2..]));
     }
     let cli = Cli::parse();
     let status = match cli.command {

@@ -22,7 +22,10 @@ fn the_file_set_and_the_headers_build() {
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         String::from_utf8(o.stdout).unwrap()
     };
-    assert_eq!(run(&[]), "POUS.c\nPOUS.h\nConfig0.c\nConfig0.h\nRes0.c\n");
+    assert_eq!(
+        run(&[]),
+        "POUS.c\nPOUS.h\nLOCATED_VARIABLES.h\nVARIABLES.csv\nConfig0.c\nConfig0.h\nRes0.c\n"
+    );
     assert_eq!(
         run(&["--emit", "headers"]),
         "iec_types.h\niec_types_all.h\naccessor.h\niec_std_lib.h\n"

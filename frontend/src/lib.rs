@@ -303,11 +303,13 @@ fn globals_unit(
                 ast::Item::Configuration(mut c) => {
                     // The globals of a configuration and its resources are globals
                     // too (the configuration itself is reported elsewhere).
+                    // A resource keeps its blocks: lowering names the resource's
+                    // globals after them (see `lower::tasks`).
                     let own = std::mem::take(&mut c.var_blocks);
                     let res = c
                         .resources
-                        .iter_mut()
-                        .flat_map(|r| std::mem::take(&mut r.var_blocks));
+                        .iter()
+                        .flat_map(|r| r.var_blocks.iter().cloned());
                     for mut b in own.into_iter().chain(res.collect::<Vec<_>>()) {
                         if b.kind == ast::VarKind::Global {
                             b.kind = ast::VarKind::Var;

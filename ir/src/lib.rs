@@ -32,8 +32,8 @@ pub use entities::{AggId, Block, DataId, FuncId, Inst, SlotId, Value};
 pub use function::{FuncKind, Function};
 pub use inst::{BinaryOp, BlockCall, ConvOp, FloatCC, InstData, IntCC, Intrinsic, UnaryOp};
 pub use module::{
-    AggDef, ArrayDef, DataDef, DataKind, Field, FieldRole, Module, ProgramEntry, StructDef,
-    StructKind,
+    AggDef, ArrayDef, Configuration, DataDef, DataKind, Field, FieldRole, Module, ProgramEntry,
+    Resource, StructDef, StructKind,
 };
 pub use types::{ElemType, MemType, Type};
 pub use value::PlcValue;

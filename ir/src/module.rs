@@ -214,6 +214,31 @@ pub struct ProgramEntry {
     pub priority: Option<u32>,
 }
 
+/// A CONFIGURATION's names as the source spells them, and what each of its RESOURCEs
+/// holds: a backend that writes source for a runtime names its files and variables
+/// after them (the C target's `Config0.c`, `RES0__INSTANCE0`, `CONFIG0__G1`). The
+/// scan itself does not depend on it: the program entries say what runs.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Configuration {
+    /// The configuration's name.
+    pub name: String,
+    /// Its resources, in declaration order.
+    pub resources: Vec<Resource>,
+}
+
+/// A RESOURCE of a [`Configuration`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Resource {
+    /// The resource's name (`RESOURCE` for the tasks and programs written directly in
+    /// the configuration, as matiec names them).
+    pub name: String,
+    /// The instance names of the program entries configured in it, as declared.
+    pub programs: Vec<String>,
+    /// The names of the globals declared in it (fields of the module's
+    /// [`globals`](Module::globals)); the other globals are the configuration's.
+    pub globals: Vec<String>,
+}
+
 /// A whole program ready for a backend.
 ///
 /// Cold start calls `init_globals` (if any) and then every program's `init` with the
@@ -232,6 +257,11 @@ pub struct Module {
     pub programs: Vec<ProgramEntry>,
     /// `() -> ()` that initialises the globals at cold start.
     pub init_globals: Option<FuncId>,
+    /// The data object that holds the `VAR_GLOBAL`s, one field per global (a backend
+    /// may give each global a variable of its own).
+    pub globals: Option<DataId>,
+    /// The configuration the program entries come from, if the source has one.
+    pub configuration: Option<Configuration>,
     /// True if pointers may hold addresses no data object or live slot has (CODESYS
     /// pointer arithmetic, `inttoptr`, or the address of a temporary kept past its
     /// call): a machine that cannot check every access refuses to run such a module.

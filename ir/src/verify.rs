@@ -10,7 +10,7 @@
 use crate::entities::{AggId, Block, FuncId, Inst, Value};
 use crate::function::{FuncKind, Function, ValueDef};
 use crate::inst::{BinaryOp, BlockCall, ConvOp, InstData, UnaryOp};
-use crate::module::{AggDef, Module};
+use crate::module::{AggDef, DataKind, Module};
 use crate::text::{print_inst, write_name};
 use crate::types::{ElemType, MemType, Type};
 use std::collections::HashMap;
@@ -1002,6 +1002,7 @@ fn check_module(m: &Module, errs: &mut Vec<VerifyError>) {
             }
         }
     }
+    verify_configuration(m, errs);
     if let Some(id) = m.init_globals {
         match m.funcs.get(id.index()) {
             None => mod_err(errs, None, format!("init_globals {id} does not exist")),
@@ -1017,6 +1018,71 @@ fn check_module(m: &Module, errs: &mut Vec<VerifyError>) {
                         ),
                     );
                 }
+            }
+        }
+    }
+}
+
+/// The globals' data object is a global struct; a configuration's resources have
+/// distinct names, name program entries (each once) and fields of the globals.
+fn verify_configuration(m: &Module, errs: &mut Vec<VerifyError>) {
+    let mut global_fields: Option<&[crate::module::Field]> = None;
+    if let Some(g) = m.globals {
+        match m.data.get(g.index()) {
+            None => mod_err(errs, None, format!("globals {g} does not exist")),
+            Some(d) => match d.ty {
+                MemType::Agg(a) if d.kind == DataKind::Global => match m.aggs.get(a.index()) {
+                    Some(AggDef::Struct(s)) => global_fields = Some(&s.fields),
+                    _ => mod_err(errs, None, format!("globals {g} must hold a struct")),
+                },
+                _ => mod_err(
+                    errs,
+                    None,
+                    format!("globals {g} must be a `global` data object holding a struct"),
+                ),
+            },
+        }
+    }
+    let Some(c) = &m.configuration else {
+        return;
+    };
+    let mut resources: HashMap<String, usize> = HashMap::new();
+    let mut programs: HashMap<String, usize> = HashMap::new();
+    for r in &c.resources {
+        if resources.insert(r.name.to_ascii_lowercase(), 0).is_some() {
+            mod_err(
+                errs,
+                None,
+                format!("resource {:?} is listed twice (names ignore case)", r.name),
+            );
+        }
+        for p in &r.programs {
+            if m.program(p).is_none() {
+                mod_err(
+                    errs,
+                    None,
+                    format!(
+                        "resource {:?} names program {p:?}, which is not a program entry",
+                        r.name
+                    ),
+                );
+            }
+            if programs.insert(p.to_ascii_lowercase(), 0).is_some() {
+                mod_err(errs, None, format!("program {p:?} is in two resources"));
+            }
+        }
+        for g in &r.globals {
+            let known =
+                global_fields.is_some_and(|fs| fs.iter().any(|f| f.name.eq_ignore_ascii_case(g)));
+            if !known {
+                mod_err(
+                    errs,
+                    None,
+                    format!(
+                        "resource {:?} names global {g:?}, which is not a field of the globals",
+                        r.name
+                    ),
+                );
             }
         }
     }

@@ -6,30 +6,32 @@ use plcc_c::names::Names;
 use plcc_ir::interp::Interp;
 use plcc_ir::machine::Machine;
 use plcc_ir::value::PlcValue;
-use plcc_ir::vars::{variables, PathStep, VarRef};
+use plcc_ir::vars::{variables, VarRef};
 use plcc_ir::{ElemType, Module};
 use std::path::Path;
 use std::process::Command;
 
-/// Writes the module's file set and plcc's headers into `dir`; the names used.
-fn write_files(module: &Module, dir: &Path) -> Result<Names, String> {
+/// Writes the module's file set and plcc's headers into `dir`; the names used and the
+/// translation units (`<Config>.c` and each `<Res>.c`).
+fn write_files(module: &Module, dir: &Path) -> Result<(Names, Vec<String>), String> {
     let files = plcc_c::files::generate(module).map_err(|d| format!("{d:?}"))?;
     let names = files.names.clone();
+    let units = files.units.clone();
     for (n, t) in files.into_named() {
         std::fs::write(dir.join(n), t).map_err(|e| e.to_string())?;
     }
     for (n, t) in plcc_c::headers::all() {
         std::fs::write(dir.join(n), t).map_err(|e| e.to_string())?;
     }
-    Ok(names)
+    Ok((names, units))
 }
 
-/// `Config0.c` and `Res0.c` compile as C++ (`g++ -std=gnu++11`, as OpenPLC builds
-/// them) with `-Wall -Wextra -Werror`.
+/// `<Config>.c` and every `<Res>.c` compile as C++ (`g++ -std=gnu++11`, as OpenPLC
+/// builds them) with `-Wall -Wextra -Werror`.
 pub fn compiles_as_cpp(module: &Module) -> Result<(), String> {
     let dir = plcc_c::cc::TempDir::new().map_err(|e| e.to_string())?;
-    write_files(module, dir.path())?;
-    for unit in ["Config0.c", "Res0.c"] {
+    let (_, units) = write_files(module, dir.path())?;
+    for unit in &units {
         let mut cmd = Command::new("g++");
         cmd.current_dir(dir.path())
             .args(["-std=gnu++11", "-x", "c++", "-fsyntax-only", "-I."])
@@ -38,21 +40,6 @@ pub fn compiles_as_cpp(module: &Module) -> Result<(), String> {
         plcc_c::cc::run(cmd)?;
     }
     Ok(())
-}
-
-/// The C expression of a variable.
-fn c_path(names: &Names, v: &VarRef) -> String {
-    let mut s = names.data[v.root.index()].clone();
-    for step in &v.steps {
-        match *step {
-            PathStep::Field(agg, f) => {
-                s.push('.');
-                s.push_str(&names.fields[agg.index()][f as usize]);
-            }
-            PathStep::Elem(_, i) => s.push_str(&format!(".table[{i}]")),
-        }
-    }
-    s
 }
 
 /// Every elementary variable of the programs and the globals.
@@ -81,7 +68,7 @@ fn same(a: PlcValue, b: PlcValue) -> bool {
 /// fault flag with the interpreter's. Returns the number of values compared.
 pub fn agrees_under_asan(module: &Module, scans: u32, cycle_us: u64) -> Result<usize, String> {
     let dir = plcc_c::cc::TempDir::new().map_err(|e| e.to_string())?;
-    let names = write_files(module, dir.path())?;
+    let (names, units) = write_files(module, dir.path())?;
     std::fs::write(
         dir.path().join(plcc_c::harness::FILE),
         plcc_c::harness::source(module, &names),
@@ -90,7 +77,7 @@ pub fn agrees_under_asan(module: &Module, scans: u32, cycle_us: u64) -> Result<u
     let vars = all_vars(module);
     let mut show = String::new();
     for v in &vars {
-        let p = c_path(&names, v);
+        let p = names.value_expr(v);
         show.push_str(&format!(
             "    show(\"{}\", &{p}, sizeof {p});\n",
             v.path.replace('\\', "\\\\").replace('"', "\\\"")
@@ -117,7 +104,8 @@ pub fn agrees_under_asan(module: &Module, scans: u32, cycle_us: u64) -> Result<u
             "-fsanitize=address,undefined,float-cast-overflow",
             "-fno-sanitize-recover=all",
         ])
-        .args(["Config0.c", "Res0.c", plcc_c::harness::FILE, "main.c"])
+        .args(&units)
+        .args([plcc_c::harness::FILE, "main.c"])
         .args(["-lm", "-o", "prog"]);
     plcc_c::cc::run(cmd)?;
     let out = Command::new(dir.path().join("prog"))

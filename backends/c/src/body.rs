@@ -12,33 +12,236 @@
 //! must have been legalized with nothing defined (`legalize::Defines::NONE`): then no
 //! division, shift or float-to-integer conversion sees an operand C leaves undefined.
 
+use crate::codes;
 use crate::decls::{mem_type, signature};
 use crate::names::{signed_type, value_type, wide_type, FuncForm, Names};
+use crate::repr::Repr;
+use plcc_ir::diag::Diagnostic;
+use plcc_ir::function::ValueDef;
 use plcc_ir::inst::{BinaryOp, BlockCall, ConvOp, FloatCC, InstData, IntCC, Intrinsic, UnaryOp};
 use plcc_ir::module::AggDef;
 use plcc_ir::types::MemType;
-use plcc_ir::{FuncId, Function, Module, Type, Value};
+use plcc_ir::{AggId, FuncId, Function, Inst, Module, Type, Value};
 use std::fmt::Write;
 
-/// The C definition of function `f`.
-pub fn function(module: &Module, names: &Names, f: FuncId) -> String {
+/// The C definition of function `f`. Fails if the globals' address is used other
+/// than to reach a global (each global is a C variable of its own; calls that pass
+/// the address must have been inlined, see [`globals_values`]).
+pub fn function(module: &Module, names: &Names, f: FuncId) -> Result<String, Vec<Diagnostic>> {
     let func = module.func(f);
+    let split = globals_values(names, func);
+    let access: Vec<Option<Place>> = (0..func.insts.len())
+        .map(|i| accessor(module, names, func, &split, Inst::new(i)))
+        .collect();
+    let used = used_values(func, &access, &split);
+    if let Some(x) = (0..used.len()).find(|&x| used[x] && split[x]) {
+        return Err(vec![Diagnostic::error_nowhere(
+            codes::E_MALFORMED_IR,
+            format!(
+                "function `{}` uses the address of the globals (v{x}) other than to reach one of them: in C each global is a variable of its own",
+                func.name
+            ),
+        )]);
+    }
     let mut e = Emitter {
         module,
         names,
         func,
-        used: used_values(func),
+        used,
+        split,
+        access,
         out: String::new(),
     };
     e.emit(f);
-    e.out
+    Ok(e.out)
 }
 
-/// Which values are operands of some live instruction.
-fn used_values(func: &Function) -> Vec<bool> {
-    let mut used = vec![false; func.values.len()];
+/// The values that hold the address of the globals' data object: its `global_addr`,
+/// and the block parameters that receive nothing else. They are never C values:
+/// the `field_addr`s on them name the globals' variables.
+pub fn globals_values(names: &Names, func: &Function) -> Vec<bool> {
+    let mut split = vec![false; func.values.len()];
+    let Some(g) = names.globals_data else {
+        return split;
+    };
+    let mut incoming: Vec<Vec<(Value, Value)>> = vec![Vec::new(); func.blocks.len()];
     for (_, i) in func.inst_iter() {
-        func.inst(i).for_each_arg(|v| used[v.index()] = true);
+        let data = func.inst(i);
+        if matches!(*data, InstData::GlobalAddr { data } if data == g) {
+            if let Some(r) = func.result(i) {
+                split[r.index()] = true;
+            }
+        }
+        let mut edge = |d: &BlockCall| {
+            for (p, a) in func.block(d.block).params.iter().zip(&d.args) {
+                incoming[d.block.index()].push((*p, *a));
+            }
+        };
+        match data {
+            InstData::Jump { dest } => edge(dest),
+            InstData::Brif {
+                then_dest,
+                else_dest,
+                ..
+            } => {
+                edge(then_dest);
+                edge(else_dest);
+            }
+            _ => {}
+        }
+    }
+    // Optimistic: every parameter with an argument, until one argument is not.
+    for b in &incoming {
+        for (p, _) in b {
+            if func.value_type(*p) == Type::Ptr {
+                split[p.index()] = true;
+            }
+        }
+    }
+    let mut changed = true;
+    while changed {
+        changed = false;
+        for b in &incoming {
+            for (p, a) in b {
+                if split[p.index()] && !split[a.index()] {
+                    split[p.index()] = false;
+                    changed = true;
+                }
+            }
+        }
+    }
+    split
+}
+
+/// A variable reached by a `field_addr` whose field is wrapped or located: a load or
+/// store of it goes through the runtime's accessor (`__GET_VAR`, `__SET_LOCATED`...).
+#[derive(Copy, Clone, Debug)]
+struct Place {
+    /// The struct's address (`None`: the globals, each a variable).
+    base: Option<Value>,
+    agg: AggId,
+    field: u32,
+    repr: Repr,
+}
+
+/// The field a `field_addr` value reaches, if `addr` is one.
+fn place(names: &Names, func: &Function, split: &[bool], addr: Value) -> Option<Place> {
+    let ValueDef::Result(i) = func.value_def(addr) else {
+        return None;
+    };
+    let InstData::FieldAddr { base, agg, field } = *func.inst(i) else {
+        return None;
+    };
+    Some(Place {
+        base: (!split[base.index()]).then_some(base),
+        agg,
+        field,
+        repr: names.repr.field(agg, field),
+    })
+}
+
+/// The place a load or store reaches through an accessor: a wrapped or located
+/// scalar field of the type accessed.
+fn accessor(
+    module: &Module,
+    names: &Names,
+    func: &Function,
+    split: &[bool],
+    i: Inst,
+) -> Option<Place> {
+    let (ty, addr) = match *func.inst(i) {
+        InstData::Load { ty, addr } => (ty, addr),
+        InstData::Store { value, addr } => (func.value_type(value), addr),
+        _ => return None,
+    };
+    let p = place(names, func, split, addr)?;
+    let field = match module.agg(p.agg) {
+        AggDef::Struct(s) => s.fields.get(p.field as usize)?,
+        AggDef::Array(_) => return None,
+    };
+    match (p.repr, field.ty) {
+        (Repr::Var(_) | Repr::Located(_), MemType::Scalar(t)) if t == ty => Some(p),
+        _ => None,
+    }
+}
+
+/// The values the C reads: a value is used when an effect (a store, a call, a
+/// branch's condition, a return, a block argument of a used parameter) or a used
+/// value's computation reads it. An access through an accessor reads the struct's
+/// address, not the field's.
+fn used_values(func: &Function, access: &[Option<Place>], split: &[bool]) -> Vec<bool> {
+    let mut used = vec![false; func.values.len()];
+    let mut work: Vec<Value> = Vec::new();
+    let mut edges: Vec<Vec<&BlockCall>> = vec![Vec::new(); func.blocks.len()];
+    for (_, i) in func.inst_iter() {
+        match func.inst(i) {
+            InstData::Jump { dest } => edges[dest.block.index()].push(dest),
+            InstData::Brif {
+                then_dest,
+                else_dest,
+                ..
+            } => {
+                edges[then_dest.block.index()].push(then_dest);
+                edges[else_dest.block.index()].push(else_dest);
+            }
+            _ => {}
+        }
+    }
+    // What computing instruction `i` reads (a branch's block arguments aside).
+    let operands = |i: Inst, out: &mut Vec<Value>| match (func.inst(i), access[i.index()]) {
+        (InstData::Load { .. }, Some(p)) => out.extend(p.base),
+        (InstData::Store { value, .. }, Some(p)) => out.extend(p.base.into_iter().chain([*value])),
+        (InstData::FieldAddr { base, .. }, _) if split[base.index()] => {}
+        (InstData::Jump { .. }, _) => {}
+        (InstData::Brif { cond, .. }, _) => out.push(*cond),
+        (data, _) => data.for_each_arg(|v| out.push(v)),
+    };
+    let mark = |v: Value, used: &mut Vec<bool>, work: &mut Vec<Value>| {
+        if !used[v.index()] {
+            used[v.index()] = true;
+            work.push(v);
+        }
+    };
+    let mut ops = Vec::new();
+    for (_, i) in func.inst_iter() {
+        let data = func.inst(i);
+        let effect = matches!(
+            data,
+            InstData::Store { .. }
+                | InstData::Call { .. }
+                | InstData::Brif { .. }
+                | InstData::Return { .. }
+                | InstData::Intrinsic {
+                    op: Intrinsic::RaiseFault,
+                    ..
+                }
+        );
+        if effect {
+            ops.clear();
+            operands(i, &mut ops);
+            for &v in &ops {
+                mark(v, &mut used, &mut work);
+            }
+        }
+    }
+    while let Some(v) = work.pop() {
+        match func.value_def(v) {
+            ValueDef::Result(i) => {
+                ops.clear();
+                operands(i, &mut ops);
+                for &x in &ops {
+                    mark(x, &mut used, &mut work);
+                }
+            }
+            ValueDef::Param(b, k) if !split[v.index()] => {
+                for e in &edges[b.index()] {
+                    if let Some(&a) = e.args.get(k as usize) {
+                        mark(a, &mut used, &mut work);
+                    }
+                }
+            }
+            ValueDef::Param(..) => {}
+        }
     }
     used
 }
@@ -48,6 +251,8 @@ struct Emitter<'a> {
     names: &'a Names,
     func: &'a Function,
     used: Vec<bool>,
+    split: Vec<bool>,
+    access: Vec<Option<Place>>,
     out: String,
 }
 
@@ -131,8 +336,17 @@ impl Emitter<'_> {
                 slot.name
             );
         }
-        for k in 0..func.slots.len() {
+        for (k, slot) in func.slots.iter().enumerate() {
             let _ = writeln!(self.out, "    memset(&ss{k}, 0, sizeof ss{k});");
+            if let MemType::Agg(a) = slot.ty {
+                if self.names.repr.binds[a.index()] {
+                    let _ = writeln!(
+                        self.out,
+                        "    __plcc_prep_{}(&ss{k});",
+                        self.names.aggs[a.index()]
+                    );
+                }
+            }
         }
         // The parameters are the entry block's.
         let form = self.names.forms[f.index()];
@@ -176,6 +390,33 @@ impl Emitter<'_> {
         self.out.push_str("}\n");
     }
 
+    /// The prefix and name of a place for the accessors (`((T *)v3)->`, `CNT`).
+    fn lvalue(&self, p: Place) -> (String, String) {
+        match p.base {
+            Some(b) => (
+                format!("(({} *){})->", self.names.aggs[p.agg.index()], v(b)),
+                self.names.fields[p.agg.index()][p.field as usize].clone(),
+            ),
+            None => (String::new(), self.names.globals[p.field as usize].clone()),
+        }
+    }
+
+    /// The read of a place through its accessor, as a value of type `ty`.
+    fn get(&self, p: Place, ty: Type) -> String {
+        let (prefix, name) = self.lvalue(p);
+        let mac = match p.repr {
+            Repr::Located(_) => "__GET_LOCATED",
+            _ => "__GET_VAR",
+        };
+        let read = format!("{mac}({prefix}{name}, )");
+        if ty == Type::I1 {
+            // A BOOL the runtime or a debugger wrote may be any byte.
+            format!("(uint8_t)({read} != 0)")
+        } else {
+            format!("({}){read}", value_type(ty))
+        }
+    }
+
     fn line(&mut self, text: &str) {
         let _ = writeln!(self.out, "    {text}");
     }
@@ -185,6 +426,19 @@ impl Emitter<'_> {
         let data = func.inst(i);
         let result = func.result(i);
         match data {
+            InstData::Store { value, .. } if self.access[i.index()].is_some() => {
+                let p = self.access[i.index()].expect("an accessor");
+                let (prefix, name) = self.lvalue(p);
+                let (mac, t) = match p.repr {
+                    Repr::Located(k) => ("__SET_LOCATED", self.names.repr.located[k].ty),
+                    Repr::Var(t) => ("__SET_VAR", t),
+                    _ => unreachable!("an accessor's place is wrapped or located"),
+                };
+                self.line(&format!(
+                    "{{ {mac}({prefix}, {name}, , __plcc_to_{t}({})); }}",
+                    v(*value)
+                ));
+            }
             InstData::Store { value, addr } => {
                 let t = self.ty(*value);
                 self.line(&format!(
@@ -228,7 +482,10 @@ impl Emitter<'_> {
                 if !self.used[r.index()] {
                     return;
                 }
-                let expr = self.expr(data, self.ty(r));
+                let expr = match self.access[i.index()] {
+                    Some(p) => self.get(p, self.ty(r)),
+                    None => self.expr(data, self.ty(r)),
+                };
                 self.line(&format!("{} = {expr};", v(r)));
             }
         }
@@ -322,12 +579,29 @@ impl Emitter<'_> {
                 format!("(unsigned char *)&{}", self.names.data[data.index()])
             }
             InstData::SlotAddr { slot } => format!("(unsigned char *)&ss{}", slot.index()),
-            InstData::FieldAddr { base, agg, field } => format!(
-                "({} + offsetof({}, {}))",
-                v(*base),
-                self.names.aggs[agg.index()],
-                self.names.fields[agg.index()][*field as usize]
-            ),
+            InstData::FieldAddr { base, agg, field } => {
+                let located = matches!(self.names.repr.field(*agg, *field), Repr::Located(_));
+                let p = Place {
+                    base: (!self.split[base.index()]).then_some(*base),
+                    agg: *agg,
+                    field: *field,
+                    repr: Repr::Plain,
+                };
+                if located {
+                    // Where the runtime keeps the value.
+                    let (prefix, name) = self.lvalue(p);
+                    format!("(unsigned char *){prefix}{name}.value")
+                } else if p.base.is_none() {
+                    format!("(unsigned char *)&{}", self.lvalue(p).1)
+                } else {
+                    format!(
+                        "({} + offsetof({}, {}))",
+                        v(*base),
+                        self.names.aggs[agg.index()],
+                        self.names.fields[agg.index()][*field as usize]
+                    )
+                }
+            }
             InstData::ElemAddr { base, agg, index } => {
                 let elem = match self.module.agg(*agg) {
                     AggDef::Array(a) => a.elem,

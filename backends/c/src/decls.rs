@@ -6,6 +6,7 @@
 //! units, so it defines no object and no other function).
 
 use crate::names::{field_type, value_type, FuncForm, Names};
+use crate::repr::Repr;
 use plcc_ir::module::AggDef;
 use plcc_ir::types::MemType;
 use plcc_ir::{AggId, FuncId, Module};
@@ -69,6 +70,31 @@ typedef struct {
 } __plcc_rt_t;
 extern __plcc_rt_t __plcc_rt;
 
+/* A value of plcc's C type as the IEC type of a variable (the same bits; the sizes
+   are checked here, whichever runtime's headers define the IEC types). */
+#define __PLCC_TO_IEC(T, U)                                                    \
+    typedef char __plcc_size_of_##T[sizeof(IEC_##T) == sizeof(U) ? 1 : -1];   \
+    static inline IEC_##T __plcc_to_##T(U v) {                                 \
+        IEC_##T r;                                                             \
+        memcpy(&r, &v, sizeof r);                                              \
+        return r;                                                              \
+    }
+__PLCC_TO_IEC(BOOL, uint8_t)
+__PLCC_TO_IEC(SINT, uint8_t)
+__PLCC_TO_IEC(INT, uint16_t)
+__PLCC_TO_IEC(DINT, uint32_t)
+__PLCC_TO_IEC(LINT, uint64_t)
+__PLCC_TO_IEC(USINT, uint8_t)
+__PLCC_TO_IEC(UINT, uint16_t)
+__PLCC_TO_IEC(UDINT, uint32_t)
+__PLCC_TO_IEC(ULINT, uint64_t)
+__PLCC_TO_IEC(BYTE, uint8_t)
+__PLCC_TO_IEC(WORD, uint16_t)
+__PLCC_TO_IEC(DWORD, uint32_t)
+__PLCC_TO_IEC(LWORD, uint64_t)
+__PLCC_TO_IEC(REAL, float)
+__PLCC_TO_IEC(LREAL, double)
+
 static inline uint8_t __plcc_stop_requested(void) {
 #if defined(__GNUC__)
     return (uint8_t)(__atomic_load_n(&__plcc_rt.stop, __ATOMIC_RELAXED) != 0);
@@ -114,8 +140,27 @@ pub fn mem_type(names: &Names, t: MemType) -> String {
     }
 }
 
+/// The declaration of a variable or field `name` held as `repr` (`__IEC_INT_t CNT`,
+/// `__IEC_BOOL_p START`, `struct TON T1`).
+pub fn member_decl(
+    names: &Names,
+    repr: Repr,
+    ty: MemType,
+    elem: Option<plcc_ir::ElemType>,
+    name: &str,
+) -> String {
+    let ty = match (repr, ty) {
+        (Repr::Var(t), _) => format!("__IEC_{t}_t"),
+        (Repr::Located(i), _) => format!("__IEC_{}_p", names.repr.located[i].ty),
+        (Repr::AggVar, MemType::Agg(b)) => format!("struct __IEC_{}_t", names.aggs[b.index()]),
+        (_, MemType::Scalar(t)) => field_type(t, elem).to_string(),
+        (_, MemType::Agg(b)) => format!("struct {}", names.aggs[b.index()]),
+    };
+    declare(&ty, name)
+}
+
 /// A declaration of `name` with C type `ty` (`unsigned char *` binds to the name).
-fn declare(ty: &str, name: &str) -> String {
+pub fn declare(ty: &str, name: &str) -> String {
     if ty.ends_with('*') {
         format!("{ty}{name}")
     } else {
@@ -161,11 +206,9 @@ pub fn types(module: &Module, names: &Names) -> String {
                 // a member that changes the meaning of a type name used before it).
                 let _ = writeln!(s, "typedef struct {name} {{");
                 for (k, f) in st.fields.iter().enumerate() {
-                    let ty = match f.ty {
-                        MemType::Scalar(t) => field_type(t, f.elem).to_string(),
-                        MemType::Agg(b) => format!("struct {}", names.aggs[b.index()]),
-                    };
-                    let _ = writeln!(s, "    {};", declare(&ty, &names.fields[a.index()][k]));
+                    let repr = names.repr.fields[a.index()][k];
+                    let field = &names.fields[a.index()][k];
+                    let _ = writeln!(s, "    {};", member_decl(names, repr, f.ty, f.elem, field));
                 }
                 if st.fields.is_empty() {
                     // C has no empty structs (C++ gives them a byte): one byte in both.
@@ -190,6 +233,89 @@ pub fn types(module: &Module, names: &Names) -> String {
                 );
             }
         }
+        if names.repr.wrapped[a.index()] {
+            let _ = writeln!(
+                s,
+                "typedef struct __IEC_{name}_t {{\n    {name} value;\n    IEC_BYTE flags;\n}} __IEC_{name}_t;\n"
+            );
+        }
+    }
+    s
+}
+
+/// The statements that prepare the variable or field `lvalue` held as `repr`: its
+/// flags cleared, a located one bound to the runtime's pointer, a member aggregate
+/// prepared.
+pub fn prep_member(names: &Names, repr: Repr, ty: MemType, lvalue: &str) -> String {
+    let member = match ty {
+        MemType::Agg(b) if names.repr.prep[b.index()] => Some(&names.aggs[b.index()]),
+        _ => None,
+    };
+    let mut s = String::new();
+    match repr {
+        Repr::Plain => {
+            if let Some(b) = member {
+                let _ = writeln!(s, "    __plcc_prep_{b}(&{lvalue});");
+            }
+        }
+        Repr::Var(_) => {
+            let _ = writeln!(s, "    {lvalue}.flags = 0;");
+        }
+        Repr::AggVar => {
+            let _ = writeln!(s, "    {lvalue}.flags = 0;");
+            if let Some(b) = member {
+                let _ = writeln!(s, "    __plcc_prep_{b}(&{lvalue}.value);");
+            }
+        }
+        Repr::Located(i) => {
+            let _ = writeln!(
+                s,
+                "    {lvalue}.value = {};\n    {lvalue}.flags = 0;",
+                names.repr.located[i].name()
+            );
+        }
+    }
+    s
+}
+
+/// The preparation of each aggregate's storage that needs it, `static inline void
+/// __plcc_prep_NAME(NAME *p)`: the flags of its variables cleared, its located
+/// variables bound to the runtime's pointers, its members prepared. Storage is
+/// prepared before its initial values are written (the program instances and
+/// globals at `config_init__`, a function's locals when it starts).
+pub fn preps(module: &Module, names: &Names) -> String {
+    let mut s = String::new();
+    for a in agg_order(module) {
+        let k = a.index();
+        if !names.repr.prep[k] {
+            continue;
+        }
+        let name = &names.aggs[k];
+        let _ = writeln!(s, "static inline void __plcc_prep_{name}({name} *p) {{");
+        match module.agg(a) {
+            AggDef::Struct(st) => {
+                for (f, field) in st.fields.iter().enumerate() {
+                    let member = format!("p->{}", names.fields[k][f]);
+                    s.push_str(&prep_member(
+                        names,
+                        names.repr.fields[k][f],
+                        field.ty,
+                        &member,
+                    ));
+                }
+            }
+            AggDef::Array(ar) => {
+                if let MemType::Agg(b) = ar.elem {
+                    let _ = writeln!(
+                        s,
+                        "    size_t i;\n    for (i = 0; i < {}u; i++) {{\n        __plcc_prep_{}(&p->table[i]);\n    }}",
+                        ar.len,
+                        names.aggs[b.index()]
+                    );
+                }
+            }
+        }
+        s.push_str("}\n\n");
     }
     s
 }
@@ -203,12 +329,34 @@ pub fn pous_h(module: &Module, names: &Names) -> String {
     s.push_str(HELPERS);
     s.push('\n');
     s.push_str(&types(module, names));
+    if !names.repr.located.is_empty() {
+        s.push_str("/* The runtime's located variables (LOCATED_VARIABLES.h). */\n");
+        for l in &names.repr.located {
+            let _ = writeln!(s, "extern {} *{};", l.ty, l.name());
+        }
+        s.push('\n');
+    }
+    s.push_str(&preps(module, names));
     for (k, d) in module.data.iter().enumerate() {
-        let _ = writeln!(
-            s,
-            "extern {};",
-            declare(&mem_type(names, d.ty), &names.data[k])
-        );
+        if !names.is_globals(plcc_ir::DataId::new(k)) {
+            let _ = writeln!(
+                s,
+                "extern {};",
+                declare(&mem_type(names, d.ty), &names.data[k])
+            );
+        }
+    }
+    if let Some(MemType::Agg(g)) = names.globals_data.map(|d| module.data[d.index()].ty) {
+        if let AggDef::Struct(st) = module.agg(g) {
+            for (k, f) in st.fields.iter().enumerate() {
+                let repr = names.repr.fields[g.index()][k];
+                let _ = writeln!(
+                    s,
+                    "extern {};",
+                    member_decl(names, repr, f.ty, f.elem, &names.globals[k])
+                );
+            }
+        }
     }
     s.push('\n');
     for k in 0..module.funcs.len() {

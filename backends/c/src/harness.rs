@@ -6,8 +6,12 @@
 //!
 //! Symbols (all `uint64_t` tables end with an unused 0, since C has no empty arrays):
 //! - `plcc_data[]`, `plcc_data_size[]`: each data object's address and size, in the
-//!   module's order;
+//!   module's order (0 for the globals' object, whose fields are variables);
+//!   `plcc_global[]`, `plcc_global_size[]`: each global's;
+//! - the located variables' storage and pointers (from `LOCATED_VARIABLES.h`, as a
+//!   runtime's glue defines them);
 //! - `plcc_field_offset[]`: the offsets of every struct's fields, struct after struct;
+//!   `plcc_field_located[]`: 1 for a located field (it holds a pointer to the value);
 //!   `plcc_agg_first[]` (where each aggregate's start in it), `plcc_agg_size[]`,
 //!   `plcc_agg_stride[]` (an array's element size; 0 for structs);
 //! - `plcc_pointer_size`: `sizeof(void *)`;
@@ -20,6 +24,7 @@
 //!   request.
 
 use crate::names::Names;
+use crate::repr::Repr;
 use plcc_ir::module::AggDef;
 use plcc_ir::Module;
 use std::fmt::Write;
@@ -35,6 +40,13 @@ pub fn source(module: &Module, names: &Names) -> String {
     );
     s.push_str("#include \"iec_std_lib.h\"\n#include \"POUS.h\"\n\n");
     s.push_str("TIME __CURRENT_TIME;\nBOOL __DEBUG;\n\n");
+    s.push_str(
+        "/* The located variables' storage and the pointers the program binds to, as a\n   runtime's glue defines them. */\n\
+         #define __LOCATED_VAR(type, name, ...) type __##name;\n\
+         #include \"LOCATED_VARIABLES.h\"\n#undef __LOCATED_VAR\n\
+         #define __LOCATED_VAR(type, name, ...) type *name = &__##name;\n\
+         #include \"LOCATED_VARIABLES.h\"\n#undef __LOCATED_VAR\n\n",
+    );
     s.push_str("void config_init__(void);\nvoid config_run__(unsigned long tick);\n\n");
     s.push_str("static unsigned long plcc_tick;\n\n");
 
@@ -46,23 +58,47 @@ pub fn source(module: &Module, names: &Names) -> String {
         t.push_str("    0\n");
         t
     };
-    let data: Vec<String> = names
-        .data
-        .iter()
-        .map(|n| format!("(unsigned char *)&{n}"))
-        .collect();
-    let _ = write!(
-        s,
-        "unsigned char *const plcc_data[] = {{\n{}}};\n",
-        list(data)
-    );
-    let sizes: Vec<String> = names.data.iter().map(|n| format!("sizeof {n}")).collect();
-    let _ = write!(
-        s,
-        "const uint64_t plcc_data_size[] = {{\n{}}};\n",
-        list(sizes)
-    );
+    // The globals' object is not a C object: each global is a variable.
+    let addr = |n: &String| {
+        if n.is_empty() {
+            "(unsigned char *)0".to_string()
+        } else {
+            format!("(unsigned char *)&{n}")
+        }
+    };
+    let size = |n: &String| {
+        if n.is_empty() {
+            "0".to_string()
+        } else {
+            format!("sizeof {n}")
+        }
+    };
+    for (sym, items, ty) in [
+        (
+            "plcc_data",
+            names.data.iter().map(addr).collect::<Vec<_>>(),
+            "unsigned char *const",
+        ),
+        (
+            "plcc_data_size",
+            names.data.iter().map(size).collect(),
+            "const uint64_t",
+        ),
+        (
+            "plcc_global",
+            names.globals.iter().map(addr).collect(),
+            "unsigned char *const",
+        ),
+        (
+            "plcc_global_size",
+            names.globals.iter().map(size).collect(),
+            "const uint64_t",
+        ),
+    ] {
+        let _ = write!(s, "{ty} {sym}[] = {{\n{}}};\n", list(items));
+    }
     let mut offsets = Vec::new();
+    let mut located = Vec::new();
     let mut first = Vec::new();
     let mut size = Vec::new();
     let mut stride = Vec::new();
@@ -72,8 +108,10 @@ pub fn source(module: &Module, names: &Names) -> String {
         size.push(format!("sizeof({name})"));
         match a {
             AggDef::Struct(_) => {
-                for f in &names.fields[k] {
+                for (i, f) in names.fields[k].iter().enumerate() {
                     offsets.push(format!("offsetof({name}, {f})"));
+                    let at = matches!(names.repr.fields[k][i], Repr::Located(_));
+                    located.push(if at { "1" } else { "0" }.to_string());
                 }
                 stride.push("0".to_string());
             }
@@ -82,6 +120,7 @@ pub fn source(module: &Module, names: &Names) -> String {
     }
     for (sym, items) in [
         ("plcc_field_offset", offsets),
+        ("plcc_field_located", located),
         ("plcc_agg_first", first),
         ("plcc_agg_size", size),
         ("plcc_agg_stride", stride),
@@ -91,8 +130,16 @@ pub fn source(module: &Module, names: &Names) -> String {
     s.push_str("const uint64_t plcc_pointer_size = sizeof(void *);\n\n");
 
     s.push_str("void plcc_cold_start(unsigned char fill) {\n");
-    for n in &names.data {
+    for n in names
+        .data
+        .iter()
+        .chain(&names.globals)
+        .filter(|n| !n.is_empty())
+    {
         let _ = writeln!(s, "    memset(&{n}, fill, sizeof {n});");
+    }
+    for l in &names.repr.located {
+        let _ = writeln!(s, "    memset(&__{0}, fill, sizeof __{0});", l.name());
     }
     s.push_str(
         "    __CURRENT_TIME.tv_sec = 0;\n    __CURRENT_TIME.tv_nsec = 0;\n    plcc_tick = 0;\n    config_init__();\n}\n\n",

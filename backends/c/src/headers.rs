@@ -4,9 +4,10 @@
 //! from the interface facts of `reference/matiec-c-abi.md` §3: the names, macro
 //! signatures and layouts; nothing is copied from matiec or OpenPLC.
 //!
-//! Only what the generated code needs now is here: the elementary types, the
-//! `__IEC_<T>_t`/`_p` wrappers and their flags, the variable accessors, and the
-//! runtime's `__CURRENT_TIME` and `__DEBUG`.
+//! Only what the generated code and a runtime's glue need is here: the elementary
+//! types, the `__IEC_<T>_t`/`_p` wrappers (OpenPLC's `_p`, with the forced value) and
+//! their flags, the accessors of variables and located variables, the prototypes of
+//! the globals' accessors, and the runtime's `__CURRENT_TIME` and `__DEBUG`.
 
 /// `iec_types.h`: the `IEC_<T>` types.
 pub const IEC_TYPES_H: &str = r#"/* iec_types.h: the IEC 61131-3 elementary types (plcc's own header). */
@@ -75,7 +76,7 @@ pub const IEC_TYPES_ALL_H: &str = r#"/* iec_types_all.h: IEC type names and vari
 #define __IEC_OUTPUT_FLAG 0x08
 
 /* For each type: the bare name, a variable (value and flags) and a located or
-   external variable (where the value is, and flags). */
+   external variable (where the value is, flags, and the value it is forced to). */
 #define __PLCC_DECLARE_IEC_TYPE(type)        \
     typedef IEC_##type type;                 \
     typedef struct {                         \
@@ -85,6 +86,7 @@ pub const IEC_TYPES_ALL_H: &str = r#"/* iec_types_all.h: IEC type names and vari
     typedef struct {                         \
         IEC_##type *value;                   \
         IEC_BYTE flags;                      \
+        IEC_##type fvalue;                   \
     } __IEC_##type##_p;
 
 __PLCC_DECLARE_IEC_TYPE(BOOL)
@@ -124,6 +126,18 @@ pub const ACCESSOR_H: &str = r#"/* accessor.h: variable accessors (plcc's own he
 #define __SET_VAR(prefix, name, suffix, new_value)            \
     if (!(prefix name.flags & __IEC_FORCE_FLAG)) {            \
         prefix name.value suffix = new_value;                 \
+    }
+
+/* The accessor of a global another file defines (`<Config>.h` declares them). */
+#define __DECLARE_GLOBAL_PROTOTYPE(type, name) extern type *__GET_GLOBAL_##name(void);
+
+/* A located variable: the runtime's storage, unless a debugger forced it. */
+#define __GET_LOCATED(name, ...)                                          \
+    ((name.flags & __IEC_FORCE_FLAG) ? name.fvalue __VA_ARGS__            \
+                                     : (*(name.value))__VA_ARGS__)
+#define __SET_LOCATED(prefix, name, suffix, new_value)        \
+    if (!(prefix name.flags & __IEC_FORCE_FLAG)) {            \
+        *(prefix name.value) suffix = new_value;              \
     }
 
 #endif

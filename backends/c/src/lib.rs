@@ -9,14 +9,21 @@
 //! and float-to-integer conversions C leaves undefined are guarded by the IR's
 //! [`legalize`](plcc_ir::passes::legalize) pass, told that C defines none of them.
 //!
-//! - [`names`]: the C names of aggregates, data objects and functions (matiec's).
+//! - [`names`]: the C names of aggregates, data objects, globals and functions
+//!   (matiec's, after the configuration's and resources' names).
+//! - [`repr`]: how each variable is held: `__IEC_<T>_t` wrappers, `__IEC_<T>_p` for
+//!   located ones, plain.
+//! - [`located`]: located variables, checked, and the lines of `LOCATED_VARIABLES.h`.
 //! - [`headers`]: plcc's own clean-room `iec_types.h`, `iec_types_all.h`,
 //!   `accessor.h` and `iec_std_lib.h`.
-//! - [`decls`]: `POUS.h`: struct types, prototypes and the inline helpers.
+//! - [`decls`]: `POUS.h`: struct types, prototypes, the preparation of storage and
+//!   the inline helpers.
 //! - [`body`]: one IR function as a C function (SSA values as locals, blocks as
-//!   labels, block parameters assigned on the edges).
-//! - [`files`]: the file set (`POUS.c`, `POUS.h`, `Config0.c`, `Config0.h`,
-//!   `Res0.c`).
+//!   labels, block parameters assigned on the edges, variables through the
+//!   runtime's accessors).
+//! - [`variables`]: the debuggers' list, `VARIABLES.csv`.
+//! - [`files`]: the file set (`POUS.c`, `POUS.h`, `LOCATED_VARIABLES.h`,
+//!   `VARIABLES.csv`, `<Config>.c`, `<Config>.h`, one `<Res>.c` per resource).
 //! - [`cc`]: finding and running the C compiler.
 //! - [`harness`]: the extra translation unit of the machine's library (entry points
 //!   and the layout tables the machine reads variables with).
@@ -32,8 +39,11 @@ pub mod decls;
 pub mod files;
 pub mod harness;
 pub mod headers;
+pub mod located;
 pub mod machine;
 pub mod names;
+pub mod repr;
+pub mod variables;
 
 pub use machine::CMachine;
 
@@ -56,6 +66,11 @@ pub mod codes {
     pub const E_UNCHECKED_POINTERS: &str = "E9205";
     /// The IR breaks a rule the backend relies on (a bug of the front end or a pass).
     pub const E_MALFORMED_IR: &str = "E9206";
+    /// A located variable the runtime cannot bind (a bad address, a size that does
+    /// not hold the type, an aggregate).
+    pub const E_LOCATION: &str = "E9207";
+    /// Two variables of different types at one address.
+    pub const E_LOCATION_TYPES: &str = "E9208";
 }
 
 /// Every code the C backend reports, for `plcc explain`.
@@ -116,6 +131,28 @@ or init without the `(ptr)` signature, `init_globals` with parameters, a program
 missing function or data object). This is a bug of plcc's front end or of an IR pass, not \
 of the program: please report it with the source that triggers it. No correct program \
 shows it, so there is no example.",
+    },
+    CodeInfo {
+        code: codes::E_LOCATION,
+        title: "a located variable the runtime cannot bind",
+        explanation: "In the C the runtime owns the storage of every located variable \
+(`AT %IX0.0`): `LOCATED_VARIABLES.h` lists each address with its elementary type, the \
+runtime defines the storage, and the program reaches it through a pointer. So the \
+address must be one the runtime binds: `%` then `I`, `Q` or `M`, a size letter `X` \
+(a BOOL), `B` (8 bits), `W` (16), `D` (32: DINT, REAL, TIME...) or `L` (64), and \
+numbers separated by dots; an address without a size letter (`%I0.1`) is taken as `X` \
+for a BOOL. The variable must be elementary: a STRUCT, array or string has no \
+location in the runtime's I/O tables. Example: `x AT %IX0.0 : INT;` fails (a bit \
+cannot hold an INT); write `x AT %IW0 : INT;`.",
+    },
+    CodeInfo {
+        code: codes::E_LOCATION_TYPES,
+        title: "one address, two types",
+        explanation: "Two located variables share an address but not a type. The \
+runtime defines one storage per address, of one type (`LOCATED_VARIABLES.h` has one line \
+per address), so both variables must have the same elementary type. Example: \
+`a AT %MW2 : INT;` in one PROGRAM and `b AT %MW2 : WORD;` in another fail; declare \
+both INT (or both WORD) and convert where needed.",
     },
 ];
 

@@ -1,5 +1,5 @@
 //! The `c` target's machine: the module's C built by the system's compiler into a
-//! shared library (with the [`harness`](crate::harness)), loaded into this process,
+//! shared library (with the [`harness`]), loaded into this process,
 //! run scan by scan.
 //!
 //! Variables are found through the layout tables the library exports (filled in by
@@ -58,7 +58,12 @@ fn cache() -> &'static Mutex<Cache> {
 struct Tables {
     data: Vec<*mut u8>,
     data_size: Vec<u64>,
+    global: Vec<*mut u8>,
+    global_size: Vec<u64>,
+    /// The globals' data object (each of its fields a variable of its own).
+    globals: Option<plcc_ir::DataId>,
     field_offset: Vec<u64>,
+    field_located: Vec<u64>,
     agg_first: Vec<u64>,
     agg_stride: Vec<u64>,
 }
@@ -101,6 +106,8 @@ impl CMachine {
             cc::find(settings.cc.as_deref()).map_err(|m| err(codes::E_NO_COMPILER, m))?;
         let generated = files::generate(module)?;
         let harness = harness::source(module, &generated.names);
+        let mut units = generated.units.clone();
+        units.push(harness::FILE.to_string());
         let mut sources: Vec<(String, String)> = generated.into_named();
         sources.push((harness::FILE.to_string(), harness));
         for (n, t) in headers::all() {
@@ -130,11 +137,6 @@ impl CMachine {
                     std::fs::write(dir.path().join(name), text)
                         .map_err(|e| err(codes::E_LOAD, format!("cannot write {name}: {e}")))?;
                 }
-                let units = [
-                    format!("{}.c", crate::names::CONFIG),
-                    format!("{}.c", crate::names::RESOURCE),
-                    harness::FILE.to_string(),
-                ];
                 let units: Vec<&str> = units.iter().map(String::as_str).collect();
                 cc::shared_library(
                     &compiler,
@@ -190,6 +192,20 @@ impl CMachine {
                 .get(b"plcc_data")
                 .map_err(|e| format!("plcc_data: {e}"))?;
             let data = std::slice::from_raw_parts(*data_ptrs, nd).to_vec();
+            let ng = module
+                .globals
+                .and_then(|g| match module.data.get(g.index()).map(|d| d.ty) {
+                    Some(plcc_ir::MemType::Agg(a)) => match &module.aggs[a.index()] {
+                        plcc_ir::AggDef::Struct(s) => Some(s.fields.len()),
+                        plcc_ir::AggDef::Array(_) => None,
+                    },
+                    _ => None,
+                })
+                .unwrap_or(0);
+            let global_ptrs: libloading::Symbol<*const *mut u8> = lib
+                .get(b"plcc_global")
+                .map_err(|e| format!("plcc_global: {e}"))?;
+            let global = std::slice::from_raw_parts(*global_ptrs, ng).to_vec();
             let ptr_size = **lib
                 .get::<*const u64>(b"plcc_pointer_size")
                 .map_err(|e| format!("plcc_pointer_size: {e}"))?;
@@ -199,7 +215,11 @@ impl CMachine {
             let tables = Tables {
                 data,
                 data_size: table("plcc_data_size", nd)?,
+                global,
+                global_size: table("plcc_global_size", ng)?,
+                globals: module.globals,
                 field_offset: table("plcc_field_offset", nf)?,
+                field_located: table("plcc_field_located", nf)?,
                 agg_first: table("plcc_agg_first", na)?,
                 agg_stride: table("plcc_agg_stride", na)?,
             };
@@ -234,25 +254,48 @@ impl CMachine {
         }
     }
 
-    /// The address and types of a variable.
+    /// The address and types of a variable. A located field holds a pointer to the
+    /// runtime's storage, which is where the variable is.
     fn locate(&self, path: &str) -> Result<(*mut u8, Type, plcc_ir::ElemType), MachineError> {
         let var = resolve(&self.vars, path)?;
         let t = &self.tables;
+        let outside = || MachineError(format!("`{path}` lies outside its object"));
+        let mut base = t.data[var.root.index()];
+        let mut limit = t.data_size[var.root.index()];
         let mut off: u64 = 0;
-        for s in &var.steps {
-            off += match *s {
-                PathStep::Field(agg, f) => {
-                    t.field_offset[(t.agg_first[agg.index()] + f as u64) as usize]
-                }
-                PathStep::Elem(agg, i) => t.agg_stride[agg.index()] * i as u64,
-            };
-        }
         let size = scalar_size(var.ty);
-        if off + size > t.data_size[var.root.index()] {
-            return Err(MachineError(format!("`{path}` lies outside its object")));
+        for (n, s) in var.steps.iter().enumerate() {
+            match *s {
+                PathStep::Field(agg, f) => {
+                    let k = (t.agg_first[agg.index()] + f as u64) as usize;
+                    if n == 0 && t.globals == Some(var.root) {
+                        // A global: a variable of its own.
+                        (base, limit) = (t.global[f as usize], t.global_size[f as usize]);
+                    } else {
+                        off += t.field_offset[k];
+                    }
+                    if t.field_located[k] != 0 {
+                        if off + 8 > limit {
+                            return Err(outside());
+                        }
+                        // SAFETY: within the object, checked above; the field is
+                        // the pointer the library bound at cold start.
+                        let p =
+                            unsafe { (base.add(off as usize) as *const *mut u8).read_unaligned() };
+                        if p.is_null() {
+                            return Err(MachineError(format!("`{path}` is not bound")));
+                        }
+                        (base, off, limit) = (p, 0, size);
+                    }
+                }
+                PathStep::Elem(agg, i) => off += t.agg_stride[agg.index()] * i as u64,
+            }
+        }
+        if off + size > limit {
+            return Err(outside());
         }
         // SAFETY: within the object, checked above.
-        let p = unsafe { t.data[var.root.index()].add(off as usize) };
+        let p = unsafe { base.add(off as usize) };
         Ok((p, var.ty, var.elem))
     }
 

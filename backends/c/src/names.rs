@@ -7,15 +7,32 @@
 //! (`U_SCAN`, `PLCC_GLOBALS`); every name is unique among all the module's C names,
 //! a clash taking a numbered suffix.
 
+use crate::repr::{Repr, Reprs};
+use plcc_ir::diag::Diagnostic;
 use plcc_ir::module::{AggDef, DataKind, StructKind};
-use plcc_ir::{AggId, FuncKind, Module, Type};
+use plcc_ir::types::MemType;
+use plcc_ir::vars::{PathStep, VarRef};
+use plcc_ir::{AggId, DataId, FuncKind, Module, Type};
 use std::collections::HashSet;
 
-/// The configuration's name in C (matiec's `CONFIG0__G1`); the IR does not keep the
-/// source's, and the editors always call it `Config0`.
+/// The configuration's name when the source has none (the editors always call it
+/// `Config0`).
 pub const CONFIG: &str = "Config0";
-/// The resource's name in C (`RES0__INSTANCE0`).
+/// The resource's name when the source has none (`RES0__INSTANCE0`).
 pub const RESOURCE: &str = "Res0";
+
+/// A resource: its name as spelled, its file's and in C.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ResourceName {
+    /// As the source spells it.
+    pub spelled: String,
+    /// Its file's name without `.c`: as spelled, unless that is the configuration's
+    /// file (a resource named like its configuration) or another resource's, when it
+    /// takes `_resource` (and a number).
+    pub file: String,
+    /// In C, upper-cased (`RES0`).
+    pub c: String,
+}
 
 /// How a function is called in C.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -41,6 +58,23 @@ pub struct Names {
     pub funcs: Vec<String>,
     /// How each function is called.
     pub forms: Vec<FuncForm>,
+    /// How each field is held (wrapped, located or plain) and the located variables.
+    pub repr: Reprs,
+    /// The configuration's name as spelled (its files are `NAME.c`, `NAME.h`).
+    pub config: String,
+    /// The configuration's name in C (`CONFIG0`).
+    pub config_c: String,
+    /// The resources (at least one).
+    pub resources: Vec<ResourceName>,
+    /// The resource of each program entry.
+    pub program_resource: Vec<usize>,
+    /// The data object of the globals, whose fields are variables of their own in C.
+    pub globals_data: Option<DataId>,
+    /// The C variable of each global (each field of the globals' struct):
+    /// `CONFIG0__G1`, or `RES0__G2` for a resource's global.
+    pub globals: Vec<String>,
+    /// The resource each global is declared in (`None`: the configuration).
+    pub global_scope: Vec<Option<usize>>,
 }
 
 /// An IEC or IR name as a C identifier: upper-cased, other characters than letters,
@@ -74,6 +108,42 @@ const RESERVED: &[&str] = &[
     "LTIME", "STEP", "ACTION", "NULL", "EOF", "ERANGE", "EDOM", "INFINITY", "NAN",
 ];
 
+/// The function blocks of matiec's standard library, which a runtime's headers
+/// define (`TON`, `TON_init__`, `TON_body__`): plcc's own (compiled from ST, with
+/// plcc's layout) are named `PLCC_TON` in C so that the C builds against those
+/// headers too.
+pub const RUNTIME_BLOCKS: &[&str] = &[
+    "R_TRIG",
+    "F_TRIG",
+    "SR",
+    "RS",
+    "TP",
+    "TON",
+    "TOF",
+    "CTU",
+    "CTU_DINT",
+    "CTU_LINT",
+    "CTU_UDINT",
+    "CTU_ULINT",
+    "CTD",
+    "CTD_DINT",
+    "CTD_LINT",
+    "CTD_UDINT",
+    "CTD_ULINT",
+    "CTUD",
+    "CTUD_DINT",
+    "CTUD_LINT",
+    "CTUD_UDINT",
+    "CTUD_ULINT",
+    "DERIVATIVE",
+    "HYSTERESIS",
+    "INTEGRAL",
+    "PID",
+    "RAMP",
+    "RTC",
+    "SEMA",
+];
+
 struct Taken(HashSet<String>);
 
 impl Taken {
@@ -89,13 +159,23 @@ impl Taken {
 }
 
 impl Names {
-    /// Names everything in `module`.
-    pub fn new(module: &Module) -> Names {
+    /// Names everything in `module` and decides how each variable is held (which
+    /// checks its located variables).
+    pub fn new(module: &Module) -> Result<Names, Vec<Diagnostic>> {
+        let repr = Reprs::new(module)?;
         let mut taken = Taken(HashSet::new());
         let aggs: Vec<String> = module
             .aggs
             .iter()
-            .map(|a| taken.take(ident(a.name())))
+            .map(|a| {
+                let name = ident(a.name());
+                let fb = matches!(a, AggDef::Struct(s) if s.kind == StructKind::FunctionBlock);
+                if fb && RUNTIME_BLOCKS.contains(&name.as_str()) {
+                    taken.take(format!("PLCC_{name}"))
+                } else {
+                    taken.take(name)
+                }
+            })
             .collect();
         let fields = module
             .aggs
@@ -108,16 +188,81 @@ impl Names {
                 AggDef::Array(_) => Vec::new(),
             })
             .collect();
-        let config = ident(CONFIG);
-        let resource = ident(RESOURCE);
+        let conf = module.configuration.as_ref();
+        let config = conf.map_or(CONFIG.to_string(), |c| c.name.clone());
+        let config_c = ident(&config);
+        let mut resources: Vec<ResourceName> = conf
+            .map(|c| {
+                c.resources
+                    .iter()
+                    .map(|r| ResourceName {
+                        spelled: r.name.clone(),
+                        file: r.name.clone(),
+                        c: ident(&r.name),
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        if resources.is_empty() {
+            resources.push(ResourceName {
+                spelled: RESOURCE.into(),
+                file: RESOURCE.into(),
+                c: ident(RESOURCE),
+            });
+        }
+        // File names differ even where file systems ignore case.
+        let mut files: HashSet<String> = HashSet::from([config.to_ascii_lowercase()]);
+        for r in &mut resources {
+            let mut k = 1;
+            while !files.insert(r.file.to_ascii_lowercase()) {
+                r.file = match k {
+                    1 => format!("{}_resource", r.spelled),
+                    _ => format!("{}_resource{k}", r.spelled),
+                };
+                k += 1;
+            }
+        }
+        let in_resource = |name: &str, list: fn(&plcc_ir::Resource) -> &Vec<String>| {
+            conf.and_then(|c| {
+                c.resources
+                    .iter()
+                    .position(|r| list(r).iter().any(|n| n.eq_ignore_ascii_case(name)))
+            })
+        };
+        let program_resource: Vec<usize> = module
+            .programs
+            .iter()
+            .map(|p| in_resource(&p.name, |r| &r.programs).unwrap_or(0))
+            .collect();
+        let globals_data = module.globals;
+        let mut globals = Vec::new();
+        let mut global_scope = Vec::new();
+        if let Some(AggDef::Struct(s)) =
+            globals_data.and_then(|g| match module.data[g.index()].ty {
+                MemType::Agg(a) => Some(module.agg(a)),
+                MemType::Scalar(_) => None,
+            })
+        {
+            for f in &s.fields {
+                let scope = in_resource(&f.name, |r| &r.globals);
+                let prefix = scope.map_or(&config_c, |r| &resources[r].c);
+                globals.push(taken.take(format!("{prefix}__{}", ident(&f.name))));
+                global_scope.push(scope);
+            }
+        }
         let data = module
             .data
             .iter()
-            .map(|d| {
-                let scope = if d.kind == DataKind::Program {
-                    &resource
-                } else {
-                    &config
+            .enumerate()
+            .map(|(k, d)| {
+                if Some(DataId::new(k)) == globals_data {
+                    // Never named: its fields are.
+                    return String::new();
+                }
+                let scope = match module.programs.iter().position(|p| p.data.index() == k) {
+                    Some(p) if d.kind == DataKind::Program => &resources[program_resource[p]].c,
+                    _ if d.kind == DataKind::Program => &resources[0].c,
+                    _ => &config_c,
                 };
                 taken.take(format!("{scope}__{}", ident(&d.name)))
             })
@@ -135,13 +280,59 @@ impl Names {
                 })
             })
             .collect();
-        Names {
+        Ok(Names {
             aggs,
             fields,
             data,
             funcs,
             forms,
+            repr,
+            config,
+            config_c,
+            resources,
+            program_resource,
+            globals_data,
+            globals,
+            global_scope,
+        })
+    }
+
+    /// How global `g` (field `g` of the globals' struct) is held.
+    pub fn global_repr(&self, module: &Module, g: usize) -> Repr {
+        match self.globals_data.map(|d| module.data[d.index()].ty) {
+            Some(MemType::Agg(a)) => self.repr.field(a, g as u32),
+            _ => Repr::Plain,
         }
+    }
+
+    /// True if data object `d` holds the globals (each a C variable of its own).
+    pub fn is_globals(&self, d: DataId) -> bool {
+        self.globals_data == Some(d)
+    }
+
+    /// The C lvalue of a scalar variable's value (`RES0__MAIN.T.Q.value`, or
+    /// `(*RES0__MAIN.START.value)` for a located one).
+    pub fn value_expr(&self, v: &VarRef) -> String {
+        let mut s = self.data[v.root.index()].clone();
+        for (k, step) in v.steps.iter().enumerate() {
+            match *step {
+                PathStep::Field(agg, f) => {
+                    if k == 0 && self.is_globals(v.root) {
+                        s = self.globals[f as usize].clone();
+                    } else {
+                        s.push('.');
+                        s.push_str(&self.fields[agg.index()][f as usize]);
+                    }
+                    match self.repr.field(agg, f) {
+                        Repr::Plain => {}
+                        Repr::Var(_) | Repr::AggVar => s.push_str(".value"),
+                        Repr::Located(_) => s = format!("(*{s}.value)"),
+                    }
+                }
+                PathStep::Elem(_, i) => s.push_str(&format!(".table[{i}]")),
+            }
+        }
+        s
     }
 }
 

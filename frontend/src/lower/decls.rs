@@ -610,6 +610,7 @@ impl<'s> Lowerer<'s> {
             location: None,
         });
         self.globals_data = Some(data);
+        self.module.globals = Some(data);
         let mut f = Function::new("$globals$cold_start", FuncKind::Init, vec![], None);
         {
             let mut b = plcc_ir::FuncBuilder::new(&mut f);

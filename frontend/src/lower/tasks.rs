@@ -171,6 +171,45 @@ impl<'s> Lowerer<'s> {
             let task = inst.task.map(|t| &tasks[t].1);
             self.instantiate_configured(inst, task);
         }
+        self.name_configuration(c);
+    }
+
+    /// Keeps the configuration's and its resources' names in the module, with the
+    /// program entries made of each resource and the globals it declares.
+    fn name_configuration(&mut self, c: &'s ast::Configuration) {
+        let mut resources = Vec::new();
+        for r in &c.resources {
+            let programs = r
+                .programs
+                .iter()
+                .map(|pc| self.text(pc.name.span).to_string())
+                .filter(|n| self.module.program(n).is_some())
+                .collect();
+            let globals = r
+                .var_blocks
+                .iter()
+                .filter(|b| b.kind == ast::VarKind::Global)
+                .flat_map(|b| &b.decls)
+                .flat_map(|d| &d.names)
+                .map(|n| self.text(n.span).to_string())
+                .collect();
+            // Tasks and programs written directly in the configuration are a
+            // resource the parser names after it: matiec calls it RESOURCE.
+            let implicit = r.name.span == c.name.span;
+            resources.push(plcc_ir::Resource {
+                name: if implicit {
+                    "RESOURCE".to_string()
+                } else {
+                    self.text(r.name.span).to_string()
+                },
+                programs,
+                globals,
+            });
+        }
+        self.module.configuration = Some(plcc_ir::Configuration {
+            name: self.text(c.name.span).to_string(),
+            resources,
+        });
     }
 
     /// A task's INTERVAL and PRIORITY (constants).

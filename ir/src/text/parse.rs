@@ -15,15 +15,17 @@ use crate::entities::{AggId, Block, DataId, FuncId, Inst, SlotId, Value};
 use crate::function::{BlockData, FuncKind, Function, ValueData, ValueDef};
 use crate::inst::{BinaryOp, BlockCall, ConvOp, FloatCC, InstData, IntCC, Intrinsic, UnaryOp};
 use crate::module::{
-    AggDef, ArrayDef, DataDef, DataKind, Field, FieldRole, Module, ProgramEntry, StructDef,
-    StructKind,
+    AggDef, ArrayDef, Configuration, DataDef, DataKind, Field, FieldRole, Module, ProgramEntry,
+    Resource, StructDef, StructKind,
 };
 use crate::types::{ElemType, MemType, Type};
 use std::borrow::Cow;
 use std::collections::HashMap;
 use std::fmt;
 
+mod config;
 mod resolve;
+use config::RawConfiguration;
 use resolve::Resolver;
 
 /// Why a text does not parse: the place (1-based line and column, in characters) and
@@ -575,6 +577,8 @@ struct RawModule<'a> {
     funcs: Vec<RawFunc<'a>>,
     programs: Vec<RawProgram<'a>>,
     init_globals: Option<Named<'a>>,
+    globals: Option<Named<'a>>,
+    configuration: Option<RawConfiguration<'a>>,
     unchecked_pointers: bool,
 }
 
@@ -867,7 +871,7 @@ impl<'a> Parser<'a> {
     }
 
     fn module(&mut self) -> Result<(), ParseError> {
-        const TOP: &str = "`file`, `unchecked_pointers`, `struct`, `array`, `data`, `func`, `program` or `init_globals`";
+        const TOP: &str = "`file`, `unchecked_pointers`, `struct`, `array`, `data`, `func`, `program`, `init_globals`, `globals`, `configuration` or `resource`";
         loop {
             self.skip_newlines();
             let (w, pos) = match *self.peek() {
@@ -900,6 +904,9 @@ impl<'a> Parser<'a> {
                     }
                     self.raw.init_globals = Some(f);
                 }
+                "globals" => self.globals_line()?,
+                "configuration" => self.configuration_line()?,
+                "resource" => self.resource_line()?,
                 _ => return self.err(pos, format!("expected {TOP}, found `{w}`")),
             }
             self.end_of_line()?;

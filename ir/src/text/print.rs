@@ -61,7 +61,11 @@ pub fn print_module(m: &Module, opts: &PrintOptions) -> String {
     for f in &m.funcs {
         sections.push(print_function(m, f, opts));
     }
-    if !m.programs.is_empty() || m.init_globals.is_some() {
+    if !m.programs.is_empty()
+        || m.init_globals.is_some()
+        || m.globals.is_some()
+        || m.configuration.is_some()
+    {
         let mut s = String::new();
         for p in &m.programs {
             s.push_str("program ");
@@ -84,6 +88,31 @@ pub fn print_module(m: &Module, opts: &PrintOptions) -> String {
             s.push_str("init_globals ");
             write_func_ref(&mut s, m, f);
             s.push('\n');
+        }
+        if let Some(d) = m.globals {
+            s.push_str("globals ");
+            write_data_ref(&mut s, m, d);
+            s.push('\n');
+        }
+        if let Some(c) = &m.configuration {
+            s.push_str("configuration ");
+            write_quoted(&mut s, &c.name);
+            s.push('\n');
+            for r in &c.resources {
+                s.push_str("resource ");
+                write_quoted(&mut s, &r.name);
+                for (kw, list) in [("programs", &r.programs), ("globals", &r.globals)] {
+                    if !list.is_empty() {
+                        s.push(' ');
+                        s.push_str(kw);
+                        for n in list.iter() {
+                            s.push(' ');
+                            write_quoted(&mut s, n);
+                        }
+                    }
+                }
+                s.push('\n');
+            }
         }
         sections.push(s);
     }

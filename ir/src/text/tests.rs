@@ -32,8 +32,26 @@ fn error_display() {
     let e = parse_err("bogus");
     assert_eq!(
         e.to_string(),
-        "1:1: expected `file`, `unchecked_pointers`, `struct`, `array`, `data`, `func`, `program` or `init_globals`, found `bogus`"
+        "1:1: expected `file`, `unchecked_pointers`, `struct`, `array`, `data`, `func`, `program`, `init_globals`, `globals`, `configuration` or `resource`, found `bogus`"
     );
+}
+
+#[test]
+fn configuration_lines() {
+    let e = parse_err("resource \"r\"\n");
+    assert!(e.message.contains("after the `configuration` line"), "{e}");
+    let e = parse_err("configuration \"a\"\nconfiguration \"b\"\n");
+    assert!(e.message.contains("`configuration` is given twice"), "{e}");
+    let e = parse_err("globals @nowhere\n");
+    assert!(e.message.contains("unknown data `@nowhere`"), "{e}");
+    let m = parse_module(
+        "configuration \"C\"\nresource \"R\" globals \"g\"\nresource \"S\" programs \"p\" \"q\"\n",
+    )
+    .unwrap();
+    let c = m.configuration.unwrap();
+    assert_eq!(c.name, "C");
+    assert_eq!(c.resources[0].globals, ["g"]);
+    assert_eq!(c.resources[1].programs, ["p", "q"]);
 }
 
 #[test]

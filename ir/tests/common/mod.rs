@@ -216,6 +216,13 @@ pub fn kitchen_sink() -> Module {
         kind: DataKind::Global,
         location: None,
     });
+    m.globals = Some(m.add_data(DataDef {
+        name: "$globals".into(),
+        ty: MemType::Agg(point),
+        elem: None,
+        kind: DataKind::Global,
+        location: None,
+    }));
 
     // Functions are added first so that calls can refer to later ones.
     let helper_id = FuncId(1);
@@ -509,5 +516,21 @@ pub fn kitchen_sink() -> Module {
         priority: Some(0),
     });
     m.init_globals = Some(gi_id);
+    m.configuration = Some(Configuration {
+        name: "Config \"0\"".into(),
+        resources: vec![
+            Resource {
+                name: "Res0".into(),
+                programs: vec!["main".into()],
+                globals: vec!["x".into()],
+            },
+            Resource {
+                name: "fast".into(),
+                programs: vec!["fast \"one\"".into()],
+                globals: Vec::new(),
+            },
+            Resource::default(),
+        ],
+    });
     m
 }

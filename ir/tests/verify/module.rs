@@ -183,6 +183,45 @@ fn init_globals() {
 }
 
 #[test]
+fn configuration_and_globals() {
+    verify_module(&kitchen_sink()).unwrap();
+    let mut m = kitchen_sink();
+    m.globals = Some(DataId(1));
+    let errs = verify_module(&m).unwrap_err();
+    expect(
+        &errs,
+        "globals data1 must be a `global` data object holding a struct",
+    );
+    assert_eq!(errs.len(), 2, "and its global `x` is unknown");
+    let mut m = kitchen_sink();
+    m.globals = Some(DataId(40));
+    let errs = verify_module(&m).unwrap_err();
+    expect(&errs, "globals data40 does not exist");
+    expect(
+        &errs,
+        "names global \"x\", which is not a field of the globals",
+    );
+    let mut m = kitchen_sink();
+    let c = m.configuration.as_mut().unwrap();
+    c.resources[0].programs.push("nobody".into());
+    c.resources[1].programs.push("MAIN".into());
+    c.resources[1].globals.push("z".into());
+    c.resources[2].name = "res0".into();
+    let errs = verify_module(&m).unwrap_err();
+    expect(
+        &errs,
+        "resource \"Res0\" names program \"nobody\", which is not a program entry",
+    );
+    expect(&errs, "program \"MAIN\" is in two resources");
+    expect(
+        &errs,
+        "resource \"fast\" names global \"z\", which is not a field of the globals",
+    );
+    expect(&errs, "resource \"res0\" is listed twice");
+    assert_eq!(errs.len(), 4);
+}
+
+#[test]
 fn recursion() {
     let caller = |name: &str, callee: FuncId| {
         let mut f = Function::new(name, FuncKind::Helper, vec![], None);

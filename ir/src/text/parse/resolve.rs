@@ -169,6 +169,13 @@ impl<'a> Resolver<'a> {
         if let Some(g) = &raw.init_globals {
             m.init_globals = Some(func_ref(g)?);
         }
+        if let Some(g) = &raw.globals {
+            let Some(&data) = datas.get(g.name.as_ref()) else {
+                return self.err(g.pos, format!("unknown data `@{}`", g.name));
+            };
+            m.globals = Some(data);
+        }
+        m.configuration = raw.configuration.as_ref().map(|c| self.configuration(c));
         m.unchecked_pointers = raw.unchecked_pointers;
         Ok(m)
     }
