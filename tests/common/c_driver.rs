@@ -1,6 +1,7 @@
-//! Checks of the `c` target's files outside the C machine: as C++ (the way OpenPLC
-//! compiles them), and as an executable of their own under the address sanitizer
-//! (which cannot be loaded into a running process, so the machine cannot use it).
+//! Checks of the `c` target's files outside the C machine: under other compilers (as
+//! C++, the way OpenPLC compiles them, and under clang), and as an executable of
+//! their own under the address sanitizer (which cannot be loaded into a running
+//! process, so the machine cannot use it).
 
 use plcc_c::names::Names;
 use plcc_ir::interp::Interp;
@@ -8,7 +9,7 @@ use plcc_ir::machine::Machine;
 use plcc_ir::value::PlcValue;
 use plcc_ir::vars::{variables, PathStep, VarRef};
 use plcc_ir::{ElemType, Module};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// Writes the module's file set and plcc's headers into `dir`; the names used.
@@ -24,20 +25,118 @@ fn write_files(module: &Module, dir: &Path) -> Result<Names, String> {
     Ok(names)
 }
 
-/// `Config0.c` and `Res0.c` compile as C++ (`g++ -std=gnu++11`, as OpenPLC builds
-/// them) with `-Wall -Wextra -Werror`.
-pub fn compiles_as_cpp(module: &Module) -> Result<(), String> {
-    let dir = plcc_c::cc::TempDir::new().map_err(|e| e.to_string())?;
-    write_files(module, dir.path())?;
-    for unit in ["Config0.c", "Res0.c"] {
-        let mut cmd = Command::new("g++");
-        cmd.current_dir(dir.path())
-            .args(["-std=gnu++11", "-x", "c++", "-fsyntax-only", "-I."])
-            .args(plcc_c::cc::WARNINGS)
-            .arg(unit);
-        plcc_c::cc::run(cmd)?;
+/// A compiler the C must pass clean with `-Wall -Wextra -Werror`: a name for
+/// messages, the command, the language (`c` or `c++`) and its standard.
+pub struct Compiler {
+    pub name: &'static str,
+    pub command: &'static str,
+    pub lang: &'static str,
+    pub std: &'static str,
+}
+
+/// C++ (`-std=gnu++11`, as OpenPLC builds the files) under gcc and clang, and C99
+/// under clang (the C machine builds every program as C99 with gcc).
+pub const COMPILERS: [Compiler; 3] = [
+    Compiler {
+        name: "g++ -std=gnu++11",
+        command: "g++",
+        lang: "c++",
+        std: "gnu++11",
+    },
+    Compiler {
+        name: "clang -std=c99",
+        command: "clang",
+        lang: "c",
+        std: "c99",
+    },
+    Compiler {
+        name: "clang++ -std=gnu++11",
+        command: "clang++",
+        lang: "c++",
+        std: "gnu++11",
+    },
+];
+
+/// The system headers the files include, precompiled once per compiler: in C++
+/// `<math.h>` alone takes most of a unit's time.
+const SYSTEM_HEADERS: &str =
+    "#include <stddef.h>\n#include <stdint.h>\n#include <string.h>\n#include <math.h>\n";
+
+/// The translation units of a program's file set (`Res0.c` includes `POUS.c`).
+const UNITS: [&str; 2] = ["Config0.c", "Res0.c"];
+
+/// Writes each module's file set and plcc's headers into a directory of its own
+/// under `root` (`0/`, `1/`, ...), the files' quoted includes finding the headers
+/// beside them; the directories, in order.
+pub fn write_programs(modules: &[&Module], root: &Path) -> Result<Vec<PathBuf>, String> {
+    let mut dirs = Vec::new();
+    for (k, m) in modules.iter().enumerate() {
+        let dir = root.join(k.to_string());
+        std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
+        write_files(m, &dir)?;
+        dirs.push(dir);
     }
-    Ok(())
+    Ok(dirs)
+}
+
+/// Compiles the programs in `dirs` (from [`write_programs`]) with `c` without
+/// generating code (`-fsyntax-only`), the system headers precompiled first into
+/// `work` and many programs to one compiler process; the indexes of the programs
+/// that fail, each with the compiler's output (or an error of the precompiling).
+pub fn compile_programs(
+    c: &Compiler,
+    work: &Path,
+    dirs: &[PathBuf],
+) -> Result<Vec<(usize, String)>, String> {
+    let header = work.join("system.h");
+    std::fs::create_dir_all(work).map_err(|e| e.to_string())?;
+    std::fs::write(&header, SYSTEM_HEADERS).map_err(|e| e.to_string())?;
+    // gcc finds `system.h.gch` beside `system.h`; clang is given its file.
+    let gcc = c.command.starts_with('g');
+    let pch = if gcc {
+        work.join("system.h.gch")
+    } else {
+        work.join("system.pch")
+    };
+    let mut cmd = Command::new(c.command);
+    cmd.arg("-x")
+        .arg(format!("{}-header", c.lang))
+        .arg(format!("-std={}", c.std))
+        .arg(&header)
+        .arg("-o")
+        .arg(&pch);
+    plcc_c::cc::run(cmd)?;
+    let run = |chunk: &[usize]| {
+        let mut cmd = Command::new(c.command);
+        cmd.args(["-x", c.lang])
+            .arg(format!("-std={}", c.std))
+            .arg("-fsyntax-only")
+            .args(plcc_c::cc::WARNINGS);
+        if gcc {
+            cmd.args(["-Winvalid-pch", "-include"]).arg(&header);
+        } else {
+            cmd.arg("-include-pch").arg(&pch);
+        }
+        for &k in chunk {
+            for u in UNITS {
+                cmd.arg(dirs[k].join(u));
+            }
+        }
+        plcc_c::cc::run(cmd)
+    };
+    let all: Vec<usize> = (0..dirs.len()).collect();
+    let mut failed = Vec::new();
+    for chunk in all.chunks(32) {
+        if run(chunk).is_err() {
+            // Again one by one, to tell which programs fail.
+            for &k in chunk {
+                if let Err(e) = run(&[k]) {
+                    failed.push((k, e));
+                }
+            }
+        }
+    }
+    Ok(failed)
 }
 
 /// The C expression of a variable.
