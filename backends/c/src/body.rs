@@ -34,11 +34,57 @@ pub fn function(module: &Module, names: &Names, f: FuncId) -> String {
     e.out
 }
 
-/// Which values are operands of some live instruction.
+/// Which values the C needs: the operands of what has an effect (stores, calls, the
+/// fault, branch conditions, returns) and, transitively, of the instructions that
+/// compute them; a block parameter's incoming arguments only when the parameter is
+/// needed. Everything else is left out (no local is set but never read, which
+/// `-Wall` rejects): legalization may leave a division whose result nobody reads,
+/// its fault already explicit.
 fn used_values(func: &Function) -> Vec<bool> {
     let mut used = vec![false; func.values.len()];
+    // The instruction defining each value, and each parameter's incoming arguments.
+    let mut def: Vec<Option<plcc_ir::Inst>> = vec![None; func.values.len()];
+    let mut incoming: Vec<Vec<Value>> = vec![Vec::new(); func.values.len()];
+    let mut work: Vec<Value> = Vec::new();
     for (_, i) in func.inst_iter() {
-        func.inst(i).for_each_arg(|v| used[v.index()] = true);
+        if let Some(r) = func.result(i) {
+            def[r.index()] = Some(i);
+        }
+        let data = func.inst(i);
+        let mut edge = |dest: &BlockCall| {
+            for (p, a) in func.block(dest.block).params.iter().zip(&dest.args) {
+                incoming[p.index()].push(*a);
+            }
+        };
+        match data {
+            InstData::Jump { dest } => edge(dest),
+            InstData::Brif {
+                cond,
+                then_dest,
+                else_dest,
+            } => {
+                edge(then_dest);
+                edge(else_dest);
+                work.push(*cond);
+            }
+            InstData::Store { .. }
+            | InstData::Call { .. }
+            | InstData::Return { .. }
+            | InstData::Intrinsic {
+                op: Intrinsic::RaiseFault,
+                ..
+            } => data.for_each_arg(|a| work.push(a)),
+            _ => {}
+        }
+    }
+    while let Some(x) = work.pop() {
+        if std::mem::replace(&mut used[x.index()], true) {
+            continue;
+        }
+        match def[x.index()] {
+            Some(i) => func.inst(i).for_each_arg(|a| work.push(a)),
+            None => work.extend(incoming[x.index()].iter().copied()),
+        }
     }
     used
 }
