@@ -61,8 +61,7 @@ struct Common {
 struct BuildArgs {
     #[command(flatten)]
     common: Common,
-    /// The target: host (object file), pic16f876a (MPASM/HEX), vmasm (CPDev XCP + DCP), interp
-    #[arg(long, default_value = "host")]
+    #[arg(long, default_value = "host", help = plcc::targets::build_help())]
     target: String,
     /// Output file (default: the first input with the target's extension; `-` for
     /// standard output)
@@ -96,8 +95,7 @@ enum Command {
     Run {
         #[command(flatten)]
         common: Common,
-        /// Where to run it: host (JIT), interp, pic16f876a (simulator), vmasm (plcc's VM)
-        #[arg(long, default_value = "host")]
+        #[arg(long, default_value = "host", help = plcc::targets::run_help())]
         target: String,
         /// The PROGRAM to run (needed when the files have several)
         #[arg(long)]
@@ -124,8 +122,7 @@ enum Command {
         /// The scenario file
         #[arg(long)]
         scenario: PathBuf,
-        /// Where to run it: host (JIT), interp, pic16f876a (simulator), vmasm (plcc's VM)
-        #[arg(long, default_value = "host")]
+        #[arg(long, default_value = "host", help = plcc::targets::run_help())]
         target: String,
         /// Clock step of `run N` in milliseconds, e.g. 10 or 0.5; default: the greatest
         /// common divisor of the configuration's task intervals, else 10
@@ -148,10 +145,8 @@ enum Command {
         /// How many programs (seeds seed, seed+1, ...)
         #[arg(long, default_value_t = 100)]
         count: u64,
-        /// The machines, the reference first (a machine may carry one setting:
-        /// vmasm:mode=32a)
-        #[arg(long, default_value = "interp,host,vmasm,pic16f876a")]
-        targets: String,
+        #[arg(long, help = plcc::targets::difftest_help())]
+        targets: Option<String>,
         /// Scans per program (default 5; 10 with --lang sfc)
         #[arg(long)]
         scans: Option<u32>,
@@ -261,7 +256,7 @@ fn main() -> ExitCode {
         }) => commands::difftest(&commands::DifftestArgs {
             first: seed,
             count,
-            machines: &targets,
+            machines: &targets.unwrap_or_else(|| plcc::targets::checked_machines().join(",")),
             scans: scans.unwrap_or(if lang == "sfc" { 10 } else { 5 }),
             out: out.as_deref(),
             show,

@@ -1,5 +1,5 @@
 //! Runs every ST and IL program of `../shared/corpus` (bulk/, st/, il/) that has a
-//! scenario, on `host` and `interp`, and prints a table per category: passed, failed, unsupported
+//! scenario, on every machine of the target registry, and prints a table per category: passed, failed, unsupported
 //! (with the diagnostic code that says why). Fails if a program that plcc accepts
 //! fails its scenario, if a program is rejected for a reason other than a
 //! not-supported-yet diagnostic, or if anything panics. matiec's IL syntax file must
@@ -108,7 +108,7 @@ fn judge(st: &Path, expect: &Path, target: &str) -> Verdict {
             _ => return Verdict::Fail("no single PROGRAM to run".into()),
         },
     };
-    let mut m = match targets::machine(target, &module) {
+    let mut m = match targets::machine_spec(target, &module) {
         Ok(m) => m,
         Err(d) => {
             // The chip cannot hold it (REAL arithmetic, too much RAM...): not a failure,
@@ -137,11 +137,11 @@ fn judge(st: &Path, expect: &Path, target: &str) -> Verdict {
     }
 }
 
-fn run_corpus(target: &str) {
-    let Some(dir) = corpus_dir() else {
-        eprintln!("notice: ../shared/corpus not found; skipping the corpus test");
-        return;
-    };
+/// Runs every scenario of the corpus in `dir` on `target`; the table and the
+/// failures as text, and the number of failures.
+fn run_corpus(dir: &Path, target: &str) -> (String, usize) {
+    use std::fmt::Write;
+    let mut out = String::new();
     let mut table: BTreeMap<String, Row> = BTreeMap::new();
     let mut failures = Vec::new();
     let excluded = exclusions();
@@ -174,7 +174,7 @@ fn run_corpus(target: &str) {
                     let key = code.split(' ').next().unwrap_or("").to_string();
                     *row.unsupported.entry(key).or_default() += 1;
                     if std::env::var_os("PLCC_CORPUS_VERBOSE").is_some() {
-                        println!("unsupported {name}: {code}");
+                        let _ = writeln!(out, "unsupported {name}: {code}");
                     }
                 }
                 Verdict::Fail(why) => {
@@ -184,8 +184,9 @@ fn run_corpus(target: &str) {
             }
         }
     }
-    println!("\ncorpus on {target}:");
-    println!(
+    let _ = writeln!(out, "\ncorpus on {target}:");
+    let _ = writeln!(
+        out,
         "{:<40} {:>6} {:>6} {:>6} {:>6}  unsupported by",
         "category", "passed", "failed", "unsup", "excl"
     );
@@ -197,7 +198,8 @@ fn run_corpus(target: &str) {
             .iter()
             .map(|(k, v)| format!("{k}×{v}"))
             .collect();
-        println!(
+        let _ = writeln!(
+            out,
             "{:<40} {:>6} {:>6} {:>6} {:>6}  {}",
             cat,
             row.passed,
@@ -211,48 +213,65 @@ fn run_corpus(target: &str) {
         tu += u;
         te += row.excluded;
     }
-    println!("{:<40} {:>6} {:>6} {:>6} {:>6}", "total", tp, tf, tu, te);
+    let _ = writeln!(
+        out,
+        "{:<40} {:>6} {:>6} {:>6} {:>6}",
+        "total", tp, tf, tu, te
+    );
     if !excluded_seen.is_empty() {
-        println!("\nexcluded (dialect-specific expectations):");
+        let _ = writeln!(out, "\nexcluded (dialect-specific expectations):");
         for e in &excluded_seen {
-            println!("  {e}");
+            let _ = writeln!(out, "  {e}");
         }
     }
     if !failures.is_empty() {
-        println!("\nfailures:");
+        let _ = writeln!(out, "\nfailures:");
         for f in &failures {
-            println!("  {f}");
+            let _ = writeln!(out, "  {f}");
+        }
+    }
+    (out, failures.len())
+}
+
+/// Every corpus scenario passes on every machine of the target registry that runs
+/// here (`targets::checked_machines`: the C machine under the undefined-behaviour
+/// sanitizer), the machines side by side. A scenario a machine cannot hold (the
+/// PIC16's RAM, REAL arithmetic...) counts as unsupported there, by code, in its
+/// table (`PLCC_CORPUS_VERBOSE=1` lists them).
+#[test]
+fn corpus_on_every_machine() {
+    let Some(dir) = corpus_dir() else {
+        eprintln!("notice: ../shared/corpus not found; skipping the corpus test");
+        return;
+    };
+    for t in targets::not_running() {
+        eprintln!("notice: target `{t}` cannot run programs here; the corpus skips it");
+    }
+    let machines = targets::checked_machines();
+    let results: Vec<(String, usize)> = std::thread::scope(|s| {
+        let jobs: Vec<_> = machines
+            .iter()
+            .map(|m| {
+                let dir = &dir;
+                s.spawn(move || run_corpus(dir, m))
+            })
+            .collect();
+        jobs.into_iter()
+            .map(|j| j.join().expect("a machine's run"))
+            .collect()
+    });
+    let mut failed = Vec::new();
+    for (m, (table, n)) in machines.iter().zip(results) {
+        println!("{table}");
+        if n > 0 {
+            failed.push(format!("{n} on {m}"));
         }
     }
     assert!(
-        failures.is_empty(),
-        "{} corpus program(s) failed on {target}",
-        failures.len()
+        failed.is_empty(),
+        "corpus programs failed: {}",
+        failed.join(", ")
     );
-}
-
-#[test]
-fn corpus_on_interp() {
-    run_corpus("interp");
-}
-
-#[test]
-fn corpus_on_host() {
-    run_corpus("host");
-}
-
-/// Every corpus scenario that fits the PIC16F876A passes on plcc's simulator of it;
-/// the table says how many do not fit and why (`PLCC_CORPUS_VERBOSE=1` lists them).
-#[test]
-fn corpus_on_pic16() {
-    run_corpus("pic16f876a");
-}
-
-/// Every corpus scenario passes on plcc's CPDev VM (what the VM cannot do is
-/// counted as unsupported, by code).
-#[test]
-fn corpus_on_vmasm() {
-    run_corpus("vmasm");
 }
 
 /// Every ST source in the corpus (programs without scenarios, parser fixtures, the

@@ -524,14 +524,7 @@ fn build(case: &Case) -> Result<Built, String> {
 
 /// A machine of `target`, which may carry settings: `vmasm:mode=32a`.
 fn machine(target: &str, module: &Module) -> Result<Box<dyn Machine>, String> {
-    let (name, settings) = match target.split_once(':') {
-        Some((n, kv)) => {
-            let (k, v) = kv.split_once('=').expect("target:KEY=VALUE");
-            (n, vec![(k.to_string(), v.to_string())])
-        }
-        None => (target, Vec::new()),
-    };
-    targets::machine_with(name, module, &settings).map_err(|d| {
+    targets::machine_spec(target, module).map_err(|d| {
         let msgs: Vec<String> = d.iter().map(|x| x.to_string()).collect();
         format!("no {target} machine: {}", msgs.join("; "))
     })
@@ -605,11 +598,41 @@ fn programs_on_interp() {
     run_all("interp");
 }
 
-/// The C machine, its library built with the undefined-behaviour sanitizer (which
-/// stops the process at the first undefined operation).
+/// The C machine with the registry's checked setting: its library built with the
+/// undefined-behaviour sanitizer (which stops the process at the first undefined
+/// operation).
 #[test]
 fn programs_on_c() {
-    run_all("c:sanitize=undefined");
+    run_all(&checked_machine("c"));
+}
+
+/// A target's machine with the setting the target registry checks it with
+/// (`c:sanitize=undefined`).
+fn checked_machine(name: &str) -> String {
+    targets::find(name)
+        .unwrap_or_else(|| panic!("`{name}` is not in the target registry"))
+        .checked_machine()
+}
+
+/// The targets whose machines have their own tests here: every scenario
+/// (`programs_on_*`) and every scan against the interpreter (`*_agree`).
+const MACHINES_TESTED: [&str; 5] = ["host", "interp", "vmasm", "pic16f876a", "c"];
+
+/// Every target of the registry that runs programs has its tests here.
+#[test]
+fn every_machine_of_the_registry_is_tested() {
+    let missing: Vec<&str> = targets::TARGETS
+        .iter()
+        .map(|t| t.name)
+        .filter(|n| !MACHINES_TESTED.contains(n))
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "targets of src/targets.rs without programs_on_* and *_agree tests: {missing:?}"
+    );
+    for t in targets::not_running() {
+        println!("notice: target `{t}` cannot run programs here");
+    }
 }
 
 #[test]
@@ -852,7 +875,7 @@ fn interp_and_vmasm_32a_agree() {
 /// interpreter.
 #[test]
 fn interp_and_c_agree() {
-    agree("interp", "c:sanitize=undefined");
+    agree("interp", &checked_machine("c"));
 }
 
 /// Every program's C compiles as C++ (`-std=gnu++11`, as OpenPLC builds it) under
