@@ -928,6 +928,99 @@ fn c_files_compile_under_gcc_and_clang() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
+/// Programs whose C does not fit the ATmega2560, and why, one per line (`NAME:
+/// reason`); `c_builds_for_avr` checks that this list is exactly what avr-gcc says.
+const AVR_UNFIT: &str = include_str!("avr_unfit.txt");
+
+/// Every program's C builds with avr-gcc for the ATmega2560 (`-mmcu=atmega2560 -Os`,
+/// OpenPLC's Arduino Mega target), with plcc's own headers and a `main` of its own,
+/// under `-Wall -Wextra -Werror`; what does not fit the chip (its 8 KB of RAM, or
+/// LREALs, which avr-gcc's 32-bit double cannot hold) is `tests/avr_unfit.txt`.
+#[test]
+fn c_builds_for_avr() {
+    if std::process::Command::new("avr-gcc")
+        .arg("--version")
+        .output()
+        .is_err()
+    {
+        eprintln!("notice: avr-gcc is not installed (.ci/run installs gcc-avr and avr-libc); skipping the AVR builds");
+        return;
+    }
+    let (cases, mut failures) = cases();
+    let mut built = Vec::new();
+    for case in &cases {
+        match build(case) {
+            Ok(b) => built.push((case.name.clone(), b.module)),
+            Err(e) => failures.push(format!("{}: {e}", case.name)),
+        }
+    }
+    let dir = plcc_c::cc::TempDir::new().expect("a temporary directory");
+    let main_o = c_driver::avr_main(&dir.path().join("main")).expect("the AVR main");
+    let modules: Vec<&Module> = built.iter().map(|(_, m)| m).collect();
+    let dirs = c_driver::write_programs(&modules, &dir.path().join("programs")).expect("the files");
+    // Two at a time (the machine's cores).
+    let results: Vec<Result<c_driver::Avr, String>> = std::thread::scope(|s| {
+        let half = dirs.len().div_ceil(2);
+        let jobs: Vec<_> = dirs
+            .chunks(half.max(1))
+            .map(|chunk| {
+                let main_o = &main_o;
+                s.spawn(move || {
+                    chunk
+                        .iter()
+                        .map(|d| c_driver::avr_build(d, main_o))
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        jobs.into_iter()
+            .flat_map(|j| j.join().expect("an AVR job"))
+            .collect()
+    });
+    let (mut fits, mut flash, mut ram) = (0, 0u64, 0u64);
+    let mut unfit = Vec::new();
+    for ((name, _), r) in built.iter().zip(results) {
+        match r {
+            Ok(c_driver::Avr::Fits { flash: f, ram: r }) => {
+                fits += 1;
+                flash = flash.max(f);
+                ram = ram.max(r);
+            }
+            Ok(c_driver::Avr::DoesNotFit(why)) => unfit.push(format!("{name}: {why}")),
+            Err(e) => failures.push(format!("{name}: {e}")),
+        }
+    }
+    println!(
+        "{fits} of {} programs build for the ATmega2560 (at most {flash} bytes of flash, {ram} of RAM); {} do not fit:",
+        built.len(),
+        unfit.len()
+    );
+    for u in &unfit {
+        println!("  {u}");
+    }
+    let listed: Vec<&str> = AVR_UNFIT
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with('#'))
+        .collect();
+    for u in &unfit {
+        if !listed.contains(&u.as_str()) {
+            failures.push(format!(
+                "does not fit, but tests/avr_unfit.txt does not say so: {u}"
+            ));
+        }
+    }
+    for l in &listed {
+        if !unfit.iter().any(|u| u == l) {
+            failures.push(format!(
+                "tests/avr_unfit.txt lists what no longer happens: {l}"
+            ));
+        }
+    }
+    assert!(fits > 300, "only {fits} programs build for the ATmega2560");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
 /// Every program, built with a `main` of its own under the address and
 /// undefined-behaviour sanitizers (the address sanitizer cannot be loaded into the
 /// running test, so the C machine cannot use it), runs cold start and 20 scans with no

@@ -269,3 +269,137 @@ pub fn agrees_under_asan(module: &Module, scans: u32, cycle_us: u64) -> Result<u
     }
     Ok(compared)
 }
+
+/// A `main` for the ATmega2560 (OpenPLC's Arduino Mega): the runtime's clock and
+/// debug switch, cold start, then a scan every 10 ms of the clock, forever.
+pub const AVR_MAIN: &str = "#include \"iec_std_lib.h\"\n\
+TIME __CURRENT_TIME;\nBOOL __DEBUG;\n\
+void config_init__(void);\nvoid config_run__(unsigned long tick);\n\
+int main(void) {\n    unsigned long tick = 0;\n    config_init__();\n    for (;;) {\n\
+\x20       __CURRENT_TIME.tv_nsec += 10000000;\n\
+\x20       if (__CURRENT_TIME.tv_nsec >= 1000000000) {\n\
+\x20           __CURRENT_TIME.tv_nsec -= 1000000000;\n\
+\x20           __CURRENT_TIME.tv_sec += 1;\n        }\n\
+\x20       config_run__(tick++);\n    }\n}\n";
+
+/// avr-gcc's flags: the Arduino Mega's chip, for size, unused sections dropped (as
+/// the Arduino tools build), C99 with every warning an error.
+pub const AVR_FLAGS: [&str; 9] = [
+    "-mmcu=atmega2560",
+    "-Os",
+    "-std=c99",
+    "-ffunction-sections",
+    "-fdata-sections",
+    "-Wl,--gc-sections",
+    "-Wall",
+    "-Wextra",
+    "-Werror",
+];
+
+/// The ATmega2560's RAM and flash, in bytes.
+const AVR_RAM: u64 = 8192;
+const AVR_FLASH: u64 = 262_144;
+
+/// What a program's C is on the ATmega2560.
+#[derive(Debug)]
+pub enum Avr {
+    /// It builds: flash (`.text` + `.data`) and RAM (`.data` + `.bss`) in bytes.
+    Fits { flash: u64, ram: u64 },
+    /// It does not fit the chip, and why.
+    DoesNotFit(String),
+}
+
+/// The `.text`, `.data` and `.bss` sizes of an ELF file (`avr-size -A`).
+fn avr_sections(elf: &Path) -> Result<(u64, u64, u64), String> {
+    let out = Command::new("avr-size")
+        .arg("-A")
+        .arg(elf)
+        .output()
+        .map_err(|e| format!("avr-size: {e}"))?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    let size = |name: &str| {
+        text.lines()
+            .find_map(|l| {
+                let mut w = l.split_whitespace();
+                (w.next() == Some(name)).then(|| w.next()?.parse::<u64>().ok())?
+            })
+            .unwrap_or(0)
+    };
+    Ok((size(".text"), size(".data"), size(".bss")))
+}
+
+/// Builds the program in `dir` (from [`write_programs`]) for the ATmega2560 with
+/// avr-gcc, linked with [`AVR_MAIN`] (already compiled: `main_o`). A program that
+/// does not fit is one the linker refuses for the chip's 8 KB of RAM or 256 KB of
+/// flash (measured again with room enough), or one with LREALs (avr-gcc's double
+/// has 32 bits: plcc's C stops on it). Any other error is the compiler's output.
+pub fn avr_build(dir: &Path, main_o: &Path) -> Result<Avr, String> {
+    let elf = dir.join("avr.elf");
+    let link = |extra: &[&str]| {
+        let mut cmd = Command::new("avr-gcc");
+        cmd.current_dir(dir)
+            .args(AVR_FLAGS)
+            .args(UNITS)
+            .arg(main_o)
+            .arg("-o")
+            .arg(&elf)
+            .arg("-lm")
+            .args(extra);
+        plcc_c::cc::run(cmd)
+    };
+    let judge = |text: u64, data: u64, bss: u64| {
+        let (flash, ram) = (text + data, data + bss);
+        if ram > AVR_RAM {
+            Avr::DoesNotFit(format!(
+                "RAM: needs {ram} bytes (.data + .bss); the ATmega2560 has {AVR_RAM}"
+            ))
+        } else if flash > AVR_FLASH {
+            Avr::DoesNotFit(format!(
+                "flash: needs {flash} bytes; the ATmega2560 has {AVR_FLASH}"
+            ))
+        } else {
+            Avr::Fits { flash, ram }
+        }
+    };
+    match link(&[]) {
+        Ok(()) => {
+            let (text, data, bss) = avr_sections(&elf)?;
+            Ok(judge(text, data, bss))
+        }
+        Err(e) if e.contains("__plcc_lreal_needs_a_64_bit_double") => Ok(Avr::DoesNotFit(
+            "LREAL: avr-gcc's double has 32 bits".into(),
+        )),
+        Err(e) if e.contains("size of array") && e.contains("is too large") => Ok(Avr::DoesNotFit(
+            "RAM: an array of more than 32767 bytes, avr-gcc's largest object".into(),
+        )),
+        Err(e) if e.contains("not within region `data'") || e.contains("region `text'") => {
+            link(&[
+                "-Wl,--defsym=__DATA_REGION_LENGTH__=0xfe00",
+                "-Wl,--defsym=__TEXT_REGION_LENGTH__=0x1000000",
+            ])
+            .map_err(|e2| format!("{e}\n(measured with room enough: {e2})"))?;
+            let (text, data, bss) = avr_sections(&elf)?;
+            match judge(text, data, bss) {
+                Avr::Fits { .. } => Err(format!("{e}\n(but it fits with room enough)")),
+                unfit => Ok(unfit),
+            }
+        }
+        Err(e) => Err(e),
+    }
+}
+
+/// Compiles [`AVR_MAIN`] into `dir` with plcc's headers there (they do not depend on
+/// the program); the object's path.
+pub fn avr_main(dir: &Path) -> Result<PathBuf, String> {
+    std::fs::create_dir_all(dir).map_err(|e| e.to_string())?;
+    for (n, t) in plcc_c::headers::all() {
+        std::fs::write(dir.join(n), t).map_err(|e| e.to_string())?;
+    }
+    std::fs::write(dir.join("avr_main.c"), AVR_MAIN).map_err(|e| e.to_string())?;
+    let mut cmd = Command::new("avr-gcc");
+    cmd.current_dir(dir)
+        .args(AVR_FLAGS)
+        .args(["-c", "avr_main.c", "-o", "avr_main.o"]);
+    plcc_c::cc::run(cmd)?;
+    Ok(dir.join("avr_main.o"))
+}

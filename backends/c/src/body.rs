@@ -424,8 +424,9 @@ impl Emitter<'_> {
             UnaryOp::Fneg => format!("(-{x})"),
             UnaryOp::Fabs => format!("{}({x})", math("fabs", ty)),
             UnaryOp::Fsqrt => format!("{}({x})", math("sqrt", ty)),
-            // Round to nearest, ties to even: the default rounding mode.
-            UnaryOp::Fnearest => format!("{}({x})", math("nearbyint", ty)),
+            // Round to nearest, ties to even (POUS.h's helper: avr-libc has no
+            // nearbyint, and nearbyint follows the current rounding mode).
+            UnaryOp::Fnearest => format!("{}({x})", math("__plcc_nearest", ty)),
             UnaryOp::Ftrunc => format!("{}({x})", math("trunc", ty)),
             UnaryOp::Ffloor => format!("{}({x})", math("floor", ty)),
             UnaryOp::Fceil => format!("{}({x})", math("ceil", ty)),
