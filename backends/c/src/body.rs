@@ -254,7 +254,14 @@ impl Emitter<'_> {
                 else_dest,
             } => {
                 let (t, e) = (self.edge(then_dest), self.edge(else_dest));
-                self.line(&format!("if ({}) {{ {t} }} else {{ {e} }}", v(*cond)));
+                // A branch to a fault path is unlikely: the compiler lays that path
+                // out of line and the loop around it tight.
+                let c = match (self.raises(then_dest.block), self.raises(else_dest.block)) {
+                    (false, true) => format!("__PLCC_LIKELY({})", v(*cond)),
+                    (true, false) => format!("__PLCC_UNLIKELY({})", v(*cond)),
+                    _ => v(*cond),
+                };
+                self.line(&format!("if ({c}) {{ {t} }} else {{ {e} }}"));
             }
             InstData::Return { value } => match value {
                 Some(x) => self.line(&format!("return {};", v(*x))),
@@ -278,6 +285,23 @@ impl Emitter<'_> {
                 self.line(&format!("{} = {expr};", v(r)));
             }
         }
+    }
+
+    /// True if block `b` is a fault path: a small block raising the fault flag (an
+    /// index out of range, a division by zero), not the entry.
+    fn raises(&self, b: plcc_ir::Block) -> bool {
+        let insts = &self.func.block(b).insts;
+        self.func.entry() != Some(b)
+            && insts.len() <= 4
+            && insts.iter().any(|&i| {
+                matches!(
+                    self.func.inst(i),
+                    InstData::Intrinsic {
+                        op: Intrinsic::RaiseFault,
+                        ..
+                    }
+                )
+            })
     }
 
     /// The assignments to a destination's parameters and the jump.

@@ -12,7 +12,8 @@ use plcc_ir::{AggId, FuncId, Module, Type};
 use std::fmt::Write;
 
 /// The helpers: typed memory access through `memcpy` (so no access depends on
-/// aliasing rules), float constants from their bits, rounding to nearest even, the
+/// aliasing rules), float constants from their bits, the hints that fault paths are
+/// unlikely, rounding to nearest even, the
 /// runtime context (clock, fault flag, stop request) and the reading of the stop
 /// request.
 pub const HELPERS: &str = r#"#include <stddef.h>
@@ -59,6 +60,15 @@ static inline uint64_t __plcc_bits_f64(double f) {
     memcpy(&bits, &f, sizeof bits);
     return bits;
 }
+
+/* The fault paths (an index out of range, a division by zero) are unlikely. */
+#if defined(__GNUC__)
+#define __PLCC_LIKELY(c) __builtin_expect((c) != 0, 1)
+#define __PLCC_UNLIKELY(c) __builtin_expect((c) != 0, 0)
+#else
+#define __PLCC_LIKELY(c) ((c) != 0)
+#define __PLCC_UNLIKELY(c) ((c) != 0)
+#endif
 
 /* Rounding to the nearest integer, ties to even, in any rounding mode and without
    nearbyint (which avr-libc lacks): round (ties away from zero), and a tie goes to

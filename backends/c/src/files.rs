@@ -14,7 +14,7 @@ use crate::decls;
 use crate::names::{ident, FuncForm, Names, CONFIG, RESOURCE};
 use plcc_ir::diag::Diagnostic;
 use plcc_ir::module::DataKind;
-use plcc_ir::passes::legalize;
+use plcc_ir::passes::{legalize, ranges};
 use plcc_ir::{FuncId, Module, Type};
 use std::fmt::Write;
 
@@ -126,11 +126,22 @@ fn greatest_tick_count(module: &Module, tick_us: u64) -> u64 {
     }
 }
 
-/// Writes the files for `module`. The module is legalized for C on a copy.
+/// Writes the files for `module`. On a copy of the module, the checks that value
+/// ranges show cannot fail go (`passes::ranges`: the bounds checks of loops whose
+/// index stays in its array, which a C compiler cannot remove, not knowing that the
+/// index's arithmetic does not wrap), and the module is legalized for C.
 pub fn generate(module: &Module) -> Result<Files, Vec<Diagnostic>> {
     check_entries(module)?;
     let mut m = module.clone();
+    for f in &mut m.funcs {
+        ranges::run(f);
+    }
     legalize::run(&mut m, &legalize::Defines::NONE);
+    debug_assert!(
+        plcc_ir::verify::verify_module(&m).is_ok(),
+        "ranges and legalize left a module that does not verify: {:?}",
+        plcc_ir::verify::verify_module(&m).err()
+    );
     let module = &m;
     let names = Names::new(module);
     let pous_h = decls::pous_h(module, &names);
