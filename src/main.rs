@@ -71,14 +71,14 @@ struct BuildArgs {
     /// FBD bodies of a PLCopen XML file become: the project as IEC text; `il` is the
     /// same), ld-text (the diagrams drawn in ASCII), sfc-text (sequential function
     /// charts drawn as text), or a target output (host: obj,
-    /// header; pic16f876a: asm, hex; vmasm: xcp, asm)
+    /// header; pic16f876a: asm, hex; vmasm: xcp, asm; c: c, headers)
     #[arg(long)]
     emit: Option<String>,
     /// PROGRAMs to instantiate (default: all)
     #[arg(long)]
     program: Vec<String>,
     /// A target setting KEY=VALUE (pic16f876a: pin.%IX0.0=RA2; vmasm: mode=16|32|32a,
-    /// cycle=MS; host: triple=...)
+    /// cycle=MS; host: triple=...; c: cc=PATH)
     #[arg(short = 's', long = "set", value_parser = parse_setting)]
     set: Vec<(String, String)>,
 }
@@ -111,7 +111,8 @@ enum Command {
         /// Print the time the scans took (cold start and compilation excluded)
         #[arg(long)]
         timing: bool,
-        /// A target setting KEY=VALUE (vmasm: mode=16|32|32a; pic16f876a: pin.%IX0.0=RA2)
+        /// A target setting KEY=VALUE (vmasm: mode=16|32|32a; pic16f876a: pin.%IX0.0=RA2;
+        /// c: sanitize=undefined, opt=0..3, cc=PATH)
         #[arg(short = 's', long = "set", value_parser = parse_setting)]
         set: Vec<(String, String)>,
     },
@@ -128,7 +129,8 @@ enum Command {
         /// common divisor of the configuration's task intervals, else 10
         #[arg(long, value_parser = plcc::scenario::parse_ms)]
         cycle_ms: Option<u64>,
-        /// A target setting KEY=VALUE (vmasm: mode=16|32|32a; pic16f876a: pin.%IX0.0=RA2)
+        /// A target setting KEY=VALUE (vmasm: mode=16|32|32a; pic16f876a: pin.%IX0.0=RA2;
+        /// c: sanitize=undefined, opt=0..3, cc=PATH)
         #[arg(short = 's', long = "set", value_parser = parse_setting)]
         set: Vec<(String, String)>,
     },
