@@ -7,6 +7,10 @@
 //!
 //! Skips with a notice when `../shared` is absent (a user's fresh clone).
 
+#[path = "common/c_driver.rs"]
+#[allow(dead_code)]
+mod c_driver;
+
 use plcc::driver::{build_sources, BuildOptions};
 use plcc::{scenario, targets};
 use std::collections::BTreeMap;
@@ -272,6 +276,77 @@ fn corpus_on_every_machine() {
         "corpus programs failed: {}",
         failed.join(", ")
     );
+}
+
+/// Every corpus scenario's program that plcc builds, its C in an executable of its
+/// own under the address and undefined-behaviour sanitizers (which cannot be loaded
+/// into the running test), cold start and 10 scans with no inputs: every variable and
+/// the fault flag as the interpreter has them (`tests/common/c_driver.rs`).
+#[test]
+fn corpus_c_under_address_sanitizer() {
+    let Some(dir) = corpus_dir() else {
+        eprintln!("notice: ../shared/corpus not found; skipping the corpus test");
+        return;
+    };
+    if !targets::find("c").is_some_and(|t| t.runs()) {
+        eprintln!("notice: no C compiler; skipping the corpus under the address sanitizer");
+        return;
+    }
+    let mut modules = Vec::new();
+    for sub in ["bulk/ironplc_e2e", "st", "il"] {
+        let mut entries: Vec<PathBuf> = std::fs::read_dir(dir.join(sub))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "st" || e == "il"))
+            .filter(|p| p.with_extension("expect").exists())
+            .collect();
+        entries.sort();
+        for st in entries {
+            let text = std::fs::read_to_string(st.with_extension("expect")).unwrap();
+            let Ok(scn) = scenario::parse(&text) else {
+                continue;
+            };
+            let opts = BuildOptions {
+                programs: scn.program.iter().cloned().collect(),
+                ..Default::default()
+            };
+            let bytes = std::fs::read(&st).unwrap();
+            // What does not build is judged by `corpus_on_every_machine`.
+            if let Ok(b) = build_sources(vec![(st.display().to_string(), bytes)], &opts) {
+                if let Some(m) = b.module {
+                    modules.push((st.display().to_string(), m));
+                }
+            }
+        }
+    }
+    let half = modules.len().div_ceil(2).max(1);
+    let results: Vec<(usize, Vec<String>)> = std::thread::scope(|s| {
+        let jobs: Vec<_> = modules
+            .chunks(half)
+            .map(|chunk| {
+                s.spawn(move || {
+                    let (mut compared, mut failures) = (0, Vec::new());
+                    for (name, m) in chunk {
+                        let cycle = scenario::Cycle::of(m, None).us;
+                        match c_driver::agrees_under_asan(m, 10, cycle) {
+                            Ok(n) => compared += n,
+                            Err(e) => failures.push(format!("{name}: {e}")),
+                        }
+                    }
+                    (compared, failures)
+                })
+            })
+            .collect();
+        jobs.into_iter().map(|j| j.join().expect("a job")).collect()
+    });
+    let compared: usize = results.iter().map(|r| r.0).sum();
+    let failures: Vec<String> = results.into_iter().flat_map(|r| r.1).collect();
+    println!(
+        "{} corpus programs under ASan and UBSan, {compared} values compared",
+        modules.len()
+    );
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(modules.len() > 300, "only {} programs built", modules.len());
 }
 
 /// Every ST source in the corpus (programs without scenarios, parser fixtures, the

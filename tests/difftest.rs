@@ -1,6 +1,10 @@
 //! A fixed-seed batch of random programs on every machine (`plcc difftest` runs
 //! longer campaigns; TESTING.md has the method), and the shrinker on a known cause.
 
+#[path = "common/c_driver.rs"]
+#[allow(dead_code)]
+mod c_driver;
+
 use plcc::difftest::{self, gen::Expr, gen::Stmt, shrink, Verdict};
 
 /// The machines of the target registry that run here, the interpreter first and
@@ -578,4 +582,65 @@ fn the_chart_shrinker_keeps_the_cause_and_drops_the_rest() {
         sfc::check(&small, &machines(), 2, seed),
         Verdict::Agree { .. }
     ));
+}
+
+// ------------------------------------------------------------------ ASan
+
+/// Random programs of the three generators, their C in an executable of its own
+/// under the address and undefined-behaviour sanitizers (the C machine runs in this
+/// process, where the address sanitizer cannot be loaded): cold start and 6 scans,
+/// every variable and the fault flag as the interpreter has them.
+#[test]
+fn random_programs_pass_the_address_sanitizer() {
+    if !plcc::targets::find("c").is_some_and(|t| t.runs()) {
+        eprintln!("notice: no C compiler; skipping the address sanitizer batch");
+        return;
+    }
+    let mut modules: Vec<(String, plcc_ir::Module)> = Vec::new();
+    for seed in 1..=100 {
+        let st = difftest::program(seed).to_st();
+        let built = plcc::driver::build_sources(
+            vec![("difftest.st".into(), st.into_bytes())],
+            &Default::default(),
+        );
+        if let Ok(m) = built.map_err(|e| e.0).and_then(|b| b.into_module()) {
+            modules.push((format!("ST seed {seed}"), m));
+        }
+    }
+    for seed in 1..=50 {
+        let p = plcopen::program(seed);
+        if let Ok(m) = plcopen::compile(&p, plcc_frontend::plcopen::Profile::Iec) {
+            modules.push((format!("PLCopen seed {seed}"), m));
+        }
+    }
+    for seed in 1..=30 {
+        let (profile, name) = sfc::PROFILES[seed as usize % 3];
+        if let Ok(m) = sfc::compile(&sfc::program(seed), profile) {
+            modules.push((format!("chart seed {seed} --sfc {name}"), m));
+        }
+    }
+    let half = modules.len().div_ceil(2).max(1);
+    let failures: Vec<String> = std::thread::scope(|s| {
+        let jobs: Vec<_> = modules
+            .chunks(half)
+            .map(|chunk| {
+                s.spawn(move || {
+                    chunk
+                        .iter()
+                        .filter_map(|(name, m)| {
+                            c_driver::agrees_under_asan(m, 6, 10_000)
+                                .err()
+                                .map(|e| format!("{name}: {e}"))
+                        })
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        jobs.into_iter()
+            .flat_map(|j| j.join().expect("a job"))
+            .collect()
+    });
+    println!("{} random programs under ASan and UBSan", modules.len());
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(modules.len() > 150, "only {} programs built", modules.len());
 }
