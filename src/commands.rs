@@ -171,14 +171,12 @@ pub fn check(
     }
 }
 
-/// Every documented diagnostic code: the front end's, the backends', the driver's.
+/// Every documented diagnostic code: the front end's, the backends' (of the target
+/// registry), the driver's.
 fn all_codes() -> impl Iterator<Item = &'static plcc_ir::diag::CodeInfo> {
     plcc_frontend::codes::ALL
         .iter()
-        .chain(plcc_native::CODES.iter())
-        .chain(plcc_pic16::CODES.iter())
-        .chain(plcc_vmasm::CODES.iter())
-        .chain(plcc_c::CODES.iter())
+        .chain(targets::TARGETS.iter().flat_map(|t| t.codes.iter()))
         .chain(driver::CODES.iter())
 }
 

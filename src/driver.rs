@@ -24,7 +24,7 @@ pub const CODES: &[plcc_ir::diag::CodeInfo] = &[
     plcc_ir::diag::CodeInfo {
         code: E_CANNOT_RUN,
         title: "target cannot run programs here",
-        explanation: "`plcc run` and `plcc test` need a machine for the target: the JIT (`host`), the interpreter (`interp`), plcc's simulator of the PIC16F876A (`pic16f876a`) or plcc's CPDev VM (`vmasm`). A target without one only produces files. Every target of the command line has one, so only a program using plcc as a library meets this code:\n\n    plcc::targets::machine(\"plc5\", &module)   (* error: no machine for `plc5` *)",
+        explanation: "`plcc run` and `plcc test` need a machine for the target: the JIT (`host`), the interpreter (`interp`), plcc's simulator of the PIC16F876A (`pic16f876a`), plcc's CPDev VM (`vmasm`) or the C built by the system's compiler (`c`, where one is found). A target without one only produces files. Every target of the command line has one, so only a program using plcc as a library meets this code:\n\n    plcc::targets::machine(\"plc5\", &module)   (* error: no machine for `plc5` *)",
     },
     plcc_ir::diag::CodeInfo {
         code: E_INTERP_DATA_TOO_LARGE,

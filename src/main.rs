@@ -61,8 +61,7 @@ struct Common {
 struct BuildArgs {
     #[command(flatten)]
     common: Common,
-    /// The target: host (object file), pic16f876a (MPASM/HEX), vmasm (CPDev XCP + DCP), interp
-    #[arg(long, default_value = "host")]
+    #[arg(long, default_value = "host", help = plcc::targets::build_help())]
     target: String,
     /// Output file (default: the first input with the target's extension; `-` for
     /// standard output)
@@ -72,14 +71,14 @@ struct BuildArgs {
     /// FBD bodies of a PLCopen XML file become: the project as IEC text; `il` is the
     /// same), ld-text (the diagrams drawn in ASCII), sfc-text (sequential function
     /// charts drawn as text), or a target output (host: obj,
-    /// header; pic16f876a: asm, hex; vmasm: xcp, asm)
+    /// header; pic16f876a: asm, hex; vmasm: xcp, asm; c: c, headers)
     #[arg(long)]
     emit: Option<String>,
     /// PROGRAMs to instantiate (default: all)
     #[arg(long)]
     program: Vec<String>,
     /// A target setting KEY=VALUE (pic16f876a: pin.%IX0.0=RA2; vmasm: mode=16|32|32a,
-    /// cycle=MS; host: triple=...)
+    /// cycle=MS; host: triple=...; c: cc=PATH)
     #[arg(short = 's', long = "set", value_parser = parse_setting)]
     set: Vec<(String, String)>,
 }
@@ -96,8 +95,7 @@ enum Command {
     Run {
         #[command(flatten)]
         common: Common,
-        /// Where to run it: host (JIT), interp, pic16f876a (simulator), vmasm (plcc's VM)
-        #[arg(long, default_value = "host")]
+        #[arg(long, default_value = "host", help = plcc::targets::run_help())]
         target: String,
         /// The PROGRAM to run (needed when the files have several)
         #[arg(long)]
@@ -113,7 +111,8 @@ enum Command {
         /// Print the time the scans took (cold start and compilation excluded)
         #[arg(long)]
         timing: bool,
-        /// A target setting KEY=VALUE (vmasm: mode=16|32|32a; pic16f876a: pin.%IX0.0=RA2)
+        /// A target setting KEY=VALUE (vmasm: mode=16|32|32a; pic16f876a: pin.%IX0.0=RA2;
+        /// c: sanitize=undefined, opt=0..3, cc=PATH)
         #[arg(short = 's', long = "set", value_parser = parse_setting)]
         set: Vec<(String, String)>,
     },
@@ -124,14 +123,14 @@ enum Command {
         /// The scenario file
         #[arg(long)]
         scenario: PathBuf,
-        /// Where to run it: host (JIT), interp, pic16f876a (simulator), vmasm (plcc's VM)
-        #[arg(long, default_value = "host")]
+        #[arg(long, default_value = "host", help = plcc::targets::run_help())]
         target: String,
         /// Clock step of `run N` in milliseconds, e.g. 10 or 0.5; default: the greatest
         /// common divisor of the configuration's task intervals, else 10
         #[arg(long, value_parser = plcc::scenario::parse_ms)]
         cycle_ms: Option<u64>,
-        /// A target setting KEY=VALUE (vmasm: mode=16|32|32a; pic16f876a: pin.%IX0.0=RA2)
+        /// A target setting KEY=VALUE (vmasm: mode=16|32|32a; pic16f876a: pin.%IX0.0=RA2;
+        /// c: sanitize=undefined, opt=0..3, cc=PATH)
         #[arg(short = 's', long = "set", value_parser = parse_setting)]
         set: Vec<(String, String)>,
     },
@@ -148,10 +147,8 @@ enum Command {
         /// How many programs (seeds seed, seed+1, ...)
         #[arg(long, default_value_t = 100)]
         count: u64,
-        /// The machines, the reference first (a machine may carry one setting:
-        /// vmasm:mode=32a)
-        #[arg(long, default_value = "interp,host,vmasm,pic16f876a")]
-        targets: String,
+        #[arg(long, help = plcc::targets::difftest_help())]
+        targets: Option<String>,
         /// Scans per program (default 5; 10 with --lang sfc)
         #[arg(long)]
         scans: Option<u32>,
@@ -275,7 +272,7 @@ fn main() -> ExitCode {
         }) => commands::difftest(&commands::DifftestArgs {
             first: seed,
             count,
-            machines: &targets,
+            machines: &targets.unwrap_or_else(|| plcc::targets::checked_machines().join(",")),
             scans: scans.unwrap_or(if lang == "sfc" { 10 } else { 5 }),
             out: out.as_deref(),
             show,

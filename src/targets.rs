@@ -1,7 +1,7 @@
 //! The registry of targets: name to backend, and machines to run programs on.
 
 use plcc_ir::backend::{Backend, Options};
-use plcc_ir::diag::Diagnostic;
+use plcc_ir::diag::{CodeInfo, Diagnostic};
 use plcc_ir::machine::Machine;
 use plcc_ir::Module;
 
@@ -16,12 +16,31 @@ pub struct TargetInfo {
     pub can_run: fn() -> bool,
     /// Its backend, if it generates code (the interpreter does not).
     pub backend: Option<fn() -> Box<dyn Backend>>,
+    /// What it writes, for the help of `--target` (empty: nothing).
+    pub writes: &'static str,
+    /// What runs programs on it, for the help of `run`/`test`.
+    pub machine: &'static str,
+    /// The setting (`KEY=VALUE`) the tests and `plcc difftest` run its machine
+    /// with, the one that checks the most; empty for none.
+    pub checked: &'static str,
+    /// Its backend's diagnostic codes, for `plcc explain`.
+    pub codes: &'static [CodeInfo],
 }
 
 impl TargetInfo {
     /// True if `plcc run`/`plcc test` can run programs on it here.
     pub fn runs(&self) -> bool {
         (self.can_run)()
+    }
+
+    /// Its machine with its [`checked`](TargetInfo::checked) setting:
+    /// `c:sanitize=undefined`.
+    pub fn checked_machine(&self) -> String {
+        if self.checked.is_empty() {
+            self.name.to_string()
+        } else {
+            format!("{}:{}", self.name, self.checked)
+        }
     }
 }
 
@@ -50,30 +69,50 @@ pub const TARGETS: &[TargetInfo] = &[
         about: "this machine: Cranelift JIT for run/test, relocatable object files",
         can_run: always,
         backend: Some(|| Box::new(plcc_native::NativeBackend::new())),
+        writes: "object file",
+        machine: "JIT",
+        checked: "",
+        codes: plcc_native::CODES,
     },
     TargetInfo {
         name: "pic16f876a",
         about: "the PIC16F876A: MPASM assembly (--emit hex: Intel HEX); run/test on plcc's simulator of the chip",
         can_run: always,
         backend: Some(|| Box::new(plcc_pic16::Pic16Backend::new())),
+        writes: "MPASM/HEX",
+        machine: "simulator",
+        checked: "",
+        codes: plcc_pic16::CODES,
     },
     TargetInfo {
         name: "vmasm",
         about: "the CPDev virtual machine: XCP code image and DCP description (--emit asm: the VMASM listing); run/test on plcc's VM",
         can_run: always,
         backend: Some(|| Box::new(plcc_vmasm::VmasmBackend::new())),
+        writes: "CPDev XCP + DCP",
+        machine: "plcc's VM",
+        checked: "",
+        codes: plcc_vmasm::CODES,
     },
     TargetInfo {
         name: "c",
         about: "C against matiec's ABI (POUS.c, POUS.h, Config0.c, Config0.h, Res0.c; --emit headers: plcc's own headers); run/test built by the system's C compiler",
         can_run: plcc_c::can_run,
         backend: Some(|| Box::new(plcc_c::CBackend::new())),
+        writes: "C files against matiec's ABI",
+        machine: "the C built by the system's compiler",
+        checked: "sanitize=undefined",
+        codes: plcc_c::CODES,
     },
     TargetInfo {
         name: "interp",
         about: "plcc's reference IR interpreter (run/test only)",
         can_run: always,
         backend: None,
+        writes: "",
+        machine: "the reference interpreter",
+        checked: "",
+        codes: &[],
     },
 ];
 
@@ -90,6 +129,68 @@ pub fn names(runnable_only: bool) -> String {
         .map(|t| t.name)
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+/// The reference machine, which the others are compared with.
+pub const REFERENCE: &str = "interp";
+
+/// The machines the tests and `plcc difftest` compare programs on: every target
+/// that can run programs here, the reference first, each with its [`checked`]
+/// setting (`c:sanitize=undefined`).
+///
+/// [`checked`]: TargetInfo::checked
+pub fn checked_machines() -> Vec<String> {
+    in_order()
+        .filter(|t| t.runs())
+        .map(|t| t.checked_machine())
+        .collect()
+}
+
+/// Every target, the reference first.
+fn in_order() -> impl Iterator<Item = &'static TargetInfo> {
+    let reference = TARGETS.iter().filter(|t| t.name == REFERENCE);
+    reference.chain(TARGETS.iter().filter(|t| t.name != REFERENCE))
+}
+
+/// The targets that cannot run programs here (the C target without a compiler),
+/// for the notices of tests that run on every machine.
+pub fn not_running() -> Vec<&'static str> {
+    TARGETS
+        .iter()
+        .filter(|t| !t.runs())
+        .map(|t| t.name)
+        .collect()
+}
+
+/// The help of `--target` for building: each target and what it writes.
+pub fn build_help() -> String {
+    let list: Vec<String> = TARGETS
+        .iter()
+        .map(|t| match t.writes {
+            "" => t.name.to_string(),
+            w => format!("{} ({w})", t.name),
+        })
+        .collect();
+    format!("The target: {}", list.join(", "))
+}
+
+/// The help of `--target` for `run` and `test`: each target and its machine.
+pub fn run_help() -> String {
+    let list: Vec<String> = TARGETS
+        .iter()
+        .map(|t| format!("{} ({})", t.name, t.machine))
+        .collect();
+    format!("Where to run it: {}", list.join(", "))
+}
+
+/// The help of `plcc difftest --targets`.
+pub fn difftest_help() -> String {
+    let all: Vec<String> = in_order().map(|t| t.checked_machine()).collect();
+    format!(
+        "The machines, the reference first (a machine may carry one setting: \
+         vmasm:mode=32a); default: those of {} that run here",
+        all.join(",")
+    )
 }
 
 /// The backend of a target that generates code.
@@ -116,6 +217,31 @@ pub fn machine_with(
     settings: &[(String, String)],
 ) -> Result<Box<dyn Machine>, Vec<Diagnostic>> {
     machine_owned(name, module.clone(), settings)
+}
+
+/// The machine of a name that may carry settings, as the tests and `plcc difftest`
+/// write them: `c:sanitize=undefined`, `vmasm:mode=32a` (settings separated by
+/// `,` after the colon).
+pub fn machine_spec(spec: &str, module: &Module) -> Result<Box<dyn Machine>, Vec<Diagnostic>> {
+    let (name, settings) = split_spec(spec);
+    machine_with(name, module, &settings)
+}
+
+/// A machine's name and its settings: `vmasm:mode=32a` is `vmasm` with `mode=32a`.
+pub fn split_spec(spec: &str) -> (&str, Vec<(String, String)>) {
+    match spec.split_once(':') {
+        Some((name, kvs)) => {
+            let settings = kvs
+                .split(',')
+                .map(|kv| match kv.split_once('=') {
+                    Some((k, v)) => (k.trim().to_string(), v.trim().to_string()),
+                    None => (kv.trim().to_string(), String::new()),
+                })
+                .collect();
+            (name, settings)
+        }
+        None => (spec, Vec::new()),
+    }
 }
 
 /// Like [`machine_with`], taking the module (saves a copy of a large one).

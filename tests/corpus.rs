@@ -1,11 +1,15 @@
 //! Runs every ST and IL program of `../shared/corpus` (bulk/, st/, il/) that has a
-//! scenario, on `host` and `interp`, and prints a table per category: passed, failed, unsupported
+//! scenario, on every machine of the target registry, and prints a table per category: passed, failed, unsupported
 //! (with the diagnostic code that says why). Fails if a program that plcc accepts
 //! fails its scenario, if a program is rejected for a reason other than a
 //! not-supported-yet diagnostic, or if anything panics. matiec's IL syntax file must
 //! check with only not-supported diagnostics (and its one known error).
 //!
 //! Skips with a notice when `../shared` is absent (a user's fresh clone).
+
+#[path = "common/c_driver.rs"]
+#[allow(dead_code)]
+mod c_driver;
 
 use plcc::driver::{build_sources, BuildOptions};
 use plcc::{scenario, targets};
@@ -108,7 +112,7 @@ fn judge(st: &Path, expect: &Path, target: &str) -> Verdict {
             _ => return Verdict::Fail("no single PROGRAM to run".into()),
         },
     };
-    let mut m = match targets::machine(target, &module) {
+    let mut m = match targets::machine_spec(target, &module) {
         Ok(m) => m,
         Err(d) => {
             // The chip cannot hold it (REAL arithmetic, too much RAM...): not a failure,
@@ -137,11 +141,11 @@ fn judge(st: &Path, expect: &Path, target: &str) -> Verdict {
     }
 }
 
-fn run_corpus(target: &str) {
-    let Some(dir) = corpus_dir() else {
-        eprintln!("notice: ../shared/corpus not found; skipping the corpus test");
-        return;
-    };
+/// Runs every scenario of the corpus in `dir` on `target`; the table and the
+/// failures as text, and the number of failures.
+fn run_corpus(dir: &Path, target: &str) -> (String, usize) {
+    use std::fmt::Write;
+    let mut out = String::new();
     let mut table: BTreeMap<String, Row> = BTreeMap::new();
     let mut failures = Vec::new();
     let excluded = exclusions();
@@ -174,7 +178,7 @@ fn run_corpus(target: &str) {
                     let key = code.split(' ').next().unwrap_or("").to_string();
                     *row.unsupported.entry(key).or_default() += 1;
                     if std::env::var_os("PLCC_CORPUS_VERBOSE").is_some() {
-                        println!("unsupported {name}: {code}");
+                        let _ = writeln!(out, "unsupported {name}: {code}");
                     }
                 }
                 Verdict::Fail(why) => {
@@ -184,8 +188,9 @@ fn run_corpus(target: &str) {
             }
         }
     }
-    println!("\ncorpus on {target}:");
-    println!(
+    let _ = writeln!(out, "\ncorpus on {target}:");
+    let _ = writeln!(
+        out,
         "{:<40} {:>6} {:>6} {:>6} {:>6}  unsupported by",
         "category", "passed", "failed", "unsup", "excl"
     );
@@ -197,7 +202,8 @@ fn run_corpus(target: &str) {
             .iter()
             .map(|(k, v)| format!("{k}×{v}"))
             .collect();
-        println!(
+        let _ = writeln!(
+            out,
             "{:<40} {:>6} {:>6} {:>6} {:>6}  {}",
             cat,
             row.passed,
@@ -211,48 +217,136 @@ fn run_corpus(target: &str) {
         tu += u;
         te += row.excluded;
     }
-    println!("{:<40} {:>6} {:>6} {:>6} {:>6}", "total", tp, tf, tu, te);
+    let _ = writeln!(
+        out,
+        "{:<40} {:>6} {:>6} {:>6} {:>6}",
+        "total", tp, tf, tu, te
+    );
     if !excluded_seen.is_empty() {
-        println!("\nexcluded (dialect-specific expectations):");
+        let _ = writeln!(out, "\nexcluded (dialect-specific expectations):");
         for e in &excluded_seen {
-            println!("  {e}");
+            let _ = writeln!(out, "  {e}");
         }
     }
     if !failures.is_empty() {
-        println!("\nfailures:");
+        let _ = writeln!(out, "\nfailures:");
         for f in &failures {
-            println!("  {f}");
+            let _ = writeln!(out, "  {f}");
+        }
+    }
+    (out, failures.len())
+}
+
+/// Every corpus scenario passes on every machine of the target registry that runs
+/// here (`targets::checked_machines`: the C machine under the undefined-behaviour
+/// sanitizer), the machines side by side. A scenario a machine cannot hold (the
+/// PIC16's RAM, REAL arithmetic...) counts as unsupported there, by code, in its
+/// table (`PLCC_CORPUS_VERBOSE=1` lists them).
+#[test]
+fn corpus_on_every_machine() {
+    let Some(dir) = corpus_dir() else {
+        eprintln!("notice: ../shared/corpus not found; skipping the corpus test");
+        return;
+    };
+    for t in targets::not_running() {
+        eprintln!("notice: target `{t}` cannot run programs here; the corpus skips it");
+    }
+    let machines = targets::checked_machines();
+    let results: Vec<(String, usize)> = std::thread::scope(|s| {
+        let jobs: Vec<_> = machines
+            .iter()
+            .map(|m| {
+                let dir = &dir;
+                s.spawn(move || run_corpus(dir, m))
+            })
+            .collect();
+        jobs.into_iter()
+            .map(|j| j.join().expect("a machine's run"))
+            .collect()
+    });
+    let mut failed = Vec::new();
+    for (m, (table, n)) in machines.iter().zip(results) {
+        println!("{table}");
+        if n > 0 {
+            failed.push(format!("{n} on {m}"));
         }
     }
     assert!(
-        failures.is_empty(),
-        "{} corpus program(s) failed on {target}",
-        failures.len()
+        failed.is_empty(),
+        "corpus programs failed: {}",
+        failed.join(", ")
     );
 }
 
+/// Every corpus scenario's program that plcc builds, its C in an executable of its
+/// own under the address and undefined-behaviour sanitizers (which cannot be loaded
+/// into the running test), cold start and 10 scans with no inputs: every variable and
+/// the fault flag as the interpreter has them (`tests/common/c_driver.rs`).
 #[test]
-fn corpus_on_interp() {
-    run_corpus("interp");
-}
-
-#[test]
-fn corpus_on_host() {
-    run_corpus("host");
-}
-
-/// Every corpus scenario that fits the PIC16F876A passes on plcc's simulator of it;
-/// the table says how many do not fit and why (`PLCC_CORPUS_VERBOSE=1` lists them).
-#[test]
-fn corpus_on_pic16() {
-    run_corpus("pic16f876a");
-}
-
-/// Every corpus scenario passes on plcc's CPDev VM (what the VM cannot do is
-/// counted as unsupported, by code).
-#[test]
-fn corpus_on_vmasm() {
-    run_corpus("vmasm");
+fn corpus_c_under_address_sanitizer() {
+    let Some(dir) = corpus_dir() else {
+        eprintln!("notice: ../shared/corpus not found; skipping the corpus test");
+        return;
+    };
+    if !targets::find("c").is_some_and(|t| t.runs()) {
+        eprintln!("notice: no C compiler; skipping the corpus under the address sanitizer");
+        return;
+    }
+    let mut modules = Vec::new();
+    for sub in ["bulk/ironplc_e2e", "st", "il"] {
+        let mut entries: Vec<PathBuf> = std::fs::read_dir(dir.join(sub))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "st" || e == "il"))
+            .filter(|p| p.with_extension("expect").exists())
+            .collect();
+        entries.sort();
+        for st in entries {
+            let text = std::fs::read_to_string(st.with_extension("expect")).unwrap();
+            let Ok(scn) = scenario::parse(&text) else {
+                continue;
+            };
+            let opts = BuildOptions {
+                programs: scn.program.iter().cloned().collect(),
+                ..Default::default()
+            };
+            let bytes = std::fs::read(&st).unwrap();
+            // What does not build is judged by `corpus_on_every_machine`.
+            if let Ok(b) = build_sources(vec![(st.display().to_string(), bytes)], &opts) {
+                if let Some(m) = b.module {
+                    modules.push((st.display().to_string(), m));
+                }
+            }
+        }
+    }
+    let half = modules.len().div_ceil(2).max(1);
+    let results: Vec<(usize, Vec<String>)> = std::thread::scope(|s| {
+        let jobs: Vec<_> = modules
+            .chunks(half)
+            .map(|chunk| {
+                s.spawn(move || {
+                    let (mut compared, mut failures) = (0, Vec::new());
+                    for (name, m) in chunk {
+                        let cycle = scenario::Cycle::of(m, None).us;
+                        match c_driver::agrees_under_asan(m, 10, cycle) {
+                            Ok(n) => compared += n,
+                            Err(e) => failures.push(format!("{name}: {e}")),
+                        }
+                    }
+                    (compared, failures)
+                })
+            })
+            .collect();
+        jobs.into_iter().map(|j| j.join().expect("a job")).collect()
+    });
+    let compared: usize = results.iter().map(|r| r.0).sum();
+    let failures: Vec<String> = results.into_iter().flat_map(|r| r.1).collect();
+    println!(
+        "{} corpus programs under ASan and UBSan, {compared} values compared",
+        modules.len()
+    );
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(modules.len() > 300, "only {} programs built", modules.len());
 }
 
 /// Every ST source in the corpus (programs without scenarios, parser fixtures, the

@@ -1,29 +1,60 @@
 //! A fixed-seed batch of random programs on every machine (`plcc difftest` runs
 //! longer campaigns; TESTING.md has the method), and the shrinker on a known cause.
 
+#[path = "common/c_driver.rs"]
+#[allow(dead_code)]
+mod c_driver;
+
 use plcc::difftest::{self, gen::Expr, gen::Stmt, shrink, Verdict};
 
-const MACHINES: [&str; 4] = ["interp", "host", "vmasm", "pic16f876a"];
+/// The machines of the target registry that run here, the interpreter first and
+/// the C machine under the undefined-behaviour sanitizer
+/// (`plcc::targets::checked_machines`).
+fn machines() -> Vec<&'static str> {
+    static MACHINES: std::sync::OnceLock<Vec<String>> = std::sync::OnceLock::new();
+    MACHINES
+        .get_or_init(|| {
+            for t in plcc::targets::not_running() {
+                eprintln!("notice: target `{t}` cannot run programs here; the batches skip it");
+            }
+            plcc::targets::checked_machines()
+        })
+        .iter()
+        .map(String::as_str)
+        .collect()
+}
+
+/// How many of the machines hold every program (all but the PIC16).
+fn machines_holding_everything() -> usize {
+    machines()
+        .iter()
+        .filter(|m| !m.starts_with("pic16"))
+        .count()
+}
 
 #[test]
 fn three_hundred_random_programs_agree_on_every_machine() {
     let mut machines_ran = 0;
     let mut findings = Vec::new();
     for seed in 1..=300 {
-        match difftest::check(&difftest::program(seed), &MACHINES, 4, seed) {
+        match difftest::check(&difftest::program(seed), &machines(), 4, seed) {
             Verdict::Agree { machines } => machines_ran += machines,
             v => {
-                let f = difftest::run_seed(seed, &MACHINES, 4).expect("still failing");
+                let f = difftest::run_seed(seed, &machines(), 4).expect("still failing");
                 findings.push(format!("seed {seed}: {v:?}\n{}", f.reproducer));
             }
         }
     }
     println!("300 programs, {machines_ran} machine runs");
     assert!(findings.is_empty(), "{}", findings.join("\n\n"));
-    // Every program runs on the three machines that hold everything; about half
-    // fit the PIC16 too (not those with LREAL arithmetic, error E9001, nor most of
-    // those with an EXPT, whose soft-float routines need more RAM than is left).
-    assert!(machines_ran > 300 * 3 + 130, "{machines_ran} machine runs");
+    // Every program runs on the machines that hold everything; about half fit the
+    // PIC16 too (not those with LREAL arithmetic, error E9001, nor most of those
+    // with an EXPT, whose soft-float routines need more RAM than is left).
+    let full = machines_holding_everything();
+    assert!(
+        machines_ran > 300 * full + 130,
+        "{machines_ran} machine runs"
+    );
 }
 
 #[test]
@@ -120,7 +151,7 @@ fn the_shrinker_keeps_the_cause_and_drops_the_rest() {
     assert!(!small.inout, "the in-out POUs go");
     // What is left still compiles and runs everywhere.
     assert!(matches!(
-        difftest::check(&small, &MACHINES, 2, seed),
+        difftest::check(&small, &machines(), 2, seed),
         Verdict::Agree { .. }
     ));
 }
@@ -137,7 +168,7 @@ fn three_hundred_random_plcopen_programs_agree_on_every_machine() {
     let mut findings = Vec::new();
     for seed in 1..=300 {
         let p = plcopen::program(seed);
-        match plcopen::check(&p, &MACHINES, 5, seed) {
+        match plcopen::check(&p, &machines(), 5, seed) {
             Verdict::Agree { machines } => machines_ran += machines,
             v => {
                 findings.push(format!("seed {seed}: {v:?}\n{}", p.to_xml()));
@@ -164,7 +195,10 @@ fn three_hundred_random_plcopen_programs_agree_on_every_machine() {
     assert!(findings.is_empty(), "{}", findings.join("\n\n"));
     // Nearly all fit the PIC16 too; most run beside their twin; a quarter are
     // compared under every profile.
-    assert!(machines_ran > 300 * 4 - 30, "{machines_ran} machine runs");
+    assert!(
+        machines_ran > 300 * machines().len() - 30,
+        "{machines_ran} machine runs"
+    );
     assert!(twins > 250, "{twins} beside their twin");
     assert!(
         (50..=110).contains(&profiles),
@@ -420,7 +454,7 @@ fn the_plcopen_shrinker_keeps_the_cause_and_drops_the_rest() {
         small.to_xml()
     );
     assert!(matches!(
-        plcopen::check(&small, &MACHINES, 2, seed),
+        plcopen::check(&small, &machines(), 2, seed),
         Verdict::Agree { .. }
     ));
 }
@@ -442,9 +476,9 @@ fn random_charts_agree_on_every_machine_under_every_profile() {
         let profile = sfc::PROFILES[seed as usize % 3];
         // An unsafe chart is refused under iec and codesys (E0784): no runs.
         if profile.0 == plcc_frontend::sfc::Profile::Matiec || !sfc::is_unsafe_under_matiec(&p) {
-            possible += MACHINES.len();
+            possible += machines().len();
         }
-        match sfc::check_under(&p, &[profile], &MACHINES, 6, seed) {
+        match sfc::check_under(&p, &[profile], &machines(), 6, seed) {
             Verdict::Agree { machines } => machines_ran += machines,
             v => findings.push(format!("seed {seed}: {v:?}\n{}", p.to_st())),
         }
@@ -545,7 +579,68 @@ fn the_chart_shrinker_keeps_the_cause_and_drops_the_rest() {
         small.to_st()
     );
     assert!(matches!(
-        sfc::check(&small, &MACHINES, 2, seed),
+        sfc::check(&small, &machines(), 2, seed),
         Verdict::Agree { .. }
     ));
+}
+
+// ------------------------------------------------------------------ ASan
+
+/// Random programs of the three generators, their C in an executable of its own
+/// under the address and undefined-behaviour sanitizers (the C machine runs in this
+/// process, where the address sanitizer cannot be loaded): cold start and 6 scans,
+/// every variable and the fault flag as the interpreter has them.
+#[test]
+fn random_programs_pass_the_address_sanitizer() {
+    if !plcc::targets::find("c").is_some_and(|t| t.runs()) {
+        eprintln!("notice: no C compiler; skipping the address sanitizer batch");
+        return;
+    }
+    let mut modules: Vec<(String, plcc_ir::Module)> = Vec::new();
+    for seed in 1..=100 {
+        let st = difftest::program(seed).to_st();
+        let built = plcc::driver::build_sources(
+            vec![("difftest.st".into(), st.into_bytes())],
+            &Default::default(),
+        );
+        if let Ok(m) = built.map_err(|e| e.0).and_then(|b| b.into_module()) {
+            modules.push((format!("ST seed {seed}"), m));
+        }
+    }
+    for seed in 1..=50 {
+        let p = plcopen::program(seed);
+        if let Ok(m) = plcopen::compile(&p, plcc_frontend::plcopen::Profile::Iec) {
+            modules.push((format!("PLCopen seed {seed}"), m));
+        }
+    }
+    for seed in 1..=30 {
+        let (profile, name) = sfc::PROFILES[seed as usize % 3];
+        if let Ok(m) = sfc::compile(&sfc::program(seed), profile) {
+            modules.push((format!("chart seed {seed} --sfc {name}"), m));
+        }
+    }
+    let half = modules.len().div_ceil(2).max(1);
+    let failures: Vec<String> = std::thread::scope(|s| {
+        let jobs: Vec<_> = modules
+            .chunks(half)
+            .map(|chunk| {
+                s.spawn(move || {
+                    chunk
+                        .iter()
+                        .filter_map(|(name, m)| {
+                            c_driver::agrees_under_asan(m, 6, 10_000)
+                                .err()
+                                .map(|e| format!("{name}: {e}"))
+                        })
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        jobs.into_iter()
+            .flat_map(|j| j.join().expect("a job"))
+            .collect()
+    });
+    println!("{} random programs under ASan and UBSan", modules.len());
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(modules.len() > 150, "only {} programs built", modules.len());
 }

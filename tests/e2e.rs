@@ -524,14 +524,7 @@ fn build(case: &Case) -> Result<Built, String> {
 
 /// A machine of `target`, which may carry settings: `vmasm:mode=32a`.
 fn machine(target: &str, module: &Module) -> Result<Box<dyn Machine>, String> {
-    let (name, settings) = match target.split_once(':') {
-        Some((n, kv)) => {
-            let (k, v) = kv.split_once('=').expect("target:KEY=VALUE");
-            (n, vec![(k.to_string(), v.to_string())])
-        }
-        None => (target, Vec::new()),
-    };
-    targets::machine_with(name, module, &settings).map_err(|d| {
+    targets::machine_spec(target, module).map_err(|d| {
         let msgs: Vec<String> = d.iter().map(|x| x.to_string()).collect();
         format!("no {target} machine: {}", msgs.join("; "))
     })
@@ -605,11 +598,41 @@ fn programs_on_interp() {
     run_all("interp");
 }
 
-/// The C machine, its library built with the undefined-behaviour sanitizer (which
-/// stops the process at the first undefined operation).
+/// The C machine with the registry's checked setting: its library built with the
+/// undefined-behaviour sanitizer (which stops the process at the first undefined
+/// operation).
 #[test]
 fn programs_on_c() {
-    run_all("c:sanitize=undefined");
+    run_all(&checked_machine("c"));
+}
+
+/// A target's machine with the setting the target registry checks it with
+/// (`c:sanitize=undefined`).
+fn checked_machine(name: &str) -> String {
+    targets::find(name)
+        .unwrap_or_else(|| panic!("`{name}` is not in the target registry"))
+        .checked_machine()
+}
+
+/// The targets whose machines have their own tests here: every scenario
+/// (`programs_on_*`) and every scan against the interpreter (`*_agree`).
+const MACHINES_TESTED: [&str; 5] = ["host", "interp", "vmasm", "pic16f876a", "c"];
+
+/// Every target of the registry that runs programs has its tests here.
+#[test]
+fn every_machine_of_the_registry_is_tested() {
+    let missing: Vec<&str> = targets::TARGETS
+        .iter()
+        .map(|t| t.name)
+        .filter(|n| !MACHINES_TESTED.contains(n))
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "targets of src/targets.rs without programs_on_* and *_agree tests: {missing:?}"
+    );
+    for t in targets::not_running() {
+        println!("notice: target `{t}` cannot run programs here");
+    }
 }
 
 #[test]
@@ -852,20 +875,149 @@ fn interp_and_vmasm_32a_agree() {
 /// interpreter.
 #[test]
 fn interp_and_c_agree() {
-    agree("interp", "c:sanitize=undefined");
+    agree("interp", &checked_machine("c"));
 }
 
-/// Every program's C compiles as C++ too (`g++ -std=gnu++11`, as OpenPLC builds
-/// it), with `-Wall -Wextra -Werror`.
+/// Every program's C compiles as C++ (`-std=gnu++11`, as OpenPLC builds it) under
+/// g++ and clang++, and as C99 under clang, with `-Wall -Wextra -Werror`: checked
+/// without code generation, with the system headers precompiled. (As C99 under gcc,
+/// at -O1 with the same warnings, the C machine builds every program in
+/// `programs_on_c`, `interp_and_c_agree` and `c_under_address_sanitizer`.)
 #[test]
-fn c_files_compile_as_cpp() {
+fn c_files_compile_under_gcc_and_clang() {
     let (cases, mut failures) = cases();
+    let mut built = Vec::new();
     for case in &cases {
-        let r = build(case).and_then(|b| c_driver::compiles_as_cpp(&b.module));
-        if let Err(e) = r {
-            failures.push(format!("{}: {e}", case.name));
+        match build(case) {
+            Ok(b) => built.push((case.name.clone(), b.module)),
+            Err(e) => failures.push(format!("{}: {e}", case.name)),
         }
     }
+    let dir = plcc_c::cc::TempDir::new().expect("a temporary directory");
+    let modules: Vec<&Module> = built.iter().map(|(_, m)| m).collect();
+    let dirs = c_driver::write_programs(&modules, &dir.path().join("programs")).expect("the files");
+    let results: Vec<_> = std::thread::scope(|s| {
+        let jobs: Vec<_> = c_driver::COMPILERS
+            .iter()
+            .enumerate()
+            .map(|(k, c)| {
+                let work = dir.path().join(format!("pch{k}"));
+                let dirs = &dirs;
+                s.spawn(move || c_driver::compile_programs(c, &work, dirs))
+            })
+            .collect();
+        jobs.into_iter()
+            .map(|j| j.join().expect("a compiler job"))
+            .collect()
+    });
+    for (c, r) in c_driver::COMPILERS.iter().zip(results) {
+        match r {
+            Ok(failed) => {
+                for (k, e) in failed {
+                    failures.push(format!("{} under {}: {e}", built[k].0, c.name));
+                }
+            }
+            Err(e) => failures.push(format!("{}: {e}", c.name)),
+        }
+    }
+    println!(
+        "{} programs' C checked under {}",
+        built.len(),
+        c_driver::COMPILERS.map(|c| c.name).join(", ")
+    );
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Programs whose C does not fit the ATmega2560, and why, one per line (`NAME:
+/// reason`); `c_builds_for_avr` checks that this list is exactly what avr-gcc says.
+const AVR_UNFIT: &str = include_str!("avr_unfit.txt");
+
+/// Every program's C builds with avr-gcc for the ATmega2560 (`-mmcu=atmega2560 -Os`,
+/// OpenPLC's Arduino Mega target), with plcc's own headers and a `main` of its own,
+/// under `-Wall -Wextra -Werror`; what does not fit the chip (its 8 KB of RAM, or
+/// LREALs, which avr-gcc's 32-bit double cannot hold) is `tests/avr_unfit.txt`.
+#[test]
+fn c_builds_for_avr() {
+    if std::process::Command::new("avr-gcc")
+        .arg("--version")
+        .output()
+        .is_err()
+    {
+        eprintln!("notice: avr-gcc is not installed (.ci/run installs gcc-avr and avr-libc); skipping the AVR builds");
+        return;
+    }
+    let (cases, mut failures) = cases();
+    let mut built = Vec::new();
+    for case in &cases {
+        match build(case) {
+            Ok(b) => built.push((case.name.clone(), b.module)),
+            Err(e) => failures.push(format!("{}: {e}", case.name)),
+        }
+    }
+    let dir = plcc_c::cc::TempDir::new().expect("a temporary directory");
+    let main_o = c_driver::avr_main(&dir.path().join("main")).expect("the AVR main");
+    let modules: Vec<&Module> = built.iter().map(|(_, m)| m).collect();
+    let dirs = c_driver::write_programs(&modules, &dir.path().join("programs")).expect("the files");
+    // Two at a time (the machine's cores).
+    let results: Vec<Result<c_driver::Avr, String>> = std::thread::scope(|s| {
+        let half = dirs.len().div_ceil(2);
+        let jobs: Vec<_> = dirs
+            .chunks(half.max(1))
+            .map(|chunk| {
+                let main_o = &main_o;
+                s.spawn(move || {
+                    chunk
+                        .iter()
+                        .map(|d| c_driver::avr_build(d, main_o))
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        jobs.into_iter()
+            .flat_map(|j| j.join().expect("an AVR job"))
+            .collect()
+    });
+    let (mut fits, mut flash, mut ram) = (0, 0u64, 0u64);
+    let mut unfit = Vec::new();
+    for ((name, _), r) in built.iter().zip(results) {
+        match r {
+            Ok(c_driver::Avr::Fits { flash: f, ram: r }) => {
+                fits += 1;
+                flash = flash.max(f);
+                ram = ram.max(r);
+            }
+            Ok(c_driver::Avr::DoesNotFit(why)) => unfit.push(format!("{name}: {why}")),
+            Err(e) => failures.push(format!("{name}: {e}")),
+        }
+    }
+    println!(
+        "{fits} of {} programs build for the ATmega2560 (at most {flash} bytes of flash, {ram} of RAM); {} do not fit:",
+        built.len(),
+        unfit.len()
+    );
+    for u in &unfit {
+        println!("  {u}");
+    }
+    let listed: Vec<&str> = AVR_UNFIT
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with('#'))
+        .collect();
+    for u in &unfit {
+        if !listed.contains(&u.as_str()) {
+            failures.push(format!(
+                "does not fit, but tests/avr_unfit.txt does not say so: {u}"
+            ));
+        }
+    }
+    for l in &listed {
+        if !unfit.iter().any(|u| u == l) {
+            failures.push(format!(
+                "tests/avr_unfit.txt lists what no longer happens: {l}"
+            ));
+        }
+    }
+    assert!(fits > 300, "only {fits} programs build for the ATmega2560");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 

@@ -123,6 +123,8 @@ fn xml_and_the_editors_st_agree_scan_by_scan() {
     let mut failures = Vec::new();
     let mut not_built = Vec::new();
     let mut report = Vec::new();
+    // Every machine of the target registry that runs here (the C one under UBSan).
+    let machines = plcc::targets::checked_machines();
     for st in &pairs {
         let stem = st
             .file_name()
@@ -164,7 +166,8 @@ fn xml_and_the_editors_st_agree_scan_by_scan() {
         }
         let cycle = a.task_tick_us().map_or(10, |us| us.div_ceil(1000) as u32);
         let mut ran = Vec::new();
-        for target in ["interp", "host", "vmasm", "pic16f876a"] {
+        for target in &machines {
+            let target = target.as_str();
             let seed = 0x9E37_79B9_7F4A_7C15 ^ stem.len() as u64;
             match lockstep::run(&a, &b, target, SCANS, cycle, seed, &writable, &|_| true) {
                 Ok(Some(o)) => ran.push(format!(

@@ -111,8 +111,8 @@ fn matiec_profile_matches_matiec_scan_by_scan() {
             failures.push(format!("{name} does not compile: {}", errs.join("; ")));
             continue;
         };
-        for target in ["interp", "host", "vmasm", "pic16f876a"] {
-            let mut m = match targets::machine(target, &module) {
+        for target in targets::checked_machines().iter().map(String::as_str) {
+            let mut m = match targets::machine_spec(target, &module) {
                 Ok(m) => m,
                 // The program does not fit the chip: counted, not a failure.
                 Err(d) if UNFIT.contains(&d[0].code) => {
@@ -219,7 +219,7 @@ fn xml_charts_run_as_the_editors_text() {
         let mut text = std::fs::read(&st).expect("the editor's ST");
         text.extend_from_slice(SAMPLE_CONFIG.as_bytes());
         let b = build(vec![(st.display().to_string(), text)]);
-        for target in ["interp", "host", "vmasm", "pic16f876a"] {
+        for target in targets::checked_machines().iter().map(String::as_str) {
             match lockstep::run(
                 &a,
                 &b,
@@ -264,8 +264,8 @@ fn graphical_condition_blocks_are_late_only_under_matiec() {
         let b = build_sources(vec![(xml.display().to_string(), bytes)], &opts)
             .unwrap_or_else(|e| panic!("{}", e.0));
         let module = b.module.expect("the sample compiles");
-        for target in ["interp", "host", "vmasm", "pic16f876a"] {
-            let mut m = match targets::machine(target, &module) {
+        for target in targets::checked_machines().iter().map(String::as_str) {
+            let mut m = match targets::machine_spec(target, &module) {
                 Ok(m) => m,
                 Err(d) if UNFIT.contains(&d[0].code) => continue,
                 Err(d) => panic!("{target}: {}", d[0]),

@@ -97,14 +97,7 @@ pub(crate) fn build_text(name: &str, text: &str, opts: &BuildOptions) -> Result<
 
 /// The machine of a name with its setting (`vmasm:mode=32a`).
 pub(crate) fn machine(name: &str, module: &Module) -> Result<Option<Box<dyn Machine>>, String> {
-    let (target, settings) = match name.split_once(':') {
-        Some((t, kv)) => match kv.split_once('=') {
-            Some((k, v)) => (t, vec![(k.to_string(), v.to_string())]),
-            None => (t, Vec::new()),
-        },
-        None => (name, Vec::new()),
-    };
-    match targets::machine_with(target, module, &settings) {
+    match targets::machine_spec(name, module) {
         Ok(m) => Ok(Some(m)),
         Err(d) if d.iter().any(|x| UNFIT.contains(&x.code)) => Ok(None),
         Err(d) => Err(format!(

@@ -73,7 +73,7 @@ pub fn run(
     writable: &dyn Fn(&str) -> bool,
     compare: &dyn Fn(&str) -> bool,
 ) -> Result<Option<Outcome>, String> {
-    let machine = |m: &Module, which: &str| match plcc::targets::machine(target, m) {
+    let machine = |m: &Module, which: &str| match plcc::targets::machine_spec(target, m) {
         Ok(x) => Ok(Some(x)),
         Err(d) if d.iter().any(|x| UNFIT.contains(&x.code)) => Ok(None),
         Err(d) => Err(format!(

@@ -9,12 +9,14 @@ use crate::names::{field_type, value_type, FuncForm, Names};
 use crate::repr::Repr;
 use plcc_ir::module::AggDef;
 use plcc_ir::types::MemType;
-use plcc_ir::{AggId, FuncId, Module};
+use plcc_ir::{AggId, FuncId, Module, Type};
 use std::fmt::Write;
 
 /// The helpers: typed memory access through `memcpy` (so no access depends on
-/// aliasing rules), float constants from their bits, the runtime context (clock, fault
-/// flag, stop request) and the reading of the stop request.
+/// aliasing rules), float constants from their bits, the hints that fault paths are
+/// unlikely, rounding to nearest even, the
+/// runtime context (clock, fault flag, stop request) and the reading of the stop
+/// request.
 pub const HELPERS: &str = r#"#include <stddef.h>
 #include <stdint.h>
 #include <string.h>
@@ -58,6 +60,33 @@ static inline uint64_t __plcc_bits_f64(double f) {
     uint64_t bits;
     memcpy(&bits, &f, sizeof bits);
     return bits;
+}
+
+/* The fault paths (an index out of range, a division by zero) are unlikely. */
+#if defined(__GNUC__)
+#define __PLCC_LIKELY(c) __builtin_expect((c) != 0, 1)
+#define __PLCC_UNLIKELY(c) __builtin_expect((c) != 0, 0)
+#else
+#define __PLCC_LIKELY(c) ((c) != 0)
+#define __PLCC_UNLIKELY(c) ((c) != 0)
+#endif
+
+/* Rounding to the nearest integer, ties to even, in any rounding mode and without
+   nearbyint (which avr-libc lacks): round (ties away from zero), and a tie goes to
+   twice the rounded half, which is even. Every step is exact. */
+static inline float __plcc_nearestf(float x) {
+    float r = roundf(x);
+    if (fabsf(r - x) == 0.5f) {
+        r = 2.0f * roundf(0.5f * x);
+    }
+    return r;
+}
+static inline double __plcc_nearest(double x) {
+    double r = round(x);
+    if (fabs(r - x) == 0.5) {
+        r = 2.0 * round(0.5 * x);
+    }
+    return r;
 }
 
 /* The runtime context: the clock sampled at the start of the scan, the fault flag
@@ -320,6 +349,21 @@ pub fn preps(module: &Module, names: &Names) -> String {
     s
 }
 
+/// True if the module has an LREAL anywhere: a value, a variable, a field, an
+/// array's elements.
+fn uses_f64(module: &Module) -> bool {
+    let f64 = |t: &MemType| *t == MemType::Scalar(Type::F64);
+    module
+        .funcs
+        .iter()
+        .any(|f| f.values.iter().any(|v| v.ty == Type::F64))
+        || module.data.iter().any(|d| f64(&d.ty))
+        || module.aggs.iter().any(|a| match a {
+            AggDef::Struct(s) => s.fields.iter().any(|x| f64(&x.ty)),
+            AggDef::Array(x) => f64(&x.elem),
+        })
+}
+
 /// `POUS.h`.
 pub fn pous_h(module: &Module, names: &Names) -> String {
     let mut s = String::new();
@@ -327,6 +371,14 @@ pub fn pous_h(module: &Module, names: &Names) -> String {
     s.push_str("#ifndef __POUS_H\n#define __POUS_H\n\n");
     s.push_str("#include \"accessor.h\"\n#include \"iec_std_lib.h\"\n\n");
     s.push_str(HELPERS);
+    if uses_f64(module) {
+        // LREAL must be a 64-bit double (avr-gcc's has 32 bits: the program would
+        // compute in the wrong precision, and its LREAL constants would lose bits).
+        s.push_str(
+            "\n/* LREAL is a 64-bit IEEE double: a compiler whose double is narrower stops here. */\n\
+             typedef char __plcc_lreal_needs_a_64_bit_double[sizeof(double) == 8 ? 1 : -1];\n",
+        );
+    }
     s.push('\n');
     s.push_str(&types(module, names));
     if !names.repr.located.is_empty() {

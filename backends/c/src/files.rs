@@ -16,7 +16,7 @@ use crate::repr::Repr;
 use crate::variables;
 use plcc_ir::diag::Diagnostic;
 use plcc_ir::module::{AggDef, DataKind};
-use plcc_ir::passes::{inline, legalize};
+use plcc_ir::passes::{inline, legalize, ranges};
 use plcc_ir::types::MemType;
 use plcc_ir::{FuncId, InstData, Module, Type};
 use std::fmt::Write;
@@ -163,13 +163,24 @@ fn grouped(names: &Names) -> bool {
     names.program_resource.windows(2).all(|w| w[0] <= w[1])
 }
 
-/// Writes the files for `module`. The module is legalized for C on a copy.
+/// Writes the files for `module`. On a copy of the module, the checks that value
+/// ranges show cannot fail go (`passes::ranges`: the bounds checks of loops whose
+/// index stays in its array, which a C compiler cannot remove, not knowing that the
+/// index's arithmetic does not wrap), and the module is legalized for C.
 pub fn generate(module: &Module) -> Result<Files, Vec<Diagnostic>> {
     check_entries(module)?;
     let mut m = module.clone();
     let names = Names::new(&m)?;
     inline_globals_address(&mut m, &names)?;
+    for f in &mut m.funcs {
+        ranges::run(f);
+    }
     legalize::run(&mut m, &legalize::Defines::NONE);
+    debug_assert!(
+        plcc_ir::verify::verify_module(&m).is_ok(),
+        "ranges and legalize left a module that does not verify: {:?}",
+        plcc_ir::verify::verify_module(&m).err()
+    );
     let module = &m;
     let pous_h = decls::pous_h(module, &names);
     let mut pous_c = String::from(

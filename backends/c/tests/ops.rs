@@ -217,6 +217,14 @@ fn float_edges() -> Vec<f64> {
         f64::NEG_INFINITY,
         f64::NAN,
         1e-310,
+        // Ties and near-ties for rounding to nearest even, up to where every float
+        // is an integer.
+        3.5,
+        -3.5,
+        8388607.5,
+        -8388606.5,
+        4503599627370495.5,
+        0.49999999999999994,
     ]
 }
 

@@ -215,6 +215,13 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
     }
     let settings = Settings::from_options(options).map_err(|d| vec![*d])?;
     check_call_depth(module)?;
+    // The guards of what the port's C leaves undefined (division by zero, MIN / -1
+    // where it overflows, shifts by the width, float-to-integer conversions out of
+    // range) are the IR's legalization; the instruction selector emits those
+    // operations plainly.
+    let mut legal = module.clone();
+    plcc_ir::passes::legalize::run(&mut legal, &settings.port.defines());
+    let module = &legal;
     let mode = settings.mode;
     let ptr_bytes = mode.addr_bytes() as u32;
     let max_align = if mode == Mode::M32A { 4 } else { 1 };

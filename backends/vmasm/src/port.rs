@@ -9,6 +9,7 @@
 //! multiplication and which divisions are free of undefined behaviour (§3).
 
 use crate::isa::{op, Opcode};
+use plcc_ir::passes::legalize::{Defines, Widths};
 
 /// A CPDev VM port.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, Default)]
@@ -96,6 +97,25 @@ impl Port {
     /// True when the port's C `int` has 16 bits.
     pub fn int16(self) -> bool {
         matches!(self, Port::Avr | Port::M6502 | Port::Sdcc)
+    }
+
+    /// What the code for this port defines as the IR does, for the guards of
+    /// `passes::legalize` (which the build runs first): division by zero, shifts by
+    /// the width or more and float-to-integer conversions out of range are undefined
+    /// in the C VMs; `MIN / -1` is defined where the operands are promoted to a wider
+    /// C `int` (SINT, and INT where `int` has 32 bits) and for LINT, which the
+    /// instruction selector divides by magnitudes as LWORD (`isel::portable`).
+    pub fn defines(self) -> Defines {
+        Defines {
+            div_by_zero: false,
+            min_div_neg1: if self.int16() {
+                Widths::of(&[8, 64])
+            } else {
+                Widths::of(&[8, 16, 64])
+            },
+            shift_ge_width: false,
+            float_to_int_saturates: false,
+        }
     }
 
     /// True when the port's VM has `part` compiled in.

@@ -11,14 +11,16 @@
 //!
 //! After the pass, in a function it has run on:
 //! - every `sdiv`/`srem`/`udiv`/`urem` has a divisor that is not zero (if
-//!   `div_by_zero` is not defined) and no `sdiv`/`srem` sees `MIN, -1` (if
-//!   `min_div_neg1` is not defined);
+//!   `div_by_zero` is not defined) and no `sdiv`/`srem` sees `MIN, -1` (at the widths
+//!   `min_div_neg1` does not hold);
 //! - every `ishl`/`ushr`/`sshr` has a count below the width (if `shift_ge_width` is
 //!   not defined);
 //! - every `ftosi`/`ftoui` has an operand whose truncation fits the result type (if
 //!   `float_to_int_saturates` is not defined).
 //!
-//! The operations stay the same instructions, so a backend emits them plainly. The
+//! The operations stay the same instructions, so a backend emits them plainly. What
+//! the rewrites leave unused (the operands of a division by a constant zero, a
+//! guarded division whose value nobody reads) is removed ([`dce`](super::dce)). The
 //! pass is not idempotent (a second run guards the guarded operations again); run it
 //! once, last, on the module a backend translates.
 
@@ -28,14 +30,52 @@ use crate::inst::{BinaryOp, BlockCall, ConvOp, FloatCC, InstData, IntCC, Intrins
 use crate::module::Module;
 use crate::types::Type;
 
+/// A set of integer widths: 8, 16, 32 and 64 bits.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Widths(u8);
+
+impl Widths {
+    /// No width.
+    pub const NONE: Widths = Widths(0);
+    /// Every width.
+    pub const ALL: Widths = Widths(0b1111);
+
+    /// The widths listed (each 8, 16, 32 or 64).
+    pub const fn of(bits: &[u32]) -> Widths {
+        let mut set = 0;
+        let mut k = 0;
+        while k < bits.len() {
+            set |= Widths::bit(bits[k]);
+            k += 1;
+        }
+        Widths(set)
+    }
+
+    const fn bit(bits: u32) -> u8 {
+        match bits {
+            8 => 1,
+            16 => 2,
+            32 => 4,
+            64 => 8,
+            _ => 0,
+        }
+    }
+
+    /// True if `bits` is in the set.
+    pub const fn contains(self, bits: u32) -> bool {
+        self.0 & Widths::bit(bits) != 0
+    }
+}
+
 /// What a target's own arithmetic defines as the IR does. `true` means the target's
 /// operation already gives the IR's result (no guard); `false` asks for a guard.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct Defines {
     /// Division and remainder by zero give 0 and raise the fault flag.
     pub div_by_zero: bool,
-    /// Signed `MIN / -1` gives `MIN` and `MIN % -1` gives 0.
-    pub min_div_neg1: bool,
+    /// The widths at which signed `MIN / -1` gives `MIN` and `MIN % -1` gives 0 (a
+    /// C-like target defines it where the type is promoted to a wider `int`).
+    pub min_div_neg1: Widths,
     /// Shifts by a count of at least the width give 0 (`sshr`: the sign fill).
     pub shift_ge_width: bool,
     /// Float-to-integer conversions saturate at the result type's range and give 0
@@ -47,7 +87,7 @@ impl Defines {
     /// A target that defines everything as the IR does: the pass changes nothing.
     pub const ALL: Defines = Defines {
         div_by_zero: true,
-        min_div_neg1: true,
+        min_div_neg1: Widths::ALL,
         shift_ge_width: true,
         float_to_int_saturates: true,
     };
@@ -55,7 +95,7 @@ impl Defines {
     /// A target that defines none of it (C: each is undefined behaviour there).
     pub const NONE: Defines = Defines {
         div_by_zero: false,
-        min_div_neg1: false,
+        min_div_neg1: Widths::NONE,
         shift_ge_width: false,
         float_to_int_saturates: false,
     };
@@ -85,10 +125,14 @@ pub fn run_function(f: &mut Function, defines: &Defines) -> bool {
             let inst = f.blocks[b.index()].insts[k];
             match *f.inst(inst) {
                 InstData::Binary { op, args } if op.can_fault() => {
-                    if let Some(join) = guard_division(f, b, k, op, args, defines) {
-                        changed = true;
-                        work.push(join);
-                        break;
+                    match guard_division(f, b, k, op, args, defines) {
+                        Guarded::Split(join) => {
+                            changed = true;
+                            work.push(join);
+                            break;
+                        }
+                        Guarded::InPlace => changed = true,
+                        Guarded::Unchanged => {}
                     }
                 }
                 InstData::Binary {
@@ -115,6 +159,9 @@ pub fn run_function(f: &mut Function, defines: &Defines) -> bool {
                 .map_or(usize::MAX - 1, |p| p)
                 + 1;
         }
+    }
+    if changed {
+        super::dce::run(f);
     }
     changed
 }
@@ -185,8 +232,17 @@ fn const_of(f: &Function, v: Value) -> Option<i64> {
     }
 }
 
-/// Guards the division at position `k` of block `b`. Returns the block where the
-/// rest of `b` went when it had to split `b` (the caller goes on there).
+/// What [`guard_division`] did.
+enum Guarded {
+    /// Nothing: the target defines the division for every operand it can see.
+    Unchanged,
+    /// Rewrote it within its block.
+    InPlace,
+    /// Split the block: the rest of it went to this block (the caller goes on there).
+    Split(Block),
+}
+
+/// Guards the division at position `k` of block `b`.
 fn guard_division(
     f: &mut Function,
     b: Block,
@@ -194,10 +250,12 @@ fn guard_division(
     op: BinaryOp,
     [x, d]: [Value; 2],
     defines: &Defines,
-) -> Option<Block> {
+) -> Guarded {
     let inst = f.blocks[b.index()].insts[k];
     let ty = f.value_type(x);
     let signed = matches!(op, BinaryOp::Sdiv | BinaryOp::Srem);
+    // Signed `MIN / -1` needs a guard at this width.
+    let min_guard = signed && !defines.min_div_neg1.contains(ty.bits());
     let span = f.spans[inst.index()];
     let divisor = const_of(f, d);
     let mut cur = Cursor { f, b, at: k, span };
@@ -212,9 +270,9 @@ fn guard_division(
                 None,
             );
             *cur.f.inst_mut(inst) = InstData::Iconst { ty, imm: 0 };
-            return None;
+            return Guarded::InPlace;
         }
-        Some(-1) if signed && !defines.min_div_neg1 => {
+        Some(-1) if min_guard => {
             // x / -1 = -x (wrapping), x % -1 = 0.
             *cur.f.inst_mut(inst) = if op == BinaryOp::Sdiv {
                 InstData::Unary {
@@ -224,16 +282,17 @@ fn guard_division(
             } else {
                 InstData::Iconst { ty, imm: 0 }
             };
-            return None;
+            return Guarded::InPlace;
         }
-        Some(_) => return None,
+        Some(_) => return Guarded::Unchanged,
         None => {}
     }
     if defines.div_by_zero {
-        if signed && !defines.min_div_neg1 {
+        if min_guard {
             guard_min_div(&mut cur, inst, op, x, d);
+            return Guarded::InPlace;
         }
-        return None;
+        return Guarded::Unchanged;
     }
 
     // b: ...; z = icmp eq d, 0; brif z, fault, ok
@@ -286,7 +345,7 @@ fn guard_division(
         at: 0,
         span,
     };
-    let out = if signed && !defines.min_div_neg1 {
+    let out = if min_guard {
         let (m, special, q) = min_div_parts(&mut cur, op, x, d);
         cur.select(m, special, q)
     } else {
@@ -307,7 +366,7 @@ fn guard_division(
     f.blocks[join.index()].insts = tail;
     let at = f.layout.iter().position(|&x| x == b).expect("in layout");
     f.layout.splice(at + 1..at + 1, [fault, ok, join]);
-    Some(join)
+    Guarded::Split(join)
 }
 
 /// Rewrites the instruction `inst` (in the cursor's block, at the cursor) into

@@ -19,6 +19,7 @@ pub mod legalize;
 pub mod load_store;
 pub mod mem2reg;
 pub mod promote;
+pub mod ranges;
 pub mod simplify_cfg;
 mod util;
 pub mod watchdog;

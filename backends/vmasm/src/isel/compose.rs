@@ -1,6 +1,10 @@
-//! Operations the VM lacks or leaves undefined, composed from the ones it has:
-//! division guards, shifts by the width and the arithmetic right shift, sign
-//! extension, float rounding, and the conversions between integers and floats.
+//! Operations the VM lacks, composed from the ones it has: the arithmetic right
+//! shift, rotations by 0, sign extension, float rounding, and the conversions
+//! between integers and floats. What the C VMs leave undefined (division by zero,
+//! `MIN / -1` where it overflows, shifts by the width or more, float-to-integer
+//! conversions out of range) the build has guarded in the IR before
+//! (`passes::legalize`, told what the port defines by `Port::defines`), so those
+//! operations are emitted plainly here.
 
 use super::*;
 
@@ -172,7 +176,7 @@ impl Fx<'_, '_> {
             BinaryOp::Fpow => return self.power(t, d, a, b),
             BinaryOp::Fatan2 => return Err(self.unsupported("ATAN2", span)),
             BinaryOp::Sdiv | BinaryOp::Srem | BinaryOp::Udiv | BinaryOp::Urem => {
-                return self.divide(bop, t, d, a, b, bv);
+                return self.divide(bop, t, d, a, b);
             }
             BinaryOp::Ishl | BinaryOp::Ushr | BinaryOp::Sshr | BinaryOp::Rotl | BinaryOp::Rotr => {
                 return self.shift(bop, t, d, a, b, bv);
@@ -182,78 +186,26 @@ impl Fx<'_, '_> {
         Ok(())
     }
 
-    /// Division and remainder with the IR's guards: by zero gives 0 and the fault
-    /// flag; `MIN / -1` wraps (the C VM would trap on both).
-    pub(super) fn divide(
-        &mut self,
-        bop: BinaryOp,
-        t: Type,
-        d: u32,
-        a: u32,
-        b: u32,
-        bv: Value,
-    ) -> Res<()> {
+    /// Division and remainder, legalized: the divisor is not zero, and a signed
+    /// division sees `MIN, -1` only at the widths the port defines it (SINT, and INT
+    /// where C's `int` has 32 bits, are promoted; LINT is divided by magnitudes as
+    /// LWORD, since the VM's LINT reads are not portable).
+    pub(super) fn divide(&mut self, bop: BinaryOp, t: Type, d: u32, a: u32, b: u32) -> Res<()> {
         let signed = matches!(bop, BinaryOp::Sdiv | BinaryOp::Srem);
         let rem = matches!(bop, BinaryOp::Srem | BinaryOp::Urem);
+        if signed && t == Type::I64 {
+            return self.sdiv_lint(rem, d, a, b);
+        }
         let ty = int_ty(t, signed);
-        let u = int_ty(t, false);
-        let n = self.size(t);
         let opc = if rem { op::modulo(ty) } else { op::div(ty) };
-        let k = self.iconst(bv);
-        // MIN / -1 overflows C's arithmetic where the type is at least as wide as the
-        // port's `int` (SINT, and INT on 32-bit `int` ports, are promoted).
-        let wide = signed && (n >= 4 || (n == 2 && self.cx.port.int16()));
-        let lint = signed && t == Type::I64;
-        if k == Some(0) {
-            self.fill(d, 0, n);
-            return self.raise_fault();
-        }
-        if let Some(k) = k {
-            if lint {
-                return self.sdiv_lint(rem, d, a, b);
-            }
-            if !(wide && k == -1) {
-                self.rrr(opc, &[d, a, b]);
-                return Ok(());
-            }
-        }
-        let lend = self.new_label("D");
-        let c = self.scratch(1)?;
-        let zero = self.konst(t, 0);
-        if k.is_none() {
-            let lok = self.new_label("D");
-            self.rrr(op::cmp(op::group::NE, u), &[c, b, zero]);
-            self.jnz(c, lok);
-            self.fill(d, 0, n);
-            self.raise_fault()?;
-            self.jmp(lend);
-            self.label(lok);
-        }
-        if lint {
-            self.sdiv_lint(rem, d, a, b)?;
-            self.label(lend);
-            return Ok(());
-        }
-        if wide {
-            let ldiv = self.new_label("D");
-            let m1 = self.konst(t, u64::MAX);
-            self.rrr(op::cmp(op::group::EQ, u), &[c, b, m1]);
-            self.jz(c, ldiv);
-            if rem {
-                self.fill(d, 0, n);
-            } else {
-                self.rrr(op::sub(u), &[d, zero, a]);
-            }
-            self.jmp(lend);
-            self.label(ldiv);
-        }
         self.rrr(opc, &[d, a, b]);
-        self.label(lend);
         Ok(())
     }
 
-    /// Shifts and rotates with the IR's rules for counts of at least the width, and
-    /// the arithmetic right shift the VM lacks (through XOR with the sign mask).
+    /// Shifts and rotates. Shifts are legalized (their counts are below the
+    /// width); the arithmetic right shift, which the VM lacks, goes through XOR with
+    /// the sign mask. Rotations take any count: the IR's is modulo the width, and
+    /// the C VMs compute a rotation by 0 as a shift by the width, so that is a copy.
     pub(super) fn shift(
         &mut self,
         bop: BinaryOp,
@@ -280,87 +232,64 @@ impl Fx<'_, '_> {
             (1u64 << (n * 8)) - 1
         };
         let k = self.iconst(cv).map(|k| k as u64 & mask);
-        match bop {
-            BinaryOp::Rotl | BinaryOp::Rotr => {
-                // The C VMs compute `v >> (w - c)`: a rotate by 0 is a shift by the
-                // width, undefined, so it is a copy.
-                match k {
-                    Some(k) if k % w == 0 => self.copy(d, a, n),
-                    Some(k) => {
-                        let c16 = self.konst(Type::I16, k % w);
-                        self.rrr(opc, &[d, a, c16]);
-                    }
-                    None => {
-                        let m = self.scratch(n)?;
-                        let wm1 = self.konst(t, w - 1);
-                        self.rrr(Opcode::new(op::group::AND, 0x20 | code), &[m, cnt, wm1]);
-                        let c16 = self.scratch(2)?;
-                        self.resize(c16, 2, m, n);
-                        let c = self.scratch(1)?;
-                        let zero = self.konst(Type::I16, 0);
-                        let (lrot, lend) = (self.new_label("S"), self.new_label("S"));
-                        self.rrr(op::cmp(op::group::NE, Ty::Word), &[c, c16, zero]);
-                        self.jnz(c, lrot);
-                        self.copy(d, a, n);
-                        self.jmp(lend);
-                        self.label(lrot);
-                        self.rrr(opc, &[d, a, c16]);
-                        self.label(lend);
-                    }
-                }
-            }
-            BinaryOp::Ishl | BinaryOp::Ushr => match k {
-                Some(k) if k < w => {
-                    let c16 = self.konst(Type::I16, k);
+        if matches!(bop, BinaryOp::Rotl | BinaryOp::Rotr) {
+            match k {
+                Some(k) if k % w == 0 => self.copy(d, a, n),
+                Some(k) => {
+                    let c16 = self.konst(Type::I16, k % w);
                     self.rrr(opc, &[d, a, c16]);
                 }
-                Some(_) => self.fill(d, 0, n),
                 None => {
-                    let c = self.scratch(1)?;
-                    let wk = self.konst(t, w);
-                    let (lz, lend) = (self.new_label("S"), self.new_label("S"));
-                    self.rrr(op::cmp(op::group::LT, u), &[c, cnt, wk]);
-                    self.jz(c, lz);
+                    let m = self.scratch(n)?;
+                    let wm1 = self.konst(t, w - 1);
+                    self.rrr(Opcode::new(op::group::AND, 0x20 | code), &[m, cnt, wm1]);
                     let c16 = self.scratch(2)?;
-                    self.resize(c16, 2, cnt, n);
-                    self.rrr(opc, &[d, a, c16]);
+                    self.resize(c16, 2, m, n);
+                    let c = self.scratch(1)?;
+                    let zero = self.konst(Type::I16, 0);
+                    let (lrot, lend) = (self.new_label("S"), self.new_label("S"));
+                    self.rrr(op::cmp(op::group::NE, Ty::Word), &[c, c16, zero]);
+                    self.jnz(c, lrot);
+                    self.copy(d, a, n);
                     self.jmp(lend);
-                    self.label(lz);
-                    self.fill(d, 0, n);
+                    self.label(lrot);
+                    self.rrr(opc, &[d, a, c16]);
                     self.label(lend);
                 }
-            },
-            _ => {
-                // sshr: x XOR s, shifted logically, XOR s again (s = all sign bits).
-                let s = self.scratch(n)?;
-                let neg = self.scratch(1)?;
-                let zero = self.konst(t, 0);
-                let ones = self.konst(t, u64::MAX);
-                self.is_negative(neg, a, t);
-                self.rrr(op::sel(u), &[s, neg, zero, ones]);
-                let c16 = match k {
-                    Some(k) => self.konst(Type::I16, k.min(w - 1)),
-                    None => {
-                        let c = self.scratch(1)?;
-                        let wk = self.konst(t, w);
-                        self.rrr(op::cmp(op::group::LT, u), &[c, cnt, wk]);
-                        let c16 = self.scratch(2)?;
-                        self.resize(c16, 2, cnt, n);
-                        let wm1 = self.konst(Type::I16, w - 1);
-                        self.rrr(op::sel(Ty::Int), &[c16, c, wm1, c16]);
-                        c16
-                    }
-                };
-                let x = self.scratch(n)?;
-                let xor = Opcode::new(
-                    op::group::XOR,
-                    0x20 | if code >= 3 { code + 1 } else { code },
-                );
-                self.rrr(xor, &[x, a, s]);
-                self.rrr(opc, &[x, x, c16]);
-                self.rrr(xor, &[d, x, s]);
             }
+            return Ok(());
         }
+        // The count as the VM's 16-bit operand (below the width: legalized).
+        let c16 = match k {
+            Some(k) => {
+                debug_assert!(k < w, "a shift by {k} of {w} bits was not legalized");
+                self.konst(Type::I16, k)
+            }
+            None => {
+                let c16 = self.scratch(2)?;
+                self.resize(c16, 2, cnt, n);
+                c16
+            }
+        };
+        if bop != BinaryOp::Sshr {
+            self.rrr(opc, &[d, a, c16]);
+            return Ok(());
+        }
+        // sshr: x XOR s, shifted logically, XOR s again (s = all sign bits).
+        let s = self.scratch(n)?;
+        let neg = self.scratch(1)?;
+        let zero = self.konst(t, 0);
+        let ones = self.konst(t, u64::MAX);
+        self.is_negative(neg, a, t);
+        self.rrr(op::sel(u), &[s, neg, zero, ones]);
+        let x = self.scratch(n)?;
+        let xor = Opcode::new(
+            op::group::XOR,
+            0x20 | if code >= 3 { code + 1 } else { code },
+        );
+        self.rrr(xor, &[x, a, s]);
+        self.rrr(opc, &[x, x, c16]);
+        self.rrr(xor, &[d, x, s]);
         Ok(())
     }
 
@@ -533,8 +462,11 @@ impl Fx<'_, '_> {
         Ok(x)
     }
 
-    /// Float to integer: toward zero, saturating, NaN gives 0 (the VM's conversions
-    /// are C casts, undefined out of range, so the range is checked first).
+    /// Float to integer, toward zero, of an operand legalized into the range whose
+    /// truncation fits `to` (saturation and NaN are selected around the conversion
+    /// in the IR). The VM truncates REAL to DINT and LREAL to LINT; UDINT from REAL
+    /// has a conversion of its own, and ULINT at or above 2^63 is truncated less
+    /// 2^63 and has its top bit put back.
     pub(super) fn float_to_int(
         &mut self,
         d: u32,
@@ -543,82 +475,48 @@ impl Fx<'_, '_> {
         from: Type,
         signed: bool,
     ) -> Res<()> {
-        let ft = float_ty(from);
         let dn = self.size(to);
         let w = bits_of(to);
-        let (lo, hi) = if signed {
-            (-(2f64.powi(w as i32 - 1)), 2f64.powi(w as i32 - 1))
-        } else {
-            (0.0, 2f64.powi(w as i32))
-        };
-        let (min, max): (u64, u64) = if signed {
-            (1u64 << (w - 1), (1u64 << (w - 1)) - 1)
-        } else {
-            (0, if w == 64 { u64::MAX } else { (1u64 << w) - 1 })
-        };
-        let c = self.scratch(1)?;
-        let (lzero, lmax, lmin, lend) = (
-            self.new_label("F"),
-            self.new_label("F"),
-            self.new_label("F"),
-            self.new_label("F"),
-        );
-        self.rrr(op::cmp(op::group::NE, ft), &[c, x, x]);
-        self.jnz(c, lzero);
-        let hk = self.konst(from, fbits(from, hi));
-        self.rrr(op::cmp(op::group::GE, ft), &[c, x, hk]);
-        self.jnz(c, lmax);
-        let lk = self.konst(from, fbits(from, lo));
-        self.rrr(op::cmp(op::group::LE, ft), &[c, x, lk]);
-        self.jnz(c, lmin);
-        // In range: truncate.
         let trunc_real = Opcode::new(op::group::MATH, 0x34);
         let trunc_lreal = Opcode::new(op::group::MATH, 0x35);
         if from == Type::F32 && w <= 32 && (signed || w < 32) {
             let t = self.scratch(4)?;
             self.rrr(trunc_real, &[t, x]);
             self.copy(d, t, dn);
-        } else if from == Type::F32 && w == 32 {
-            self.rrr(Opcode::new(op::group::CONV, 0x11), &[d, x]);
-        } else {
-            let xl = if from == Type::F32 {
-                let xl = self.scratch(8)?;
-                self.rrr(Opcode::new(op::group::CONV, 0x0D), &[xl, x]);
-                xl
-            } else {
-                x
-            };
-            let t = self.scratch(8)?;
-            if !signed && w == 64 {
-                // At or above 2^63: subtract it, truncate, and put the top bit back.
-                let (lsmall, ldone) = (self.new_label("F"), self.new_label("F"));
-                let two63 = self.konst(Type::F64, fbits(Type::F64, 9223372036854775808.0));
-                self.rrr(op::cmp(op::group::LT, Ty::Lreal), &[c, xl, two63]);
-                self.jnz(c, lsmall);
-                let y = self.scratch(8)?;
-                self.rrr(op::sub(Ty::Lreal), &[y, xl, two63]);
-                self.rrr(trunc_lreal, &[t, y]);
-                let top = self.konst(Type::I64, 1u64 << 63);
-                self.rrr(op::add(Ty::Lword, 2), &[t, t, top]);
-                self.jmp(ldone);
-                self.label(lsmall);
-                self.rrr(trunc_lreal, &[t, xl]);
-                self.label(ldone);
-            } else {
-                self.rrr(trunc_lreal, &[t, xl]);
-            }
-            self.copy(d, t, dn);
+            return Ok(());
         }
-        self.jmp(lend);
-        self.label(lmax);
-        self.mcd(d, max.to_le_bytes()[..dn as usize].to_vec());
-        self.jmp(lend);
-        self.label(lmin);
-        self.mcd(d, min.to_le_bytes()[..dn as usize].to_vec());
-        self.jmp(lend);
-        self.label(lzero);
-        self.fill(d, 0, dn);
-        self.label(lend);
+        if from == Type::F32 && w == 32 {
+            self.rrr(Opcode::new(op::group::CONV, 0x11), &[d, x]);
+            return Ok(());
+        }
+        let xl = if from == Type::F32 {
+            let xl = self.scratch(8)?;
+            self.rrr(Opcode::new(op::group::CONV, 0x0D), &[xl, x]);
+            xl
+        } else {
+            x
+        };
+        let t = self.scratch(8)?;
+        if !signed && w == 64 {
+            // At or above 2^63: subtract it, truncate, and put the top bit back.
+            let c = self.scratch(1)?;
+            let (lsmall, ldone) = (self.new_label("F"), self.new_label("F"));
+            let two63 = self.konst(Type::F64, fbits(Type::F64, 9223372036854775808.0));
+            self.rrr(op::cmp(op::group::LT, Ty::Lreal), &[c, xl, two63]);
+            self.jnz(c, lsmall);
+            let y = self.scratch(8)?;
+            self.rrr(op::sub(Ty::Lreal), &[y, xl, two63]);
+            self.rrr(trunc_lreal, &[t, y]);
+            let top = self.konst(Type::I64, 1u64 << 63);
+            self.rrr(op::add(Ty::Lword, 2), &[t, t, top]);
+            self.jmp(ldone);
+            self.label(lsmall);
+            self.rrr(trunc_lreal, &[t, xl]);
+            self.label(ldone);
+        } else {
+            self.rrr(trunc_lreal, &[t, xl]);
+        }
+        self.copy(d, t, dn);
         Ok(())
     }
 }

@@ -15,9 +15,10 @@
 //! with MMV), an array element at a run-time index (copied index, CEAC, then the
 //! A?RD/A?WR instructions), or a run-time absolute address held in a variable (DPSTO to
 //! form it, DPRDL/DPWRL to use it). Constants live in a per-frame pool that the
-//! function's prologue fills with MCD. Operations the VM lacks or leaves undefined are
-//! composed: division guards, shifts by the width, sign extension, float rounding and
-//! saturating float-to-integer conversions.
+//! function's prologue fills with MCD. Operations the VM lacks are composed (the
+//! arithmetic right shift, sign extension, float rounding, conversions); what its C
+//! leaves undefined (division by zero, `MIN / -1`, shifts by the width or more, float
+//! casts out of range) the build's `passes::legalize` has guarded in the IR.
 
 use crate::code::{Arg, Item, LabelId, Program, Unit, VInst};
 use crate::isa::{op, Mode, Opcode, Ty};

@@ -2,7 +2,7 @@
 //! operands: same results, same fault flag; and probes that check that no guarded
 //! operation sees an operand the target leaves undefined.
 
-use super::{run, Defines};
+use super::{run, Defines, Widths};
 use crate::entities::{DataId, Value};
 use crate::function::Function;
 use crate::inst::{BinaryOp, ConvOp, FloatCC, InstData, IntCC};
@@ -136,8 +136,10 @@ fn add_probes(m: &mut Module, defines: &Defines) -> DataId {
                         if !defines.div_by_zero {
                             bad_if.push(probe.icmp(IntCC::Eq, d, zero));
                         }
-                        if !defines.min_div_neg1 && matches!(op, BinaryOp::Sdiv | BinaryOp::Srem) {
-                            let w = ty.bits();
+                        let w = ty.bits();
+                        if !defines.min_div_neg1.contains(w)
+                            && matches!(op, BinaryOp::Sdiv | BinaryOp::Srem)
+                        {
                             let min = if w == 64 {
                                 i64::MIN
                             } else {
@@ -340,14 +342,20 @@ fn is_nan(text: &str, bits: u64) -> bool {
     }
 }
 
-const SOME: [Defines; 4] = [
+const SOME: [Defines; 5] = [
     Defines::NONE,
     Defines {
         div_by_zero: true,
         ..Defines::NONE
     },
     Defines {
-        min_div_neg1: true,
+        min_div_neg1: Widths::ALL,
+        ..Defines::NONE
+    },
+    // As vmasm on a port with a 32-bit `int`: SINT and INT are promoted, LINT
+    // divided by magnitudes.
+    Defines {
+        min_div_neg1: Widths::of(&[8, 16, 64]),
         ..Defines::NONE
     },
     Defines::ALL,
@@ -508,4 +516,34 @@ fn probes_fire_without_the_pass() {
     i.call(m.func_by_name("f").unwrap(), &[300f64.to_bits()])
         .unwrap();
     assert_eq!(i.read(&name).unwrap().bits, 1, "ftosi");
+}
+
+/// What a rewrite leaves unused goes: a constant zero divisor keeps only the fault,
+/// not the computation of the dividend nobody reads any more.
+#[test]
+fn what_the_guards_leave_unused_is_removed() {
+    let text = "func @f(i32) -> i32 function {\n\
+block0(v0: i32):\n    \
+v1 = iconst.i32 3\n    \
+v2 = iadd v0, v1\n    \
+v3 = iconst.i32 0\n    \
+v4 = srem v2, v3\n    \
+return v4\n}\n";
+    let mut m = parse(text);
+    assert!(run(&mut m, &Defines::NONE));
+    let f = m.func_by_name("f").unwrap();
+    let f = m.func(f);
+    let ops: Vec<String> = f
+        .inst_iter()
+        .map(|(_, i)| format!("{:?}", f.inst(i)))
+        .collect();
+    assert!(
+        ops.iter().any(|o| o.contains("RaiseFault")),
+        "the fault stays: {ops:?}"
+    );
+    assert!(
+        !ops.iter().any(|o| o.contains("Iadd") || o.contains("Srem")),
+        "the dividend goes: {ops:?}"
+    );
+    agree(text, Defines::NONE, &[int_edges(Type::I32)]);
 }
