@@ -47,7 +47,7 @@ CASES = [
 def driver(inst, fields):
     prints = " ".join(
         f'printf("{k}={fmt}{" " if i + 1 < len(fields) else chr(92) + "n"}", '
-        f'({"double" if fmt.endswith("g") else "int"})RES0__{inst}.{c});'
+        f'({"double" if fmt.endswith("g") else "int"})RES0__{inst}.{c}.value);'
         for i, (k, c, fmt) in enumerate(fields))
     return f"""#define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
