@@ -528,41 +528,48 @@ pub fn run(a: &RunArgs) -> u8 {
     for program in &programs {
         let entry = module.program(program).expect("picked program");
         let prefix = format!("{}.", entry.name);
-        for var in plcc_ir::vars::variables(&module, entry.data) {
-            let name = if several {
-                var.path.as_str()
-            } else {
-                var.path.strip_prefix(&prefix).unwrap_or(&var.path)
-            };
-            match m.read(&var.path) {
-                Ok(v) => println!("{name} = {v}"),
-                Err(e) => {
-                    eprintln!("error: reading {}: {e}", var.path);
-                    return EXIT_FAIL;
-                }
-            }
+        let prefix = if several { String::new() } else { prefix };
+        if let Err(e) = print_variables(m.as_ref(), &module, entry.data, &prefix) {
+            eprintln!("error: {e}");
+            return EXIT_FAIL;
         }
     }
     // Globals after the programs' variables, by their plain names.
     if let Some(g) = module.data_by_name(plcc_frontend::GLOBALS_DATA) {
         let prefix = format!("{}.", plcc_frontend::GLOBALS_DATA);
-        for var in plcc_ir::vars::variables(&module, g) {
-            match m.read(&var.path) {
-                Ok(v) => println!(
-                    "{} = {v}",
-                    var.path.strip_prefix(&prefix).unwrap_or(&var.path)
-                ),
-                Err(e) => {
-                    eprintln!("error: reading {}: {e}", var.path);
-                    return EXIT_FAIL;
-                }
-            }
+        if let Err(e) = print_variables(m.as_ref(), &module, g, &prefix) {
+            eprintln!("error: {e}");
+            return EXIT_FAIL;
         }
     }
     if m.fault() {
         eprintln!("warning: the runtime fault flag is set (a division by zero or an array index out of bounds happened)");
     }
     0
+}
+
+/// Prints every variable of data object `root` as `name = value` (STRING and
+/// WSTRING variables as literals), each name without `prefix`.
+fn print_variables(
+    m: &dyn plcc_ir::machine::Machine,
+    module: &plcc_ir::Module,
+    root: plcc_ir::DataId,
+    prefix: &str,
+) -> Result<(), String> {
+    use plcc_ir::vars::Var;
+    for var in plcc_ir::vars::variables_and_strings(module, root) {
+        let (path, text) = match &var {
+            Var::Scalar(v) => (&v.path, m.read(&v.path).map(|x| x.to_string())),
+            Var::Str(s) => (
+                &s.path,
+                plcc_ir::machine::read_string(m, s)
+                    .map(|c| plcc_ir::value::format_string_literal(&c, s.wide)),
+            ),
+        };
+        let text = text.map_err(|e| format!("reading {path}: {e}"))?;
+        println!("{} = {text}", path.strip_prefix(prefix).unwrap_or(path));
+    }
+    Ok(())
 }
 
 /// Arguments of `plcc test`.

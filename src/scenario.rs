@@ -4,8 +4,9 @@
 //! variables (`set`), and checks them (`expect`, `expect ~=`). Lines starting with `#`
 //! are comments.
 
-use plcc_ir::machine::Machine;
-use plcc_ir::value::PlcValue;
+use plcc_ir::machine::{read_string, write_string, Machine};
+use plcc_ir::value::{format_string_literal, PlcValue};
+use plcc_ir::vars::StrRef;
 use plcc_ir::{ElemType, Module};
 
 /// The cycle of `run N` for a build whose tasks have no interval (or that has no
@@ -352,13 +353,53 @@ pub fn path_of(m: &dyn Machine, program: &str, var: &str) -> String {
     }
 }
 
+/// The characters of a string literal written in a scenario (`'abc'`, `"abc"` for a
+/// WSTRING, with the `$` escapes of ST).
+fn string_value(text: &str, s: &StrRef) -> Result<Vec<u16>, String> {
+    let t = text.trim();
+    let quote = if s.wide { '"' } else { '\'' };
+    let inner = t
+        .strip_prefix(quote)
+        .and_then(|r| r.strip_suffix(quote))
+        .filter(|_| t.len() >= 2)
+        .ok_or_else(|| {
+            format!(
+                "`{}` is a {}: write its value as {quote}text{quote}",
+                s.path,
+                if s.wide { "WSTRING" } else { "STRING" }
+            )
+        })?;
+    let mut errors = Vec::new();
+    let chars = plcc_frontend::st::literals::decode_string(inner, s.wide, &mut errors);
+    match errors.first() {
+        Some(e) => Err(format!("in `{t}`: {}", e.message)),
+        None => Ok(chars),
+    }
+}
+
 fn set(m: &mut dyn Machine, path: &str, text: &str) -> Result<(), String> {
+    if let Ok(s) = m.string_var(path) {
+        let chars = string_value(text, &s)?;
+        return write_string(m, &s, &chars).map_err(|e| e.to_string());
+    }
     let current = m.read(path).map_err(|e| e.to_string())?;
     let v = PlcValue::parse(current.ty, text)?;
     m.write(path, v).map_err(|e| e.to_string())
 }
 
 fn expect(m: &mut dyn Machine, path: &str, text: &str, tol: Option<f64>) -> Result<(), String> {
+    if let Ok(s) = m.string_var(path) {
+        if tol.is_some() {
+            return Err(format!("`{}` is a string: compare it with `=`", s.path));
+        }
+        let want = string_value(text, &s)?;
+        let got = read_string(m, &s).map_err(|e| e.to_string())?;
+        return if got == want {
+            Ok(())
+        } else {
+            Err(format!("got {}", format_string_literal(&got, s.wide)))
+        };
+    }
     let got = m.read(path).map_err(|e| e.to_string())?;
     if let Some(tol) = tol {
         let want =

@@ -112,3 +112,27 @@ fn run_without_tasks_scans_every_10_ms() {
     );
     assert!(text.lines().any(|l| l == "et = T#30ms"), "{text}");
 }
+
+/// STRING and WSTRING variables print whole, as literals with `$` escapes, the same on
+/// every target.
+#[test]
+fn run_prints_strings_as_literals_on_every_target() {
+    let prog =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs/st/regress/string_printing.st");
+    for target in ["host", "interp", "vmasm", "pic16f876a", "c"] {
+        let out = Command::new(env!("CARGO_BIN_EXE_plcc"))
+            .args(["run", prog.to_str().unwrap(), "--target", target])
+            .output()
+            .expect("plcc runs");
+        assert!(
+            out.status.success(),
+            "{target}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert_eq!(
+            String::from_utf8_lossy(&out.stdout),
+            "s = 'it$'s'\ne = ''\nw = \"Grüße\"\nt = 'a$Nb'\nn = 1\n",
+            "{target}"
+        );
+    }
+}

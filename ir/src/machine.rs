@@ -43,6 +43,16 @@ pub trait Machine {
     /// Runs one scan: every program body once, in order.
     fn scan(&mut self) -> Result<(), MachineError>;
 
+    /// The module whose variables the machine holds (its types and data objects at
+    /// least; the functions may be left out): variable paths resolve against it.
+    fn vars_module(&self) -> &crate::Module;
+
+    /// The STRING or WSTRING variable at `path` (read and written with
+    /// [`read_string`] and [`write_string`]).
+    fn string_var(&self, path: &str) -> Result<crate::vars::StrRef, MachineError> {
+        Ok(crate::vars::resolve_string(self.vars_module(), path)?)
+    }
+
     /// Reads a variable.
     fn read(&self, path: &str) -> Result<PlcValue, MachineError>;
 
@@ -62,4 +72,50 @@ pub trait Machine {
     fn set_watchdog(&mut self, limit: Option<std::time::Duration>) {
         let _ = limit;
     }
+}
+
+/// The text of a STRING or WSTRING variable on `m`: its characters up to the first
+/// NUL (at most the capacity), read one by one as `path[i]`.
+pub fn read_string(
+    m: &(impl Machine + ?Sized),
+    s: &crate::vars::StrRef,
+) -> Result<Vec<u16>, MachineError> {
+    let mut chars = Vec::new();
+    for i in 0..s.cap {
+        let c = m.read(&format!("{}[{i}]", s.path))?;
+        if c.bits == 0 {
+            break;
+        }
+        chars.push(c.bits as u16);
+    }
+    Ok(chars)
+}
+
+/// Writes `chars` into a STRING or WSTRING variable on `m`, followed by the NUL;
+/// more characters than its capacity is an error (nothing is written then).
+pub fn write_string(
+    m: &mut (impl Machine + ?Sized),
+    s: &crate::vars::StrRef,
+    chars: &[u16],
+) -> Result<(), MachineError> {
+    if chars.len() > s.cap as usize {
+        return Err(MachineError(format!(
+            "`{}` holds at most {} characters; the value has {}",
+            s.path,
+            s.cap,
+            chars.len()
+        )));
+    }
+    let elem = if s.wide {
+        crate::types::ElemType::WChar
+    } else {
+        crate::types::ElemType::Char
+    };
+    for (i, &c) in chars.iter().chain(&[0]).enumerate() {
+        m.write(
+            &format!("{}[{i}]", s.path),
+            PlcValue::from_bits(elem, c as u64),
+        )?;
+    }
+    Ok(())
 }

@@ -388,6 +388,54 @@ pub fn host_size(ty: Type) -> u32 {
     }
 }
 
+/// A string's characters as an IEC 61131-3 literal: `'text'` for a STRING (Latin-1
+/// code units), `"text"` for a WSTRING (UTF-16), with `$$`, `$'` (`$"`), `$N`, `$R`,
+/// `$T` and `$hh` (`$hhhh`) for what is not printable.
+pub fn format_string_literal(chars: &[u16], wide: bool) -> String {
+    let quote = if wide { '"' } else { '\'' };
+    let mut out = String::with_capacity(chars.len() + 2);
+    out.push(quote);
+    let decoded: Vec<Result<char, u16>> = if wide {
+        char::decode_utf16(chars.iter().copied())
+            .map(|r| r.map_err(|e| e.unpaired_surrogate()))
+            .collect()
+    } else {
+        chars
+            .iter()
+            .map(|&c| {
+                if (0x20..0x7f).contains(&c) {
+                    Ok(c as u8 as char)
+                } else {
+                    Err(c)
+                }
+            })
+            .collect()
+    };
+    for c in decoded {
+        match c {
+            Ok('$') => out.push_str("$$"),
+            Ok(c) if c == quote => {
+                out.push('$');
+                out.push(c);
+            }
+            Ok('\n') => out.push_str("$N"),
+            Ok('\r') => out.push_str("$R"),
+            Ok('\t') => out.push_str("$T"),
+            Ok(c) if !c.is_control() => out.push(c),
+            Ok(c) => out.push_str(&format!("${:04X}", c as u32)),
+            Err(u) if wide => out.push_str(&format!("${u:04X}")),
+            Err(u) => out.push_str(&match u {
+                0x0a => "$N".to_string(),
+                0x0d => "$R".to_string(),
+                0x09 => "$T".to_string(),
+                _ => format!("${:02X}", u & 0xff),
+            }),
+        }
+    }
+    out.push(quote);
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -504,5 +552,31 @@ mod date_tests {
         assert!(PlcValue::parse(ElemType::Date, "D#2024-13-01").is_err());
         assert!(PlcValue::parse(ElemType::Dt, "DT#2106-02-07-06:28:16").is_err());
         assert!(PlcValue::parse(ElemType::Tod, "TOD#24:00:00").is_err());
+    }
+}
+
+#[cfg(test)]
+mod string_tests {
+    use super::format_string_literal;
+
+    #[test]
+    fn strings_print_as_iec_literals() {
+        let units = |s: &str| s.bytes().map(u16::from).collect::<Vec<_>>();
+        assert_eq!(format_string_literal(&units("Hello"), false), "'Hello'");
+        assert_eq!(
+            format_string_literal(&units("it's $5\n"), false),
+            "'it$'s $$5$N'"
+        );
+        assert_eq!(
+            format_string_literal(&[0x41, 0xe9, 0x01], false),
+            "'A$E9$01'"
+        );
+        assert_eq!(format_string_literal(&[], false), "''");
+        let wide: Vec<u16> = "Grüße \"x\"\t".encode_utf16().collect();
+        assert_eq!(format_string_literal(&wide, true), "\"Grüße $\"x$\"$T\"");
+        assert_eq!(
+            format_string_literal(&[0xd800, 0x7f], true),
+            "\"$D800$007F\""
+        );
     }
 }

@@ -318,6 +318,10 @@ impl Machine for CMachine {
         "c"
     }
 
+    fn vars_module(&self) -> &plcc_ir::Module {
+        &self.vars
+    }
+
     fn cold_start(&mut self) -> Result<(), MachineError> {
         self.clock_us = 0;
         // SAFETY: the harness's entry point; no other code of the library runs.

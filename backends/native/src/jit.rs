@@ -232,6 +232,10 @@ impl Machine for Jit {
         "host"
     }
 
+    fn vars_module(&self) -> &plcc_ir::Module {
+        &self.vars
+    }
+
     fn cold_start(&mut self) -> Result<(), MachineError> {
         // SAFETY: data and rt are valid and exclusively ours between scans (the
         // watchdog thread only writes the stop byte, atomically); the entry points were

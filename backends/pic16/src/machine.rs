@@ -113,6 +113,10 @@ impl Machine for PicMachine {
         "pic16f876a"
     }
 
+    fn vars_module(&self) -> &plcc_ir::Module {
+        &self.module
+    }
+
     fn cold_start(&mut self) -> Result<(), MachineError> {
         self.sim = Pic16::new(&self.build.image.words);
         // Garbage in RAM, as on the chip: a variable the program forgets to

@@ -74,6 +74,10 @@ impl Machine for VmMachine {
         "vmasm"
     }
 
+    fn vars_module(&self) -> &plcc_ir::Module {
+        &self.module
+    }
+
     fn cold_start(&mut self) -> Result<(), MachineError> {
         self.vm.reset();
         self.vm.data_mut().fill(0xA5);

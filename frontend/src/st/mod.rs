@@ -5,7 +5,7 @@
 //! a file; what could not be parsed is left out of the tree.
 
 pub mod lexer;
-mod literals;
+pub mod literals;
 pub mod parser;
 mod pragma;
 

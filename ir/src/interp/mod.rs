@@ -353,6 +353,10 @@ impl Machine for Interp {
         "interp"
     }
 
+    fn vars_module(&self) -> &crate::Module {
+        &self.module
+    }
+
     fn cold_start(&mut self) -> Result<(), MachineError> {
         self.st.fault = false;
         self.clock_us = 0;
