@@ -93,9 +93,13 @@ fn build_and_report<P: AsRef<Path>>(
     lang: Option<&str>,
     dialect: Option<&str>,
     plcopen: &PlcopenFlags,
-    programs: Vec<String>,
-    mode: Mode,
+    how: How,
 ) -> Result<(Build, Module), u8> {
+    let How {
+        programs,
+        mode,
+        inline_c,
+    } = how;
     let sfc = plcopen.sfc_profile()?;
     let plcopen = plcopen.options()?;
     let lang = parse_lang(lang).map_err(usage)?;
@@ -117,6 +121,7 @@ fn build_and_report<P: AsRef<Path>>(
         programs,
         no_opt: mode == Mode::Unoptimised,
         check_only: mode == Mode::Check,
+        inline_c,
     };
     let mut build = driver::build_files(files, library, &opts).map_err(usage)?;
     render::to_stderr(&build.sources, &build.diagnostics);
@@ -132,6 +137,14 @@ fn build_and_report<P: AsRef<Path>>(
             Err(EXIT_FAIL)
         }
     }
+}
+
+/// What a build is for: the PROGRAMs to run, how far it goes, and whether its
+/// target keeps C pragmas ([`targets::TargetInfo::inline_c`]).
+struct How {
+    programs: Vec<String>,
+    mode: Mode,
+    inline_c: bool,
 }
 
 /// How far a build goes.
@@ -159,8 +172,11 @@ pub fn check(
         lang,
         dialect,
         plcopen,
-        Vec::new(),
-        Mode::Check,
+        How {
+            programs: Vec::new(),
+            mode: Mode::Check,
+            inline_c: false,
+        },
     ) {
         Ok((build, module)) => {
             build.report_timings(&[]);
@@ -479,8 +495,11 @@ pub fn run(a: &RunArgs) -> u8 {
         a.lang.as_deref(),
         a.dialect.as_deref(),
         &a.plcopen,
-        programs,
-        Mode::Full,
+        How {
+            programs,
+            mode: Mode::Full,
+            inline_c: targets::find(target).is_some_and(|t| t.inline_c),
+        },
     ) {
         Ok(b) => b,
         Err(s) => return s,
@@ -620,8 +639,11 @@ pub fn test(a: &TestArgs) -> u8 {
         a.lang.as_deref(),
         a.dialect.as_deref(),
         &a.plcopen,
-        programs,
-        Mode::Full,
+        How {
+            programs,
+            mode: Mode::Full,
+            inline_c: targets::find(target).is_some_and(|t| t.inline_c),
+        },
     ) {
         Ok(b) => b,
         Err(s) => return s,
@@ -714,8 +736,11 @@ pub fn compile(a: &CompileArgs) -> u8 {
         a.lang.as_deref(),
         a.dialect.as_deref(),
         &a.plcopen,
-        a.programs.clone(),
-        mode,
+        How {
+            programs: a.programs.clone(),
+            mode,
+            inline_c: target.inline_c,
+        },
     ) {
         Ok(b) => b,
         Err(s) => return s,

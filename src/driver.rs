@@ -116,6 +116,9 @@ pub struct BuildOptions {
     pub no_opt: bool,
     /// Only check: no verification or optimisation of the IR.
     pub check_only: bool,
+    /// Keep the C code of pragmas for a target that copies it into its output
+    /// ([`plcc_frontend::LowerOptions::inline_c`]).
+    pub inline_c: bool,
 }
 
 /// Reads the files and the library files (`--lib`) and builds them together.
@@ -181,6 +184,7 @@ pub fn build_sources_with_library(
         plcopen: opts.plcopen.clone(),
         sfc: opts.sfc,
         library: inputs[first_library..].iter().map(|&(f, _)| f).collect(),
+        inline_c: opts.inline_c,
     };
     let compiled = plcc_frontend::compile(&mut sources, &inputs, &lower_opts);
     let mut diagnostics = compiled.diagnostics;

@@ -25,6 +25,9 @@ pub struct TargetInfo {
     pub checked: &'static str,
     /// Its backend's diagnostic codes, for `plcc explain`.
     pub codes: &'static [CodeInfo],
+    /// It copies the C code of pragmas into its output (matiec's way), so the front
+    /// end keeps them (`inline_c` in the IR) instead of skipping them with W0010.
+    pub inline_c: bool,
 }
 
 impl TargetInfo {
@@ -73,6 +76,7 @@ pub const TARGETS: &[TargetInfo] = &[
         machine: "JIT",
         checked: "",
         codes: plcc_native::CODES,
+        inline_c: false,
     },
     TargetInfo {
         name: "pic16f876a",
@@ -83,6 +87,7 @@ pub const TARGETS: &[TargetInfo] = &[
         machine: "simulator",
         checked: "",
         codes: plcc_pic16::CODES,
+        inline_c: false,
     },
     TargetInfo {
         name: "vmasm",
@@ -93,6 +98,7 @@ pub const TARGETS: &[TargetInfo] = &[
         machine: "plcc's VM",
         checked: "",
         codes: plcc_vmasm::CODES,
+        inline_c: false,
     },
     TargetInfo {
         name: "c",
@@ -103,6 +109,7 @@ pub const TARGETS: &[TargetInfo] = &[
         machine: "the C built by the system's compiler",
         checked: "sanitize=undefined",
         codes: plcc_c::CODES,
+        inline_c: true,
     },
     TargetInfo {
         name: "interp",
@@ -113,6 +120,7 @@ pub const TARGETS: &[TargetInfo] = &[
         machine: "the reference interpreter",
         checked: "",
         codes: &[],
+        inline_c: false,
     },
 ];
 

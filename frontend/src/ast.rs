@@ -516,6 +516,10 @@ pub enum StmtKind {
     Return,
     /// A lone `;`.
     Empty,
+    /// A pragma holding C code where a statement stands: the C text matiec would copy
+    /// (its braces dropped). The `c` target copies it into its output there; other
+    /// targets skip it with warning W0010.
+    InlineC(Box<str>),
     /// A jump target (from IL or ladder): `label:`.
     Label(Ident),
     /// An unconditional jump to a label in the same body (from IL or ladder).

@@ -77,6 +77,7 @@ fn each_expr(stmts: &mut [Stmt], f: &mut dyn FnMut(&mut Expr)) {
             | StmtKind::Continue
             | StmtKind::Return
             | StmtKind::Empty
+            | StmtKind::InlineC(_)
             | StmtKind::Label(_)
             | StmtKind::Goto(_) => {}
         }

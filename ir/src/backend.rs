@@ -85,3 +85,32 @@ pub trait Backend {
         options: &Options,
     ) -> Option<Result<Box<dyn Machine>, Vec<Diagnostic>>>;
 }
+
+/// Errors with `code` for the `inline_c` instructions of `module` (C code kept from
+/// pragmas for the `c` target), for a backend that cannot run C (`target` names it in
+/// the message). One error per instruction, at its span.
+pub fn reject_inline_c(
+    module: &Module,
+    target: &str,
+    code: &'static str,
+) -> Result<(), Vec<Diagnostic>> {
+    let mut errs = Vec::new();
+    for f in &module.funcs {
+        for (_, i) in f.inst_iter() {
+            if matches!(f.inst(i), crate::inst::InstData::InlineC { .. }) {
+                let msg = format!(
+                    "C code in a pragma cannot run on {target}: only the `c` target copies it into its output"
+                );
+                errs.push(match f.spans.get(i.index()).copied().flatten() {
+                    Some(s) => Diagnostic::error(code, msg, s),
+                    None => Diagnostic::error_nowhere(code, format!("{msg} (in `{}`)", f.name)),
+                });
+            }
+        }
+    }
+    if errs.is_empty() {
+        Ok(())
+    } else {
+        Err(errs)
+    }
+}

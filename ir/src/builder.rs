@@ -232,6 +232,19 @@ impl<'f> FuncBuilder<'f> {
         self.push(InstData::Intrinsic { op, args }, op.result())
     }
 
+    /// `inline_c %agg, data, "code"`: C code for the `c` target, `data__` being
+    /// `data` (a pointer to struct `agg`).
+    pub fn inline_c(&mut self, code: &str, agg: AggId, data: Value) {
+        self.push(
+            InstData::InlineC {
+                code: code.into(),
+                agg,
+                data,
+            },
+            None,
+        );
+    }
+
     /// `jump dest(args)`
     pub fn jump(&mut self, dest: Block, args: Vec<Value>) {
         self.push(

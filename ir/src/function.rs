@@ -266,6 +266,7 @@ impl Function {
             InstData::Store { .. } => None,
             InstData::Call { func, .. } => module.funcs.get(func.index()).and_then(|f| f.ret),
             InstData::Intrinsic { op, .. } => op.result(),
+            InstData::InlineC { .. } => None,
             InstData::Jump { .. } | InstData::Brif { .. } | InstData::Return { .. } => None,
         }
     }

@@ -626,6 +626,20 @@ pub enum InstData {
         /// Its operands (none so far).
         args: Vec<Value>,
     },
+    /// `inline_c %agg, data, "code"`: C code copied into the `c` target's output where
+    /// it stands (a pragma of an ST body, as matiec copies it), with `data__` naming
+    /// `data` as a pointer to struct `agg` (the POU's instance), so matiec's access
+    /// macros (`__GET_VAR(data__->X,)`, `__SET_VAR(data__->,X,,v)`) reach its
+    /// variables. It may read and write any memory, like a call of unknown code; no
+    /// other target runs it (their backends refuse it).
+    InlineC {
+        /// The C text, as the pragma held it (matiec's braces dropped).
+        code: Box<str>,
+        /// The struct `data` points to.
+        agg: AggId,
+        /// The instance's address.
+        data: Value,
+    },
     /// `jump block(args)`
     Jump {
         /// The destination.
@@ -663,6 +677,7 @@ impl InstData {
             InstData::Store { .. }
             | InstData::Call { .. }
             | InstData::Intrinsic { .. }
+            | InstData::InlineC { .. }
             | InstData::Jump { .. }
             | InstData::Brif { .. }
             | InstData::Return { .. } => true,
@@ -699,7 +714,7 @@ impl InstData {
                 f(*base);
                 f(*index);
             }
-            InstData::Load { addr, .. } => f(*addr),
+            InstData::Load { addr, .. } | InstData::InlineC { data: addr, .. } => f(*addr),
             InstData::Store { value, addr } => {
                 f(*value);
                 f(*addr);
@@ -753,7 +768,7 @@ impl InstData {
                 *base = f(*base);
                 *index = f(*index);
             }
-            InstData::Load { addr, .. } => *addr = f(*addr),
+            InstData::Load { addr, .. } | InstData::InlineC { data: addr, .. } => *addr = f(*addr),
             InstData::Store { value, addr } => {
                 *value = f(*value);
                 *addr = f(*addr);

@@ -657,6 +657,15 @@ impl FnCheck<'_> {
                     }
                 }
             },
+            InstData::InlineC { agg, data, .. } => {
+                if !matches!(m.aggs.get(agg.index()), Some(AggDef::Struct(_))) {
+                    self.err(Some(i), format!("inline_c: {agg} is not a struct"));
+                }
+                if t(*data).is_some_and(|ty| ty != Type::Ptr) {
+                    self.err(Some(i), format!("inline_c: {data} is not a ptr"));
+                }
+                Expect::Nothing
+            }
             InstData::Intrinsic { op, args } => {
                 if !args.is_empty() {
                     self.err(

@@ -514,3 +514,41 @@ fn big_module_roundtrips_quickly() {
     verify_module(&m2).unwrap();
     assert!(start.elapsed().as_secs() < 20);
 }
+
+/// `inline_c` (C code of a pragma, for the `c` target) prints, parses back and
+/// verifies; its struct must be a struct and its data a pointer; the interpreter
+/// refuses to run it.
+#[test]
+fn inline_c_roundtrips_and_only_the_c_target_takes_it() {
+    let text = "struct %m program {\n    var n: i16 INT\n}\n\ndata @m: %m program\n\n\
+                func @m(ptr) program {\nblock0(v0: ptr):\n    \
+                inline_c %m, v0, \"{ __SET_VAR(data__->,N,,\\\"x\\\\n\\\"[0]); }\"\n    return\n}\n\n\
+                func @m$init(ptr) init {\nblock0(v0: ptr):\n    return\n}\n\n\
+                program \"m\" data @m body @m init @m$init\n";
+    let m = parse_module(text).unwrap_or_else(|e| panic!("{e}\n{text}"));
+    verify_module(&m).unwrap();
+    roundtrip(&m);
+    let InstData::InlineC { code, .. } = m.funcs[0].inst(m.funcs[0].inst_iter().next().unwrap().1)
+    else {
+        panic!("an inline_c first")
+    };
+    assert_eq!(&**code, "{ __SET_VAR(data__->,N,,\"x\\n\"[0]); }");
+    let bad = text.replace(
+        "inline_c %m, v0,",
+        "v1 = iconst.i16 0\n    inline_c %m, v1,",
+    );
+    let errs = verify_module(&parse_module(&bad).unwrap()).unwrap_err();
+    assert!(
+        errs.iter().any(|e| e.to_string().contains("is not a ptr")),
+        "{errs:?}"
+    );
+    use plcc_ir::machine::Machine;
+    let refused = plcc_ir::interp::Interp::new(&m)
+        .map_err(|e| e.to_string())
+        .and_then(|mut i| {
+            i.cold_start().map_err(|e| e.to_string())?;
+            i.scan().map_err(|e| e.to_string())
+        });
+    let err = refused.expect_err("the interpreter refuses");
+    assert!(err.contains("inline C"), "{err}");
+}

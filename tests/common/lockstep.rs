@@ -12,7 +12,9 @@ use crate::rng::Rng;
 
 /// Diagnostic codes of a target that cannot hold a program (too big, a type it does
 /// not have): the machine is left out, not failed.
-pub const UNFIT: [&str; 6] = ["E9001", "E9002", "E9003", "E9004", "E9101", "E9102"];
+pub const UNFIT: [&str; 8] = [
+    "E9001", "E9002", "E9003", "E9004", "E9101", "E9102", "E9207", "E9208",
+];
 
 /// The elementary variables of every program instance and the globals.
 fn all_vars(m: &Module) -> Vec<VarRef> {

@@ -209,6 +209,7 @@ fn used_values(func: &Function, access: &[Option<Place>], split: &[bool]) -> Vec
             data,
             InstData::Store { .. }
                 | InstData::Call { .. }
+                | InstData::InlineC { .. }
                 | InstData::Brif { .. }
                 | InstData::Return { .. }
                 | InstData::Intrinsic {
@@ -462,12 +463,31 @@ impl Emitter<'_> {
                 else_dest,
             } => {
                 let (t, e) = (self.edge(then_dest), self.edge(else_dest));
-                self.line(&format!("if ({}) {{ {t} }} else {{ {e} }}", v(*cond)));
+                // A branch to a fault path is unlikely: the compiler lays that path
+                // out of line and the loop around it tight.
+                let c = match (self.raises(then_dest.block), self.raises(else_dest.block)) {
+                    (false, true) => format!("__PLCC_LIKELY({})", v(*cond)),
+                    (true, false) => format!("__PLCC_UNLIKELY({})", v(*cond)),
+                    _ => v(*cond),
+                };
+                self.line(&format!("if ({c}) {{ {t} }} else {{ {e} }}"));
             }
             InstData::Return { value } => match value {
                 Some(x) => self.line(&format!("return {};", v(*x))),
                 None => self.line("return;"),
             },
+            InstData::InlineC { code, agg, data } => {
+                // As matiec copies a pragma: verbatim, with `data__` the instance.
+                let ty = &self.names.aggs[agg.index()];
+                self.line(&format!(
+                    "{{ {ty} *data__ = ({ty} *){}; (void)data__;",
+                    v(*data)
+                ));
+                self.out.push_str("/* C code of a pragma: */\n");
+                self.out.push_str(code);
+                self.out.push('\n');
+                self.line("}");
+            }
             InstData::Call { func: callee, args } => {
                 let call = self.call(*callee, args);
                 match result {
@@ -489,6 +509,23 @@ impl Emitter<'_> {
                 self.line(&format!("{} = {expr};", v(r)));
             }
         }
+    }
+
+    /// True if block `b` is a fault path: a small block raising the fault flag (an
+    /// index out of range, a division by zero), not the entry.
+    fn raises(&self, b: plcc_ir::Block) -> bool {
+        let insts = &self.func.block(b).insts;
+        self.func.entry() != Some(b)
+            && insts.len() <= 4
+            && insts.iter().any(|&i| {
+                matches!(
+                    self.func.inst(i),
+                    InstData::Intrinsic {
+                        op: Intrinsic::RaiseFault,
+                        ..
+                    }
+                )
+            })
     }
 
     /// The assignments to a destination's parameters and the jump.
@@ -632,6 +669,7 @@ impl Emitter<'_> {
             // Effects and terminators are statements (see `inst`).
             InstData::Store { .. }
             | InstData::Call { .. }
+            | InstData::InlineC { .. }
             | InstData::Jump { .. }
             | InstData::Brif { .. }
             | InstData::Return { .. } => {
@@ -652,8 +690,9 @@ impl Emitter<'_> {
             UnaryOp::Fneg => format!("(-{x})"),
             UnaryOp::Fabs => format!("{}({x})", math("fabs", ty)),
             UnaryOp::Fsqrt => format!("{}({x})", math("sqrt", ty)),
-            // Round to nearest, ties to even: the default rounding mode.
-            UnaryOp::Fnearest => format!("{}({x})", math("nearbyint", ty)),
+            // Round to nearest, ties to even (POUS.h's helper: avr-libc has no
+            // nearbyint, and nearbyint follows the current rounding mode).
+            UnaryOp::Fnearest => format!("{}({x})", math("__plcc_nearest", ty)),
             UnaryOp::Ftrunc => format!("{}({x})", math("trunc", ty)),
             UnaryOp::Ffloor => format!("{}({x})", math("floor", ty)),
             UnaryOp::Fceil => format!("{}({x})", math("ceil", ty)),

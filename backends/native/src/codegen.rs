@@ -210,6 +210,7 @@ pub(crate) fn compile_functions<M: ClModule>(
     // on ill-typed input (release builds do not run its verifier), and a library
     // caller's bug should be a diagnostic. It costs about 1% of a build.
     verify(module)?;
+    plcc_ir::backend::reject_inline_c(module, "the host target", codes::E_UNSUPPORTED_TARGET)?;
     let call_conv = isa.default_call_conv();
     let frontend = isa.frontend_config();
 

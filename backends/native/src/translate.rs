@@ -674,6 +674,10 @@ impl Cx<'_, '_, '_> {
                     self.set(inst, res);
                 }
             }
+            // `compile_functions` refuses these first (`reject_inline_c`).
+            InstData::InlineC { .. } => {
+                return Err("C code in a pragma cannot run on the host target".into())
+            }
             InstData::Intrinsic { op, .. } => match op {
                 Intrinsic::ClockMs => {
                     let rt = self.rt_addr();

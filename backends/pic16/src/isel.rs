@@ -495,6 +495,8 @@ impl<'a> Emitter<'a> {
             InstData::Load { ty, addr } => self.load(ty, addr, res.unwrap()),
             InstData::Store { value, addr } => self.store(value, addr),
             InstData::Call { func, args } => self.call(func, &args, res),
+            // `build` refuses these first (`reject_inline_c`).
+            InstData::InlineC { .. } => self.unsupported(inst, "C code in a pragma"),
             InstData::Intrinsic { op, .. } => match op {
                 Intrinsic::ClockMs => {
                     if let Some(d) = res.and_then(|r| self.home(r)) {

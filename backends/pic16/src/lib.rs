@@ -279,6 +279,7 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
             "unchecked pointers (CODESYS pointer arithmetic, a pointer given the address of another type, or the address of a temporary kept) are not supported on pic16f876a: run the program on interp",
         )]);
     }
+    plcc_ir::backend::reject_inline_c(module, "pic16f876a", codes::E_UNSUPPORTED)?;
     let pin_over = setting_pins(options)?;
     // REAL becomes integers and calls of the soft-float routines.
     let mut legal = module.clone();

@@ -197,6 +197,7 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
             "unchecked pointers (CODESYS pointer arithmetic, a pointer given the address of another type, or the address of a temporary kept) are not supported on the vmasm target: run the program on interp",
         )]);
     }
+    plcc_ir::backend::reject_inline_c(module, "the vmasm target", codes::E_UNSUPPORTED)?;
     if let Some(p) = module
         .programs
         .iter()

@@ -77,6 +77,10 @@ pub struct LowerOptions {
     /// Library files (`--lib`): declarations for the rest of the build. Their PROGRAMs
     /// run only when `programs` or a configuration names them.
     pub library: Vec<plcc_ir::diag::FileId>,
+    /// Keep the C code of pragmas where statements stand (`inline_c` in the IR), for
+    /// a target that copies it into its output (`c`); otherwise such pragmas are
+    /// skipped with warning W0010.
+    pub inline_c: bool,
 }
 
 /// One declared variable of a POU.
@@ -209,6 +213,8 @@ pub struct Lowerer<'s> {
     pub(crate) cpdev_files: Vec<plcc_ir::diag::FileId>,
     /// The CODESYS dialect (`LowerOptions::codesys`).
     pub(crate) codesys: bool,
+    /// [`LowerOptions::inline_c`].
+    pub(crate) inline_c: bool,
     /// The PROGRAMs to run (`LowerOptions::programs`).
     run_programs: Vec<String>,
     /// The library files (`LowerOptions::library`).
@@ -255,6 +261,7 @@ impl<'s> Lowerer<'s> {
             globals_data: None,
             cpdev_files: Vec::new(),
             codesys: false,
+            inline_c: false,
             run_programs: Vec::new(),
             library: Vec::new(),
             program_data: FxHashMap::default(),
@@ -271,6 +278,7 @@ impl<'s> Lowerer<'s> {
         opts: &LowerOptions,
     ) -> (Option<Module>, Vec<Diagnostic>) {
         self.codesys = opts.codesys;
+        self.inline_c = opts.inline_c;
         self.run_programs = opts.programs.clone();
         self.library = opts.library.clone();
         self.collect_pous(std_units);

@@ -9,6 +9,23 @@ use plcc_ir::diag::Span;
 use plcc_ir::{BinaryOp, ElemType, IntCC, Type, Value};
 
 impl<'s> BodyCx<'_, 's> {
+    /// A C pragma where a statement stands: kept for the `c` target (with the
+    /// instance as `data__`, as matiec gives it), else skipped with W0010.
+    fn inline_c(&mut self, code: &str, span: Span) {
+        let agg = self.l.ir[self.pou.0 as usize].agg;
+        let why = match (self.l.inline_c, self.self_ptr, agg) {
+            (true, Some(this), Some(agg)) => {
+                self.b.inline_c(code, agg, this);
+                return;
+            }
+            (true, ..) => "only a PROGRAM's or FUNCTION_BLOCK's body keeps C code (matiec's `data__` is their instance)",
+            (false, ..) => "only the `c` target copies C code into its output",
+        };
+        self.l.diags.push(crate::st::pragma::skipped_c(
+            span.file, span.start, span.end, why,
+        ));
+    }
+
     /// Lowers a statement list.
     pub(super) fn stmts(&mut self, stmts: &'s [Stmt]) {
         for s in stmts {
@@ -91,6 +108,7 @@ impl<'s> BodyCx<'_, 's> {
                 None => self.b.ret(None),
             },
             StmtKind::Empty => {}
+            StmtKind::InlineC(code) => self.inline_c(code, s.span),
             StmtKind::Label(id) => {
                 if let Some(&(b, _)) = self.labels.get(&id.sym) {
                     self.b.jump(b, vec![]);

@@ -392,9 +392,28 @@ pub struct Lexed {
     /// An unterminated comment, pragma or string ran into the end of the file (the
     /// parser then keeps quiet about what is missing at the end).
     pub eof_in_error: bool,
+    /// The pragmas holding C code, in source order: byte ranges with their braces.
+    /// The ST parser makes those that stand where a statement may stand statements
+    /// (copied into the `c` target's output); every other one is skipped with
+    /// warning W0010 (see [`Lexed::warn_c_pragmas`]).
+    pub c_pragmas: Vec<(u32, u32)>,
 }
 
 impl Lexed {
+    /// Warning W0010 for each C pragma from index `from` on, for a front end that
+    /// keeps none of them (`why` says why).
+    pub fn warn_c_pragmas(
+        &self,
+        file: FileId,
+        from: usize,
+        why: &str,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        for &(s, e) in self.c_pragmas.iter().skip(from) {
+            diags.push(super::pragma::skipped_c(file, s, e, why));
+        }
+    }
+
     /// The value of the literal token `t` (`text` is the lexed source).
     pub fn literal(&self, text: &str, t: Token) -> Literal {
         let kind = if t.flags & INLINE_INT != 0 {
@@ -492,6 +511,7 @@ pub fn lex(
         upper: String::new(),
         flags: 0,
         eof_in_error: false,
+        c_pragmas: Vec::new(),
         swallowed: false,
         word_cache: vec![
             CachedWord {
@@ -508,6 +528,7 @@ pub fn lex(
         tokens: lx.tokens,
         literals: lx.literals,
         eof_in_error: lx.eof_in_error,
+        c_pragmas: lx.c_pragmas,
     }
 }
 
@@ -538,6 +559,8 @@ struct Lexer<'a> {
     upper: String,
     flags: u8,
     eof_in_error: bool,
+    /// See [`Lexed::c_pragmas`].
+    c_pragmas: Vec<(u32, u32)>,
     /// The literal being lexed is an unterminated string.
     swallowed: bool,
     word_cache: Vec<CachedWord>,
@@ -773,6 +796,9 @@ impl<'a> Lexer<'a> {
         self.pos = skipped.end;
         self.eof_in_error |= skipped.unterminated;
         self.diags.extend(skipped.diag);
+        if skipped.c {
+            self.c_pragmas.push((start as u32, skipped.end as u32));
+        }
     }
 
     /// Skips from an opener of `open` bytes through the first `close` (not nested),

@@ -7,7 +7,7 @@
 pub mod lexer;
 pub mod literals;
 pub mod parser;
-mod pragma;
+pub(crate) mod pragma;
 
 #[cfg(test)]
 mod tests;

@@ -99,6 +99,7 @@ pub(crate) fn parse_tokens_with<'a>(
         args: Vec::new(),
         hook,
         line_postfix: None,
+        c_next: 0,
     };
     if p.toks.last().map(|t| t.kind) != Some(Tok::Eof) {
         // `lex` always ends with Eof; a hand-made token vector might not.
@@ -108,6 +109,12 @@ pub(crate) fn parse_tokens_with<'a>(
         };
     }
     let items = p.unit();
+    lexed.warn_c_pragmas(
+        file,
+        p.c_next,
+        "it does not stand where a statement may stand",
+        p.diags,
+    );
     SourceUnit { file, items }
 }
 
@@ -392,6 +399,8 @@ pub(crate) struct Parser<'a> {
     /// While an IL operand is parsed ([`Self::line_operand`]): the nesting depth at
     /// which a postfix on a new line ends the operand.
     line_postfix: Option<u32>,
+    /// The first of [`Lexed::c_pragmas`] not yet made a statement or skipped.
+    c_next: usize,
 }
 
 impl<'a> Parser<'a> {

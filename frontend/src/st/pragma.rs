@@ -9,8 +9,11 @@
 //!   `{enable code generation}` and `{#include "f"}`. They are skipped silently.
 //! - C code. matiec (the compiler of Beremiz and OpenPLC) copies the text of every
 //!   other pragma into the C it generates, so `{{ ... }}` blocks and pragmas such as
-//!   `{__SET_VAR(data__->,Q,,TRUE);}` are how their projects inline C. plcc's targets
-//!   cannot run C: such a pragma is skipped with warning W0010, and never read as ST.
+//!   `{__SET_VAR(data__->,Q,,TRUE);}` are how their projects inline C. The lexer
+//!   lists such pragmas ([`crate::st::lexer::Lexed::c_pragmas`]); the ST parser makes
+//!   those standing where a statement may stand statements (`StmtKind::InlineC`),
+//!   which the `c` target copies into its C and the others skip with warning W0010;
+//!   every other one is skipped with W0010. None is ever read as ST.
 //!
 //! `{{` ends at the first `}}`, `{` at the first `}` (as in matiec); neither nests.
 
@@ -23,8 +26,37 @@ pub(crate) struct Skipped {
     pub end: usize,
     /// It is never closed.
     pub unterminated: bool,
-    /// Warning W0010 for C code, or error E0002 for a pragma never closed.
+    /// It holds C code (the parser decides what becomes of it: see
+    /// [`crate::st::lexer::Lexed::c_pragmas`]).
+    pub c: bool,
+    /// Error E0002 for a pragma never closed.
     pub diag: Option<Diagnostic>,
+}
+
+/// Warning W0010 for the C pragma at `start..end`: skipped, and why.
+pub(crate) fn skipped_c(file: FileId, start: u32, end: u32, why: &str) -> Diagnostic {
+    Diagnostic::warning(
+        codes::W_C_PRAGMA,
+        format!("C code in a pragma is skipped: {why}"),
+        Span::new(file, start, end),
+    )
+    .with_label("this pragma holds C code")
+    .with_note(
+        "the code around it is compiled without it: whatever the C did does not \
+         happen (write it in ST if the program needs it)",
+    )
+}
+
+/// The C text matiec copies for the C pragma `text` (with its braces): `{{ x }}`
+/// becomes the block `{ x }`, `{ x }` its content.
+pub fn c_code(text: &str) -> &str {
+    if text.starts_with("{{") && text.ends_with("}}") && text.len() >= 4 {
+        &text[1..text.len() - 1]
+    } else {
+        text.strip_prefix('{')
+            .and_then(|t| t.strip_suffix('}'))
+            .unwrap_or(text)
+    }
 }
 
 /// Skips the pragma that starts at `start` in `src` (at a `{`).
@@ -34,18 +66,8 @@ pub(crate) fn skip(file: FileId, src: &[u8], start: usize) -> Skipped {
         Ok((len, kind)) => Skipped {
             end: start + len,
             unterminated: false,
-            diag: (kind == PragmaKind::C).then(|| {
-                Diagnostic::warning(
-                    codes::W_C_PRAGMA,
-                    "C code in a pragma is skipped: plcc's targets cannot run C",
-                    span(start, start + len),
-                )
-                .with_label("this pragma holds C code")
-                .with_note(
-                    "the code around it is compiled without it: whatever the C did does not \
-                     happen (write it in ST if the program needs it)",
-                )
-            }),
+            c: kind == PragmaKind::C,
+            diag: None,
         },
         Err(open) => {
             let (o, c) = if open == 2 { ("{{", "}}") } else { ("{", "}") };
@@ -58,6 +80,7 @@ pub(crate) fn skip(file: FileId, src: &[u8], start: usize) -> Skipped {
             Skipped {
                 end: src.len(),
                 unterminated: true,
+                c: false,
                 diag: Some(d),
             }
         }
@@ -164,7 +187,6 @@ mod tests {
     use super::*;
     use crate::intern::Interner;
     use crate::st::lexer::{lex, Tok};
-    use plcc_ir::diag::Severity;
 
     fn kind(s: &str) -> Result<(usize, PragmaKind), usize> {
         scan(s.as_bytes())
@@ -229,10 +251,21 @@ mod tests {
         assert_eq!(kind("{{"), Err(2));
     }
 
+    fn c_pragmas_of(src: &str) -> (Vec<Tok>, Vec<(u32, u32)>, Vec<Diagnostic>) {
+        let mut diags = Vec::new();
+        let mut interner = Interner::new();
+        let l = lex(FileId(0), src, &mut interner, &mut diags);
+        (
+            l.tokens.iter().map(|t| t.kind).collect(),
+            l.c_pragmas,
+            diags,
+        )
+    }
+
     #[test]
-    fn c_pragma_is_skipped_with_a_warning() {
+    fn c_pragma_is_left_to_the_parser() {
         let src = "IF a THEN\n{{\n  short v = GetFbVar(IN);\n  if (v) { f(); }\n}}\nEND_IF;";
-        let (toks, diags) = lexed(src);
+        let (toks, pragmas, diags) = c_pragmas_of(src);
         assert_eq!(
             toks,
             vec![
@@ -244,26 +277,33 @@ mod tests {
                 Tok::Eof
             ]
         );
-        assert_eq!(diags.len(), 1, "{diags:?}");
-        let d = &diags[0];
-        assert_eq!(d.code, codes::W_C_PRAGMA);
-        assert_eq!(d.severity, Severity::Warning);
-        let span = d.span.expect("a span");
-        let start = src.find("{{").unwrap_or(0);
-        let end = src.find("}}").unwrap_or(0) + 2;
-        assert_eq!((span.start as usize, span.end as usize), (start, end));
-        assert!(d.message.contains("C code"), "{}", d.message);
+        assert!(diags.is_empty(), "{diags:?}");
+        let start = src.find("{{").unwrap_or(0) as u32;
+        let end = src.find("}}").unwrap_or(0) as u32 + 2;
+        assert_eq!(pragmas, vec![(start, end)]);
+        let code = c_code(&src[start as usize..end as usize]);
+        assert!(
+            code.starts_with("{\n  short") && code.ends_with("}\n}"),
+            "{code}"
+        );
     }
 
     #[test]
     fn single_brace_c_pragma() {
-        let (toks, diags) = lexed("{__SET_VAR(data__->,Q,,TRUE);}\nq := 1;");
+        let (toks, pragmas, diags) = c_pragmas_of("{__SET_VAR(data__->,Q,,TRUE);}\nq := 1;");
         assert_eq!(
             toks,
             vec![Tok::Ident, Tok::Assign, Tok::Lit, Tok::Semi, Tok::Eof]
         );
-        let codes: Vec<_> = diags.iter().map(|d| d.code).collect();
-        assert_eq!(codes, vec![codes::W_C_PRAGMA]);
+        assert!(diags.is_empty(), "{diags:?}");
+        assert_eq!(pragmas, vec![(0, 30)]);
+        assert_eq!(
+            c_code("{__SET_VAR(data__->,Q,,TRUE);}"),
+            "__SET_VAR(data__->,Q,,TRUE);"
+        );
+        assert_eq!(c_code("{{ x; }}"), "{ x; }");
+        let known = lexed("{attribute 'x'}");
+        assert!(known.1.is_empty());
     }
 
     #[test]

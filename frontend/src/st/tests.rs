@@ -1002,6 +1002,7 @@ fn dump_stmts(out: &mut String, stmts: &[Stmt], i: &Interner, ind: usize) {
             StmtKind::Continue => out.push_str(&format!("{pad}CONTINUE\n")),
             StmtKind::Return => out.push_str(&format!("{pad}RETURN\n")),
             StmtKind::Empty => out.push_str(&format!("{pad};\n")),
+            StmtKind::InlineC(c) => out.push_str(&format!("{pad}{{C: {c}}}\n")),
             StmtKind::Label(l) => out.push_str(&format!("{pad}{}:\n", i.name(l.sym))),
             StmtKind::Goto(l) => out.push_str(&format!("{pad}GOTO {}\n", i.name(l.sym))),
             StmtKind::Let { name, value } => {
@@ -1279,4 +1280,35 @@ fn empty_and_comment_only_files() {
         .1
         .is_empty());
     assert_eq!(codes_of("(* never closed"), ["E0002"]);
+}
+
+/// C pragmas where statements stand become statements (in nested lists too); one
+/// inside a statement, or among declarations, is skipped with W0010.
+#[test]
+fn c_pragmas_become_statements_where_statements_stand() {
+    let src = "PROGRAM p VAR {x = 1;} a : INT; END_VAR\n\
+               {__SET_VAR(data__->,A,,1);}\n\
+               IF a > 0 THEN {{ f(); }} a := 2 {g();} + 1; {h();} END_IF;\n\
+               {{ last(); }}\n\
+               END_PROGRAM";
+    let (unit, diags, interner) = parse_str(src);
+    let crate::ast::Item::Pou(pou) = &unit.items[0] else {
+        panic!("a POU")
+    };
+    let mut out = String::new();
+    dump_stmts(&mut out, &pou.body.stmts, &interner, 0);
+    assert!(out.contains("{C: __SET_VAR(data__->,A,,1);}"), "{out}");
+    assert!(out.contains("{C: { f(); }}"), "{out}");
+    assert!(out.contains("{C: h();}"), "{out}");
+    assert!(out.contains("{C: { last(); }}"), "{out}");
+    assert!(!out.contains("g();") && !out.contains("x = 1"), "{out}");
+    let skipped: Vec<&str> = diags
+        .iter()
+        .filter(|d| d.code == crate::codes::W_C_PRAGMA)
+        .map(|d| d.message.as_str())
+        .collect();
+    assert_eq!(skipped.len(), 2, "{diags:?}");
+    assert!(skipped
+        .iter()
+        .all(|m| m.contains("where a statement may stand")));
 }

@@ -592,6 +592,12 @@ impl Decoder<'_> {
                     dst,
                 }
             }
+            InstData::InlineC { .. } => {
+                return Err(
+                    "inline C code (a pragma kept for the c target) cannot run on the interpreter"
+                        .to_string(),
+                )
+            }
             InstData::Intrinsic { op, ref args } => {
                 if !args.is_empty() {
                     return Err(format!("{} takes no operands", op.name()));

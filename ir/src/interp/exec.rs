@@ -451,6 +451,7 @@ pub(super) fn inst_text(
         InstData::Icmp { cond, args } => write!(s, "icmp {} {}, {}", cond.name(), args[0], args[1]),
         InstData::Fcmp { cond, args } => write!(s, "fcmp {} {}, {}", cond.name(), args[0], args[1]),
         InstData::Convert { op, ty, arg } => write!(s, "{}.{ty} {arg}", op.name()),
+        InstData::InlineC { data, .. } => write!(s, "inline_c {data}"),
         InstData::Select {
             cond,
             if_true,

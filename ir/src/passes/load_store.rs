@@ -326,8 +326,8 @@ pub fn run(func: &mut Function) -> bool {
                         },
                     );
                 }
-                InstData::Call { .. } => {
-                    // The callee may read and write any memory it can reach.
+                InstData::Call { .. } | InstData::InlineC { .. } => {
+                    // The callee (or C code) may read and write any memory it can reach.
                     known.clear();
                     pending.clear();
                 }

@@ -529,6 +529,7 @@ enum RawOp<'a> {
     Store(V, V),
     Call(Box<(Named<'a>, Vec<V>)>),
     Intrinsic(Intrinsic, Vec<V>),
+    InlineC(Box<(Named<'a>, V, Cow<'a, str>)>),
     Jump(Box<RawBlockCall>),
     Brif(Box<(V, RawBlockCall, RawBlockCall)>),
     Return(Option<V>),
@@ -1388,6 +1389,14 @@ impl<'a> Parser<'a> {
                         },
                         field,
                     )))
+                }
+                "inline_c" => {
+                    let agg = self.agg_name("a struct type such as `%S`")?;
+                    self.expect(Tok::Comma, "`,`")?;
+                    let data = self.value()?;
+                    self.expect(Tok::Comma, "`,`")?;
+                    let code = self.string("the C code as a string")?;
+                    RawOp::InlineC(Box::new((agg, data, code)))
                 }
                 "elem_addr" => {
                     let base = self.value()?;

@@ -450,6 +450,12 @@ fn write_inst(out: &mut String, m: &Module, f: &Function, inst: Inst, locations:
             write_args(out, args);
             out.push(')');
         }
+        InstData::InlineC { code, agg, data } => {
+            out.push_str("inline_c ");
+            write_agg_ref(out, m, *agg);
+            let _ = write!(out, ", {data}, ");
+            write_quoted(out, code);
+        }
         InstData::Intrinsic { op, args } => {
             out.push_str(op.name());
             if !args.is_empty() {

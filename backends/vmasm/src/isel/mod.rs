@@ -1083,6 +1083,8 @@ impl Fx<'_, '_> {
                 self.rrr(op::sel(ty), &[d, c, b, a]);
             }
             InstData::Call { func, args } => self.call(func, &args, res)?,
+            // `build` refuses these first (`reject_inline_c`).
+            InstData::InlineC { .. } => return Err(self.unsupported("C code in a pragma", span)),
             InstData::Intrinsic { op: iop, .. } => match iop {
                 Intrinsic::ClockMs => {
                     let d = self.home(res.expect("result"));

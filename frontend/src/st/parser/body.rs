@@ -13,6 +13,7 @@ impl<'a> Parser<'a> {
     pub(super) fn stmt_list(&mut self, stop: &[Tok], compound: bool, case_arm: bool) -> Vec<Stmt> {
         let base = self.stmts.len();
         loop {
+            self.c_pragma_statements();
             let t = self.peek();
             if stop.contains(&t) || is_section_stop(t) {
                 break;
@@ -37,6 +38,36 @@ impl<'a> Parser<'a> {
             }
         }
         self.stmts.drain(base..).collect()
+    }
+
+    /// The C pragmas before the current token: those between it and the token before
+    /// it stand where a statement may stand and become [`StmtKind::InlineC`]; earlier
+    /// ones (inside a statement, among declarations) are skipped with warning W0010.
+    fn c_pragma_statements(&mut self) {
+        let pragmas = &self.lexed.c_pragmas;
+        let here = self.tok().start;
+        let gap_start = match self.pos {
+            0 => 0,
+            p => self.token(p - 1).end,
+        };
+        while let Some(&(s, e)) = pragmas.get(self.c_next) {
+            if s >= here {
+                break;
+            }
+            self.c_next += 1;
+            if s >= gap_start {
+                let code = crate::st::pragma::c_code(&self.text[s as usize..e as usize]);
+                let span = Span::new(self.file, s, e);
+                push(&mut self.stmts, StmtKind::InlineC(code.into()), span);
+            } else {
+                self.diags.push(crate::st::pragma::skipped_c(
+                    self.file,
+                    s,
+                    e,
+                    "it does not stand where a statement may stand",
+                ));
+            }
+        }
     }
 
     /// An END_IF, ELSE, UNTIL... that no open construct accepts.

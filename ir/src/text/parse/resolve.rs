@@ -395,6 +395,18 @@ impl<'a> Resolver<'a> {
                             field: idx as u32,
                         }
                     }
+                    RawOp::InlineC(ic) => {
+                        let (agg, data, code) = &**ic;
+                        has_result = Some(false);
+                        let Some(&id) = names.aggs.get(agg.name.as_ref()) else {
+                            return self.err(agg.pos, format!("unknown aggregate `%{}`", agg.name));
+                        };
+                        InstData::InlineC {
+                            code: code.as_ref().into(),
+                            agg: id,
+                            data: val(*data)?,
+                        }
+                    }
                     RawOp::ElemAddr(ea) => {
                         let (base, agg, index) = &**ea;
                         ty = Some(Type::Ptr);
