@@ -272,7 +272,8 @@ fn bits_rank(e: ElemType) -> Option<u32> {
 /// True if a value of `from` converts to `to` without an explicit conversion, as IEC
 /// 61131-3 (3rd edition) allows: widening within signed integers, within unsigned
 /// integers, unsigned to a wider signed one, within bit strings, integers to a real
-/// that holds them exactly, REAL to LREAL, TIME to LTIME.
+/// that holds them exactly, REAL to LREAL, TIME to LTIME, DATE to LDATE, TOD to LTOD,
+/// DT to LDT.
 pub fn implicit(from: ElemType, to: ElemType) -> bool {
     use ElemType::*;
     if from == to {
@@ -289,7 +290,7 @@ pub fn implicit(from: ElemType, to: ElemType) -> bool {
         return bf < bt && from != Bool;
     }
     match (from, to) {
-        (Real, LReal) | (Time, LTime) => true,
+        (Real, LReal) | (Time, LTime) | (Date, LDate) | (Tod, LTod) | (Dt, LDt) => true,
         (f, Real) => matches!(f, SInt | Int | USInt | UInt),
         (f, LReal) => matches!(f, SInt | Int | DInt | USInt | UInt | UDInt),
         _ => false,
@@ -303,7 +304,7 @@ pub fn int_range(e: ElemType) -> Option<(i128, i128)> {
         SInt => (i8::MIN as i128, i8::MAX as i128),
         Int => (i16::MIN as i128, i16::MAX as i128),
         DInt | Time => (i32::MIN as i128, i32::MAX as i128),
-        LInt | LTime => (i64::MIN as i128, i64::MAX as i128),
+        LInt | LTime | LDate | LTod | LDt => (i64::MIN as i128, i64::MAX as i128),
         USInt | Byte | Char => (0, u8::MAX as i128),
         UInt | Word | WChar => (0, u16::MAX as i128),
         UDInt | DWord | Date | Tod | Dt => (0, u32::MAX as i128),

@@ -182,6 +182,12 @@ pub enum ElemType {
     Tod,
     /// DATE_AND_TIME: seconds since 1970-01-01T00:00:00, 32-bit.
     Dt,
+    /// LDATE: nanoseconds since 1970-01-01 (a whole number of days), 64-bit.
+    LDate,
+    /// LTIME_OF_DAY: nanoseconds since midnight, 64-bit.
+    LTod,
+    /// LDATE_AND_TIME: nanoseconds since 1970-01-01T00:00:00, 64-bit.
+    LDt,
     /// CHAR: one byte.
     Char,
     /// WCHAR: one UTF-16 unit.
@@ -192,7 +198,7 @@ pub enum ElemType {
 
 impl ElemType {
     /// Every elementary type, in the order of the IEC tables.
-    pub const ALL: [ElemType; 23] = [
+    pub const ALL: [ElemType; 26] = [
         ElemType::Bool,
         ElemType::SInt,
         ElemType::Int,
@@ -213,6 +219,9 @@ impl ElemType {
         ElemType::Date,
         ElemType::Tod,
         ElemType::Dt,
+        ElemType::LDate,
+        ElemType::LTod,
+        ElemType::LDt,
         ElemType::Char,
         ElemType::WChar,
         ElemType::Ref,
@@ -226,7 +235,7 @@ impl ElemType {
             SInt | USInt | Byte | Char => Type::I8,
             Int | UInt | Word | WChar => Type::I16,
             DInt | UDInt | DWord | Time | Date | Tod | Dt => Type::I32,
-            LInt | ULInt | LWord | LTime => Type::I64,
+            LInt | ULInt | LWord | LTime | LDate | LTod | LDt => Type::I64,
             Real => Type::F32,
             LReal => Type::F64,
             Ref => Type::Ptr,
@@ -257,6 +266,9 @@ impl ElemType {
             Date => "DATE",
             Tod => "TIME_OF_DAY",
             Dt => "DATE_AND_TIME",
+            LDate => "LDATE",
+            LTod => "LTIME_OF_DAY",
+            LDt => "LDATE_AND_TIME",
             Char => "CHAR",
             WChar => "WCHAR",
             Ref => "REF",
@@ -288,6 +300,9 @@ impl ElemType {
             "DATE" => Date,
             "TIME_OF_DAY" | "TOD" => Tod,
             "DATE_AND_TIME" | "DT" => Dt,
+            "LDATE" => LDate,
+            "LTIME_OF_DAY" | "LTOD" => LTod,
+            "LDATE_AND_TIME" | "LDT" => LDt,
             "CHAR" => Char,
             "WCHAR" => WChar,
             "REF" => Ref,

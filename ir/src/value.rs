@@ -116,6 +116,11 @@ impl PlcValue {
                 };
                 Ok(PlcValue::from_i64(ty, raw))
             }
+            ElemType::LDate | ElemType::LTod | ElemType::LDt if parse_int(body).is_none() => {
+                let text = t.rsplit_once('#').map_or(t, |(_, b)| b);
+                let v = parse_long_date(ty, text).ok_or_else(bad)?;
+                Ok(PlcValue::from_i64(ty, v))
+            }
             ElemType::Date | ElemType::Tod | ElemType::Dt if parse_int(body).is_none() => {
                 let text = t.rsplit_once('#').map_or(t, |(_, b)| b);
                 let v = parse_date(ty, text).ok_or_else(bad)?;
@@ -167,6 +172,60 @@ fn parse_date(ty: ElemType, text: &str) -> Option<i64> {
         }
     };
     (0..=u32::MAX as i64).contains(&v).then_some(v)
+}
+
+/// Parses the text after `LDATE#`, `LTOD#` or `LDT#` into nanoseconds (since 1970 for
+/// LDATE and LDATE_AND_TIME, since midnight for LTIME_OF_DAY), fractions of a second
+/// to the nanosecond.
+fn parse_long_date(ty: ElemType, text: &str) -> Option<i64> {
+    const NS: i128 = 1_000_000_000;
+    let day = |s: &str| -> Option<i128> {
+        let mut it = s.splitn(3, '-');
+        let y: i64 = it.next()?.parse().ok()?;
+        let m: u32 = it.next()?.parse().ok()?;
+        let d: u32 = it.next()?.parse().ok()?;
+        ((1..=12).contains(&m) && (1..=31).contains(&d))
+            .then(|| days_from_civil(y, m, d) as i128 * 86_400 * NS)
+    };
+    let tod = |s: &str| -> Option<i128> {
+        let mut it = s.splitn(3, ':');
+        let h: i128 = it.next()?.parse().ok()?;
+        let mi: i128 = it.next()?.parse().ok()?;
+        let sec = it.next()?;
+        let (whole, frac) = sec.split_once('.').unwrap_or((sec, ""));
+        let s: i128 = whole.parse().ok()?;
+        if frac.len() > 9 || !frac.bytes().all(|b| b.is_ascii_digit()) {
+            return None;
+        }
+        let f: i128 = format!("{frac:0<9}").parse().ok()?;
+        (h < 24 && mi < 60 && s < 60).then_some(((h * 60 + mi) * 60 + s) * NS + f)
+    };
+    let v = match ty {
+        ElemType::LDate => day(text)?,
+        ElemType::LTod => tod(text)?,
+        _ => {
+            let cut = text.match_indices('-').nth(2)?.0;
+            day(&text[..cut])? + tod(&text[cut + 1..])?
+        }
+    };
+    i64::try_from(v).ok()
+}
+
+/// The text of `ns` nanoseconds since midnight: `12:30:15`, `12:30:15.5`.
+fn format_tod_ns(f: &mut fmt::Formatter<'_>, ns: i64) -> fmt::Result {
+    let (secs, frac) = (ns.div_euclid(1_000_000_000), ns.rem_euclid(1_000_000_000));
+    write!(
+        f,
+        "{:02}:{:02}:{:02}",
+        secs / 3600,
+        secs / 60 % 60,
+        secs % 60
+    )?;
+    if frac != 0 {
+        let digits = format!("{frac:09}");
+        write!(f, ".{}", digits.trim_end_matches('0'))?;
+    }
+    Ok(())
 }
 
 /// Days since 1970-01-01 of a proleptic Gregorian date (Howard Hinnant's algorithm).
@@ -369,6 +428,22 @@ impl fmt::Display for PlcValue {
                     sod % 60
                 )
             }
+            LDate => {
+                let days = self.as_i64().div_euclid(86_400 * 1_000_000_000);
+                let (y, m, d) = civil_from_days(days);
+                write!(f, "LDATE#{y:04}-{m:02}-{d:02}")
+            }
+            LTod => {
+                f.write_str("LTOD#")?;
+                format_tod_ns(f, self.as_i64())
+            }
+            LDt => {
+                let ns = self.as_i64();
+                let day_ns = 86_400 * 1_000_000_000;
+                let (y, m, d) = civil_from_days(ns.div_euclid(day_ns));
+                write!(f, "LDT#{y:04}-{m:02}-{d:02}-")?;
+                format_tod_ns(f, ns.rem_euclid(day_ns))
+            }
             Char => write!(f, "16#{:02X}", self.bits),
             WChar => write!(f, "16#{:04X}", self.bits),
             Ref => write!(f, "16#{:X}", self.bits),
@@ -529,6 +604,25 @@ mod tests {
 #[cfg(test)]
 mod date_tests {
     use super::*;
+
+    #[test]
+    fn long_dates_read_back_as_they_print() {
+        for (ty, text) in [
+            (ElemType::LDate, "LDATE#2024-02-29"),
+            (ElemType::LTod, "LTOD#23:59:59.999999999"),
+            (ElemType::LTod, "LTOD#12:00:00.5"),
+            (ElemType::LTod, "LTOD#00:00:00"),
+            (ElemType::LDt, "LDT#2262-04-11-23:47:16.854775807"),
+            (ElemType::LDt, "LDT#1970-01-01-00:00:00.000000001"),
+        ] {
+            let v = PlcValue::parse(ty, text).unwrap();
+            assert_eq!(v.to_string(), text);
+        }
+        let v = PlcValue::parse(ElemType::LTod, "LTOD#00:00:01.25").unwrap();
+        assert_eq!(v.as_i64(), 1_250_000_000);
+        assert!(PlcValue::parse(ElemType::LDt, "LDT#2262-04-11-23:47:16.854775808").is_err());
+        assert!(PlcValue::parse(ElemType::LTod, "LTOD#00:00:00.0000000001").is_err());
+    }
 
     #[test]
     fn dates_read_back_as_they_print() {

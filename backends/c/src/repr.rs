@@ -65,7 +65,7 @@ pub fn iec_name(ty: Type, elem: Option<ElemType>) -> Option<&'static str> {
             E::USInt => Some("USINT"),
             E::UInt => Some("UINT"),
             E::UDInt | E::Date | E::Tod | E::Dt => Some("UDINT"),
-            E::ULInt => Some("ULINT"),
+            E::ULInt | E::LDate | E::LTod | E::LDt => Some("ULINT"),
             E::Byte | E::Char => Some("BYTE"),
             E::Word | E::WChar => Some("WORD"),
             E::DWord => Some("DWORD"),

@@ -152,7 +152,7 @@ fn c_scalar(ty: Type, elem: Option<ElemType>) -> &'static str {
         Some(USInt | Byte | Char) => "uint8_t",
         Some(UInt | Word | WChar) => "uint16_t",
         Some(UDInt | DWord | Date | Tod | Dt) => "uint32_t",
-        Some(ULInt | LWord) => "uint64_t",
+        Some(ULInt | LWord | LDate | LTod | LDt) => "uint64_t",
         Some(Real) => "float",
         Some(LReal) => "double",
         Some(Ref) => "void *",

@@ -172,10 +172,6 @@ impl Builtin {
         Some(match name {
             "CONCAT_DATE" | "CONCAT_TOD" | "CONCAT_DT" | "SPLIT_DATE" | "SPLIT_TOD"
             | "SPLIT_DT" | "DAY_OF_WEEK" => "date and time functions",
-            "ADD_LTOD_LTIME" | "ADD_LDT_LTIME" | "SUB_LDATE_LDATE" | "SUB_LTOD_LTIME"
-            | "SUB_LTOD_LTOD" | "SUB_LDT_LTIME" | "SUB_LDT_LDT" | "CONCAT_LDATE_LTOD" => {
-                "LDATE, LTOD and LDT (64-bit dates)"
-            }
             "REFERENCE" => "REFERENCE (write REF)",
             "PRINTF" => "printf (a RuSTy extension)",
             _ if name.contains("STRING") || name.contains("CHAR") => "string conversions",
@@ -972,7 +968,7 @@ impl<'s> BodyCx<'_, 's> {
             _ => x.v,
         };
         let from = from.unwrap_or(xe);
-        let dated = |t: ElemType| matches!(t, ElemType::Date | ElemType::Tod | ElemType::Dt);
+        let dated = |t: ElemType| super::dates::is_date(Ty::Elem(t));
         if dated(from) || dated(to) {
             return match self.date_conversion(src, from, to) {
                 Some(v) => Some(Val {

@@ -1,12 +1,14 @@
-//! DATE, TIME_OF_DAY and DATE_AND_TIME: their literals, arithmetic (IEC 61131-3 table
-//! 30, as operators and as functions, named (`ADD_DT_TIME`) or overloaded (`ADD`, also
+//! DATE, TIME_OF_DAY and DATE_AND_TIME, and their 64-bit forms LDATE, LTIME_OF_DAY
+//! and LDATE_AND_TIME: their literals, arithmetic (IEC 61131-3 table 30, as operators
+//! and as functions, named (`ADD_DT_TIME`, `ADD_LDT_LTIME`) or overloaded (`ADD`, also
 //! on TIME and LTIME)) and conversions.
 //!
-//! All three are unsigned 32-bit counts: DATE and DATE_AND_TIME in seconds since
-//! 1970-01-01 (a DATE at midnight), TIME_OF_DAY in milliseconds since midnight, as on
-//! CODESYS. TIME is signed milliseconds, so `DT - DT` is a TIME in milliseconds and
-//! `DT + TIME` adds whole seconds (the milliseconds of the TIME are dropped, as a
-//! DATE_AND_TIME holds none).
+//! The three short ones are unsigned 32-bit counts: DATE and DATE_AND_TIME in seconds
+//! since 1970-01-01 (a DATE at midnight), TIME_OF_DAY in milliseconds since midnight,
+//! as on CODESYS. TIME is signed milliseconds, so `DT - DT` is a TIME in milliseconds
+//! and `DT + TIME` adds whole seconds (the milliseconds of the TIME are dropped, as a
+//! DATE_AND_TIME holds none). The long ones are 64-bit counts of nanoseconds (since
+//! 1970, or since midnight), as LTIME is: `LDT - LDT` is an LTIME, exact.
 
 use super::body::BodyCx;
 use super::consts::ConstVal;
@@ -19,10 +21,12 @@ use plcc_ir::{BinaryOp, ElemType, Type, Value};
 
 const SECS_PER_DAY: i64 = 86_400;
 const MS_PER_DAY: i64 = 86_400_000;
+const NS_PER_DAY: i64 = 86_400_000_000_000;
 
-/// True for DATE, TIME_OF_DAY and DATE_AND_TIME.
+/// True for DATE, TIME_OF_DAY and DATE_AND_TIME, and LDATE, LTOD and LDT.
 pub(super) fn is_date(t: Ty) -> bool {
-    matches!(t, Ty::Elem(ElemType::Date | ElemType::Tod | ElemType::Dt))
+    use ElemType::*;
+    matches!(t, Ty::Elem(Date | Tod | Dt | LDate | LTod | LDt))
 }
 
 /// The result of `l op r` when one side is a date type (table 30), or `None` if the
@@ -38,6 +42,9 @@ pub(super) fn date_arith_type(op: Op, l: Ty, r: Ty) -> Option<Ty> {
         (Op::Sub, Tod, Time) => Tod,
         (Op::Sub, Dt, Time) => Dt,
         (Op::Sub, Date, Date) | (Op::Sub, Tod, Tod) | (Op::Sub, Dt, Dt) => Time,
+        (Op::Add | Op::Sub, LTod, LTime) => LTod,
+        (Op::Add | Op::Sub, LDt, LTime) => LDt,
+        (Op::Sub, LDate, LDate) | (Op::Sub, LTod, LTod) | (Op::Sub, LDt, LDt) => LTime,
         _ => return None,
     }))
 }
@@ -66,9 +73,9 @@ pub(super) fn time_fn_type(op: Op, l: Ty, r: Ty) -> Option<Ty> {
 /// diagnostic.
 fn time_fn_forms(op: Op) -> &'static str {
     match op {
-        Op::Add => "TIME + TIME, TOD + TIME and DT + TIME (LTIME + LTIME)",
+        Op::Add => "TIME + TIME, TOD + TIME and DT + TIME (and the same with LTIME, LTOD, LDT)",
         Op::Sub => {
-            "TIME - TIME, DATE - DATE, TOD - TIME, TOD - TOD, DT - TIME and DT - DT (LTIME - LTIME)"
+            "TIME - TIME, DATE - DATE, TOD - TIME, TOD - TOD, DT - TIME and DT - DT (and the same with LTIME, LDATE, LTOD, LDT)"
         }
         Op::Mul => "a TIME or LTIME (IN1) times a number (IN2)",
         _ => "a TIME or LTIME (IN1) divided by a number (IN2)",
@@ -82,6 +89,8 @@ pub(super) enum DateFn {
     Op(Op, ElemType, ElemType),
     /// `CONCAT_DATE_TOD(D, TOD)`: the DATE_AND_TIME of that day at that time.
     ConcatDateTod,
+    /// `CONCAT_LDATE_LTOD(LD, LTOD)`: the same in nanoseconds.
+    ConcatLDateLTod,
 }
 
 impl DateFn {
@@ -97,6 +106,14 @@ impl DateFn {
             "SUB_DT_TIME" => DateFn::Op(Op::Sub, Dt, Time),
             "SUB_DT_DT" => DateFn::Op(Op::Sub, Dt, Dt),
             "CONCAT_DATE_TOD" => DateFn::ConcatDateTod,
+            "ADD_LTOD_LTIME" => DateFn::Op(Op::Add, LTod, LTime),
+            "ADD_LDT_LTIME" => DateFn::Op(Op::Add, LDt, LTime),
+            "SUB_LDATE_LDATE" => DateFn::Op(Op::Sub, LDate, LDate),
+            "SUB_LTOD_LTIME" => DateFn::Op(Op::Sub, LTod, LTime),
+            "SUB_LTOD_LTOD" => DateFn::Op(Op::Sub, LTod, LTod),
+            "SUB_LDT_LTIME" => DateFn::Op(Op::Sub, LDt, LTime),
+            "SUB_LDT_LDT" => DateFn::Op(Op::Sub, LDt, LDt),
+            "CONCAT_LDATE_LTOD" => DateFn::ConcatLDateLTod,
             _ => return None,
         })
     }
@@ -108,13 +125,14 @@ impl DateFn {
                 date_arith_type(op, Ty::Elem(a), Ty::Elem(b)).unwrap_or(Ty::Error)
             }
             DateFn::ConcatDateTod => Ty::Elem(ElemType::Dt),
+            DateFn::ConcatLDateLTod => Ty::Elem(ElemType::LDt),
         }
     }
 }
 
 impl<'s> BodyCx<'_, 's> {
-    /// The value and type of a date literal (`D#`, `TOD#`, `DT#`); the long forms
-    /// (`LDATE#`, ...) are not supported.
+    /// The value and type of a date literal (`D#`, `TOD#`, `DT#`, and the long forms
+    /// `LDATE#`, `LTOD#`, `LDT#` in nanoseconds).
     pub(super) fn date_literal(
         &mut self,
         kind: &LiteralKind,
@@ -129,12 +147,26 @@ impl<'s> BodyCx<'_, 's> {
             _ => return None,
         };
         if long {
-            self.l.error(
-                codes::E_UNSUPPORTED,
-                "not supported yet: LDATE, LTOD and LDT (64-bit dates)",
-                span,
-            );
-            return None;
+            let (ns, t) = match *kind {
+                LiteralKind::Date { days, .. } => {
+                    (days as i128 * NS_PER_DAY as i128, ElemType::LDate)
+                }
+                LiteralKind::TimeOfDay { ns, .. } => (ns as i128, ElemType::LTod),
+                LiteralKind::DateTime { ns, .. } => (ns, ElemType::LDt),
+                _ => return None,
+            };
+            if !(0..=i64::MAX as i128).contains(&ns) {
+                self.l.error(
+                    codes::E_LITERAL_RANGE,
+                    format!(
+                        "{} holds dates from 1970 to 2262; this one is outside",
+                        t.name()
+                    ),
+                    span,
+                );
+                return None;
+            }
+            return Some((ConstVal::Int(ns), Ty::Elem(t)));
         }
         if !(0..=u32::MAX as i128).contains(&v) {
             self.l.error(
@@ -200,6 +232,26 @@ impl<'s> BodyCx<'_, 's> {
                 (self.b.binary(BinaryOp::Imul, d, thousand), Time)
             }
             (Op::Sub, Tod, Tod) => (self.b.binary(BinaryOp::Isub, x, y), Time),
+            (Op::Add, LTod, LTime) | (Op::Sub, LTod, LTime) => {
+                // Wraps around midnight.
+                let bop = if op == Op::Add {
+                    BinaryOp::Iadd
+                } else {
+                    BinaryOp::Isub
+                };
+                let s = self.b.binary(bop, x, y);
+                let day = self.b.iconst(Type::I64, NS_PER_DAY);
+                let m = self.b.binary(BinaryOp::Srem, s, day);
+                let zero = self.b.iconst(Type::I64, 0);
+                let neg = self.b.icmp(plcc_ir::IntCC::Slt, m, zero);
+                let up = self.b.binary(BinaryOp::Iadd, m, day);
+                (self.b.select(neg, up, m), LTod)
+            }
+            (Op::Add, LDt, LTime) => (self.b.binary(BinaryOp::Iadd, x, y), LDt),
+            (Op::Sub, LDt, LTime) => (self.b.binary(BinaryOp::Isub, x, y), LDt),
+            (Op::Sub, LDate, LDate) | (Op::Sub, LDt, LDt) | (Op::Sub, LTod, LTod) => {
+                (self.b.binary(BinaryOp::Isub, x, y), LTime)
+            }
             _ => return self.error_val(),
         };
         Val { v, ty: Ty::Elem(t) }
@@ -212,6 +264,15 @@ impl<'s> BodyCx<'_, 's> {
                 let x = self.emit_as(xs[0], Ty::Elem(a));
                 let y = self.emit_as(xs[1], Ty::Elem(b));
                 Some(self.date_op(op, x, y, a, b))
+            }
+            DateFn::ConcatLDateLTod => {
+                let d = self.emit_as(xs[0], Ty::Elem(ElemType::LDate));
+                let t = self.emit_as(xs[1], Ty::Elem(ElemType::LTod));
+                let v = self.b.binary(BinaryOp::Iadd, d, t);
+                Some(Val {
+                    v,
+                    ty: Ty::Elem(ElemType::LDt),
+                })
             }
             DateFn::ConcatDateTod => {
                 let d = self.emit_as(xs[0], Ty::Elem(ElemType::Date));
@@ -315,9 +376,39 @@ impl<'s> BodyCx<'_, 's> {
                 self.b.binary(BinaryOp::Imul, r, thousand)
             }
             (Date, Dt) | (Tod, Time) | (Time, Tod) => v,
+            (LDt, LDate) => {
+                let day = self.b.iconst(Type::I64, NS_PER_DAY);
+                let r = self.b.binary(BinaryOp::Urem, v, day);
+                self.b.binary(BinaryOp::Isub, v, r)
+            }
+            (LDt, LTod) => {
+                let day = self.b.iconst(Type::I64, NS_PER_DAY);
+                self.b.binary(BinaryOp::Urem, v, day)
+            }
+            (LDate, LDt) | (LTod, LTime) | (LTime, LTod) => v,
+            // Between a short and a long form: seconds (milliseconds) and nanoseconds.
+            (Date, LDate) | (LDate, Date) | (Dt, LDt) | (LDt, Dt) | (Tod, LTod) | (LTod, Tod) => {
+                self.convert(v, from, to)
+            }
+            (Dt, LDate) | (Dt, LTod) | (Date, LDt) => {
+                let long = self.convert(v, Dt, LDt);
+                self.date_conversion(long, LDt, to)?
+            }
+            (LDt, Date) | (LDt, Tod) | (LDate, Dt) => {
+                let mid = match to {
+                    Date => LDate,
+                    Tod => LTod,
+                    _ => LDt,
+                };
+                let m = self.date_conversion(v, from, mid)?;
+                self.convert(m, mid, to)
+            }
             (Date | Tod | Dt, n) if numeric(n) => self.convert(v, UDInt, n),
             (n, Date | Tod | Dt) if numeric(n) => self.convert(v, n, UDInt),
             (Date | Tod | Dt, r) if r.is_real() => self.convert(v, UDInt, r),
+            (LDate | LTod | LDt, n) if numeric(n) => self.convert(v, ULInt, n),
+            (n, LDate | LTod | LDt) if numeric(n) => self.convert(v, n, ULInt),
+            (LDate | LTod | LDt, r) if r.is_real() => self.convert(v, ULInt, r),
             _ => return None,
         })
     }

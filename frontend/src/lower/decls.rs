@@ -391,17 +391,6 @@ impl<'s> Lowerer<'s> {
             }
             return (Ty::Elem(e), None);
         }
-        if matches!(
-            name.as_str(),
-            "LDATE" | "LTOD" | "LTIME_OF_DAY" | "LDT" | "LDATE_AND_TIME"
-        ) {
-            self.error(
-                codes::E_UNSUPPORTED,
-                format!("not supported yet: the type {name}"),
-                id.span,
-            );
-            return (Ty::Error, None);
-        }
         if let Some(&i) = self.user.by_name.get(&id.sym) {
             return self.resolve_named_type(i, id.span);
         }

@@ -331,9 +331,12 @@ impl<'s> BodyCx<'_, 's> {
                     LiteralKind::Duration { long: false, .. } => Ty::TIME,
                     LiteralKind::Duration { long: true, .. } => Ty::Elem(ElemType::LTime),
                     LiteralKind::String { wide, units } => Self::literal_string_ty(*wide, units),
-                    LiteralKind::Date { .. } => Ty::Elem(ElemType::Date),
-                    LiteralKind::TimeOfDay { .. } => Ty::Elem(ElemType::Tod),
-                    LiteralKind::DateTime { .. } => Ty::Elem(ElemType::Dt),
+                    LiteralKind::Date { long: false, .. } => Ty::Elem(ElemType::Date),
+                    LiteralKind::TimeOfDay { long: false, .. } => Ty::Elem(ElemType::Tod),
+                    LiteralKind::DateTime { long: false, .. } => Ty::Elem(ElemType::Dt),
+                    LiteralKind::Date { long: true, .. } => Ty::Elem(ElemType::LDate),
+                    LiteralKind::TimeOfDay { long: true, .. } => Ty::Elem(ElemType::LTod),
+                    LiteralKind::DateTime { long: true, .. } => Ty::Elem(ElemType::LDt),
                 }
             }
             ExprKind::Name(id) => self.name_type(id.sym),
@@ -1082,6 +1085,28 @@ impl<'s> BodyCx<'_, 's> {
             (LTime, Time) => {
                 let k = self.b.iconst(Type::I64, 1_000_000);
                 let d = self.b.binary(BinaryOp::Sdiv, v, k);
+                return self.b.convert(ConvOp::Itrunc, Type::I32, d);
+            }
+            // The 32-bit dates count seconds (TOD milliseconds), the 64-bit ones
+            // nanoseconds; a long date past 2106 wraps in the short one.
+            (Date, LDate) | (Dt, LDt) | (Tod, LTod) => {
+                let w = self.b.convert(ConvOp::Uext, Type::I64, v);
+                let unit = if from == Tod {
+                    1_000_000
+                } else {
+                    1_000_000_000
+                };
+                let k = self.b.iconst(Type::I64, unit);
+                return self.b.binary(BinaryOp::Imul, w, k);
+            }
+            (LDate, Date) | (LDt, Dt) | (LTod, Tod) => {
+                let unit = if from == LTod {
+                    1_000_000
+                } else {
+                    1_000_000_000
+                };
+                let k = self.b.iconst(Type::I64, unit);
+                let d = self.b.binary(BinaryOp::Udiv, v, k);
                 return self.b.convert(ConvOp::Itrunc, Type::I32, d);
             }
             _ => {}

@@ -109,12 +109,12 @@ pub(crate) fn parse_tokens_with<'a>(
         };
     }
     let items = p.unit();
-    lexed.warn_c_pragmas(
-        file,
-        p.c_next,
-        "it does not stand where a statement may stand",
-        p.diags,
-    );
+    let why = if p.hook.is_some() {
+        "IL bodies and declarations keep no C code (an ST body keeps it where a statement may stand)"
+    } else {
+        "it does not stand where a statement may stand"
+    };
+    lexed.warn_c_pragmas(file, p.c_next, why, p.diags);
     SourceUnit { file, items }
 }
 
