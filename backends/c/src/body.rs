@@ -29,6 +29,18 @@ use std::fmt::Write;
 /// the address must have been inlined, see [`globals_values`]).
 pub fn function(module: &Module, names: &Names, f: FuncId) -> Result<String, Vec<Diagnostic>> {
     let func = module.func(f);
+    if func
+        .inst_iter()
+        .any(|(_, i)| matches!(func.inst(i), InstData::CallTable { .. }))
+    {
+        return Err(vec![Diagnostic::error_nowhere(
+            codes::E_MALFORMED_IR,
+            format!(
+                "function `{}` has a call bound at run time (`call_table`), which the c target does not translate yet",
+                func.name
+            ),
+        )]);
+    }
     let split = globals_values(names, func);
     let access: Vec<Option<Place>> = (0..func.insts.len())
         .map(|i| accessor(module, names, func, &split, Inst::new(i)))
@@ -209,6 +221,7 @@ fn used_values(func: &Function, access: &[Option<Place>], split: &[bool]) -> Vec
             data,
             InstData::Store { .. }
                 | InstData::Call { .. }
+                | InstData::CallTable { .. }
                 | InstData::Brif { .. }
                 | InstData::Return { .. }
                 | InstData::Intrinsic {
@@ -632,6 +645,7 @@ impl Emitter<'_> {
             // Effects and terminators are statements (see `inst`).
             InstData::Store { .. }
             | InstData::Call { .. }
+            | InstData::CallTable { .. }
             | InstData::Jump { .. }
             | InstData::Brif { .. }
             | InstData::Return { .. } => {

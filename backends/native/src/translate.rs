@@ -674,6 +674,12 @@ impl Cx<'_, '_, '_> {
                     self.set(inst, res);
                 }
             }
+            InstData::CallTable { .. } => {
+                return Err(format!(
+                    "`call_table` in `{}`: the host target does not translate calls bound at run time yet",
+                    f.name
+                ))
+            }
             InstData::Intrinsic { op, .. } => match op {
                 Intrinsic::ClockMs => {
                     let rt = self.rt_addr();
