@@ -25,7 +25,7 @@ fn tables_print_and_parse_back() {
         text.contains("table t0 \"I_Op.Apply\" (i32, i32) -> i32 = [@add, @sub, -, @mul]\n"),
         "{text}"
     );
-    assert!(text.contains("table t3 \"I_Log.Note\" (ptr, f64) = [@note_add, @note_set, -]\n"));
+    assert!(text.contains("table t3 \"I_Log.Note\" (ptr, i32) = [@note_add, @note_set, -]\n"));
     assert!(text.contains("    v6 = call_table t0, v2(v4, v5)\n"));
     assert!(text.contains("    call_table t3, v22(v20, v21)\n"));
     let again = parse_module(&text).unwrap();
@@ -90,7 +90,7 @@ fn run(m: &Module) -> Vec<(i64, bool)> {
     assert_eq!(read(&it, "main.acc").as_i64(), 3);
     assert_eq!(read(&it, "main.area"), PlcValue::from_f32(13.0));
     assert_eq!(read(&it, "main.flags").as_i64(), 0);
-    assert_eq!(read(&it, "main.total"), PlcValue::from_f64(10.0));
+    assert_eq!(read(&it, "main.total").as_i64(), 70);
     // The loop calls add, sub and mul: ((1 + 1) - 2) * 3.
     assert_eq!(read(&it, "main.looped").as_i64(), 0);
 
@@ -99,7 +99,7 @@ fn run(m: &Module) -> Vec<(i64, bool)> {
     assert_eq!(read(&it, "main.acc").as_i64(), 35);
     assert_eq!(read(&it, "main.area"), PlcValue::from_f32(0.0));
     assert_eq!(read(&it, "main.flags").as_i64(), 1);
-    assert_eq!(read(&it, "main.total"), PlcValue::from_f64(10.0));
+    assert_eq!(read(&it, "main.total").as_i64(), 70);
     assert_eq!(read(&it, "main.looped").as_i64(), -3);
 
     // sel = 0: add; square; t2's i64 index is -1, read unsigned: out of range;
@@ -108,13 +108,13 @@ fn run(m: &Module) -> Vec<(i64, bool)> {
     assert_eq!(read(&it, "main.acc").as_i64(), 3);
     assert_eq!(read(&it, "main.area"), PlcValue::from_f32(2.25));
     assert_eq!(read(&it, "main.flags").as_i64(), 0);
-    assert_eq!(read(&it, "main.total"), PlcValue::from_f64(6.0));
+    assert_eq!(read(&it, "main.total").as_i64(), 42);
 
     // sel = 2: t0's entry 2 is empty: the fault, and 0; is_zero(9).
     assert!(scan(&mut it, 2, 9, 1.0));
     assert_eq!(read(&it, "main.acc").as_i64(), 0);
     assert_eq!(read(&it, "main.flags").as_i64(), 0);
-    assert_eq!(read(&it, "main.total"), PlcValue::from_f64(6.0));
+    assert_eq!(read(&it, "main.total").as_i64(), 42);
 
     // sel = -1: read unsigned, every index is out of range.
     assert!(scan(&mut it, -1, 9, 1.0));
