@@ -5,19 +5,24 @@
 #[path = "common/c_driver.rs"]
 #[allow(dead_code)]
 mod c_driver;
+#[path = "common/cpdev_opcodes.rs"]
+mod cpdev_opcodes;
 #[path = "common/ir_machines.rs"]
 mod ir_machines;
 
+use plcc_ir::backend::Backend;
 use plcc_ir::text::parse_module;
 use plcc_ir::verify::verify_module;
 use plcc_ir::Module;
 
-/// The machines that run calls bound at run time so far.
+/// The machines that run calls bound at run time so far, and the VM's 32-bit modes.
 fn machines() -> Vec<String> {
-    plcc::targets::checked_machines()
+    let mut ms: Vec<String> = plcc::targets::checked_machines()
         .into_iter()
-        .filter(|m| m == "host" || m.starts_with("c:") || m == "c")
-        .collect()
+        .filter(|m| m == "host" || m.starts_with("c:") || m == "c" || m == "vmasm")
+        .collect();
+    ms.extend(["vmasm:mode=32".to_string(), "vmasm:mode=32a".to_string()]);
+    ms
 }
 
 fn load(name: &str) -> Module {
@@ -109,5 +114,27 @@ fn the_c_of_call_tables_is_clean_under_every_compiler_and_the_sanitizers() {
     for m in &modules {
         let n = c_driver::agrees_under_asan(m, 5, 10_000).unwrap();
         assert!(n > 0);
+    }
+}
+
+/// The VM has no call to a computed address: the compare chains and direct calls of
+/// both programs use only instructions the reference's C VMs execute, in every mode
+/// (the reference's table, `tests/common/cpdev_opcodes.rs`).
+#[test]
+fn the_vm_images_use_only_what_the_c_vms_execute() {
+    for name in ["tables.ir", "methods.ir"] {
+        let m = load(name);
+        for mode in ["16", "32", "32a"] {
+            let options = plcc_ir::backend::Options {
+                settings: vec![("mode".into(), mode.into())],
+                ..Default::default()
+            };
+            let arts = plcc_vmasm::VmasmBackend::new()
+                .compile(&m, &options)
+                .unwrap_or_else(|d| panic!("{name} (mode {mode}): {}", d[0]));
+            let list = cpdev_opcodes::walk(&arts.files[0].bytes, mode)
+                .unwrap_or_else(|e| panic!("{name} (mode {mode}): {e}"));
+            assert!(!list.is_empty());
+        }
     }
 }
