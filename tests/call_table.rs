@@ -24,10 +24,14 @@ fn machines() -> Vec<String> {
     ms
 }
 
-fn load(name: &str) -> Module {
+fn parse(name: &str) -> Module {
     let path = format!("{}/ir/tests/call_table/{name}", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path).unwrap();
-    let m = parse_module(&text).unwrap_or_else(|e| panic!("{path}: {e}"));
+    parse_module(&text).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
+fn load(name: &str) -> Module {
+    let m = parse(name);
     verify_module(&m).unwrap();
     m
 }
@@ -165,6 +169,28 @@ fn the_vm_images_use_only_what_the_c_vms_execute() {
                 .unwrap_or_else(|e| panic!("{name} (mode {mode}): {e}"));
             assert!(!list.is_empty());
         }
+    }
+}
+
+/// Recursion through a table: the verifier rejects it (the driver runs it before any
+/// backend), and every backend given the module anyway refuses it with a diagnostic,
+/// never a panic, a hang or code with static frames that would overwrite each other.
+#[test]
+fn recursion_through_a_table_is_refused() {
+    let m = parse("recursion.ir");
+    let errs = verify_module(&m).unwrap_err();
+    assert!(
+        errs.iter()
+            .any(|e| e.message.contains("recursion: @again -> @step -> @again")),
+        "{errs:?}"
+    );
+    for t in plcc::targets::TARGETS {
+        let Some(make) = t.backend else { continue };
+        let d = make()
+            .compile(&m, &plcc_ir::backend::Options::default())
+            .err()
+            .unwrap_or_else(|| panic!("{} compiled a recursive module", t.name));
+        eprintln!("{}: {}", t.name, d[0]);
     }
 }
 
