@@ -1,4 +1,8 @@
 //! Analyses of a whole module shared by the passes and the backends: the call graph.
+//!
+//! A `call_table` calls every entry of its table as far as the call graph is
+//! concerned: any of them may run, so recursion checks, stack depths and the
+//! reachability of functions count them all.
 
 use crate::entities::FuncId;
 use crate::inst::InstData;
@@ -33,15 +37,35 @@ pub fn callees_first(module: &Module) -> Vec<FuncId> {
     order
 }
 
-/// The functions `f` calls, each once.
+/// The functions an instruction may call: the callee of a `call`, every entry of the
+/// table of a `call_table` (ids out of range left out), none for other instructions.
+pub fn inst_callees(module: &Module, data: &InstData) -> Vec<FuncId> {
+    let n = module.funcs.len();
+    match data {
+        InstData::Call { func, .. } if func.index() < n => vec![*func],
+        InstData::CallTable { table, .. } => module
+            .tables
+            .get(table.index())
+            .map(|t| {
+                t.entries
+                    .iter()
+                    .flatten()
+                    .copied()
+                    .filter(|f| f.index() < n)
+                    .collect()
+            })
+            .unwrap_or_default(),
+        _ => Vec::new(),
+    }
+}
+
+/// The functions `f` calls (directly or through a table), each once.
 pub fn callees(module: &Module, f: usize) -> Vec<usize> {
     let func = &module.funcs[f];
     let mut out: Vec<usize> = func
         .inst_iter()
-        .filter_map(|(_, i)| match func.inst(i) {
-            InstData::Call { func, .. } if func.index() < module.funcs.len() => Some(func.index()),
-            _ => None,
-        })
+        .flat_map(|(_, i)| inst_callees(module, func.inst(i)))
+        .map(FuncId::index)
         .collect();
     out.sort_unstable();
     out.dedup();
@@ -60,4 +84,51 @@ pub fn call_depths(module: &Module) -> Vec<usize> {
             .unwrap_or(0);
     }
     depth
+}
+
+/// A cycle of the call graph, if there is one: functions each of which calls the next
+/// (the last calls the first), directly or through a table. The verifier rejects
+/// such a module; a backend whose frames are static checks it too rather than trust
+/// that the verifier ran.
+pub fn find_recursion(module: &Module) -> Option<Vec<FuncId>> {
+    let n = module.funcs.len();
+    // 0 = not visited, 1 = on the current path, 2 = done.
+    let mut state = vec![0u8; n];
+    for start in 0..n {
+        if state[start] != 0 {
+            continue;
+        }
+        let mut path: Vec<(usize, Vec<usize>)> = vec![(start, callees(module, start))];
+        state[start] = 1;
+        while let Some((node, pending)) = path.last_mut() {
+            let node = *node;
+            match pending.pop() {
+                Some(next) if state[next] == 1 => {
+                    let at = path.iter().position(|(f, _)| *f == next).unwrap_or(0);
+                    return Some(path[at..].iter().map(|(f, _)| FuncId::new(*f)).collect());
+                }
+                Some(next) if state[next] == 0 => {
+                    state[next] = 1;
+                    let c = callees(module, next);
+                    path.push((next, c));
+                }
+                Some(_) => {}
+                None => {
+                    state[node] = 2;
+                    path.pop();
+                }
+            }
+        }
+    }
+    None
+}
+
+/// The names of a cycle of [`find_recursion`], `@a -> @b -> @a`.
+pub fn describe_cycle(module: &Module, cycle: &[FuncId]) -> String {
+    cycle
+        .iter()
+        .chain(cycle.first())
+        .map(|f| format!("@{}", module.func(*f).name))
+        .collect::<Vec<_>>()
+        .join(" -> ")
 }

@@ -456,6 +456,10 @@ impl<'a> Emitter<'a> {
             }
         }
         match data {
+            InstData::CallTable { .. } => {
+                // `build` lowered every one to direct calls (passes::dispatch).
+                self.unsupported(inst, "a call bound at run time left after its lowering")
+            }
             InstData::Iconst { .. }
             | InstData::GlobalAddr { .. }
             | InstData::SlotAddr { .. }

@@ -326,7 +326,7 @@ pub fn run(func: &mut Function) -> bool {
                         },
                     );
                 }
-                InstData::Call { .. } | InstData::InlineC { .. } => {
+                InstData::Call { .. } | InstData::CallTable { .. } | InstData::InlineC { .. } => {
                     // The callee (or C code) may read and write any memory it can reach.
                     known.clear();
                     pending.clear();
