@@ -274,6 +274,16 @@ int main(void) {\n    unsigned long tick = 0;\n    config_init__();\n    for (;;
 \x20           __CURRENT_TIME.tv_sec += 1;\n        }\n\
 \x20       config_run__(tick++);\n    }\n}\n";
 
+/// The located variables' storage and the pointers to it, as a runtime defines them
+/// from the program's `LOCATED_VARIABLES.h` (OpenPLC's glue does the same): a unit of
+/// each AVR build.
+const AVR_LOCATED: &str = "#include \"iec_std_lib.h\"\n\
+#define __LOCATED_VAR(type, name, ...) type __##name;\n\
+#include \"LOCATED_VARIABLES.h\"\n#undef __LOCATED_VAR\n\
+#define __LOCATED_VAR(type, name, ...) type *name = &__##name;\n\
+#include \"LOCATED_VARIABLES.h\"\n#undef __LOCATED_VAR\n\
+typedef int avr_located_unit_is_never_empty;\n";
+
 /// avr-gcc's flags: the Arduino Mega's chip, for size, unused sections dropped (as
 /// the Arduino tools build), C99 with every warning an error.
 pub const AVR_FLAGS: [&str; 9] = [
@@ -328,11 +338,13 @@ fn avr_sections(elf: &Path) -> Result<(u64, u64, u64), String> {
 pub fn avr_build(program: &Program, main_o: &Path) -> Result<Avr, String> {
     let dir = &program.dir;
     let elf = dir.join("avr.elf");
+    std::fs::write(dir.join("avr_located.c"), AVR_LOCATED).map_err(|e| e.to_string())?;
     let link = |extra: &[&str]| {
         let mut cmd = Command::new("avr-gcc");
         cmd.current_dir(dir)
             .args(AVR_FLAGS)
             .args(&program.units)
+            .arg("avr_located.c")
             .arg(main_o)
             .arg("-o")
             .arg(&elf)
