@@ -338,12 +338,13 @@ pub fn run(s: &Scenario, m: &mut dyn Machine, program: &str, cycle_us: u64) -> O
 /// The path of a scenario variable: the program's, else a global's, else the path
 /// as written (`inst.var` when no program is chosen).
 pub fn path_of(m: &dyn Machine, program: &str, var: &str) -> String {
+    let exists = |p: &str| m.read(p).is_ok() || m.string_var(p).is_ok();
     let own = format!("{program}.{var}");
-    if !program.is_empty() && m.read(&own).is_ok() {
+    if !program.is_empty() && exists(&own) {
         return own;
     }
     let global = format!("{}.{var}", plcc_frontend::GLOBALS_DATA);
-    if m.read(&global).is_ok() {
+    if exists(&global) {
         return global;
     }
     if program.is_empty() {
@@ -377,7 +378,9 @@ fn string_value(text: &str, s: &StrRef) -> Result<Vec<u16>, String> {
     }
 }
 
-fn set(m: &mut dyn Machine, path: &str, text: &str) -> Result<(), String> {
+/// A scenario's `set`: writes `text` (a value as the scenario writes it: an IEC
+/// literal, a string in quotes) into the variable at `path`.
+pub fn set(m: &mut dyn Machine, path: &str, text: &str) -> Result<(), String> {
     if let Ok(s) = m.string_var(path) {
         let chars = string_value(text, &s)?;
         return write_string(m, &s, &chars).map_err(|e| e.to_string());

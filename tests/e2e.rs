@@ -822,10 +822,8 @@ fn differential(case: &Case, first: &str, second: &str) -> Result<usize, String>
             Step::Set { var, value } => {
                 for m in [&mut host, &mut interp] {
                     let path = scenario::path_of(m.as_ref(), &built.program, var);
-                    let cur = m.read(&path).map_err(|e| format!("line {line}: {e}"))?;
-                    let v =
-                        PlcValue::parse(cur.ty, value).map_err(|e| format!("line {line}: {e}"))?;
-                    m.write(&path, v).map_err(|e| format!("line {line}: {e}"))?;
+                    scenario::set(m.as_mut(), &path, value)
+                        .map_err(|e| format!("line {line}: {e}"))?;
                 }
             }
             Step::Expect { .. } => {}
