@@ -335,6 +335,20 @@ pub fn run(s: &Scenario, m: &mut dyn Machine, program: &str, cycle_us: u64) -> O
     out
 }
 
+/// Every elementary variable of the module's program instances, then the globals':
+/// what the machines are compared on.
+pub fn all_variables(module: &Module) -> Vec<plcc_ir::vars::VarRef> {
+    let mut v: Vec<_> = module
+        .programs
+        .iter()
+        .flat_map(|e| plcc_ir::vars::variables(module, e.data))
+        .collect();
+    if let Some(g) = module.data_by_name(plcc_frontend::GLOBALS_DATA) {
+        v.extend(plcc_ir::vars::variables(module, g));
+    }
+    v
+}
+
 /// The path of a scenario variable: the program's, else a global's, else the path
 /// as written (`inst.var` when no program is chosen).
 pub fn path_of(m: &dyn Machine, program: &str, var: &str) -> String {

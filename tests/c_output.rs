@@ -5,6 +5,24 @@
 use std::path::Path;
 use std::process::Command;
 
+/// The file set in `out` (with plcc's headers there) compiles as C99 and as C++
+/// (`g++ -std=gnu++11`, as OpenPLC builds it) with `-Wall -Wextra -Werror`.
+fn builds_as_c_and_cpp(out: &Path) {
+    for compiler in [
+        &["cc", "-std=c99"][..],
+        &["g++", "-std=gnu++11", "-x", "c++"][..],
+    ] {
+        for unit in ["Config0.c", "Res0.c"] {
+            let mut cmd = Command::new(compiler[0]);
+            cmd.current_dir(out)
+                .args(&compiler[1..])
+                .args(plcc_c::cc::WARNINGS)
+                .args(["-I.", "-c", unit, "-o", "/dev/null"]);
+            plcc_c::cc::run(cmd).unwrap();
+        }
+    }
+}
+
 #[test]
 fn the_file_set_and_the_headers_build() {
     let prog = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/traffic_light.st");
@@ -30,19 +48,7 @@ fn the_file_set_and_the_headers_build() {
         run(&["--emit", "headers"]),
         "iec_types.h\niec_types_all.h\naccessor.h\niec_std_lib.h\n"
     );
-    for compiler in [
-        &["cc", "-std=c99"][..],
-        &["g++", "-std=gnu++11", "-x", "c++"][..],
-    ] {
-        for unit in ["Config0.c", "Res0.c"] {
-            let mut cmd = Command::new(compiler[0]);
-            cmd.current_dir(&out)
-                .args(&compiler[1..])
-                .args(plcc_c::cc::WARNINGS)
-                .args(["-I.", "-c", unit, "-o", "/dev/null"]);
-            plcc_c::cc::run(cmd).unwrap();
-        }
-    }
+    builds_as_c_and_cpp(&out);
 }
 
 /// C code in pragmas goes into the C where it stands (matiec's way, `data__` the
@@ -99,17 +105,5 @@ fn pragmas_holding_c_run_on_the_c_target_only() {
         "{pous}"
     );
     assert!(pous.contains("{ if (__GET_VAR(data__->N,) >= 3)"), "{pous}");
-    for compiler in [
-        &["cc", "-std=c99"][..],
-        &["g++", "-std=gnu++11", "-x", "c++"][..],
-    ] {
-        for unit in ["Config0.c", "Res0.c"] {
-            let mut cmd = Command::new(compiler[0]);
-            cmd.current_dir(&out)
-                .args(&compiler[1..])
-                .args(plcc_c::cc::WARNINGS)
-                .args(["-I.", "-c", unit, "-o", "/dev/null"]);
-            plcc_c::cc::run(cmd).unwrap();
-        }
-    }
+    builds_as_c_and_cpp(&out);
 }

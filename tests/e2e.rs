@@ -670,22 +670,11 @@ fn programs_on_vmasm_small_ports() {
     }
 }
 
-/// Two values are the same: bit for bit, except that any two NaNs are equal.
-fn same(a: PlcValue, b: PlcValue) -> bool {
-    if a.ty != b.ty {
-        return false;
-    }
-    match a.ty {
-        ElemType::Real | ElemType::LReal if a.as_f64().is_nan() => b.as_f64().is_nan(),
-        _ => a.bits == b.bits,
-    }
-}
-
 /// Like [`same`], but REAL values may differ by a relative 1e-5: the transcendental
 /// functions (SIN, LN, EXPT, ...) are not correctly rounded, so a target with its own
 /// library (the PIC16's soft float) may give a neighbouring float.
 fn close(a: PlcValue, b: PlcValue) -> bool {
-    if same(a, b) {
+    if a.same(b) {
         return true;
     }
     if a.ty != ElemType::Real || b.ty != ElemType::Real {
@@ -754,7 +743,7 @@ fn differential(case: &Case, first: &str, second: &str) -> Result<usize, String>
             let b = interp
                 .read(&v.path)
                 .map_err(|e| format!("{second}: {}: {e}", v.path))?;
-            let equal = if approx { close(a, b) } else { same(a, b) };
+            let equal = if approx { close(a, b) } else { a.same(b) };
             if !equal {
                 diffs.push(format!("{} {first} {a} {second} {b}", v.path));
             }

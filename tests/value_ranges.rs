@@ -16,29 +16,8 @@ use plcc::difftest::{self, plcopen, sfc};
 use plcc_ir::interp::Interp;
 use plcc_ir::machine::Machine;
 use plcc_ir::value::PlcValue;
-use plcc_ir::vars::{variables, VarRef};
 use plcc_ir::{ElemType, Module};
 use rng::Rng;
-
-/// Every elementary variable of the program instances and the globals.
-fn all_vars(m: &Module) -> Vec<VarRef> {
-    let mut v: Vec<VarRef> = m
-        .programs
-        .iter()
-        .flat_map(|e| variables(m, e.data))
-        .collect();
-    if let Some(g) = m.data_by_name(plcc_frontend::GLOBALS_DATA) {
-        v.extend(variables(m, g));
-    }
-    v
-}
-
-fn same(a: PlcValue, b: PlcValue) -> bool {
-    match a.ty {
-        ElemType::Real | ElemType::LReal if a.as_f64().is_nan() => b.as_f64().is_nan(),
-        _ => a.ty == b.ty && a.bits == b.bits,
-    }
-}
 
 fn random_bits(rng: &mut Rng, ty: ElemType) -> u64 {
     match ty {
@@ -70,7 +49,7 @@ fn agree(m: &Module, scans: u32, seed: u64) -> Result<u32, String> {
     let r = ranged(m);
     let mut a = Interp::new(m).map_err(|e| e.to_string())?;
     let mut b = Interp::new(&r).map_err(|e| e.to_string())?;
-    let vars = all_vars(m);
+    let vars = plcc::scenario::all_variables(m);
     let mut rng = Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1);
     a.cold_start().map_err(|e| format!("cold start: {e}"))?;
     b.cold_start()
@@ -98,7 +77,7 @@ fn agree(m: &Module, scans: u32, seed: u64) -> Result<u32, String> {
         for v in &vars {
             let (x, y) = (a.read(&v.path), b.read(&v.path));
             let (x, y) = (x.map_err(|e| e.to_string())?, y.map_err(|e| e.to_string())?);
-            if !same(x, y) {
+            if !x.same(y) {
                 return Err(format!("after scan {s}: {} is {x}, ranged {y}", v.path));
             }
         }

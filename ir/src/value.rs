@@ -77,6 +77,18 @@ impl PlcValue {
     }
 
     /// Parses a value of type `ty` as written in a scenario or on the command line:
+    /// The same value: of one type and bit for bit, except that any two NaNs are
+    /// equal (how the machines are compared with one another).
+    pub fn same(self, other: PlcValue) -> bool {
+        if self.ty != other.ty {
+            return false;
+        }
+        match self.ty {
+            ElemType::Real | ElemType::LReal if self.as_f64().is_nan() => other.as_f64().is_nan(),
+            _ => self.bits == other.bits,
+        }
+    }
+
     /// `TRUE`, `FALSE`, `-5`, `16#FF`, `2#1010`, `INT#5`, `2.5`, `1.0E3`, `T#1s500ms`,
     /// `T#1500ms`. A plain integer for a TIME means milliseconds.
     pub fn parse(ty: ElemType, text: &str) -> Result<PlcValue, String> {

@@ -16,7 +16,7 @@ use crate::targets;
 use gen::{Gen, Prog, Rng, T};
 use plcc_ir::machine::Machine;
 use plcc_ir::value::PlcValue;
-use plcc_ir::{ElemType, Module};
+use plcc_ir::Module;
 
 /// What running one program on every machine showed.
 #[derive(Clone, Debug, PartialEq)]
@@ -37,14 +37,6 @@ const UNFIT: [&str; 6] = ["E9001", "E9002", "E9003", "E9004", "E9101", "E9102"];
 
 fn compile(p: &Prog) -> Result<Module, String> {
     build_text("difftest.st", &p.to_st(), &BuildOptions::default())
-}
-
-/// Two values are the same: bit for bit, except that any two NaNs are equal.
-fn same(a: PlcValue, b: PlcValue) -> bool {
-    match a.ty {
-        ElemType::Real | ElemType::LReal if a.as_f64().is_nan() => b.as_f64().is_nan(),
-        _ => a.ty == b.ty && a.bits == b.bits,
-    }
 }
 
 fn random_value(rng: &mut Rng, t: T) -> u64 {
@@ -123,19 +115,10 @@ pub fn check_module(
         return Verdict::Rejected("no program".into());
     }
     // Every variable of every program instance, and the globals.
-    let mut vars: Vec<String> = module
-        .programs
-        .iter()
-        .flat_map(|e| plcc_ir::vars::variables(module, e.data))
+    let vars: Vec<String> = crate::scenario::all_variables(module)
+        .into_iter()
         .map(|v| v.path)
         .collect();
-    if let Some(g) = module.data_by_name(plcc_frontend::GLOBALS_DATA) {
-        vars.extend(
-            plcc_ir::vars::variables(module, g)
-                .into_iter()
-                .map(|v| v.path),
-        );
-    }
     let machines: Vec<String> = machines.iter().map(|m| machine_for_seed(m, seed)).collect();
     let mut ms: Vec<(String, Box<dyn Machine>)> = Vec::new();
     for name in &machines {
@@ -163,7 +146,7 @@ pub(crate) fn run(
             for v in vars {
                 let a = r.read(v).map_err(|e| format!("{rname}: {e}"))?;
                 let b = m.read(v).map_err(|e| format!("{name}: {e}"))?;
-                if !same(a, b) {
+                if !a.same(b) {
                     return Err(format!("{when}: {v} is {a} on {rname}, {b} on {name}"));
                 }
             }

@@ -7,8 +7,7 @@ use plcc_c::names::Names;
 use plcc_ir::interp::Interp;
 use plcc_ir::machine::Machine;
 use plcc_ir::value::PlcValue;
-use plcc_ir::vars::{variables, VarRef};
-use plcc_ir::{ElemType, Module};
+use plcc_ir::Module;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -145,26 +144,6 @@ pub fn compile_programs(
     Ok(failed)
 }
 
-/// Every elementary variable of the programs and the globals.
-fn all_vars(m: &Module) -> Vec<VarRef> {
-    let mut v: Vec<VarRef> = m
-        .programs
-        .iter()
-        .flat_map(|e| variables(m, e.data))
-        .collect();
-    if let Some(g) = m.data_by_name(plcc_frontend::GLOBALS_DATA) {
-        v.extend(variables(m, g));
-    }
-    v
-}
-
-fn same(a: PlcValue, b: PlcValue) -> bool {
-    match a.ty {
-        ElemType::Real | ElemType::LReal if a.as_f64().is_nan() => b.as_f64().is_nan(),
-        _ => a.ty == b.ty && a.bits == b.bits,
-    }
-}
-
 /// Builds the module with a `main` of its own under the address and
 /// undefined-behaviour sanitizers, runs cold start and `scans` scans of `cycle_us`,
 /// and compares every variable (after cold start and after the last scan) and the
@@ -177,7 +156,7 @@ pub fn agrees_under_asan(module: &Module, scans: u32, cycle_us: u64) -> Result<u
         plcc_c::harness::source(module, &names),
     )
     .map_err(|e| e.to_string())?;
-    let vars = all_vars(module);
+    let vars = plcc::scenario::all_variables(module);
     let mut show = String::new();
     for v in &vars {
         let p = names.value_expr(v);
@@ -241,7 +220,7 @@ pub fn agrees_under_asan(module: &Module, scans: u32, cycle_us: u64) -> Result<u
             let bits = u64::from_str_radix(hex, 16).map_err(|e| e.to_string())?;
             let c = PlcValue::from_bits(v.elem, bits);
             let i = interp.read(&v.path).map_err(|e| e.to_string())?;
-            if path != v.path || !same(c, i) {
+            if path != v.path || !c.same(i) {
                 return Err(format!(
                     "{} after {}: c {c}, interp {i}",
                     v.path,

@@ -8,14 +8,6 @@ use plcc_ir::value::PlcValue;
 use plcc_ir::vars::variables;
 use plcc_ir::{ElemType, Module};
 
-/// Two values are the same: bit for bit, except that any two NaNs are equal.
-fn same(a: PlcValue, b: PlcValue) -> bool {
-    match a.ty {
-        ElemType::Real | ElemType::LReal if a.as_f64().is_nan() => b.as_f64().is_nan(),
-        _ => a.ty == b.ty && a.bits == b.bits,
-    }
-}
-
 /// What one run showed.
 #[derive(Debug)]
 pub struct Agreement {
@@ -62,7 +54,7 @@ pub fn agree_with_interp(
             for (v, _) in &vars {
                 let a = r.read(v).map_err(|e| format!("interp: {e}"))?;
                 let b = m.read(v).map_err(|e| format!("{name}: {e}"))?;
-                if !same(a, b) {
+                if !a.same(b) {
                     return Err(format!("{when}: {v} is {a} on interp, {b} on {name}"));
                 }
             }

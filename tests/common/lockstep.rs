@@ -5,7 +5,6 @@
 //! file and the ST its editor made of it, a ladder and its IL twin.
 
 use plcc_ir::value::PlcValue;
-use plcc_ir::vars::{variables, VarRef};
 use plcc_ir::{ElemType, Module};
 
 use crate::rng::Rng;
@@ -15,27 +14,6 @@ use crate::rng::Rng;
 pub const UNFIT: [&str; 8] = [
     "E9001", "E9002", "E9003", "E9004", "E9101", "E9102", "E9207", "E9208",
 ];
-
-/// The elementary variables of every program instance and the globals.
-fn all_vars(m: &Module) -> Vec<VarRef> {
-    let mut v: Vec<VarRef> = m
-        .programs
-        .iter()
-        .flat_map(|e| variables(m, e.data))
-        .collect();
-    if let Some(g) = m.data_by_name(plcc_frontend::GLOBALS_DATA) {
-        v.extend(variables(m, g));
-    }
-    v
-}
-
-/// Two values are the same: bit for bit, except that any two NaNs are equal.
-fn same(a: PlcValue, b: PlcValue) -> bool {
-    match a.ty {
-        ElemType::Real | ElemType::LReal if a.as_f64().is_nan() => b.as_f64().is_nan(),
-        _ => a.ty == b.ty && a.bits == b.bits,
-    }
-}
 
 fn random_bits(rng: &mut Rng, ty: ElemType) -> u64 {
     match ty {
@@ -89,8 +67,8 @@ pub fn run(
     let (Some(mut ma), Some(mut mb)) = (machine(a, "the first")?, machine(b, "the second")?) else {
         return Ok(None);
     };
-    let va = all_vars(a);
-    let vb = all_vars(b);
+    let va = plcc::scenario::all_variables(a);
+    let vb = plcc::scenario::all_variables(b);
     let shared: Vec<(String, ElemType)> = va
         .iter()
         .filter(|x| {
@@ -128,7 +106,7 @@ pub fn run(
         for (p, _) in &checked {
             let x = ma.read(p).map_err(|e| format!("read {p}: {e}"))?;
             let y = mb.read(&path_b(p)).map_err(|e| format!("read {p}: {e}"))?;
-            if !same(x, y) {
+            if !x.same(y) {
                 return Err(format!(
                     "after scan {s}: {p} is {x} in the first, {y} in the second"
                 ));
