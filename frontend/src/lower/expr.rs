@@ -341,13 +341,17 @@ impl<'s> BodyCx<'_, 's> {
                 let q = self.qualifier(base).expect("checked");
                 self.qualified_type(q, *name)
             }
+            ExprKind::Deref(_) if self.self_ref(e).is_some() => match self.self_ref(e) {
+                Some(super::methods::SelfRef::This(c) | super::methods::SelfRef::Super(c)) => {
+                    Ty::Fb(c)
+                }
+                None => Ty::Error,
+            },
             ExprKind::Member(base, name) => match self.infer(base) {
-                Ty::Fb(p) => self
-                    .l
-                    .pou(p)
-                    .var(name.sym)
-                    .map(|vi| self.l.pou(p).vars[vi as usize].ty)
-                    .unwrap_or(Ty::Error),
+                Ty::Fb(p) => match self.l.class_var(p, name.sym) {
+                    Some((c, vi)) => self.l.pou(c).vars[vi].ty,
+                    None => self.property_type(p, name.sym),
+                },
                 Ty::Struct(s) => self
                     .l
                     .struct_field(s, name.sym)
@@ -407,6 +411,9 @@ impl<'s> BodyCx<'_, 's> {
         let pou = self.l.pou(self.pou);
         if let Some(vi) = pou.var(sym) {
             return pou.vars[vi as usize].ty;
+        }
+        if let Some(t) = self.class_name_type(sym) {
+            return t;
         }
         if pou.kind == crate::ast::PouKind::Function && pou.name.sym == sym {
             return pou.ret;

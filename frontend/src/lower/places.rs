@@ -121,6 +121,14 @@ impl<'s> BodyCx<'_, 's> {
                 }
                 Named::Error => None,
             },
+            ExprKind::Member(base, name) if self.self_ref(base).is_some() => {
+                let r = self.self_ref(base)?;
+                self.self_member_place(r, *name)
+            }
+            ExprKind::Deref(_) if self.self_ref(e).is_some() => {
+                let r = self.self_ref(e)?;
+                self.self_ref_place(r)
+            }
             ExprKind::Member(base, name) => {
                 if let Some(q) = self.qualifier(base) {
                     return match self.qualified(q, base, *name) {

@@ -151,6 +151,7 @@ impl<'s> BodyCx<'_, 's> {
             return None;
         }
         let r = self.l.types.reference(RefTy {
+            iface: None,
             target: p.ty,
             tag: None,
             pointer,
@@ -248,17 +249,67 @@ impl<'s> BodyCx<'_, 's> {
             (Ty::Null, Ty::Ref(_)) => true,
             (Ty::Ref(a), Ty::Ref(b)) => {
                 let (a, b) = (self.l.types.get_ref(a), self.l.types.get_ref(b));
+                if let Some(k) = b.iface {
+                    // An interface from one that extends it, or from a reference to
+                    // an instance of a class implementing it.
+                    return match (a.iface, a.target) {
+                        (Some(j), _) => self.l.iface_closure(j).contains(&k),
+                        (None, Ty::Fb(d)) => self.l.implements(d, k),
+                        _ => false,
+                    };
+                }
+                if a.iface.is_some() {
+                    return false;
+                }
+                if let (Ty::Fb(d), Ty::Fb(c)) = (a.target, b.target) {
+                    // A derived instance is a base instance.
+                    if self.l.derives_from(d, c) {
+                        return true;
+                    }
+                }
                 a.target == b.target || (a.pointer && b.pointer)
             }
             _ => false,
         }
     }
 
+    /// The address of an instance given where an interface is expected (`itf :=
+    /// inst;`), if `e` names an instance of a class implementing it. A missing
+    /// instance (an element out of bounds) gives NULL.
+    pub(super) fn instance_as_iface(&mut self, e: &'s Expr, to: Ty) -> Option<Value> {
+        let Ty::Ref(r) = to else { return None };
+        let k = self.l.types.get_ref(r).iface?;
+        let Ty::Fb(d) = self.infer(e) else {
+            return None;
+        };
+        let p = self.place(e)?;
+        if !self.l.implements(d, k) {
+            let n = self.l.pou(d).display.clone();
+            let i = self.l.classes.ifaces[k].display.clone();
+            self.l.error(
+                codes::E_TYPE_MISMATCH,
+                format!("`{n}` does not implement the interface `{i}`"),
+                e.span,
+            );
+            return Some(self.b.iconst(Type::Ptr, 0));
+        }
+        Some(match p.guard {
+            Some(g) => {
+                let null = self.b.iconst(Type::Ptr, 0);
+                self.b.select(g, p.addr, null)
+            }
+            None => p.addr,
+        })
+    }
+
     /// A CODESYS pointer given the address of another type (`POINTER TO DWORD` from
     /// `ADR(byte_var)`) may reach past its target: the module is unchecked.
     pub(super) fn note_pointer_cast(&mut self, from: Ty, to: Ty) {
         if let (Ty::Ref(a), Ty::Ref(b)) = (from, to) {
-            if self.l.types.get_ref(a).target != self.l.types.get_ref(b).target {
+            let (a, b) = (self.l.types.get_ref(a), self.l.types.get_ref(b));
+            let upcast = b.iface.is_some()
+                || matches!((a.target, b.target), (Ty::Fb(d), Ty::Fb(c)) if self.l.derives_from(d, c));
+            if a.target != b.target && !upcast {
                 self.l.module.unchecked_pointers = true;
             }
         }
@@ -316,6 +367,9 @@ impl<'s> BodyCx<'_, 's> {
     pub(super) fn emit_ref(&mut self, e: &'s Expr, to: Ty) -> Value {
         if self.is_null_name(e) {
             return self.b.iconst(Type::Ptr, 0);
+        }
+        if let Some(v) = self.instance_as_iface(e, to) {
+            return v;
         }
         let v = self.emit(e, Some(to));
         if v.ty == Ty::Error || self.ref_fits(v.ty, to) {

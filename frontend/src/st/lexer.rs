@@ -223,6 +223,10 @@ pub enum Tok {
     EndTransition,
     /// `END_ACTIONS`
     EndActions,
+    /// `END_GET` (a PROPERTY's getter)
+    EndGet,
+    /// `END_SET` (a PROPERTY's setter)
+    EndSet,
 }
 
 /// The reserved words and their tokens.
@@ -298,6 +302,8 @@ const KEYWORDS: &[(&str, Tok)] = &[
     ("END_STEP", Tok::EndStep),
     ("END_TRANSITION", Tok::EndTransition),
     ("END_ACTIONS", Tok::EndActions),
+    ("END_GET", Tok::EndGet),
+    ("END_SET", Tok::EndSet),
 ];
 
 impl Tok {
