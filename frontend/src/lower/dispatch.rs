@@ -5,8 +5,9 @@
 //! loads the id and calls the class's method. An id no class of the family has (an
 //! uninitialised instance) raises the fault flag and gives the result type's zero.
 //!
-//! The dispatch function is the one place that chooses: it compares the id with
-//! each class's in turn (a chain of direct calls).
+//! The dispatch function is the one place that chooses: a `call_table` on the id,
+//! through a function table with an entry per class id (the IR's run-time bound
+//! calls).
 //!
 //! Also here: the checks of a class's members against its bases and interfaces
 //! (overriding, ABSTRACT, FINAL), and the bodies of bases run on derived instances.
@@ -18,7 +19,7 @@ use crate::ast::{PouKind, VarKind};
 use crate::codes;
 use crate::types::{PouId, Ty};
 use plcc_ir::diag::Diagnostic;
-use plcc_ir::{FuncId, FuncKind, Function, IntCC, Type};
+use plcc_ir::{FuncId, FuncKind, Function, Type};
 
 /// The IR type of a class id.
 pub(crate) const CLASS_ID: Type = Type::I16;
@@ -87,37 +88,46 @@ impl<'s> Lowerer<'s> {
         let fid = self.module.add_func(f);
         self.classes.dispatchers.insert(cache, fid);
         let agg = family.iter().find_map(|&d| self.ir[d.0 as usize].agg);
-        let entries: Vec<(u32, FuncId)> = impls
+        // The table: an entry per class id, the class's method where the family has
+        // it (an id outside the family, 0 for an instance never initialised, has
+        // none: the call raises the fault flag and gives 0).
+        let len = impls
             .iter()
-            .filter_map(|&(id, i)| Some((id, self.ir[i?.0 as usize].body?)))
-            .collect();
+            .map(|&(id, _)| id as usize + 1)
+            .max()
+            .unwrap_or(0);
+        let mut entries = vec![None; len];
+        for &(id, i) in &impls {
+            entries[id as usize] = i.and_then(|i| self.ir[i.0 as usize].body);
+        }
+        let table = self.module.add_table(plcc_ir::Table {
+            name: self.module.funcs[fid.index()].name.clone(),
+            params: params.clone(),
+            result: ret,
+            entries,
+        });
         self.with_function(fid, |_, func| {
             let mut b = plcc_ir::FuncBuilder::new(func);
             let args = b.params();
-            if let Some(agg) = agg {
-                let at = b.field_addr(args[0], agg, 0);
-                let id = b.load(CLASS_ID, at);
-                for (cid, target) in entries {
-                    let k = b.iconst(CLASS_ID, cid as i64);
-                    let hit = b.icmp(IntCC::Eq, id, k);
-                    let call = b.create_block();
-                    let next = b.create_block();
-                    b.brif(hit, call, vec![], next, vec![]);
-                    b.switch_to(call);
-                    let r = b.call(target, ret, args.clone());
-                    b.ret(r);
-                    b.switch_to(next);
+            let r = match agg {
+                Some(agg) => {
+                    let at = b.field_addr(args[0], agg, 0);
+                    let id = b.load(CLASS_ID, at);
+                    b.call_table(table, ret, id, args)
                 }
-            }
-            b.intrinsic(plcc_ir::Intrinsic::RaiseFault, vec![]);
-            let zero = ret.map(|t| {
-                if t.is_float() {
-                    b.fconst(t, 0.0)
-                } else {
-                    b.iconst(t, 0)
+                None => {
+                    // No class of the family exists: every call is a fault.
+                    b.intrinsic(plcc_ir::Intrinsic::RaiseFault, vec![]);
+                    ret.map(|t| {
+                        if t.is_float() {
+                            b.fconst(t, 0.0)
+                        } else {
+                            b.iconst(t, 0)
+                        }
+                    })
                 }
-            });
-            b.ret(zero);
+            };
+            b.ret(r);
         });
         Some(fid)
     }
