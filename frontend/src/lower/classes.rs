@@ -490,6 +490,17 @@ impl<'s> Lowerer<'s> {
             .find_map(|j| self.classes.ifaces[j].methods.get(&sym).copied())
     }
 
+    /// The property `sym` of interface `k` or of one it extends.
+    pub(crate) fn iface_property(
+        &self,
+        k: usize,
+        sym: Symbol,
+    ) -> Option<(Option<PouId>, Option<PouId>)> {
+        self.iface_closure(k)
+            .into_iter()
+            .find_map(|j| self.classes.ifaces[j].props.get(&sym).copied())
+    }
+
     /// True if class `p` (or a base of it) implements interface `k` (or one that
     /// extends it).
     pub(crate) fn implements(&self, p: PouId, k: usize) -> bool {

@@ -413,6 +413,17 @@ impl<'s> Lowerer<'s> {
         if let Some(&i) = self.user.by_name.get(&id.sym) {
             return self.resolve_named_type(i, id.span);
         }
+        if let Some(&k) = self.classes.iface_by_name.get(&id.sym) {
+            // A variable of an interface type holds the address of an instance.
+            let r = crate::types::RefTy {
+                iface: Some(k),
+                target: Ty::Void,
+                tag: None,
+                pointer: false,
+                auto: false,
+            };
+            return (Ty::Ref(self.types.reference(r)), None);
+        }
         if let Some(&p) = self.pou_by_name.get(&id.sym) {
             return match self.pou(p).kind {
                 PouKind::FunctionBlock => (Ty::Fb(p), None),

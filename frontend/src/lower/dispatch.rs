@@ -51,6 +51,18 @@ impl<'s> Lowerer<'s> {
         v
     }
 
+    /// The members a call of `m` on an instance seen as `key` may run.
+    pub(crate) fn dispatch_callees(&self, key: DispatchKey, m: PouId) -> Vec<PouId> {
+        let mut v: Vec<PouId> = self
+            .family(key)
+            .into_iter()
+            .filter_map(|d| self.member_in(d, m))
+            .collect();
+        v.sort();
+        v.dedup();
+        v
+    }
+
     /// The function a call of member `m` runs on an instance seen as `key`: the
     /// method itself when no class of the family overrides it, else a dispatch
     /// function.
@@ -215,6 +227,28 @@ impl<'s> Lowerer<'s> {
                 .filter(|((o, _), _)| *o == c)
                 .map(|((_, s), &m)| (*s, m))
                 .collect();
+            let props: Vec<(crate::intern::Symbol, PouId)> = self
+                .classes
+                .props
+                .iter()
+                .filter(|((o, _), _)| *o == c)
+                .filter_map(|((_, s), &(g, st))| Some((*s, g.or(st)?)))
+                .collect();
+            for &(sym, m) in own.iter().chain(props.iter()) {
+                if let Some((d, vi)) = self.class_var(c, sym) {
+                    let n = self.text(self.pou(m).name.span).to_string();
+                    let cn = self.pou(c).display.clone();
+                    let at = self.pou(d).vars[vi].name.span;
+                    self.diags.push(
+                        Diagnostic::error(
+                            codes::E_DUPLICATE,
+                            format!("`{n}` is declared twice in `{cn}`: a variable and a method or property (names ignore case)"),
+                            self.pou(m).name.span,
+                        )
+                        .with_secondary(at, "the variable"),
+                    );
+                }
+            }
             for (sym, m) in own {
                 let span = self.pou(m).name.span;
                 if self.is_abstract_member(m) && !is_abstract {

@@ -336,6 +336,9 @@ impl<'s> BodyCx<'_, 's> {
                     LiteralKind::DateTime { .. } => Ty::Elem(ElemType::Dt),
                 }
             }
+            ExprKind::Name(_) | ExprKind::Member(..) if self.property_of(e).is_some() => {
+                self.property_ty(e).unwrap_or(Ty::Error)
+            }
             ExprKind::Name(id) => self.name_type(id.sym),
             ExprKind::Member(base, name) if self.qualifier(base).is_some() => {
                 let q = self.qualifier(base).expect("checked");
@@ -388,6 +391,9 @@ impl<'s> BodyCx<'_, 's> {
             | ExprKind::Unary(UOp::Plus, x) => self.infer(x),
             ExprKind::Binary(op, a, b) => {
                 let (l, r) = (self.infer(a), self.infer(b));
+                if matches!(op, Op::Eq | Op::Ne) && self.is_iface_zero(l, r) {
+                    return Ty::BOOL;
+                }
                 let (l, r) = bool_digit_operands(*op, l, r, (a, b), None);
                 binary_typing(*op, l, r, &|_| String::new())
                     .ok()
@@ -448,6 +454,10 @@ impl<'s> BodyCx<'_, 's> {
 
     /// Emits an expression and converts it (implicitly, with checks) to `target`.
     pub(super) fn emit_as(&mut self, e: &'s Expr, target: Ty) -> Value {
+        // An instance where an interface is expected: its address.
+        if let Some(v) = self.instance_as_iface(e, target) {
+            return v;
+        }
         let v = self.emit(e, Some(target));
         if v.ty == target && target.is_aggregate() {
             // A whole STRUCT or array is copied through its address (`agg_source`),
@@ -634,6 +644,10 @@ impl<'s> BodyCx<'_, 's> {
             ExprKind::Paren(x) | ExprKind::UsedBy { value: x, .. } => self.emit(x, want),
             ExprKind::Literal(_) => self.literal(e, want, false),
             ExprKind::Name(_) if self.is_null_name(e) => self.null_val(),
+            ExprKind::Name(_) | ExprKind::Member(..) if self.property_of(e).is_some() => {
+                let p = self.property_of(e).expect("checked");
+                self.property_read(p, e.span)
+            }
             ExprKind::Name(id) => {
                 let named = self.resolve_name(*id, true, want);
                 self.named_val(named, want, e.span)
@@ -765,6 +779,11 @@ impl<'s> BodyCx<'_, 's> {
             rt = lt;
         } else if matches!(rt, Ty::Enum(..)) && lt == Ty::Error && self.is_value_of(a, rt) {
             lt = rt;
+        }
+        if matches!(op, Op::Eq | Op::Ne) {
+            if let Some(v) = self.iface_compare(op == Op::Eq, a, b, lt, rt) {
+                return v;
+            }
         }
         let (lt, rt) = bool_digit_operands(op, lt, rt, (a, b), want);
         let typing = {

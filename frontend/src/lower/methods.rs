@@ -231,9 +231,40 @@ impl<'s> BodyCx<'_, 's> {
                 span,
             );
         }
-        // The instance's address, and a guard when it may be missing (a NULL
-        // reference, an element out of bounds).
-        let (addr, guard, target) = match on {
+        let (addr, guard, target) = self.receiver(on, m, statically, span)?;
+        self.call_on(addr, guard, m, target, args, span)
+    }
+
+    /// The instance a member `m` is called on: its address, a guard when it may be
+    /// missing (a NULL reference or interface, an element out of bounds), and the
+    /// function to call (`m`'s own, or a dispatcher).
+    pub(super) fn receiver(
+        &mut self,
+        on: Expr2<'s>,
+        m: PouId,
+        statically: bool,
+        span: Span,
+    ) -> Option<(Value, Option<Value>, FuncId)> {
+        // The recursion check sees a call bound at run time as a call of every
+        // method it may run.
+        if !statically {
+            let key = match on {
+                Expr2::This(c) => Some(super::classes::DispatchKey::Class(c)),
+                Expr2::Place(e) => match self.infer(e) {
+                    Ty::Fb(c) => Some(super::classes::DispatchKey::Class(c)),
+                    _ => None,
+                },
+                Expr2::Iface(_, k) => Some(super::classes::DispatchKey::Iface(k)),
+            };
+            if let Some(key) = key {
+                for i in self.l.dispatch_callees(key, m) {
+                    self.l
+                        .calls
+                        .push((self.caller, super::CallNode::Pou(i), span));
+                }
+            }
+        }
+        Some(match on {
             Expr2::This(c) => {
                 let me = self.self_ptr?;
                 let f = if statically {
@@ -261,8 +292,7 @@ impl<'s> BodyCx<'_, 's> {
                     .method_target(super::classes::DispatchKey::Iface(k), m)?;
                 (v.v, Some(ok), f)
             }
-        };
-        self.call_on(addr, guard, m, target, args, span)
+        })
     }
 
     /// A call of `target` (method `m`'s function or dispatcher) on the instance at

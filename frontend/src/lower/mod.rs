@@ -26,8 +26,11 @@ mod expr;
 mod init;
 mod literals;
 mod methods;
+#[cfg(test)]
+mod oo_tests;
 mod partial;
 mod places;
+mod properties;
 mod prototypes;
 mod qualified;
 mod refs;
@@ -422,6 +425,9 @@ impl<'s> Lowerer<'s> {
             Ty::Str(s) => s.name(),
             Ty::Ref(r) => {
                 let r = self.types.get_ref(r);
+                if let Some(k) = r.iface {
+                    return self.classes.ifaces[k].display.clone();
+                }
                 let t = match r.tag {
                     Some(t) => self.user.tags[t.0 as usize].name.clone(),
                     None => self.ty_name(r.target),

@@ -104,6 +104,15 @@ impl<'s> BodyCx<'_, 's> {
             return None;
         };
         let r = self.l.types.get_ref(id);
+        if let Some(k) = r.iface {
+            let n = self.l.classes.ifaces[k].display.clone();
+            self.l.error(
+                codes::E_TYPE_MISMATCH,
+                format!("a value of the interface `{n}` is not dereferenced: call its methods and use its properties on it directly"),
+                e.span,
+            );
+            return None;
+        }
         Some(self.pointee(v.v, r))
     }
 
@@ -313,6 +322,40 @@ impl<'s> BodyCx<'_, 's> {
                 self.l.module.unchecked_pointers = true;
             }
         }
+    }
+
+    /// An interface compared with an integer (`itf = 0`).
+    pub(super) fn is_iface_zero(&self, l: Ty, r: Ty) -> bool {
+        let is_iface = |t: Ty| matches!(t, Ty::Ref(id) if self.l.types.get_ref(id).iface.is_some());
+        (is_iface(l) && r == Ty::AnyInt) || (is_iface(r) && l == Ty::AnyInt)
+    }
+
+    /// `itf = 0`, `itf <> 0` (CODESYS's test of an interface variable, as NULL).
+    pub(super) fn iface_compare(
+        &mut self,
+        eq: bool,
+        a: &'s Expr,
+        b: &'s Expr,
+        lt: Ty,
+        rt: Ty,
+    ) -> Option<Val> {
+        let is_iface =
+            |cx: &Self, t: Ty| matches!(t, Ty::Ref(id) if cx.l.types.get_ref(id).iface.is_some());
+        let (itf, zero) = if is_iface(self, lt) && rt == Ty::AnyInt {
+            (a, b)
+        } else if is_iface(self, rt) && lt == Ty::AnyInt {
+            (b, a)
+        } else {
+            return None;
+        };
+        if self.l.const_int_in(zero, Some(self.pou)) != Some(0) {
+            return None;
+        }
+        let x = self.emit(itf, None);
+        let null = self.b.iconst(Type::Ptr, 0);
+        let cc = if eq { IntCC::Eq } else { IntCC::Ne };
+        let v = self.b.icmp(cc, x.v, null);
+        Some(Val { v, ty: Ty::BOOL })
     }
 
     /// `=` and `<>` between references (or NULL).
