@@ -81,6 +81,8 @@ pub struct OoParts {
     pub methods: Vec<Method>,
     /// `PROPERTY ... END_PROPERTY`, in order.
     pub properties: Vec<Property>,
+    /// Access specifiers of VAR blocks (`VAR PROTECTED`): block index, specifier.
+    pub var_access: Vec<(u32, AccessSpec, Span)>,
 }
 
 /// `METHOD [modifiers] name [: type] ... END_METHOD`: its variables, result and body
@@ -282,6 +284,9 @@ pub enum VarKind {
     Config,
     /// `VAR_STAT` (CODESYS)
     Stat,
+    /// `VAR_INST` (CODESYS): variables of a METHOD kept in its instance from one
+    /// call to the next.
+    Inst,
 }
 
 /// `VAR ... END_VAR` and its kin.
@@ -457,6 +462,8 @@ pub struct ArrayInitElem {
 pub struct TypeDecl {
     /// The new type's name.
     pub name: Ident,
+    /// `EXTENDS base` of a STRUCT (CODESYS): the base's fields come first.
+    pub extends: Option<Ident>,
     /// Its definition.
     pub spec: TypeSpec,
     /// Default initial value of the type.

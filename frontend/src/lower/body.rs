@@ -268,7 +268,10 @@ impl<'a, 's> BodyCx<'a, 's> {
                 continue;
             }
             let local = match kind {
-                PouKind::Function => !matches!(v.section, VarKind::InOut | VarKind::External),
+                PouKind::Function => !matches!(
+                    v.section,
+                    VarKind::InOut | VarKind::External | VarKind::Inst
+                ),
                 _ => v.section == VarKind::Temp,
             };
             if !local {
@@ -392,6 +395,24 @@ impl<'a, 's> BodyCx<'a, 's> {
             }
             let init = self.decl_init(vi);
             self.init_var(addr, v.ty, v.tag, init);
+        }
+        // The VAR_INST variables of its methods.
+        for m in self.l.own_methods(pou) {
+            for vi in 0..self.l.pou(m).vars.len() {
+                let Some(Storage::Field(fi)) = self.l.ir[m.0 as usize].storage[vi] else {
+                    continue;
+                };
+                let v = self.l.pou(m).vars[vi].clone();
+                let ast = self.l.pou_ast(m);
+                let init = ast.var_blocks[v.decl.0 as usize].decls[v.decl.1 as usize]
+                    .init
+                    .as_ref();
+                let addr = self.b.field_addr(this, agg, fi);
+                let saved = self.pou;
+                self.pou = m;
+                self.init_var(addr, v.ty, v.tag, init);
+                self.pou = saved;
+            }
         }
     }
 
@@ -946,6 +967,20 @@ impl<'a, 's> BodyCx<'a, 's> {
                 }
                 return Named::Error;
             }
+            let upper = self.l.sym_name(id.sym).to_string();
+            if upper == "SUPER" || upper == "THIS" {
+                let msg = match self.lexical_class() {
+                    Some(c) => format!(
+                        "`SUPER^` names the base of the function block, and `{}` extends none",
+                        self.l.pou(c).display
+                    ),
+                    None => format!(
+                        "`{upper}^` is the instance a FUNCTION_BLOCK's body or METHOD runs on: there is none here"
+                    ),
+                };
+                self.l.error(codes::E_OO_DECLARATION, msg, id.span);
+                return Named::Error;
+            }
             self.undeclared.insert(id.sym, self.l.diags.len());
             let name = self.l.text(id.span).to_string();
             let mut note = None;
@@ -1033,16 +1068,31 @@ impl<'a, 's> BodyCx<'a, 's> {
         let Some((fb, vi)) = self.l.class_var(fb, name.sym) else {
             let n = self.l.text(name.span).to_string();
             let fbn = self.l.pou(fb).display.clone();
-            self.l.error(
-                codes::E_NO_MEMBER,
-                format!("function block `{fbn}` has no input or output named `{n}`"),
-                name.span,
-            );
+            let msg = if self.l.is_class(fb) {
+                format!("function block `{fbn}` has no variable, method or property named `{n}`")
+            } else {
+                format!("function block `{fbn}` has no input or output named `{n}`")
+            };
+            self.l.error(codes::E_NO_MEMBER, msg, name.span);
             return None;
         };
         let v = self.l.pou(fb).vars[vi].clone();
-        let visible =
-            matches!(v.section, VarKind::Input | VarKind::Output | VarKind::InOut) || init;
+        // `VAR PUBLIC` is visible from outside; `VAR PRIVATE`/`PROTECTED` only from
+        // the class (and those derived from it).
+        let declared = self.l.var_access(fb, vi);
+        if !init && !self.var_accessible(fb, vi, name.span) {
+            return None;
+        }
+        let public = matches!(
+            declared,
+            Some((
+                crate::ast::AccessSpec::Public | crate::ast::AccessSpec::Internal,
+                _
+            ))
+        ) || declared.is_some() && self.lexical_class().is_some();
+        let visible = matches!(v.section, VarKind::Input | VarKind::Output | VarKind::InOut)
+            || init
+            || public;
         let storage = self.l.ir[fb.0 as usize].storage[vi];
         if let Some(Storage::Const(_)) | None = storage {
             if !visible || storage.is_none() {

@@ -321,7 +321,10 @@ impl<'s> BodyCx<'_, 's> {
                         .l
                         .globals_pou
                         .is_some_and(|g| self.l.pou(g).var(id.sym).is_some());
-                if self.l.pou(self.pou).var(id.sym).is_some() || is_global {
+                if self.l.pou(self.pou).var(id.sym).is_some()
+                    || is_global
+                    || self.class_name_type(id.sym).is_some()
+                {
                     let Some(place) = self.place(callee) else {
                         return Callee::Error;
                     };
@@ -628,7 +631,9 @@ impl<'s> BodyCx<'_, 's> {
                 return None;
             }
         }
-        if p.ty != ty && p.ty != Ty::Error && !fits_string {
+        // A derived instance is a base instance (its struct begins with the base's).
+        let derived = matches!((p.ty, ty), (Ty::Fb(d), Ty::Fb(b)) if self.l.derives_from(d, b));
+        if p.ty != ty && p.ty != Ty::Error && !fits_string && !derived {
             let (a, b) = (self.l.ty_name(ty), self.l.ty_name(p.ty));
             self.l.error(
                 codes::E_TYPE_MISMATCH,

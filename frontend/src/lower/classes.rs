@@ -243,9 +243,9 @@ impl<'s> Lowerer<'s> {
                                 )
                                 .with_secondary(f, "declared FINAL here"),
                             );
-                        } else {
-                            self.pous[i].base = Some(base);
                         }
+                        // Kept even when FINAL, so that its uses give no more errors.
+                        self.pous[i].base = Some(base);
                     }
                     _ => {
                         let n = self.text(b.span).to_string();
@@ -512,6 +512,20 @@ impl<'s> Lowerer<'s> {
         })
     }
 
+    /// The access specifier of the VAR block of variable `vi` of POU `c`.
+    pub(crate) fn var_access(&self, c: PouId, vi: usize) -> Option<(AccessSpec, Span)> {
+        if self.pou(c).member.is_some() {
+            return None;
+        }
+        let block = self.pou(c).vars[vi].decl.0;
+        self.pou_ast(c)
+            .oo
+            .var_access
+            .iter()
+            .find(|(b, _, _)| *b == block)
+            .map(|&(_, a, s)| (a, s))
+    }
+
     /// The modifiers of a member POU.
     pub(crate) fn member_modifiers(&self, m: PouId) -> Option<&'s ast::Modifiers> {
         let p = self.pou(m);
@@ -558,6 +572,44 @@ impl<'s> Lowerer<'s> {
                 Diagnostic::error(codes::E_ACCESS, format!("`{n}` is {what}"), span)
                     .with_secondary(access.1, "declared here"),
             );
+        }
+    }
+
+    /// The own methods of class `c`, in declaration order.
+    pub(crate) fn own_methods(&self, c: PouId) -> Vec<PouId> {
+        let mut v: Vec<PouId> = self
+            .classes
+            .methods
+            .iter()
+            .filter(|((o, _), _)| *o == c)
+            .map(|(_, &m)| m)
+            .collect();
+        v.sort();
+        v
+    }
+
+    /// Appends to `fields` (the instance struct of class `c`) the VAR_INST variables
+    /// of its methods, and records where they are.
+    pub(super) fn method_instance_fields(&mut self, c: PouId, fields: &mut Vec<plcc_ir::Field>) {
+        for m in self.own_methods(c) {
+            for vi in 0..self.pou(m).vars.len() {
+                let v = self.pou(m).vars[vi].clone();
+                if v.section != ast::VarKind::Inst {
+                    continue;
+                }
+                let Some((ty, elem)) = self.mem_type(v.ty) else {
+                    continue;
+                };
+                self.ir[m.0 as usize].storage[vi] =
+                    Some(super::Storage::Field(fields.len() as u32));
+                fields.push(plcc_ir::Field {
+                    name: format!("{}.{}", self.text(self.pou(m).name.span), v.display),
+                    ty,
+                    elem,
+                    role: plcc_ir::FieldRole::Hidden,
+                    location: None,
+                });
+            }
         }
     }
 }

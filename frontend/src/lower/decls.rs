@@ -132,6 +132,16 @@ impl<'s> Lowerer<'s> {
                 | VarKind::InOut
                 | VarKind::Temp
                 | VarKind::External => {}
+                VarKind::Inst if self.pous[id.0 as usize].owner.is_some() => {}
+                VarKind::Inst => {
+                    let at = self.keyword_span(block.span);
+                    self.error(
+                        codes::E_OO_DECLARATION,
+                        "VAR_INST declares variables of a METHOD kept in its instance: only a METHOD of a FUNCTION_BLOCK or PROGRAM has them",
+                        at,
+                    );
+                    continue;
+                }
                 VarKind::Global | VarKind::Access | VarKind::Config | VarKind::Stat => {
                     let what = match block.kind {
                         VarKind::Global => "VAR_GLOBAL inside a POU",
@@ -878,6 +888,8 @@ impl<'s> Lowerer<'s> {
                 location: v.location.clone(),
             });
         }
+        // The VAR_INST variables of its METHODs live in the instance.
+        self.method_instance_fields(id, &mut fields);
         if let AggDef::Struct(s) = &mut self.module.aggs[agg.index()] {
             s.fields = fields;
         }

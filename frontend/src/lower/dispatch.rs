@@ -259,10 +259,16 @@ impl<'s> Lowerer<'s> {
                         span,
                     );
                 }
-                let Some(base) = self.pou(c).base else {
-                    continue;
-                };
-                let Some(over) = self.find_method(base, sym) else {
+                let over = self.pou(c).base.and_then(|b| self.find_method(b, sym));
+                let Some(over) = over else {
+                    if let Some(o) = self.member_modifiers(m).and_then(|x| x.override_) {
+                        let n = self.pou(m).display.clone();
+                        self.error(
+                            codes::E_OO_DECLARATION,
+                            format!("`{n}` is OVERRIDE, but no base of its FUNCTION_BLOCK has a method of that name"),
+                            o,
+                        );
+                    }
                     continue;
                 };
                 if let Some(f) = self.member_modifiers(over).and_then(|x| x.final_) {

@@ -80,6 +80,9 @@ impl<'s> BodyCx<'_, 's> {
         };
         let (c, vi) = self.l.class_var(start, id.sym)?;
         let v = self.l.pou(c).vars[vi].clone();
+        if !self.var_accessible(c, vi, id.span) {
+            return Some(Named::Error);
+        }
         Some(self.class_field(c, vi, this_class, &v, id.span))
     }
 
@@ -136,6 +139,34 @@ impl<'s> BodyCx<'_, 's> {
         }
     }
 
+    /// Checks the access specifier of the VAR block of variable `vi` of class `c`
+    /// from the code being lowered (E0803); true if it may be used.
+    pub(super) fn var_accessible(&mut self, c: PouId, vi: usize, span: Span) -> bool {
+        let Some((access, at)) = self.l.var_access(c, vi) else {
+            return true;
+        };
+        let from = self.lexical_class();
+        let ok = match access {
+            ast::AccessSpec::Public | ast::AccessSpec::Internal => true,
+            ast::AccessSpec::Private => from == Some(c),
+            ast::AccessSpec::Protected => from.is_some_and(|f| self.l.derives_from(f, c)),
+        };
+        if !ok {
+            let n = self.l.pou(c).vars[vi].display.clone();
+            let cn = self.l.pou(c).display.clone();
+            let what = if access == ast::AccessSpec::Private {
+                format!("`{n}` is a PRIVATE variable of `{cn}`: only `{cn}` can use it")
+            } else {
+                format!("`{n}` is a PROTECTED variable of `{cn}`: only `{cn}` and the function blocks derived from it can use it")
+            };
+            self.l.diags.push(
+                plcc_ir::diag::Diagnostic::error(codes::E_ACCESS, what, span)
+                    .with_secondary(at, "declared here"),
+            );
+        }
+        ok
+    }
+
     /// The type of property `sym` of class `p` (its getter's result, else its
     /// setter's value), `Error` if it has none.
     pub(super) fn property_type(&self, p: PouId, sym: crate::intern::Symbol) -> Ty {
@@ -189,8 +220,13 @@ impl<'s> BodyCx<'_, 's> {
                     let m = self.l.find_method(c, name.sym)?;
                     return Some((Expr2::This(c), m, matches!(r, SelfRef::Super(_))));
                 }
-                if self.qualifier(base).is_some() {
-                    return None;
+                if let Some(q) = self.qualifier(base) {
+                    // CODESYS: `Prog.M()`, a METHOD of a PROGRAM's running instance.
+                    let super::qualified::Qualifier::Program(p) = q else {
+                        return None;
+                    };
+                    let m = self.l.find_method(p, name.sym)?;
+                    return Some((Expr2::Program(p, base), m, false));
                 }
                 match self.infer(base) {
                     Ty::Fb(p) => {
@@ -255,6 +291,7 @@ impl<'s> BodyCx<'_, 's> {
                     _ => None,
                 },
                 Expr2::Iface(_, k) => Some(super::classes::DispatchKey::Iface(k)),
+                Expr2::Program(p, _) => Some(super::classes::DispatchKey::Class(p)),
             };
             if let Some(key) = key {
                 for i in self.l.dispatch_callees(key, m) {
@@ -282,6 +319,18 @@ impl<'s> BodyCx<'_, 's> {
                     .l
                     .method_target(super::classes::DispatchKey::Class(c), m)?;
                 (p.addr, p.guard, f)
+            }
+            Expr2::Program(p, base) => {
+                let inst = if self.this_class == Some(p) {
+                    self.self_ptr.map(|me| Place::new(me, Ty::Fb(p)))
+                } else {
+                    let what = self.l.text(base.span).to_string();
+                    self.program_place(p, base, &what)
+                }?;
+                let f = self
+                    .l
+                    .method_target(super::classes::DispatchKey::Class(p), m)?;
+                (inst.addr, None, f)
             }
             Expr2::Iface(e, k) => {
                 let v = self.emit(e, None);
@@ -384,4 +433,6 @@ pub(super) enum Expr2<'e> {
     Place(&'e Expr),
     /// A value of an interface type, by its expression.
     Iface(&'e Expr, usize),
+    /// The running instance of a PROGRAM (CODESYS `Prog.M()`), by its qualifier.
+    Program(PouId, &'e Expr),
 }

@@ -171,3 +171,37 @@ PROGRAM main VAR f : F; END_VAR f.P := 1; f.Q := 2; END_PROGRAM";
     assert_eq!(codes(src), ["E0800"]);
     assert!(build(src, true).is_ok());
 }
+
+#[test]
+fn var_inst_struct_extends_and_program_methods() {
+    let src = "
+TYPE P : STRUCT x : INT := 1; END_STRUCT; Q EXTENDS P : STRUCT y : INT := 2; END_STRUCT; END_TYPE
+FUNCTION_BLOCK F
+  METHOD Count : INT
+    VAR_INST n : INT := 10; END_VAR
+    VAR t : INT; END_VAR
+    n := n + 1; t := t + 1;
+    Count := n * 10 + t;
+  END_METHOD
+END_FUNCTION_BLOCK
+PROGRAM Stats VAR sum : INT; END_VAR
+  METHOD Add VAR_INPUT v : INT; END_VAR sum := sum + v; END_METHOD
+END_PROGRAM
+PROGRAM main VAR f : F; c : INT; q : Q; s : INT; END_VAR
+  c := f.Count();
+  s := q.x + q.y;
+  Stats.Add(s);
+END_PROGRAM";
+    let m = build(src, true).unwrap_or_else(|e| panic!("{e:?}"));
+    let mut i = Interp::new(&m).expect("interpreter");
+    i.cold_start().expect("cold start");
+    i.scan().expect("scan");
+    i.scan().expect("scan");
+    let read = |p: &str| i.read(p).expect(p).as_i64();
+    assert_eq!(read("main.c"), 121);
+    assert_eq!(read("main.s"), 3);
+    assert_eq!(read("Stats.sum"), 6);
+    // VAR_INST outside a method is an error.
+    let src = "FUNCTION_BLOCK F VAR_INST n : INT; END_VAR END_FUNCTION_BLOCK";
+    assert_eq!(codes(src), ["E0800"]);
+}

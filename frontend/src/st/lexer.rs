@@ -121,6 +121,8 @@ pub enum Tok {
     VarConfig,
     /// `VAR_STAT`
     VarStat,
+    /// `VAR_INST` (CODESYS: a METHOD's variables kept in the instance)
+    VarInst,
     /// `END_VAR`
     EndVar,
     /// `CONSTANT`
@@ -251,6 +253,7 @@ const KEYWORDS: &[(&str, Tok)] = &[
     ("VAR_ACCESS", Tok::VarAccess),
     ("VAR_CONFIG", Tok::VarConfig),
     ("VAR_STAT", Tok::VarStat),
+    ("VAR_INST", Tok::VarInst),
     ("END_VAR", Tok::EndVar),
     ("CONSTANT", Tok::Constant),
     ("RETAIN", Tok::Retain),

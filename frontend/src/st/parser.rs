@@ -95,6 +95,7 @@ pub(crate) fn parse_tokens_with<'a>(
         s,
         last_pou: None,
         extensible: Vec::new(),
+        block_access: None,
         stmts: Vec::new(),
         args: Vec::new(),
         hook,
@@ -264,6 +265,7 @@ fn var_kind(t: Tok) -> Option<VarKind> {
         Tok::VarAccess => VarKind::Access,
         Tok::VarConfig => VarKind::Config,
         Tok::VarStat => VarKind::Stat,
+        Tok::VarInst => VarKind::Inst,
         _ => return None,
     })
 }
@@ -391,6 +393,8 @@ pub(crate) struct Parser<'a> {
     /// Extensible inputs (`IN 1 ..`) of the POU being parsed: reported with its
     /// unsupported members, unless the POU is a prototype (see `lower::prototypes`).
     extensible: Vec<Span>,
+    /// The access specifier of the VAR block just read (`VAR PROTECTED`).
+    block_access: Option<(AccessSpec, Span)>,
     /// Statements of the lists being parsed, innermost last: each list is moved out
     /// into a vector of exactly its size when it ends (growing a `Vec<Stmt>` by
     /// doubling would touch twice the memory the tree needs).
@@ -1450,7 +1454,11 @@ impl<'a> Parser<'a> {
                     break;
                 }
                 k if var_kind(k).is_some() => {
+                    self.block_access = None;
                     if let Some(b) = self.var_block(DeclCtx::Pou) {
+                        if let Some(a) = self.block_access.take() {
+                            oo.var_access.push((var_blocks.len() as u32, a.0, a.1));
+                        }
                         var_blocks.push(b);
                     }
                     if stmts.is_empty() {
