@@ -18,6 +18,7 @@ use plcc_ir::entities::{AggId, DataId, FuncId};
 use plcc_ir::function::FuncKind;
 use plcc_ir::inst::InstData;
 use plcc_ir::layout::Layout as VmLayout;
+use plcc_ir::module::{AggDef, StructKind};
 use plcc_ir::types::{MemType, Type};
 use plcc_ir::Module;
 use rustc_hash::FxHashMap;
@@ -141,16 +142,30 @@ fn instance_agg(module: &Module, id: FuncId) -> Option<AggId> {
             }
         }
     }
+    // The FB's own struct, named as its body (`@K1`, `@K1$init` for `%K1`).
+    let own = f.name.strip_suffix("$init").unwrap_or(&f.name);
+    if let Some(k) = module.aggs.iter().position(|a| {
+        matches!(a, AggDef::Struct(s) if s.name == own
+            && matches!(s.kind, StructKind::FunctionBlock | StructKind::Program))
+    }) {
+        return Some(AggId::new(k));
+    }
+    // Else the struct with the most fields addressed on the instance: a derived FB's
+    // struct begins with its bases' fields, so its body may address the instance
+    // through a base's struct too (an inlined base method), and the frame must come
+    // after the derived fields, not the base's.
     let entry = f.entry()?;
     let this = *f.block(entry).params.first()?;
-    for (_, i) in f.inst_iter() {
-        if let InstData::FieldAddr { base, agg, .. } = f.inst(i) {
-            if *base == this {
-                return Some(*agg);
-            }
-        }
-    }
-    None
+    let fields = |a: AggId| match module.agg(a) {
+        AggDef::Struct(s) => s.fields.len(),
+        AggDef::Array(_) => 0,
+    };
+    f.inst_iter()
+        .filter_map(|(_, i)| match f.inst(i) {
+            InstData::FieldAddr { base, agg, .. } if *base == this => Some(*agg),
+            _ => None,
+        })
+        .max_by_key(|a| fields(*a))
 }
 
 fn label_name(module: &Module, id: FuncId) -> String {
