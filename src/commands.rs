@@ -87,7 +87,7 @@ impl PlcopenFlags {
 
 /// Builds and prints the diagnostics; `Err(status)` when the build cannot go on.
 /// The returned build's module has been taken out into the second value.
-fn build_and_report<P: AsRef<Path>>(
+pub(crate) fn build_and_report<P: AsRef<Path>>(
     files: &[P],
     library: &[PathBuf],
     lang: Option<&str>,
@@ -141,15 +141,15 @@ fn build_and_report<P: AsRef<Path>>(
 
 /// What a build is for: the PROGRAMs to run, how far it goes, and whether its
 /// target keeps C pragmas ([`targets::TargetInfo::inline_c`]).
-struct How {
-    programs: Vec<String>,
-    mode: Mode,
-    inline_c: bool,
+pub(crate) struct How {
+    pub(crate) programs: Vec<String>,
+    pub(crate) mode: Mode,
+    pub(crate) inline_c: bool,
 }
 
 /// How far a build goes.
 #[derive(Copy, Clone, PartialEq, Eq)]
-enum Mode {
+pub(crate) enum Mode {
     /// Diagnostics only.
     Check,
     /// IR as the front end made it.
@@ -437,7 +437,7 @@ pub struct RunArgs {
     pub settings: Vec<(String, String)>,
 }
 
-fn runnable_target(name: &str) -> Result<&'static str, u8> {
+pub(crate) fn runnable_target(name: &str) -> Result<&'static str, u8> {
     match targets::find(name) {
         Some(t) if t.runs() => Ok(t.name),
         Some(t) => Err(usage(format!(
@@ -454,7 +454,7 @@ fn runnable_target(name: &str) -> Result<&'static str, u8> {
 
 /// The program instances whose variables `run` prints: the one asked for, else all of
 /// them (every instance runs in each scan, in declaration order).
-fn pick_programs(m: &Module, asked: Option<&str>) -> Result<Vec<String>, u8> {
+pub(crate) fn pick_programs(m: &Module, asked: Option<&str>) -> Result<Vec<String>, u8> {
     match asked {
         Some(p) => match m.program_or_instance_of(p) {
             Some(e) => Ok(vec![e.name.clone()]),

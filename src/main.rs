@@ -134,6 +134,25 @@ enum Command {
         #[arg(short = 's', long = "set", value_parser = parse_setting)]
         set: Vec<(String, String)>,
     },
+    /// Run a program in real time as a soft PLC: its tasks (or every PROGRAM) scanned
+    /// every cycle on a thread of its own, with absolute deadlines and the real clock
+    /// (docs/serve.md). SIGINT or SIGTERM ends it after the scan in progress.
+    Serve {
+        #[command(flatten)]
+        common: Common,
+        #[arg(long, default_value = "host", help = plcc::targets::run_help())]
+        target: String,
+        /// The PROGRAM to run (default: every instance)
+        #[arg(long)]
+        program: Option<String>,
+        /// Cycle time in milliseconds, e.g. 10 or 0.5; default: the greatest common
+        /// divisor of the configuration's task intervals, else 10
+        #[arg(long, value_parser = plcc::scenario::parse_ms)]
+        cycle_ms: Option<u64>,
+        /// A target setting KEY=VALUE
+        #[arg(short = 's', long = "set", value_parser = parse_setting)]
+        set: Vec<(String, String)>,
+    },
     /// Check programs and print diagnostics only
     Check {
         #[command(flatten)]
@@ -248,6 +267,24 @@ fn main() -> ExitCode {
                 .with_sfc(common.sfc),
             scenario,
             target,
+            cycle_us: cycle_ms,
+            settings: set,
+        }),
+        Some(Command::Serve {
+            common,
+            target,
+            program,
+            cycle_ms,
+            set,
+        }) => plcc::serve::serve(&plcc::serve::ServeArgs {
+            files: common.files,
+            library: common.lib,
+            lang: common.lang,
+            dialect: common.dialect,
+            plcopen: commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs)
+                .with_sfc(common.sfc),
+            target,
+            program,
             cycle_us: cycle_ms,
             settings: set,
         }),

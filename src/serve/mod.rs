@@ -1,0 +1,164 @@
+//! `plcc serve`: runs a program in real time as a soft PLC, its located variables on
+//! OpenPLC's Modbus map (`docs/serve.md`).
+//!
+//! The scan thread ([`scan`]) owns the machine; the I/O image ([`image`]) is shared
+//! with the servers under one lock. SIGINT and SIGTERM end the loop after the scan
+//! in progress, and the command exits 0.
+
+pub mod image;
+pub mod scan;
+
+use crate::commands::{self, How, Mode, PlcopenFlags, EXIT_FAIL, EXIT_USAGE};
+use crate::{render, scenario, targets};
+use image::Image;
+use scan::Stats;
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::Duration;
+
+/// The arguments of `plcc serve`.
+pub struct ServeArgs {
+    /// Source files.
+    pub files: Vec<PathBuf>,
+    /// Library files (`--lib`).
+    pub library: Vec<PathBuf>,
+    /// `--lang`
+    pub lang: Option<String>,
+    /// `--dialect`
+    pub dialect: Option<String>,
+    /// `--plcopen-order`, `--strict-rungs`, `--sfc`.
+    pub plcopen: PlcopenFlags,
+    /// The target whose machine runs the program (`host`: the JIT).
+    pub target: String,
+    /// The PROGRAM to run (default: every instance).
+    pub program: Option<String>,
+    /// `--cycle-ms`, in microseconds.
+    pub cycle_us: Option<u64>,
+    /// Target settings (`-s KEY=VALUE`).
+    pub settings: Vec<(String, String)>,
+}
+
+/// What the scan thread and the servers share.
+pub struct Shared {
+    /// The Modbus tables.
+    pub image: Mutex<Image>,
+    /// The scan statistics.
+    pub stats: Mutex<Stats>,
+    /// Set by SIGINT or SIGTERM: the scan thread ends after the scan in progress.
+    pub stop: Arc<AtomicBool>,
+}
+
+impl Shared {
+    /// The image, locked (a thread that panicked while holding it left the tables
+    /// whole: every write to them is a plain store).
+    pub fn lock_image(&self) -> MutexGuard<'_, Image> {
+        self.image.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// The statistics, locked.
+    pub fn lock_stats(&self) -> MutexGuard<'_, Stats> {
+        self.stats.lock().unwrap_or_else(|p| p.into_inner())
+    }
+}
+
+/// `plcc serve FILE...`
+pub fn serve(a: &ServeArgs) -> u8 {
+    let target = match commands::runnable_target(&a.target) {
+        Ok(t) => t,
+        Err(s) => return s,
+    };
+    let stop = Arc::new(AtomicBool::new(false));
+    for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        if let Err(e) = signal_hook::flag::register(sig, Arc::clone(&stop)) {
+            eprintln!("error: cannot handle signal {sig}: {e}");
+            return EXIT_USAGE;
+        }
+    }
+    let (build, module) = match commands::build_and_report(
+        &a.files,
+        &a.library,
+        a.lang.as_deref(),
+        a.dialect.as_deref(),
+        &a.plcopen,
+        How {
+            programs: a.program.iter().cloned().collect(),
+            mode: Mode::Full,
+            inline_c: targets::find(target).is_some_and(|t| t.inline_c),
+        },
+    ) {
+        Ok(b) => b,
+        Err(s) => return s,
+    };
+    if let Err(s) = commands::pick_programs(&module, a.program.as_deref()) {
+        return s;
+    }
+    let cycle = scenario::Cycle::of(&module, a.cycle_us);
+    eprintln!("{cycle}");
+    let (binds, outside) = image::bindings(&module);
+    for o in &outside {
+        eprintln!("warning: {o}: not on Modbus, an ordinary variable");
+    }
+    let nbinds = binds.len();
+    let shared = Arc::new(Shared {
+        image: Mutex::new(Image::default()),
+        stats: Mutex::new(Stats::default()),
+        stop,
+    });
+    // The machine is made on the scan thread, which owns it (a JIT's code and data
+    // stay with one thread).
+    let (ready_tx, ready_rx) = std::sync::mpsc::channel();
+    let settings = a.settings.clone();
+    let scan_shared = Arc::clone(&shared);
+    let scanner = std::thread::Builder::new()
+        .name("plc-scan".into())
+        .spawn(move || {
+            let mut m = match targets::machine_owned(target, module, &settings) {
+                Ok(m) => m,
+                Err(diags) => {
+                    let _ = ready_tx.send(Err(diags));
+                    return;
+                }
+            };
+            let _ = ready_tx.send(Ok(()));
+            scan::run(
+                m.as_mut(),
+                &scan_shared,
+                &binds,
+                Duration::from_micros(cycle.us),
+            );
+        });
+    let scanner = match scanner {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: cannot start the scan thread: {e}");
+            return EXIT_USAGE;
+        }
+    };
+    match ready_rx.recv() {
+        Ok(Ok(())) => {}
+        Ok(Err(diags)) => {
+            render::to_stderr(&build.sources, &diags);
+            let _ = scanner.join();
+            return EXIT_FAIL;
+        }
+        Err(_) => {
+            eprintln!("error: the scan thread ended before the machine was made");
+            return EXIT_FAIL;
+        }
+    }
+    eprintln!("serving: {target}, {nbinds} located variable(s) on the I/O image");
+    if scanner.join().is_err() {
+        eprintln!("error: the scan thread panicked");
+        return EXIT_FAIL;
+    }
+    let stats = shared.lock_stats().clone();
+    eprintln!("{}", stats.line());
+    match stats.error {
+        Some(e) => {
+            eprintln!("error: {e}");
+            EXIT_FAIL
+        }
+        None => 0,
+    }
+}
