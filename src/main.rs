@@ -152,6 +152,10 @@ enum Command {
         /// A target setting KEY=VALUE
         #[arg(short = 's', long = "set", value_parser = parse_setting)]
         set: Vec<(String, String)>,
+        /// Where the Modbus TCP server listens, IP:PORT (port 0: any free port), or
+        /// none; default 127.0.0.1:5020
+        #[arg(long, value_name = "ADDR:PORT")]
+        modbus: Option<String>,
     },
     /// Check programs and print diagnostics only
     Check {
@@ -276,6 +280,7 @@ fn main() -> ExitCode {
             program,
             cycle_ms,
             set,
+            modbus,
         }) => plcc::serve::serve(&plcc::serve::ServeArgs {
             files: common.files,
             library: common.lib,
@@ -287,6 +292,7 @@ fn main() -> ExitCode {
             program,
             cycle_us: cycle_ms,
             settings: set,
+            modbus,
         }),
         Some(Command::Check { common }) => commands::check(
             &common.files,

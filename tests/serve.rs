@@ -123,7 +123,13 @@ fn scans_in(line: &str) -> u64 {
 #[test]
 fn serve_scans_until_sigterm_and_exits_0() {
     let plant = program("plant.st");
-    let mut s = Server::start(&[plant.to_str().unwrap(), "--cycle-ms", "5"]);
+    let mut s = Server::start(&[
+        plant.to_str().unwrap(),
+        "--cycle-ms",
+        "5",
+        "--modbus",
+        "none",
+    ]);
     assert_eq!(s.line("cycle: "), "cycle: 5 ms (--cycle-ms)");
     let serving = s.line("serving: ");
     assert!(serving.contains("12 located variable(s)"), "{serving}");
@@ -161,4 +167,299 @@ fn serve_reports_bad_programs_and_targets() {
         .expect("plcc runs");
     assert_eq!(out.status.code(), Some(1));
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The address the Modbus server listens on, from its line.
+fn modbus_addr(s: &mut Server) -> std::net::SocketAddr {
+    let line = s.line("modbus: listening on ");
+    line["modbus: listening on ".len()..]
+        .parse()
+        .unwrap_or_else(|_| panic!("no address in `{line}`"))
+}
+
+/// A Modbus client with a generous timeout.
+fn client(addr: std::net::SocketAddr) -> tokio_modbus::client::sync::Context {
+    let mut c = tokio_modbus::client::sync::tcp::connect(addr).expect("connects");
+    c.set_timeout(PATIENCE);
+    c
+}
+
+/// Polls `read` until it gives `want`.
+fn until<T: PartialEq + std::fmt::Debug>(what: &str, want: T, mut read: impl FnMut() -> T) {
+    let t = Instant::now();
+    loop {
+        let got = read();
+        if got == want {
+            return;
+        }
+        assert!(t.elapsed() < PATIENCE, "{what}: got {got:?}, want {want:?}");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+fn holding(c: &mut tokio_modbus::client::sync::Context, addr: u16, n: u16) -> Vec<u16> {
+    use tokio_modbus::prelude::SyncReader;
+    c.read_holding_registers(addr, n)
+        .expect("transport")
+        .expect("no exception")
+}
+
+fn coils(c: &mut tokio_modbus::client::sync::Context, addr: u16, n: u16) -> Vec<bool> {
+    use tokio_modbus::prelude::SyncReader;
+    c.read_coils(addr, n)
+        .expect("transport")
+        .expect("no exception")
+}
+
+/// `total` (%MD0, holding registers 2048-2049), which the program counts up every scan.
+fn total(c: &mut tokio_modbus::client::sync::Context) -> u32 {
+    let w = holding(c, 2048, 2);
+    (w[0] as u32) << 16 | w[1] as u32
+}
+
+#[test]
+fn program_logic_through_a_modbus_round_trip() {
+    use tokio_modbus::prelude::{ExceptionCode, SyncReader, SyncWriter};
+    let plant = program("plant.st");
+    let mut s = Server::start(&[
+        plant.to_str().unwrap(),
+        "--cycle-ms",
+        "2",
+        "--modbus",
+        "127.0.0.1:0",
+    ]);
+    let addr = modbus_addr(&mut s);
+    let mut c1 = client(addr);
+    let mut c2 = client(addr);
+    // Arithmetic: a, b (%MW0, %MW1 = holding 1024, 1025) to sum (%QW0 = holding 0)
+    // and big (%ML0 = holding 4096-4099, high word first).
+    c1.write_multiple_registers(1024, &[7, 5]).unwrap().unwrap();
+    until("sum", vec![12], || holding(&mut c2, 0, 1));
+    until("big", vec![0, 0, 0x6A, 0xCFC0], || {
+        holding(&mut c2, 4096, 4)
+    });
+    // The second client writes, the first sees it; negative values wrap as INT.
+    c2.write_single_register(1024, (-3i16) as u16)
+        .unwrap()
+        .unwrap();
+    c2.write_single_register(1025, 1).unwrap().unwrap();
+    until("negative sum", vec![(-2i16) as u16], || {
+        holding(&mut c1, 0, 1)
+    });
+    // The latch: a client's start button (coil 8, %QX1.0) sets running (coil 0),
+    // which holds after the program has released the button; stop (coil 9) resets it.
+    c1.write_single_coil(8, true).unwrap().unwrap();
+    until("running", vec![true], || coils(&mut c2, 0, 1));
+    until("start released", vec![false, false], || {
+        coils(&mut c2, 8, 2)
+    });
+    assert_eq!(coils(&mut c1, 0, 1), vec![true]);
+    c2.write_multiple_coils(9, &[true]).unwrap().unwrap();
+    until("stopped", vec![false], || coils(&mut c1, 0, 1));
+    // The scans go on: total (%MD0) counts them.
+    let t0 = total(&mut c1);
+    until("total grows", true, || total(&mut c1) > t0 + 5);
+    // Addresses no variable is located at hold what clients write.
+    c1.write_single_register(500, 1234).unwrap().unwrap();
+    c1.write_single_coil(100, true).unwrap().unwrap();
+    let t1 = total(&mut c1);
+    until("scans after the writes", true, || total(&mut c2) > t1 + 5);
+    assert_eq!(holding(&mut c2, 500, 1), vec![1234]);
+    assert_eq!(coils(&mut c2, 100, 1), vec![true]);
+    // Discrete inputs and input registers read; nothing drives them here.
+    assert_eq!(
+        c1.read_discrete_inputs(0, 2).unwrap().unwrap(),
+        vec![false, false]
+    );
+    assert_eq!(c1.read_input_registers(0, 1).unwrap().unwrap(), vec![0]);
+    // Exceptions: outside the tables, quantities the protocol refuses.
+    assert_eq!(
+        c1.read_holding_registers(8190, 5).unwrap(),
+        Err(ExceptionCode::IllegalDataAddress)
+    );
+    assert_eq!(
+        c1.read_input_registers(1024, 1).unwrap(),
+        Err(ExceptionCode::IllegalDataAddress)
+    );
+    assert_eq!(
+        c1.read_coils(0, 2001).unwrap(),
+        Err(ExceptionCode::IllegalDataValue)
+    );
+    assert_eq!(
+        c1.write_single_register(8192, 1).unwrap(),
+        Err(ExceptionCode::IllegalDataAddress)
+    );
+    drop((c1, c2));
+    let (status, lines) = s.terminate();
+    assert!(status.success(), "{status}: {}", lines.join("\n"));
+}
+
+/// A small deterministic generator for the malformed frames.
+struct Lcg(u64);
+
+impl Lcg {
+    fn next(&mut self) -> u64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        self.0 >> 33
+    }
+
+    fn byte(&mut self) -> u8 {
+        self.next() as u8
+    }
+}
+
+/// A Modbus TCP frame: the MBAP header (transaction 1, protocol 0, unit 1) and `pdu`.
+fn frame(pdu: &[u8]) -> Vec<u8> {
+    let len = (pdu.len() + 1) as u16;
+    let mut f = vec![0, 1, 0, 0, (len >> 8) as u8, len as u8, 1];
+    f.extend_from_slice(pdu);
+    f
+}
+
+/// Sends `bytes` on a connection of its own, closes the writing side and reads
+/// whatever comes back until the server closes.
+fn exchange(addr: std::net::SocketAddr, bytes: &[u8]) -> Vec<u8> {
+    use std::io::{Read, Write};
+    let mut sock = std::net::TcpStream::connect(addr).expect("connects");
+    sock.set_read_timeout(Some(PATIENCE)).unwrap();
+    // The server may close before reading everything: a failed write is fine.
+    let _ = sock.write_all(bytes);
+    let _ = sock.shutdown(std::net::Shutdown::Write);
+    let mut back = Vec::new();
+    let _ = sock.read_to_end(&mut back);
+    back
+}
+
+#[test]
+fn a_thousand_malformed_modbus_frames_leave_the_plc_scanning() {
+    use tokio_modbus::prelude::SyncWriter;
+    let plant = program("plant.st");
+    let mut s = Server::start(&[
+        plant.to_str().unwrap(),
+        "--cycle-ms",
+        "2",
+        "--modbus",
+        "127.0.0.1:0",
+    ]);
+    let addr = modbus_addr(&mut s);
+    let mut c = client(addr);
+    c.write_multiple_registers(1024, &[7, 5]).unwrap().unwrap();
+    c.write_single_coil(100, true).unwrap().unwrap();
+    until("sum", vec![12], || holding(&mut c, 0, 1));
+    let before = total(&mut c);
+    let mut rng = Lcg(21);
+    let mut exceptions = 0;
+    for i in 0..1000 {
+        // (the bytes, the exception expected: None when the server may close or
+        // answer anything that is no write)
+        let (bytes, want): (Vec<u8>, Option<(u8, u8)>) = match i % 6 {
+            // Garbage: a frame of a protocol that is not Modbus, or fewer bytes than
+            // a header.
+            0 => {
+                let n = 1 + rng.next() as usize % 40;
+                let mut b: Vec<u8> = (0..n).map(|_| rng.byte()).collect();
+                if n > 3 {
+                    b[2] = 0x80 | rng.byte();
+                } else {
+                    b.truncate(6);
+                }
+                (b, None)
+            }
+            // Function codes the server does not implement: unknown ones, and known
+            // ones it does not serve (report server id, mask write, read/write
+            // registers, device identification), well formed.
+            1 => {
+                let pdu: Vec<u8> = match rng.next() % 6 {
+                    0 => vec![0x11],
+                    1 => vec![0x16, 0, 4, 0xFF, 0, 0, 1],
+                    2 => vec![0x17, 0, 0, 0, 1, 0, 4, 0, 1, 2, 0, 9],
+                    3 => vec![0x2B, 0x0E, 1, 0],
+                    _ => {
+                        let fc = [0x07, 0x08, 0x0B, 0x0C, 0x14, 0x15, 0x18, 0x41, 0x64, 0x7F]
+                            [rng.next() as usize % 10];
+                        vec![fc, rng.byte(), rng.byte(), rng.byte(), rng.byte()]
+                    }
+                };
+                (frame(&pdu), Some((pdu[0] | 0x80, 1)))
+            }
+            // Addresses outside the tables.
+            2 => {
+                let (fc, a, n): (u8, u16, u16) = match rng.next() % 5 {
+                    0 => (1, 8000, 500),
+                    1 => (2, 8191, 2),
+                    2 => (3, 8100, 100),
+                    3 => (4, 1000, 25),
+                    _ => (6, 8192 + rng.next() as u16 % 1000, 1),
+                };
+                (
+                    frame(&[fc, (a >> 8) as u8, a as u8, (n >> 8) as u8, n as u8]),
+                    Some((fc | 0x80, 2)),
+                )
+            }
+            // Quantities the protocol refuses.
+            3 => {
+                let (fc, n): (u8, u16) = match rng.next() % 3 {
+                    0 => (3, 0),
+                    1 => (3, 126 + rng.next() as u16 % 1000),
+                    _ => (1, 2001 + rng.next() as u16 % 1000),
+                };
+                (
+                    frame(&[fc, 0, 0, (n >> 8) as u8, n as u8]),
+                    Some((fc | 0x80, 3)),
+                )
+            }
+            // Truncated: the header promises more than comes.
+            4 => {
+                let mut f = frame(&[16, 4, 0, 0, 2, 4, 0xAA, 0xBB, 0xCC, 0xDD]);
+                let cut = 1 + rng.next() as usize % (f.len() - 1);
+                f.truncate(cut);
+                (f, None)
+            }
+            // Inconsistent: a write whose byte count disagrees with its quantity, a
+            // header length of 0 or 1.
+            _ => match rng.next() % 3 {
+                0 => (frame(&[16, 4, 0, 0, 2, 3, 1, 2, 3]), None),
+                1 => (vec![0, 1, 0, 0, 0, 0, 1, 3], None),
+                _ => (vec![0, 1, 0, 0, 0, 1, 1], None),
+            },
+        };
+        let back = exchange(addr, &bytes);
+        if let Some((fc, code)) = want {
+            // MBAP (7 bytes), the function code with the high bit, the code.
+            assert_eq!(
+                back.get(7..9),
+                Some(&[fc, code][..]),
+                "frame {i} {bytes:02x?}: answer {back:02x?}"
+            );
+            exceptions += 1;
+        }
+    }
+    assert!(exceptions > 500);
+    // The scans went on and nothing was written.
+    until("scans after the flood", true, || total(&mut c) > before + 5);
+    assert_eq!(holding(&mut c, 1024, 2), vec![7, 5]);
+    assert_eq!(holding(&mut c, 0, 1), vec![12]);
+    assert_eq!(coils(&mut c, 100, 1), vec![true]);
+    assert_eq!(holding(&mut c, 4, 2), vec![0, 0]);
+    drop(c);
+    let (status, lines) = s.terminate();
+    assert!(status.success(), "{status}: {}", lines.join("\n"));
+}
+
+#[test]
+fn modbus_listens_on_loopback_only() {
+    let out = Command::new(env!("CARGO_BIN_EXE_plcc"))
+        .args([
+            "serve",
+            program("plant.st").to_str().unwrap(),
+            "--modbus",
+            "0.0.0.0:0",
+        ])
+        .output()
+        .expect("plcc runs");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("loopback"));
 }

@@ -6,6 +6,7 @@
 //! in progress, and the command exits 0.
 
 pub mod image;
+pub mod modbus;
 pub mod scan;
 
 use crate::commands::{self, How, Mode, PlcopenFlags, EXIT_FAIL, EXIT_USAGE};
@@ -37,6 +38,29 @@ pub struct ServeArgs {
     pub cycle_us: Option<u64>,
     /// Target settings (`-s KEY=VALUE`).
     pub settings: Vec<(String, String)>,
+    /// `--modbus ADDR:PORT`, or `none` (default: [`DEFAULT_MODBUS`]).
+    pub modbus: Option<String>,
+}
+
+/// Where the Modbus server listens unless told: loopback, port 5020 (OpenPLC's 502
+/// needs privileges).
+pub const DEFAULT_MODBUS: &str = "127.0.0.1:5020";
+
+/// A server's address: `None` for `none`; an error for an address that is not
+/// `IP:PORT`, or not a loopback one.
+fn listen_addr(what: &str, text: &str) -> Result<Option<std::net::SocketAddr>, String> {
+    if text.eq_ignore_ascii_case("none") {
+        return Ok(None);
+    }
+    let addr: std::net::SocketAddr = text
+        .parse()
+        .map_err(|_| format!("--{what} `{text}` is not IP:PORT (e.g. 127.0.0.1:5020) or none"))?;
+    if !addr.ip().is_loopback() {
+        return Err(format!(
+            "--{what} `{text}` is not a loopback address: plcc serve listens only on loopback (127.0.0.1, ::1)"
+        ));
+    }
+    Ok(Some(addr))
 }
 
 /// What the scan thread and the servers share.
@@ -75,6 +99,13 @@ pub fn serve(a: &ServeArgs) -> u8 {
             return EXIT_USAGE;
         }
     }
+    let modbus = match listen_addr("modbus", a.modbus.as_deref().unwrap_or(DEFAULT_MODBUS)) {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return EXIT_USAGE;
+        }
+    };
     let (build, module) = match commands::build_and_report(
         &a.files,
         &a.library,
@@ -145,6 +176,17 @@ pub fn serve(a: &ServeArgs) -> u8 {
         Err(_) => {
             eprintln!("error: the scan thread ended before the machine was made");
             return EXIT_FAIL;
+        }
+    }
+    if let Some(addr) = modbus {
+        match modbus::start(addr, Arc::clone(&shared)) {
+            Ok(bound) => eprintln!("modbus: listening on {bound}"),
+            Err(e) => {
+                eprintln!("error: modbus: cannot listen on {addr}: {e}");
+                shared.stop.store(true, std::sync::atomic::Ordering::SeqCst);
+                let _ = scanner.join();
+                return EXIT_USAGE;
+            }
         }
     }
     eprintln!("serving: {target}, {nbinds} located variable(s) on the I/O image");
