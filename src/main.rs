@@ -156,6 +156,14 @@ enum Command {
         /// none; default 127.0.0.1:5020
         #[arg(long, value_name = "ADDR:PORT")]
         modbus: Option<String>,
+        /// Where the HTTP/JSON API listens, IP:PORT (port 0: any free port), or none;
+        /// default 127.0.0.1:8021
+        #[arg(long, value_name = "ADDR:PORT")]
+        http: Option<String>,
+        /// A file holding the bearer token that writes, forces and control calls of
+        /// the API need; required to listen on an address other than loopback
+        #[arg(long, value_name = "FILE")]
+        token_file: Option<PathBuf>,
     },
     /// Check programs and print diagnostics only
     Check {
@@ -281,6 +289,8 @@ fn main() -> ExitCode {
             cycle_ms,
             set,
             modbus,
+            http,
+            token_file,
         }) => plcc::serve::serve(&plcc::serve::ServeArgs {
             files: common.files,
             library: common.lib,
@@ -293,6 +303,8 @@ fn main() -> ExitCode {
             cycle_us: cycle_ms,
             settings: set,
             modbus,
+            http,
+            token_file,
         }),
         Some(Command::Check { common }) => commands::check(
             &common.files,

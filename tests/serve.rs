@@ -129,6 +129,8 @@ fn serve_scans_until_sigterm_and_exits_0() {
         "5",
         "--modbus",
         "none",
+        "--http",
+        "none",
     ]);
     assert_eq!(s.line("cycle: "), "cycle: 5 ms (--cycle-ms)");
     let serving = s.line("serving: ");
@@ -227,6 +229,8 @@ fn program_logic_through_a_modbus_round_trip() {
         "2",
         "--modbus",
         "127.0.0.1:0",
+        "--http",
+        "none",
     ]);
     let addr = modbus_addr(&mut s);
     let mut c1 = client(addr);
@@ -343,6 +347,8 @@ fn a_thousand_malformed_modbus_frames_leave_the_plc_scanning() {
         "2",
         "--modbus",
         "127.0.0.1:0",
+        "--http",
+        "none",
     ]);
     let addr = modbus_addr(&mut s);
     let mut c = client(addr);
@@ -449,17 +455,413 @@ fn a_thousand_malformed_modbus_frames_leave_the_plc_scanning() {
     assert!(status.success(), "{status}: {}", lines.join("\n"));
 }
 
+/// The address the HTTP API listens on, from its line.
+fn http_addr(s: &mut Server) -> std::net::SocketAddr {
+    let line = s.line("http: listening on ");
+    line["http: listening on ".len()..]
+        .parse()
+        .unwrap_or_else(|_| panic!("no address in `{line}`"))
+}
+
+/// One HTTP/1.1 request on a connection of its own: the status and the body (JSON,
+/// or `null` when the body is not JSON).
+fn http(
+    addr: std::net::SocketAddr,
+    method: &str,
+    path: &str,
+    body: Option<&str>,
+    token: Option<&str>,
+) -> (u16, serde_json::Value) {
+    let mut req = format!("{method} {path} HTTP/1.1\r\nHost: plc\r\nConnection: close\r\n");
+    if let Some(t) = token {
+        req.push_str(&format!("Authorization: Bearer {t}\r\n"));
+    }
+    let body = body.unwrap_or("");
+    req.push_str(&format!("Content-Length: {}\r\n\r\n{body}", body.len()));
+    let back = exchange(addr, req.as_bytes());
+    let text = String::from_utf8_lossy(&back);
+    let status = text
+        .split(' ')
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("{method} {path}: no status in `{text}`"));
+    let json = text
+        .split_once("\r\n\r\n")
+        .and_then(|(_, b)| serde_json::from_str(b).ok())
+        .unwrap_or(serde_json::Value::Null);
+    (status, json)
+}
+
+/// GET /api/vars/PATH's value.
+fn value(addr: std::net::SocketAddr, path: &str) -> serde_json::Value {
+    let (status, j) = http(addr, "GET", &format!("/api/vars/{path}"), None, None);
+    assert_eq!(status, 200, "GET {path}: {j}");
+    j["value"].clone()
+}
+
+fn put(addr: std::net::SocketAddr, path: &str, v: serde_json::Value, token: Option<&str>) -> u16 {
+    let body = serde_json::json!({ "value": v }).to_string();
+    http(
+        addr,
+        "PUT",
+        &format!("/api/vars/{path}"),
+        Some(&body),
+        token,
+    )
+    .0
+}
+
+fn status_of(addr: std::net::SocketAddr) -> serde_json::Value {
+    let (status, j) = http(addr, "GET", "/api/status", None, None);
+    assert_eq!(status, 200, "{j}");
+    j
+}
+
 #[test]
-fn modbus_listens_on_loopback_only() {
-    let out = Command::new(env!("CARGO_BIN_EXE_plcc"))
-        .args([
-            "serve",
-            program("plant.st").to_str().unwrap(),
-            "--modbus",
-            "0.0.0.0:0",
-        ])
+fn http_api_reads_writes_forces_and_controls() {
+    use serde_json::json;
+    let plant = program("plant.st");
+    let mut s = Server::start(&[
+        plant.to_str().unwrap(),
+        "--cycle-ms",
+        "2",
+        "--modbus",
+        "127.0.0.1:0",
+        "--http",
+        "127.0.0.1:0",
+    ]);
+    let mb = modbus_addr(&mut s);
+    let api = http_addr(&mut s);
+    let mut c = client(mb);
+    // Every variable with its type; globals by their plain names.
+    let (st, list) = http(api, "GET", "/api/vars", None, None);
+    assert_eq!(st, 200);
+    let list = list.as_array().expect("an array").clone();
+    assert!(list.contains(&json!({"path": "plant.level", "type": "INT"})));
+    assert!(list.contains(&json!({"path": "plant.scans", "type": "UDINT"})));
+    assert!(list.contains(&json!({"path": "total", "type": "DINT"})));
+    assert_eq!(list.len(), 14);
+    let (st, one) = http(api, "GET", "/api/vars/PLANT.Level", None, None);
+    assert_eq!(
+        (st, &one["path"], &one["type"]),
+        (200, &json!("plant.level"), &json!("INT"))
+    );
+    // A located input written over HTTP goes to the input image too.
+    assert_eq!(put(api, "plant.a", json!(3), None), 200);
+    assert_eq!(put(api, "plant.level", json!(60), None), 200);
+    until("scaled", json!(123), || value(api, "plant.scaled"));
+    {
+        use tokio_modbus::prelude::SyncReader;
+        assert_eq!(c.read_input_registers(0, 1).unwrap().unwrap(), vec![60]);
+    }
+    assert_eq!(holding(&mut c, 1, 1), vec![123]);
+    assert_eq!(value(api, "plant.alarm"), json!(false));
+    assert_eq!(put(api, "plant.level", json!(101), None), 200);
+    until("alarm", json!(true), || value(api, "plant.alarm"));
+    // The latch through the discrete inputs.
+    assert_eq!(put(api, "plant.start", json!(true), None), 200);
+    until("running", vec![true], || coils(&mut c, 0, 1));
+    assert_eq!(put(api, "plant.start", json!(false), None), 200);
+    assert_eq!(put(api, "plant.stop", json!(true), None), 200);
+    until("stopped", json!(false), || value(api, "plant.running"));
+    // Forcing holds against the program (stop is TRUE) and the I/O (a client's
+    // write of coil 0).
+    let (st, _) = http(
+        api,
+        "POST",
+        "/api/force/plant.running",
+        Some(r#"{"value": true}"#),
+        None,
+    );
+    assert_eq!(st, 200);
+    assert_eq!(value(api, "plant.running"), json!(true));
+    {
+        use tokio_modbus::prelude::SyncWriter;
+        c.write_single_coil(0, false).unwrap().unwrap();
+    }
+    let t0 = total(&mut c);
+    until("scans while forced", true, || total(&mut c) > t0 + 5);
+    assert_eq!(coils(&mut c, 0, 1), vec![true]);
+    assert_eq!(value(api, "plant.running"), json!(true));
+    assert_eq!(status_of(api)["forced"], json!(1));
+    assert_eq!(put(api, "plant.running", json!(false), None), 409);
+    // Unforced, the program has it again.
+    assert_eq!(
+        http(api, "DELETE", "/api/force/plant.running", None, None).0,
+        200
+    );
+    until("released", json!(false), || value(api, "plant.running"));
+    assert_eq!(
+        http(api, "DELETE", "/api/force/plant.running", None, None).0,
+        404
+    );
+    // A forced input holds against the I/O image.
+    let (st, _) = http(
+        api,
+        "POST",
+        "/api/force/plant.level",
+        Some(r#"{"value": 7}"#),
+        None,
+    );
+    assert_eq!(st, 200);
+    until("scaled from the forced level", json!(17), || {
+        value(api, "plant.scaled")
+    });
+    assert_eq!(
+        http(api, "DELETE", "/api/force/plant.level", None, None).0,
+        200
+    );
+    until("scaled from the image", json!(205), || {
+        value(api, "plant.scaled")
+    });
+    // Stop, start, restart.
+    assert_eq!(http(api, "POST", "/api/stop", None, None).0, 200);
+    assert_eq!(status_of(api)["state"], json!("stopped"));
+    let frozen = value(api, "plant.scans");
+    std::thread::sleep(Duration::from_millis(100));
+    assert_eq!(value(api, "plant.scans"), frozen);
+    assert_eq!(http(api, "POST", "/api/start", None, None).0, 200);
+    assert_eq!(status_of(api)["state"], json!("running"));
+    until("scans again", true, || {
+        value(api, "plant.scans").as_u64() > frozen.as_u64()
+    });
+    assert_eq!(value(api, "plant.a"), json!(3));
+    assert_eq!(
+        http(api, "POST", "/api/restart?mode=cold", None, None).0,
+        200
+    );
+    assert_eq!(
+        value(api, "plant.a"),
+        json!(0),
+        "cold restart: initial values"
+    );
+    let st = status_of(api);
+    assert_eq!(st["state"], json!("running"));
+    assert!(st["scans"].as_u64().unwrap() > 0);
+    assert!(st["exec_us"]["max"].as_u64().is_some());
+    assert!(st["lateness_us"]["p99"].as_u64().is_some());
+    assert_eq!(
+        http(api, "POST", "/api/restart?mode=warm", None, None).0,
+        501
+    );
+    drop(c);
+    let (status, lines) = s.terminate();
+    assert!(status.success(), "{status}: {}", lines.join("\n"));
+}
+
+#[test]
+fn a_thousand_bad_api_requests_leave_the_plc_scanning() {
+    use serde_json::json;
+    let dir = std::env::temp_dir().join(format!("plcc-serve-token-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let token_file = dir.join("token");
+    std::fs::write(&token_file, "s3cret-token\n").unwrap();
+    let plant = program("plant.st");
+    let mut s = Server::start(&[
+        plant.to_str().unwrap(),
+        "--cycle-ms",
+        "2",
+        "--modbus",
+        "none",
+        "--http",
+        "127.0.0.1:0",
+        "--token-file",
+        token_file.to_str().unwrap(),
+    ]);
+    let api = http_addr(&mut s);
+    let tok = Some("s3cret-token");
+    assert_eq!(put(api, "plant.a", json!(7), tok), 200);
+    assert_eq!(put(api, "plant.b", json!(5), tok), 200);
+    until("sum", json!(12), || value(api, "plant.sum"));
+    let scans_before = status_of(api)["scans"].as_u64().unwrap();
+    let mut rng = Lcg(1000);
+    let mut statuses = std::collections::BTreeMap::new();
+    for i in 0..1000 {
+        let r = rng.next();
+        let (method, path, body, token): (&str, String, Option<String>, Option<&str>) = match i % 10
+        {
+            // Bad JSON.
+            0 => {
+                let bodies = [
+                    "{",
+                    "{\"value\": }",
+                    "value=3",
+                    "[1, 2",
+                    "\u{0}\u{1}",
+                    "{\"value\": 1} trailing",
+                    "",
+                ];
+                let b = bodies[r as usize % bodies.len()];
+                ("PUT", "/api/vars/plant.a".into(), Some(b.into()), tok)
+            }
+            // Not {"value": ...}.
+            1 => {
+                let bodies = ["{}", "{\"v\": 1}", "{\"value\": 1, \"x\": 2}", "1", "null"];
+                let b = bodies[r as usize % bodies.len()];
+                ("PUT", "/api/vars/plant.b".into(), Some(b.into()), tok)
+            }
+            // Unknown variables and malformed paths.
+            2 => {
+                let paths = [
+                    "nope",
+                    "plant.nope",
+                    "plant.a.b",
+                    "plant.a[1]",
+                    "plant%5",
+                    "%FF%FE",
+                    "",
+                    "plant..a",
+                    "__init",
+                ];
+                let p = paths[r as usize % paths.len()];
+                let m = ["GET", "PUT", "POST"][(r >> 8) as usize % 3];
+                let route = if m == "POST" { "force" } else { "vars" };
+                (
+                    m,
+                    format!("/api/{route}/{p}"),
+                    Some("{\"value\": 1}".into()),
+                    tok,
+                )
+            }
+            // Wrong types and values out of range.
+            3 => {
+                let cases = [
+                    ("plant.a", "\"7\""),
+                    ("plant.a", "true"),
+                    ("plant.a", "1.5"),
+                    ("plant.a", "40000"),
+                    ("plant.a", "-40000"),
+                    ("plant.a", "null"),
+                    ("plant.start", "1"),
+                    ("plant.start", "\"TRUE\""),
+                    ("plant.scans", "-1"),
+                    ("plant.scans", "[1]"),
+                    ("total", "{\"x\": 1}"),
+                    ("total", "3000000000"),
+                ];
+                let (p, v) = cases[r as usize % cases.len()];
+                let route = if (r >> 8).is_multiple_of(2) {
+                    "vars"
+                } else {
+                    "force"
+                };
+                let m = if route == "vars" { "PUT" } else { "POST" };
+                (
+                    m,
+                    format!("/api/{route}/{p}"),
+                    Some(format!("{{\"value\": {v}}}")),
+                    tok,
+                )
+            }
+            // No token, or a wrong one, on a write, a force or a control call.
+            4 => {
+                let t = [None, Some("wrong"), Some(""), Some("s3cret-token-x")][r as usize % 4];
+                let (m, p, b) = [
+                    ("PUT", "/api/vars/plant.a", Some("{\"value\": 99}")),
+                    ("POST", "/api/force/plant.a", Some("{\"value\": 99}")),
+                    ("DELETE", "/api/force/plant.a", None),
+                    ("POST", "/api/stop", None),
+                    ("POST", "/api/restart", None),
+                ][(r >> 8) as usize % 5];
+                (m, p.into(), b.map(String::from), t)
+            }
+            // Unknown resources and methods.
+            5 => {
+                let (m, p) = [
+                    ("GET", "/"),
+                    ("GET", "/api"),
+                    ("GET", "/api/nope"),
+                    ("DELETE", "/api/status"),
+                    ("PUT", "/api/vars"),
+                    ("GET", "/api/force/plant.a"),
+                    ("POST", "/api/restart?mode=hot"),
+                    ("PATCH", "/api/vars/plant.a"),
+                    ("GET", "/api/vars/plant.a/extra"),
+                ][r as usize % 9];
+                (m, p.into(), None, tok)
+            }
+            // Strings where a number belongs, and the other way round.
+            6 => (
+                "PUT",
+                "/api/vars/plant.level".into(),
+                Some("{\"value\": \"T#1s\"}".into()),
+                tok,
+            ),
+            // Unforcing what is not forced.
+            7 => ("DELETE", "/api/force/plant.b".into(), None, tok),
+            // A body too large.
+            8 if i % 100 == 8 => (
+                "PUT",
+                "/api/vars/plant.a".into(),
+                Some(format!("{{\"value\": \"{}\"}}", "x".repeat(70_000))),
+                tok,
+            ),
+            // Integers written where a BOOL is, and floats in integers.
+            _ => (
+                "POST",
+                "/api/force/plant.stop".into(),
+                Some("{\"value\": 0}".into()),
+                tok,
+            ),
+        };
+        let (st, j) = http(api, method, &path, body.as_deref(), token);
+        assert!(
+            (400..500).contains(&st) || st == 501,
+            "request {i}: {method} {path} {body:?}: {st} {j}"
+        );
+        *statuses.entry(st).or_insert(0) += 1;
+    }
+    // Every kind of refusal was met.
+    for code in [400, 401, 404, 405, 413] {
+        assert!(statuses.contains_key(&code), "no {code} among {statuses:?}");
+    }
+    // Garbage that is not HTTP at all: an error or a closed connection.
+    for k in 0..50u64 {
+        let junk: Vec<u8> = (0..(k % 30 + 1)).map(|_| rng.byte()).collect();
+        let _ = exchange(api, &junk);
+    }
+    // The scans went on; nothing was written, forced or stopped.
+    until("scans after the requests", true, || {
+        status_of(api)["scans"].as_u64().unwrap() > scans_before + 10
+    });
+    let st = status_of(api);
+    assert_eq!(
+        (&st["state"], &st["forced"]),
+        (&json!("running"), &json!(0))
+    );
+    assert_eq!(value(api, "plant.a"), json!(7));
+    assert_eq!(value(api, "plant.b"), json!(5));
+    assert_eq!(value(api, "plant.sum"), json!(12));
+    assert_eq!(value(api, "plant.stop"), json!(false));
+    // With the token, the same calls work.
+    assert_eq!(put(api, "plant.a", json!(8), tok), 200);
+    until("sum", json!(13), || value(api, "plant.sum"));
+    let (status, lines) = s.terminate();
+    assert!(status.success(), "{status}: {}", lines.join("\n"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn listening_beyond_loopback_needs_a_token() {
+    let plant = program("plant.st");
+    for args in [
+        ["--http", "0.0.0.0:0", "--modbus", "none"],
+        ["--http", "none", "--modbus", "0.0.0.0:0"],
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_plcc"))
+            .arg("serve")
+            .arg(&plant)
+            .args(args)
+            .output()
+            .expect("plcc runs");
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(String::from_utf8_lossy(&out.stderr).contains("--token-file"));
+    }
+    let missing = Command::new(env!("CARGO_BIN_EXE_plcc"))
+        .arg("serve")
+        .arg(&plant)
+        .args(["--token-file", "/nonexistent/token"])
         .output()
         .expect("plcc runs");
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("loopback"));
+    assert_eq!(missing.status.code(), Some(2));
 }

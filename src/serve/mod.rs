@@ -5,6 +5,7 @@
 //! with the servers under one lock. SIGINT and SIGTERM end the loop after the scan
 //! in progress, and the command exits 0.
 
+pub mod http;
 pub mod image;
 pub mod modbus;
 pub mod scan;
@@ -13,6 +14,7 @@ use crate::commands::{self, How, Mode, PlcopenFlags, EXIT_FAIL, EXIT_USAGE};
 use crate::{render, scenario, targets};
 use image::Image;
 use scan::Stats;
+use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -40,24 +42,35 @@ pub struct ServeArgs {
     pub settings: Vec<(String, String)>,
     /// `--modbus ADDR:PORT`, or `none` (default: [`DEFAULT_MODBUS`]).
     pub modbus: Option<String>,
+    /// `--http ADDR:PORT`, or `none` (default: [`DEFAULT_HTTP`]).
+    pub http: Option<String>,
+    /// `--token-file F`: the bearer token of writes, forces and control calls.
+    pub token_file: Option<PathBuf>,
 }
+
+/// Where the HTTP API listens unless told.
+pub const DEFAULT_HTTP: &str = "127.0.0.1:8021";
 
 /// Where the Modbus server listens unless told: loopback, port 5020 (OpenPLC's 502
 /// needs privileges).
 pub const DEFAULT_MODBUS: &str = "127.0.0.1:5020";
 
 /// A server's address: `None` for `none`; an error for an address that is not
-/// `IP:PORT`, or not a loopback one.
-fn listen_addr(what: &str, text: &str) -> Result<Option<std::net::SocketAddr>, String> {
+/// `IP:PORT`, or not a loopback one when there is no token.
+fn listen_addr(
+    what: &str,
+    text: &str,
+    token: bool,
+) -> Result<Option<std::net::SocketAddr>, String> {
     if text.eq_ignore_ascii_case("none") {
         return Ok(None);
     }
     let addr: std::net::SocketAddr = text
         .parse()
         .map_err(|_| format!("--{what} `{text}` is not IP:PORT (e.g. 127.0.0.1:5020) or none"))?;
-    if !addr.ip().is_loopback() {
+    if !addr.ip().is_loopback() && !token {
         return Err(format!(
-            "--{what} `{text}` is not a loopback address: plcc serve listens only on loopback (127.0.0.1, ::1)"
+            "--{what} `{text}` is not a loopback address: listening elsewhere needs --token-file"
         ));
     }
     Ok(Some(addr))
@@ -86,6 +99,42 @@ impl Shared {
     }
 }
 
+/// The variables the API names, by canonical path, and their listing (path and
+/// type, in declaration order): every variable of the programs, then the globals'.
+fn api_vars(
+    module: &plcc_ir::Module,
+    binds: &[image::Binding],
+) -> (HashMap<String, scan::Var>, Vec<(String, String)>) {
+    use plcc_ir::vars::{variables_and_strings, Var as V};
+    let by_path: HashMap<&str, usize> = binds
+        .iter()
+        .enumerate()
+        .map(|(i, b)| (b.path.as_str(), i))
+        .collect();
+    let mut roots: Vec<plcc_ir::DataId> = module.programs.iter().map(|e| e.data).collect();
+    roots.extend(module.data_by_name(plcc_frontend::GLOBALS_DATA));
+    let mut vars = HashMap::new();
+    let mut listing = Vec::new();
+    for root in roots {
+        for v in variables_and_strings(module, root) {
+            let var = match v {
+                V::Scalar(r) => scan::Var::Scalar {
+                    bind: by_path.get(r.path.as_str()).copied(),
+                    path: r.path,
+                    elem: r.elem,
+                },
+                V::Str(s) => scan::Var::Str(s),
+            };
+            if vars.contains_key(var.path()) {
+                continue;
+            }
+            listing.push((var.path().to_string(), http::type_name(&var)));
+            vars.insert(var.path().to_string(), var);
+        }
+    }
+    (vars, listing)
+}
+
 /// `plcc serve FILE...`
 pub fn serve(a: &ServeArgs) -> u8 {
     let target = match commands::runnable_target(&a.target) {
@@ -99,8 +148,40 @@ pub fn serve(a: &ServeArgs) -> u8 {
             return EXIT_USAGE;
         }
     }
-    let modbus = match listen_addr("modbus", a.modbus.as_deref().unwrap_or(DEFAULT_MODBUS)) {
-        Ok(m) => m,
+    let token = match &a.token_file {
+        None => None,
+        Some(f) => match std::fs::read_to_string(f) {
+            Ok(t) if !t.trim().is_empty() && !t.trim().contains(char::is_whitespace) => {
+                Some(t.trim().to_string())
+            }
+            Ok(_) => {
+                eprintln!(
+                    "error: {}: the token file must hold one token, without spaces",
+                    f.display()
+                );
+                return EXIT_USAGE;
+            }
+            Err(e) => {
+                eprintln!("error: cannot read {}: {e}", f.display());
+                return EXIT_USAGE;
+            }
+        },
+    };
+    let addrs = listen_addr(
+        "modbus",
+        a.modbus.as_deref().unwrap_or(DEFAULT_MODBUS),
+        token.is_some(),
+    )
+    .and_then(|m| {
+        listen_addr(
+            "http",
+            a.http.as_deref().unwrap_or(DEFAULT_HTTP),
+            token.is_some(),
+        )
+        .map(|h| (m, h))
+    });
+    let (modbus, http) = match addrs {
+        Ok(a) => a,
         Err(e) => {
             eprintln!("error: {e}");
             return EXIT_USAGE;
@@ -131,6 +212,10 @@ pub fn serve(a: &ServeArgs) -> u8 {
         eprintln!("warning: {o}: not on Modbus, an ordinary variable");
     }
     let nbinds = binds.len();
+    let (vars, listing) = api_vars(&module, &binds);
+    let module_copy = Arc::new(module.clone());
+    let (requests_tx, requests_rx) = std::sync::mpsc::channel();
+    let requests_rx = http.map(|_| requests_rx);
     let shared = Arc::new(Shared {
         image: Mutex::new(Image::default()),
         stats: Mutex::new(Stats::default()),
@@ -157,6 +242,7 @@ pub fn serve(a: &ServeArgs) -> u8 {
                 &scan_shared,
                 &binds,
                 Duration::from_micros(cycle.us),
+                requests_rx,
             );
         });
     let scanner = match scanner {
@@ -183,6 +269,27 @@ pub fn serve(a: &ServeArgs) -> u8 {
             Ok(bound) => eprintln!("modbus: listening on {bound}"),
             Err(e) => {
                 eprintln!("error: modbus: cannot listen on {addr}: {e}");
+                shared.stop.store(true, std::sync::atomic::Ordering::SeqCst);
+                let _ = scanner.join();
+                return EXIT_USAGE;
+            }
+        }
+    }
+    if let Some(addr) = http {
+        let api = http::Api {
+            shared: Arc::clone(&shared),
+            vars,
+            listing,
+            module: module_copy,
+            token,
+            requests: requests_tx,
+            target: target.to_string(),
+            cycle_us: cycle.us,
+        };
+        match http::start(addr, api) {
+            Ok(bound) => eprintln!("http: listening on {bound}"),
+            Err(e) => {
+                eprintln!("error: http: cannot listen on {addr}: {e}");
                 shared.stop.store(true, std::sync::atomic::Ordering::SeqCst);
                 let _ = scanner.join();
                 return EXIT_USAGE;

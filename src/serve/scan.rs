@@ -2,11 +2,16 @@
 //! (start + n × cycle), sets the PLC clock from real elapsed time, and keeps the
 //! statistics of lateness and execution time.
 
+use super::http::display;
 use super::image::Binding;
 use super::Shared;
-use plcc_ir::machine::Machine;
-use std::collections::VecDeque;
+use plcc_ir::machine::{read_string, write_string, Machine};
+use plcc_ir::value::PlcValue;
+use plcc_ir::vars::StrRef;
+use plcc_ir::ElemType;
+use std::collections::{BTreeMap, VecDeque};
 use std::sync::atomic::Ordering;
+use std::sync::mpsc::{Receiver, Sender};
 use std::time::{Duration, Instant};
 
 /// How many recent samples the 99th percentile is taken over.
@@ -70,6 +75,12 @@ pub struct Stats {
     pub exec: Series,
     /// The error that stopped the scans (a watchdog stop, a failed cold start).
     pub error: Option<String>,
+    /// `running`, `stopped` or `error`.
+    pub state: String,
+    /// How many variables are forced.
+    pub forced: usize,
+    /// The runtime fault flag was raised since the last cold start.
+    pub fault: bool,
 }
 
 impl Stats {
@@ -84,69 +95,326 @@ impl Stats {
     }
 }
 
-/// Sleeps until `deadline` in steps short enough to notice a stop request soon.
-/// False if the server is to stop.
-fn wait_until(deadline: Instant, shared: &Shared) -> bool {
-    loop {
-        if shared.stop.load(Ordering::SeqCst) {
-            return false;
+/// A variable a request names, resolved against the module by the server that took
+/// the request.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Var {
+    /// An elementary variable: its canonical path, its type, and its binding to the
+    /// I/O image if it is located there (an index into the bindings).
+    Scalar {
+        /// The canonical path.
+        path: String,
+        /// The IEC type.
+        elem: ElemType,
+        /// Its binding, if located.
+        bind: Option<usize>,
+    },
+    /// A STRING or WSTRING.
+    Str(StrRef),
+}
+
+impl Var {
+    /// The canonical path.
+    pub fn path(&self) -> &str {
+        match self {
+            Var::Scalar { path, .. } => path,
+            Var::Str(s) => &s.path,
         }
-        let now = Instant::now();
-        if now >= deadline {
-            return true;
-        }
-        std::thread::sleep((deadline - now).min(Duration::from_millis(50)));
     }
 }
 
-/// One scan: the image into the machine, the clock, the programs, the outputs
-/// back to the image.
-fn scan_once(
+/// A variable's value.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Value {
+    /// An elementary value.
+    Scalar(PlcValue),
+    /// A string's characters.
+    Str(Vec<u16>),
+}
+
+/// What a request asks the scan thread to do, between two scans.
+#[derive(Clone, Debug)]
+pub enum Cmd {
+    /// Read a variable.
+    Read(Var),
+    /// Write a variable once (the program may change it in the next scan).
+    Write(Var, Value),
+    /// Hold an elementary variable at a value, against the program and the I/O.
+    Force(Var, PlcValue),
+    /// Stop holding the variable of this path.
+    Unforce(String),
+    /// Stop scanning (requests are still answered).
+    Stop,
+    /// Scan again after a stop.
+    Start,
+    /// Cold start, then scan.
+    Restart,
+}
+
+/// The answer to a [`Cmd`]: a value read, or nothing; an error is an HTTP status and
+/// a message.
+pub type Reply = Result<Option<Value>, (u16, String)>;
+
+/// A command and where its answer goes.
+pub struct Request {
+    /// What to do.
+    pub cmd: Cmd,
+    /// Where the answer goes.
+    pub reply: Sender<Reply>,
+}
+
+/// How often the scan thread looks at the stop flag while it waits.
+const POLL: Duration = Duration::from_millis(50);
+
+/// The scan thread's state.
+struct Plc<'a> {
+    m: &'a mut dyn Machine,
+    shared: &'a Shared,
+    binds: &'a [Binding],
+    requests: Option<Receiver<Request>>,
+    cycle_ns: u64,
+    /// Held variables, by canonical path.
+    forced: BTreeMap<String, PlcValue>,
+    running: bool,
+    /// When the PLC clock was 0 (the last cold start).
+    epoch: Instant,
+    /// Deadline n is `start + n × cycle`.
+    start: Instant,
+    n: u64,
+}
+
+impl Plc<'_> {
+    fn at(&self, n: u64) -> Instant {
+        self.start + Duration::from_nanos(self.cycle_ns.saturating_mul(n))
+    }
+
+    fn set_state(&self, state: &str) {
+        let mut s = self.shared.lock_stats();
+        s.state = state.to_string();
+        s.forced = self.forced.len();
+    }
+
+    fn fail(&mut self, e: String) {
+        self.running = false;
+        let mut s = self.shared.lock_stats();
+        s.state = "error".into();
+        s.error = Some(e);
+    }
+
+    fn apply_forces(&mut self) -> Result<(), String> {
+        for (path, v) in &self.forced {
+            self.m
+                .write(path, *v)
+                .map_err(|e| format!("forcing {path}: {e}"))?;
+        }
+        Ok(())
+    }
+
+    /// Cold start: initial values, forces, the outputs into the image, the clock
+    /// and the deadlines from now.
+    fn cold_start(&mut self) -> Result<(), String> {
+        self.m
+            .cold_start()
+            .map_err(|e| format!("cold start failed: {e}"))?;
+        self.m.clear_fault();
+        self.apply_forces()?;
+        self.shared.lock_image().publish(self.m, self.binds)?;
+        self.epoch = Instant::now();
+        self.start = self.epoch;
+        self.n = 0;
+        self.running = true;
+        {
+            let mut s = self.shared.lock_stats();
+            s.error = None;
+            s.fault = false;
+        }
+        self.set_state("running");
+        Ok(())
+    }
+
+    /// One scan: the image into the machine, the forces, the clock, the programs,
+    /// the forces again, the outputs back to the image.
+    fn scan(&mut self, clock_us: i64) -> Result<(), String> {
+        self.shared.lock_image().latch(self.m, self.binds)?;
+        self.apply_forces()?;
+        self.m.set_clock_us(clock_us);
+        self.m.scan().map_err(|e| e.to_string())?;
+        self.apply_forces()?;
+        self.shared.lock_image().publish(self.m, self.binds)
+    }
+
+    /// Waits up to `timeout` for a request and answers it.
+    fn serve(&mut self, timeout: Duration) {
+        let Some(rx) = &self.requests else {
+            std::thread::sleep(timeout);
+            return;
+        };
+        let Ok(req) = rx.recv_timeout(timeout) else {
+            return;
+        };
+        let reply = self.answer(req.cmd);
+        let _ = req.reply.send(reply);
+    }
+
+    fn answer(&mut self, cmd: Cmd) -> Reply {
+        let fail = |e: plcc_ir::machine::MachineError| (500, e.to_string());
+        match cmd {
+            Cmd::Read(Var::Scalar { path, .. }) => {
+                Ok(Some(Value::Scalar(self.m.read(&path).map_err(fail)?)))
+            }
+            Cmd::Read(Var::Str(s)) => Ok(Some(Value::Str(read_string(self.m, &s).map_err(fail)?))),
+            Cmd::Write(var, _) if self.forced.contains_key(var.path()) => Err((
+                409,
+                format!("`{}` is forced: unforce it first", display(var.path())),
+            )),
+            Cmd::Write(Var::Scalar { path, bind, .. }, Value::Scalar(v)) => {
+                self.m.write(&path, v).map_err(fail)?;
+                if let Some(b) = bind.and_then(|i| self.binds.get(i)) {
+                    self.shared.lock_image().store(b, v);
+                }
+                Ok(None)
+            }
+            Cmd::Write(Var::Str(s), Value::Str(chars)) => {
+                write_string(self.m, &s, &chars).map_err(|e| (400, e.to_string()))?;
+                Ok(None)
+            }
+            Cmd::Write(var, _) => Err((400, format!("wrong kind of value for `{}`", var.path()))),
+            Cmd::Force(Var::Scalar { path, bind, .. }, v) => {
+                self.m.write(&path, v).map_err(fail)?;
+                if let Some(b) = bind.and_then(|i| self.binds.get(i)) {
+                    if !b.slot.is_input() {
+                        self.shared.lock_image().store(b, v);
+                    }
+                }
+                self.forced.insert(path, v);
+                self.set_state(self.state());
+                Ok(None)
+            }
+            Cmd::Force(Var::Str(s), _) => Err((
+                400,
+                format!(
+                    "`{}` is a string: only elementary variables can be forced",
+                    display(&s.path)
+                ),
+            )),
+            Cmd::Unforce(path) => match self.forced.remove(&path) {
+                Some(_) => {
+                    self.set_state(self.state());
+                    Ok(None)
+                }
+                None => Err((404, format!("`{}` is not forced", display(&path)))),
+            },
+            Cmd::Stop => {
+                if self.running {
+                    self.running = false;
+                    self.set_state("stopped");
+                }
+                Ok(None)
+            }
+            Cmd::Start => {
+                if self.shared.lock_stats().error.is_some() {
+                    return Err((409, "the PLC stopped on an error: restart it".into()));
+                }
+                if !self.running {
+                    self.running = true;
+                    self.start = Instant::now();
+                    self.n = 0;
+                    self.set_state("running");
+                }
+                Ok(None)
+            }
+            Cmd::Restart => match self.cold_start() {
+                Ok(()) => Ok(None),
+                Err(e) => {
+                    self.fail(e.clone());
+                    Err((500, e))
+                }
+            },
+        }
+    }
+
+    fn state(&self) -> &'static str {
+        if self.running {
+            "running"
+        } else if self.shared.lock_stats().error.is_some() {
+            "error"
+        } else {
+            "stopped"
+        }
+    }
+}
+
+/// Cold start, then scans every `cycle` until a stop is requested, answering
+/// `requests` between scans. A failed scan stops the scans; without requests (no
+/// HTTP server, so nothing could restart it) it ends the loop.
+pub fn run(
     m: &mut dyn Machine,
     shared: &Shared,
     binds: &[Binding],
-    clock_us: i64,
-) -> Result<(), String> {
-    shared.lock_image().latch(m, binds)?;
-    m.set_clock_us(clock_us);
-    m.scan().map_err(|e| e.to_string())?;
-    shared.lock_image().publish(m, binds)
-}
-
-/// Cold start, then scans every `cycle` until a stop is requested or a scan fails.
-pub fn run(m: &mut dyn Machine, shared: &Shared, binds: &[Binding], cycle: Duration) {
-    let fail = |e: String| shared.lock_stats().error = Some(e);
-    if let Err(e) = m.cold_start() {
-        return fail(format!("cold start failed: {e}"));
+    cycle: Duration,
+    requests: Option<Receiver<Request>>,
+) {
+    let now = Instant::now();
+    let mut plc = Plc {
+        m,
+        shared,
+        binds,
+        cycle_ns: cycle.as_nanos().clamp(1, u64::MAX as u128) as u64,
+        requests,
+        forced: BTreeMap::new(),
+        running: false,
+        epoch: now,
+        start: now,
+        n: 0,
+    };
+    let stopping = || shared.stop.load(Ordering::SeqCst);
+    if let Err(e) = plc.cold_start() {
+        plc.fail(e);
     }
-    if let Err(e) = shared.lock_image().publish(m, binds) {
-        return fail(e);
-    }
-    let start = Instant::now();
-    let cycle_ns = cycle.as_nanos().clamp(1, u64::MAX as u128) as u64;
-    let at = |n: u64| start + Duration::from_nanos(cycle_ns.saturating_mul(n));
-    let mut n: u64 = 0;
     loop {
-        let deadline = at(n);
-        if !wait_until(deadline, shared) {
+        if stopping() {
             return;
         }
+        if !plc.running {
+            if plc.requests.is_none() {
+                return;
+            }
+            plc.serve(POLL);
+            continue;
+        }
+        let deadline = plc.at(plc.n);
+        loop {
+            let now = Instant::now();
+            if stopping() || now >= deadline || !plc.running {
+                break;
+            }
+            plc.serve((deadline - now).min(POLL));
+        }
+        if stopping() || !plc.running {
+            continue;
+        }
         let began = Instant::now();
-        let clock = began.duration_since(start).as_micros() as i64;
-        if let Err(e) = scan_once(m, shared, binds, clock) {
-            return fail(format!("scan {}: {e}", shared.lock_stats().scans));
+        let clock = began.duration_since(plc.epoch).as_micros() as i64;
+        if let Err(e) = plc.scan(clock) {
+            let k = shared.lock_stats().scans;
+            plc.fail(format!("scan {k}: {e}"));
+            continue;
         }
         let ended = Instant::now();
-        n = n.saturating_add(1);
+        plc.n = plc.n.saturating_add(1);
+        let fault = plc.m.fault();
         let mut stats = shared.lock_stats();
         stats.scans += 1;
-        stats.lateness.add(began - deadline);
+        stats.fault |= fault;
+        stats
+            .lateness
+            .add(began.saturating_duration_since(deadline));
         stats.exec.add(ended - began);
-        if ended > at(n) {
+        if ended > plc.at(plc.n) {
             // Missed the next deadline: count it and go on at the next one ahead.
             stats.overruns += 1;
-            let behind = ended.duration_since(start).as_nanos() / cycle_ns as u128;
-            n = u64::try_from(behind + 1).unwrap_or(u64::MAX);
+            let behind = ended.duration_since(plc.start).as_nanos() / plc.cycle_ns as u128;
+            plc.n = u64::try_from(behind + 1).unwrap_or(u64::MAX);
         }
     }
 }
