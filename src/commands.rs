@@ -99,6 +99,7 @@ pub(crate) fn build_and_report<P: AsRef<Path>>(
         programs,
         mode,
         inline_c,
+        keep_syntax,
     } = how;
     let sfc = plcopen.sfc_profile()?;
     let plcopen = plcopen.options()?;
@@ -127,7 +128,9 @@ pub(crate) fn build_and_report<P: AsRef<Path>>(
     render::to_stderr(&build.sources, &build.diagnostics);
     // The syntax trees are no longer needed and the process ends soon: skip freeing
     // them node by node.
-    std::mem::forget(std::mem::take(&mut build.syntax));
+    if !keep_syntax {
+        std::mem::forget(std::mem::take(&mut build.syntax));
+    }
     match build.module.take() {
         Some(m) => Ok((build, m)),
         None => {
@@ -145,6 +148,8 @@ pub(crate) struct How {
     pub(crate) programs: Vec<String>,
     pub(crate) mode: Mode,
     pub(crate) inline_c: bool,
+    /// Keep the syntax trees in the build (`plcc serve` reads the RETAIN blocks).
+    pub(crate) keep_syntax: bool,
 }
 
 /// How far a build goes.
@@ -176,6 +181,7 @@ pub fn check(
             programs: Vec::new(),
             mode: Mode::Check,
             inline_c: false,
+            keep_syntax: false,
         },
     ) {
         Ok((build, module)) => {
@@ -499,6 +505,7 @@ pub fn run(a: &RunArgs) -> u8 {
             programs,
             mode: Mode::Full,
             inline_c: targets::find(target).is_some_and(|t| t.inline_c),
+            keep_syntax: false,
         },
     ) {
         Ok(b) => b,
@@ -643,6 +650,7 @@ pub fn test(a: &TestArgs) -> u8 {
             programs,
             mode: Mode::Full,
             inline_c: targets::find(target).is_some_and(|t| t.inline_c),
+            keep_syntax: false,
         },
     ) {
         Ok(b) => b,
@@ -740,6 +748,7 @@ pub fn compile(a: &CompileArgs) -> u8 {
             programs: a.programs.clone(),
             mode,
             inline_c: target.inline_c,
+            keep_syntax: false,
         },
     ) {
         Ok(b) => b,

@@ -164,6 +164,10 @@ enum Command {
         /// the API need; required to listen on an address other than loopback
         #[arg(long, value_name = "FILE")]
         token_file: Option<PathBuf>,
+        /// Where the RETAIN and PERSISTENT variables are kept: read at start (if it
+        /// exists), written atomically at the end
+        #[arg(long, value_name = "FILE")]
+        retain: Option<PathBuf>,
     },
     /// Check programs and print diagnostics only
     Check {
@@ -291,6 +295,7 @@ fn main() -> ExitCode {
             modbus,
             http,
             token_file,
+            retain,
         }) => plcc::serve::serve(&plcc::serve::ServeArgs {
             files: common.files,
             library: common.lib,
@@ -305,6 +310,7 @@ fn main() -> ExitCode {
             modbus,
             http,
             token_file,
+            retain,
         }),
         Some(Command::Check { common }) => commands::check(
             &common.files,

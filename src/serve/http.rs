@@ -338,16 +338,20 @@ impl Api {
             (Post, ["stop"]) => done(self.ask(Cmd::Stop)),
             (Post, ["start"]) => done(self.ask(Cmd::Start)),
             (Post, ["restart"]) => match query {
-                "" | "mode=cold" => done(self.ask(Cmd::Restart)),
-                "mode=warm" => fail(
-                    501,
-                    "a warm restart keeps the RETAIN variables, which plcc serve does not keep yet: use mode=cold",
-                ),
-                q => fail(400, format!("`{q}`: use mode=cold")),
+                "" | "mode=cold" => done(self.ask(Cmd::Restart { warm: false })),
+                "mode=warm" => done(self.ask(Cmd::Restart { warm: true })),
+                q => fail(400, format!("`{q}`: use mode=cold or mode=warm")),
             },
-            (_, ["status"] | ["vars"] | ["vars", _] | ["force", _] | ["stop"] | ["start"] | ["restart"]) => {
-                fail(405, format!("{method} is not allowed on `{path}`"))
-            }
+            (
+                _,
+                ["status"]
+                | ["vars"]
+                | ["vars", _]
+                | ["force", _]
+                | ["stop"]
+                | ["start"]
+                | ["restart"],
+            ) => fail(405, format!("{method} is not allowed on `{path}`")),
             _ => fail(404, format!("no such resource `{path}`")),
         }
     }

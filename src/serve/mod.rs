@@ -8,6 +8,7 @@
 pub mod http;
 pub mod image;
 pub mod modbus;
+pub mod retain;
 pub mod scan;
 
 use crate::commands::{self, How, Mode, PlcopenFlags, EXIT_FAIL, EXIT_USAGE};
@@ -46,6 +47,8 @@ pub struct ServeArgs {
     pub http: Option<String>,
     /// `--token-file F`: the bearer token of writes, forces and control calls.
     pub token_file: Option<PathBuf>,
+    /// `--retain FILE`: where the RETAIN variables are kept between runs.
+    pub retain: Option<PathBuf>,
 }
 
 /// Where the HTTP API listens unless told.
@@ -197,6 +200,7 @@ pub fn serve(a: &ServeArgs) -> u8 {
             programs: a.program.iter().cloned().collect(),
             mode: Mode::Full,
             inline_c: targets::find(target).is_some_and(|t| t.inline_c),
+            keep_syntax: true,
         },
     ) {
         Ok(b) => b,
@@ -213,6 +217,24 @@ pub fn serve(a: &ServeArgs) -> u8 {
     }
     let nbinds = binds.len();
     let (vars, listing) = api_vars(&module, &binds);
+    let retained = retain::retained(&build, &module, &vars);
+    let saved = match &a.retain {
+        Some(f) => match retain::load(f) {
+            Ok(values) => values,
+            Err((status, e)) => {
+                eprintln!("error: {e}");
+                return status;
+            }
+        },
+        None => serde_json::Map::new(),
+    };
+    if let Some(f) = &a.retain {
+        eprintln!(
+            "retain: {} variable(s), kept in {}",
+            retained.len(),
+            f.display()
+        );
+    }
     let module_copy = Arc::new(module.clone());
     let (requests_tx, requests_rx) = std::sync::mpsc::channel();
     let requests_rx = http.map(|_| requests_rx);
@@ -233,17 +255,21 @@ pub fn serve(a: &ServeArgs) -> u8 {
                 Ok(m) => m,
                 Err(diags) => {
                     let _ = ready_tx.send(Err(diags));
-                    return;
+                    return Ok(serde_json::Map::new());
                 }
             };
             let _ = ready_tx.send(Ok(()));
             scan::run(
                 m.as_mut(),
                 &scan_shared,
-                &binds,
-                Duration::from_micros(cycle.us),
-                requests_rx,
-            );
+                scan::Setup {
+                    binds: &binds,
+                    cycle: Duration::from_micros(cycle.us),
+                    requests: requests_rx,
+                    retained,
+                    saved,
+                },
+            )
         });
     let scanner = match scanner {
         Ok(s) => s,
@@ -297,12 +323,24 @@ pub fn serve(a: &ServeArgs) -> u8 {
         }
     }
     eprintln!("serving: {target}, {nbinds} located variable(s) on the I/O image");
-    if scanner.join().is_err() {
-        eprintln!("error: the scan thread panicked");
-        return EXIT_FAIL;
-    }
+    let kept = match scanner.join() {
+        Ok(k) => k,
+        Err(_) => {
+            eprintln!("error: the scan thread panicked");
+            return EXIT_FAIL;
+        }
+    };
     let stats = shared.lock_stats().clone();
     eprintln!("{}", stats.line());
+    if let Some(f) = &a.retain {
+        match kept.and_then(|values| retain::save(f, values)) {
+            Ok(()) => eprintln!("retain: saved to {}", f.display()),
+            Err(e) => {
+                eprintln!("error: retain: {e}");
+                return EXIT_USAGE;
+            }
+        }
+    }
     match stats.error {
         Some(e) => {
             eprintln!("error: {e}");

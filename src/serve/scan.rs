@@ -9,6 +9,7 @@ use plcc_ir::machine::{read_string, write_string, Machine};
 use plcc_ir::value::PlcValue;
 use plcc_ir::vars::StrRef;
 use plcc_ir::ElemType;
+use serde_json::{Map, Value as Json};
 use std::collections::{BTreeMap, VecDeque};
 use std::sync::atomic::Ordering;
 use std::sync::mpsc::{Receiver, Sender};
@@ -147,8 +148,11 @@ pub enum Cmd {
     Stop,
     /// Scan again after a stop.
     Start,
-    /// Cold start, then scan.
-    Restart,
+    /// Cold start, then scan; a warm restart keeps the retained variables.
+    Restart {
+        /// Warm: the RETAIN variables keep their values.
+        warm: bool,
+    },
 }
 
 /// The answer to a [`Cmd`]: a value read, or nothing; an error is an HTTP status and
@@ -172,6 +176,8 @@ struct Plc<'a> {
     shared: &'a Shared,
     binds: &'a [Binding],
     requests: Option<Receiver<Request>>,
+    /// The RETAIN variables.
+    retained: Vec<Var>,
     cycle_ns: u64,
     /// Held variables, by canonical path.
     forced: BTreeMap<String, PlcValue>,
@@ -210,12 +216,17 @@ impl Plc<'_> {
         Ok(())
     }
 
-    /// Cold start: initial values, forces, the outputs into the image, the clock
-    /// and the deadlines from now.
-    fn cold_start(&mut self) -> Result<(), String> {
+    /// Cold start: initial values (the retained variables' from `keep` if given),
+    /// forces, the outputs into the image, the clock and the deadlines from now.
+    fn cold_start(&mut self, keep: Option<&Map<String, Json>>) -> Result<(), String> {
         self.m
             .cold_start()
             .map_err(|e| format!("cold start failed: {e}"))?;
+        if let Some(values) = keep {
+            for msg in super::retain::restore(self.m, &self.retained, values) {
+                eprintln!("warning: retained value not restored: {msg}");
+            }
+        }
         self.m.clear_fault();
         self.apply_forces()?;
         self.shared.lock_image().publish(self.m, self.binds)?;
@@ -323,13 +334,24 @@ impl Plc<'_> {
                 }
                 Ok(None)
             }
-            Cmd::Restart => match self.cold_start() {
-                Ok(()) => Ok(None),
-                Err(e) => {
-                    self.fail(e.clone());
-                    Err((500, e))
-                }
-            },
+            Cmd::Restart { warm } => {
+                let keep = if warm {
+                    Some(super::retain::snapshot(self.m, &self.retained).map_err(|e| (500, e))?)
+                } else {
+                    None
+                };
+                self.restart(keep.as_ref())
+            }
+        }
+    }
+
+    fn restart(&mut self, keep: Option<&Map<String, Json>>) -> Reply {
+        match self.cold_start(keep) {
+            Ok(()) => Ok(None),
+            Err(e) => {
+                self.fail(e.clone());
+                Err((500, e))
+            }
         }
     }
 
@@ -344,16 +366,36 @@ impl Plc<'_> {
     }
 }
 
-/// Cold start, then scans every `cycle` until a stop is requested, answering
-/// `requests` between scans. A failed scan stops the scans; without requests (no
-/// HTTP server, so nothing could restart it) it ends the loop.
+/// What the scan thread is given besides the machine.
+pub struct Setup<'a> {
+    /// The located variables.
+    pub binds: &'a [Binding],
+    /// The time between deadlines.
+    pub cycle: Duration,
+    /// The API's requests, if it is served.
+    pub requests: Option<Receiver<Request>>,
+    /// The RETAIN variables.
+    pub retained: Vec<Var>,
+    /// Their values from the retain file.
+    pub saved: Map<String, Json>,
+}
+
+/// Cold start (the retained variables from `saved`), then scans every `cycle` until
+/// a stop is requested, answering `requests` between scans. A failed scan stops the
+/// scans; without requests (no HTTP server, so nothing could restart it) it ends
+/// the loop. The retained variables' values at the end.
 pub fn run(
     m: &mut dyn Machine,
     shared: &Shared,
-    binds: &[Binding],
-    cycle: Duration,
-    requests: Option<Receiver<Request>>,
-) {
+    setup: Setup,
+) -> Result<Map<String, Json>, String> {
+    let Setup {
+        binds,
+        cycle,
+        requests,
+        retained,
+        saved,
+    } = setup;
     let now = Instant::now();
     let mut plc = Plc {
         m,
@@ -361,6 +403,7 @@ pub fn run(
         binds,
         cycle_ns: cycle.as_nanos().clamp(1, u64::MAX as u128) as u64,
         requests,
+        retained,
         forced: BTreeMap::new(),
         running: false,
         epoch: now,
@@ -368,16 +411,17 @@ pub fn run(
         n: 0,
     };
     let stopping = || shared.stop.load(Ordering::SeqCst);
-    if let Err(e) = plc.cold_start() {
+    if let Err(e) = plc.cold_start(Some(&saved)) {
         plc.fail(e);
     }
+    let end = |plc: &Plc| super::retain::snapshot(plc.m, &plc.retained);
     loop {
         if stopping() {
-            return;
+            return end(&plc);
         }
         if !plc.running {
             if plc.requests.is_none() {
-                return;
+                return end(&plc);
             }
             plc.serve(POLL);
             continue;
