@@ -985,3 +985,65 @@ fn retain_survives_restarts_of_the_server_and_warm_restarts() {
     assert!(status.success());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn server_sent_events_follow_the_variables() {
+    use serde_json::json;
+    use std::io::{BufRead, Write};
+    let plant = program("plant.st");
+    let mut s = Server::start(&[
+        plant.to_str().unwrap(),
+        "--cycle-ms",
+        "2",
+        "--modbus",
+        "none",
+        "--http",
+        "127.0.0.1:0",
+    ]);
+    let api = http_addr(&mut s);
+    assert_eq!(http(api, "GET", "/api/stream", None, None).0, 400);
+    assert_eq!(
+        http(api, "GET", "/api/stream?vars=plant.nope", None, None).0,
+        404
+    );
+    assert_eq!(
+        http(api, "POST", "/api/stream?vars=plant.a", None, None).0,
+        405
+    );
+    let sock = std::net::TcpStream::connect(api).unwrap();
+    sock.set_read_timeout(Some(PATIENCE)).unwrap();
+    (&sock)
+        .write_all(b"GET /api/stream?vars=plant.a,plant.sum,total HTTP/1.1\r\nHost: plc\r\n\r\n")
+        .unwrap();
+    let mut lines = std::io::BufReader::new(&sock).lines();
+    let mut next_event = || -> serde_json::Value {
+        loop {
+            let line = lines.next().expect("the stream goes on").expect("reads");
+            if let Some(data) = line.strip_prefix("data: ") {
+                return serde_json::from_str(data).expect("JSON");
+            }
+        }
+    };
+    let first = next_event();
+    assert_eq!(first["values"]["plant.sum"], json!(0));
+    assert!(first["scan"].as_u64().is_some());
+    assert!(first["values"]["total"].as_i64().is_some());
+    assert_eq!(put(api, "plant.a", json!(7), None), 200);
+    assert_eq!(put(api, "plant.b", json!(5), None), 200);
+    let t = Instant::now();
+    loop {
+        let e = next_event();
+        // Each event's values are read between the same two scans.
+        let (a, sum) = (&e["values"]["plant.a"], &e["values"]["plant.sum"]);
+        if *sum == json!(12) {
+            assert_eq!(*a, json!(7));
+            break;
+        }
+        assert!(t.elapsed() < PATIENCE, "no event with sum 12");
+    }
+    drop(sock);
+    // The stream's end leaves the server as it was.
+    assert_eq!(status_of(api)["state"], json!("running"));
+    let (status, lines) = s.terminate();
+    assert!(status.success(), "{status}: {}", lines.join("\n"));
+}

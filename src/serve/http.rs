@@ -21,6 +21,12 @@ use std::time::Duration;
 const MAX_BODY: u64 = 64 * 1024;
 /// How long a request waits for the scan thread.
 const PATIENCE: Duration = Duration::from_secs(30);
+/// How many event streams may be open at once.
+const MAX_STREAMS: usize = 16;
+/// The shortest time between two looks at a stream's variables.
+const STREAM_PERIOD: Duration = Duration::from_millis(100);
+/// A stream with nothing new sends a comment this often, to notice a client gone.
+const KEEPALIVE: Duration = Duration::from_secs(10);
 
 /// Everything the HTTP thread needs.
 pub struct Api {
@@ -40,6 +46,8 @@ pub struct Api {
     pub target: String,
     /// The cycle, for the status.
     pub cycle_us: u64,
+    /// The event streams open.
+    pub streams: Arc<std::sync::atomic::AtomicUsize>,
 }
 
 /// An error reply: the status and a message.
@@ -60,6 +68,7 @@ pub fn type_name(v: &Var) -> String {
 /// A value as JSON.
 pub fn to_json(v: &Value, wide: bool) -> Json {
     match v {
+        Value::Many(vs) => Json::Array(vs.iter().map(|v| to_json(v, wide)).collect()),
         Value::Str(chars) => {
             let text = if wide {
                 String::from_utf16_lossy(chars)
@@ -322,7 +331,7 @@ impl Api {
                 let j = Self::body_value(req)?;
                 match from_json(&var, &j).map_err(|e| (400, e))? {
                     Value::Scalar(v) => done(self.ask(Cmd::Force(var, v))),
-                    Value::Str(_) => fail(
+                    Value::Str(_) | Value::Many(_) => fail(
                         400,
                         format!(
                             "`{}` is a string: only elementary variables can be forced",
@@ -350,10 +359,97 @@ impl Api {
                 | ["force", _]
                 | ["stop"]
                 | ["start"]
-                | ["restart"],
+                | ["restart"]
+                | ["stream"],
             ) => fail(405, format!("{method} is not allowed on `{path}`")),
             _ => fail(404, format!("no such resource `{path}`")),
         }
+    }
+}
+
+/// `GET /api/stream?vars=a,b`: the variables, checked.
+fn stream_vars(api: &Api, req: &tiny_http::Request) -> Result<Vec<Var>, Fail> {
+    let url = req.url();
+    let query = url.split_once('?').map_or("", |(_, q)| q);
+    let list = query
+        .split('&')
+        .find_map(|kv| kv.strip_prefix("vars="))
+        .unwrap_or("");
+    if list.is_empty() {
+        return fail(400, "name the variables: /api/stream?vars=a,b");
+    }
+    let vars = list
+        .split(',')
+        .map(|p| api.var(p))
+        .collect::<Result<Vec<_>, _>>()?;
+    if api.streams.load(std::sync::atomic::Ordering::SeqCst) >= MAX_STREAMS {
+        return fail(503, format!("at most {MAX_STREAMS} streams at once"));
+    }
+    Ok(vars)
+}
+
+/// Serves one event stream until the client goes or the server stops: an event
+/// `{"scan": N, "values": {path: value, ...}}` when the values differ from the last
+/// ones sent, looked at every cycle (at most every 100 ms), all read between the
+/// same two scans.
+fn stream(
+    req: tiny_http::Request,
+    vars: Vec<Var>,
+    requests: Sender<Request>,
+    shared: Arc<Shared>,
+    period: Duration,
+) {
+    use std::io::Write;
+    let mut w = req.into_writer();
+    let head = "HTTP/1.1 200 OK\r\nContent-Type: text/event-stream\r\nCache-Control: no-cache\r\nConnection: close\r\n\r\n";
+    if w.write_all(head.as_bytes())
+        .and_then(|()| w.flush())
+        .is_err()
+    {
+        return;
+    }
+    let mut last: Option<Json> = None;
+    let mut sent = std::time::Instant::now();
+    while !shared.stop.load(std::sync::atomic::Ordering::SeqCst) {
+        let (tx, rx) = std::sync::mpsc::channel();
+        let asked = requests.send(Request {
+            cmd: Cmd::ReadMany(vars.clone()),
+            reply: tx,
+        });
+        let values = match asked.ok().and_then(|()| rx.recv_timeout(PATIENCE).ok()) {
+            Some(Ok(Some(Value::Many(vs)))) => vs,
+            Some(Err((_, e))) => {
+                let _ = write!(w, "event: error\ndata: {}\n\n", json!({"error": e}));
+                return;
+            }
+            _ => return,
+        };
+        let mut obj = serde_json::Map::new();
+        for (var, v) in vars.iter().zip(&values) {
+            let wide = matches!(var, Var::Str(s) if s.wide);
+            obj.insert(display(var.path()).to_string(), to_json(v, wide));
+        }
+        let now = Json::Object(obj);
+        let out = if last.as_ref() != Some(&now) {
+            let scans = shared.lock_stats().scans;
+            let text = format!("data: {}\n\n", json!({"scan": scans, "values": now}));
+            last = Some(now);
+            Some(text)
+        } else if sent.elapsed() >= KEEPALIVE {
+            Some(": keepalive\n\n".to_string())
+        } else {
+            None
+        };
+        if let Some(text) = out {
+            if w.write_all(text.as_bytes())
+                .and_then(|()| w.flush())
+                .is_err()
+            {
+                return;
+            }
+            sent = std::time::Instant::now();
+        }
+        std::thread::sleep(period);
     }
 }
 
@@ -382,6 +478,31 @@ pub fn start(addr: SocketAddr, api: Api) -> std::io::Result<SocketAddr> {
         .name("http".into())
         .spawn(move || {
             for mut req in server.incoming_requests() {
+                let is_stream = *req.method() == tiny_http::Method::Get
+                    && req.url().split('?').next() == Some("/api/stream");
+                if is_stream {
+                    match stream_vars(&api, &req) {
+                        Ok(vars) => {
+                            let requests = api.requests.clone();
+                            let shared = Arc::clone(&api.shared);
+                            let period = Duration::from_micros(api.cycle_us).max(STREAM_PERIOD);
+                            let count = Arc::clone(&api.streams);
+                            count.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+                            let spawned = std::thread::Builder::new()
+                                .name("http-stream".into())
+                                .spawn(move || {
+                                    stream(req, vars, requests, shared, period);
+                                    count.fetch_sub(1, std::sync::atomic::Ordering::SeqCst);
+                                });
+                            if spawned.is_err() {
+                                api.streams
+                                    .fetch_sub(1, std::sync::atomic::Ordering::SeqCst);
+                            }
+                        }
+                        Err((status, msg)) => respond(req, status, &json!({"error": msg})),
+                    }
+                    continue;
+                }
                 match api.handle(&mut req) {
                     Ok(body) => respond(req, 200, &body),
                     Err((status, msg)) => respond(req, status, &json!({"error": msg})),

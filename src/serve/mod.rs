@@ -311,6 +311,7 @@ pub fn serve(a: &ServeArgs) -> u8 {
             requests: requests_tx,
             target: target.to_string(),
             cycle_us: cycle.us,
+            streams: Arc::default(),
         };
         match http::start(addr, api) {
             Ok(bound) => eprintln!("http: listening on {bound}"),

@@ -169,6 +169,7 @@ pub fn restore(m: &mut dyn Machine, vars: &[Var], values: &Map<String, Json>) ->
                 Var::Str(s) => write_string(m, s, &chars).map_err(|e| e.to_string()),
                 Var::Scalar { .. } => Err("not a string".into()),
             },
+            Ok(Value::Many(_)) => Err("not one value".into()),
             Err(e) => Err(e),
         };
         if let Err(e) = written {

@@ -131,6 +131,8 @@ pub enum Value {
     Scalar(PlcValue),
     /// A string's characters.
     Str(Vec<u16>),
+    /// The values of several variables, read between the same two scans.
+    Many(Vec<Value>),
 }
 
 /// What a request asks the scan thread to do, between two scans.
@@ -138,6 +140,8 @@ pub enum Value {
 pub enum Cmd {
     /// Read a variable.
     Read(Var),
+    /// Read several variables between the same two scans.
+    ReadMany(Vec<Var>),
     /// Write a variable once (the program may change it in the next scan).
     Write(Var, Value),
     /// Hold an elementary variable at a value, against the program and the I/O.
@@ -274,6 +278,18 @@ impl Plc<'_> {
                 Ok(Some(Value::Scalar(self.m.read(&path).map_err(fail)?)))
             }
             Cmd::Read(Var::Str(s)) => Ok(Some(Value::Str(read_string(self.m, &s).map_err(fail)?))),
+            Cmd::ReadMany(vars) => {
+                let mut values = Vec::with_capacity(vars.len());
+                for v in vars {
+                    values.push(match v {
+                        Var::Scalar { path, .. } => {
+                            Value::Scalar(self.m.read(&path).map_err(fail)?)
+                        }
+                        Var::Str(s) => Value::Str(read_string(self.m, &s).map_err(fail)?),
+                    });
+                }
+                Ok(Some(Value::Many(values)))
+            }
             Cmd::Write(var, _) if self.forced.contains_key(var.path()) => Err((
                 409,
                 format!("`{}` is forced: unforce it first", display(var.path())),
