@@ -55,7 +55,7 @@ impl PlcopenFlags {
         self
     }
 
-    fn sfc_profile(&self) -> Result<plcc_frontend::sfc::Profile, u8> {
+    pub(crate) fn sfc_profile(&self) -> Result<plcc_frontend::sfc::Profile, u8> {
         match &self.sfc {
             None => Ok(plcc_frontend::sfc::Profile::Iec),
             Some(name) => plcc_frontend::sfc::Profile::from_name(name).ok_or_else(|| {
@@ -65,7 +65,7 @@ impl PlcopenFlags {
         }
     }
 
-    fn options(&self) -> Result<plcc_frontend::plcopen::Options, u8> {
+    pub(crate) fn options(&self) -> Result<plcc_frontend::plcopen::Options, u8> {
         let profile = match &self.order {
             None => plcc_frontend::plcopen::Profile::Iec,
             Some(name) => match plcc_frontend::plcopen::Profile::from_name(name) {

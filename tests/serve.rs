@@ -758,7 +758,8 @@ fn a_thousand_bad_api_requests_leave_the_plc_scanning() {
                     ("DELETE", "/api/force/plant.a", None),
                     ("POST", "/api/stop", None),
                     ("POST", "/api/restart", None),
-                ][(r >> 8) as usize % 5];
+                    ("POST", "/api/program", Some("PROGRAM p END_PROGRAM")),
+                ][(r >> 8) as usize % 6];
                 (m, p.into(), b.map(String::from), t)
             }
             // Unknown resources and methods.
@@ -1044,6 +1045,74 @@ fn server_sent_events_follow_the_variables() {
     drop(sock);
     // The stream's end leaves the server as it was.
     assert_eq!(status_of(api)["state"], json!("running"));
+    let (status, lines) = s.terminate();
+    assert!(status.success(), "{status}: {}", lines.join("\n"));
+}
+
+#[test]
+fn online_change_keeps_the_values_and_the_scans() {
+    use serde_json::json;
+    use tokio_modbus::prelude::SyncWriter;
+    let plant = program("plant.st");
+    let mut s = Server::start(&[
+        plant.to_str().unwrap(),
+        "--cycle-ms",
+        "2",
+        "--modbus",
+        "127.0.0.1:0",
+        "--http",
+        "127.0.0.1:0",
+    ]);
+    let api = http_addr(&mut s);
+    let mut c = client(modbus_addr(&mut s));
+    c.write_multiple_registers(1024, &[7, 5]).unwrap().unwrap();
+    until("sum", vec![12], || holding(&mut c, 0, 1));
+    let (st, _) = http(
+        api,
+        "POST",
+        "/api/force/plant.alarm",
+        Some(r#"{"value": true}"#),
+        None,
+    );
+    assert_eq!(st, 200);
+    let scans = value(api, "plant.scans").as_u64().unwrap();
+    assert_eq!(http(api, "GET", "/api/vars/plant.extra", None, None).0, 404);
+    // The new program: sum gets 1000 more, and a new variable.
+    let v2 = std::fs::read_to_string(program("plant_v2.st")).unwrap();
+    let (st, j) = http(api, "POST", "/api/program?lang=st", Some(&v2), None);
+    assert_eq!(st, 200, "{j}");
+    assert!(j["kept"].as_u64().unwrap() >= 10, "{j}");
+    until("the new sum", vec![1012], || holding(&mut c, 0, 1));
+    assert_eq!(holding(&mut c, 1024, 2), vec![7, 5]);
+    assert!(value(api, "plant.scans").as_u64().unwrap() >= scans);
+    assert_eq!(value(api, "plant.extra"), json!(5));
+    assert_eq!(value(api, "plant.alarm"), json!(true), "the force holds");
+    let (_, list) = http(api, "GET", "/api/vars", None, None);
+    assert!(list
+        .as_array()
+        .unwrap()
+        .contains(&json!({"path": "plant.extra", "type": "INT"})));
+    // A program with errors is refused with its diagnostics; the old one runs on.
+    let (st, j) = http(
+        api,
+        "POST",
+        "/api/program",
+        Some("PROGRAM plant VAR x : INT; END_VAR x := ; END_PROGRAM"),
+        None,
+    );
+    assert_eq!(st, 400);
+    assert!(j["error"].as_str().unwrap().contains("program.st"), "{j}");
+    assert_eq!(
+        http(api, "POST", "/api/program?lang=cobol", Some(&v2), None).0,
+        400
+    );
+    let t0 = total(&mut c);
+    until("scans go on", true, || total(&mut c) > t0 + 5);
+    c.write_single_register(1025, 6).unwrap().unwrap();
+    until("the new program computes", vec![1013], || {
+        holding(&mut c, 0, 1)
+    });
+    drop(c);
     let (status, lines) = s.terminate();
     assert!(status.success(), "{status}: {}", lines.join("\n"));
 }

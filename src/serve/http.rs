@@ -14,7 +14,7 @@ use std::collections::HashMap;
 use std::io::Read;
 use std::net::SocketAddr;
 use std::sync::mpsc::Sender;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 /// The largest request body read.
@@ -28,16 +28,27 @@ const STREAM_PERIOD: Duration = Duration::from_millis(100);
 /// A stream with nothing new sends a comment this often, to notice a client gone.
 const KEEPALIVE: Duration = Duration::from_secs(10);
 
-/// Everything the HTTP thread needs.
-pub struct Api {
-    /// The scan statistics and the stop flag.
-    pub shared: Arc<Shared>,
+/// The variables of the program running.
+pub struct Catalog {
     /// The variables a path may name, by canonical path.
     pub vars: HashMap<String, Var>,
     /// The variables in declaration order: path and type.
     pub listing: Vec<(String, String)>,
     /// The module, to resolve paths.
-    pub module: Arc<Module>,
+    pub module: Module,
+}
+
+/// The largest program an online change takes.
+const MAX_PROGRAM: u64 = 8 * 1024 * 1024;
+
+/// Everything the HTTP thread needs.
+pub struct Api {
+    /// The scan statistics and the stop flag.
+    pub shared: Arc<Shared>,
+    /// The program's variables (replaced by an online change).
+    pub catalog: Mutex<Catalog>,
+    /// Builds the programs of online changes.
+    pub loader: super::Loader,
     /// The bearer token every write, force and control call needs, if any.
     pub token: Option<String>,
     /// The scan thread's requests.
@@ -190,9 +201,10 @@ impl Api {
         let Some(path) = percent_decode(raw) else {
             return fail(400, format!("`{raw}` is not a well-formed path"));
         };
-        let find = |p: &str| match plcc_ir::vars::resolve(&self.module, p) {
+        let cat = self.catalog();
+        let find = |p: &str| match plcc_ir::vars::resolve(&cat.module, p) {
             Ok(v) => Ok(v.path),
-            Err(e) => plcc_ir::vars::resolve_string(&self.module, p)
+            Err(e) => plcc_ir::vars::resolve_string(&cat.module, p)
                 .map(|s| s.path)
                 .map_err(|_| e),
         };
@@ -204,9 +216,47 @@ impl Api {
                 Err(_) => return fail(404, format!("unknown variable: {e}")),
             },
         };
-        match self.vars.get(&canon) {
+        match cat.vars.get(&canon) {
             Some(v) => Ok(v.clone()),
             None => fail(404, format!("unknown variable `{path}`")),
+        }
+    }
+
+    fn catalog(&self) -> std::sync::MutexGuard<'_, Catalog> {
+        self.catalog.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// `POST /api/program?lang=L`: the body is the new program's source.
+    fn program(&self, req: &mut tiny_http::Request, query: &str) -> Result<Json, Fail> {
+        let lang = match query {
+            "" => "st",
+            q => match q.strip_prefix("lang=") {
+                Some(l @ ("st" | "il" | "stl" | "xml")) => l,
+                _ => return fail(400, format!("`{q}`: use lang=st, il, stl or xml")),
+            },
+        };
+        let mut body = Vec::new();
+        if req
+            .as_reader()
+            .take(MAX_PROGRAM + 1)
+            .read_to_end(&mut body)
+            .is_err()
+        {
+            return fail(400, "cannot read the request body");
+        }
+        if body.len() as u64 > MAX_PROGRAM {
+            return fail(
+                413,
+                format!("the program is larger than {MAX_PROGRAM} bytes"),
+            );
+        }
+        let (catalog, loaded) = self.loader.compile(body, lang).map_err(|e| (400, e))?;
+        match self.ask(Cmd::Load(Box::new(loaded)))? {
+            Some(Value::Scalar(kept)) => {
+                *self.catalog() = catalog;
+                Ok(json!({"ok": true, "kept": kept.bits}))
+            }
+            _ => fail(500, "no answer from the scan thread"),
         }
     }
 
@@ -303,7 +353,8 @@ impl Api {
         match (&method, &route[1..]) {
             (Get, ["status"]) => Ok(self.status()),
             (Get, ["vars"]) => Ok(Json::Array(
-                self.listing
+                self.catalog()
+                    .listing
                     .iter()
                     .map(|(p, t)| json!({"path": display(p), "type": t}))
                     .collect(),
@@ -344,6 +395,7 @@ impl Api {
                 let var = self.var(p)?;
                 done(self.ask(Cmd::Unforce(var.path().to_string())))
             }
+            (Post, ["program"]) => self.program(req, query),
             (Post, ["stop"]) => done(self.ask(Cmd::Stop)),
             (Post, ["start"]) => done(self.ask(Cmd::Start)),
             (Post, ["restart"]) => match query {
@@ -360,7 +412,8 @@ impl Api {
                 | ["stop"]
                 | ["start"]
                 | ["restart"]
-                | ["stream"],
+                | ["stream"]
+                | ["program"],
             ) => fail(405, format!("{method} is not allowed on `{path}`")),
             _ => fail(404, format!("no such resource `{path}`")),
         }

@@ -102,6 +102,90 @@ impl Shared {
     }
 }
 
+/// Builds the programs of online changes (`POST /api/program`) as the command line
+/// built the first one: the same libraries, dialect, profiles, target.
+pub struct Loader {
+    library: Vec<(String, Vec<u8>)>,
+    opts: crate::driver::BuildOptions,
+    target: &'static str,
+    settings: Vec<(String, String)>,
+}
+
+impl Loader {
+    fn new(a: &ServeArgs, target: &'static str) -> Result<Loader, u8> {
+        let mut library = Vec::new();
+        for f in &a.library {
+            match std::fs::read(f) {
+                Ok(b) => library.push((f.display().to_string(), b)),
+                Err(e) => {
+                    eprintln!("error: cannot read {}: {e}", f.display());
+                    return Err(EXIT_USAGE);
+                }
+            }
+        }
+        let opts = crate::driver::BuildOptions {
+            lang: None,
+            programs: a.program.iter().cloned().collect(),
+            codesys: a
+                .dialect
+                .as_deref()
+                .is_some_and(|d| d.eq_ignore_ascii_case("codesys")),
+            dialect_given: a.dialect.is_some(),
+            plcopen: a.plcopen.options()?,
+            sfc: a.plcopen.sfc_profile()?,
+            no_opt: false,
+            check_only: false,
+            inline_c: targets::find(target).is_some_and(|t| t.inline_c),
+        };
+        Ok(Loader {
+            library,
+            opts,
+            target,
+            settings: a.settings.clone(),
+        })
+    }
+
+    /// Builds a program's source (`lang`: its extension): what the API and the
+    /// scan thread need to run it; the diagnostics when it has errors.
+    pub fn compile(
+        &self,
+        text: Vec<u8>,
+        lang: &str,
+    ) -> Result<(http::Catalog, scan::Loaded), String> {
+        let build = crate::driver::build_sources_with_library(
+            vec![(format!("program.{lang}"), text)],
+            self.library.clone(),
+            &self.opts,
+        )
+        .map_err(|e| e.0)?;
+        let Some(module) = build.module.clone() else {
+            return Err(render::render(&build.sources, &build.diagnostics));
+        };
+        if module.programs.is_empty() {
+            return Err("the program declares no PROGRAM to run".into());
+        }
+        let (binds, _) = image::bindings(&module);
+        let (vars, listing) = api_vars(&module, &binds);
+        let retained = retain::retained(&build, &module, &vars);
+        let scan_vars = listing.iter().map(|(p, _)| vars[p].clone()).collect();
+        Ok((
+            http::Catalog {
+                vars,
+                listing,
+                module: module.clone(),
+            },
+            scan::Loaded {
+                module,
+                target: self.target,
+                settings: self.settings.clone(),
+                binds,
+                vars: scan_vars,
+                retained,
+            },
+        ))
+    }
+}
+
 /// The variables the API names, by canonical path, and their listing (path and
 /// type, in declaration order): every variable of the programs, then the globals'.
 fn api_vars(
@@ -218,6 +302,7 @@ pub fn serve(a: &ServeArgs) -> u8 {
     let nbinds = binds.len();
     let (vars, listing) = api_vars(&module, &binds);
     let retained = retain::retained(&build, &module, &vars);
+    let scan_vars: Vec<scan::Var> = listing.iter().map(|(p, _)| vars[p].clone()).collect();
     let saved = match &a.retain {
         Some(f) => match retain::load(f) {
             Ok(values) => values,
@@ -235,7 +320,11 @@ pub fn serve(a: &ServeArgs) -> u8 {
             f.display()
         );
     }
-    let module_copy = Arc::new(module.clone());
+    let module_copy = module.clone();
+    let loader = match Loader::new(a, target) {
+        Ok(l) => l,
+        Err(s) => return s,
+    };
     let (requests_tx, requests_rx) = std::sync::mpsc::channel();
     let requests_rx = http.map(|_| requests_rx);
     let shared = Arc::new(Shared {
@@ -251,7 +340,7 @@ pub fn serve(a: &ServeArgs) -> u8 {
     let scanner = std::thread::Builder::new()
         .name("plc-scan".into())
         .spawn(move || {
-            let mut m = match targets::machine_owned(target, module, &settings) {
+            let m = match targets::machine_owned(target, module, &settings) {
                 Ok(m) => m,
                 Err(diags) => {
                     let _ = ready_tx.send(Err(diags));
@@ -260,10 +349,11 @@ pub fn serve(a: &ServeArgs) -> u8 {
             };
             let _ = ready_tx.send(Ok(()));
             scan::run(
-                m.as_mut(),
+                m,
                 &scan_shared,
                 scan::Setup {
-                    binds: &binds,
+                    binds,
+                    vars: scan_vars,
                     cycle: Duration::from_micros(cycle.us),
                     requests: requests_rx,
                     retained,
@@ -304,9 +394,12 @@ pub fn serve(a: &ServeArgs) -> u8 {
     if let Some(addr) = http {
         let api = http::Api {
             shared: Arc::clone(&shared),
-            vars,
-            listing,
-            module: module_copy,
+            catalog: Mutex::new(http::Catalog {
+                vars,
+                listing,
+                module: module_copy,
+            }),
+            loader,
             token,
             requests: requests_tx,
             target: target.to_string(),

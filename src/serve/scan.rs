@@ -152,11 +152,31 @@ pub enum Cmd {
     Stop,
     /// Scan again after a stop.
     Start,
+    /// Online change: run this program instead, its variables keeping the values
+    /// of the old program's variables of the same path and type.
+    Load(Box<Loaded>),
     /// Cold start, then scan; a warm restart keeps the retained variables.
     Restart {
         /// Warm: the RETAIN variables keep their values.
         warm: bool,
     },
+}
+
+/// A new program for [`Cmd::Load`], built and checked by the API's thread.
+#[derive(Clone, Debug)]
+pub struct Loaded {
+    /// Its module.
+    pub module: plcc_ir::Module,
+    /// The target whose machine runs it.
+    pub target: &'static str,
+    /// The target settings.
+    pub settings: Vec<(String, String)>,
+    /// Its located variables.
+    pub binds: Vec<Binding>,
+    /// Its variables.
+    pub vars: Vec<Var>,
+    /// Its RETAIN variables.
+    pub retained: Vec<Var>,
 }
 
 /// The answer to a [`Cmd`]: a value read, or nothing; an error is an HTTP status and
@@ -176,9 +196,11 @@ const POLL: Duration = Duration::from_millis(50);
 
 /// The scan thread's state.
 struct Plc<'a> {
-    m: &'a mut dyn Machine,
+    m: Box<dyn Machine>,
     shared: &'a Shared,
-    binds: &'a [Binding],
+    binds: Vec<Binding>,
+    /// Every variable of the program (the API's).
+    vars: Vec<Var>,
     requests: Option<Receiver<Request>>,
     /// The RETAIN variables.
     retained: Vec<Var>,
@@ -227,13 +249,13 @@ impl Plc<'_> {
             .cold_start()
             .map_err(|e| format!("cold start failed: {e}"))?;
         if let Some(values) = keep {
-            for msg in super::retain::restore(self.m, &self.retained, values) {
+            for msg in super::retain::restore(&mut *self.m, &self.retained, values) {
                 eprintln!("warning: retained value not restored: {msg}");
             }
         }
         self.m.clear_fault();
         self.apply_forces()?;
-        self.shared.lock_image().publish(self.m, self.binds)?;
+        self.shared.lock_image().publish(&*self.m, &self.binds)?;
         self.epoch = Instant::now();
         self.start = self.epoch;
         self.n = 0;
@@ -250,12 +272,12 @@ impl Plc<'_> {
     /// One scan: the image into the machine, the forces, the clock, the programs,
     /// the forces again, the outputs back to the image.
     fn scan(&mut self, clock_us: i64) -> Result<(), String> {
-        self.shared.lock_image().latch(self.m, self.binds)?;
+        self.shared.lock_image().latch(&mut *self.m, &self.binds)?;
         self.apply_forces()?;
         self.m.set_clock_us(clock_us);
         self.m.scan().map_err(|e| e.to_string())?;
         self.apply_forces()?;
-        self.shared.lock_image().publish(self.m, self.binds)
+        self.shared.lock_image().publish(&*self.m, &self.binds)
     }
 
     /// Waits up to `timeout` for a request and answers it.
@@ -277,7 +299,9 @@ impl Plc<'_> {
             Cmd::Read(Var::Scalar { path, .. }) => {
                 Ok(Some(Value::Scalar(self.m.read(&path).map_err(fail)?)))
             }
-            Cmd::Read(Var::Str(s)) => Ok(Some(Value::Str(read_string(self.m, &s).map_err(fail)?))),
+            Cmd::Read(Var::Str(s)) => {
+                Ok(Some(Value::Str(read_string(&*self.m, &s).map_err(fail)?)))
+            }
             Cmd::ReadMany(vars) => {
                 let mut values = Vec::with_capacity(vars.len());
                 for v in vars {
@@ -285,7 +309,7 @@ impl Plc<'_> {
                         Var::Scalar { path, .. } => {
                             Value::Scalar(self.m.read(&path).map_err(fail)?)
                         }
-                        Var::Str(s) => Value::Str(read_string(self.m, &s).map_err(fail)?),
+                        Var::Str(s) => Value::Str(read_string(&*self.m, &s).map_err(fail)?),
                     });
                 }
                 Ok(Some(Value::Many(values)))
@@ -302,7 +326,7 @@ impl Plc<'_> {
                 Ok(None)
             }
             Cmd::Write(Var::Str(s), Value::Str(chars)) => {
-                write_string(self.m, &s, &chars).map_err(|e| (400, e.to_string()))?;
+                write_string(&mut *self.m, &s, &chars).map_err(|e| (400, e.to_string()))?;
                 Ok(None)
             }
             Cmd::Write(var, _) => Err((400, format!("wrong kind of value for `{}`", var.path()))),
@@ -350,15 +374,84 @@ impl Plc<'_> {
                 }
                 Ok(None)
             }
+            Cmd::Load(l) => {
+                let kept = self.load(*l)?;
+                Ok(Some(Value::Scalar(PlcValue::from_i64(
+                    ElemType::UDInt,
+                    kept as i64,
+                ))))
+            }
             Cmd::Restart { warm } => {
                 let keep = if warm {
-                    Some(super::retain::snapshot(self.m, &self.retained).map_err(|e| (500, e))?)
+                    Some(super::retain::snapshot(&*self.m, &self.retained).map_err(|e| (500, e))?)
                 } else {
                     None
                 };
                 self.restart(keep.as_ref())
             }
         }
+    }
+
+    /// Online change: the new program's machine, cold-started, takes the values of
+    /// the old one's variables of the same path and type, and the forces that still
+    /// apply; then it runs in place of the old one from the next scan. The number of
+    /// variables carried over.
+    fn load(&mut self, l: Loaded) -> Result<usize, (u16, String)> {
+        let Loaded {
+            module,
+            target,
+            settings,
+            binds,
+            vars,
+            retained,
+        } = l;
+        let mut new = crate::targets::machine_owned(target, module, &settings).map_err(|d| {
+            let msgs: Vec<String> = d
+                .iter()
+                .map(|d| format!("{}: {}", d.code, d.message))
+                .collect();
+            (400, msgs.join("; "))
+        })?;
+        new.cold_start()
+            .map_err(|e| (500, format!("cold start of the new program failed: {e}")))?;
+        let old: std::collections::HashMap<&str, &Var> =
+            self.vars.iter().map(|v| (v.path(), v)).collect();
+        let fail = |e: plcc_ir::machine::MachineError| (500, e.to_string());
+        let mut kept = 0;
+        for v in &vars {
+            match (old.get(v.path()), v) {
+                (Some(Var::Scalar { elem: was, .. }), Var::Scalar { path, elem, .. })
+                    if was == elem =>
+                {
+                    let x = self.m.read(path).map_err(fail)?;
+                    new.write(path, x).map_err(fail)?;
+                    kept += 1;
+                }
+                (Some(Var::Str(was)), Var::Str(now)) if was.wide == now.wide => {
+                    let chars = read_string(&*self.m, was).map_err(fail)?;
+                    if chars.len() <= now.cap as usize {
+                        write_string(&mut *new, now, &chars).map_err(fail)?;
+                        kept += 1;
+                    }
+                }
+                _ => {}
+            }
+        }
+        self.forced.retain(|p, x| {
+            vars.iter()
+                .any(|v| matches!(v, Var::Scalar { path, elem, .. } if path == p && *elem == x.ty))
+        });
+        self.m = new;
+        self.binds = binds;
+        self.vars = vars;
+        self.retained = retained;
+        self.apply_forces().map_err(|e| (500, e))?;
+        self.shared
+            .lock_image()
+            .publish(&*self.m, &self.binds)
+            .map_err(|e| (500, e))?;
+        self.set_state(self.state());
+        Ok(kept)
     }
 
     fn restart(&mut self, keep: Option<&Map<String, Json>>) -> Reply {
@@ -383,9 +476,11 @@ impl Plc<'_> {
 }
 
 /// What the scan thread is given besides the machine.
-pub struct Setup<'a> {
+pub struct Setup {
     /// The located variables.
-    pub binds: &'a [Binding],
+    pub binds: Vec<Binding>,
+    /// Every variable of the program (the API's).
+    pub vars: Vec<Var>,
     /// The time between deadlines.
     pub cycle: Duration,
     /// The API's requests, if it is served.
@@ -401,12 +496,13 @@ pub struct Setup<'a> {
 /// scans; without requests (no HTTP server, so nothing could restart it) it ends
 /// the loop. The retained variables' values at the end.
 pub fn run(
-    m: &mut dyn Machine,
+    m: Box<dyn Machine>,
     shared: &Shared,
     setup: Setup,
 ) -> Result<Map<String, Json>, String> {
     let Setup {
         binds,
+        vars,
         cycle,
         requests,
         retained,
@@ -417,6 +513,7 @@ pub fn run(
         m,
         shared,
         binds,
+        vars,
         cycle_ns: cycle.as_nanos().clamp(1, u64::MAX as u128) as u64,
         requests,
         retained,
@@ -430,7 +527,7 @@ pub fn run(
     if let Err(e) = plc.cold_start(Some(&saved)) {
         plc.fail(e);
     }
-    let end = |plc: &Plc| super::retain::snapshot(plc.m, &plc.retained);
+    let end = |plc: &Plc| super::retain::snapshot(&*plc.m, &plc.retained);
     loop {
         if stopping() {
             return end(&plc);
