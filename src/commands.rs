@@ -55,7 +55,7 @@ impl PlcopenFlags {
         self
     }
 
-    fn sfc_profile(&self) -> Result<plcc_frontend::sfc::Profile, u8> {
+    pub(crate) fn sfc_profile(&self) -> Result<plcc_frontend::sfc::Profile, u8> {
         match &self.sfc {
             None => Ok(plcc_frontend::sfc::Profile::Iec),
             Some(name) => plcc_frontend::sfc::Profile::from_name(name).ok_or_else(|| {
@@ -65,7 +65,7 @@ impl PlcopenFlags {
         }
     }
 
-    fn options(&self) -> Result<plcc_frontend::plcopen::Options, u8> {
+    pub(crate) fn options(&self) -> Result<plcc_frontend::plcopen::Options, u8> {
         let profile = match &self.order {
             None => plcc_frontend::plcopen::Profile::Iec,
             Some(name) => match plcc_frontend::plcopen::Profile::from_name(name) {
@@ -87,7 +87,7 @@ impl PlcopenFlags {
 
 /// Builds and prints the diagnostics; `Err(status)` when the build cannot go on.
 /// The returned build's module has been taken out into the second value.
-fn build_and_report<P: AsRef<Path>>(
+pub(crate) fn build_and_report<P: AsRef<Path>>(
     files: &[P],
     library: &[PathBuf],
     lang: Option<&str>,
@@ -99,6 +99,7 @@ fn build_and_report<P: AsRef<Path>>(
         programs,
         mode,
         inline_c,
+        keep_syntax,
     } = how;
     let sfc = plcopen.sfc_profile()?;
     let plcopen = plcopen.options()?;
@@ -127,7 +128,9 @@ fn build_and_report<P: AsRef<Path>>(
     render::to_stderr(&build.sources, &build.diagnostics);
     // The syntax trees are no longer needed and the process ends soon: skip freeing
     // them node by node.
-    std::mem::forget(std::mem::take(&mut build.syntax));
+    if !keep_syntax {
+        std::mem::forget(std::mem::take(&mut build.syntax));
+    }
     match build.module.take() {
         Some(m) => Ok((build, m)),
         None => {
@@ -141,15 +144,17 @@ fn build_and_report<P: AsRef<Path>>(
 
 /// What a build is for: the PROGRAMs to run, how far it goes, and whether its
 /// target keeps C pragmas ([`targets::TargetInfo::inline_c`]).
-struct How {
-    programs: Vec<String>,
-    mode: Mode,
-    inline_c: bool,
+pub(crate) struct How {
+    pub(crate) programs: Vec<String>,
+    pub(crate) mode: Mode,
+    pub(crate) inline_c: bool,
+    /// Keep the syntax trees in the build (`plcc serve` reads the RETAIN blocks).
+    pub(crate) keep_syntax: bool,
 }
 
 /// How far a build goes.
 #[derive(Copy, Clone, PartialEq, Eq)]
-enum Mode {
+pub(crate) enum Mode {
     /// Diagnostics only.
     Check,
     /// IR as the front end made it.
@@ -176,6 +181,7 @@ pub fn check(
             programs: Vec::new(),
             mode: Mode::Check,
             inline_c: false,
+            keep_syntax: false,
         },
     ) {
         Ok((build, module)) => {
@@ -437,7 +443,7 @@ pub struct RunArgs {
     pub settings: Vec<(String, String)>,
 }
 
-fn runnable_target(name: &str) -> Result<&'static str, u8> {
+pub(crate) fn runnable_target(name: &str) -> Result<&'static str, u8> {
     match targets::find(name) {
         Some(t) if t.runs() => Ok(t.name),
         Some(t) => Err(usage(format!(
@@ -454,7 +460,7 @@ fn runnable_target(name: &str) -> Result<&'static str, u8> {
 
 /// The program instances whose variables `run` prints: the one asked for, else all of
 /// them (every instance runs in each scan, in declaration order).
-fn pick_programs(m: &Module, asked: Option<&str>) -> Result<Vec<String>, u8> {
+pub(crate) fn pick_programs(m: &Module, asked: Option<&str>) -> Result<Vec<String>, u8> {
     match asked {
         Some(p) => match m.program_or_instance_of(p) {
             Some(e) => Ok(vec![e.name.clone()]),
@@ -499,6 +505,7 @@ pub fn run(a: &RunArgs) -> u8 {
             programs,
             mode: Mode::Full,
             inline_c: targets::find(target).is_some_and(|t| t.inline_c),
+            keep_syntax: false,
         },
     ) {
         Ok(b) => b,
@@ -643,6 +650,7 @@ pub fn test(a: &TestArgs) -> u8 {
             programs,
             mode: Mode::Full,
             inline_c: targets::find(target).is_some_and(|t| t.inline_c),
+            keep_syntax: false,
         },
     ) {
         Ok(b) => b,
@@ -740,6 +748,7 @@ pub fn compile(a: &CompileArgs) -> u8 {
             programs: a.programs.clone(),
             mode,
             inline_c: target.inline_c,
+            keep_syntax: false,
         },
     ) {
         Ok(b) => b,

@@ -11,4 +11,5 @@ pub mod driver;
 pub mod output;
 pub mod render;
 pub mod scenario;
+pub mod serve;
 pub mod targets;

@@ -134,6 +134,41 @@ enum Command {
         #[arg(short = 's', long = "set", value_parser = parse_setting)]
         set: Vec<(String, String)>,
     },
+    /// Run a program in real time as a soft PLC: its tasks (or every PROGRAM) scanned
+    /// every cycle on a thread of its own, with absolute deadlines and the real clock
+    /// (docs/serve.md). SIGINT or SIGTERM ends it after the scan in progress.
+    Serve {
+        #[command(flatten)]
+        common: Common,
+        #[arg(long, default_value = "host", help = plcc::targets::run_help())]
+        target: String,
+        /// The PROGRAM to run (default: every instance)
+        #[arg(long)]
+        program: Option<String>,
+        /// Cycle time in milliseconds, e.g. 10 or 0.5; default: the greatest common
+        /// divisor of the configuration's task intervals, else 10
+        #[arg(long, value_parser = plcc::scenario::parse_ms)]
+        cycle_ms: Option<u64>,
+        /// A target setting KEY=VALUE
+        #[arg(short = 's', long = "set", value_parser = parse_setting)]
+        set: Vec<(String, String)>,
+        /// Where the Modbus TCP server listens, IP:PORT (port 0: any free port), or
+        /// none; default 127.0.0.1:5020
+        #[arg(long, value_name = "ADDR:PORT")]
+        modbus: Option<String>,
+        /// Where the HTTP/JSON API listens, IP:PORT (port 0: any free port), or none;
+        /// default 127.0.0.1:8021
+        #[arg(long, value_name = "ADDR:PORT")]
+        http: Option<String>,
+        /// A file holding the bearer token that writes, forces and control calls of
+        /// the API need; required to listen on an address other than loopback
+        #[arg(long, value_name = "FILE")]
+        token_file: Option<PathBuf>,
+        /// Where the RETAIN and PERSISTENT variables are kept: read at start (if it
+        /// exists), written atomically at the end
+        #[arg(long, value_name = "FILE")]
+        retain: Option<PathBuf>,
+    },
     /// Check programs and print diagnostics only
     Check {
         #[command(flatten)]
@@ -250,6 +285,32 @@ fn main() -> ExitCode {
             target,
             cycle_us: cycle_ms,
             settings: set,
+        }),
+        Some(Command::Serve {
+            common,
+            target,
+            program,
+            cycle_ms,
+            set,
+            modbus,
+            http,
+            token_file,
+            retain,
+        }) => plcc::serve::serve(&plcc::serve::ServeArgs {
+            files: common.files,
+            library: common.lib,
+            lang: common.lang,
+            dialect: common.dialect,
+            plcopen: commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs)
+                .with_sfc(common.sfc),
+            target,
+            program,
+            cycle_us: cycle_ms,
+            settings: set,
+            modbus,
+            http,
+            token_file,
+            retain,
         }),
         Some(Command::Check { common }) => commands::check(
             &common.files,
