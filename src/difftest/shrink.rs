@@ -7,6 +7,7 @@
 //! which is no mismatch, so it is not taken.
 
 use super::gen::{Expr, Operand, Prog, Stmt, FIXED, T};
+use super::oo::Oo;
 
 /// The simplest literal of a type.
 fn plain(t: T) -> Expr {
@@ -132,7 +133,42 @@ fn fewer_parts(p: &Prog) -> Vec<Prog> {
     if p.refs {
         with(&|q| q.refs = false);
     }
+    if let Some(oo) = &p.oo {
+        oo_parts(oo, &mut with);
+    }
     out
+}
+
+/// What makes a candidate from an edit of a copy of the program.
+type With<'a> = dyn FnMut(&dyn Fn(&mut Prog)) + 'a;
+
+/// The object-oriented part's simplifications: all of it (with its statements),
+/// an FB's body or its `SUPER^();`, a method's statement, a property's SET body.
+fn oo_parts(oo: &Oo, with: &mut With) {
+    fn part(q: &mut Prog) -> &mut Oo {
+        q.oo.as_mut().expect("an OO part")
+    }
+    with(&|q| super::oo::strip(q));
+    for (c, class) in oo.classes.iter().enumerate() {
+        if !class.body.is_empty() {
+            with(&|q| part(q).classes[c].body.clear());
+        }
+        if class.super_body {
+            with(&|q| part(q).classes[c].super_body = false);
+        }
+        for (m, method) in class.methods.iter().enumerate() {
+            for i in 0..method.body.len() {
+                with(&|q| {
+                    part(q).classes[c].methods[m].body.remove(i);
+                });
+            }
+        }
+        for (k, prop) in class.props.iter().enumerate() {
+            if !prop.set.is_empty() {
+                with(&|q| part(q).classes[c].props[k].set.clear());
+            }
+        }
+    }
 }
 
 /// The `n`th one-step simplification of `p`, if there is one: removing a statement,
