@@ -385,8 +385,12 @@ bad! {
     // the CODESYS dialect
     codesys_write_internal,
     codesys_program_instances,
+    // object orientation
+    oo_declarations,
+    oo_abstract,
+    oo_final,
+    oo_access,
     // not supported yet
-    unsup_method,
     string_width_mismatch,
     string_selection_mismatch,
     string_capacity_range,

@@ -40,6 +40,92 @@ pub enum Item {
     /// `ACTION name: ... END_ACTION` written outside its POU (CODESYS export style),
     /// or inside a FUNCTION_BLOCK/PROGRAM after its body.
     Action(Action),
+    /// `INTERFACE name [EXTENDS a, b] ... END_INTERFACE`.
+    Interface(Interface),
+}
+
+/// An access specifier of a METHOD, PROPERTY or FUNCTION_BLOCK.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum AccessSpec {
+    /// `PUBLIC` (the default).
+    Public,
+    /// `PRIVATE`: only the declaring FUNCTION_BLOCK.
+    Private,
+    /// `PROTECTED`: the declaring FUNCTION_BLOCK and those derived from it.
+    Protected,
+    /// `INTERNAL`: the same namespace (one project here).
+    Internal,
+}
+
+/// The modifiers written before a POU's or member's name.
+#[derive(Clone, Debug, Default)]
+pub struct Modifiers {
+    /// `ABSTRACT`.
+    pub abstract_: Option<Span>,
+    /// `FINAL`.
+    pub final_: Option<Span>,
+    /// `OVERRIDE` (accepted, not required).
+    pub override_: Option<Span>,
+    /// `PUBLIC`, `PRIVATE`, `PROTECTED` or `INTERNAL`.
+    pub access: Option<(AccessSpec, Span)>,
+}
+
+/// The object-oriented parts of a POU (IEC 61131-3 ed. 3, 6.6.5-6.6.8).
+#[derive(Clone, Debug, Default)]
+pub struct OoParts {
+    /// Modifiers of the POU itself (`FUNCTION_BLOCK ABSTRACT fb`).
+    pub modifiers: Modifiers,
+    /// `IMPLEMENTS i1, i2`.
+    pub implements: Vec<Ident>,
+    /// `METHOD ... END_METHOD`, in order.
+    pub methods: Vec<Method>,
+    /// `PROPERTY ... END_PROPERTY`, in order.
+    pub properties: Vec<Property>,
+    /// Access specifiers of VAR blocks (`VAR PROTECTED`): block index, specifier.
+    pub var_access: Vec<(u32, AccessSpec, Span)>,
+}
+
+/// `METHOD [modifiers] name [: type] ... END_METHOD`: its variables, result and body
+/// are held as a FUNCTION's (`pou.kind` is `Function`, `pou.name` the method's name).
+#[derive(Clone, Debug)]
+pub struct Method {
+    /// Its modifiers.
+    pub modifiers: Modifiers,
+    /// Name, result type, variables and body.
+    pub pou: Pou,
+}
+
+/// `PROPERTY [modifiers] name : type GET ... END_GET SET ... END_SET END_PROPERTY`.
+#[derive(Clone, Debug)]
+pub struct Property {
+    /// Its modifiers.
+    pub modifiers: Modifiers,
+    /// Its name.
+    pub name: Ident,
+    /// Its type.
+    pub ty: TypeSpec,
+    /// The getter: a FUNCTION whose result is the property's value (its name is the
+    /// property's).
+    pub get: Option<Pou>,
+    /// The setter: a FUNCTION body where the property's name is the value written.
+    pub set: Option<Pou>,
+    /// The whole declaration.
+    pub span: Span,
+}
+
+/// `INTERFACE name [EXTENDS a, b] METHOD ... PROPERTY ... END_INTERFACE`.
+#[derive(Clone, Debug)]
+pub struct Interface {
+    /// Its name.
+    pub name: Ident,
+    /// The interfaces it extends.
+    pub extends: Vec<Ident>,
+    /// Its methods (prototypes: no body).
+    pub methods: Vec<Method>,
+    /// Its properties (prototypes).
+    pub properties: Vec<Property>,
+    /// The whole declaration.
+    pub span: Span,
 }
 
 /// The kind of a program organisation unit.
@@ -71,9 +157,11 @@ pub struct Pou {
     pub body: Body,
     /// ACTIONs declared inside the POU.
     pub actions: Vec<Action>,
-    /// METHODs and other object-oriented members, kept only so that analysis can
-    /// report them as not supported (span of each member header).
+    /// Members kept only so that analysis can report them as not supported (span of
+    /// each member header).
     pub unsupported_members: Vec<Span>,
+    /// The object-oriented parts: modifiers, IMPLEMENTS, METHODs, PROPERTYs.
+    pub oo: Box<OoParts>,
     /// A sequential function chart written as the body (IEC 61131-3, 6.7.2: steps
     /// and transitions instead of statements; the chart's ACTIONs are in
     /// `actions`). The front end turns it into statements before lowering
@@ -196,6 +284,9 @@ pub enum VarKind {
     Config,
     /// `VAR_STAT` (CODESYS)
     Stat,
+    /// `VAR_INST` (CODESYS): variables of a METHOD kept in its instance from one
+    /// call to the next.
+    Inst,
 }
 
 /// `VAR ... END_VAR` and its kin.
@@ -371,6 +462,8 @@ pub struct ArrayInitElem {
 pub struct TypeDecl {
     /// The new type's name.
     pub name: Ident,
+    /// `EXTENDS base` of a STRUCT (CODESYS): the base's fields come first.
+    pub extends: Option<Ident>,
     /// Its definition.
     pub spec: TypeSpec,
     /// Default initial value of the type.

@@ -6,7 +6,8 @@
 //! `E04xx` calls, `E05xx` rules about writing and recursion, `E06xx` constructs not
 //! supported yet, `E070x`–`E071x` Instruction List, `E072x`–`E073x` PLC-UD STL,
 //! `E074x`–`E075x` ladder diagrams (PLCopen XML), `E076x` sequential function charts
-//! (PLCopen XML), `E078x` textual sequential function charts, `W0xxx` warnings.
+//! (PLCopen XML), `E078x` textual sequential function charts, `E080x` object
+//! orientation, `W0xxx` warnings.
 
 use plcc_ir::diag::CodeInfo;
 
@@ -204,6 +205,14 @@ codes! {
         "A jump (JMP, JMPC, JMPCN) names a label that does not exist in the same body: the jump would go nowhere.\n\n    JMPC fnish   (* the label is `finish:` *)";
 
     // ---- not supported yet (E06xx) ----
+    E_OO_DECLARATION = "E0800", "invalid object-oriented declaration",
+        "A METHOD, PROPERTY, EXTENDS, IMPLEMENTS or INTERFACE breaks a rule of IEC 61131-3 (6.6.5-6.6.8): a FUNCTION with methods, a PROGRAM with methods outside the CODESYS dialect, EXTENDS of something that is not a FUNCTION_BLOCK (or a STRUCT of a STRUCT), inheritance in a circle, IMPLEMENTS of something that is not an INTERFACE, a method that overrides one with another signature, two members of one name.\n\n    FUNCTION_BLOCK A EXTENDS B ... FUNCTION_BLOCK B EXTENDS A   (* error: a circle *)";
+    E_ABSTRACT = "E0801", "abstract function block or method",
+        "An ABSTRACT FUNCTION_BLOCK cannot be instantiated, only extended; an ABSTRACT METHOD has no body and must be implemented by every concrete FUNCTION_BLOCK derived from its own; a concrete FUNCTION_BLOCK must implement every method of the interfaces it implements.\n\n    FUNCTION_BLOCK ABSTRACT Shape METHOD ABSTRACT Area : REAL END_METHOD END_FUNCTION_BLOCK\n    VAR s : Shape; END_VAR        (* error: Shape is abstract *)";
+    E_FINAL = "E0802", "FINAL function block or method",
+        "A FINAL FUNCTION_BLOCK cannot be extended and a FINAL METHOD cannot be overridden.\n\n    FUNCTION_BLOCK FINAL A ... FUNCTION_BLOCK B EXTENDS A   (* error *)";
+    E_ACCESS = "E0803", "member not accessible",
+        "A PRIVATE method or property is used only inside the FUNCTION_BLOCK that declares it; a PROTECTED one inside that FUNCTION_BLOCK and those derived from it. PUBLIC (the default) and INTERNAL members can be used anywhere in the project.\n\n    METHOD PRIVATE helper ... END_METHOD\n    inst.helper();                 (* error, outside the FUNCTION_BLOCK *)";
     E_UNSUPPORTED = "E0601", "not supported yet",
         "The construct is valid IEC 61131-3 (or a common dialect) but plcc does not compile it yet. The message names the construct.\n\n    r := BCD_TO_REAL(w);   (* error: not supported yet (BCD conversions give integers) *)";
     E_LANGUAGE_UNSUPPORTED = "E0602", "language not supported yet",

@@ -338,6 +338,7 @@ fn globals_unit(
             body: ast::Body::default(),
             actions: Vec::new(),
             unsupported_members: Vec::new(),
+            oo: Default::default(),
             sfc: None,
             span: first,
         })],

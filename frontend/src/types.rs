@@ -30,6 +30,10 @@ pub struct RefTy {
     pub pointer: bool,
     /// `REFERENCE TO` (CODESYS): used by name, it is the variable it points to.
     pub auto: bool,
+    /// A variable of an INTERFACE type: the address of an instance of a class that
+    /// implements the interface (index into the lowerer's interfaces); `target` is
+    /// `Void` then.
+    pub iface: Option<usize>,
 }
 
 /// Identifies an enumeration type.

@@ -1,4 +1,8 @@
 //! Analyses of a whole module shared by the passes and the backends: the call graph.
+//!
+//! A `call_table` calls every entry of its table as far as the call graph is
+//! concerned: any of them may run, so recursion checks, stack depths and the
+//! reachability of functions count them all.
 
 use crate::entities::FuncId;
 use crate::inst::InstData;
@@ -33,15 +37,35 @@ pub fn callees_first(module: &Module) -> Vec<FuncId> {
     order
 }
 
-/// The functions `f` calls, each once.
+/// The functions an instruction may call: the callee of a `call`, every entry of the
+/// table of a `call_table` (ids out of range left out), none for other instructions.
+pub fn inst_callees(module: &Module, data: &InstData) -> Vec<FuncId> {
+    let n = module.funcs.len();
+    match data {
+        InstData::Call { func, .. } if func.index() < n => vec![*func],
+        InstData::CallTable { table, .. } => module
+            .tables
+            .get(table.index())
+            .map(|t| {
+                t.entries
+                    .iter()
+                    .flatten()
+                    .copied()
+                    .filter(|f| f.index() < n)
+                    .collect()
+            })
+            .unwrap_or_default(),
+        _ => Vec::new(),
+    }
+}
+
+/// The functions `f` calls (directly or through a table), each once.
 pub fn callees(module: &Module, f: usize) -> Vec<usize> {
     let func = &module.funcs[f];
     let mut out: Vec<usize> = func
         .inst_iter()
-        .filter_map(|(_, i)| match func.inst(i) {
-            InstData::Call { func, .. } if func.index() < module.funcs.len() => Some(func.index()),
-            _ => None,
-        })
+        .flat_map(|(_, i)| inst_callees(module, func.inst(i)))
+        .map(FuncId::index)
         .collect();
     out.sort_unstable();
     out.dedup();

@@ -1,7 +1,7 @@
 //! A cursor for appending instructions to a function.
 
 use crate::diag::Span;
-use crate::entities::{AggId, Block, DataId, FuncId, SlotId, Value};
+use crate::entities::{AggId, Block, DataId, FuncId, SlotId, TableId, Value};
 use crate::function::Function;
 use crate::inst::{BinaryOp, BlockCall, ConvOp, FloatCC, InstData, IntCC, Intrinsic, UnaryOp};
 use crate::types::{MemType, Type};
@@ -225,6 +225,18 @@ impl<'f> FuncBuilder<'f> {
     /// `call @func(args)`; `ret` is the callee's result type.
     pub fn call(&mut self, func: FuncId, ret: Option<Type>, args: Vec<Value>) -> Option<Value> {
         self.push(InstData::Call { func, args }, ret)
+    }
+
+    /// `call_table table, index(args)`: a call of entry `index` of a function table;
+    /// `ret` is the table's result type.
+    pub fn call_table(
+        &mut self,
+        table: TableId,
+        ret: Option<Type>,
+        index: Value,
+        args: Vec<Value>,
+    ) -> Option<Value> {
+        self.push(InstData::CallTable { table, index, args }, ret)
     }
 
     /// A runtime service.

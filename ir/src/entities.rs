@@ -71,3 +71,8 @@ entity!(
     FuncId,
     "func"
 );
+entity!(
+    /// A function table of a module: the callees of a call bound at run time (`t0`).
+    TableId,
+    "t"
+);

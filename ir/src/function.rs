@@ -265,6 +265,9 @@ impl Function {
             InstData::Load { ty, .. } => Some(*ty),
             InstData::Store { .. } => None,
             InstData::Call { func, .. } => module.funcs.get(func.index()).and_then(|f| f.ret),
+            InstData::CallTable { table, .. } => {
+                module.tables.get(table.index()).and_then(|t| t.result)
+            }
             InstData::Intrinsic { op, .. } => op.result(),
             InstData::Jump { .. } | InstData::Brif { .. } | InstData::Return { .. } => None,
         }

@@ -6,7 +6,7 @@
 //! the width give 0; rotates take the count modulo the width; float-to-integer
 //! conversions truncate toward zero, saturate, and give 0 for NaN.
 
-use crate::entities::{AggId, Block, DataId, FuncId, SlotId, Value};
+use crate::entities::{AggId, Block, DataId, FuncId, SlotId, TableId, Value};
 use crate::types::Type;
 
 /// Unary operations. The result has the operand's type.
@@ -619,6 +619,19 @@ pub enum InstData {
         /// One value per parameter.
         args: Vec<Value>,
     },
+    /// `call_table t, index(args)`: a call bound at run time. Calls entry `index` of
+    /// the module's function table `table` with `args`; the result is the table's.
+    /// The index (any integer type but `i1`) is read unsigned; an index out of range or
+    /// an empty entry calls nothing, raises the fault flag and gives a zero result
+    /// (0, +0.0 or the null pointer).
+    CallTable {
+        /// The table.
+        table: TableId,
+        /// Which entry (read unsigned).
+        index: Value,
+        /// One value per parameter of the table.
+        args: Vec<Value>,
+    },
     /// A runtime service.
     Intrinsic {
         /// Which service.
@@ -662,6 +675,7 @@ impl InstData {
         match self {
             InstData::Store { .. }
             | InstData::Call { .. }
+            | InstData::CallTable { .. }
             | InstData::Intrinsic { .. }
             | InstData::Jump { .. }
             | InstData::Brif { .. }
@@ -705,6 +719,10 @@ impl InstData {
                 f(*addr);
             }
             InstData::Call { args, .. } | InstData::Intrinsic { args, .. } => {
+                args.iter().copied().for_each(f)
+            }
+            InstData::CallTable { index, args, .. } => {
+                f(*index);
                 args.iter().copied().for_each(f)
             }
             InstData::Jump { dest } => dest.args.iter().copied().for_each(f),
@@ -759,6 +777,10 @@ impl InstData {
                 *addr = f(*addr);
             }
             InstData::Call { args, .. } | InstData::Intrinsic { args, .. } => {
+                args.iter_mut().for_each(|a| *a = f(*a))
+            }
+            InstData::CallTable { index, args, .. } => {
+                *index = f(*index);
                 args.iter_mut().for_each(|a| *a = f(*a))
             }
             InstData::Jump { dest } => dest.args.iter_mut().for_each(|a| *a = f(*a)),

@@ -28,12 +28,12 @@ pub mod verify;
 pub mod watchdog;
 
 pub use builder::FuncBuilder;
-pub use entities::{AggId, Block, DataId, FuncId, Inst, SlotId, Value};
+pub use entities::{AggId, Block, DataId, FuncId, Inst, SlotId, TableId, Value};
 pub use function::{FuncKind, Function};
 pub use inst::{BinaryOp, BlockCall, ConvOp, FloatCC, InstData, IntCC, Intrinsic, UnaryOp};
 pub use module::{
     AggDef, ArrayDef, Configuration, DataDef, DataKind, Field, FieldRole, Module, ProgramEntry,
-    Resource, StructDef, StructKind,
+    Resource, StructDef, StructKind, Table,
 };
 pub use types::{ElemType, MemType, Type};
 pub use value::PlcValue;

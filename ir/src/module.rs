@@ -1,8 +1,8 @@
 //! Modules: aggregate types, data objects, functions and the programs to run.
 
-use crate::entities::{AggId, DataId, FuncId};
+use crate::entities::{AggId, DataId, FuncId, TableId};
 use crate::function::Function;
-use crate::types::{ElemType, MemType};
+use crate::types::{ElemType, MemType, Type};
 
 /// What a struct stands for in the source.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
@@ -239,6 +239,25 @@ pub struct Resource {
     pub globals: Vec<String>,
 }
 
+/// A function table: the callees of a call bound at run time (`call_table`), such as
+/// the implementations of one method of an interface, one per class.
+///
+/// Every entry that is `Some` has exactly the table's signature (the verifier checks
+/// it); a `None` entry (a class that does not implement the method) and an index past
+/// the end are not undefined: `call_table` then raises the fault flag and gives a zero
+/// result.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Table {
+    /// A name for listings and diagnostics (`I_Shape.Area`); need not be unique.
+    pub name: String,
+    /// The parameter types of every entry.
+    pub params: Vec<Type>,
+    /// The result type of every entry, if they return a value.
+    pub result: Option<Type>,
+    /// The functions, by index.
+    pub entries: Vec<Option<FuncId>>,
+}
+
 /// A whole program ready for a backend.
 ///
 /// Cold start calls `init_globals` (if any) and then every program's `init` with the
@@ -253,6 +272,8 @@ pub struct Module {
     pub data: Vec<DataDef>,
     /// Functions.
     pub funcs: Vec<Function>,
+    /// Function tables, for calls bound at run time.
+    pub tables: Vec<Table>,
     /// The programs the scan runs, in order.
     pub programs: Vec<ProgramEntry>,
     /// `() -> ()` that initialises the globals at cold start.
@@ -290,6 +311,17 @@ impl Module {
     pub fn add_func(&mut self, func: Function) -> FuncId {
         self.funcs.push(func);
         FuncId::new(self.funcs.len() - 1)
+    }
+
+    /// Adds a function table.
+    pub fn add_table(&mut self, table: Table) -> TableId {
+        self.tables.push(table);
+        TableId::new(self.tables.len() - 1)
+    }
+
+    /// A function table.
+    pub fn table(&self, id: TableId) -> &Table {
+        &self.tables[id.index()]
     }
 
     /// An aggregate's definition.

@@ -2,12 +2,14 @@
 //!
 //! [`verify_module`] checks everything `docs/ir.md` promises about a module: block
 //! structure, operand and result types, ids in range, SSA dominance, unique names,
-//! program and `init_globals` signatures, aggregates that do not contain themselves
-//! and an acyclic call graph. It never panics, whatever the module holds, and runs in
+//! program and `init_globals` signatures, function tables whose entries have their
+//! signature, aggregates that do not contain themselves and an acyclic call graph (a
+//! `call_table` calls every entry of its table). It never panics, whatever the module holds, and runs in
 //! time linear in the size of the module (plus the dominator computation, which is
 //! near-linear on the CFGs front ends produce).
 
-use crate::entities::{AggId, Block, FuncId, Inst, Value};
+use crate::analysis::inst_callees;
+use crate::entities::{AggId, Block, FuncId, Inst, TableId, Value};
 use crate::function::{FuncKind, Function, ValueDef};
 use crate::inst::{BinaryOp, BlockCall, ConvOp, InstData, UnaryOp};
 use crate::module::{AggDef, DataKind, Module};
@@ -657,6 +659,47 @@ impl FnCheck<'_> {
                     }
                 }
             },
+            InstData::CallTable { table, index, args } => match m.tables.get(table.index()) {
+                None => {
+                    self.err(Some(i), format!("{table} does not exist"));
+                    Expect::Unknown
+                }
+                Some(tab) => {
+                    if let Some(it) = t(*index) {
+                        if !arith_int(it) {
+                            self.err(
+                                Some(i),
+                                format!("the index {index} is {it}, expected an integer (i8..i64)"),
+                            );
+                        }
+                    }
+                    if tab.params.len() != args.len() {
+                        self.err(
+                            Some(i),
+                            format!(
+                                "{table} takes {} arguments, found {}",
+                                tab.params.len(),
+                                args.len()
+                            ),
+                        );
+                    } else {
+                        for (k, (&a, &p)) in args.iter().zip(&tab.params).enumerate() {
+                            if let Some(at) = t(a) {
+                                if at != p {
+                                    self.err(
+                                        Some(i),
+                                        format!("argument {k} of {table} is {at}, expected {p}"),
+                                    );
+                                }
+                            }
+                        }
+                    }
+                    match tab.result {
+                        Some(r) => Expect::Ty(r),
+                        None => Expect::Nothing,
+                    }
+                }
+            },
             InstData::Intrinsic { op, args } => {
                 if !args.is_empty() {
                     self.err(
@@ -1003,6 +1046,7 @@ fn check_module(m: &Module, errs: &mut Vec<VerifyError>) {
         }
     }
     verify_configuration(m, errs);
+    check_tables(m, errs);
     if let Some(id) = m.init_globals {
         match m.funcs.get(id.index()) {
             None => mod_err(errs, None, format!("init_globals {id} does not exist")),
@@ -1018,6 +1062,42 @@ fn check_module(m: &Module, errs: &mut Vec<VerifyError>) {
                         ),
                     );
                 }
+            }
+        }
+    }
+}
+
+/// Every entry of a function table exists and has the table's signature.
+fn check_tables(m: &Module, errs: &mut Vec<VerifyError>) {
+    for (ti, tab) in m.tables.iter().enumerate() {
+        let id = TableId::new(ti);
+        let mut label = format!("{id} ");
+        crate::text::write_quoted(&mut label, &tab.name);
+        let params: Vec<&str> = tab.params.iter().map(|t| t.name()).collect();
+        let sig = match tab.result {
+            Some(r) => format!("({}) -> {r}", params.join(", ")),
+            None => format!("({})", params.join(", ")),
+        };
+        for (k, e) in tab.entries.iter().enumerate() {
+            let Some(fid) = *e else { continue };
+            let Some(f) = m.funcs.get(fid.index()) else {
+                mod_err(
+                    errs,
+                    None,
+                    format!("table {label}: entry {k}, {fid}, does not exist"),
+                );
+                continue;
+            };
+            if f.params != tab.params || f.ret != tab.result {
+                mod_err(
+                    errs,
+                    None,
+                    format!(
+                        "table {label} is {sig}, but its entry {k} {} is {}",
+                        func_label(m, fid),
+                        signature(f)
+                    ),
+                );
             }
         }
     }
@@ -1182,10 +1262,8 @@ fn check_recursion(m: &Module, errs: &mut Vec<VerifyError>) {
                 continue;
             };
             for &i in &bd.insts {
-                if let Some(InstData::Call { func, .. }) = f.insts.get(i.index()) {
-                    if func.index() < n {
-                        out.push(func.index());
-                    }
+                if let Some(data) = f.insts.get(i.index()) {
+                    out.extend(inst_callees(m, data).into_iter().map(FuncId::index));
                 }
             }
         }

@@ -1113,6 +1113,8 @@ fn unreachable_blocks_only_need_defs_in_the_layout() {
 mod domtree;
 #[path = "verify/module.rs"]
 mod module;
+#[path = "verify/tables.rs"]
+mod tables;
 
 // ----- robustness ------------------------------------------------------------------
 

@@ -209,6 +209,7 @@ fn used_values(func: &Function, access: &[Option<Place>], split: &[bool]) -> Vec
             data,
             InstData::Store { .. }
                 | InstData::Call { .. }
+                | InstData::CallTable { .. }
                 | InstData::Brif { .. }
                 | InstData::Return { .. }
                 | InstData::Intrinsic {
@@ -476,6 +477,9 @@ impl Emitter<'_> {
                     None => self.line(&format!("{call};")),
                 }
             }
+            InstData::CallTable { table, index, args } => {
+                self.call_table(*table, *index, args, result)
+            }
             _ => {
                 // Everything else computes a value with no effect.
                 let Some(r) = result else { return };
@@ -522,6 +526,44 @@ impl Emitter<'_> {
             }
         }
         format!("{} {goto}", s.trim_end())
+    }
+
+    /// `call_table`: a `switch` on the index (held unsigned, so read unsigned) with a
+    /// case per entry the index's type can reach, each a direct call of its own form;
+    /// empty entries and the rest raise the fault and give 0.
+    fn call_table(
+        &mut self,
+        table: plcc_ir::TableId,
+        index: Value,
+        args: &[Value],
+        result: Option<Value>,
+    ) {
+        let tab = &self.module.tables[table.index()];
+        let reach: u64 = match self.ty(index).bits() {
+            64 => u64::MAX,
+            b => (1u64 << b) - 1,
+        };
+        let dst = result.filter(|r| self.used[r.index()]);
+        self.line(&format!("switch ({}) {{", v(index)));
+        for (k, e) in tab.entries.iter().enumerate() {
+            let Some(callee) = *e else { continue };
+            if k as u64 > reach {
+                break;
+            }
+            let call = self.call(callee, args);
+            let text = match (dst, result) {
+                (Some(r), _) => format!("{} = {call};", v(r)),
+                (None, Some(_)) => format!("(void){call};"),
+                (None, None) => format!("{call};"),
+            };
+            self.line(&format!("case {k}u: {text} break;"));
+        }
+        let zero = match dst {
+            Some(r) => format!(" {} = 0;", v(r)),
+            None => String::new(),
+        };
+        self.line(&format!("default: __plcc_rt.fault = 1;{zero} break;"));
+        self.line("}");
     }
 
     fn call(&self, callee: FuncId, args: &[Value]) -> String {
@@ -632,6 +674,7 @@ impl Emitter<'_> {
             // Effects and terminators are statements (see `inst`).
             InstData::Store { .. }
             | InstData::Call { .. }
+            | InstData::CallTable { .. }
             | InstData::Jump { .. }
             | InstData::Brif { .. }
             | InstData::Return { .. } => {

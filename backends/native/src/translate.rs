@@ -674,6 +674,9 @@ impl Cx<'_, '_, '_> {
                     self.set(inst, res);
                 }
             }
+            InstData::CallTable { table, index, args } => {
+                self.call_table(inst, *table, *index, args)?
+            }
             InstData::Intrinsic { op, .. } => match op {
                 Intrinsic::ClockMs => {
                     let rt = self.rt_addr();
@@ -921,6 +924,97 @@ impl Cx<'_, '_, '_> {
         } else {
             r
         }
+    }
+
+    /// `call_table`: a `br_table` on the index, read unsigned, to one block per entry
+    /// that calls it directly; empty entries and indexes out of range go to a cold
+    /// block that raises the fault and gives 0. All of them join in one block whose
+    /// parameter is the result.
+    fn call_table(
+        &mut self,
+        inst: plcc_ir::Inst,
+        table: plcc_ir::TableId,
+        index: Value,
+        args: &[Value],
+    ) -> Result<(), TransError> {
+        let module = self.env.module;
+        let Some(tab) = module.tables.get(table.index()) else {
+            return Err(format!("call through missing {table} in `{}`", self.f.name));
+        };
+        let idx = self.val(index)?;
+        let idx = match self.f.value_type(index) {
+            Type::I8 | Type::I16 => self.b.ins().uextend(types::I32, idx),
+            Type::I32 => idx,
+            Type::I64 => {
+                // Beyond 32 bits every index is out of range: u32::MAX is too.
+                let big = self.b.ins().icmp_imm_u(
+                    condcodes::IntCC::UnsignedGreaterThan,
+                    idx,
+                    u32::MAX as i64,
+                );
+                let low = self.b.ins().ireduce(types::I32, idx);
+                let out = self.iconst(types::I32, -1);
+                self.b.ins().select(big, out, low)
+            }
+            t => return Err(format!("call_table index of type {t} in `{}`", self.f.name)),
+        };
+        let mut cargs = Vec::with_capacity(args.len());
+        for &a in args {
+            cargs.push(self.val(a)?);
+        }
+        let join = self.b.create_block();
+        let res = tab
+            .result
+            .map(|t| self.b.append_block_param(join, cl_type(t)));
+        let fault = self.b.create_block();
+        self.b.set_cold_block(fault);
+        let mut calls = Vec::new();
+        let mut targets = Vec::with_capacity(tab.entries.len());
+        for e in &tab.entries {
+            let blk = match e {
+                Some(fid) => {
+                    let blk = self.b.create_block();
+                    calls.push((blk, *fid));
+                    blk
+                }
+                None => fault,
+            };
+            targets.push(self.b.func.dfg.block_call(blk, &[]));
+        }
+        let def = self.b.func.dfg.block_call(fault, &[]);
+        let jt = self
+            .b
+            .create_jump_table(ir::JumpTableData::new(def, &targets));
+        self.b.ins().br_table(idx, jt);
+
+        for (blk, fid) in calls {
+            self.b.switch_to_block(blk);
+            let r = self.func_ref(fid)?;
+            let call = self.b.ins().call(r, &cargs);
+            let out: Vec<BlockArg> = self
+                .b
+                .inst_results(call)
+                .iter()
+                .map(|&v| BlockArg::Value(v))
+                .collect();
+            self.b.ins().jump(join, &out);
+        }
+
+        self.b.switch_to_block(fault);
+        self.raise_fault();
+        let zero: Vec<BlockArg> = match tab.result {
+            Some(Type::F32) => vec![BlockArg::Value(self.b.ins().f32const(0.0))],
+            Some(Type::F64) => vec![BlockArg::Value(self.b.ins().f64const(0.0))],
+            Some(t) => vec![BlockArg::Value(self.iconst(cl_type(t), 0))],
+            None => Vec::new(),
+        };
+        self.b.ins().jump(join, &zero);
+
+        self.b.switch_to_block(join);
+        if let Some(v) = res {
+            self.set(inst, v);
+        }
+        Ok(())
     }
 
     /// Division and remainder that never trap: a zero divisor branches to a cold block

@@ -456,6 +456,9 @@ impl<'a> Emitter<'a> {
             }
         }
         match data {
+            InstData::CallTable { .. } => {
+                self.unsupported(inst, "a call bound at run time (`call_table`)")
+            }
             InstData::Iconst { .. }
             | InstData::GlobalAddr { .. }
             | InstData::SlotAddr { .. }

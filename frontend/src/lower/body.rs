@@ -89,8 +89,12 @@ pub(super) struct BodyCx<'a, 's> {
     /// What the recursion check counts this body's calls from: the POU, or the
     /// ACTION being lowered.
     pub caller: super::CallNode,
-    /// The instance pointer (PROGRAM and FB bodies and init functions).
+    /// The instance pointer (PROGRAM and FB bodies and init functions, METHODs).
     pub self_ptr: Option<Value>,
+    /// The class of the instance `self_ptr` points to, whose struct addresses its
+    /// fields: the POU (FB and PROGRAM bodies), the owner (METHODs), or a class
+    /// derived from the POU (its body run on a derived instance, `SUPER^()`).
+    pub this_class: Option<PouId>,
     /// Innermost loop last.
     pub loops: Vec<LoopTargets>,
     /// FOR control variables whose value is known to stay within `[lo, hi]` in the
@@ -133,9 +137,17 @@ impl<'s> Lowerer<'s> {
             Some(b) => b,
             None => return,
         };
+        // A derived FB without a body of its own runs its base's.
+        let src = match self.pou(id).base {
+            Some(_) if self.pou_ast(id).body.stmts.is_empty() => self.body_owner(id).unwrap_or(id),
+            _ => id,
+        };
         self.with_function(body_id, |l, func| {
-            let mut cx = BodyCx::new(l, func, id, false);
-            let stmts = &cx.l.pou_ast(id).body.stmts;
+            let mut cx = BodyCx::new(l, func, src, false);
+            cx.this_class = Some(id)
+                .filter(|_| kind != PouKind::Function)
+                .or(cx.this_class);
+            let stmts = &cx.l.pou_ast(src).body.stmts;
             cx.lower_body(stmts);
         });
         if kind != PouKind::Function {
@@ -177,13 +189,16 @@ impl<'a, 's> BodyCx<'a, 's> {
         let b = FuncBuilder::new(func);
         let params = b.params();
         let kind = l.pou(pou).kind;
-        let self_ptr = (kind != PouKind::Function).then(|| params[0]);
+        let owner = l.pou(pou).owner;
+        let self_ptr = (kind != PouKind::Function || owner.is_some()).then(|| params[0]);
+        let this_class = owner.or((kind != PouKind::Function).then_some(pou));
         BodyCx {
             l,
             b,
             pou,
             caller: super::CallNode::Pou(pou),
             self_ptr,
+            this_class,
             loops: Vec::new(),
             known_ranges: Vec::new(),
             temps: Default::default(),
@@ -253,7 +268,10 @@ impl<'a, 's> BodyCx<'a, 's> {
                 continue;
             }
             let local = match kind {
-                PouKind::Function => !matches!(v.section, VarKind::InOut | VarKind::External),
+                PouKind::Function => !matches!(
+                    v.section,
+                    VarKind::InOut | VarKind::External | VarKind::Inst
+                ),
                 _ => v.section == VarKind::Temp,
             };
             if !local {
@@ -342,6 +360,21 @@ impl<'a, 's> BodyCx<'a, 's> {
         let pou = self.pou;
         let agg = self.l.ir[pou.0 as usize].agg.expect("instance struct");
         let this = self.self_ptr.expect("instance pointer");
+        // The base's fields as the base initialises them (the class id too, which
+        // is set again below).
+        if let Some(init) = self
+            .l
+            .pou(pou)
+            .base
+            .and_then(|b| self.l.ir[b.0 as usize].init)
+        {
+            self.b.call(init, None, vec![this]);
+        }
+        if let Some(&id) = self.l.classes.class_id.get(&pou) {
+            let v = self.b.iconst(super::dispatch::CLASS_ID, id as i64);
+            let a = self.b.field_addr(this, agg, 0);
+            self.b.store(v, a);
+        }
         let n = self.l.pou(pou).vars.len();
         for vi in 0..n {
             let Some(Storage::Field(fi)) = self.l.ir[pou.0 as usize].storage[vi] else {
@@ -362,6 +395,24 @@ impl<'a, 's> BodyCx<'a, 's> {
             }
             let init = self.decl_init(vi);
             self.init_var(addr, v.ty, v.tag, init);
+        }
+        // The VAR_INST variables of its methods.
+        for m in self.l.own_methods(pou) {
+            for vi in 0..self.l.pou(m).vars.len() {
+                let Some(Storage::Field(fi)) = self.l.ir[m.0 as usize].storage[vi] else {
+                    continue;
+                };
+                let v = self.l.pou(m).vars[vi].clone();
+                let ast = self.l.pou_ast(m);
+                let init = ast.var_blocks[v.decl.0 as usize].decls[v.decl.1 as usize]
+                    .init
+                    .as_ref();
+                let addr = self.b.field_addr(this, agg, fi);
+                let saved = self.pou;
+                self.pou = m;
+                self.init_var(addr, v.ty, v.tag, init);
+                self.pou = saved;
+            }
         }
     }
 
@@ -821,7 +872,8 @@ impl<'a, 's> BodyCx<'a, 's> {
             let addr = match storage {
                 Some(Storage::Slot(s)) => self.b.slot_addr(s),
                 Some(Storage::Field(f)) => {
-                    let agg = self.l.ir[pou.0 as usize].agg.expect("instance struct");
+                    let class = self.this_class.unwrap_or(pou);
+                    let agg = self.l.ir[class.0 as usize].agg.expect("instance struct");
                     let this = self.self_ptr.expect("instance pointer");
                     let fa = self.b.field_addr(this, agg, f);
                     if section == VarKind::InOut {
@@ -845,6 +897,10 @@ impl<'a, 's> BodyCx<'a, 's> {
                 guard: None,
                 tag,
             });
+        }
+        // A variable of the class (inherited, or the FB's seen from a METHOD).
+        if let Some(named) = self.class_member_var(id) {
+            return named;
         }
         // The FUNCTION's own name is its result variable.
         if self.kind() == PouKind::Function && id.sym == self.l.pou(pou).name.sym && !self.in_init {
@@ -909,6 +965,20 @@ impl<'a, 's> BodyCx<'a, 's> {
                 if d.secondary.len() < MORE_UNDECLARED_USES {
                     d.secondary.push((id.span, "also used here".into()));
                 }
+                return Named::Error;
+            }
+            let upper = self.l.sym_name(id.sym).to_string();
+            if upper == "SUPER" || upper == "THIS" {
+                let msg = match self.lexical_class() {
+                    Some(c) => format!(
+                        "`SUPER^` names the base of the function block, and `{}` extends none",
+                        self.l.pou(c).display
+                    ),
+                    None => format!(
+                        "`{upper}^` is the instance a FUNCTION_BLOCK's body or METHOD runs on: there is none here"
+                    ),
+                };
+                self.l.error(codes::E_OO_DECLARATION, msg, id.span);
                 return Named::Error;
             }
             self.undeclared.insert(id.sym, self.l.diags.len());
@@ -994,20 +1064,35 @@ impl<'a, 's> BodyCx<'a, 's> {
         name: ast::Ident,
         init: bool,
     ) -> Option<Place> {
-        let Some(vi) = self.l.pou(fb).var(name.sym) else {
+        let agg_of = fb;
+        let Some((fb, vi)) = self.l.class_var(fb, name.sym) else {
             let n = self.l.text(name.span).to_string();
             let fbn = self.l.pou(fb).display.clone();
-            self.l.error(
-                codes::E_NO_MEMBER,
-                format!("function block `{fbn}` has no input or output named `{n}`"),
-                name.span,
-            );
+            let msg = if self.l.is_class(fb) {
+                format!("function block `{fbn}` has no variable, method or property named `{n}`")
+            } else {
+                format!("function block `{fbn}` has no input or output named `{n}`")
+            };
+            self.l.error(codes::E_NO_MEMBER, msg, name.span);
             return None;
         };
-        let vi = vi as usize;
         let v = self.l.pou(fb).vars[vi].clone();
-        let visible =
-            matches!(v.section, VarKind::Input | VarKind::Output | VarKind::InOut) || init;
+        // `VAR PUBLIC` is visible from outside; `VAR PRIVATE`/`PROTECTED` only from
+        // the class (and those derived from it).
+        let declared = self.l.var_access(fb, vi);
+        if !init && !self.var_accessible(fb, vi, name.span) {
+            return None;
+        }
+        let public = matches!(
+            declared,
+            Some((
+                crate::ast::AccessSpec::Public | crate::ast::AccessSpec::Internal,
+                _
+            ))
+        ) || declared.is_some() && self.lexical_class().is_some();
+        let visible = matches!(v.section, VarKind::Input | VarKind::Output | VarKind::InOut)
+            || init
+            || public;
         let storage = self.l.ir[fb.0 as usize].storage[vi];
         if let Some(Storage::Const(_)) | None = storage {
             if !visible || storage.is_none() {
@@ -1075,7 +1160,8 @@ impl<'a, 's> BodyCx<'a, 's> {
         let Some(Storage::Field(fi)) = storage else {
             return None;
         };
-        let agg = self.l.ir[fb.0 as usize].agg?;
+        // An inherited variable is at the same field of the derived struct.
+        let agg = self.l.ir[agg_of.0 as usize].agg?;
         let addr = self.b.field_addr(base, agg, fi);
         let access = if v.section == VarKind::Output && !init {
             Access::OtherOutput

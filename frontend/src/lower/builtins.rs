@@ -458,6 +458,7 @@ impl<'s> BodyCx<'_, 's> {
             Ref { pointer } => match arg_ty(self, 0) {
                 Ty::Error => Ty::Error,
                 t => Ty::Ref(self.l.types.reference(crate::types::RefTy {
+                    iface: None,
                     target: t,
                     tag: None,
                     pointer,

@@ -15,7 +15,7 @@ use plcc_ir::diag::{Diagnostic, Span};
 use plcc_ir::{FuncId, MemType, SlotId, Type, UnaryOp, Value};
 
 /// What a call expression calls.
-enum Callee {
+enum Callee<'s> {
     /// An FB instance (its place) of the given FB type.
     Instance(Place, PouId),
     /// A user FUNCTION.
@@ -24,6 +24,10 @@ enum Callee {
     Builtin(Builtin),
     /// An action, on the instance at the place, of the given POU.
     Action(FuncId, Place, PouId),
+    /// A METHOD on an instance; bound statically (`SUPER^.M()`) or not.
+    Method(super::methods::Expr2<'s>, PouId, bool),
+    /// `SUPER^()`: the base's body on this instance.
+    SuperBody,
     /// Already reported.
     Error,
 }
@@ -31,23 +35,35 @@ enum Callee {
 /// One parameter of a POU as a call sees it.
 #[derive(Copy, Clone)]
 struct Param {
+    /// The POU declaring it: the callee, or a base it inherits the parameter from.
+    pou: PouId,
     var: usize,
     section: VarKind,
 }
 
+/// The parameters of `p`: those of its bases first (the farthest first), then its own.
 fn params_of(cx: &BodyCx<'_, '_>, p: PouId) -> Vec<Param> {
-    cx.l.pou(p)
-        .vars
-        .iter()
-        .enumerate()
-        .filter(|(_, v)| {
-            matches!(v.section, VarKind::Input | VarKind::InOut | VarKind::Output) && !v.constant
-        })
-        .map(|(i, v)| Param {
-            var: i,
-            section: v.section,
-        })
-        .collect()
+    let mut lineage = cx.l.lineage(p);
+    lineage.reverse();
+    let mut out = Vec::new();
+    for c in lineage {
+        out.extend(
+            cx.l.pou(c)
+                .vars
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| {
+                    matches!(v.section, VarKind::Input | VarKind::InOut | VarKind::Output)
+                        && !v.constant
+                })
+                .map(|(i, v)| Param {
+                    pou: c,
+                    var: i,
+                    section: v.section,
+                }),
+        );
+    }
+    out
 }
 
 impl<'s> BodyCx<'_, 's> {
@@ -74,7 +90,11 @@ impl<'s> BodyCx<'_, 's> {
                     "the standard function `{}`",
                     self.l.text(callee.span)
                 )),
-                Callee::Instance(..) | Callee::Action(..) | Callee::Error => None,
+                Callee::Instance(..)
+                | Callee::Action(..)
+                | Callee::Method(..)
+                | Callee::SuperBody
+                | Callee::Error => None,
             };
             if let Some(what) = what {
                 self.l.diags.push(
@@ -119,6 +139,19 @@ impl<'s> BodyCx<'_, 's> {
                     cx.builtin_call(b, args, None, span);
                 }
                 Callee::Action(f, inst, p) => cx.action_call(f, inst, p, args, span),
+                Callee::Method(on, m, st) => {
+                    cx.method_call(on, m, st, args, span);
+                }
+                Callee::SuperBody => {
+                    if !args.is_empty() {
+                        cx.l.error(
+                            codes::E_ARG_COUNT,
+                            "`SUPER^()` takes no arguments: it runs the base's body on this instance",
+                            span,
+                        );
+                    }
+                    cx.super_body_call(span);
+                }
                 Callee::Error => {}
             }
             None
@@ -180,6 +213,26 @@ impl<'s> BodyCx<'_, 's> {
                 );
                 None
             }
+            Callee::SuperBody => {
+                self.l.error(
+                    codes::E_NO_RESULT,
+                    "`SUPER^()` runs the base's body and gives no value: call it as a statement",
+                    span,
+                );
+                None
+            }
+            Callee::Method(on, m, st) => {
+                let v = self.with_en_eno(args, |cx| cx.method_call(on, m, st, args, span));
+                if v.is_none() && self.l.pou(m).ret == Ty::Void {
+                    let n = self.l.pou(m).display.clone();
+                    self.l.error(
+                        codes::E_NO_RESULT,
+                        format!("METHOD `{n}` has no result type, so it gives no value"),
+                        span,
+                    );
+                }
+                v
+            }
             Callee::Error => {
                 for a in args {
                     if let ArgKind::Positional(x) | ArgKind::Input { value: x, .. } = &a.kind {
@@ -204,6 +257,12 @@ impl<'s> BodyCx<'_, 's> {
 
     /// The result type of a call, without emitting anything.
     pub(super) fn infer_call(&mut self, callee: &Expr, args: &[Arg]) -> Ty {
+        if let Some((_, m, _)) = self.method_callee(callee) {
+            return match self.l.pou(m).ret {
+                Ty::Void => Ty::Error,
+                t => t,
+            };
+        }
         let ExprKind::Name(id) = &callee.kind else {
             return Ty::Error;
         };
@@ -228,7 +287,13 @@ impl<'s> BodyCx<'_, 's> {
         }
     }
 
-    fn classify(&mut self, callee: &'s Expr, args: &'s [Arg]) -> Callee {
+    fn classify(&mut self, callee: &'s Expr, args: &'s [Arg]) -> Callee<'s> {
+        if let Some(super::methods::SelfRef::Super(_)) = self.self_ref(callee) {
+            return Callee::SuperBody;
+        }
+        if let Some((on, m, statically)) = self.method_callee(callee) {
+            return Callee::Method(on, m, statically);
+        }
         match &callee.kind {
             // An ACTION a chart drives: its name is its control's (`A.Q`), the call
             // runs the action (`crate::sfc`).
@@ -256,7 +321,10 @@ impl<'s> BodyCx<'_, 's> {
                         .l
                         .globals_pou
                         .is_some_and(|g| self.l.pou(g).var(id.sym).is_some());
-                if self.l.pou(self.pou).var(id.sym).is_some() || is_global {
+                if self.l.pou(self.pou).var(id.sym).is_some()
+                    || is_global
+                    || self.class_name_type(id.sym).is_some()
+                {
                     let Some(place) = self.place(callee) else {
                         return Callee::Error;
                     };
@@ -461,7 +529,7 @@ impl<'s> BodyCx<'_, 's> {
                     }
                     let found = params
                         .iter()
-                        .position(|p| self.l.pou(callee).vars[p.var].name.sym == name.sym);
+                        .position(|p| self.l.pou(p.pou).vars[p.var].name.sym == name.sym);
                     let n = self.l.text(name.span).to_string();
                     let Some(i) = found else {
                         self.l.error(
@@ -509,7 +577,8 @@ impl<'s> BodyCx<'_, 's> {
             && next_pos < wanted
         {
             let span = args[args.len() - 1].span;
-            let missing = &self.l.pou(callee).vars[params[order[next_pos]].var].name;
+            let pm = params[order[next_pos]];
+            let missing = &self.l.pou(pm.pou).vars[pm.var].name;
             let missing = self.l.text(missing.span).to_string();
             self.l.diags.push(
                 plcc_ir::diag::Diagnostic::error(
@@ -562,7 +631,9 @@ impl<'s> BodyCx<'_, 's> {
                 return None;
             }
         }
-        if p.ty != ty && p.ty != Ty::Error && !fits_string {
+        // A derived instance is a base instance (its struct begins with the base's).
+        let derived = matches!((p.ty, ty), (Ty::Fb(d), Ty::Fb(b)) if self.l.derives_from(d, b));
+        if p.ty != ty && p.ty != Ty::Error && !fits_string && !derived {
             let (a, b) = (self.l.ty_name(ty), self.l.ty_name(p.ty));
             self.l.error(
                 codes::E_TYPE_MISMATCH,
@@ -590,10 +661,27 @@ impl<'s> BodyCx<'_, 's> {
 
     /// Calls a user FUNCTION; its result, if it has one.
     fn func_call(&mut self, p: PouId, args: &'s [Arg], span: Span) -> Option<Val> {
-        self.l.calls.push((self.caller, CallNode::Pou(p), span));
+        self.func_call_with(p, args, span, None)
+    }
+
+    /// Calls a user FUNCTION, or a METHOD (`this`: the instance's address and the
+    /// function to call, the method's own or a dispatcher).
+    pub(super) fn func_call_with(
+        &mut self,
+        p: PouId,
+        args: &'s [Arg],
+        span: Span,
+        this: Option<(Value, FuncId)>,
+    ) -> Option<Val> {
+        if self.l.pou(p).owner.is_some() || this.is_none() {
+            self.l.calls.push((self.caller, CallNode::Pou(p), span));
+        }
         let params = params_of(self, p);
         let bound = self.bind_args(p, &params, args);
-        let mut ir_args = Vec::with_capacity(params.len());
+        let mut ir_args = Vec::with_capacity(params.len() + 1);
+        if let Some((addr, _)) = this {
+            ir_args.push(addr);
+        }
         let mut outs: Vec<(SlotId, Ty, &'s Arg)> = Vec::new();
         let mut eno_slot: Option<SlotId> = None;
         let callee_name = self.l.pou(p).display.clone();
@@ -677,7 +765,10 @@ impl<'s> BodyCx<'_, 's> {
                 }
             }
         }
-        let f = self.l.ir[p.0 as usize].body?;
+        let f = match this {
+            Some((_, f)) => f,
+            None => self.l.ir[p.0 as usize].body?,
+        };
         let ret = self.l.pou(p).ret;
         // A STRUCT or array result goes to a temporary of the caller's, which the
         // assignment then copies (the callee may read the assignment's target).
@@ -872,10 +963,10 @@ impl<'s> BodyCx<'_, 's> {
         });
         let agg = self.l.ir[fb.0 as usize].agg;
         let fb_name = self.l.pou(fb).display.clone();
-        let mut outs: Vec<(usize, &'s Arg)> = Vec::new();
+        let mut outs: Vec<(PouId, usize, &'s Arg)> = Vec::new();
         for (i, prm) in params.iter().enumerate() {
-            let v = self.l.pou(fb).vars[prm.var].clone();
-            let Some(Storage::Field(fi)) = self.l.ir[fb.0 as usize].storage[prm.var] else {
+            let v = self.l.pou(prm.pou).vars[prm.var].clone();
+            let Some(Storage::Field(fi)) = self.l.ir[prm.pou.0 as usize].storage[prm.var] else {
                 continue;
             };
             let Some(agg) = agg else { continue };
@@ -916,7 +1007,7 @@ impl<'s> BodyCx<'_, 's> {
                 }
                 _ => {
                     if let Some(a) = bound[i] {
-                        outs.push((prm.var, a));
+                        outs.push((prm.pou, prm.var, a));
                     }
                 }
             }
@@ -936,9 +1027,9 @@ impl<'s> BodyCx<'_, 's> {
             let bad = self.b.unary(plcc_ir::inst::UnaryOp::Bnot, ok);
             self.set_eno_error(bad);
         }
-        for (vi, a) in outs {
-            let v = self.l.pou(fb).vars[vi].clone();
-            let (Some(Storage::Field(fi)), Some(agg)) = (self.l.ir[fb.0 as usize].storage[vi], agg)
+        for (c, vi, a) in outs {
+            let v = self.l.pou(c).vars[vi].clone();
+            let (Some(Storage::Field(fi)), Some(agg)) = (self.l.ir[c.0 as usize].storage[vi], agg)
             else {
                 continue;
             };

@@ -85,6 +85,9 @@ impl<'s> Lowerer<'s> {
                     ret: Ty::Void,
                     ret_tag: None,
                     std: is_std,
+                    owner: None,
+                    member: None,
+                    base: None,
                 });
                 self.ir.push(PouIr::default());
                 self.used.push(false);
@@ -129,6 +132,16 @@ impl<'s> Lowerer<'s> {
                 | VarKind::InOut
                 | VarKind::Temp
                 | VarKind::External => {}
+                VarKind::Inst if self.pous[id.0 as usize].owner.is_some() => {}
+                VarKind::Inst => {
+                    let at = self.keyword_span(block.span);
+                    self.error(
+                        codes::E_OO_DECLARATION,
+                        "VAR_INST declares variables of a METHOD kept in its instance: only a METHOD of a FUNCTION_BLOCK or PROGRAM has them",
+                        at,
+                    );
+                    continue;
+                }
                 VarKind::Global | VarKind::Access | VarKind::Config | VarKind::Stat => {
                     let what = match block.kind {
                         VarKind::Global => "VAR_GLOBAL inside a POU",
@@ -196,7 +209,11 @@ impl<'s> Lowerer<'s> {
                         );
                         continue;
                     }
-                    if kind == PouKind::Function && name.sym == pou.name.sym {
+                    let setter = matches!(
+                        self.pous[id.0 as usize].member,
+                        Some(super::MemberRef::Set(_))
+                    );
+                    if kind == PouKind::Function && name.sym == pou.name.sym && !setter {
                         self.error(
                             codes::E_DUPLICATE,
                             "a variable cannot have the name of its FUNCTION (that name is the result)",
@@ -367,6 +384,7 @@ impl<'s> Lowerer<'s> {
                 // Without the target's derived-type tag, so that references to the
                 // same type are one type.
                 let r = crate::types::RefTy {
+                    iface: None,
                     target: t,
                     tag: None,
                     pointer: matches!(spec, TypeSpec::Pointer { .. }),
@@ -404,6 +422,17 @@ impl<'s> Lowerer<'s> {
         }
         if let Some(&i) = self.user.by_name.get(&id.sym) {
             return self.resolve_named_type(i, id.span);
+        }
+        if let Some(&k) = self.classes.iface_by_name.get(&id.sym) {
+            // A variable of an interface type holds the address of an instance.
+            let r = crate::types::RefTy {
+                iface: Some(k),
+                target: Ty::Void,
+                tag: None,
+                pointer: false,
+                auto: false,
+            };
+            return (Ty::Ref(self.types.reference(r)), None);
         }
         if let Some(&p) = self.pou_by_name.get(&id.sym) {
             return match self.pou(p).kind {
@@ -629,6 +658,9 @@ impl<'s> Lowerer<'s> {
         // Edges: POU -> (FB type of a variable, the variable's name span).
         let mut edges: Vec<Vec<(usize, Span)>> = vec![Vec::new(); n];
         for (i, p) in self.pous.iter().enumerate() {
+            if let Some(b) = p.base {
+                edges[i].push((b.0 as usize, p.name.span));
+            }
             for v in &p.vars {
                 if v.section == VarKind::InOut {
                     continue;
@@ -693,8 +725,12 @@ impl<'s> Lowerer<'s> {
                 stack.push(PouId(i as u32));
             }
         }
-        // Only user POUs that are still the ones their name resolves to.
-        stack.retain(|&id| self.pou_by_name.get(&self.pou(id).name.sym) == Some(&id));
+        // Only user POUs that are still the ones their name resolves to, and the
+        // members of classes.
+        stack.retain(|&id| {
+            self.pou_by_name.get(&self.pou(id).name.sym) == Some(&id)
+                || self.pou(id).owner.is_some()
+        });
         while let Some(id) = stack.pop() {
             if self.used[id.0 as usize] {
                 continue;
@@ -737,7 +773,10 @@ impl<'s> Lowerer<'s> {
             }));
             self.ir[i].agg = Some(agg);
         }
-        for i in 0..self.pous.len() {
+        // Bases before the FBs that extend them (their fields come first).
+        let mut order: Vec<usize> = (0..self.pous.len()).collect();
+        order.sort_by_key(|&i| self.lineage(PouId(i as u32)).len());
+        for i in order {
             if !self.used[i] {
                 continue;
             }
@@ -751,6 +790,10 @@ impl<'s> Lowerer<'s> {
 
     pub(super) fn create_function_shell(&mut self, id: PouId) {
         let mut params = Vec::new();
+        if self.pou(id).owner.is_some() {
+            // A METHOD or accessor: the instance's address first.
+            params.push(Type::Ptr);
+        }
         let n = self.pou(id).vars.len();
         for vi in 0..n {
             let v = &self.pous[id.0 as usize].vars[vi];
@@ -788,6 +831,24 @@ impl<'s> Lowerer<'s> {
         let agg = self.ir[id.0 as usize].agg.expect("instance struct");
         let is_std = self.pou(id).std;
         let mut fields = Vec::new();
+        if let Some(b) = self.pou(id).base {
+            // The base's fields first, the class id among them: a derived
+            // instance's address is a valid base address.
+            if let Some(AggDef::Struct(s)) = self.ir[b.0 as usize]
+                .agg
+                .map(|a| &self.module.aggs[a.index()])
+            {
+                fields = s.fields.clone();
+            }
+        } else if self.is_class(id) {
+            fields.push(Field {
+                name: "__class".to_string(),
+                ty: MemType::Scalar(super::dispatch::CLASS_ID),
+                elem: None,
+                role: FieldRole::Hidden,
+                location: None,
+            });
+        }
         let n = self.pou(id).vars.len();
         for vi in 0..n {
             let v = self.pous[id.0 as usize].vars[vi].clone();
@@ -827,6 +888,8 @@ impl<'s> Lowerer<'s> {
                 location: v.location.clone(),
             });
         }
+        // The VAR_INST variables of its METHODs live in the instance.
+        self.method_instance_fields(id, &mut fields);
         if let AggDef::Struct(s) = &mut self.module.aggs[agg.index()] {
             s.fields = fields;
         }

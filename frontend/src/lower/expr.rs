@@ -336,18 +336,25 @@ impl<'s> BodyCx<'_, 's> {
                     LiteralKind::DateTime { .. } => Ty::Elem(ElemType::Dt),
                 }
             }
+            ExprKind::Name(_) | ExprKind::Member(..) if self.property_of(e).is_some() => {
+                self.property_ty(e).unwrap_or(Ty::Error)
+            }
             ExprKind::Name(id) => self.name_type(id.sym),
             ExprKind::Member(base, name) if self.qualifier(base).is_some() => {
                 let q = self.qualifier(base).expect("checked");
                 self.qualified_type(q, *name)
             }
+            ExprKind::Deref(_) if self.self_ref(e).is_some() => match self.self_ref(e) {
+                Some(super::methods::SelfRef::This(c) | super::methods::SelfRef::Super(c)) => {
+                    Ty::Fb(c)
+                }
+                None => Ty::Error,
+            },
             ExprKind::Member(base, name) => match self.infer(base) {
-                Ty::Fb(p) => self
-                    .l
-                    .pou(p)
-                    .var(name.sym)
-                    .map(|vi| self.l.pou(p).vars[vi as usize].ty)
-                    .unwrap_or(Ty::Error),
+                Ty::Fb(p) => match self.l.class_var(p, name.sym) {
+                    Some((c, vi)) => self.l.pou(c).vars[vi].ty,
+                    None => self.property_type(p, name.sym),
+                },
                 Ty::Struct(s) => self
                     .l
                     .struct_field(s, name.sym)
@@ -384,6 +391,9 @@ impl<'s> BodyCx<'_, 's> {
             | ExprKind::Unary(UOp::Plus, x) => self.infer(x),
             ExprKind::Binary(op, a, b) => {
                 let (l, r) = (self.infer(a), self.infer(b));
+                if matches!(op, Op::Eq | Op::Ne) && self.is_iface_zero(l, r) {
+                    return Ty::BOOL;
+                }
                 let (l, r) = bool_digit_operands(*op, l, r, (a, b), None);
                 binary_typing(*op, l, r, &|_| String::new())
                     .ok()
@@ -407,6 +417,9 @@ impl<'s> BodyCx<'_, 's> {
         let pou = self.l.pou(self.pou);
         if let Some(vi) = pou.var(sym) {
             return pou.vars[vi as usize].ty;
+        }
+        if let Some(t) = self.class_name_type(sym) {
+            return t;
         }
         if pou.kind == crate::ast::PouKind::Function && pou.name.sym == sym {
             return pou.ret;
@@ -441,6 +454,10 @@ impl<'s> BodyCx<'_, 's> {
 
     /// Emits an expression and converts it (implicitly, with checks) to `target`.
     pub(super) fn emit_as(&mut self, e: &'s Expr, target: Ty) -> Value {
+        // An instance where an interface is expected: its address.
+        if let Some(v) = self.instance_as_iface(e, target) {
+            return v;
+        }
         let v = self.emit(e, Some(target));
         if v.ty == target && target.is_aggregate() {
             // A whole STRUCT or array is copied through its address (`agg_source`),
@@ -627,6 +644,10 @@ impl<'s> BodyCx<'_, 's> {
             ExprKind::Paren(x) | ExprKind::UsedBy { value: x, .. } => self.emit(x, want),
             ExprKind::Literal(_) => self.literal(e, want, false),
             ExprKind::Name(_) if self.is_null_name(e) => self.null_val(),
+            ExprKind::Name(_) | ExprKind::Member(..) if self.property_of(e).is_some() => {
+                let p = self.property_of(e).expect("checked");
+                self.property_read(p, e.span)
+            }
             ExprKind::Name(id) => {
                 let named = self.resolve_name(*id, true, want);
                 self.named_val(named, want, e.span)
@@ -758,6 +779,11 @@ impl<'s> BodyCx<'_, 's> {
             rt = lt;
         } else if matches!(rt, Ty::Enum(..)) && lt == Ty::Error && self.is_value_of(a, rt) {
             lt = rt;
+        }
+        if matches!(op, Op::Eq | Op::Ne) {
+            if let Some(v) = self.iface_compare(op == Op::Eq, a, b, lt, rt) {
+                return v;
+            }
         }
         let (lt, rt) = bool_digit_operands(op, lt, rt, (a, b), want);
         let typing = {

@@ -16,15 +16,21 @@ mod bcd;
 mod body;
 mod builtins;
 mod calls;
+mod classes;
 mod consts;
 mod dates;
 mod decls;
+mod dispatch;
 mod en_eno;
 mod expr;
 mod init;
 mod literals;
+mod methods;
+#[cfg(test)]
+mod oo_tests;
 mod partial;
 mod places;
+mod properties;
 mod prototypes;
 mod qualified;
 mod refs;
@@ -137,6 +143,24 @@ pub struct PouInfo {
     pub ret_tag: Option<TagId>,
     /// Part of the built-in standard library.
     pub std: bool,
+    /// A METHOD or property accessor: the FUNCTION_BLOCK (or PROGRAM) it belongs to.
+    /// Interface members have none.
+    pub owner: Option<PouId>,
+    /// A METHOD or property accessor: which member of its item it is.
+    pub member: Option<MemberRef>,
+    /// `EXTENDS base` of a FUNCTION_BLOCK, resolved.
+    pub base: Option<PouId>,
+}
+
+/// Which member of a POU's (or an INTERFACE's) AST a method POU is.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum MemberRef {
+    /// `oo.methods[i]`.
+    Method(u32),
+    /// The getter of `oo.properties[i]`.
+    Get(u32),
+    /// The setter of `oo.properties[i]`.
+    Set(u32),
 }
 
 impl PouInfo {
@@ -218,6 +242,8 @@ pub struct Lowerer<'s> {
     program_data: FxHashMap<String, plcc_ir::DataId>,
     /// How many reference targets are being resolved (see `TypeState::Building`).
     pub(crate) ref_depth: u32,
+    /// METHODs, PROPERTYs, INTERFACEs, class ids (see `classes`).
+    pub(crate) classes: classes::Classes,
 }
 
 impl<'s> Lowerer<'s> {
@@ -259,6 +285,7 @@ impl<'s> Lowerer<'s> {
             library: Vec::new(),
             program_data: FxHashMap::default(),
             ref_depth: 0,
+            classes: Default::default(),
         }
     }
 
@@ -274,6 +301,7 @@ impl<'s> Lowerer<'s> {
         self.run_programs = opts.programs.clone();
         self.library = opts.library.clone();
         self.collect_pous(std_units);
+        self.collect_classes();
         self.collect_types();
         self.report_unsupported_items();
         self.resolve_user_types();
@@ -296,6 +324,8 @@ impl<'s> Lowerer<'s> {
             }
         }
         self.lower_actions();
+        self.lower_body_copies();
+        self.check_classes();
         while let Some(p) = self.pending.pop() {
             self.lower_pou(p);
         }
@@ -360,9 +390,19 @@ impl<'s> Lowerer<'s> {
 
     pub(crate) fn pou_ast(&self, id: PouId) -> &'s ast::Pou {
         let p = &self.pous[id.0 as usize];
-        match &self.units[p.unit as usize].items[p.item as usize] {
-            ast::Item::Pou(pou) => pou,
+        let (methods, props) = match &self.units[p.unit as usize].items[p.item as usize] {
+            ast::Item::Pou(pou) => match p.member {
+                None => return pou,
+                Some(_) => (&pou.oo.methods, &pou.oo.properties),
+            },
+            ast::Item::Interface(i) => (&i.methods, &i.properties),
             _ => unreachable!("POU table points at a POU"),
+        };
+        match p.member {
+            Some(MemberRef::Method(i)) => &methods[i as usize].pou,
+            Some(MemberRef::Get(i)) => props[i as usize].get.as_ref().expect("a getter"),
+            Some(MemberRef::Set(i)) => props[i as usize].set.as_ref().expect("a setter"),
+            None => unreachable!("an interface member"),
         }
     }
 
@@ -385,6 +425,9 @@ impl<'s> Lowerer<'s> {
             Ty::Str(s) => s.name(),
             Ty::Ref(r) => {
                 let r = self.types.get_ref(r);
+                if let Some(k) = r.iface {
+                    return self.classes.ifaces[k].display.clone();
+                }
                 let t = match r.tag {
                     Some(t) => self.user.tags[t.0 as usize].name.clone(),
                     None => self.ty_name(r.target),
@@ -431,9 +474,6 @@ impl<'s> Lowerer<'s> {
                         continue
                     }
                     ast::Item::Pou(p) => {
-                        if let Some(b) = &p.extends {
-                            errs.push(("EXTENDS (inheritance between function blocks)", b.span));
-                        }
                         // One error per kind of member and POU.
                         let mut seen: Vec<&str> = Vec::new();
                         for &m in &p.unsupported_members {
@@ -443,8 +483,9 @@ impl<'s> Lowerer<'s> {
                                 "STEP" | "INITIAL_STEP" | "TRANSITION" => {
                                     "sequential function charts (STEP, TRANSITION)"
                                 }
-                                "METHOD" => "METHODs",
-                                "PROPERTY" => "PROPERTYs",
+                                "METHOD" | "PROPERTY" => {
+                                    "METHODs and PROPERTYs inside a METHOD or PROPERTY"
+                                }
                                 _ => "object-oriented members (INTERFACE, CLASS)",
                             };
                             if !seen.contains(&what) {
@@ -466,6 +507,8 @@ impl<'s> Lowerer<'s> {
                     ast::Item::Configuration(_) => continue,
                     // Checked when created (`actions`).
                     ast::Item::Action(_) => continue,
+                    // Checked when resolved (`classes`).
+                    ast::Item::Interface(_) => continue,
                 };
                 errs.push((what, span));
             }

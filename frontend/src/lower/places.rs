@@ -121,6 +121,14 @@ impl<'s> BodyCx<'_, 's> {
                 }
                 Named::Error => None,
             },
+            ExprKind::Member(base, name) if self.self_ref(base).is_some() => {
+                let r = self.self_ref(base)?;
+                self.self_member_place(r, *name)
+            }
+            ExprKind::Deref(_) if self.self_ref(e).is_some() => {
+                let r = self.self_ref(e)?;
+                self.self_ref_place(r)
+            }
             ExprKind::Member(base, name) => {
                 if let Some(q) = self.qualifier(base) {
                     return match self.qualified(q, base, *name) {
@@ -201,11 +209,14 @@ impl<'s> BodyCx<'_, 's> {
                     t => {
                         let tn = self.l.ty_name(t);
                         let n = self.l.text(name.span).to_string();
-                        self.l.error(
-                            codes::E_NO_MEMBER,
-                            format!("a value of type {tn} has no member `{n}`"),
-                            name.span,
-                        );
+                        let iface =
+                            matches!(t, Ty::Ref(r) if self.l.types.get_ref(r).iface.is_some());
+                        let msg = if iface {
+                            format!("the interface `{tn}` has no method or property named `{n}`")
+                        } else {
+                            format!("a value of type {tn} has no member `{n}`")
+                        };
+                        self.l.error(codes::E_NO_MEMBER, msg, name.span);
                         None
                     }
                 }

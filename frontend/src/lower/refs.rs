@@ -104,6 +104,15 @@ impl<'s> BodyCx<'_, 's> {
             return None;
         };
         let r = self.l.types.get_ref(id);
+        if let Some(k) = r.iface {
+            let n = self.l.classes.ifaces[k].display.clone();
+            self.l.error(
+                codes::E_TYPE_MISMATCH,
+                format!("a value of the interface `{n}` is not dereferenced: call its methods and use its properties on it directly"),
+                e.span,
+            );
+            return None;
+        }
         Some(self.pointee(v.v, r))
     }
 
@@ -151,6 +160,7 @@ impl<'s> BodyCx<'_, 's> {
             return None;
         }
         let r = self.l.types.reference(RefTy {
+            iface: None,
             target: p.ty,
             tag: None,
             pointer,
@@ -248,20 +258,104 @@ impl<'s> BodyCx<'_, 's> {
             (Ty::Null, Ty::Ref(_)) => true,
             (Ty::Ref(a), Ty::Ref(b)) => {
                 let (a, b) = (self.l.types.get_ref(a), self.l.types.get_ref(b));
+                if let Some(k) = b.iface {
+                    // An interface from one that extends it, or from a reference to
+                    // an instance of a class implementing it.
+                    return match (a.iface, a.target) {
+                        (Some(j), _) => self.l.iface_closure(j).contains(&k),
+                        (None, Ty::Fb(d)) => self.l.implements(d, k),
+                        _ => false,
+                    };
+                }
+                if a.iface.is_some() {
+                    return false;
+                }
+                if let (Ty::Fb(d), Ty::Fb(c)) = (a.target, b.target) {
+                    // A derived instance is a base instance.
+                    if self.l.derives_from(d, c) {
+                        return true;
+                    }
+                }
                 a.target == b.target || (a.pointer && b.pointer)
             }
             _ => false,
         }
     }
 
+    /// The address of an instance given where an interface is expected (`itf :=
+    /// inst;`), if `e` names an instance of a class implementing it. A missing
+    /// instance (an element out of bounds) gives NULL.
+    pub(super) fn instance_as_iface(&mut self, e: &'s Expr, to: Ty) -> Option<Value> {
+        let Ty::Ref(r) = to else { return None };
+        let k = self.l.types.get_ref(r).iface?;
+        let Ty::Fb(d) = self.infer(e) else {
+            return None;
+        };
+        let p = self.place(e)?;
+        if !self.l.implements(d, k) {
+            let n = self.l.pou(d).display.clone();
+            let i = self.l.classes.ifaces[k].display.clone();
+            self.l.error(
+                codes::E_TYPE_MISMATCH,
+                format!("`{n}` does not implement the interface `{i}`"),
+                e.span,
+            );
+            return Some(self.b.iconst(Type::Ptr, 0));
+        }
+        Some(match p.guard {
+            Some(g) => {
+                let null = self.b.iconst(Type::Ptr, 0);
+                self.b.select(g, p.addr, null)
+            }
+            None => p.addr,
+        })
+    }
+
     /// A CODESYS pointer given the address of another type (`POINTER TO DWORD` from
     /// `ADR(byte_var)`) may reach past its target: the module is unchecked.
     pub(super) fn note_pointer_cast(&mut self, from: Ty, to: Ty) {
         if let (Ty::Ref(a), Ty::Ref(b)) = (from, to) {
-            if self.l.types.get_ref(a).target != self.l.types.get_ref(b).target {
+            let (a, b) = (self.l.types.get_ref(a), self.l.types.get_ref(b));
+            let upcast = b.iface.is_some()
+                || matches!((a.target, b.target), (Ty::Fb(d), Ty::Fb(c)) if self.l.derives_from(d, c));
+            if a.target != b.target && !upcast {
                 self.l.module.unchecked_pointers = true;
             }
         }
+    }
+
+    /// An interface compared with an integer (`itf = 0`).
+    pub(super) fn is_iface_zero(&self, l: Ty, r: Ty) -> bool {
+        let is_iface = |t: Ty| matches!(t, Ty::Ref(id) if self.l.types.get_ref(id).iface.is_some());
+        (is_iface(l) && r == Ty::AnyInt) || (is_iface(r) && l == Ty::AnyInt)
+    }
+
+    /// `itf = 0`, `itf <> 0` (CODESYS's test of an interface variable, as NULL).
+    pub(super) fn iface_compare(
+        &mut self,
+        eq: bool,
+        a: &'s Expr,
+        b: &'s Expr,
+        lt: Ty,
+        rt: Ty,
+    ) -> Option<Val> {
+        let is_iface =
+            |cx: &Self, t: Ty| matches!(t, Ty::Ref(id) if cx.l.types.get_ref(id).iface.is_some());
+        let (itf, zero) = if is_iface(self, lt) && rt == Ty::AnyInt {
+            (a, b)
+        } else if is_iface(self, rt) && lt == Ty::AnyInt {
+            (b, a)
+        } else {
+            return None;
+        };
+        if self.l.const_int_in(zero, Some(self.pou)) != Some(0) {
+            return None;
+        }
+        let x = self.emit(itf, None);
+        let null = self.b.iconst(Type::Ptr, 0);
+        let cc = if eq { IntCC::Eq } else { IntCC::Ne };
+        let v = self.b.icmp(cc, x.v, null);
+        Some(Val { v, ty: Ty::BOOL })
     }
 
     /// `=` and `<>` between references (or NULL).
@@ -316,6 +410,9 @@ impl<'s> BodyCx<'_, 's> {
     pub(super) fn emit_ref(&mut self, e: &'s Expr, to: Ty) -> Value {
         if self.is_null_name(e) {
             return self.b.iconst(Type::Ptr, 0);
+        }
+        if let Some(v) = self.instance_as_iface(e, to) {
+            return v;
         }
         let v = self.emit(e, Some(to));
         if v.ty == Ty::Error || self.ref_fits(v.ty, to) {

@@ -204,6 +204,10 @@ impl<'s> BodyCx<'_, 's> {
                 }
             }
         }
+        if let Some(p) = self.property_of(target) {
+            self.property_write(p, value, target.span);
+            return;
+        }
         let Some(place) = self.place(target) else {
             // Still check the value for errors of its own.
             self.check_only(value);

@@ -236,6 +236,9 @@ impl<'s> Lowerer<'s> {
                     self.user.named[i as usize].state = TypeState::Building(id);
                 }
                 let ty = self.fill_struct(id, fields, None);
+                if let Some(b) = decl.extends {
+                    self.inherit_fields(id, b);
+                }
                 match &decl.init {
                     Some(init) => (
                         ty,
@@ -377,6 +380,42 @@ impl<'s> Lowerer<'s> {
         }
         self.user.structs[id.0 as usize].fields = fields;
         Ty::Struct(id)
+    }
+
+    /// `EXTENDS base` of a STRUCT: the base's fields first, then its own; a field
+    /// of both is declared twice.
+    fn inherit_fields(&mut self, id: StructId, base: Ident) {
+        let b = match self.user.by_name.get(&base.sym) {
+            Some(&i) => self.resolve_named_type(i, base.span).0,
+            None => Ty::Error,
+        };
+        let Ty::Struct(b) = b else {
+            let n = self.text(base.span).to_string();
+            self.error(
+                codes::E_OO_DECLARATION,
+                format!("`{n}` is not a STRUCT type, so a STRUCT cannot extend it"),
+                base.span,
+            );
+            return;
+        };
+        let mut fields = self.user.structs[b.0 as usize].fields.clone();
+        let own = std::mem::take(&mut self.user.structs[id.0 as usize].fields);
+        for f in own {
+            if let Some(prev) = fields.iter().find(|x| x.name.sym == f.name.sym) {
+                let prev = prev.name.span;
+                self.diags.push(
+                    Diagnostic::error(
+                        codes::E_DUPLICATE,
+                        format!("field `{}` is declared in the base STRUCT too", f.display),
+                        f.name.span,
+                    )
+                    .with_secondary(prev, "declared here"),
+                );
+                continue;
+            }
+            fields.push(f);
+        }
+        self.user.structs[id.0 as usize].fields = fields;
     }
 
     /// An enumeration type. Values without a number follow the previous one (the

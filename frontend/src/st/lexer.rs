@@ -121,6 +121,8 @@ pub enum Tok {
     VarConfig,
     /// `VAR_STAT`
     VarStat,
+    /// `VAR_INST` (CODESYS: a METHOD's variables kept in the instance)
+    VarInst,
     /// `END_VAR`
     EndVar,
     /// `CONSTANT`
@@ -223,6 +225,10 @@ pub enum Tok {
     EndTransition,
     /// `END_ACTIONS`
     EndActions,
+    /// `END_GET` (a PROPERTY's getter)
+    EndGet,
+    /// `END_SET` (a PROPERTY's setter)
+    EndSet,
 }
 
 /// The reserved words and their tokens.
@@ -247,6 +253,7 @@ const KEYWORDS: &[(&str, Tok)] = &[
     ("VAR_ACCESS", Tok::VarAccess),
     ("VAR_CONFIG", Tok::VarConfig),
     ("VAR_STAT", Tok::VarStat),
+    ("VAR_INST", Tok::VarInst),
     ("END_VAR", Tok::EndVar),
     ("CONSTANT", Tok::Constant),
     ("RETAIN", Tok::Retain),
@@ -298,6 +305,8 @@ const KEYWORDS: &[(&str, Tok)] = &[
     ("END_STEP", Tok::EndStep),
     ("END_TRANSITION", Tok::EndTransition),
     ("END_ACTIONS", Tok::EndActions),
+    ("END_GET", Tok::EndGet),
+    ("END_SET", Tok::EndSet),
 ];
 
 impl Tok {

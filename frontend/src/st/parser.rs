@@ -95,6 +95,7 @@ pub(crate) fn parse_tokens_with<'a>(
         s,
         last_pou: None,
         extensible: Vec::new(),
+        block_access: None,
         stmts: Vec::new(),
         args: Vec::new(),
         hook,
@@ -137,7 +138,10 @@ struct Syms {
     functionblock: Symbol,
     library: Symbol,
     end_library: Symbol,
-    modifiers: [Symbol; 6],
+    get: Symbol,
+    set: Symbol,
+    /// ABSTRACT, FINAL, PUBLIC, PRIVATE, PROTECTED, INTERNAL, OVERRIDE.
+    modifiers: [Symbol; 7],
 }
 
 impl Syms {
@@ -167,6 +171,8 @@ impl Syms {
             functionblock: i.intern_upper("FUNCTIONBLOCK"),
             library: i.intern_upper("LIBRARY"),
             end_library: i.intern_upper("END_LIBRARY"),
+            get: i.intern_upper("GET"),
+            set: i.intern_upper("SET"),
             modifiers: [
                 i.intern_upper("ABSTRACT"),
                 i.intern_upper("FINAL"),
@@ -174,6 +180,7 @@ impl Syms {
                 i.intern_upper("PRIVATE"),
                 i.intern_upper("PROTECTED"),
                 i.intern_upper("INTERNAL"),
+                i.intern_upper("OVERRIDE"),
             ],
         }
     }
@@ -258,6 +265,7 @@ fn var_kind(t: Tok) -> Option<VarKind> {
         Tok::VarAccess => VarKind::Access,
         Tok::VarConfig => VarKind::Config,
         Tok::VarStat => VarKind::Stat,
+        Tok::VarInst => VarKind::Inst,
         _ => return None,
     })
 }
@@ -298,6 +306,8 @@ fn is_section_stop(t: Tok) -> bool {
                 | Tok::EndStep
                 | Tok::EndTransition
                 | Tok::EndActions
+                | Tok::EndGet
+                | Tok::EndSet
         )
 }
 
@@ -352,6 +362,8 @@ fn opener_of(t: Tok) -> &'static str {
         Tok::EndStep => "STEP",
         Tok::EndTransition => "TRANSITION",
         Tok::EndActions => "ACTIONS",
+        Tok::EndGet => "GET",
+        Tok::EndSet => "SET",
         _ => "block",
     }
 }
@@ -381,6 +393,8 @@ pub(crate) struct Parser<'a> {
     /// Extensible inputs (`IN 1 ..`) of the POU being parsed: reported with its
     /// unsupported members, unless the POU is a prototype (see `lower::prototypes`).
     extensible: Vec<Span>,
+    /// The access specifier of the VAR block just read (`VAR PROTECTED`).
+    block_access: Option<(AccessSpec, Span)>,
     /// Statements of the lists being parsed, innermost last: each list is moved out
     /// into a vector of exactly its size when it ends (growing a `Vec<Stmt>` by
     /// doubling would touch twice the memory the tree needs).
@@ -918,6 +932,11 @@ impl<'a> Parser<'a> {
                             items.push(Item::Action(a));
                         }
                     }
+                    Some(Member::Interface) => {
+                        if let Some(i) = self.interface() {
+                            items.push(Item::Interface(i));
+                        }
+                    }
                     Some(m) => self.unsupported_member(m),
                     None => {
                         let what = "`PROGRAM`, `FUNCTION`, `FUNCTION_BLOCK`, `TYPE`, \
@@ -1106,14 +1125,7 @@ impl<'a> Parser<'a> {
             PouKind::Function => Tok::EndFunction,
             PouKind::FunctionBlock => Tok::EndFunctionBlock,
         };
-        let mut unsupported = Vec::new();
-        while self.at(Tok::Ident)
-            && self.peek_at(1) == Tok::Ident
-            && self.s.modifiers.contains(&Symbol(self.tok().data))
-        {
-            let m = self.bump();
-            unsupported.push(self.tspan(m));
-        }
+        let modifiers = self.modifiers();
         let name = if kind == PouKind::Function
             && matches!(
                 self.peek(),
@@ -1131,6 +1143,7 @@ impl<'a> Parser<'a> {
         };
         let mut return_type = None;
         let mut extends = None;
+        let mut implements = Vec::new();
         if name.is_some() {
             if self.at(Tok::Colon) {
                 self.bump();
@@ -1144,16 +1157,246 @@ impl<'a> Parser<'a> {
                 extends = self.expect_ident("the name of the base FUNCTION_BLOCK");
             }
             if self.at_sym(0, self.s.implements) {
-                let t = self.bump();
-                while self.at(Tok::Ident) {
-                    self.bump();
-                    if !self.eat(Tok::Comma) {
-                        break;
-                    }
-                }
-                unsupported.push(self.span_from(t.start));
+                self.bump();
+                implements = self.ident_list("the name of an INTERFACE");
             }
         }
+        self.eat(Tok::Semi);
+        let oo = OoParts {
+            modifiers,
+            implements,
+            ..OoParts::default()
+        };
+        self.pou_rest(kind, kw, end_tok, name, return_type, extends, oo)
+    }
+
+    /// `a, b, c`: names separated by commas (at least one).
+    fn ident_list(&mut self, what: &str) -> Vec<Ident> {
+        let mut names = Vec::new();
+        while let Some(n) = self.expect_ident(what) {
+            names.push(n);
+            if !self.eat(Tok::Comma) {
+                break;
+            }
+        }
+        names
+    }
+
+    /// ABSTRACT, FINAL, OVERRIDE and the access specifiers before a name.
+    fn modifiers(&mut self) -> Modifiers {
+        let mut m = Modifiers::default();
+        while self.at(Tok::Ident)
+            && self.peek_at(1) == Tok::Ident
+            && self.s.modifiers.contains(&Symbol(self.tok().data))
+        {
+            let t = self.bump();
+            let span = self.tspan(t);
+            let i = self
+                .s
+                .modifiers
+                .iter()
+                .position(|&x| x == Symbol(t.data))
+                .expect("a modifier");
+            match i {
+                0 => m.abstract_ = Some(span),
+                1 => m.final_ = Some(span),
+                6 => m.override_ = Some(span),
+                _ => {
+                    let a = [
+                        AccessSpec::Public,
+                        AccessSpec::Private,
+                        AccessSpec::Protected,
+                        AccessSpec::Internal,
+                    ][i - 2];
+                    m.access = Some((a, span));
+                }
+            }
+        }
+        m
+    }
+
+    /// `METHOD [modifiers] name [: type] ... END_METHOD`.
+    fn method(&mut self) -> Option<Method> {
+        let kw = self.bump();
+        let modifiers = self.modifiers();
+        let name = self.expect_ident("a method name");
+        let mut return_type = None;
+        if name.is_some() && self.eat(Tok::Colon) {
+            return_type = self.type_spec();
+            if return_type.is_none() {
+                self.skip_header_rest();
+            }
+        }
+        self.eat(Tok::Semi);
+        let pou = self.pou_rest(
+            PouKind::Function,
+            kw,
+            Tok::EndMethod,
+            name,
+            return_type,
+            None,
+            OoParts::default(),
+        )?;
+        Some(Method { modifiers, pou })
+    }
+
+    /// `PROPERTY [modifiers] name : type GET ... END_GET SET ... END_SET
+    /// END_PROPERTY`. The getter is a FUNCTION named as the property returning its
+    /// type; the setter one with an input of that name and type.
+    fn property(&mut self) -> Option<Property> {
+        let kw = self.bump();
+        let modifiers = self.modifiers();
+        let Some(name) = self.expect_ident("a property name") else {
+            self.skip_member_body(Tok::EndProperty);
+            return None;
+        };
+        let ty = if self.eat(Tok::Colon) {
+            self.type_spec()
+        } else {
+            self.expected("`:` and the property's type");
+            None
+        };
+        let Some(ty) = ty else {
+            self.skip_member_body(Tok::EndProperty);
+            return None;
+        };
+        self.eat(Tok::Semi);
+        let mut get = None;
+        let mut set = None;
+        loop {
+            if self.at_sym(0, self.s.get) {
+                let k = self.bump();
+                self.eat(Tok::Semi);
+                get = self.pou_rest(
+                    PouKind::Function,
+                    k,
+                    Tok::EndGet,
+                    Some(name),
+                    Some(ty.clone()),
+                    None,
+                    OoParts::default(),
+                );
+            } else if self.at_sym(0, self.s.set) {
+                let k = self.bump();
+                self.eat(Tok::Semi);
+                let value = VarBlock {
+                    kind: VarKind::Input,
+                    constant: false,
+                    retain: false,
+                    list: None,
+                    decls: vec![VarDecl {
+                        names: vec![name],
+                        location: None,
+                        ty: ty.clone(),
+                        init: None,
+                        edge: None,
+                        span: name.span,
+                    }],
+                    span: name.span,
+                };
+                set = self
+                    .pou_rest(
+                        PouKind::Function,
+                        k,
+                        Tok::EndSet,
+                        Some(name),
+                        None,
+                        None,
+                        OoParts::default(),
+                    )
+                    .map(|mut p| {
+                        p.var_blocks.insert(0, value);
+                        p
+                    });
+            } else if self.eat(Tok::EndProperty) {
+                self.eat(Tok::Semi);
+                break;
+            } else {
+                self.expected("`GET`, `SET` or `END_PROPERTY`");
+                self.skip_member_body(Tok::EndProperty);
+                break;
+            }
+        }
+        Some(Property {
+            modifiers,
+            name,
+            ty,
+            get,
+            set,
+            span: self.span_from(kw.start),
+        })
+    }
+
+    /// `INTERFACE name [EXTENDS a, b] ... END_INTERFACE`.
+    fn interface(&mut self) -> Option<Interface> {
+        let kw = self.bump();
+        let name = self.expect_ident("an interface name");
+        let mut extends = Vec::new();
+        if name.is_some() && self.at_sym(0, self.s.extends) {
+            self.bump();
+            extends = self.ident_list("the name of an INTERFACE");
+        }
+        self.eat(Tok::Semi);
+        let mut methods = Vec::new();
+        let mut properties = Vec::new();
+        loop {
+            let t = self.tok();
+            match self.member_at() {
+                Some(Member::Method) => methods.extend(self.method()),
+                Some(Member::Property) => properties.extend(self.property()),
+                _ if t.kind == Tok::EndInterface => {
+                    self.bump();
+                    self.eat(Tok::Semi);
+                    break;
+                }
+                _ if t.kind == Tok::Semi => {
+                    self.bump();
+                }
+                _ if t.kind == Tok::Eof || is_top_start(t.kind) || is_pou_end(t.kind) => {
+                    let msg = format!(
+                        "expected `END_INTERFACE`, found {}",
+                        self.describe(self.pos)
+                    );
+                    let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
+                        .with_label("expected `END_INTERFACE`")
+                        .with_secondary(self.tspan(kw), "this INTERFACE is not closed");
+                    self.emit(self.pos, d);
+                    break;
+                }
+                _ => {
+                    self.expected("`METHOD`, `PROPERTY` or `END_INTERFACE`");
+                    self.bump();
+                }
+            }
+        }
+        Some(Interface {
+            name: name?,
+            extends,
+            methods,
+            properties,
+            span: self.span_from(kw.start),
+        })
+    }
+
+    /// The declarations and body of a POU, METHOD or property accessor after its
+    /// header, up to `end_tok`.
+    #[allow(clippy::too_many_arguments)]
+    fn pou_rest(
+        &mut self,
+        kind: PouKind,
+        kw: Token,
+        end_tok: Tok,
+        name: Option<Ident>,
+        return_type: Option<TypeSpec>,
+        extends: Option<Ident>,
+        mut oo: OoParts,
+    ) -> Option<Pou> {
+        // A method or accessor: its own END_ keyword, no members of its own.
+        let member = !matches!(
+            end_tok,
+            Tok::EndProgram | Tok::EndFunction | Tok::EndFunctionBlock
+        );
+        let mut unsupported = Vec::new();
         self.eat(Tok::Semi);
         let mut var_blocks = Vec::new();
         let mut stmts: Vec<Stmt> = Vec::new();
@@ -1172,7 +1415,20 @@ impl<'a> Parser<'a> {
                     self.bump();
                     break;
                 }
-                k if is_pou_end(k) => {
+                k if is_pou_end(k) || (member && (is_section_stop(k) && var_kind(k).is_none())) => {
+                    if member {
+                        // A METHOD or accessor left open: the POU's END_ closes it.
+                        let msg = format!(
+                            "expected `{}`, found {}",
+                            end_tok.text(),
+                            self.describe(self.pos)
+                        );
+                        let d = Diagnostic::error(codes::UNCLOSED_BLOCK, msg, self.tspan(t))
+                            .with_label(format!("expected `{}`", end_tok.text()))
+                            .with_secondary(self.tspan(kw), "this member is not closed");
+                        self.emit(self.pos, d);
+                        break;
+                    }
                     let msg = format!(
                         "expected `{}`, found {}",
                         end_tok.text(),
@@ -1198,7 +1454,11 @@ impl<'a> Parser<'a> {
                     break;
                 }
                 k if var_kind(k).is_some() => {
+                    self.block_access = None;
                     if let Some(b) = self.var_block(DeclCtx::Pou) {
+                        if let Some(a) = self.block_access.take() {
+                            oo.var_access.push((var_blocks.len() as u32, a.0, a.1));
+                        }
                         var_blocks.push(b);
                     }
                     if stmts.is_empty() {
@@ -1220,6 +1480,16 @@ impl<'a> Parser<'a> {
                 _ => {
                     if let Some(m) = self.member_at() {
                         match m {
+                            Member::Method if !member => {
+                                if let Some(x) = self.method() {
+                                    oo.methods.push(x);
+                                }
+                            }
+                            Member::Property if !member => {
+                                if let Some(x) = self.property() {
+                                    oo.properties.push(x);
+                                }
+                            }
                             Member::Action => {
                                 if let Some(a) = self.action(false, &var_blocks) {
                                     actions.push(a);
@@ -1300,6 +1570,7 @@ impl<'a> Parser<'a> {
                 unsupported.append(&mut self.extensible);
                 unsupported
             },
+            oo: Box::new(oo),
             sfc,
             span: self.sp(kw.start, end),
         })

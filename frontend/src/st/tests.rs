@@ -763,37 +763,58 @@ fn pou_headers() {
 }
 
 #[test]
-fn object_oriented_members_are_recorded_not_parsed() {
+fn object_oriented_members_are_parsed() {
     let src = "FUNCTION_BLOCK PUBLIC fb EXTENDS base IMPLEMENTS I1, I2\nVAR s : STRING; END_VAR\n\
                METHOD PUBLIC baz : INT\n  VAR_INPUT x : INT; END_VAR\n  baz := x;\nEND_METHOD\n\
-               PROPERTY P : INT\n  GET P := 1; END_GET\nEND_PROPERTY\n\
+               METHOD ABSTRACT FINAL OVERRIDE PRIVATE q END_METHOD\n\
+               PROPERTY P : INT\n  GET P := 1; END_GET\n  SET s := 'b'; END_SET\nEND_PROPERTY\n\
                s := 'a';\nEND_FUNCTION_BLOCK";
     let (p, i) = pou(src);
-    let h: Vec<&str> = p
-        .unsupported_members
-        .iter()
-        .map(|s| &src[s.start as usize..s.end as usize])
-        .collect();
-    assert_eq!(
-        h,
-        [
-            "PUBLIC",
-            "IMPLEMENTS I1, I2",
-            "METHOD PUBLIC baz",
-            "PROPERTY P"
-        ]
-    );
+    assert!(p.unsupported_members.is_empty());
     assert_eq!(p.body.stmts.len(), 1);
     assert_eq!(i.name(p.name.sym), "FB");
-    // At top level they are reported and skipped, with no cascade.
-    let src =
-        "INTERFACE I\n METHOD m : INT END_METHOD\nEND_INTERFACE\nPROGRAM p x := 1; END_PROGRAM";
-    let (u, d, _) = parse_str(src);
+    assert_eq!(i.name(p.extends.expect("a base").sym), "BASE");
+    let oo = &p.oo;
+    assert_eq!(oo.modifiers.access.map(|a| a.0), Some(AccessSpec::Public));
+    let names: Vec<&str> = oo.implements.iter().map(|n| i.name(n.sym)).collect();
+    assert_eq!(names, ["I1", "I2"]);
+    assert_eq!(oo.methods.len(), 2);
+    let baz = &oo.methods[0];
+    assert_eq!(i.name(baz.pou.name.sym), "BAZ");
+    assert!(baz.pou.return_type.is_some());
+    assert_eq!(baz.pou.var_blocks.len(), 1);
+    assert_eq!(baz.pou.body.stmts.len(), 1);
+    let q = &oo.methods[1].modifiers;
+    assert!(q.abstract_.is_some() && q.final_.is_some() && q.override_.is_some());
+    assert_eq!(q.access.map(|a| a.0), Some(AccessSpec::Private));
+    let prop = &oo.properties[0];
+    assert_eq!(i.name(prop.name.sym), "P");
+    let get = prop.get.as_ref().expect("a getter");
+    assert_eq!(get.body.stmts.len(), 1);
+    // The setter's value is an input of the property's name.
+    let set = prop.set.as_ref().expect("a setter");
+    assert_eq!(set.var_blocks[0].kind, VarKind::Input);
+    assert_eq!(i.name(set.var_blocks[0].decls[0].names[0].sym), "P");
+    // Interfaces at top level, extending others.
+    let src = "INTERFACE I EXTENDS A, B\n METHOD m : INT VAR_INPUT x : INT; END_VAR END_METHOD\n\
+               PROPERTY v : REAL GET END_GET END_PROPERTY\nEND_INTERFACE\nPROGRAM p x := 1; END_PROGRAM";
+    let (u, d, i) = parse_str(src);
+    assert!(d.is_empty(), "{d:?}");
+    assert_eq!(u.items.len(), 2);
+    let Item::Interface(itf) = &u.items[0] else {
+        panic!("an interface")
+    };
+    assert_eq!(i.name(itf.name.sym), "I");
+    assert_eq!(itf.extends.len(), 2);
+    assert_eq!(itf.methods.len(), 1);
+    assert_eq!(itf.methods[0].pou.var_blocks.len(), 1);
+    assert!(itf.properties[0].get.is_some() && itf.properties[0].set.is_none());
+    // A method left open is reported at the POU's end.
+    let (_, d, _) = parse_str("FUNCTION_BLOCK f METHOD m x := 1; END_FUNCTION_BLOCK");
     assert_eq!(
         d.iter().map(|d| d.code).collect::<Vec<_>>(),
-        [crate::codes::SYNTAX_NOT_SUPPORTED]
+        [crate::codes::UNCLOSED_BLOCK]
     );
-    assert_eq!(u.items.len(), 1);
 }
 
 #[test]
@@ -1054,6 +1075,13 @@ fn dump(u: &SourceUnit, i: &Interner) -> String {
                         p.unsupported_members.len()
                     );
                 }
+                for m in &p.oo.methods {
+                    let _ = writeln!(out, "  METHOD {}", i.name(m.pou.name.sym));
+                    dump_stmts(&mut out, &m.pou.body.stmts, i, 2);
+                }
+            }
+            Item::Interface(itf) => {
+                let _ = writeln!(out, "INTERFACE {}", i.name(itf.name.sym));
             }
             Item::Type(t) => {
                 let init = t

@@ -807,6 +807,7 @@ impl Parser<'_> {
             },
             actions: Vec::new(),
             unsupported_members: Vec::new(),
+            oo: Default::default(),
             sfc: None,
             span: self.sp(kw_start, self.prev_end().max(kw_start)),
         })
@@ -1155,6 +1156,7 @@ impl Parser<'_> {
             },
             actions: Vec::new(),
             unsupported_members: Vec::new(),
+            oo: Default::default(),
             sfc: None,
             span: self.span_from(kw.start),
         })

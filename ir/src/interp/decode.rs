@@ -115,6 +115,17 @@ pub(super) enum Op {
         nargs: u32,
         dst: u32,
     },
+    /// Call entry `idx` (a register of type `ty`, read unsigned) of the call table
+    /// `table` of `DFunc::tables` with the `nargs` registers at `args` in `call_args`;
+    /// out of range or empty: raise the fault flag and set `dst` to 0.
+    CallTable {
+        table: u32,
+        ty: Type,
+        idx: u32,
+        args: u32,
+        nargs: u32,
+        dst: u32,
+    },
     /// `dst = clock_ms`
     ClockMs { dst: u32 },
     /// `dst = clock_ns`
@@ -164,6 +175,9 @@ pub(super) struct DFunc {
     pub frame_size: u64,
     /// Argument registers of every call, concatenated.
     pub call_args: Vec<u32>,
+    /// The entries of the tables `call_table` operations call: function indexes,
+    /// `NONE` for an empty entry.
+    pub tables: Vec<Vec<u32>>,
     /// Branch edges.
     pub edges: Vec<Edge>,
     /// `(dst, src)` register pairs of the edges, concatenated.
@@ -206,6 +220,7 @@ pub(super) fn decode(module: &Module, layout: &Layout, data_addr: &[u64], fid: F
         param_types: f.params.clone(),
         frame_size: 0,
         call_args: Vec::new(),
+        tables: Vec::new(),
         edges: Vec::new(),
         moves: Vec::new(),
         traps: Vec::new(),
@@ -587,6 +602,51 @@ impl Decoder<'_> {
                 self.d.call_args.extend(args.iter().map(|v| v.0));
                 Op::Call {
                     func: func.0,
+                    args: start,
+                    nargs: args.len() as u32,
+                    dst,
+                }
+            }
+            InstData::CallTable {
+                table,
+                index,
+                ref args,
+            } => {
+                let Some(tab) = self.module.tables.get(table.index()) else {
+                    return Err(format!("{table} does not exist"));
+                };
+                let ty = self.ty(index);
+                self.want(ty.is_int() && ty != Type::I1, "an integer index")?;
+                if args.len() != tab.params.len()
+                    || args.iter().zip(&tab.params).any(|(v, t)| self.ty(*v) != *t)
+                {
+                    return Err(format!("arguments do not match the signature of {table}"));
+                }
+                let mut entries = Vec::with_capacity(tab.entries.len());
+                for e in &tab.entries {
+                    match *e {
+                        None => entries.push(NONE),
+                        Some(fid) => match self.module.funcs.get(fid.index()) {
+                            Some(g) if g.params == tab.params && g.ret == tab.result => {
+                                entries.push(fid.0)
+                            }
+                            Some(g) => {
+                                return Err(format!(
+                                    "@{} does not have the signature of {table}",
+                                    g.name
+                                ))
+                            }
+                            None => return Err(format!("{fid} of {table} does not exist")),
+                        },
+                    }
+                }
+                self.d.tables.push(entries);
+                let start = self.d.call_args.len() as u32;
+                self.d.call_args.extend(args.iter().map(|v| v.0));
+                Op::CallTable {
+                    table: self.d.tables.len() as u32 - 1,
+                    ty,
+                    idx: index.0,
                     args: start,
                     nargs: args.len() as u32,
                     dst,

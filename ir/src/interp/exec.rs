@@ -481,6 +481,9 @@ pub(super) fn inst_text(
             Some(c) => write!(s, "call @{}({})", c.name, list(args)),
             None => write!(s, "call {func}({})", list(args)),
         },
+        InstData::CallTable { table, index, args } => {
+            write!(s, "call_table {table}, {index}({})", list(args))
+        }
         InstData::Intrinsic { op, .. } => write!(s, "{}", op.name()),
         InstData::Jump { dest } => write!(s, "jump {}", call(dest)),
         InstData::Brif {
@@ -555,6 +558,43 @@ fn exec(
             return Err(fail(prog, fi, pc - 1, &$msg))
         };
     }
+    // Enters function `callee` with the argument registers `args..args + nargs` of
+    // `call_args`; its result goes to `dst` on return.
+    macro_rules! call {
+        ($callee:expr, $args:expr, $nargs:expr, $dst:expr) => {{
+            let (callee, args, nargs, dst) = ($callee, $args, $nargs, $dst);
+            if st.frames.len() + 1 >= MAX_CALL_DEPTH {
+                bail!(format!(
+                    "call depth limit exceeded ({MAX_CALL_DEPTH} frames)"
+                ));
+            }
+            let g = &prog.funcs[callee as usize];
+            let (nfp, nsp) = match alloc_frame(st, prog, sp, g.frame_size) {
+                Ok(x) => x,
+                Err(m) => bail!(m),
+            };
+            let nbase = st.regs.len();
+            st.regs.resize(nbase + g.nregs as usize, 0);
+            let a = &f.call_args[args as usize..(args + nargs) as usize];
+            for (&p, &arg) in g.entry_params.iter().zip(a) {
+                st.regs[nbase + p as usize] = st.regs[base + arg as usize];
+            }
+            st.frames.push(Frame {
+                func: fi as u32,
+                pc: pc as u32,
+                base: base as u32,
+                fp,
+                sp,
+                ret_dst: dst,
+            });
+            fi = callee as usize;
+            f = g;
+            pc = 0;
+            base = nbase;
+            fp = nfp;
+            sp = nsp;
+        }};
+    }
     loop {
         *steps += 1;
         if *steps > limit {
@@ -619,43 +659,34 @@ fn exec(
                     bail!(m);
                 }
             }
+            Op::CallTable {
+                table,
+                ty,
+                idx,
+                args,
+                nargs,
+                dst,
+            } => {
+                let entries = &f.tables[table as usize];
+                let callee = usize::try_from(uval(ty, r!(idx)))
+                    .ok()
+                    .and_then(|i| entries.get(i).copied())
+                    .unwrap_or(NONE);
+                if callee == NONE {
+                    st.fault = true;
+                    if dst != NONE {
+                        r!(dst) = 0;
+                    }
+                    continue;
+                }
+                call!(callee, args, nargs, dst);
+            }
             Op::Call {
                 func: callee,
                 args,
                 nargs,
                 dst,
-            } => {
-                if st.frames.len() + 1 >= MAX_CALL_DEPTH {
-                    bail!(format!(
-                        "call depth limit exceeded ({MAX_CALL_DEPTH} frames)"
-                    ));
-                }
-                let g = &prog.funcs[callee as usize];
-                let (nfp, nsp) = match alloc_frame(st, prog, sp, g.frame_size) {
-                    Ok(x) => x,
-                    Err(m) => bail!(m),
-                };
-                let nbase = st.regs.len();
-                st.regs.resize(nbase + g.nregs as usize, 0);
-                let a = &f.call_args[args as usize..(args + nargs) as usize];
-                for (&p, &arg) in g.entry_params.iter().zip(a) {
-                    st.regs[nbase + p as usize] = st.regs[base + arg as usize];
-                }
-                st.frames.push(Frame {
-                    func: fi as u32,
-                    pc: pc as u32,
-                    base: base as u32,
-                    fp,
-                    sp,
-                    ret_dst: dst,
-                });
-                fi = callee as usize;
-                f = g;
-                pc = 0;
-                base = nbase;
-                fp = nfp;
-                sp = nsp;
-            }
+            } => call!(callee, args, nargs, dst),
             Op::ClockMs { dst } => r!(dst) = st.clock_ms as i64 as u64,
             Op::ClockNs { dst } => r!(dst) = st.clock_ns as u64,
             Op::RaiseFault => st.fault = true,

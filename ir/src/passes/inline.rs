@@ -9,7 +9,9 @@
 //! parameter, so no use has to be rewritten.
 //!
 //! Callees are processed before callers (the call graph is acyclic: front ends reject
-//! recursion), so inlined code is already optimised and itself inlined.
+//! recursion), so inlined code is already optimised and itself inlined. A
+//! `call_table` is never inlined (its callee is known only at run time); its entries
+//! count as callees for the order and for reachability.
 
 use crate::analysis::{callees, callees_first};
 use crate::entities::{Block, FuncId, Inst, SlotId, Value};
@@ -252,7 +254,8 @@ pub fn inline_call(caller: &mut Function, block: Block, inst: Inst, callee: &Fun
 }
 
 /// Removes functions that nothing reachable calls: when the module has programs, only
-/// program bodies, their init functions and `init_globals` (and what they call) stay.
+/// program bodies, their init functions and `init_globals` (and what they call,
+/// directly or through a table) stay.
 /// Function ids are renumbered; returns true if any function was removed.
 pub fn remove_unreachable_functions(module: &mut Module) -> bool {
     if module.programs.is_empty() {
@@ -296,6 +299,13 @@ pub fn remove_unreachable_functions(module: &mut Module) -> bool {
         }
     }
     module.funcs = funcs;
+    // A table no live function calls may name removed functions: those entries
+    // become empty (nothing can reach them any more).
+    for t in &mut module.tables {
+        for e in &mut t.entries {
+            *e = e.and_then(|f| new_id.get(f.index()).copied().flatten());
+        }
+    }
     let remap = |f: FuncId| new_id[f.index()].expect("live function");
     for p in &mut module.programs {
         p.body = remap(p.body);

@@ -326,7 +326,7 @@ pub fn run(func: &mut Function) -> bool {
                         },
                     );
                 }
-                InstData::Call { .. } => {
+                InstData::Call { .. } | InstData::CallTable { .. } => {
                     // The callee may read and write any memory it can reach.
                     known.clear();
                     pending.clear();

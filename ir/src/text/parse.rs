@@ -11,12 +11,12 @@
 //! treats every block outside the layout). Slots are numbered in declaration order.
 
 use crate::diag::{FileId, Span};
-use crate::entities::{AggId, Block, DataId, FuncId, Inst, SlotId, Value};
+use crate::entities::{AggId, Block, DataId, FuncId, Inst, SlotId, TableId, Value};
 use crate::function::{BlockData, FuncKind, Function, ValueData, ValueDef};
 use crate::inst::{BinaryOp, BlockCall, ConvOp, FloatCC, InstData, IntCC, Intrinsic, UnaryOp};
 use crate::module::{
     AggDef, ArrayDef, Configuration, DataDef, DataKind, Field, FieldRole, Module, ProgramEntry,
-    Resource, StructDef, StructKind,
+    Resource, StructDef, StructKind, Table,
 };
 use crate::types::{ElemType, MemType, Type};
 use std::borrow::Cow;
@@ -25,8 +25,10 @@ use std::fmt;
 
 mod config;
 mod resolve;
+mod table;
 use config::RawConfiguration;
 use resolve::Resolver;
+use table::RawTable;
 
 /// Why a text does not parse: the place (1-based line and column, in characters) and
 /// what is wrong.
@@ -138,6 +140,8 @@ enum Tok<'a> {
     Colon,
     Equals,
     Arrow,
+    /// `-` alone (an empty entry of a table).
+    Dash,
     Newline,
     Eof,
     /// The lexer failed here (the error is in `Parser::lex_error`).
@@ -163,6 +167,7 @@ impl Tok<'_> {
             Tok::Colon => "`:`".into(),
             Tok::Equals => "`=`".into(),
             Tok::Arrow => "`->`".into(),
+            Tok::Dash => "`-`".into(),
             Tok::Newline => "the end of the line".into(),
             Tok::Eof => "the end of the file".into(),
             Tok::Error => "an invalid token".into(),
@@ -417,7 +422,10 @@ impl<'a> Lexer<'a> {
                         self.ident();
                         Tok::Word(&self.text[pos..self.i])
                     }
-                    _ => return self.err(pos, "unexpected `-`"),
+                    _ => {
+                        self.i += 1;
+                        Tok::Dash
+                    }
                 },
                 c if c.is_ascii_digit() => Tok::Num(self.number()),
                 c if is_ident_start(c) => Tok::Word(self.ident()),
@@ -528,6 +536,8 @@ enum RawOp<'a> {
     Load(Type, V),
     Store(V, V),
     Call(Box<(Named<'a>, Vec<V>)>),
+    /// The table, the index, the arguments.
+    CallTable(Box<(V, V, Vec<V>)>),
     Intrinsic(Intrinsic, Vec<V>),
     Jump(Box<RawBlockCall>),
     Brif(Box<(V, RawBlockCall, RawBlockCall)>),
@@ -575,6 +585,7 @@ struct RawModule<'a> {
     aggs: Vec<RawAgg<'a>>,
     data: Vec<RawData<'a>>,
     funcs: Vec<RawFunc<'a>>,
+    tables: Vec<RawTable<'a>>,
     programs: Vec<RawProgram<'a>>,
     init_globals: Option<Named<'a>>,
     globals: Option<Named<'a>>,
@@ -871,7 +882,7 @@ impl<'a> Parser<'a> {
     }
 
     fn module(&mut self) -> Result<(), ParseError> {
-        const TOP: &str = "`file`, `unchecked_pointers`, `struct`, `array`, `data`, `func`, `program`, `init_globals`, `globals`, `configuration` or `resource`";
+        const TOP: &str = "`file`, `unchecked_pointers`, `struct`, `array`, `data`, `table`, `func`, `program`, `init_globals`, `globals`, `configuration` or `resource`";
         loop {
             self.skip_newlines();
             let (w, pos) = match *self.peek() {
@@ -894,6 +905,7 @@ impl<'a> Parser<'a> {
                 "struct" => self.struct_def()?,
                 "array" => self.array_def()?,
                 "data" => self.data_def()?,
+                "table" => self.table_def()?,
                 "func" => self.func_def()?,
                 "program" => self.program_line()?,
                 "init_globals" => {
@@ -1409,6 +1421,13 @@ impl<'a> Parser<'a> {
                     let f = self.global("a function name such as `@f`")?;
                     self.expect(Tok::LParen, "`(`")?;
                     RawOp::Call(Box::new((f, self.values_to_paren()?)))
+                }
+                "call_table" => {
+                    let t = self.table_ref()?;
+                    self.expect(Tok::Comma, "`,`")?;
+                    let index = self.value()?;
+                    self.expect(Tok::LParen, "`(`")?;
+                    RawOp::CallTable(Box::new((t, index, self.values_to_paren()?)))
                 }
                 "jump" => RawOp::Jump(Box::new(self.block_call()?)),
                 "brif" => {

@@ -5,7 +5,7 @@
 //! `v9: ?` and the like, which do not parse back.
 
 use crate::diag::Span;
-use crate::entities::{AggId, DataId, FuncId, Inst, SlotId, Value};
+use crate::entities::{AggId, DataId, FuncId, Inst, SlotId, TableId, Value};
 use crate::function::Function;
 use crate::inst::{BlockCall, InstData};
 use crate::module::{AggDef, Module};
@@ -55,6 +55,37 @@ pub fn print_module(m: &Module, opts: &PrintOptions) -> String {
             s.push_str(d.kind.name());
             write_location(&mut s, d.location.as_deref());
             s.push('\n');
+        }
+        sections.push(s);
+    }
+    if !m.tables.is_empty() {
+        let mut s = String::new();
+        for (i, t) in m.tables.iter().enumerate() {
+            let _ = write!(s, "table {} ", TableId::new(i));
+            write_quoted(&mut s, &t.name);
+            s.push_str(" (");
+            for (k, p) in t.params.iter().enumerate() {
+                if k > 0 {
+                    s.push_str(", ");
+                }
+                s.push_str(p.name());
+            }
+            s.push(')');
+            if let Some(r) = t.result {
+                s.push_str(" -> ");
+                s.push_str(r.name());
+            }
+            s.push_str(" = [");
+            for (k, e) in t.entries.iter().enumerate() {
+                if k > 0 {
+                    s.push_str(", ");
+                }
+                match e {
+                    Some(f) => write_func_ref(&mut s, m, *f),
+                    None => s.push('-'),
+                }
+            }
+            s.push_str("]\n");
         }
         sections.push(s);
     }
@@ -447,6 +478,11 @@ fn write_inst(out: &mut String, m: &Module, f: &Function, inst: Inst, locations:
             out.push_str("call ");
             write_func_ref(out, m, *func);
             out.push('(');
+            write_args(out, args);
+            out.push(')');
+        }
+        InstData::CallTable { table, index, args } => {
+            let _ = write!(out, "call_table {table}, {index}(");
             write_args(out, args);
             out.push(')');
         }

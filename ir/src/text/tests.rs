@@ -32,7 +32,7 @@ fn error_display() {
     let e = parse_err("bogus");
     assert_eq!(
         e.to_string(),
-        "1:1: expected `file`, `unchecked_pointers`, `struct`, `array`, `data`, `func`, `program`, `init_globals`, `globals`, `configuration` or `resource`, found `bogus`"
+        "1:1: expected `file`, `unchecked_pointers`, `struct`, `array`, `data`, `table`, `func`, `program`, `init_globals`, `globals`, `configuration` or `resource`, found `bogus`"
     );
 }
 

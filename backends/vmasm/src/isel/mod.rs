@@ -977,6 +977,9 @@ impl Fx<'_, '_> {
             return Ok(());
         }
         match data {
+            InstData::CallTable { .. } => {
+                return Err(self.unsupported("a call bound at run time (`call_table`)", span))
+            }
             InstData::Iconst { .. } | InstData::Fconst { .. } => {
                 if let Some(v) = res {
                     self.home(v);

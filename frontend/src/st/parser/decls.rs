@@ -22,6 +22,24 @@ impl<'a> Parser<'a> {
                 Tok::Constant => constant = true,
                 Tok::Retain | Tok::Persistent => retain = true,
                 Tok::NonRetain => retain = false,
+                // `VAR PUBLIC`, `VAR PROTECTED`, ... of a FUNCTION_BLOCK.
+                Tok::Ident
+                    if self.peek_at(1) == Tok::Ident
+                        && self.s.modifiers[2..6].contains(&Symbol(self.tok().data)) =>
+                {
+                    let t = self.tok();
+                    let i = self.s.modifiers[2..6]
+                        .iter()
+                        .position(|&x| x == Symbol(t.data))
+                        .expect("a modifier");
+                    let a = [
+                        AccessSpec::Public,
+                        AccessSpec::Private,
+                        AccessSpec::Protected,
+                        AccessSpec::Internal,
+                    ][i];
+                    self.block_access = Some((a, self.tspan(t)));
+                }
                 // A global variable list's name (CODESYS's GVLs): on the keyword's
                 // line, a name that starts no declaration (`VAR_GLOBAL GVL`).
                 Tok::Ident
@@ -248,6 +266,12 @@ impl<'a> Parser<'a> {
     pub(super) fn type_decl_inner(&mut self) -> Option<TypeDecl> {
         let t = self.bump();
         let name = self.ident(t);
+        // CODESYS: `Derived EXTENDS Base : STRUCT ... END_STRUCT`.
+        let mut extends = None;
+        if self.at_sym(0, self.s.extends) {
+            self.bump();
+            extends = Some(self.expect_ident("the name of the base STRUCT")?);
+        }
         self.expect_tok(Tok::Colon, "`:`")?;
         let spec = self.type_spec()?;
         let init = if self.eat(Tok::Assign) {
@@ -262,6 +286,7 @@ impl<'a> Parser<'a> {
         }
         Some(TypeDecl {
             name,
+            extends,
             spec,
             init,
             span,

@@ -13,7 +13,7 @@ pub(super) struct Resolver<'a> {
 const NONE: u32 = u32::MAX;
 
 impl<'a> Resolver<'a> {
-    fn err<T>(&self, pos: Pos, msg: impl Into<String>) -> Result<T, ParseError> {
+    pub(super) fn err<T>(&self, pos: Pos, msg: impl Into<String>) -> Result<T, ParseError> {
         Err(error_at(self.text, pos, msg))
     }
 
@@ -130,13 +130,17 @@ impl<'a> Resolver<'a> {
             });
         }
 
-        // Functions: signatures first (calls need the callee's result type).
+        // Tables, then functions: signatures first (calls need the callee's result
+        // type).
+        let (tables, table_ids) = self.tables(&raw.tables, &funcs)?;
+        m.tables = tables;
         let rets: Vec<Option<Type>> = raw.funcs.iter().map(|f| f.ret).collect();
         let names = Names {
             aggs: &aggs,
             data: &datas,
             funcs: &funcs,
             rets: &rets,
+            tables: &table_ids,
         };
         for f in &raw.funcs {
             let func = self.function(f, &m, &names)?;
@@ -438,6 +442,22 @@ impl<'a> Resolver<'a> {
                             args: args.iter().map(|&a| val(a)).collect::<Result<_, _>>()?,
                         }
                     }
+                    RawOp::CallTable(c) => {
+                        let (tn, index, args) = &**c;
+                        let Some(&id) = names.tables.get(&tn.n) else {
+                            return self.err(tn.pos, format!("t{} is not declared", tn.n));
+                        };
+                        ty = m.tables[id.index()].result;
+                        if ty.is_none() && ri.result.is_some() {
+                            return self.err(ri.pos, format!("t{} returns no value", tn.n));
+                        }
+                        has_result = None;
+                        InstData::CallTable {
+                            table: id,
+                            index: val(*index)?,
+                            args: args.iter().map(|&a| val(a)).collect::<Result<_, _>>()?,
+                        }
+                    }
                     RawOp::Intrinsic(op, args) => {
                         ty = op.result();
                         if ty.is_none() && ri.result.is_some() {
@@ -547,6 +567,8 @@ struct Names<'n, 'a> {
     data: &'n HashMap<&'a str, DataId>,
     funcs: &'n HashMap<&'a str, FuncId>,
     rets: &'n [Option<Type>],
+    /// Table numbers to ids.
+    tables: &'n HashMap<u32, TableId>,
 }
 
 /// Fills `known` for values whose type is that of an operand: `srcs[v][0]` is the
