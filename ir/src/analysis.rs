@@ -85,3 +85,50 @@ pub fn call_depths(module: &Module) -> Vec<usize> {
     }
     depth
 }
+
+/// A cycle of the call graph, if there is one: functions each of which calls the next
+/// (the last calls the first), directly or through a table. The verifier rejects
+/// such a module; a backend whose frames are static checks it too rather than trust
+/// that the verifier ran.
+pub fn find_recursion(module: &Module) -> Option<Vec<FuncId>> {
+    let n = module.funcs.len();
+    // 0 = not visited, 1 = on the current path, 2 = done.
+    let mut state = vec![0u8; n];
+    for start in 0..n {
+        if state[start] != 0 {
+            continue;
+        }
+        let mut path: Vec<(usize, Vec<usize>)> = vec![(start, callees(module, start))];
+        state[start] = 1;
+        while let Some((node, pending)) = path.last_mut() {
+            let node = *node;
+            match pending.pop() {
+                Some(next) if state[next] == 1 => {
+                    let at = path.iter().position(|(f, _)| *f == next).unwrap_or(0);
+                    return Some(path[at..].iter().map(|(f, _)| FuncId::new(*f)).collect());
+                }
+                Some(next) if state[next] == 0 => {
+                    state[next] = 1;
+                    let c = callees(module, next);
+                    path.push((next, c));
+                }
+                Some(_) => {}
+                None => {
+                    state[node] = 2;
+                    path.pop();
+                }
+            }
+        }
+    }
+    None
+}
+
+/// The names of a cycle of [`find_recursion`], `@a -> @b -> @a`.
+pub fn describe_cycle(module: &Module, cycle: &[FuncId]) -> String {
+    cycle
+        .iter()
+        .chain(cycle.first())
+        .map(|f| format!("@{}", module.func(*f).name))
+        .collect::<Vec<_>>()
+        .join(" -> ")
+}

@@ -169,6 +169,17 @@ fn grouped(names: &Names) -> bool {
 /// index's arithmetic does not wrap), and the module is legalized for C.
 pub fn generate(module: &Module) -> Result<Files, Vec<Diagnostic>> {
     check_entries(module)?;
+    // The verifier rejects recursion (IEC forbids it); the runtimes' C does not
+    // expect it either.
+    if let Some(cycle) = plcc_ir::analysis::find_recursion(module) {
+        return Err(vec![Diagnostic::error_nowhere(
+            crate::codes::E_MALFORMED_IR,
+            format!(
+                "recursion ({}, directly or through a table): the c target is given verified IR, which has none",
+                plcc_ir::analysis::describe_cycle(module, &cycle)
+            ),
+        )]);
+    }
     let mut m = module.clone();
     let names = Names::new(&m)?;
     inline_globals_address(&mut m, &names)?;

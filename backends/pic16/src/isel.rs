@@ -457,7 +457,8 @@ impl<'a> Emitter<'a> {
         }
         match data {
             InstData::CallTable { .. } => {
-                self.unsupported(inst, "a call bound at run time (`call_table`)")
+                // `build` lowered every one to direct calls (passes::dispatch).
+                self.unsupported(inst, "a call bound at run time left after its lowering")
             }
             InstData::Iconst { .. }
             | InstData::GlobalAddr { .. }

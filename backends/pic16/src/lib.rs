@@ -279,9 +279,23 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
             "unchecked pointers (CODESYS pointer arithmetic, a pointer given the address of another type, or the address of a temporary kept) are not supported on pic16f876a: run the program on interp",
         )]);
     }
+    // The verifier rejects recursion; a module that skipped it must not get frames
+    // overlaid as if the calls nested a bounded number of times.
+    if let Some(cycle) = plcc_ir::analysis::find_recursion(module) {
+        return Err(vec![Diagnostic::error_nowhere(
+            codes::E_STACK,
+            format!(
+                "recursion ({}, directly or through a table) needs an unbounded stack; the chip's has 8 levels",
+                plcc_ir::analysis::describe_cycle(module, &cycle)
+            ),
+        )]);
+    }
     let pin_over = setting_pins(options)?;
-    // REAL becomes integers and calls of the soft-float routines.
+    // Calls bound at run time become compare chains of direct calls (CALL takes an
+    // immediate address), so the call graph, the stack depth and the frame overlays
+    // see every entry; REAL becomes integers and calls of the soft-float routines.
     let mut legal = module.clone();
+    plcc_ir::passes::dispatch::run(&mut legal);
     softfloat::legalize(&mut legal)?;
     let module = &legal;
     let layout = PicLayout::compute(module);

@@ -214,6 +214,17 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
         )]);
     }
     let settings = Settings::from_options(options).map_err(|d| vec![*d])?;
+    // Frames are static: the verifier rejects recursion, and a module that skipped
+    // it is refused here rather than given frames that overwrite each other.
+    if let Some(cycle) = plcc_ir::analysis::find_recursion(module) {
+        return Err(vec![Diagnostic::error_nowhere(
+            codes::E_UNSUPPORTED,
+            format!(
+                "recursion ({}, directly or through a table) is not supported on the vmasm target: every frame is static",
+                plcc_ir::analysis::describe_cycle(module, &cycle)
+            ),
+        )]);
+    }
     check_call_depth(module)?;
     // The guards of what the port's C leaves undefined (division by zero, MIN / -1
     // where it overflows, shifts by the width, float-to-integer conversions out of

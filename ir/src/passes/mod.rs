@@ -13,6 +13,7 @@
 pub mod const_fold;
 pub mod copy_prop;
 pub mod dce;
+pub mod dispatch;
 pub mod gvn;
 pub mod inline;
 pub mod legalize;

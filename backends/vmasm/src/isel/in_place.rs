@@ -17,7 +17,7 @@ impl Fx<'_, '_> {
                     _ => Some(None),
                 }
             }
-            InstData::Call { .. } => Some(None),
+            InstData::Call { .. } | InstData::CallTable { .. } => Some(None),
             _ => None,
         }
     }

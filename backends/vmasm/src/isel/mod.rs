@@ -506,6 +506,27 @@ impl<'a, 'p> Fx<'a, 'p> {
                         );
                     }
                 }
+                InstData::CallTable { table, index, args } => {
+                    // The first argument is an instance only if every entry takes one.
+                    let entries = &self.cx.module.tables[table.index()].entries;
+                    let inst_conv = entries.iter().any(Option::is_some)
+                        && entries
+                            .iter()
+                            .flatten()
+                            .all(|g| matches!(self.cx.convs[g.index()], Conv::Instance { .. }));
+                    let mut push = |v: Value, kind: UseKind| self.uses[v.index()].push((k, kind));
+                    push(*index, UseKind::Value);
+                    for (i, a) in args.iter().enumerate() {
+                        push(
+                            *a,
+                            if i == 0 && inst_conv {
+                                UseKind::Instance
+                            } else {
+                                UseKind::Value
+                            },
+                        );
+                    }
+                }
                 other => other.for_each_arg(|v| push(v, UseKind::Value)),
             }
         }
@@ -692,9 +713,9 @@ impl Fx<'_, '_> {
         // The largest call area any callee without an instance needs.
         let mut area = None;
         for (_, i) in f.inst_iter() {
-            if let InstData::Call { func, .. } = f.inst(i) {
-                if self.cx.convs[func.index()] == Conv::Area {
-                    area = Some(area.unwrap_or(0).max(self.cx.frame_sizes[func.index()]));
+            for g in plcc_ir::analysis::inst_callees(self.cx.module, f.inst(i)) {
+                if self.cx.convs[g.index()] == Conv::Area {
+                    area = Some(area.unwrap_or(0).max(self.cx.frame_sizes[g.index()]));
                 }
             }
         }
@@ -977,8 +998,8 @@ impl Fx<'_, '_> {
             return Ok(());
         }
         match data {
-            InstData::CallTable { .. } => {
-                return Err(self.unsupported("a call bound at run time (`call_table`)", span))
+            InstData::CallTable { table, index, args } => {
+                self.call_table(table, index, &args, res)?
             }
             InstData::Iconst { .. } | InstData::Fconst { .. } => {
                 if let Some(v) = res {
@@ -1287,6 +1308,53 @@ impl Fx<'_, '_> {
     /// The home of a pointer value, which holds its absolute address.
     fn ptr_value(&mut self, v: Value) -> u32 {
         self.home(v)
+    }
+
+    /// `call_table`: the VM calls only immediate code addresses (CALB, CALBR, CALF),
+    /// so a compare chain on the index (EQ of the index's unsigned type against each
+    /// entry's number) jumps to a direct call of the entry; past the chain (an empty
+    /// entry or an index out of range) the fault word is set and the result zeroed.
+    fn call_table(
+        &mut self,
+        table: plcc_ir::TableId,
+        index: Value,
+        args: &[Value],
+        res: Option<Value>,
+    ) -> Res<()> {
+        let entries = self.cx.module.tables[table.index()].entries.clone();
+        let it = self.vty(index);
+        let reach = match it.bits() {
+            64 => u64::MAX,
+            b => (1u64 << b) - 1,
+        };
+        let ih = self.home(index);
+        let c = self.scratch(self.size(Type::I1))?;
+        let mut cases = Vec::new();
+        for (k, e) in entries.iter().enumerate() {
+            let Some(g) = *e else { continue };
+            if k as u64 > reach {
+                break;
+            }
+            let l = self.new_label("TC");
+            let kc = self.konst(it, k as u64);
+            self.rrr(op::cmp(op::group::EQ, int_ty(it, false)), &[c, ih, kc]);
+            self.jnz(c, l);
+            cases.push((l, g));
+        }
+        self.raise_fault()?;
+        if let Some(v) = res {
+            let n = self.size(self.vty(v));
+            let h = self.home(v);
+            self.fill(h, 0, n);
+        }
+        let end = self.new_label("TE");
+        for (l, g) in cases {
+            self.jmp(end);
+            self.label(l);
+            self.call(g, args, res)?;
+        }
+        self.label(end);
+        Ok(())
     }
 
     fn call(&mut self, g: FuncId, args: &[Value], res: Option<Value>) -> Res<()> {
