@@ -137,9 +137,12 @@ impl<'s> Lowerer<'s> {
             Some(b) => b,
             None => return,
         };
-        // A derived FB without a body of its own runs its base's.
+        // A derived FB without a body of its own runs its base's; in CODESYS its
+        // body, even empty, replaces the base's (which `SUPER^()` runs).
         let src = match self.pou(id).base {
-            Some(_) if self.pou_ast(id).body.stmts.is_empty() => self.body_owner(id).unwrap_or(id),
+            Some(_) if self.pou_ast(id).body.stmts.is_empty() && !self.codesys => {
+                self.body_owner(id).unwrap_or(id)
+            }
             _ => id,
         };
         self.with_function(body_id, |l, func| {

@@ -234,6 +234,30 @@ impl<'s> Lowerer<'s> {
                 .filter(|((o, _), _)| *o == c)
                 .filter_map(|((_, s), &(g, st))| Some((*s, g.or(st)?)))
                 .collect();
+            // A variable may not hide one of a base (VAR_TEMPs excepted).
+            if let Some(b) = self.pou(c).base {
+                for v in self.pou(c).vars.clone() {
+                    if v.section == VarKind::Temp {
+                        continue;
+                    }
+                    let Some((d, vi)) = self.class_var(b, v.name.sym) else {
+                        continue;
+                    };
+                    if self.pou(d).vars[vi].section == VarKind::Temp {
+                        continue;
+                    }
+                    let dn = self.pou(d).display.clone();
+                    let at = self.pou(d).vars[vi].name.span;
+                    self.diags.push(
+                        Diagnostic::error(
+                            codes::E_DUPLICATE,
+                            format!("`{}` is declared in the base `{dn}` too: a derived function block cannot declare a variable of its base again", v.display),
+                            v.name.span,
+                        )
+                        .with_secondary(at, "declared here"),
+                    );
+                }
+            }
             for &(sym, m) in own.iter().chain(props.iter()) {
                 if let Some((d, vi)) = self.class_var(c, sym) {
                     let n = self.text(self.pou(m).name.span).to_string();
