@@ -96,6 +96,29 @@ fn methods_agree_on_every_machine() {
     );
 }
 
+/// FB bodies of two types as the entries, each on its own instance.
+#[test]
+fn fb_bodies_through_a_table_agree_on_every_machine() {
+    let m = load("fbs.ir");
+    let runs = [
+        (0, 1),
+        (1, 5),
+        (1, -3),
+        (0, 2),
+        (2, 7),
+        (0, 3),
+        (-1, 1),
+        (1, 100),
+        (0, 1),
+    ];
+    let script: Vec<Vec<(&str, f64)>> = runs
+        .iter()
+        .map(|&(w, x)| vec![("main.which", w as f64), ("main.x", x as f64)])
+        .collect();
+    let a = ir_machines::agree_with_interp(&m, &machines(), &script).unwrap();
+    assert_eq!(a.faulted, [4, 6], "on {:?}", a.machines);
+}
+
 /// The program's own counter drives the index: every entry, the empty one and an index
 /// out of range each come in turn.
 #[test]
@@ -118,7 +141,7 @@ fn gpsim_agrees_with_the_simulator_on_call_tables() {
         return;
     }
     let dir = plcc_c::cc::TempDir::new().expect("a temporary directory");
-    for name in ["tables.ir", "methods.ir", "cycle.ir"] {
+    for name in ["tables.ir", "methods.ir", "cycle.ir", "fbs.ir"] {
         let stem = name.trim_end_matches(".ir");
         let fits = gpsim::check_module(&load(name), stem, &tools, dir.path())
             .unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -135,7 +158,12 @@ fn the_c_of_call_tables_is_clean_under_every_compiler_and_the_sanitizers() {
         eprintln!("notice: no C compiler here; the C of call tables is not checked");
         return;
     }
-    let modules = [load("tables.ir"), load("methods.ir"), load("cycle.ir")];
+    let modules = [
+        load("tables.ir"),
+        load("methods.ir"),
+        load("cycle.ir"),
+        load("fbs.ir"),
+    ];
     let dir = plcc_c::cc::TempDir::new().expect("a temporary directory");
     let refs: Vec<&Module> = modules.iter().collect();
     let dirs = c_driver::write_programs(&refs, &dir.path().join("programs")).unwrap();
@@ -155,7 +183,7 @@ fn the_c_of_call_tables_is_clean_under_every_compiler_and_the_sanitizers() {
 /// (the reference's table, `tests/common/cpdev_opcodes.rs`).
 #[test]
 fn the_vm_images_use_only_what_the_c_vms_execute() {
-    for name in ["tables.ir", "methods.ir", "cycle.ir"] {
+    for name in ["tables.ir", "methods.ir", "cycle.ir", "fbs.ir"] {
         let m = load(name);
         for mode in ["16", "32", "32a"] {
             let options = plcc_ir::backend::Options {

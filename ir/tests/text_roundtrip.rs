@@ -62,6 +62,10 @@ fn kitchen_sink_text_mentions_everything() {
     for cc in FloatCC::ALL {
         assert!(t.contains(&format!("fcmp {} ", cc.name())));
     }
+    assert!(t.contains("table t0 \"I_Helper.Apply\" (i64, f32) -> i64 = [-, @helper.$x]\n"));
+    assert!(t.contains("table t1 \"odd \\\"table\\\"\" () = []\n"));
+    assert!(t.contains(" = call_table t0, v"));
+    assert!(t.contains("    call_table t1, v"));
     for op in Intrinsic::ALL {
         assert!(
             t.contains(&format!("    {}\n", op.name()))

@@ -226,6 +226,19 @@ pub fn kitchen_sink() -> Module {
 
     // Functions are added first so that calls can refer to later ones.
     let helper_id = FuncId(1);
+    // Function tables: one with an empty entry, one with no entries.
+    let helper_table = m.add_table(Table {
+        name: "I_Helper.Apply".into(),
+        params: vec![Type::I64, Type::F32],
+        result: Some(Type::I64),
+        entries: vec![None, Some(helper_id)],
+    });
+    let empty_table = m.add_table(Table {
+        name: "odd \"table\"".into(),
+        params: vec![],
+        result: None,
+        entries: vec![],
+    });
     let mut kf = Function::new(
         "kitchen",
         FuncKind::Function,
@@ -423,6 +436,8 @@ pub fn kitchen_sink() -> Module {
         b.store(qv, gq);
         b.load(Type::Ptr, ptr);
         let r = b.call(helper_id, Some(Type::I64), vec![x64, f32v]).unwrap();
+        b.call_table(helper_table, Some(Type::I64), x32, vec![r, f32v]);
+        b.call_table(empty_table, None, x64, vec![]);
         for op in Intrinsic::ALL {
             b.intrinsic(op, vec![]);
         }
