@@ -390,6 +390,7 @@ bad! {
     oo_abstract,
     oo_final,
     oo_access,
+    oo_recursion,
     // not supported yet
     string_width_mismatch,
     string_selection_mismatch,

@@ -1308,3 +1308,23 @@ fn empty_and_comment_only_files() {
         .is_empty());
     assert_eq!(codes_of("(* never closed"), ["E0002"]);
 }
+
+#[test]
+fn var_access_var_inst_and_struct_extends_are_parsed() {
+    let src = "FUNCTION_BLOCK fb\nVAR PROTECTED w : INT; END_VAR\nVAR PUBLIC v : INT; END_VAR\n\
+               METHOD m\n  VAR_INST n : INT; END_VAR\n  n := n + 1;\nEND_METHOD\nEND_FUNCTION_BLOCK";
+    let (p, _) = pou(src);
+    let access: Vec<(u32, AccessSpec)> = p.oo.var_access.iter().map(|a| (a.0, a.1)).collect();
+    assert_eq!(
+        access,
+        [(0, AccessSpec::Protected), (1, AccessSpec::Public)]
+    );
+    assert_eq!(p.oo.methods[0].pou.var_blocks[0].kind, VarKind::Inst);
+    let (u, i) = ok(
+        "TYPE A : STRUCT x : INT; END_STRUCT; B EXTENDS A : STRUCT y : INT; END_STRUCT; END_TYPE",
+    );
+    let Item::Type(b) = &u.items[1] else {
+        panic!("a type")
+    };
+    assert_eq!(i.name(b.extends.expect("a base").sym), "A");
+}
