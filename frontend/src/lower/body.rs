@@ -363,60 +363,56 @@ impl<'a, 's> BodyCx<'a, 's> {
         let pou = self.pou;
         let agg = self.l.ir[pou.0 as usize].agg.expect("instance struct");
         let this = self.self_ptr.expect("instance pointer");
-        // The base's fields as the base initialises them (the class id too, which
-        // is set again below).
-        if let Some(init) = self
-            .l
-            .pou(pou)
-            .base
-            .and_then(|b| self.l.ir[b.0 as usize].init)
-        {
-            self.b.call(init, None, vec![this]);
-        }
         if let Some(&id) = self.l.classes.class_id.get(&pou) {
             let v = self.b.iconst(super::dispatch::CLASS_ID, id as i64);
             let a = self.b.field_addr(this, agg, 0);
             self.b.store(v, a);
         }
-        let n = self.l.pou(pou).vars.len();
-        for vi in 0..n {
-            let Some(Storage::Field(fi)) = self.l.ir[pou.0 as usize].storage[vi] else {
-                continue;
-            };
-            let v = self.l.pou(pou).vars[vi].clone();
-            self.set_span(v.name.span);
-            let addr = self.b.field_addr(this, agg, fi);
-            if v.section == VarKind::InOut {
-                if let Some(init) = self.decl_init(vi) {
-                    self.l.error(
-                        codes::E_BAD_DECLARATION,
-                        "a VAR_IN_OUT cannot have an initial value",
-                        init.span(),
-                    );
-                }
-                continue;
-            }
-            let init = self.decl_init(vi);
-            self.init_var(addr, v.ty, v.tag, init);
-        }
-        // The VAR_INST variables of its methods.
-        for m in self.l.own_methods(pou) {
-            for vi in 0..self.l.pou(m).vars.len() {
-                let Some(Storage::Field(fi)) = self.l.ir[m.0 as usize].storage[vi] else {
+        // The fields of the bases too, farthest first, each with its initial value as
+        // its class declares it (not by calling the base's init function: on a VM
+        // whose instances hold their functions' frames, that frame would lie over
+        // this instance's own fields).
+        let mut lineage = self.l.lineage(pou);
+        lineage.reverse();
+        for c in lineage {
+            self.pou = c;
+            let n = self.l.pou(c).vars.len();
+            for vi in 0..n {
+                let Some(Storage::Field(fi)) = self.l.ir[c.0 as usize].storage[vi] else {
                     continue;
                 };
-                let v = self.l.pou(m).vars[vi].clone();
-                let ast = self.l.pou_ast(m);
-                let init = ast.var_blocks[v.decl.0 as usize].decls[v.decl.1 as usize]
-                    .init
-                    .as_ref();
+                let v = self.l.pou(c).vars[vi].clone();
+                self.set_span(v.name.span);
                 let addr = self.b.field_addr(this, agg, fi);
-                let saved = self.pou;
-                self.pou = m;
+                if v.section == VarKind::InOut {
+                    if let Some(init) = self.decl_init(vi) {
+                        self.l.error(
+                            codes::E_BAD_DECLARATION,
+                            "a VAR_IN_OUT cannot have an initial value",
+                            init.span(),
+                        );
+                    }
+                    continue;
+                }
+                let init = self.decl_init(vi);
                 self.init_var(addr, v.ty, v.tag, init);
-                self.pou = saved;
+            }
+            // The VAR_INST variables of its methods.
+            for m in self.l.own_methods(c) {
+                for vi in 0..self.l.pou(m).vars.len() {
+                    let Some(Storage::Field(fi)) = self.l.ir[m.0 as usize].storage[vi] else {
+                        continue;
+                    };
+                    let v = self.l.pou(m).vars[vi].clone();
+                    let addr = self.b.field_addr(this, agg, fi);
+                    self.pou = m;
+                    let init = self.decl_init(vi);
+                    self.init_var(addr, v.ty, v.tag, init);
+                    self.pou = c;
+                }
             }
         }
+        self.pou = pou;
     }
 
     /// The zero value of a scalar type.

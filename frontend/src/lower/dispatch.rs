@@ -99,7 +99,7 @@ impl<'s> Lowerer<'s> {
         f.span = Some(self.pou(m).name.span);
         let fid = self.module.add_func(f);
         self.classes.dispatchers.insert(cache, fid);
-        let agg = family.iter().find_map(|&d| self.ir[d.0 as usize].agg);
+        let has_class = family.iter().any(|&d| self.ir[d.0 as usize].agg.is_some());
         // The table: an entry per class id, the class's method where the family has
         // it (an id outside the family, 0 for an instance never initialised, has
         // none: the call raises the fault flag and gives 0).
@@ -121,23 +121,22 @@ impl<'s> Lowerer<'s> {
         self.with_function(fid, |_, func| {
             let mut b = plcc_ir::FuncBuilder::new(func);
             let args = b.params();
-            let r = match agg {
-                Some(agg) => {
-                    let at = b.field_addr(args[0], agg, 0);
-                    let id = b.load(CLASS_ID, at);
-                    b.call_table(table, ret, id, args)
-                }
-                None => {
-                    // No class of the family exists: every call is a fault.
-                    b.intrinsic(plcc_ir::Intrinsic::RaiseFault, vec![]);
-                    ret.map(|t| {
-                        if t.is_float() {
-                            b.fconst(t, 0.0)
-                        } else {
-                            b.iconst(t, 0)
-                        }
-                    })
-                }
+            let r = if has_class {
+                // The class id is the first field of every class, at the
+                // instance's own address: loaded as such, not as a field of some
+                // class's struct (the instance may be of any class of the family).
+                let id = b.load(CLASS_ID, args[0]);
+                b.call_table(table, ret, id, args)
+            } else {
+                // No class of the family exists: every call is a fault.
+                b.intrinsic(plcc_ir::Intrinsic::RaiseFault, vec![]);
+                ret.map(|t| {
+                    if t.is_float() {
+                        b.fconst(t, 0.0)
+                    } else {
+                        b.iconst(t, 0)
+                    }
+                })
             };
             b.ret(r);
         });
@@ -172,7 +171,12 @@ impl<'s> Lowerer<'s> {
     /// The function running the body of `base` (or of its nearest ancestor with a
     /// body) on an instance of `class`; `None` when no ancestor has a body.
     pub(crate) fn body_copy(&mut self, class: PouId, base: PouId) -> Option<FuncId> {
-        let owner = self.body_owner(base)?;
+        // In CODESYS the base's own body, even empty, is the one `SUPER^()` runs.
+        let owner = if self.codesys {
+            Some(base).filter(|&b| !self.pou_ast(b).body.stmts.is_empty())?
+        } else {
+            self.body_owner(base)?
+        };
         if let Some(&f) = self.classes.body_copies.get(&(class, owner)) {
             return Some(f);
         }
