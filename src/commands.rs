@@ -278,15 +278,17 @@ pub fn difftest(a: &DifftestArgs) -> u8 {
     use crate::difftest::plcopen;
     let (first, count, scans, out) = (a.first, a.count, a.scans, a.out);
     let (xml, sfc) = match a.lang {
-        "st" => (false, false),
+        "st" | "oo" => (false, false),
         "xml" => (true, false),
         "sfc" => (false, true),
         l => {
             return usage(format!(
-                "`{l}` is not a language of difftest (st, xml or sfc)"
+                "`{l}` is not a language of difftest (st, oo, xml or sfc)"
             ))
         }
     };
+    // `oo`: ST programs that all have an object-oriented part.
+    let oo = a.lang == "oo";
     let machines: Vec<&str> = a.machines.split(',').map(str::trim).collect();
     for m in &machines {
         match targets::find(m.split(':').next().unwrap_or(m)) {
@@ -317,7 +319,11 @@ pub fn difftest(a: &DifftestArgs) -> u8 {
             let v = crate::difftest::sfc::check(&p, &machines, scans, seed);
             println!("(* seed {seed}: {v:?} *)\n{}", p.to_st());
         } else if a.show {
-            let p = crate::difftest::program(seed);
+            let p = if oo {
+                crate::difftest::program_oo(seed)
+            } else {
+                crate::difftest::program(seed)
+            };
             let v = crate::difftest::check(&p, &machines, scans, seed);
             println!("(* seed {seed}: {v:?} *)\n{}", p.to_st());
         }
@@ -334,6 +340,8 @@ pub fn difftest(a: &DifftestArgs) -> u8 {
                 }
                 Err(f) => Some(f),
             }
+        } else if oo {
+            crate::difftest::run_seed_oo(seed, &machines, scans)
         } else {
             crate::difftest::run_seed(seed, &machines, scans)
         };

@@ -193,9 +193,11 @@ enum Command {
         /// Print every program and its verdict
         #[arg(long)]
         show: bool,
-        /// The language of the programs: st (random ST programs), xml (random
-        /// PLCopen projects with LD and FBD bodies) or sfc (random sequential
-        /// function charts, each under the three --sfc profiles)
+        /// The language of the programs: st (random ST programs), oo (random ST
+        /// programs that all have an object-oriented part: interfaces, function
+        /// blocks with methods, inheritance), xml (random PLCopen projects with LD
+        /// and FBD bodies) or sfc (random sequential function charts, each under the
+        /// three --sfc profiles)
         #[arg(long, default_value = "st")]
         lang: String,
         /// With --lang xml or sfc: also generate the constructs of the front-end bugs known

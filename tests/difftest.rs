@@ -64,7 +64,10 @@ fn every_kind_of_program_comes_often_enough() {
     let n = 1000;
     let mut counts = [0usize; 6];
     for seed in 1..=n {
-        let p = difftest::program(seed);
+        // The shares of the other constructs, without the OO part (its calls
+        // through references have `^` too).
+        let mut p = difftest::program(seed);
+        plcc::difftest::oo::strip(&mut p);
         let st = p.to_st();
         let main = &st[st.find("PROGRAM main").expect("main")..];
         let main = &main[..main.find("END_PROGRAM").expect("end")];
@@ -584,6 +587,62 @@ fn the_chart_shrinker_keeps_the_cause_and_drops_the_rest() {
     ));
 }
 
+// ------------------------------------------------------------------ OO
+
+use plcc::difftest::oo;
+
+#[test]
+fn one_hundred_random_oo_programs_agree_on_every_machine() {
+    let mut machines_ran = 0;
+    let mut findings = Vec::new();
+    for seed in 1..=100 {
+        match difftest::check(&difftest::program_oo(seed), &machines(), 4, seed) {
+            Verdict::Agree { machines } => machines_ran += machines,
+            v => {
+                let f = difftest::run_seed_oo(seed, &machines(), 4).expect("still failing");
+                findings.push(format!("seed {seed}: {v:?}\n{}", f.reproducer));
+            }
+        }
+    }
+    println!("100 OO programs, {machines_ran} machine runs");
+    assert!(findings.is_empty(), "{}", findings.join("\n\n"));
+    assert!(
+        machines_ran >= 100 * machines_holding_everything(),
+        "{machines_ran} machine runs"
+    );
+}
+
+#[test]
+fn every_oo_feature_comes_often_enough() {
+    // Each feature of the OO generator (oo::FEATURES) in at least 3% of the OO
+    // programs, and the OO part in 15-25% of the ST generator's programs.
+    let n = 1000;
+    let mut counts = vec![0usize; oo::FEATURES.len()];
+    for seed in 1..=n {
+        let p = difftest::program_oo(seed);
+        for f in oo::features(&p) {
+            let i = oo::FEATURES.iter().position(|x| *x == f).expect("listed");
+            counts[i] += 1;
+        }
+    }
+    let shares: Vec<String> = oo::FEATURES
+        .iter()
+        .zip(&counts)
+        .map(|(f, c)| format!("{f}: {c}"))
+        .collect();
+    println!("of {n}: {}", shares.join(", "));
+    for (f, c) in oo::FEATURES.iter().zip(&counts) {
+        assert!(*c * 100 >= 3 * n as usize, "{f} in {c} of {n} OO programs");
+    }
+    let with_oo = (1..=n)
+        .filter(|&s| difftest::program(s).oo.is_some())
+        .count();
+    assert!(
+        (150..=250).contains(&with_oo),
+        "{with_oo} of {n} ST programs have an OO part"
+    );
+}
+
 // ------------------------------------------------------------------ ASan
 
 /// Random programs of the three generators, their C in an executable of its own
@@ -598,12 +657,8 @@ fn random_programs_pass_the_address_sanitizer() {
     }
     let mut modules: Vec<(String, plcc_ir::Module)> = Vec::new();
     for seed in 1..=100 {
-        let st = difftest::program(seed).to_st();
-        let built = plcc::driver::build_sources(
-            vec![("difftest.st".into(), st.into_bytes())],
-            &Default::default(),
-        );
-        if let Ok(m) = built.map_err(|e| e.0).and_then(|b| b.into_module()) {
+        // In the dialect of the program (CODESYS's for some with an OO part).
+        if let Ok(m) = difftest::compile(&difftest::program(seed)) {
             modules.push((format!("ST seed {seed}"), m));
         }
     }

@@ -325,6 +325,9 @@ pub enum Stmt {
     /// `a := b;` of two `Rec`s or two `ARRAY[0..2] OF DINT`s, one of them (at least)
     /// reached through a run-time address (`recs[i] := pr^;`).
     Copy(Path, Path),
+    /// A statement on the object-oriented part ([`super::oo`]): a method call, a
+    /// loop over an array of interfaces, an interface or reference bound.
+    Oo(Box<super::oo::OoStmt>),
 }
 
 impl Stmt {
@@ -345,6 +348,7 @@ impl Stmt {
                 .collect(),
             Stmt::Ref(_, p) => p.iter().flat_map(|p| p.idx.iter()).collect(),
             Stmt::Copy(a, b) => a.idx.iter().chain(b.idx.iter()).collect(),
+            Stmt::Oo(o) => o.exprs(),
         }
     }
 
@@ -365,6 +369,7 @@ impl Stmt {
                 .collect(),
             Stmt::Ref(_, p) => p.iter_mut().flat_map(|p| p.idx.iter_mut()).collect(),
             Stmt::Copy(a, b) => a.idx.iter_mut().chain(b.idx.iter_mut()).collect(),
+            Stmt::Oo(o) => o.exprs_mut(),
         }
     }
 
@@ -451,6 +456,9 @@ pub struct Prog {
     pub config: Option<Config>,
     /// The fixed declarations the shrinker took away (of [`FIXED`]).
     pub dropped: Vec<String>,
+    /// The object-oriented part (interfaces, function blocks with methods and
+    /// their instances), if the program has one ([`super::oo`]).
+    pub oo: Option<super::oo::Oo>,
 }
 
 /// The declarations every program has until the shrinker takes them away: the
@@ -505,6 +513,9 @@ pub struct Gen<'r> {
     /// Names expressions may read besides the program's variables (an SFC's step
     /// and action flags: `S1.X`, `S1.T`, `A0.Q`); nothing assigns them.
     pub extra: Vec<(String, T)>,
+    /// Expressions for a scope other than `main`'s (a method's body): no array
+    /// element, STRUCT field or enumeration variable of `main`.
+    pub local: bool,
 }
 
 /// The fields of the STRUCT variables `r1`, `r2` (type `Rec`, see [`Prog::to_st`])
@@ -619,9 +630,11 @@ impl<'r> Gen<'r> {
                 body: Vec::new(),
                 config: None,
                 dropped: Vec::new(),
+                oo: None,
             },
             depth: 0,
             extra: Vec::new(),
+            local: false,
         }
     }
 
@@ -633,6 +646,7 @@ impl<'r> Gen<'r> {
             prog,
             depth: 0,
             extra: Vec::new(),
+            local: false,
         }
     }
 
@@ -811,7 +825,9 @@ impl<'r> Gen<'r> {
             .filter(|(_, vt, _)| *vt == t)
             .map(|(n, _, _)| n.clone())
             .collect();
-        v.extend(struct_fields(t));
+        if !self.local {
+            v.extend(struct_fields(t));
+        }
         v
     }
 
@@ -995,7 +1011,7 @@ impl<'r> Gen<'r> {
             if !vars.is_empty() && self.rng.chance(65) {
                 return Expr::Var(t, self.rng.pick(&vars).clone());
             }
-            if t == self.prog.array.0 && self.rng.chance(30) {
+            if t == self.prog.array.0 && !self.local && self.rng.chance(30) {
                 let i = self.index();
                 return Expr::Elem(t, Box::new(i));
             }
@@ -1020,7 +1036,7 @@ impl<'r> Gen<'r> {
                     Expr::Bin(T::Bool, op, b(self.expr(T::Bool)), b(self.expr(T::Bool)))
                 }
                 70..=79 => Expr::Un(T::Bool, "NOT", b(self.expr(T::Bool))),
-                80..=84 => {
+                80..=84 if !self.local => {
                     let v = *self.rng.pick(&["Idle", "Run", "Stop"]);
                     let op = *self.rng.pick(&["=", "<>"]);
                     Expr::Lit(T::Bool, format!("(m1 {op} Mode#{v})"))

@@ -6,6 +6,7 @@
 //! `plcc difftest` runs campaigns; `tests/difftest.rs` runs a fixed-seed batch.
 
 pub mod gen;
+pub mod oo;
 pub mod plcopen;
 mod print;
 pub mod sfc;
@@ -35,8 +36,14 @@ pub enum Verdict {
 /// Backend codes that mean "this program does not fit the target".
 const UNFIT: [&str; 6] = ["E9001", "E9002", "E9003", "E9004", "E9101", "E9102"];
 
-fn compile(p: &Prog) -> Result<Module, String> {
-    build_text("difftest.st", &p.to_st(), &BuildOptions::default())
+/// Builds a program in its dialect (CODESYS's for an OO part that uses its
+/// constructs).
+pub fn compile(p: &Prog) -> Result<Module, String> {
+    let opts = BuildOptions {
+        codesys: p.oo.as_ref().is_some_and(|o| o.codesys),
+        ..Default::default()
+    };
+    build_text("difftest.st", &p.to_st(), &opts)
 }
 
 fn random_value(rng: &mut Rng, t: T) -> u64 {
@@ -198,10 +205,33 @@ pub(crate) fn run(
     Verdict::Agree { machines: ms.len() }
 }
 
-/// The program of a seed.
+/// The share (percent) of the programs of [`program`] that have an
+/// object-oriented part ([`oo`]).
+pub const OO_SHARE: u64 = 20;
+
+/// The program of a seed: one of [`OO_SHARE`] percent has an object-oriented part,
+/// added to the program the seed gives otherwise (drawn from a generator of its
+/// own, so that the other parts do not depend on it).
 pub fn program(seed: u64) -> Prog {
     let mut rng = Rng::new(seed);
-    Gen::new(&mut rng).program()
+    let mut p = Gen::new(&mut rng).program();
+    let mut orng = Rng::new(seed ^ 0x0B1E_C7ED);
+    if orng.chance(OO_SHARE) {
+        oo::add(&mut p, &mut orng);
+    }
+    p
+}
+
+/// The program of a seed with an object-oriented part always (`plcc difftest
+/// --lang oo`): the part of [`program`]'s OO programs, and the rest of the seed's
+/// program without its CONFIGURATION.
+pub fn program_oo(seed: u64) -> Prog {
+    let mut rng = Rng::new(seed);
+    let mut p = Gen::new(&mut rng).program();
+    let mut orng = Rng::new(seed ^ 0x0B1E_C7ED);
+    orng.chance(OO_SHARE);
+    oo::add(&mut p, &mut orng);
+    p
 }
 
 /// The result of one seed of a campaign.
@@ -237,7 +267,15 @@ pub(crate) fn codes(v: &Verdict) -> String {
 
 /// Checks seed `seed`; on a mismatch or a rejected program, shrinks it.
 pub fn run_seed(seed: u64, machines: &[&str], scans: u32) -> Option<Finding> {
-    let p = program(seed);
+    run_program(program(seed), seed, machines, scans)
+}
+
+/// [`run_seed`] for the program of [`program_oo`] (`--lang oo`).
+pub fn run_seed_oo(seed: u64, machines: &[&str], scans: u32) -> Option<Finding> {
+    run_program(program_oo(seed), seed, machines, scans)
+}
+
+fn run_program(p: Prog, seed: u64, machines: &[&str], scans: u32) -> Option<Finding> {
     let verdict = check(&p, machines, scans, seed);
     let bad = |v: &Verdict| !matches!(v, Verdict::Agree { .. });
     if !bad(&verdict) {

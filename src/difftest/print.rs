@@ -211,6 +211,7 @@ fn print_stmts(body: &[Stmt], ind: usize, out: &mut String) {
                 print_path(b, out);
                 out.push_str(";\n");
             }
+            Stmt::Oo(o) => out.push_str(&o.text(&pad)),
             Stmt::Ref(r, None) => {
                 let _ = writeln!(out, "{pad}{r} := NULL;");
             }
@@ -244,8 +245,9 @@ impl Prog {
     pub fn to_st(&self) -> String {
         let body = stmts_text(&self.body, 1);
         let mut o = self.prelude();
+        let oo_decls = self.oo.as_ref().map_or(String::new(), |oo| oo.decls(&body));
         o.push_str("PROGRAM main\n");
-        o.push_str(&self.decls(&body, ""));
+        o.push_str(&self.decls(&body, &oo_decls));
         o.push_str(&body);
         o.push_str("END_PROGRAM\n");
         o.push_str(&self.config_text());
@@ -276,6 +278,9 @@ impl Prog {
                 o.push_str("    Mode : (Idle, Run := 5, Stop);\n");
             }
             o.push_str("END_TYPE\n\n");
+        }
+        if let Some(oo) = &self.oo {
+            o.push_str(&oo.text());
         }
         if self.inout {
             // Every access to a VAR_IN_OUT is through the address the caller passed;

@@ -2,11 +2,13 @@
 //! their bodies, expressions by a plain literal or by a subexpression of their type,
 //! an exact EXPT's operand by a literal, and the declared parts (the CONFIGURATION,
 //! its instances, tasks, connections and globals, the parts reached through
-//! run-time addresses) are dropped, for as long as the mismatch stays. A step that
+//! run-time addresses, the object-oriented part or pieces of it) are dropped, for as
+//! long as the mismatch stays. A step that
 //! takes away what the program still uses makes a program the front end rejects,
 //! which is no mismatch, so it is not taken.
 
 use super::gen::{Expr, Operand, Prog, Stmt, FIXED, T};
+use super::oo::Oo;
 
 /// The simplest literal of a type.
 fn plain(t: T) -> Expr {
@@ -132,7 +134,88 @@ fn fewer_parts(p: &Prog) -> Vec<Prog> {
     if p.refs {
         with(&|q| q.refs = false);
     }
+    if let Some(oo) = &p.oo {
+        oo_parts(oo, &mut with);
+    }
     out
+}
+
+/// What makes a candidate from an edit of a copy of the program.
+type With<'a> = dyn FnMut(&dyn Fn(&mut Prog)) + 'a;
+
+/// The object-oriented part's simplifications: all of it (with its statements),
+/// an FB's body or its `SUPER^();`, a method's statement, a property's SET body, a
+/// property, a method, a field, one of `main`'s instances, interface variables,
+/// arrays and references.
+fn oo_parts(oo: &Oo, with: &mut With) {
+    fn part(q: &mut Prog) -> &mut Oo {
+        q.oo.as_mut().expect("an OO part")
+    }
+    with(&|q| super::oo::strip(q));
+    for (c, class) in oo.classes.iter().enumerate() {
+        if !class.body.is_empty() {
+            with(&|q| part(q).classes[c].body.clear());
+        }
+        if class.super_body {
+            with(&|q| part(q).classes[c].super_body = false);
+        }
+        for (m, method) in class.methods.iter().enumerate() {
+            for i in 0..method.body.len() {
+                with(&|q| {
+                    part(q).classes[c].methods[m].body.remove(i);
+                });
+            }
+        }
+        for (k, prop) in class.props.iter().enumerate() {
+            if !prop.set.is_empty() {
+                with(&|q| part(q).classes[c].props[k].set.clear());
+            }
+            with(&|q| {
+                part(q).classes[c].props.remove(k);
+            });
+        }
+        // Declarations (a step leaving a use behind is rejected, so not taken).
+        for m in 0..class.methods.len() {
+            with(&|q| {
+                part(q).classes[c].methods.remove(m);
+            });
+        }
+        for i in 0..class.inputs.len() {
+            with(&|q| {
+                part(q).classes[c].inputs.remove(i);
+            });
+        }
+        for i in 0..class.outputs.len() {
+            with(&|q| {
+                part(q).classes[c].outputs.remove(i);
+            });
+        }
+        for i in 0..class.vars.len() {
+            with(&|q| {
+                part(q).classes[c].vars.remove(i);
+            });
+        }
+    }
+    for i in 0..oo.insts.len() {
+        with(&|q| {
+            part(q).insts.remove(i);
+        });
+    }
+    for i in 0..oo.itf_vars.len() {
+        with(&|q| {
+            part(q).itf_vars.remove(i);
+        });
+    }
+    for i in 0..oo.arrays.len() {
+        with(&|q| {
+            part(q).arrays.remove(i);
+        });
+    }
+    for i in 0..oo.refs.len() {
+        with(&|q| {
+            part(q).refs.remove(i);
+        });
+    }
 }
 
 /// The `n`th one-step simplification of `p`, if there is one: removing a statement,

@@ -112,6 +112,7 @@ fn fb_decl(rng: &mut Rng) -> Prog {
         body: Vec::new(),
         config: None,
         dropped: Vec::new(),
+        oo: None,
     }
 }
 
