@@ -142,8 +142,9 @@ fn instance_agg(module: &Module, id: FuncId) -> Option<AggId> {
             }
         }
     }
-    // The FB's own struct, named as its body (`@K1`, `@K1$init` for `%K1`).
-    let own = f.name.strip_suffix("$init").unwrap_or(&f.name);
+    // The FB's own struct, named as its body (`@K1`, `@K1$init` for `%K1`, and
+    // `@K2$SUPER.K0` for K0's body run by CODESYS's `SUPER^()` on a K2).
+    let own = f.name.split('$').next().unwrap_or(&f.name);
     if let Some(k) = module.aggs.iter().position(|a| {
         matches!(a, AggDef::Struct(s) if s.name == own
             && matches!(s.kind, StructKind::FunctionBlock | StructKind::Program))
