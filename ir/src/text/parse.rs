@@ -1080,9 +1080,8 @@ impl<'a> Parser<'a> {
         Ok(())
     }
 
-    fn func_def(&mut self) -> Result<(), ParseError> {
-        self.bump();
-        let name = self.global("a function name such as `@f`")?;
+    /// `(types) [-> type]`: the parameters and result of a function or a table.
+    pub(super) fn signature(&mut self) -> Result<(Vec<Type>, Option<Type>), ParseError> {
         self.expect(Tok::LParen, "`(`")?;
         let mut params = Vec::new();
         if !self.eat(&Tok::RParen) {
@@ -1094,11 +1093,18 @@ impl<'a> Parser<'a> {
                 self.expect(Tok::Comma, "`,` or `)`")?;
             }
         }
-        let ret = if self.eat(&Tok::Arrow) {
+        let result = if self.eat(&Tok::Arrow) {
             Some(self.scalar_type()?)
         } else {
             None
         };
+        Ok((params, result))
+    }
+
+    fn func_def(&mut self) -> Result<(), ParseError> {
+        self.bump();
+        let name = self.global("a function name such as `@f`")?;
+        let (params, ret) = self.signature()?;
         let (k, kpos) =
             self.word("a function kind (`function`, `fb`, `program`, `init`, `helper`)")?;
         let Some(kind) = FuncKind::from_name(k) else {

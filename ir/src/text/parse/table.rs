@@ -20,22 +20,7 @@ impl<'a> Parser<'a> {
         self.bump();
         let num = self.table_ref()?;
         let name = self.string("the table's name as a string")?;
-        self.expect(Tok::LParen, "`(`")?;
-        let mut params = Vec::new();
-        if !self.eat(&Tok::RParen) {
-            loop {
-                params.push(self.scalar_type()?);
-                if self.eat(&Tok::RParen) {
-                    break;
-                }
-                self.expect(Tok::Comma, "`,` or `)`")?;
-            }
-        }
-        let result = if self.eat(&Tok::Arrow) {
-            Some(self.scalar_type()?)
-        } else {
-            None
-        };
+        let (params, result) = self.signature()?;
         self.expect(Tok::Equals, "`=`")?;
         self.expect(Tok::LBracket, "`[`")?;
         let mut entries = Vec::new();
