@@ -602,8 +602,14 @@ impl<'s> Lowerer<'s> {
                 };
                 self.ir[m.0 as usize].storage[vi] =
                     Some(super::Storage::Field(fields.len() as u32));
+                // `M.n`; an override's own `n` beside the overridden method's
+                // (both live in a derived instance) is told apart by its class.
+                let mut name = format!("{}.{}", self.text(self.pou(m).name.span), v.display);
+                if fields.iter().any(|f| f.name == name) {
+                    name = format!("{}.{name}", self.pou(c).display);
+                }
                 fields.push(plcc_ir::Field {
-                    name: format!("{}.{}", self.text(self.pou(m).name.span), v.display),
+                    name,
                     ty,
                     elem,
                     role: plcc_ir::FieldRole::Hidden,
