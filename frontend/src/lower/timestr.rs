@@ -1,8 +1,9 @@
-//! TIME, LTIME, DATE, TIME_OF_DAY and DATE_AND_TIME to and from STRING and WSTRING
-//! (`TIME_TO_STRING`, `TO_STRING`, `STRING_TO_DT`, ...), in the forms of IEC 61131-3
-//! literals: `T#1h2m3s4ms`, `LTIME#1s5ns`, `D#2024-05-01`, `TOD#12:34:56.789`,
-//! `DT#2024-05-01-12:34:56`. The helpers of `stdlib/timestrings.st` do the work (the
-//! forms are described there), so every target runs the same code.
+//! TIME, LTIME, DATE, TIME_OF_DAY, DATE_AND_TIME, LDATE, LTOD and LDT to and from
+//! STRING and WSTRING (`TIME_TO_STRING`, `TO_STRING`, `STRING_TO_DT`, ...), in the
+//! forms of IEC 61131-3 literals: `T#1h2m3s4ms`, `LTIME#1s5ns`, `D#2024-05-01`,
+//! `TOD#12:34:56.789`, `DT#2024-05-01-12:34:56`, `LDT#2024-05-01-12:34:56.000000001`.
+//! The helpers of `stdlib/timestrings.st` do the work (the forms are described
+//! there), so every target runs the same code.
 
 use super::body::BodyCx;
 use super::expr::Val;
@@ -19,9 +20,19 @@ fn date_kind(e: ElemType) -> Option<i64> {
     }
 }
 
+/// The KIND argument of the long date helpers (nanoseconds).
+fn long_date_kind(e: ElemType) -> Option<i64> {
+    match e {
+        ElemType::LDate => Some(0),
+        ElemType::LTod => Some(1),
+        ElemType::LDt => Some(2),
+        _ => None,
+    }
+}
+
 /// True for the types these conversions handle.
 pub(super) fn is_time_like(e: ElemType) -> bool {
-    e.is_duration() || date_kind(e).is_some()
+    e.is_duration() || date_kind(e).is_some() || long_date_kind(e).is_some()
 }
 
 impl<'s> BodyCx<'_, 's> {
@@ -29,6 +40,11 @@ impl<'s> BodyCx<'_, 's> {
     /// string `d` of type `rs`.
     pub(super) fn format_time(&mut self, d: Value, rs: StrTy, v: Value, e: ElemType) {
         let dc = self.b.iconst(Type::I16, rs.cap as i64);
+        if let Some(kind) = long_date_kind(e) {
+            let k = self.b.iconst(Type::I16, kind);
+            self.call_helper(rs.wide, "FROM_LDATE", vec![d, dc, v, k]);
+            return;
+        }
         match date_kind(e) {
             Some(kind) => {
                 let k = self.b.iconst(Type::I16, kind);
@@ -51,6 +67,14 @@ impl<'s> BodyCx<'_, 's> {
     /// `st`) is the literal of; the type's zero if it is not one.
     pub(super) fn parse_time(&mut self, s: Value, st: StrTy, to: ElemType) -> Option<Val> {
         let cap = self.b.iconst(Type::I16, st.cap as i64);
+        if let Some(kind) = long_date_kind(to) {
+            let k = self.b.iconst(Type::I16, kind);
+            let v = self.call_helper(st.wide, "TO_LDATE", vec![s, cap, k])?;
+            return Some(Val {
+                v,
+                ty: Ty::Elem(to),
+            });
+        }
         let v = match date_kind(to) {
             Some(kind) => {
                 let k = self.b.iconst(Type::I16, kind);
