@@ -68,14 +68,14 @@ impl<'r> Builder<'r> {
     }
 
     /// A method with the signature `sig` whose body is made later.
-    fn method(&mut self, sig: Sig, over: bool, class: usize) -> Method {
+    fn method(&mut self, sig: Sig, over: bool) -> Method {
         let n = self.rng.below(3);
         let locals = decl_list(self.rng, "l", n);
         let inst = if self.oo.codesys && self.rng.chance(50) {
             let n = 1 + self.rng.below(2);
-            // Named by class too: an override's VAR_INST named as one of the
-            // overridden method's is a front-end bug (KNOWN_BUGS).
-            decl_list(self.rng, &format!("n{class}_{}_", sig.num), n)
+            // Named by method, not class: an override's VAR_INSTs are named as
+            // the overridden method's (each is a field of its own).
+            decl_list(self.rng, &format!("n{}_", sig.num), n)
         } else {
             Vec::new()
         };
@@ -122,7 +122,7 @@ impl<'r> Builder<'r> {
                     .collect();
                 for s in sigs {
                     if !methods.iter().any(|m: &Method| m.sig.name == s.name) {
-                        methods.push(self.method(s, false, idx));
+                        methods.push(self.method(s, false));
                     }
                 }
             } else {
@@ -133,7 +133,7 @@ impl<'r> Builder<'r> {
                     if finals.contains(&m.sig.name) || !(must || self.rng.chance(50)) {
                         continue;
                     }
-                    let mut nm = self.method(m.sig.clone(), true, idx);
+                    let mut nm = self.method(m.sig.clone(), true);
                     nm.public = m.public;
                     methods.push(nm);
                 }
@@ -141,7 +141,7 @@ impl<'r> Builder<'r> {
             }
             for _ in 0..1 + self.rng.below(2) {
                 let s = self.sig(false);
-                let mut m = self.method(s, false, idx);
+                let mut m = self.method(s, false);
                 m.public = self.rng.chance(75);
                 methods.push(m);
             }
