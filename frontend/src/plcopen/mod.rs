@@ -28,6 +28,7 @@ mod body;
 mod decls;
 pub(crate) mod graph;
 pub mod map;
+mod members;
 mod order;
 mod sfc;
 pub(crate) mod text;

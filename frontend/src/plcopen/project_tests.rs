@@ -628,3 +628,12 @@ fn string_values_without_quotes_are_quoted_as_the_editors_quote_them() {
     let v = view(&text(CODESYS));
     assert!(v.contains("c : Label := x;"), "{v}");
 }
+
+#[test]
+#[ignore]
+fn tmp_dump_view() {
+    let p = std::env::var("PLCC_VIEW_FILE").unwrap();
+    let xml = std::fs::read_to_string(&p).unwrap();
+    let (c, _) = convert_text(&xml);
+    std::fs::write("/tmp/view_dump.st", c.expect("converted").il).unwrap();
+}

@@ -11,6 +11,7 @@ use super::body::{emit_body, write_hidden, Line, Names, PouCtx};
 use super::decls::{comment_safe, write_config, write_group, write_type, write_value};
 use super::graph::Graph;
 use super::map::Out;
+use super::members::{push_name, write_inheritance, write_interface, write_members, write_mods};
 use super::sfc;
 use super::xml::{Body, Pou, PouKind, Project, Text, Var, VarGroup};
 use plcc_ir::diag::{Diagnostic, FileId};
@@ -48,6 +49,10 @@ pub(crate) fn write(
             let start = o.pos();
             o.push("    ");
             o.push_text(&t.name);
+            if let Some(b) = &t.extends {
+                o.push(" EXTENDS ");
+                push_name(&mut o, b);
+            }
             o.push(" : ");
             write_type(&mut o, &t.ty, 1);
             if let Some(v) = &t.init {
@@ -65,6 +70,9 @@ pub(crate) fn write(
             o.push("\n");
             write_group(&mut o, g);
         }
+    }
+    for i in &project.interfaces {
+        write_interface(&mut o, i);
     }
     let globals: Vec<&Var> = global_groups(project).flat_map(|g| &g.vars).collect();
     let cx = Cx {
@@ -128,11 +136,13 @@ fn write_head(o: &mut Out, pou: &Pou) -> &'static str {
     };
     let start = o.pos();
     o.push(head);
+    write_mods(o, &pou.oo.mods);
     o.push_text(&pou.name);
     if let Some(r) = &pou.ret {
         o.push(" : ");
         write_type(o, r, 1);
     }
+    write_inheritance(o, &pou.oo);
     o.mark(start, pou.tag.clone());
     o.push("\n");
     for g in &pou.groups {
@@ -161,6 +171,7 @@ fn write_chart(o: &mut Out, cx: &Cx, inp: &sfc::Inputs, diags: &mut Vec<Diagnost
     if let Some(chart) = &chart {
         sfc::write(o, chart);
     }
+    write_members(o, &pou.oo);
     o.push(end);
     o.push("\n");
 }
@@ -249,6 +260,7 @@ fn write_pou(
         write_hidden(o, n);
     }
     write_body(o, &pou.body, body.zip(body_lines.as_deref()));
+    write_members(o, &pou.oo);
     let mut written = Vec::new();
     for (k, a) in pou.actions.iter().enumerate() {
         if by_chart(a) {
