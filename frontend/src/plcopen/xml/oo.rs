@@ -322,7 +322,9 @@ impl Reader<'_, '_> {
                     format!("not supported yet: a {kind} body in {lang}, in `{label}`"),
                     self.span(self.qname(b)),
                 )
-                .with_note("plcc compiles the bodies of methods and properties written in ST or IL"),
+                .with_note(
+                    "plcc compiles the bodies of methods and properties written in ST or IL",
+                ),
             );
             return None;
         }
@@ -385,15 +387,12 @@ impl Reader<'_, '_> {
             let acc_label = format!("{label}.{which}");
             let iface = kid(a, "interface");
             let (ret, groups) = self.interface_of(iface, &acc_label);
-            let bad = ret
-                .is_some()
-                .then_some("`<returnType>`")
-                .or_else(|| {
-                    groups
-                        .iter()
-                        .find(|g| !matches!(g.section, Section::Local | Section::Temp))
-                        .map(|_| "inputs, outputs or in-outs")
-                });
+            let bad = ret.is_some().then_some("`<returnType>`").or_else(|| {
+                groups
+                    .iter()
+                    .find(|g| !matches!(g.section, Section::Local | Section::Temp))
+                    .map(|_| "inputs, outputs or in-outs")
+            });
             if let Some(what) = bad {
                 let at = iface.map_or_else(|| self.qname(a), |i| self.qname(i));
                 self.error(
@@ -410,13 +409,11 @@ impl Reader<'_, '_> {
                 let m = self.mods(i, None);
                 // The least restrictive of the accessors' access modifiers.
                 let rank = |t: &Option<Text>| {
-                    t.as_ref().map_or(0, |t| {
-                        match t.value.as_str() {
-                            "PRIVATE" => 3,
-                            "PROTECTED" => 2,
-                            "INTERNAL" => 1,
-                            _ => 0,
-                        }
+                    t.as_ref().map_or(0, |t| match t.value.as_str() {
+                        "PRIVATE" => 3,
+                        "PROTECTED" => 2,
+                        "INTERNAL" => 1,
+                        _ => 0,
                     })
                 };
                 let first = get.is_none() && set.is_none();
@@ -427,13 +424,15 @@ impl Reader<'_, '_> {
                 mods.access = None;
             }
             let body = match kid(a, "body") {
-                Some(b) if with_body => match self.member_body(b, &acc_label, "property accessor") {
-                    Some(b) => b,
-                    None => {
-                        ok = false;
-                        continue;
+                Some(b) if with_body => {
+                    match self.member_body(b, &acc_label, "property accessor") {
+                        Some(b) => b,
+                        None => {
+                            ok = false;
+                            continue;
+                        }
                     }
-                },
+                }
                 _ => Body::None,
             };
             let acc = Some(Accessor {
