@@ -849,3 +849,61 @@ fn codesys_oo_errors_point_at_the_xml() {
         [codes::E_OO_DECLARATION]
     );
 }
+
+#[test]
+fn methods_called_as_fbd_blocks_through_an_interface() {
+    // I_B extends I_A, which declares Get : INT (input k, output flag); `i.Get`
+    // drawn as a block with its result on an output named as nothing of the method.
+    let itf = data(
+        "interface",
+        r#"<Interface name="I_A"><Methods><Method name="Get"><interface><returnType><INT/></returnType>
+<inputVars><variable name="k"><type><INT/></type></variable></inputVars>
+<outputVars><variable name="flag"><type><BOOL/></type></variable></outputVars></interface></Method></Methods></Interface>"#,
+    ) + &data(
+        "interface",
+        "<Interface name=\"I_B\"><Inheritance><Extends>I_A</Extends></Inheritance></Interface>",
+    );
+    let get = data(
+        "method",
+        &format!(
+            r#"<Method name="Get"><interface><returnType><INT/></returnType><inputVars>{}</inputVars>
+<outputVars>{}</outputVars></interface>{}</Method>"#,
+            var("k", "INT"),
+            var("flag", "BOOL"),
+            st("Get := 2 * k; flag := k > 1;")
+        ),
+    );
+    let fb = format!(
+        r#"<pou name="Impl" pouType="functionBlock"><interface><addData>{}</addData></interface>{}<addData>{get}</addData></pou>"#,
+        data(
+            "pouinheritance",
+            "<Inheritance><Implements>I_B</Implements></Inheritance>"
+        ),
+        st("")
+    );
+    let main = format!(
+        r#"<pou name="main" pouType="program"><interface><localVars>
+<variable name="impl"><type><derived name="Impl"/></type></variable>
+<variable name="i"><type><derived name="I_B"/></type></variable>{}{}{}</localVars></interface>
+<body><FBD>
+<inVariable localId="1"><connectionPointOut/><expression>n</expression></inVariable>
+<block localId="2" typeName="i.Get"><inputVariables><variable formalParameter="k"><connectionPointIn><connection refLocalId="1"/></connectionPointIn></variable></inputVariables>
+<inOutVariables/><outputVariables><variable formalParameter="Result"><connectionPointOut/></variable><variable formalParameter="flag"><connectionPointOut/></variable></outputVariables></block>
+<outVariable localId="3"><connectionPointIn><connection refLocalId="2" formalParameter="Result"/></connectionPointIn><expression>r</expression></outVariable>
+<outVariable localId="4"><connectionPointIn><connection refLocalId="2" formalParameter="flag"/></connectionPointIn><expression>f</expression></outVariable>
+</FBD></body></pou>"#,
+        var("n", "INT"),
+        var("r", "INT"),
+        var("f", "BOOL"),
+    );
+    let xml = file(CODESYS, &format!("{fb}{main}"), "", &itf);
+    let v = view(&xml);
+    assert!(
+        v.contains("    _TMP_I_GET2_RESULT : INT;\n")
+            && v.contains("_TMP_I_GET2_RESULT := i.Get(k := n, flag => _TMP_I_GET2_FLAG);"),
+        "{v}"
+    );
+    // (`i` holds no instance: the call faults at run time, and compiles.)
+    let (d, ok) = compile_with(&xml, &LowerOptions::default());
+    assert!(d.is_empty() && ok, "{d:#?}");
+}
