@@ -26,7 +26,7 @@
 //! for a function's outputs and ENO (kept between scans, as the editors keep them),
 //! `_P<localId>` for a value kept within a scan.
 
-use super::graph::{input_name, output_name, output_port, Graph, Src};
+use super::graph::{eno_read, input_name, output_name, output_port, Graph, Src};
 use super::map::Out;
 use super::order;
 use super::wiretype::{
@@ -1127,6 +1127,11 @@ impl Lower<'_, '_, '_, '_> {
             return;
         };
         let (ty, instance) = (ty.clone(), instance.clone());
+        if instance.is_none() && ty.value.contains('.') && (self.en_wired(e) || eno_read(self.g, e))
+        {
+            self.unsupported(e, "EN and ENO of a method called as a block");
+            return;
+        }
         let pulls = self.elem(e).order.is_none() || self.ctx.opts.profile == Profile::Iec;
         if !pulls {
             self.no_pull += 1;

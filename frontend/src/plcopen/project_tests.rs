@@ -907,3 +907,39 @@ fn methods_called_as_fbd_blocks_through_an_interface() {
     let (d, ok) = compile_with(&xml, &LowerOptions::default());
     assert!(d.is_empty() && ok, "{d:#?}");
 }
+
+#[test]
+fn en_of_a_method_called_as_a_block_is_not_supported() {
+    let m = data(
+        "method",
+        &format!(
+            r#"<Method name="M"><interface><returnType><INT/></returnType></interface>{}</Method>"#,
+            st("M := 1;")
+        ),
+    );
+    let fb = format!(
+        r#"<pou name="F" pouType="functionBlock"><interface/>{}<addData>{m}</addData></pou>"#,
+        st("")
+    );
+    let main = format!(
+        r#"<pou name="main" pouType="program"><interface><localVars>
+<variable name="f"><type><derived name="F"/></type></variable>{}{}</localVars></interface>
+<body><FBD>
+<inVariable localId="1"><connectionPointOut/><expression>go</expression></inVariable>
+<block localId="2" typeName="f.M"><inputVariables><variable formalParameter="EN"><connectionPointIn><connection refLocalId="1"/></connectionPointIn></variable></inputVariables>
+<inOutVariables/><outputVariables><variable formalParameter="M"><connectionPointOut/></variable></outputVariables></block>
+<outVariable localId="3"><connectionPointIn><connection refLocalId="2" formalParameter="M"/></connectionPointIn><expression>r</expression></outVariable>
+</FBD></body></pou>"#,
+        var("go", "BOOL"),
+        var("r", "INT"),
+    );
+    let xml = file(CODESYS, &format!("{fb}{main}"), "", "");
+    let (_, d) = convert_text(&xml);
+    assert_eq!(d.len(), 1, "{d:#?}");
+    assert_eq!(d[0].code, codes::E_UNSUPPORTED);
+    assert!(
+        d[0].message
+            .contains("EN and ENO of a method called as a block (block f.M (localId 2) of `main`)"),
+        "{d:#?}"
+    );
+}
