@@ -688,7 +688,7 @@ fn codesys_methods_properties_inheritance_and_interfaces() {
         st(""),
         data(
             "interfaceasplaintext",
-            "<InterfaceAsPlainText><xhtml:p>FUNCTION_BLOCK INTERNAL ABSTRACT Base IMPLEMENTS I_Dev</xhtml:p></InterfaceAsPlainText>"
+            "<InterfaceAsPlainText><xhtml:p>{attribute 'reflection'}\nFUNCTION_BLOCK INTERNAL ABSTRACT Base IMPLEMENTS I_Dev</xhtml:p></InterfaceAsPlainText>"
         ),
     );
     let run2 = data(

@@ -233,7 +233,20 @@ impl Reader<'_, '_> {
             m.abstract_ |= a.attribute("Abstract").is_some_and(truthy);
             m.final_ |= a.attribute("Final").is_some_and(truthy);
         }
-        if let Some(line) = plain.and_then(|p| p.lines().map(str::trim).find(|l| !l.is_empty())) {
+        // The header line (after pragmas such as `{attribute 'qualified_only'}`).
+        let header = |l: &&str| {
+            let w = l.split_whitespace().next().unwrap_or("");
+            [
+                "FUNCTION_BLOCK",
+                "PROGRAM",
+                "FUNCTION",
+                "METHOD",
+                "PROPERTY",
+            ]
+            .iter()
+            .any(|k| w.eq_ignore_ascii_case(k))
+        };
+        if let Some(line) = plain.and_then(|p| p.lines().map(str::trim).find(header)) {
             // `FUNCTION_BLOCK INTERNAL ABSTRACT Name EXTENDS ...`: the words between
             // the keyword and the name.
             for w in line.split_whitespace().skip(1) {
