@@ -66,7 +66,8 @@ impl Names {
         for v in globals {
             add(&v.name.value);
         }
-        for grp in &pou.groups {
+        let methods = pou.oo.methods.iter().flat_map(|m| &m.groups);
+        for grp in pou.groups.iter().chain(methods) {
             for v in &grp.vars {
                 add(&v.name.value);
             }

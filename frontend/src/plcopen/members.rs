@@ -3,7 +3,9 @@
 //! project's INTERFACEs, written as the ST front end reads them in the CODESYS
 //! dialect.
 
+use super::body::Line;
 use super::decls::{write_group, write_type};
+use super::graph::Graph;
 use super::map::Out;
 use super::view::write_text;
 use super::xml::{Accessor, Body, Interface, Method, Mods, Oo, Property, Text};
@@ -45,10 +47,14 @@ pub(super) fn write_mods(o: &mut Out, m: &Mods) {
     }
 }
 
-/// A POU's methods and properties, after its body.
-pub(super) fn write_members(o: &mut Out, oo: &Oo) {
-    for m in &oo.methods {
-        write_method(o, m, true);
+/// The lowered graphical bodies of a POU's methods (`None`: a textual body).
+pub(super) type MethodLines<'g> = [Option<(&'g Graph<'g>, Vec<Line>)>];
+
+/// A POU's methods and properties, after its body; `lines[k]`: the lowered LD or
+/// FBD body of method `k`.
+pub(super) fn write_members(o: &mut Out, oo: &Oo, lines: &MethodLines) {
+    for (k, m) in oo.methods.iter().enumerate() {
+        write_method(o, m, true, lines.get(k).and_then(Option::as_ref));
     }
     for p in &oo.properties {
         write_property(o, p, true);
@@ -56,7 +62,7 @@ pub(super) fn write_members(o: &mut Out, oo: &Oo) {
 }
 
 /// `METHOD [modifiers] M [: T]`, its variables and body, `END_METHOD`.
-fn write_method(o: &mut Out, m: &Method, with_mods: bool) {
+fn write_method(o: &mut Out, m: &Method, with_mods: bool, lowered: Option<&(&Graph, Vec<Line>)>) {
     let start = o.pos();
     o.push("METHOD ");
     if with_mods {
@@ -72,7 +78,14 @@ fn write_method(o: &mut Out, m: &Method, with_mods: bool) {
     for g in &m.groups {
         write_group(o, g);
     }
-    write_member_body(o, &m.body);
+    match lowered {
+        Some((g, lines)) => {
+            for line in lines {
+                line.write(o, g.elems);
+            }
+        }
+        None => write_member_body(o, &m.body),
+    }
     let start = o.pos();
     o.push("END_METHOD");
     o.mark(start, m.tag.clone());
@@ -141,7 +154,7 @@ pub(super) fn write_interface(o: &mut Out, i: &Interface) {
     o.mark(start, i.tag.clone());
     o.push("\n");
     for m in &i.methods {
-        write_method(o, m, false);
+        write_method(o, m, false, None);
     }
     for p in &i.properties {
         write_property(o, p, false);

@@ -807,10 +807,10 @@ fn codesys_oo_errors_point_at_the_xml() {
         d[1].message.contains("property `fb.Q` has no type"),
         "{d:#?}"
     );
-    // A method body in FBD: not supported yet.
+    // An accessor's body in FBD: not supported yet (a method's is).
     let fbd = data(
-        "method",
-        r#"<Method name="M"><interface/><body><FBD/></body></Method>"#,
+        "property",
+        r#"<Property name="P"><interface><returnType><INT/></returnType></interface><GetAccessor><body><FBD/></body></GetAccessor></Property>"#,
     );
     assert_eq!(
         codes_of(&file(CODESYS, &fb(&fbd, ""), "", "")),

@@ -226,7 +226,7 @@ impl Section {
 }
 
 /// `<inputVars>`, `<localVars>`... of an interface, a configuration or a resource.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct VarGroup {
     /// Which section.
     pub section: Section,
@@ -245,7 +245,7 @@ pub(crate) struct VarGroup {
 }
 
 /// `<variable name="..." address="...">` with its type and initial value.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct Var {
     /// Its name.
     pub name: Text,
@@ -258,7 +258,7 @@ pub(crate) struct Var {
 }
 
 /// A type as the XML writes it.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(crate) enum Type {
     /// An elementary type (`<INT/>`) or a derived one (`<derived name="T"/>`).
     Named(Text),
@@ -301,7 +301,7 @@ pub(crate) enum Type {
 }
 
 /// An initial value.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(crate) enum Value {
     /// `<simpleValue value="..."/>`
     Simple(Text),

@@ -48,7 +48,7 @@ pub(crate) struct Method {
     pub ret: Option<Type>,
     /// Its variable groups (inputs, outputs, in-outs, locals).
     pub groups: Vec<VarGroup>,
-    /// Its body (ST or IL).
+    /// Its body (ST, IL, LD or FBD).
     pub body: Body,
     /// Its tag name, for messages about it.
     pub tag: Range<u32>,
@@ -320,11 +320,11 @@ impl Reader<'_, '_> {
         })
     }
 
-    /// The body of a method or accessor: ST or IL (graphical bodies and charts of
-    /// methods are not supported yet).
+    /// The body of a method (ST, IL, LD or FBD) or accessor (ST or IL; graphical
+    /// bodies of accessors and charts are not supported yet).
     fn member_body(&mut self, b: Node, label: &str, kind: &str) -> Option<Body> {
         let body = self.body(b, label, kind)?;
-        if let Body::Graph(g, _) = &body {
+        if let (Body::Graph(g, _), false) = (&body, kind == "method") {
             let lang = match g {
                 Graphic::Ld => "LD",
                 Graphic::Fbd => "FBD",
