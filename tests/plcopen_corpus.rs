@@ -83,13 +83,26 @@ const CASES: &[Case] = &[
     case("AandIF__e-COCKPIT_python_scripting", Compiles),
     case("Fantazzj__CodeSys-SFC-to-Cpp-converter__test", Fails("a converter's test chart: an INT variable (`outDS`) associated as an action, which CODESYS and IEC allow only for BOOL variables", &["E0783"])),
     case("FelipeWoo__smart-factory-integration__openplc", Compiles),
+    // Their methods, properties, inheritance and interfaces are read (issue 20).
+    // With the trailing commas removed, what remains is CODESYS's libraries, which
+    // plcc does not have: MQTT, OSCAT_BASIC, OSCAT_BUILDING, WagoAppPlcModbus, Util,
+    // SysMem/SysSock (E0201, E0203, an interface of the MQTT library E0800), and,
+    // in the Exports file, two configurations (one per device).
     case(
         "MichielVanwelsenaere__HomeAutomation.CoDeSys3__src_Exports_PLCopen",
-        Fails("CODESYS methods and properties (issue 20)", &["E0601"]),
+        Fails(
+            "ST bodies end calls' argument lists with a comma (`Callback := c,\n);`), \
+             which plcc's ST parser rejects; then CODESYS libraries plcc does not have",
+            &["E0101"],
+        ),
     ),
     case(
         "MichielVanwelsenaere__HomeAutomation.CoDeSys3__src_PLCopen_HomeAutomation",
-        Fails("CODESYS methods and properties (issue 20)", &["E0601"]),
+        Fails(
+            "ST bodies end calls' argument lists with a comma (`Callback := c,\n);`), \
+             which plcc's ST parser rejects; then CODESYS libraries plcc does not have",
+            &["E0101"],
+        ),
     ),
     case("VerifAPS__verifaps-lib__share_PPU_Scenario0_Final", Compiles),
     case("VerifAPS__verifaps-lib__share_PPU_Scenario9_Final", Compiles),
@@ -308,9 +321,21 @@ const CASES: &[Case] = &[
         Compiles,
     ),
     case("sakunamary__Roaster_s7-200__openplc", Compiles),
+    // Its methods, properties (getters), inheritance (abstract FBs), interfaces
+    // and STRUCT EXTENDS are read (issue 20). Without that action, what remains is
+    // CODESYS's libraries, which plcc does not have (SM3_Robotics, COL, Standard,
+    // SM3_Error...: E0201, E0203, E0800 for a base and an interface of COL),
+    // `E_mcMotionFbType.moveCrcAbs` (an enumeration's value qualified by its
+    // type), a UNION, and calls that leave out an input with an initial value
+    // (`METH_appendLog('x')`, E0402).
     case(
         "tan-wei-xin-alez__codesys_plcopenxml_for_git__test_example_project",
-        Fails("CODESYS methods and properties (issue 20)", &["E0601"]),
+        Fails(
+            "a chart (testSFC) associates the function block instance \
+             `testFBD.FB_logAdd_0` of another POU as a step's action, which plcc \
+             does not run; then CODESYS libraries plcc does not have",
+            &["E0783"],
+        ),
     ),
     with(
         "thiagoralves__OpenPLC_Editor__editor_examples_STM32CAN_Read_Write_FBD",

@@ -26,10 +26,12 @@
 //! for a function's outputs and ENO (kept between scans, as the editors keep them),
 //! `_P<localId>` for a value kept within a scan.
 
-use super::graph::{input_name, output_name, output_port, Graph, Src};
+use super::graph::{eno_read, input_name, output_name, output_port, Graph, Src};
 use super::map::Out;
 use super::order;
-use super::wiretype::{control_input, output_type, passes_type, source_type, Scope};
+use super::wiretype::{
+    control_input, hidden_part, is_result_pin, output_type, passes_type, source_type, Scope,
+};
 use super::xml::{Edge, Element, Kind, Project, Storage, Text, Var, VarGroup};
 use super::{Options, Profile};
 use crate::codes;
@@ -64,7 +66,8 @@ impl Names {
         for v in globals {
             add(&v.name.value);
         }
-        for grp in &pou.groups {
+        let methods = pou.oo.methods.iter().flat_map(|m| &m.groups);
+        for grp in pou.groups.iter().chain(methods) {
             for v in &grp.vars {
                 add(&v.name.value);
             }
@@ -1065,7 +1068,9 @@ impl Lower<'_, '_, '_, '_> {
             Kind::Block { ty, .. } => ty.value.to_ascii_uppercase(),
             _ => String::new(),
         };
-        let name = self.names.var(&format!("_TMP_{ty}{id}_ENO"), "BOOL");
+        let name = self
+            .names
+            .var(&format!("_TMP_{}{id}_ENO", hidden_part(&ty)), "BOOL");
         self.eno.insert(e, name.clone());
         name
     }
@@ -1103,8 +1108,8 @@ impl Lower<'_, '_, '_, '_> {
         };
         let base = format!(
             "_TMP_{}{id}_{}",
-            ty.to_ascii_uppercase(),
-            pin.to_ascii_uppercase()
+            hidden_part(&ty.to_ascii_uppercase()),
+            hidden_part(&pin.to_ascii_uppercase())
         );
         let name = self.names.var(&base, &t);
         self.results.insert((e, port), name.clone());
@@ -1123,6 +1128,11 @@ impl Lower<'_, '_, '_, '_> {
             return;
         };
         let (ty, instance) = (ty.clone(), instance.clone());
+        if instance.is_none() && ty.value.contains('.') && (self.en_wired(e) || eno_read(self.g, e))
+        {
+            self.unsupported(e, "EN and ENO of a method called as a block");
+            return;
+        }
         let pulls = self.elem(e).order.is_none() || self.ctx.opts.profile == Profile::Iec;
         if !pulls {
             self.no_pull += 1;
@@ -1230,13 +1240,16 @@ impl Lower<'_, '_, '_, '_> {
         Some(args)
     }
 
-    /// True if `name` is a POU of the project.
+    /// True if `name` is a POU of the project, or a method called as `inst.M` (no
+    /// standard function has a `.` in its name).
     fn project_pou(&self, name: &str) -> bool {
-        self.ctx
-            .project
-            .pous
-            .iter()
-            .any(|p| p.name.value.eq_ignore_ascii_case(name))
+        name.contains('.')
+            || self
+                .ctx
+                .project
+                .pous
+                .iter()
+                .any(|p| p.name.value.eq_ignore_ascii_case(name))
     }
 
     /// The value an unwired input of a standard function takes: its type's default.
@@ -1323,15 +1336,26 @@ impl Lower<'_, '_, '_, '_> {
             .iter()
             .map(|p| p.name.as_ref().map(|n| n.value.clone()).unwrap_or_default())
             .collect();
-        let primary = outs
-            .iter()
-            .position(|n| n.eq_ignore_ascii_case("OUT"))
-            .or_else(|| {
-                let rest: Vec<usize> = (0..outs.len())
-                    .filter(|&i| !outs[i].eq_ignore_ascii_case("ENO"))
-                    .collect();
-                (rest.len() == 1).then(|| rest[0])
-            });
+        let scope = Scope {
+            project: self.ctx.project,
+            pou_vars: self.ctx.pou_vars,
+            globals: self.ctx.globals,
+        };
+        // A method called as a block gives its result on the output its name, or
+        // no output of the method, says (`wiretype::is_result_pin`).
+        let method = scope.method_call(&ty.value);
+        let primary = if let Some(m) = method {
+            outs.iter().position(|n| is_result_pin(m, &ty.value, n))
+        } else {
+            outs.iter()
+                .position(|n| n.eq_ignore_ascii_case("OUT"))
+                .or_else(|| {
+                    let rest: Vec<usize> = (0..outs.len())
+                        .filter(|&i| !outs[i].eq_ignore_ascii_case("ENO"))
+                        .collect();
+                    (rest.len() == 1).then(|| rest[0])
+                })
+        };
         let standard = !self.project_pou(&ty.value);
         let used = |p: usize| !self.g.outs[e][p].is_empty();
         if standard && (0..outs.len()).all(|p| !used(p)) {

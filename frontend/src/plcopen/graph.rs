@@ -144,6 +144,14 @@ pub(crate) fn output_port(k: &Kind, port: usize) -> Option<&super::xml::Port> {
     }
 }
 
+/// True if the ENO output of block `e` is wired to anything.
+pub(crate) fn eno_read(g: &Graph, e: usize) -> bool {
+    (0..g.outs[e].len()).any(|p| {
+        output_name(&g.elems[e].kind, p).is_some_and(|n| n.eq_ignore_ascii_case("ENO"))
+            && !g.outs[e][p].is_empty()
+    })
+}
+
 /// The name of a block's output `port`.
 pub(crate) fn output_name(k: &Kind, port: usize) -> Option<&str> {
     output_port(k, port)

@@ -28,6 +28,7 @@ mod body;
 mod decls;
 pub(crate) mod graph;
 pub mod map;
+mod members;
 mod order;
 mod sfc;
 pub(crate) mod text;
@@ -199,6 +200,21 @@ fn convert_here(
                 .collect()
         })
         .collect();
+    // The graphs of the methods' graphical bodies (CODESYS), POU by POU.
+    let methods: Vec<Vec<Option<graph::Graph>>> = project
+        .pous
+        .iter()
+        .map(|pou| {
+            pou.oo
+                .methods
+                .iter()
+                .map(|m| {
+                    let label = format!("{}.{}", pou.name.value, m.name.value);
+                    build_graph(&m.body, &label, function(pou), file, opts, diags)
+                })
+                .collect()
+        })
+        .collect();
     // The graphs of the charts' graphical conditions, and of the POUs' transitions.
     let charts: Vec<Option<graph::Graph>> = project
         .pous
@@ -229,6 +245,7 @@ fn convert_here(
         actions: &actions,
         charts: &charts,
         transitions: &transitions,
+        methods: &methods,
     };
     let out = view::write(&project, &graphs, file, name, opts, diags);
     if errors(diags) > before {

@@ -11,6 +11,7 @@ use super::body::{emit_body, write_hidden, Line, Names, PouCtx};
 use super::decls::{comment_safe, write_config, write_group, write_type, write_value};
 use super::graph::Graph;
 use super::map::Out;
+use super::members::{push_name, write_inheritance, write_interface, write_members, write_mods};
 use super::sfc;
 use super::xml::{Body, Pou, PouKind, Project, Text, Var, VarGroup};
 use plcc_ir::diag::{Diagnostic, FileId};
@@ -25,6 +26,8 @@ pub(crate) struct Graphs<'a, 'm> {
     pub charts: &'a [Option<Graph<'m>>],
     /// `transitions[i][k]`: of the body of transition `k` of POU `i`.
     pub transitions: &'a [Vec<Option<Graph<'m>>>],
+    /// `methods[i][k]`: of the body of method `k` of POU `i` (LD or FBD).
+    pub methods: &'a [Vec<Option<Graph<'m>>>],
 }
 
 /// Writes the view of a project. Errors (a block output whose type cannot be told,
@@ -48,6 +51,10 @@ pub(crate) fn write(
             let start = o.pos();
             o.push("    ");
             o.push_text(&t.name);
+            if let Some(b) = &t.extends {
+                o.push(" EXTENDS ");
+                push_name(&mut o, b);
+            }
             o.push(" : ");
             write_type(&mut o, &t.ty, 1);
             if let Some(v) = &t.init {
@@ -65,6 +72,9 @@ pub(crate) fn write(
             o.push("\n");
             write_group(&mut o, g);
         }
+    }
+    for i in &project.interfaces {
+        write_interface(&mut o, i);
     }
     let globals: Vec<&Var> = global_groups(project).flat_map(|g| &g.vars).collect();
     let cx = Cx {
@@ -85,11 +95,13 @@ pub(crate) fn write(
                 actions,
                 action: None,
             };
-            write_chart(&mut o, &cx, &inp, diags);
+            let methods = graphs.methods.get(i).map_or(&[][..], Vec::as_slice);
+            write_chart(&mut o, &cx, &inp, methods, diags);
             continue;
         }
         let transitions = graphs.transitions.get(i).map_or(&[][..], Vec::as_slice);
-        write_pou(&mut o, &cx, pou, body, actions, transitions, diags);
+        let methods = graphs.methods.get(i).map_or(&[][..], Vec::as_slice);
+        write_pou(&mut o, &cx, pou, body, actions, transitions, methods, diags);
     }
     for c in &project.configs {
         write_config(&mut o, c);
@@ -128,11 +140,13 @@ fn write_head(o: &mut Out, pou: &Pou) -> &'static str {
     };
     let start = o.pos();
     o.push(head);
+    write_mods(o, &pou.oo.mods);
     o.push_text(&pou.name);
     if let Some(r) = &pou.ret {
         o.push(" : ");
         write_type(o, r, 1);
     }
+    write_inheritance(o, &pou.oo);
     o.mark(start, pou.tag.clone());
     o.push("\n");
     for g in &pou.groups {
@@ -144,7 +158,13 @@ fn write_head(o: &mut Out, pou: &Pou) -> &'static str {
 /// A POU whose body is a sequential function chart: its interface, the hidden
 /// variables of its graphical conditions and actions, and the chart as textual SFC
 /// (with the actions it uses inside, `ACTION a: ... END_ACTION`).
-fn write_chart(o: &mut Out, cx: &Cx, inp: &sfc::Inputs, diags: &mut Vec<Diagnostic>) {
+fn write_chart(
+    o: &mut Out,
+    cx: &Cx,
+    inp: &sfc::Inputs,
+    methods: &[Option<Graph>],
+    diags: &mut Vec<Diagnostic>,
+) {
     let pou = inp.pou;
     let mut names = Names::new(cx.project, pou, cx.globals);
     let ctx = PouCtx {
@@ -156,11 +176,13 @@ fn write_chart(o: &mut Out, cx: &Cx, inp: &sfc::Inputs, diags: &mut Vec<Diagnost
         opts: cx.opts,
     };
     let chart = sfc::plan(*inp, &ctx, &mut names, diags);
+    let method_lines = lower_methods(cx, pou, methods, &mut names, diags);
     let end = write_head(o, pou);
     write_hidden(o, &names);
     if let Some(chart) = &chart {
         sfc::write(o, chart);
     }
+    write_members(o, &pou.oo, &method_lines);
     o.push(end);
     o.push("\n");
 }
@@ -170,6 +192,7 @@ fn write_chart(o: &mut Out, cx: &Cx, inp: &sfc::Inputs, diags: &mut Vec<Diagnost
 /// hidden variables are declared once, in the POU, before the code. An action
 /// written as a chart is written as textual SFC, followed by the actions its chart
 /// uses (which are not written again).
+#[allow(clippy::too_many_arguments)]
 fn write_pou(
     o: &mut Out,
     cx: &Cx,
@@ -177,11 +200,14 @@ fn write_pou(
     body: Option<&Graph>,
     actions: &[Option<Graph>],
     transitions: &[Option<Graph>],
+    methods: &[Option<Graph>],
     diags: &mut Vec<Diagnostic>,
 ) {
     let end = write_head(o, pou);
-    let mut names = (body.is_some() || actions.iter().any(Option::is_some))
-        .then(|| Names::new(cx.project, pou, cx.globals));
+    let graphs = body.is_some()
+        || actions.iter().any(Option::is_some)
+        || methods.iter().any(Option::is_some);
+    let mut names = graphs.then(|| Names::new(cx.project, pou, cx.globals));
     // The actions written as charts, planned first.
     let mut charts: Vec<Option<sfc::Chart>> = Vec::new();
     for (k, a) in pou.actions.iter().enumerate() {
@@ -245,10 +271,15 @@ fn write_pou(
                 .map(|g| lower(g, &format!("{}.{}", pou.name.value, a.name.value), diags))
         })
         .collect();
+    let method_lines = match names.as_mut() {
+        Some(n) => lower_methods(cx, pou, methods, n, diags),
+        None => Vec::new(),
+    };
     if let Some(n) = &names {
         write_hidden(o, n);
     }
     write_body(o, &pou.body, body.zip(body_lines.as_deref()));
+    write_members(o, &pou.oo, &method_lines);
     let mut written = Vec::new();
     for (k, a) in pou.actions.iter().enumerate() {
         if by_chart(a) {
@@ -273,6 +304,38 @@ fn write_pou(
     }
     o.push(end);
     o.push("\n");
+}
+
+/// The graphical bodies of a POU's methods lowered to ST, with the POU's hidden
+/// names: their edge detectors and kept results are variables of the instance (a
+/// method's own VAR are temporary), so they keep their values from one call to the
+/// next. A method's body reads its own variables, then the POU's.
+fn lower_methods<'g>(
+    cx: &Cx,
+    pou: &Pou,
+    methods: &'g [Option<Graph<'g>>],
+    names: &mut Names,
+    diags: &mut Vec<Diagnostic>,
+) -> Vec<Option<(&'g Graph<'g>, Vec<Line>)>> {
+    let mut out = Vec::new();
+    for (m, g) in pou.oo.methods.iter().zip(methods) {
+        let Some(g) = g else {
+            out.push(None);
+            continue;
+        };
+        let vars: Vec<VarGroup> = m.groups.iter().chain(&pou.groups).cloned().collect();
+        let label = format!("{}.{}", pou.name.value, m.name.value);
+        let ctx = PouCtx {
+            project: cx.project,
+            pou: &label,
+            pou_vars: &vars,
+            globals: cx.globals,
+            file: cx.file,
+            opts: cx.opts,
+        };
+        out.push(Some((g, emit_body(g, &ctx, names, diags))));
+    }
+    out
 }
 
 /// A body: the lines lowered from its graph, or its text as written.

@@ -9,7 +9,7 @@
 //! to (a variable, a block input, power flow).
 
 use super::graph::{input_name, output_name, Graph, Src};
-use super::xml::{Kind, PouKind, Project, Section, Type, Var, VarGroup};
+use super::xml::{Kind, Method, PouKind, Project, Section, Type, Var, VarGroup};
 use std::sync::OnceLock;
 
 /// What the POU can see: its variables, the globals, the project's POUs.
@@ -124,9 +124,67 @@ impl Scope<'_> {
             .map(|v| &v.ty)
     }
 
+    /// The method a block calls whose type is `inst.M` (plcc's reading of a method
+    /// call drawn as a block): `M` of the class of the variable `inst` (a function
+    /// block of the project, through its bases, or an interface).
+    pub(crate) fn method_call(&self, block: &str) -> Option<&Method> {
+        let (inst, m) = block.rsplit_once('.')?;
+        let Type::Named(class) = self.declared(inst.trim())? else {
+            return None;
+        };
+        let m = m.trim();
+        // The class and its bases, or the interface and those it extends (a few
+        // levels at most: a circle is the lowering's error).
+        let mut todo = vec![class.value.as_str()];
+        for _ in 0..32 {
+            let class = todo.pop()?;
+            let same = |x: &&Method| x.name.value.eq_ignore_ascii_case(m);
+            let project = self.project;
+            if let Some(itf) = project
+                .interfaces
+                .iter()
+                .find(|i| i.name.value.eq_ignore_ascii_case(class))
+            {
+                if let Some(x) = itf.methods.iter().find(same) {
+                    return Some(x);
+                }
+                todo.extend(itf.extends.iter().map(|e| e.value.as_str()));
+                continue;
+            }
+            if let Some(pou) = project
+                .pous
+                .iter()
+                .find(|p| p.name.value.eq_ignore_ascii_case(class))
+            {
+                if let Some(x) = pou.oo.methods.iter().find(same) {
+                    return Some(x);
+                }
+                todo.extend(pou.oo.extends.iter().map(|e| e.value.as_str()));
+            }
+        }
+        None
+    }
+
     /// The type of a pin of a block type (a function block or function of the project,
-    /// or a standard function block).
+    /// a method called as `inst.M`, or a standard function block).
     pub(crate) fn pin_type(&self, block: &str, pin: &str, output: bool) -> Option<String> {
+        if let Some(m) = self.method_call(block) {
+            if output && is_result_pin(m, block, pin) {
+                return m.ret.as_ref().and_then(type_text);
+            }
+            let wanted: &[Section] = if output {
+                &[Section::Output, Section::InOut]
+            } else {
+                &[Section::Input, Section::InOut]
+            };
+            return m
+                .groups
+                .iter()
+                .filter(|g| wanted.contains(&g.section))
+                .flat_map(|g| &g.vars)
+                .find(|v| v.name.value.eq_ignore_ascii_case(pin))
+                .and_then(|v| type_text(&v.ty));
+        }
         if let Some(p) = self
             .project
             .pous
@@ -211,6 +269,27 @@ impl Scope<'_> {
         }
         named.or_else(|| type_text(ty))
     }
+}
+
+/// True if output `pin` of a block calling method `m` (as `block`, `inst.M`) is the
+/// method's result: a method with a result gives it on the output named as the
+/// method, as the block, `OUT`, or not named, or on any output that is none of
+/// the method's outputs and in-outs.
+pub(crate) fn is_result_pin(m: &Method, block: &str, pin: &str) -> bool {
+    if m.ret.is_none() || pin.eq_ignore_ascii_case("ENO") {
+        return false;
+    }
+    let p = pin.trim();
+    p.is_empty()
+        || p.eq_ignore_ascii_case("OUT")
+        || p.eq_ignore_ascii_case(&m.name.value)
+        || p.eq_ignore_ascii_case(block)
+        || !m
+            .groups
+            .iter()
+            .filter(|g| matches!(g.section, Section::Output | Section::InOut))
+            .flat_map(|g| &g.vars)
+            .any(|v| v.name.value.eq_ignore_ascii_case(p))
 }
 
 /// The standard functions whose result has the type of their (data) inputs.
@@ -406,4 +485,18 @@ fn consumer_type(g: &Graph, scope: &Scope, e: usize, port: usize) -> Option<Stri
         }
     }
     None
+}
+
+/// A part of a hidden variable's name made from a block's type or pin: a method
+/// call's `inst.M` becomes `inst_M`.
+pub(crate) fn hidden_part(s: &str) -> String {
+    s.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
 }

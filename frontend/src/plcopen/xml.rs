@@ -10,8 +10,9 @@
 //! made from the model, can point back at the XML.
 //!
 //! The reading is split by subject: `types` (data types, variables, values),
-//! `pou` (POUs), `instances` (configurations and CODESYS's vendor data), `elements`
-//! (the elements of graphical bodies), `sfc` (sequential function charts).
+//! `pou` (POUs), `oo` (CODESYS's methods, properties, inheritance and interfaces),
+//! `instances` (configurations and CODESYS's vendor data), `elements` (the elements
+//! of graphical bodies), `sfc` (sequential function charts).
 
 use super::Dialect;
 use crate::codes;
@@ -21,11 +22,13 @@ use std::ops::Range;
 
 mod elements;
 mod instances;
+mod oo;
 mod pou;
 mod sfc;
 mod types;
 
 pub(crate) use instances::duration_ms;
+pub(crate) use oo::{Accessor, Interface, Method, Mods, Oo, Property};
 pub(crate) use sfc::{ActionTarget, Cond, NodeKind, Sfc, SfcNode};
 
 /// The namespaces of PLCopen TC6 project files.
@@ -103,6 +106,8 @@ pub(crate) struct Project {
     /// `types/pous`, then the POUs CODESYS keeps in `<addData>` (of a resource, an
     /// application or the project), in document order.
     pub pous: Vec<Pou>,
+    /// CODESYS's interfaces (`interface` data of the project or an application).
+    pub interfaces: Vec<Interface>,
     /// `instances/configurations`, then CODESYS's applications (a resource outside
     /// any configuration, made a configuration of the same name when it has tasks or
     /// program instances; else only its globals are kept, in `globals`).
@@ -123,6 +128,8 @@ pub(crate) struct DataType {
     pub ty: Type,
     /// Its initial value.
     pub init: Option<Value>,
+    /// The STRUCT it extends (CODESYS's `datatypeinheritance`).
+    pub extends: Option<Text>,
 }
 
 /// `<pou name="..." pouType="...">`.
@@ -142,6 +149,8 @@ pub(crate) struct Pou {
     pub actions: Vec<NamedBody>,
     /// `<transitions>`: the conditions an SFC body refers to by name.
     pub transitions: Vec<NamedBody>,
+    /// CODESYS's methods, properties, base and interfaces.
+    pub oo: Oo,
     /// The start tag, for messages about the POU.
     pub tag: Range<u32>,
 }
@@ -217,7 +226,7 @@ impl Section {
 }
 
 /// `<inputVars>`, `<localVars>`... of an interface, a configuration or a resource.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct VarGroup {
     /// Which section.
     pub section: Section,
@@ -236,7 +245,7 @@ pub(crate) struct VarGroup {
 }
 
 /// `<variable name="..." address="...">` with its type and initial value.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct Var {
     /// Its name.
     pub name: Text,
@@ -249,7 +258,7 @@ pub(crate) struct Var {
 }
 
 /// A type as the XML writes it.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(crate) enum Type {
     /// An elementary type (`<INT/>`) or a derived one (`<derived name="T"/>`).
     Named(Text),
@@ -292,7 +301,7 @@ pub(crate) enum Type {
 }
 
 /// An initial value.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(crate) enum Value {
     /// `<simpleValue value="..."/>`
     Simple(Text),

@@ -29,6 +29,14 @@ impl Reader<'_, '_> {
             p.globals.extend(groups);
         }
         self.add_data_pous(root, &mut p.pous);
+        self.add_data_interfaces(root, &mut p.interfaces);
+        // Those of the resources (of configurations and applications).
+        for r in root
+            .descendants()
+            .filter(|d| d.is_element() && d.tag_name().name() == "resource")
+        {
+            self.add_data_interfaces(r, &mut p.interfaces);
+        }
         // CODESYS and TwinCAT "application" exports: the application is a resource
         // with no configuration around it; it becomes one of the same name, unless
         // it has nothing to run or declare.

@@ -23,22 +23,8 @@ impl Reader<'_, '_> {
                 return None;
             }
         };
-        let mut ret = None;
-        let mut groups = Vec::new();
-        if let Some(iface) = kid(n, "interface") {
-            for g in elements(iface) {
-                match g.tag_name().name() {
-                    "returnType" => ret = self.type_in(g),
-                    "documentation" | "addData" | "varList" => {}
-                    _ => {
-                        if let Some(grp) = self.group(g) {
-                            groups.push(grp);
-                        }
-                    }
-                }
-            }
-            self.var_lists(iface, &name.value);
-        }
+        let iface = kid(n, "interface");
+        let (ret, groups) = self.interface_of(iface, &name.value);
         let tag = self.tag(n);
         let bodies: Vec<Node> = kids(n, "body").collect();
         if bodies.len() > 1 {
@@ -54,7 +40,17 @@ impl Reader<'_, '_> {
         };
         let actions = self.named_bodies(n, "actions", "action", &name.value);
         let transitions = self.named_bodies(n, "transitions", "transition", &name.value);
-        self.methods(n, &name.value);
+        let oo = self.pou_oo(n, iface, &name.value);
+        if kind == PouKind::Function && !(oo.methods.is_empty() && oo.properties.is_empty()) {
+            self.error(
+                codes::E_OO_DECLARATION,
+                format!(
+                    "FUNCTION `{}` has methods or properties: only a FUNCTION_BLOCK or a PROGRAM may",
+                    name.value
+                ),
+                self.qname(n),
+            );
+        }
         Some(Pou {
             name,
             kind,
@@ -63,6 +59,7 @@ impl Reader<'_, '_> {
             body,
             actions,
             transitions,
+            oo,
             tag,
         })
     }
@@ -110,41 +107,6 @@ impl Reader<'_, '_> {
             });
         }
         out
-    }
-
-    /// CODESYS keeps the methods and properties of a function block in its
-    /// `<addData>`: not compiled yet, which is reported once per POU.
-    fn methods(&mut self, pou: Node, pou_name: &str) {
-        let members: Vec<(Node, String)> = add_data(pou, "method")
-            .flat_map(|d| kids(d, "Method"))
-            .chain(add_data(pou, "property").flat_map(|d| kids(d, "Property")))
-            .map(|m| (m, m.attribute("name").unwrap_or("?").to_string()))
-            .collect();
-        let Some((first, _)) = members.first() else {
-            return;
-        };
-        const SHOWN: usize = 4;
-        let mut names: Vec<&str> = members
-            .iter()
-            .take(SHOWN)
-            .map(|(_, n)| n.as_str())
-            .collect();
-        let more = format!("{} more", members.len().saturating_sub(SHOWN));
-        if members.len() > SHOWN {
-            names.push(&more);
-        }
-        let d = Diagnostic::error(
-            codes::E_UNSUPPORTED,
-            format!(
-                "not supported yet: methods and properties (CODESYS), of `{pou_name}`: {}",
-                names.join(", ")
-            ),
-            self.span(self.qname(*first)),
-        )
-        .with_note(
-            "plcc compiles the body and the actions of a POU, not its methods and properties",
-        );
-        self.diags.push(d);
     }
 
     /// A `<body>`: its language element read. `label` names what it is the body of
@@ -197,7 +159,7 @@ impl Reader<'_, '_> {
     }
 
     /// A variable group of a POU's interface.
-    fn group(&mut self, g: Node) -> Option<VarGroup> {
+    pub(super) fn group(&mut self, g: Node) -> Option<VarGroup> {
         let section = match g.tag_name().name() {
             "inputVars" => Section::Input,
             "outputVars" => Section::Output,
@@ -229,7 +191,7 @@ impl Reader<'_, '_> {
     /// `<varList>` in an interface is not a variable section (it is the schema's
     /// name of their type, which some tools write as an element, and which the
     /// editors drop): skipped, with one warning per interface.
-    fn var_lists(&mut self, iface: Node, pou: &str) {
+    pub(super) fn var_lists(&mut self, iface: Node, pou: &str) {
         let lists: Vec<Node> = kids(iface, "varList").collect();
         let Some(&first) = lists.first() else {
             return;

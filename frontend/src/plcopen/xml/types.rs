@@ -17,7 +17,13 @@ impl Reader<'_, '_> {
         };
         let ty = self.type_in(base)?;
         let init = kid(n, "initialValue").and_then(|v| self.value_in(v));
-        Some(DataType { name, ty, init })
+        let extends = self.struct_base(n, &name.value);
+        Some(DataType {
+            name,
+            ty,
+            init,
+            extends,
+        })
     }
 
     /// The variables of a variable group (`<inputVars>`, `<globalVars>`...) of the
@@ -280,7 +286,17 @@ pub(super) fn quote_string_values(p: &mut Project) {
     let groups = p
         .pous
         .iter_mut()
-        .flat_map(|pou| &mut pou.groups)
+        .flat_map(|pou| {
+            pou.groups
+                .iter_mut()
+                .chain(pou.oo.methods.iter_mut().flat_map(|m| &mut m.groups))
+                .chain(pou.oo.properties.iter_mut().flat_map(|p| {
+                    p.get
+                        .iter_mut()
+                        .chain(p.set.iter_mut())
+                        .flat_map(|a| &mut a.groups)
+                }))
+        })
         .chain(&mut p.globals);
     let config_groups = p.configs.iter_mut().flat_map(|c| {
         c.globals
