@@ -194,7 +194,10 @@ function checker(fileName) {
         $("view-info").textContent = e.message;
         return [];
       }
-      $("view-info").textContent = r.ok ? `checked: no errors, ${r.diagnostics.length} warning(s)` : `checked: ${r.errors} error(s)`;
+      const first = r.diagnostics.find((d) => d.here) || r.diagnostics[0];
+      $("view-info").textContent =
+        (r.ok ? `checked: no errors, ${r.diagnostics.length} warning(s)` : `checked: ${r.errors} error(s)`) +
+        (first ? ` — ${first.code}${first.line ? " line " + first.line : ""}: ${first.message}` : "");
       const len = view.state.doc.length;
       return r.diagnostics
         .filter((d) => d.here)
@@ -263,6 +266,7 @@ async function force(path, value) {
     flash(e.message, true);
   }
   renderValues();
+  pollStatus();
 }
 
 async function unforce(path) {
@@ -274,6 +278,7 @@ async function unforce(path) {
     flash(e.message, true);
   }
   renderValues();
+  pollStatus();
 }
 
 function flash(msg, bad) {
@@ -467,6 +472,7 @@ async function main() {
 window.plccWorkbench = {
   state,
   trend: (path) => trend.series.get(path) || trend.series.get([...trend.series.keys()].find((k) => k.toLowerCase() === path.toLowerCase())) || [],
+  editor: () => editor,
   addWatch,
   force,
   unforce,
