@@ -1,0 +1,374 @@
+//! The workbench page of `plcc serve` (`docs/workbench.md`) in a real headless
+//! Chromium, driven through chromedriver by a WebDriver client (fantoccini), on the
+//! ladder example `examples/ladder_demo.xml`: the page loads in under a second, its
+//! rungs are drawn, the PLC stops and starts from the page, forcing an input from the
+//! diagram lights the coil it drives, the trend of the counter moves, the ladder is
+//! used from the keyboard and its elements are labelled for screen readers. Every
+//! step leaves a screenshot in `docs/img/workbench-*.png`, the page as users see it.
+//!
+//! Needs Debian's `chromium` and `chromium-driver` (`.ci/run` installs them): without
+//! them the test fails and says so.
+
+use fantoccini::{Client, ClientBuilder, Locator};
+use serde_json::{json, Value as Json};
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+const CHROMIUM: &str = "/usr/bin/chromium";
+const CHROMEDRIVER: &str = "/usr/bin/chromedriver";
+const PATIENCE: Duration = Duration::from_secs(20);
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A child process killed when dropped.
+struct Proc(Child);
+
+impl Drop for Proc {
+    fn drop(&mut self) {
+        if let Ok(None) = self.0.try_wait() {
+            let _ = self.0.kill();
+            let _ = self.0.wait();
+        }
+    }
+}
+
+/// `plcc serve` on the example, HTTP on a free loopback port: the process and the
+/// page's address.
+fn serve(example: &Path) -> (Proc, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_plcc"))
+        .current_dir(root())
+        .arg("serve")
+        .arg(example)
+        .args(["--http", "127.0.0.1:0", "--modbus", "none"])
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("plcc starts");
+    let lines = Arc::new(Mutex::new(Vec::<String>::new()));
+    let stderr = child.stderr.take().expect("piped");
+    let sink = Arc::clone(&lines);
+    std::thread::spawn(move || {
+        for line in BufReader::new(stderr).lines() {
+            let Ok(line) = line else { break };
+            sink.lock().unwrap().push(line);
+        }
+    });
+    let mut p = Proc(child);
+    let t = Instant::now();
+    loop {
+        let found = lines
+            .lock()
+            .unwrap()
+            .iter()
+            .find_map(|l| l.strip_prefix("http: listening on ").map(str::to_string));
+        if let Some(addr) = found {
+            return (p, format!("http://{addr}"));
+        }
+        if let Ok(Some(status)) = p.0.try_wait() {
+            panic!(
+                "plcc serve ended ({status}):\n{}",
+                lines.lock().unwrap().join("\n")
+            );
+        }
+        assert!(t.elapsed() < PATIENCE, "plcc serve printed no address");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// chromedriver on a free loopback port: the process and its address.
+fn chromedriver() -> (Proc, String) {
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .expect("a free port")
+        .port();
+    let child = Command::new(CHROMEDRIVER)
+        .arg(format!("--port={port}"))
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("chromedriver starts");
+    let p = Proc(child);
+    let t = Instant::now();
+    while std::net::TcpStream::connect(("127.0.0.1", port)).is_err() {
+        assert!(t.elapsed() < PATIENCE, "chromedriver does not listen");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    (p, format!("http://127.0.0.1:{port}"))
+}
+
+async fn browser(driver: &str, profile: &Path) -> Client {
+    let mut caps = serde_json::Map::new();
+    caps.insert(
+        "goog:chromeOptions".into(),
+        json!({
+            "binary": CHROMIUM,
+            "args": [
+                "--headless",
+                "--no-sandbox",
+                "--disable-gpu",
+                "--disable-quic",
+                "--no-first-run",
+                "--disable-background-networking",
+                "--disable-component-update",
+                "--disable-sync",
+                "--window-size=1400,1000",
+                format!("--user-data-dir={}", profile.display()),
+            ],
+        }),
+    );
+    ClientBuilder::new(hyper_util::client::legacy::connect::HttpConnector::new())
+        .capabilities(caps)
+        .connect(driver)
+        .await
+        .expect("a WebDriver session with Chromium")
+}
+
+async fn js(c: &Client, script: &str) -> Json {
+    c.execute(script, vec![]).await.expect("the script runs")
+}
+
+/// Waits until `script` returns true.
+async fn until(c: &Client, what: &str, script: &str) {
+    let t = Instant::now();
+    loop {
+        if js(c, script).await == json!(true) {
+            return;
+        }
+        assert!(t.elapsed() < PATIENCE, "the page never showed {what}");
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+}
+
+async fn screenshot(c: &Client, name: &str) {
+    let png = c.screenshot().await.expect("a screenshot");
+    let dir = root().join("docs/img");
+    std::fs::create_dir_all(&dir).expect("docs/img");
+    std::fs::write(dir.join(format!("workbench-{name}.png")), png).expect("the screenshot saved");
+}
+
+async fn count(c: &Client, selector: &str) -> usize {
+    c.find_all(Locator::Css(selector))
+        .await
+        .expect("find")
+        .len()
+}
+
+async fn click(c: &Client, selector: &str) {
+    c.find(Locator::Css(selector))
+        .await
+        .unwrap_or_else(|e| panic!("no `{selector}`: {e}"))
+        .click()
+        .await
+        .unwrap_or_else(|e| panic!("cannot click `{selector}`: {e}"));
+}
+
+async fn drive(c: &Client, page: &str) {
+    // Loading: the project, the variables, the first ladder POU drawn.
+    c.goto(page).await.expect("the page loads");
+    until(
+        c,
+        "the diagram",
+        "return document.body.dataset.ready === 'true'",
+    )
+    .await;
+    let load = js(
+        c,
+        "const n = performance.getEntriesByType('navigation')[0]; return n.loadEventEnd - n.startTime;",
+    )
+    .await
+    .as_f64()
+    .expect("navigation timing");
+    assert!(load < 1000.0, "the page took {load} ms to load");
+
+    screenshot(c, "ladder").await;
+    // The rungs: 2 rails, 7 contacts, 3 coils, 2 blocks, 2 literals, 1 output
+    // variable, and a wire for every connection (20).
+    assert_eq!(count(c, "svg .el-leftPowerRail").await, 1);
+    assert_eq!(count(c, "svg .el-rightPowerRail").await, 1);
+    assert_eq!(count(c, "svg .el-contact").await, 7);
+    assert_eq!(count(c, "svg .el-coil").await, 3);
+    assert_eq!(count(c, "svg .el-block").await, 2);
+    assert_eq!(count(c, "svg .el-inVariable").await, 2);
+    assert_eq!(count(c, "svg .el-outVariable").await, 1);
+    assert_eq!(count(c, "svg .wire").await, 20);
+    // Every element is labelled for screen readers and reachable by the keyboard.
+    let unlabelled = js(
+        c,
+        "return [...document.querySelectorAll('svg .el')].filter(e => !e.getAttribute('aria-label') || e.getAttribute('tabindex') !== '0').length",
+    )
+    .await;
+    assert_eq!(unlabelled, json!(0));
+    let unnamed_buttons = js(
+        c,
+        "return [...document.querySelectorAll('button, input')].filter(b => !(b.getAttribute('aria-label') || b.textContent.trim())).length",
+    )
+    .await;
+    assert_eq!(unnamed_buttons, json!(0));
+
+    // Keyboard: the arrows move along the rung, Enter selects.
+    js(
+        c,
+        "document.querySelector('svg .el-contact[data-var=start_pb]').focus(); return true",
+    )
+    .await;
+    let key = |k: &str| {
+        format!(
+            "document.activeElement.dispatchEvent(new KeyboardEvent('keydown', {{key: '{k}', bubbles: true}})); return document.activeElement.getAttribute('aria-label')"
+        )
+    };
+    let right = js(c, &key("ArrowRight")).await;
+    assert!(
+        right
+            .as_str()
+            .is_some_and(|s| s.contains("normally closed contact stop_pb")),
+        "ArrowRight from start_pb went to {right}"
+    );
+    let left = js(c, &key("ArrowLeft")).await;
+    assert!(
+        left.as_str()
+            .is_some_and(|s| s.starts_with("normally open contact start_pb")),
+        "ArrowLeft from stop_pb went to {left}"
+    );
+    let down = js(c, &key("ArrowDown")).await;
+    assert!(
+        down.as_str()
+            .is_some_and(|s| s.starts_with("normally open contact motor")),
+        "ArrowDown from start_pb went to {down}"
+    );
+    js(c, &key("Enter")).await;
+    until(
+        c,
+        "the inspector",
+        "return !document.getElementById('inspector').hidden",
+    )
+    .await;
+
+    // Stop and start from the page.
+    click(c, "#btn-stop").await;
+    until(
+        c,
+        "the stopped state",
+        "return document.getElementById('state').textContent.startsWith('stopped')",
+    )
+    .await;
+    let motor_on =
+        "return document.querySelector('svg .el-coil[data-var=motor]').classList.contains('on')";
+    assert_eq!(js(c, motor_on).await, json!(false));
+    click(c, "#btn-start").await;
+    until(
+        c,
+        "the running state",
+        "return document.getElementById('state').textContent.startsWith('running')",
+    )
+    .await;
+
+    // Forcing the start button from the diagram lights the motor's coil and the
+    // wires of its rung.
+    click(c, "svg .el-contact[data-var=start_pb]").await;
+    click(c, "button[aria-label='Force main.start_pb TRUE']").await;
+    until(c, "the motor's coil lit", motor_on).await;
+    until(
+        c,
+        "the start contact lit",
+        "return document.querySelector('svg .el-contact[data-var=start_pb]').classList.contains('on')",
+    )
+    .await;
+    assert!(count(c, "svg .wire.on").await >= 4);
+    screenshot(c, "force").await;
+
+    // Released, the motor stays sealed in; the counter's trend moves.
+    click(c, "button[aria-label='Unforce main.start_pb']").await;
+    let input = c
+        .find(Locator::Css("#watch-input"))
+        .await
+        .expect("the watch input");
+    input.send_keys("main.parts").await.expect("typed");
+    click(c, "#watch-add button").await;
+    until(
+        c,
+        "the counter in the watch table",
+        "return document.querySelectorAll('#watch-body tr').length === 1",
+    )
+    .await;
+    let trend =
+        "const s = window.plccWorkbench.trend('main.parts').filter(v => v !== null); return s";
+    let first = Instant::now();
+    until(
+        c,
+        "the counter's trend rising",
+        "const s = window.plccWorkbench.trend('main.parts').filter(v => v !== null); return s.length > 5 && s[s.length - 1] >= s[0] + 3",
+    )
+    .await;
+    let samples = js(c, trend).await;
+    let s = samples.as_array().expect("samples");
+    assert!(
+        s.windows(2).all(|w| w[0].as_f64() <= w[1].as_f64()),
+        "the counter went down: {samples}"
+    );
+    assert!(first.elapsed() < Duration::from_secs(10));
+    assert_eq!(js(c, motor_on).await, json!(true));
+    assert_eq!(count(c, "#trend .u-over").await, 1, "uPlot draws the trend");
+    screenshot(c, "trend").await;
+
+    // The source of the project in the editor, checked by the compiler.
+    js(c, "[...document.querySelectorAll('.tree-head')].find(b => b.textContent === 'Files').click(); return true").await;
+    click(c, "button[aria-label='file examples/ladder_demo.xml']").await;
+    until(c, "the editor", "return !!document.querySelector('.cm-editor') && !document.getElementById('editor').hidden").await;
+    until(
+        c,
+        "the check",
+        "return document.getElementById('view-info').textContent.startsWith('checked')",
+    )
+    .await;
+    screenshot(c, "editor").await;
+
+    // An edit that names an undeclared variable: the compiler's diagnostic inline,
+    // at the XML element.
+    let edited = js(
+        c,
+        "const v = window.plccWorkbench.editor(); const i = v.state.doc.toString().indexOf('<variable>stop_pb</variable>'); \
+         if (i < 0) return false; \
+         v.dispatch({changes: {from: i + 10, to: i + 17, insert: 'stop_btn'}, selection: {anchor: i + 10}, scrollIntoView: true}); return true",
+    )
+    .await;
+    assert_eq!(edited, json!(true));
+    until(
+        c,
+        "the diagnostic",
+        "return document.getElementById('view-info').textContent.startsWith('checked: 1 error') && !!document.querySelector('.cm-lintRange-error')",
+    )
+    .await;
+    screenshot(c, "diagnostics").await;
+}
+
+#[test]
+fn the_workbench_in_chromium() {
+    for (tool, what) in [(CHROMIUM, "chromium"), (CHROMEDRIVER, "chromedriver")] {
+        assert!(
+            Path::new(tool).exists(),
+            "{tool} is missing: install Debian's chromium and chromium-driver (apt-get install chromium chromium-driver); .ci/run installs them ({what} drives the workbench test)"
+        );
+    }
+    let (_server, page) = serve(Path::new("examples/ladder_demo.xml"));
+    let (_driver, driver) = chromedriver();
+    let profile = std::env::temp_dir().join(format!("plcc-workbench-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&profile);
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("a runtime");
+    rt.block_on(async {
+        let c = browser(&driver, &profile).await;
+        let r = tokio::time::timeout(Duration::from_secs(90), drive(&c, &page)).await;
+        let _ = c.close().await;
+        r.expect("the test ran in 90 s");
+    });
+    let _ = std::fs::remove_dir_all(&profile);
+}
