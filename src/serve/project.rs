@@ -691,6 +691,108 @@ mod tests {
         assert!(asset("/assets/nothing.js").is_none());
     }
 
+    fn project(files: &[(&str, &str)]) -> (Project, Loader) {
+        let texts: Vec<(String, Vec<u8>)> = files
+            .iter()
+            .map(|(n, t)| (n.to_string(), t.as_bytes().to_vec()))
+            .collect();
+        let opts = crate::driver::BuildOptions::default();
+        let build = crate::driver::build_sources(texts, &opts).unwrap();
+        let module = build.module.clone().expect("the project builds");
+        let names: Vec<std::path::PathBuf> = files.iter().map(|(n, _)| n.into()).collect();
+        let loader = Loader {
+            library: Vec::new(),
+            opts,
+            target: "interp",
+            settings: Vec::new(),
+        };
+        (Project::new(&build, &names, &module), loader)
+    }
+
+    #[test]
+    fn the_ladder_example_as_the_page_reads_it() {
+        let xml = include_str!("../../examples/ladder_demo.xml");
+        let (p, loader) = project(&[("ladder_demo.xml", xml)]);
+        let info = p.info();
+        assert_eq!(info["pous"][0]["name"], "ladder_demo");
+        assert_eq!(info["pous"][0]["lang"], "LD");
+        assert_eq!(info["pous"][0]["graphical"], true);
+        assert_eq!(
+            info["instances"],
+            json!([{"name": "main", "pou": "ladder_demo"}])
+        );
+        let res = &info["configurations"][0]["resources"][0];
+        assert_eq!(res["tasks"][0]["props"]["interval"], "T#20ms");
+        assert_eq!(res["programs"][0]["task"], "main_task");
+        let d = p.diagram("LADDER_DEMO").unwrap();
+        assert_eq!(d["lang"], "LD");
+        let elems = d["elements"].as_array().unwrap();
+        let of = |k: &str| elems.iter().filter(|e| e["kind"] == k).count();
+        assert_eq!((of("contact"), of("coil"), of("block")), (7, 3, 2));
+        let stop = elems.iter().find(|e| e["text"] == "stop_pb").unwrap();
+        assert_eq!(stop["negated"], "true");
+        assert_eq!(stop["ins"][0]["conns"].as_array().unwrap().len(), 2);
+        assert_eq!(stop["ins"][0]["x"], 140.0);
+        let ctu = elems.iter().find(|e| e["typeName"] == "CTU").unwrap();
+        let pins: Vec<&str> = ctu["ins"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| p["name"].as_str().unwrap())
+            .collect();
+        assert_eq!(pins, ["CU", "R", "PV"]);
+        assert_eq!(ctu["outs"][1]["name"], "CV");
+        assert_eq!(ctu["outs"][1]["y"], 360.0);
+        assert!(p.diagram("nothing").is_err());
+        // A check of the file edited: the diagnostic is in it, at the XML.
+        let bad = xml.replacen(
+            "<variable>stop_pb</variable>",
+            "<variable>stop_btn</variable>",
+            1,
+        );
+        let r = p
+            .check(&loader, "file=ladder_demo.xml", bad.clone().into_bytes())
+            .unwrap();
+        assert_eq!(r["ok"], false);
+        let d = &r["diagnostics"][0];
+        assert_eq!(d["here"], true);
+        let from = d["from"].as_u64().unwrap() as usize;
+        assert_eq!(&bad[from..from + 8], "stop_btn");
+        assert_eq!(
+            p.check(&loader, "file=ladder_demo.xml", xml.into())
+                .unwrap()["ok"],
+            true
+        );
+        assert!(p.check(&loader, "file=other.xml", Vec::new()).is_err());
+        assert!(p.check(&loader, "lang=c", Vec::new()).is_err());
+    }
+
+    #[test]
+    fn textual_pous_with_their_places() {
+        let st = "FUNCTION_BLOCK fb\nVAR_INPUT x : INT; END_VAR\nEND_FUNCTION_BLOCK\nTYPE t : INT; END_TYPE\nPROGRAM p\nVAR f : fb; END_VAR\nf(x := 1);\nEND_PROGRAM\n";
+        let (p, loader) = project(&[("a.st", st)]);
+        let info = p.info();
+        let pous = info["pous"].as_array().unwrap();
+        assert_eq!(pous.len(), 2);
+        assert_eq!(pous[0]["kind"], "functionBlock");
+        assert_eq!(pous[1]["name"], "p");
+        assert_eq!(pous[1]["line"], 5);
+        assert_eq!(pous[1]["graphical"], false);
+        assert_eq!(info["types"][0]["name"], "t");
+        assert_eq!(info["instances"], json!([{"name": "p", "pou": "p"}]));
+        assert_eq!(p.file("0").unwrap()["text"], st);
+        assert!(p.file("1").is_err());
+        let r = p
+            .check(
+                &loader,
+                "lang=st",
+                b"PROGRAM q\ny := 1;\nEND_PROGRAM".to_vec(),
+            )
+            .unwrap();
+        assert_eq!(r["errors"], 1);
+        assert_eq!(r["diagnostics"][0]["line"], 2);
+    }
+
     #[test]
     fn offsets_count_utf16_units() {
         assert_eq!(utf16("aé€b", 0), 0);
