@@ -317,6 +317,8 @@ async fn drive(c: &Client, page: &str) {
     assert_eq!(count(c, "#trend .u-over").await, 1, "uPlot draws the trend");
     screenshot(c, "trend").await;
 
+    edit(c).await;
+
     // The source of the project in the editor, checked by the compiler.
     js(c, "[...document.querySelectorAll('.tree-head')].find(b => b.textContent === 'Files').click(); return true").await;
     click(c, "button[aria-label='file examples/ladder_demo.xml']").await;
@@ -346,6 +348,154 @@ async fn drive(c: &Client, page: &str) {
     )
     .await;
     screenshot(c, "diagnostics").await;
+}
+
+/// What `script` passes to its callback (the last argument), e.g. a fetch's JSON.
+async fn js_async(c: &Client, script: &str, args: Vec<Json>) -> Json {
+    c.execute_async(script, args)
+        .await
+        .expect("the script answers")
+}
+
+/// The diagram the server reads from a PLCopen text.
+async fn model_of(c: &Client, text: &Json) -> Json {
+    js_async(
+        c,
+        "const [t, done] = arguments; fetch('/api/diagram/ladder_demo', {method: 'POST', body: t}).then(r => r.json()).then(done, e => done(String(e)))",
+        vec![text.clone()],
+    )
+    .await
+}
+
+async fn key_on_focus(c: &Client, key: &str) {
+    js(
+        c,
+        &format!("document.activeElement.dispatchEvent(new KeyboardEvent('keydown', {{key: '{key}', bubbles: true}})); return true"),
+    )
+    .await;
+}
+
+/// Ladder editing from the keyboard, undo, and the edited rung through PLCopen XML
+/// (load, save, load: the same model), checked and loaded into the PLC.
+async fn edit(c: &Client) {
+    let contacts = "return document.querySelectorAll('svg .el-contact').length";
+    let coils = "return document.querySelectorAll('svg .el-coil').length";
+    click(c, "button[aria-label='Program ladder_demo, LD']").await;
+    until(
+        c,
+        "the ladder again",
+        "return document.querySelectorAll('svg .el-contact').length === 7",
+    )
+    .await;
+    click(c, "#ld-edit").await;
+    let select = |var: &str| {
+        format!("const e = document.querySelector('svg .el-contact[data-var={var}]'); e.focus(); e.dispatchEvent(new KeyboardEvent('keydown', {{key: 'Enter', bubbles: true}})); return true")
+    };
+    // C after stop_pb: a contact in series; Ctrl+Z takes it away; C again.
+    js(c, &select("stop_pb")).await;
+    key_on_focus(c, "c").await;
+    until(
+        c,
+        "a new contact",
+        "return document.querySelectorAll('svg .el-contact').length === 8",
+    )
+    .await;
+    js(c, "document.activeElement.dispatchEvent(new KeyboardEvent('keydown', {key: 'z', ctrlKey: true, bubbles: true})); return true").await;
+    until(
+        c,
+        "the contact undone",
+        "return document.querySelectorAll('svg .el-contact').length === 7",
+    )
+    .await;
+    js(c, &select("stop_pb")).await;
+    key_on_focus(c, "c").await;
+    until(c, "the new contact selected", "const e = document.activeElement; return e.dataset.kind === 'contact' && document.querySelectorAll('svg .el-contact').length === 8 && e.dataset.var === 'stop_pb'").await;
+    // K: normally closed; its variable set to `full`.
+    key_on_focus(c, "k").await;
+    until(c, "the contact normally closed", "const e = document.querySelector('svg .el.selected'); return !!e && e.getAttribute('aria-label').startsWith('normally closed contact stop_pb')").await;
+    let var = c
+        .find(Locator::Id("ld-var"))
+        .await
+        .expect("the variable field");
+    var.clear().await.expect("cleared");
+    var.send_keys("full").await.expect("typed");
+    click(c, "#ld-var-form button").await;
+    until(
+        c,
+        "the contact on `full`",
+        "return !!document.querySelector('svg .el-contact[data-var=full]')",
+    )
+    .await;
+    assert_eq!(js(c, contacts).await, json!(8));
+    // R: a rung; undone.
+    key_on_focus(c, "r").await;
+    until(
+        c,
+        "a new rung",
+        "return document.querySelectorAll('svg .el-coil').length === 4",
+    )
+    .await;
+    screenshot(c, "edit").await;
+    click(c, "button[aria-label='Undo (Ctrl+Z)']").await;
+    until(
+        c,
+        "the rung undone",
+        "return document.querySelectorAll('svg .el-coil').length === 3",
+    )
+    .await;
+    assert_eq!(js(c, coils).await, json!(3));
+
+    // Saved, loaded and saved again: the same model; the new contact between
+    // stop_pb and the motor's coil, normally closed, on `full`.
+    let saved = js(c, "return window.plccWorkbench.ladder().text()").await;
+    let again = js(
+        c,
+        "const e = window.plccWorkbench.ladder(); return new e.constructor(e.text(), 'ladder_demo').text()",
+    )
+    .await;
+    let first = model_of(c, &saved).await;
+    let second = model_of(c, &again).await;
+    assert!(first["elements"].is_array(), "no model: {first}");
+    assert_eq!(first, second, "load, save, load changed the model");
+    let elems = first["elements"].as_array().unwrap();
+    let full = elems
+        .iter()
+        .find(|e| e["kind"] == "contact" && e["text"] == "full")
+        .expect("the new contact");
+    assert_eq!(full["negated"], "true");
+    let from: Vec<&Json> = full["ins"][0]["conns"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| &c["from"])
+        .collect();
+    let stop = elems.iter().find(|e| e["text"] == "stop_pb").unwrap();
+    assert_eq!(from, [&stop["id"]]);
+    let motor = elems
+        .iter()
+        .find(|e| e["kind"] == "coil" && e["text"] == "motor")
+        .unwrap();
+    assert_eq!(motor["ins"][0]["conns"][0]["from"], full["id"]);
+    assert!(full["x"].as_f64() > stop["x"].as_f64() && full["x"].as_f64() < motor["x"].as_f64());
+    let check = js_async(
+        c,
+        "const [t, done] = arguments; fetch('/api/check?file=examples/ladder_demo.xml', {method: 'POST', body: t}).then(r => r.json()).then(done)",
+        vec![saved.clone()],
+    )
+    .await;
+    assert_eq!(check["errors"], json!(0), "{check}");
+    // Applied: the PLC runs the edited program.
+    click(
+        c,
+        "button[aria-label='Load the edited program into the running PLC']",
+    )
+    .await;
+    until(
+        c,
+        "the online change",
+        "return document.getElementById('view-info').textContent.startsWith('loaded into the PLC')",
+    )
+    .await;
 }
 
 #[test]

@@ -344,8 +344,9 @@ impl Api {
         if route.first() != Some(&"api") {
             return fail(404, format!("no such resource `{path}`"));
         }
-        // A check changes nothing: it needs no token.
-        let writes = !matches!(method, Get | Head) && route[1..] != ["check"];
+        // A check, or reading a diagram of a text, changes nothing: no token.
+        let writes =
+            !matches!(method, Get | Head) && !matches!(route[1..], ["check"] | ["diagram", _]);
         if writes && !self.authorized(req) {
             return fail(
                 401,
@@ -405,6 +406,22 @@ impl Api {
                 Some(p) => self.project.diagram(&p),
                 None => fail(400, format!("`{p}` is not a well-formed name")),
             },
+            (Post, ["diagram", p]) => {
+                let Some(p) = percent_decode(p) else {
+                    return fail(400, format!("`{p}` is not a well-formed name"));
+                };
+                let mut body = Vec::new();
+                if req
+                    .as_reader()
+                    .take(MAX_PROGRAM + 1)
+                    .read_to_end(&mut body)
+                    .is_err()
+                    || body.len() as u64 > MAX_PROGRAM
+                {
+                    return fail(413, format!("the text is larger than {MAX_PROGRAM} bytes"));
+                }
+                super::project::diagram_of(&body, &p)
+            }
             (Post, ["check"]) => {
                 let mut body = Vec::new();
                 if req

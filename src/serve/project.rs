@@ -368,37 +368,52 @@ impl Project {
             .iter()
             .find(|p| p.name.eq_ignore_ascii_case(name) && p.range.is_none())
             .ok_or_else(|| (404, format!("no POU `{name}` in a PLCopen file")))?;
-        let text = &self.files[pou.file].text;
-        let doc = roxmltree::Document::parse(text).map_err(|e| (500, e.to_string()))?;
-        let node = doc
-            .descendants()
-            .find(|n| {
-                n.tag_name().name() == "pou"
-                    && n.attribute("name")
-                        .is_some_and(|x| x.eq_ignore_ascii_case(name))
-            })
-            .ok_or_else(|| (404, format!("no POU `{name}`")))?;
-        let body = child(node, "body")
-            .and_then(|b| b.children().find(|c| c.is_element()))
-            .ok_or_else(|| (404, format!("`{name}` has no body")))?;
-        let lang = body.tag_name().name();
-        if !matches!(lang, "LD" | "FBD" | "SFC") {
-            return Err((404, format!("`{name}` is written in {lang}, not drawn")));
-        }
-        let elements: Vec<Json> = body
-            .children()
-            .filter(|c| c.is_element())
-            .map(element_json)
-            .collect();
-        Ok(json!({
-            "pou": pou.name,
-            "kind": pou.kind,
-            "lang": lang,
-            "file": pou.file,
-            "elements": elements,
-        }))
+        let mut j = diagram_in(&self.files[pou.file].text, name)?;
+        j["file"] = json!(pou.file);
+        Ok(j)
     }
+}
 
+/// `POST /api/diagram/{pou}`: the diagram of POU `name` in the PLCopen text given
+/// (an edited file, before it is saved or loaded).
+pub fn diagram_of(text: &[u8], name: &str) -> Result<Json, (u16, String)> {
+    let text = std::str::from_utf8(text).map_err(|_| (400, "the text is not UTF-8".to_string()))?;
+    diagram_in(text, name).map_err(|(status, e)| (if status == 500 { 400 } else { status }, e))
+}
+
+/// The graphical body of POU `name` of a PLCopen text as JSON.
+fn diagram_in(text: &str, name: &str) -> Result<Json, (u16, String)> {
+    let doc = roxmltree::Document::parse(text).map_err(|e| (500, e.to_string()))?;
+    let node = doc
+        .descendants()
+        .find(|n| {
+            n.tag_name().name() == "pou"
+                && n.attribute("name")
+                    .is_some_and(|x| x.eq_ignore_ascii_case(name))
+        })
+        .ok_or_else(|| (404, format!("no POU `{name}`")))?;
+    let body = child(node, "body")
+        .and_then(|b| b.children().find(|c| c.is_element()))
+        .ok_or_else(|| (404, format!("`{name}` has no body")))?;
+    let lang = body.tag_name().name();
+    if !matches!(lang, "LD" | "FBD" | "SFC") {
+        return Err((404, format!("`{name}` is written in {lang}, not drawn")));
+    }
+    let elements: Vec<Json> = body
+        .children()
+        .filter(|c| c.is_element())
+        .map(element_json)
+        .collect();
+    let kind = node.attribute("pouType").unwrap_or("program");
+    Ok(json!({
+        "pou": node.attribute("name").unwrap_or(name),
+        "kind": kind,
+        "lang": lang,
+        "elements": elements,
+    }))
+}
+
+impl Project {
     /// `POST /api/check?file=NAME|lang=L`: the diagnostics of `text`, built in place
     /// of the project's file NAME (the other files with it), or alone as language L.
     pub fn check(

@@ -8,6 +8,7 @@ import "uplot/dist/uPlot.min.css";
 import "./style.css";
 import { iec } from "./iec.js";
 import { Diagram, show } from "./diagram.js";
+import { LadderEdit } from "./ldedit.js";
 
 const $ = (id) => document.getElementById(id);
 
@@ -118,38 +119,158 @@ function pathFinder(pouName) {
 async function openPou(pou) {
   if (!pou.graphical) return openFile(pou.file, pou.from);
   $("view-title").textContent = `${pou.name} — ${pou.lang}`;
+  state.edit = null;
   const model = await api(`/api/diagram/${encodeURIComponent(pou.name)}`);
-  // The rung checks of the file, at their elements.
-  const problems = new Map();
-  try {
-    const f = state.project.files[model.file];
-    const text = (await api(`/api/files/${model.file}`)).text;
-    const r = await api(`/api/check?file=${encodeURIComponent(f.name)}`, { method: "POST", body: text });
-    for (const d of r.diagnostics) {
-      const m = d.message.match(/localId (\d+)/);
-      if (m && d.message.toLowerCase().includes(`\`${pou.name.toLowerCase()}\``)) {
-        const id = Number(m[1]);
-        if (!problems.has(id)) problems.set(id, []);
-        problems.get(id).push(d);
-      }
-    }
-    $("view-info").textContent = r.errors ? `${r.errors} error(s)` : `${r.diagnostics.length} warning(s)`;
-  } catch (e) {
-    $("view-info").textContent = String(e.message);
-  }
+  const text = (await api(`/api/files/${model.file}`)).text;
+  state.view = { kind: "diagram", pou: pou.name, file: model.file, lang: model.lang, text };
   showPane("diagram");
-  state.view = { kind: "diagram", pou: pou.name };
+  $("ld-tools").hidden = model.lang !== "LD";
+  setEditing(false);
+  await renderDiagram(model, text);
+}
+
+/// The rung checks of a PLCopen text, by element, for POU `pou`.
+async function rungChecks(text, pou) {
+  const problems = new Map();
+  const f = state.project.files[state.view.file];
+  const r = await api(`/api/check?file=${encodeURIComponent(f.name)}`, { method: "POST", body: text });
+  for (const d of r.diagnostics) {
+    const m = d.message.match(/localId (\d+)/);
+    if (m && d.message.toLowerCase().includes(`\`${pou.toLowerCase()}\``)) {
+      const id = Number(m[1]);
+      if (!problems.has(id)) problems.set(id, []);
+      problems.get(id).push(d);
+    }
+  }
+  return { problems, r };
+}
+
+async function renderDiagram(model, text, select) {
+  let problems = new Map();
+  let summary = "";
+  try {
+    const c = await rungChecks(text, model.pou);
+    problems = c.problems;
+    const first = c.r.diagnostics[0];
+    summary = c.r.errors ? `${c.r.errors} error(s)` : `${c.r.diagnostics.length} warning(s)`;
+    if (first) summary += ` — ${first.code}: ${first.message}`;
+  } catch (e) {
+    summary = e.message;
+  }
   state.diagram = new Diagram($("diagram"), model, {
-    pathOf: pathFinder(pou.name),
-    onSelect: (e) => inspect(e),
+    pathOf: pathFinder(model.pou),
+    onSelect: (e) => {
+      state.selected = e.id;
+      inspect(e);
+    },
     problems,
   });
   state.diagram.update(state.values, state.forced);
-  $("view-info").textContent = `${model.elements.length} elements` + ($("view-info").textContent ? ` · ${$("view-info").textContent}` : "");
+  flash(`${model.elements.length} elements · ${summary}`, summary.includes("error"));
+  if (select != null) {
+    const n = state.diagram.nodes.get(Number(select));
+    if (n) state.diagram.select(n);
+  }
   resubscribe();
 }
 
+// ------------------------------------------------------------ ladder editing
+
+function setEditing(on) {
+  $("ld-tools").classList.toggle("editing", on);
+  $("ld-edit").setAttribute("aria-pressed", String(on));
+  $("diagram").classList.toggle("editing", on);
+  if (on && !state.edit) state.edit = new LadderEdit(state.view.text, state.view.pou);
+}
+
+async function editOp(op) {
+  const ed = state.edit;
+  if (!ed) return;
+  const sel = state.selected;
+  let next = sel;
+  try {
+    switch (op) {
+      case "contact":
+        next = ed.insertAfter(sel, "contact");
+        break;
+      case "coil":
+        next = ed.insertAfter(sel, "coil");
+        break;
+      case "branch":
+        next = ed.addBranch(sel);
+        break;
+      case "rung":
+        next = ed.addRung();
+        break;
+      case "cycle":
+        ed.cycle(sel);
+        break;
+      case "delete":
+        next = ed.remove(sel);
+        break;
+      case "undo":
+        if (!ed.undo()) return flash("nothing to undo");
+        break;
+      case "var":
+        ed.setVariable(sel, $("ld-var").value);
+        break;
+      case "save":
+        return saveXml();
+      case "apply":
+        return applyXml();
+    }
+  } catch (e) {
+    return flash(e.message, true);
+  }
+  const text = ed.text();
+  state.view.text = text;
+  const model = await api(`/api/diagram/${encodeURIComponent(state.view.pou)}`, { method: "POST", body: text });
+  await renderDiagram(model, text, next);
+}
+
+function saveXml() {
+  const text = state.edit ? state.edit.text() : state.view.text;
+  const name = state.project.files[state.view.file].name.split("/").pop();
+  const a = h("a", { href: URL.createObjectURL(new Blob([text], { type: "application/xml" })), download: name });
+  document.body.append(a);
+  a.click();
+  a.remove();
+  state.saved = text;
+  flash(`saved as ${name}`);
+}
+
+async function applyXml() {
+  const text = state.edit ? state.edit.text() : state.view.text;
+  try {
+    const r = await api("/api/program?lang=xml", { method: "POST", body: text });
+    flash(`loaded into the PLC: ${r.kept} variable(s) kept`);
+  } catch (e) {
+    flash(e.message.split("\n")[0], true);
+  }
+}
+
+const EDIT_KEYS = { c: "contact", o: "coil", b: "branch", r: "rung", k: "cycle", Delete: "delete" };
+
+function editKeys(ev) {
+  if (!state.edit || !$("ld-tools").classList.contains("editing")) return;
+  if (ev.target.closest && ev.target.closest("input, form")) return;
+  if ((ev.ctrlKey || ev.metaKey) && ev.key === "z") {
+    ev.preventDefault();
+    return editOp("undo");
+  }
+  if (ev.key === "v") {
+    ev.preventDefault();
+    return $("ld-var").focus();
+  }
+  const op = !ev.ctrlKey && !ev.altKey && EDIT_KEYS[ev.key];
+  if (op) {
+    ev.preventDefault();
+    editOp(op);
+  }
+}
+
 function inspect(e) {
+  if (state.edit) $("ld-var").value = e.text || "";
   const box = $("inspector");
   const names = [];
   if (e.text && (e.kind === "contact" || e.kind === "coil" || /Variable$/.test(e.kind))) names.push(e.text);
@@ -243,6 +364,7 @@ async function openFile(index, at) {
 
 function showPane(which) {
   $("diagram").hidden = which !== "diagram";
+  if (which !== "diagram") $("ld-tools").hidden = true;
   $("editor").hidden = which !== "editor";
   $("inspector").hidden = true;
 }
@@ -448,6 +570,13 @@ async function main() {
   $("btn-start").onclick = () => control("start");
   $("btn-stop").onclick = () => control("stop");
   $("btn-restart").onclick = () => control("restart?mode=cold");
+  $("ld-edit").onclick = () => setEditing(!$("ld-tools").classList.contains("editing"));
+  for (const b of document.querySelectorAll("#ld-tools [data-op]")) b.onclick = () => editOp(b.dataset.op);
+  $("ld-var-form").addEventListener("submit", (e) => {
+    e.preventDefault();
+    editOp("var");
+  });
+  $("diagram").addEventListener("keydown", editKeys);
   $("watch-add").addEventListener("submit", (e) => {
     e.preventDefault();
     addWatch($("watch-input").value);
@@ -473,6 +602,7 @@ window.plccWorkbench = {
   state,
   trend: (path) => trend.series.get(path) || trend.series.get([...trend.series.keys()].find((k) => k.toLowerCase() === path.toLowerCase())) || [],
   editor: () => editor,
+  ladder: () => state.edit,
   addWatch,
   force,
   unforce,
