@@ -302,7 +302,8 @@ export class LadderEdit {
   }
 
   /// Deletes a contact, coil, variable or block; what it fed is fed by what fed it
-  /// (a contact or coil), or loses the connection (the others).
+  /// (a contact or coil in series), or loses the connection (a parallel branch, the
+  /// others).
   remove(id) {
     const e = this.byId(id);
     if (!e || e.localName.endsWith("PowerRail")) throw new Error("select an element other than a rail to delete it");
@@ -314,8 +315,13 @@ export class LadderEdit {
       const cs = kids(cp, "connection");
       if (!cs.some((c) => c.getAttribute("refLocalId") === String(id))) continue;
       for (const c of cs) if (c.getAttribute("refLocalId") === String(id)) c.remove();
-      for (const [ref, param] of sources)
-        if (!kids(cp, "connection").some((c) => c.getAttribute("refLocalId") === ref && (c.getAttribute("formalParameter") || null) === (param || null))) cp.append(this.conn(ref, param));
+      // What fed the element feeds what it fed, unless that already reaches it
+      // another way (the element was a parallel branch: a wire there would be a
+      // short circuit around the other branches).
+      for (const [ref, param] of sources) {
+        const present = kids(cp, "connection").some((c) => c.getAttribute("refLocalId") === ref && (c.getAttribute("formalParameter") || null) === (param || null));
+        if (!present && !this.downstream(ref).includes(owner)) cp.append(this.conn(ref, param));
+      }
       if (!kids(cp, "connection").length && owner.localName === "rightPowerRail") cp.remove();
     }
     e.remove();
