@@ -192,7 +192,14 @@ async fn drive(c: &Client, page: &str) {
         .await;
         loads.push(js(c, timing).await.as_f64().expect("navigation timing"));
     }
-    eprintln!("the page loaded in {loads:?} ms");
+    let parts = js(
+        c,
+        "const n = performance.getEntriesByType('navigation')[0]; \
+         return {response: n.responseEnd - n.startTime, dom: n.domContentLoadedEventEnd - n.startTime, \
+         assets: performance.getEntriesByType('resource').map(r => [r.name.split('/').pop(), Math.round(r.responseEnd - r.startTime)])}",
+    )
+    .await;
+    eprintln!("the page loaded in {loads:?} ms ({parts})");
     assert!(
         loads.iter().any(|&l| l < 1000.0),
         "the page took {loads:?} ms to load"
