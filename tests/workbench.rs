@@ -368,6 +368,33 @@ async fn drive(c: &Client, page: &str) {
     screenshot(c, "diagnostics").await;
 }
 
+/// An FBD body drawn read-only, its values live.
+async fn fbd(c: &Client, page: &str) {
+    c.goto(page).await.expect("the page loads");
+    until(
+        c,
+        "the FBD diagram",
+        "return document.body.dataset.ready === 'true'",
+    )
+    .await;
+    assert_eq!(count(c, "svg.lang-FBD").await, 1);
+    assert_eq!(count(c, "svg .el-block").await, 8);
+    assert!(count(c, "svg .el-inVariable").await >= 2);
+    assert!(count(c, "svg .el-outVariable").await >= 2);
+    assert_eq!(
+        js(c, "return document.getElementById('ld-tools').hidden").await,
+        json!(true),
+        "FBD is not edited"
+    );
+    until(
+        c,
+        "live values at the variables",
+        "return [...document.querySelectorAll('svg .value')].some(t => t.textContent !== '') || document.querySelectorAll('svg .wire.on').length > 0",
+    )
+    .await;
+    screenshot(c, "fbd").await;
+}
+
 /// What `script` passes to its callback (the last argument), e.g. a fetch's JSON.
 async fn js_async(c: &Client, script: &str, args: Vec<Json>) -> Json {
     c.execute_async(script, args)
@@ -560,6 +587,7 @@ fn the_workbench_in_chromium() {
         );
     }
     let (_server, page) = serve(Path::new("examples/ladder_demo.xml"));
+    let (_fbd_server, fbd_page) = serve(Path::new("tests/programs/plcopen/fbd_logic.xml"));
     let (_driver, driver) = chromedriver();
     let profile = std::env::temp_dir().join(format!("plcc-workbench-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&profile);
@@ -569,7 +597,11 @@ fn the_workbench_in_chromium() {
         .expect("a runtime");
     rt.block_on(async {
         let c = browser(&driver, &profile).await;
-        let r = tokio::time::timeout(Duration::from_secs(90), drive(&c, &page)).await;
+        let r = tokio::time::timeout(Duration::from_secs(90), async {
+            drive(&c, &page).await;
+            fbd(&c, &fbd_page).await;
+        })
+        .await;
         let _ = c.close().await;
         r.expect("the test ran in 90 s");
     });
