@@ -335,6 +335,7 @@ async fn drive(c: &Client, page: &str) {
     assert_eq!(count(c, "#trend .u-over").await, 1, "uPlot draws the trend");
     screenshot(c, "trend").await;
 
+    build(c).await;
     edit(c).await;
 
     // The source of the project in the editor, checked by the compiler.
@@ -366,6 +367,43 @@ async fn drive(c: &Client, page: &str) {
     )
     .await;
     screenshot(c, "diagnostics").await;
+}
+
+/// Builds for the chip, the VM and C from the page: the files to download and the
+/// resource report.
+async fn build(c: &Client) {
+    for (target, files) in [
+        (
+            "vmasm",
+            &["ladder_demo.xcp", "ladder_demo.dcp", "ladder_demo.asm"][..],
+        ),
+        ("c", &["POUS.c", "POUS.h", "VARIABLES.csv"][..]),
+        ("pic16f876a", &["ladder_demo.hex", "ladder_demo.asm"][..]),
+    ] {
+        click(c, &format!("#build-target option[value={target}]")).await;
+        click(
+            c,
+            "button[aria-label='Build the project for the chosen target']",
+        )
+        .await;
+        let links = format!(
+            "const names = [...document.querySelectorAll('#build-out a[download]')].map(a => a.getAttribute('download')); \
+             return document.querySelector('#build-out .summary')?.textContent.startsWith('{target}:') && {files:?}.every(f => names.includes(f))"
+        );
+        until(c, &format!("the files built for {target}"), &links).await;
+    }
+    let summary = js(
+        c,
+        "return document.querySelector('#build-out .summary').textContent",
+    )
+    .await;
+    assert!(
+        summary
+            .as_str()
+            .is_some_and(|s| s.contains("flash") && s.contains("ram")),
+        "the chip's resource report: {summary}"
+    );
+    screenshot(c, "build").await;
 }
 
 /// An FBD body drawn read-only, its values live.

@@ -344,7 +344,7 @@ impl Api {
         if route.first() != Some(&"api") {
             return fail(404, format!("no such resource `{path}`"));
         }
-        // A check, or reading a diagram of a text, changes nothing: no token.
+        // A check, a build, or reading a diagram of a text changes nothing: no token.
         let writes =
             !matches!(method, Get | Head) && !matches!(route[1..], ["check"] | ["diagram", _]);
         if writes && !self.authorized(req) {
@@ -422,6 +422,19 @@ impl Api {
                 }
                 super::project::diagram_of(&body, &p)
             }
+            (Post, ["build"]) => {
+                let mut body = Vec::new();
+                if req
+                    .as_reader()
+                    .take(MAX_PROGRAM + 1)
+                    .read_to_end(&mut body)
+                    .is_err()
+                    || body.len() as u64 > MAX_PROGRAM
+                {
+                    return fail(413, format!("the text is larger than {MAX_PROGRAM} bytes"));
+                }
+                self.project.build(&self.loader, query, body)
+            }
             (Post, ["check"]) => {
                 let mut body = Vec::new();
                 if req
@@ -456,7 +469,8 @@ impl Api {
                 | ["project"]
                 | ["files", _]
                 | ["diagram", _]
-                | ["check"],
+                | ["check"]
+                | ["build"],
             ) => fail(405, format!("{method} is not allowed on `{path}`")),
             _ => fail(404, format!("no such resource `{path}`")),
         }

@@ -495,6 +495,140 @@ impl Project {
     }
 }
 
+/// The targets the page builds for, and what it asks each for.
+const BUILDS: &[(&str, &[&str])] = &[
+    ("pic16f876a", &["hex", "asm"]),
+    ("vmasm", &["xcp", "asm"]),
+    ("c", &["c"]),
+];
+
+impl Project {
+    /// `POST /api/build?target=T`: the project (its files as started, or the body in
+    /// place of the file `file=NAME` when given) built for target T: the output files
+    /// (contents in base64) and the target's resource report; the diagnostics if it
+    /// does not build.
+    pub fn build(
+        &self,
+        loader: &Loader,
+        query: &str,
+        body: Vec<u8>,
+    ) -> Result<Json, (u16, String)> {
+        let mut target = None;
+        let mut file = None;
+        for kv in query.split('&').filter(|kv| !kv.is_empty()) {
+            match kv.split_once('=') {
+                Some(("target", t)) => target = Some(t.to_string()),
+                Some(("file", f)) => file = super::http::percent_decode(f),
+                _ => return Err((400, format!("`{kv}`: use target=T and file=NAME"))),
+            }
+        }
+        let names = BUILDS
+            .iter()
+            .map(|(t, _)| *t)
+            .collect::<Vec<_>>()
+            .join(", ");
+        let Some(&(target, emits)) = BUILDS.iter().find(|(t, _)| Some(*t) == target.as_deref())
+        else {
+            return Err((400, format!("give target=T, one of {names}")));
+        };
+        let texts: Vec<(String, Vec<u8>)> = self
+            .files
+            .iter()
+            .map(|f| {
+                let t = if file.as_deref() == Some(f.name.as_str()) {
+                    body.clone()
+                } else {
+                    f.text.as_bytes().to_vec()
+                };
+                (f.name.clone(), t)
+            })
+            .collect();
+        if let Some(f) = file
+            .as_deref()
+            .filter(|f| !self.files.iter().any(|x| x.name == *f))
+        {
+            return Err((404, format!("no file `{f}` in the project")));
+        }
+        let mut opts = loader.opts.clone();
+        opts.inline_c = crate::targets::find(target).is_some_and(|t| t.inline_c);
+        let build = crate::driver::build_sources_with_library(texts, loader.library.clone(), &opts)
+            .map_err(|e| (400, e.0))?;
+        let report = |diags: &[plcc_ir::diag::Diagnostic]| {
+            json!({
+                "ok": false,
+                "target": target,
+                "errors": crate::render::render(&build.sources, diags),
+            })
+        };
+        let Some(module) = build.module.as_ref() else {
+            return Ok(report(&build.diagnostics));
+        };
+        let Some(backend) = crate::targets::backend(target) else {
+            return Err((500, format!("no backend for `{target}`")));
+        };
+        let stem = std::path::Path::new(&self.files[0].name)
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned());
+        let mut files = Vec::new();
+        let mut summary = None;
+        for emit in emits {
+            let opts = plcc_ir::backend::Options {
+                emit: Some(emit.to_string()),
+                settings: Vec::new(),
+                sources: crate::driver::source_texts(&build.sources, module),
+                output_stem: stem.clone(),
+            };
+            match backend.compile(module, &opts) {
+                Ok(arts) => {
+                    summary = summary.or(arts.summary);
+                    for a in arts.files {
+                        let name = if a.kind.contains('.') {
+                            a.kind.clone()
+                        } else {
+                            format!("{}.{}", stem.as_deref().unwrap_or("program"), a.kind)
+                        };
+                        if files.iter().any(|f: &Json| f["name"] == name.as_str()) {
+                            continue;
+                        }
+                        files.push(json!({"name": name, "size": a.bytes.len(), "base64": base64(&a.bytes)}));
+                    }
+                }
+                Err(diags) => return Ok(report(&diags)),
+            }
+        }
+        let warnings = build.diagnostics.iter().filter(|d| !d.is_error()).count();
+        Ok(json!({
+            "ok": true,
+            "target": target,
+            "summary": summary,
+            "warnings": warnings,
+            "files": files,
+        }))
+    }
+}
+
+/// Standard base64 with padding.
+fn base64(bytes: &[u8]) -> String {
+    const ABC: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for chunk in bytes.chunks(3) {
+        let b = [
+            chunk[0],
+            *chunk.get(1).unwrap_or(&0),
+            *chunk.get(2).unwrap_or(&0),
+        ];
+        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        for i in 0..4 {
+            if i <= chunk.len() {
+                out.push(ABC[(n >> (18 - 6 * i)) as usize & 63] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
 /// The first child element of `n` named `tag`.
 fn child<'a, 'i>(n: roxmltree::Node<'a, 'i>, tag: &str) -> Option<roxmltree::Node<'a, 'i>> {
     n.children().find(|c| c.tag_name().name() == tag)
@@ -806,6 +940,68 @@ mod tests {
             .unwrap();
         assert_eq!(r["errors"], 1);
         assert_eq!(r["diagnostics"][0]["line"], 2);
+    }
+
+    #[test]
+    fn base64_as_the_rfc_gives_it() {
+        for (raw, enc) in [
+            ("", ""),
+            ("f", "Zg=="),
+            ("fo", "Zm8="),
+            ("foo", "Zm9v"),
+            ("foob", "Zm9vYg=="),
+            ("fooba", "Zm9vYmE="),
+            ("foobar", "Zm9vYmFy"),
+        ] {
+            assert_eq!(base64(raw.as_bytes()), enc);
+        }
+    }
+
+    #[test]
+    fn the_example_builds_for_the_chip_the_vm_and_c() {
+        let xml = include_str!("../../examples/ladder_demo.xml");
+        let (p, loader) = project(&[("ladder_demo.xml", xml)]);
+        let pic = p.build(&loader, "target=pic16f876a", Vec::new()).unwrap();
+        assert_eq!(pic["ok"], true, "{pic}");
+        let names: Vec<&str> = pic["files"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|f| f["name"].as_str().unwrap())
+            .collect();
+        assert_eq!(names, ["ladder_demo.hex", "ladder_demo.asm"]);
+        assert!(pic["summary"].as_str().unwrap().contains("flash"), "{pic}");
+        let vm = p.build(&loader, "target=vmasm", Vec::new()).unwrap();
+        let names: Vec<&str> = vm["files"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|f| f["name"].as_str().unwrap())
+            .collect();
+        assert_eq!(
+            names,
+            ["ladder_demo.xcp", "ladder_demo.dcp", "ladder_demo.asm"]
+        );
+        let c = p.build(&loader, "target=c", Vec::new()).unwrap();
+        assert!(
+            c["files"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .any(|f| f["name"] == "POUS.c"),
+            "{c}"
+        );
+        let bad = xml.replacen(
+            "<variable>stop_pb</variable>",
+            "<variable>stop_btn</variable>",
+            1,
+        );
+        let r = p
+            .build(&loader, "target=c&file=ladder_demo.xml", bad.into_bytes())
+            .unwrap();
+        assert_eq!(r["ok"], false);
+        assert!(r["errors"].as_str().unwrap().contains("stop_btn"));
+        assert!(p.build(&loader, "target=host", Vec::new()).is_err());
     }
 
     #[test]

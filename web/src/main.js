@@ -564,6 +564,35 @@ async function control(what) {
   pollStatus();
 }
 
+// ---------------------------------------------------------------------- build
+
+async function buildFor(target) {
+  const out = $("build-out");
+  out.replaceChildren(h("p", { class: "hint" }, `building for ${target}…`));
+  let q = `target=${encodeURIComponent(target)}`;
+  let body = "";
+  if (state.edit) {
+    q += `&file=${encodeURIComponent(state.project.files[state.view.file].name)}`;
+    body = state.edit.text();
+  }
+  let r;
+  try {
+    r = await api(`/api/build?${q}`, { method: "POST", body });
+  } catch (e) {
+    return out.replaceChildren(h("pre", {}, e.message));
+  }
+  if (!r.ok) return out.replaceChildren(h("p", {}, `${target}: does not build`), h("pre", {}, r.errors));
+  const links = r.files.map((f) => {
+    const bytes = Uint8Array.from(atob(f.base64), (c) => c.charCodeAt(0));
+    const url = URL.createObjectURL(new Blob([bytes], { type: "application/octet-stream" }));
+    return h("li", {}, h("a", { href: url, download: f.name, "aria-label": `Download ${f.name}, ${f.size} bytes` }, f.name), h("small", {}, ` ${f.size} B`));
+  });
+  out.replaceChildren(
+    h("p", { class: "summary" }, `${r.target}: ${r.summary || "built"}${r.warnings ? `, ${r.warnings} warning(s)` : ""}`),
+    h("ul", { "aria-label": "Files built" }, links)
+  );
+}
+
 // ----------------------------------------------------------------------- start
 
 async function main() {
@@ -577,6 +606,10 @@ async function main() {
     editOp("var");
   });
   $("diagram").addEventListener("keydown", editKeys);
+  $("build-form").addEventListener("submit", (e) => {
+    e.preventDefault();
+    buildFor($("build-target").value);
+  });
   $("watch-add").addEventListener("submit", (e) => {
     e.preventDefault();
     addWatch($("watch-input").value);
