@@ -406,6 +406,34 @@ async fn build(c: &Client) {
     screenshot(c, "build").await;
 }
 
+/// A sequential function chart drawn read-only, its active step lit.
+async fn sfc(c: &Client, page: &str) {
+    c.goto(page).await.expect("the page loads");
+    until(
+        c,
+        "the chart",
+        "return document.body.dataset.ready === 'true'",
+    )
+    .await;
+    assert_eq!(count(c, "svg.lang-SFC").await, 1);
+    assert_eq!(count(c, "svg .el-step").await, 3);
+    assert_eq!(count(c, "svg .el-transition").await, 3);
+    assert_eq!(count(c, "svg .el-actionBlock").await, 3);
+    assert_eq!(count(c, "svg .el-jumpStep").await, 1);
+    let lit = |step: &str| {
+        format!("return [...document.querySelectorAll('svg .el-step.on')].map(e => e.getAttribute('aria-label').split(',')[0]).join() === '{step}'")
+    };
+    until(c, "the initial step lit", &lit("initial step Idle")).await;
+    js(
+        c,
+        "window.plccWorkbench.force('seq.start', true); return true",
+    )
+    .await;
+    until(c, "the step Fill lit", &lit("step Fill")).await;
+    screenshot(c, "sfc").await;
+    until(c, "the step Drain lit", &lit("step Drain")).await;
+}
+
 /// An FBD body drawn read-only, its values live.
 async fn fbd(c: &Client, page: &str) {
     c.goto(page).await.expect("the page loads");
@@ -626,6 +654,7 @@ fn the_workbench_in_chromium() {
     }
     let (_server, page) = serve(Path::new("examples/ladder_demo.xml"));
     let (_fbd_server, fbd_page) = serve(Path::new("tests/programs/plcopen/fbd_logic.xml"));
+    let (_sfc_server, sfc_page) = serve(Path::new("tests/workbench/sfc_demo.xml"));
     let (_driver, driver) = chromedriver();
     let profile = std::env::temp_dir().join(format!("plcc-workbench-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&profile);
@@ -638,6 +667,7 @@ fn the_workbench_in_chromium() {
         let r = tokio::time::timeout(Duration::from_secs(90), async {
             drive(&c, &page).await;
             fbd(&c, &fbd_page).await;
+            sfc(&c, &sfc_page).await;
         })
         .await;
         let _ = c.close().await;

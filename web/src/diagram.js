@@ -121,7 +121,7 @@ export class Diagram {
       for (const c of pin.conns || []) {
         let pts = c.points.map(([x, y]) => [x, y]);
         if (pts.length < 2) {
-          const o = this.outPoint(c.from, c.param);
+          const o = this.outPoint(c.from, c.param ?? (e.kind === "actionBlock" ? "action" : null));
           if (!o) continue;
           const mx = (o.x + pin.x) / 2;
           pts = [[pin.x, pin.y], [mx, pin.y], [mx, o.y], [o.x, o.y]];
