@@ -9,6 +9,8 @@
 //! Needs Debian's `chromium` and `chromium-driver` (`.ci/run` installs them): without
 //! them the test fails and says so.
 
+use fantoccini::actions::{InputSource, KeyAction, KeyActions};
+use fantoccini::key::Key;
 use fantoccini::{Client, ClientBuilder, Locator};
 use serde_json::{json, Value as Json};
 use std::io::{BufRead, BufReader};
@@ -236,31 +238,30 @@ async fn drive(c: &Client, page: &str) {
         "document.querySelector('svg .el-contact[data-var=start_pb]').focus(); return true",
     )
     .await;
-    let key = |k: &str| {
-        format!(
-            "document.activeElement.dispatchEvent(new KeyboardEvent('keydown', {{key: '{k}', bubbles: true}})); return document.activeElement.getAttribute('aria-label')"
-        )
-    };
-    let right = js(c, &key("ArrowRight")).await;
+    let focused = "return document.activeElement.getAttribute('aria-label')";
+    press(c, &[Key::Right.into()]).await;
+    let right = js(c, focused).await;
     assert!(
         right
             .as_str()
             .is_some_and(|s| s.contains("normally closed contact stop_pb")),
         "ArrowRight from start_pb went to {right}"
     );
-    let left = js(c, &key("ArrowLeft")).await;
+    press(c, &[Key::Left.into()]).await;
+    let left = js(c, focused).await;
     assert!(
         left.as_str()
             .is_some_and(|s| s.starts_with("normally open contact start_pb")),
         "ArrowLeft from stop_pb went to {left}"
     );
-    let down = js(c, &key("ArrowDown")).await;
+    press(c, &[Key::Down.into()]).await;
+    let down = js(c, focused).await;
     assert!(
         down.as_str()
             .is_some_and(|s| s.starts_with("normally open contact motor")),
         "ArrowDown from start_pb went to {down}"
     );
-    js(c, &key("Enter")).await;
+    press(c, &[Key::Enter.into()]).await;
     until(
         c,
         "the inspector",
@@ -478,12 +479,17 @@ async fn model_of(c: &Client, text: &Json) -> Json {
     .await
 }
 
-async fn key_on_focus(c: &Client, key: &str) {
-    js(
-        c,
-        &format!("document.activeElement.dispatchEvent(new KeyboardEvent('keydown', {{key: '{key}', bubbles: true}})); return true"),
-    )
-    .await;
+/// Real key presses (WebDriver actions), to the focused element: the keys down in
+/// order, then up in reverse (`[Key::Control.into(), 'z']` is Ctrl+Z).
+async fn press(c: &Client, keys: &[char]) {
+    let mut a = KeyActions::new("keyboard".into());
+    for &k in keys {
+        a = a.then(KeyAction::Down { value: k });
+    }
+    for &k in keys.iter().rev() {
+        a = a.then(KeyAction::Up { value: k });
+    }
+    c.perform_actions(a).await.expect("the keys pressed");
 }
 
 /// Ladder editing from the keyboard, undo, and the edited rung through PLCopen XML
@@ -500,18 +506,19 @@ async fn edit(c: &Client) {
     .await;
     click(c, "#ld-edit").await;
     let select = |var: &str| {
-        format!("const e = document.querySelector('svg .el-contact[data-var={var}]'); e.focus(); e.dispatchEvent(new KeyboardEvent('keydown', {{key: 'Enter', bubbles: true}})); return true")
+        format!("const e = document.querySelector('svg .el-contact[data-var={var}]'); e.focus(); return true")
     };
     // C after stop_pb: a contact in series; Ctrl+Z takes it away; C again.
     js(c, &select("stop_pb")).await;
-    key_on_focus(c, "c").await;
+    press(c, &[Key::Enter.into()]).await;
+    press(c, &['c']).await;
     until(
         c,
         "a new contact",
         "return document.querySelectorAll('svg .el-contact').length === 8",
     )
     .await;
-    js(c, "document.activeElement.dispatchEvent(new KeyboardEvent('keydown', {key: 'z', ctrlKey: true, bubbles: true})); return true").await;
+    press(c, &[Key::Control.into(), 'z']).await;
     until(
         c,
         "the contact undone",
@@ -519,10 +526,11 @@ async fn edit(c: &Client) {
     )
     .await;
     js(c, &select("stop_pb")).await;
-    key_on_focus(c, "c").await;
+    press(c, &[Key::Enter.into()]).await;
+    press(c, &['c']).await;
     until(c, "the new contact selected", "const e = document.activeElement; return e.dataset.kind === 'contact' && document.querySelectorAll('svg .el-contact').length === 8 && e.dataset.var === 'stop_pb'").await;
     // K: normally closed; its variable set to `full`.
-    key_on_focus(c, "k").await;
+    press(c, &['k']).await;
     until(c, "the contact normally closed", "const e = document.querySelector('svg .el.selected'); return !!e && e.getAttribute('aria-label').startsWith('normally closed contact stop_pb')").await;
     let var = c
         .find(Locator::Id("ld-var"))
@@ -540,14 +548,15 @@ async fn edit(c: &Client) {
     assert_eq!(js(c, contacts).await, json!(8));
     // B: a branch beside it; Delete takes it away.
     js(c, &select("full")).await;
-    key_on_focus(c, "b").await;
+    press(c, &[Key::Enter.into()]).await;
+    press(c, &['b']).await;
     until(
         c,
         "a branch",
         "return document.querySelectorAll('svg .el-contact').length === 9",
     )
     .await;
-    key_on_focus(c, "Delete").await;
+    press(c, &[Key::Delete.into()]).await;
     until(
         c,
         "the branch deleted",
@@ -558,7 +567,7 @@ async fn edit(c: &Client) {
     assert_eq!(count(c, "svg .has-warning, svg .has-error").await, 0);
     // R: a rung, drawn; its contact deleted leaves the coil on the left rail, which
     // the rung checks show at the coil; undone twice.
-    key_on_focus(c, "r").await;
+    press(c, &['r']).await;
     until(
         c,
         "a new rung",
@@ -566,7 +575,7 @@ async fn edit(c: &Client) {
     )
     .await;
     screenshot(c, "edit").await;
-    key_on_focus(c, "Delete").await;
+    press(c, &[Key::Delete.into()]).await;
     until(
         c,
         "the rung check at the coil",
