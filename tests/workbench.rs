@@ -546,6 +546,37 @@ async fn edit(c: &Client) {
     )
     .await;
     assert_eq!(js(c, contacts).await, json!(8));
+    // L: a TON after `full`, its PT a literal, its instance declared; Delete takes
+    // it away, Ctrl+Z brings it back.
+    js(c, &select("full")).await;
+    press(c, &[Key::Enter.into()]).await;
+    press(c, &['l']).await;
+    until(
+        c,
+        "a TON",
+        "return !!document.querySelector('svg .el-block[aria-label^=\"block TON TON0\"]')",
+    )
+    .await;
+    assert_eq!(count(c, "svg .el-block").await, 3);
+    let problems = js(c, "return [...document.querySelectorAll('svg .has-warning, svg .has-error')].map(e => e.getAttribute('aria-description')).join(' | ')").await;
+    assert_eq!(problems, json!(""), "rung checks after adding a TON");
+    screenshot(c, "edit-block").await;
+    press(c, &[Key::Delete.into()]).await;
+    until(
+        c,
+        "the TON deleted",
+        "return document.querySelectorAll('svg .el-block').length === 2",
+    )
+    .await;
+    let problems = js(c, "return [...document.querySelectorAll('svg .has-warning, svg .has-error')].map(e => e.getAttribute('aria-description')).join(' | ')").await;
+    assert_eq!(problems, json!(""), "rung checks after deleting the TON");
+    press(c, &[Key::Control.into(), 'z']).await;
+    until(
+        c,
+        "the TON back",
+        "return document.querySelectorAll('svg .el-block').length === 3",
+    )
+    .await;
     // B: a branch beside it; Delete takes it away.
     js(c, &select("full")).await;
     press(c, &[Key::Enter.into()]).await;
@@ -601,7 +632,7 @@ async fn edit(c: &Client) {
     assert_eq!(js(c, contacts).await, json!(8));
 
     // Saved, loaded and saved again: the same model; the new contact between
-    // stop_pb and the motor's coil, normally closed, on `full`.
+    // stop_pb and a new TON feeding the motor's coil, normally closed, on `full`.
     let saved = js(c, "return window.plccWorkbench.ladder().text()").await;
     let again = js(
         c,
@@ -630,7 +661,16 @@ async fn edit(c: &Client) {
         .iter()
         .find(|e| e["kind"] == "coil" && e["text"] == "motor")
         .unwrap();
-    assert_eq!(motor["ins"][0]["conns"][0]["from"], full["id"]);
+    let ton = elems
+        .iter()
+        .find(|e| e["kind"] == "block" && e["instanceName"] == "TON0")
+        .expect("the new TON");
+    assert_eq!(ton["typeName"], "TON");
+    assert_eq!(ton["ins"][0]["conns"][0]["from"], full["id"]);
+    assert_eq!(motor["ins"][0]["conns"][0]["from"], ton["id"]);
+    assert_eq!(motor["ins"][0]["conns"][0]["param"], "Q");
+    let pt = &ton["ins"][1]["conns"][0]["from"];
+    assert!(elems.iter().any(|e| &e["id"] == pt && e["text"] == "T#1s"));
     assert!(full["x"].as_f64() > stop["x"].as_f64() && full["x"].as_f64() < motor["x"].as_f64());
     let check = js_async(
         c,

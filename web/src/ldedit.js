@@ -3,6 +3,20 @@
 // in addData) is saved as it was read. Each operation keeps the undo stack.
 
 const GRID = 10;
+
+/// The standard function blocks the editor adds: the inputs (with a literal for
+/// those that need a value) and the outputs; the first input takes the power.
+const BLOCKS = {
+  TON: [[["IN"], ["PT", "T#1s"]], ["Q", "ET"]],
+  TOF: [[["IN"], ["PT", "T#1s"]], ["Q", "ET"]],
+  TP: [[["IN"], ["PT", "T#1s"]], ["Q", "ET"]],
+  CTU: [[["CU"], ["R", "FALSE"], ["PV", "10"]], ["Q", "CV"]],
+  CTD: [[["CD"], ["LD", "FALSE"], ["PV", "10"]], ["Q", "CV"]],
+  R_TRIG: [[["CLK"]], ["Q"]],
+  F_TRIG: [[["CLK"]], ["Q"]],
+  SR: [[["S1"], ["R", "FALSE"]], ["Q1"]],
+  RS: [[["S"], ["R1", "FALSE"]], ["Q1"]],
+};
 const r10 = (v) => Math.round(v / GRID) * GRID;
 
 function kids(n, name) {
@@ -230,6 +244,88 @@ export class LadderEdit {
     return nid;
   }
 
+  /// A function block in series after element `id` (a contact or coil): its first
+  /// input takes what the element gave, its first output feeds what the element fed;
+  /// its other inputs get literals (`T#1s`, `10`) or stay open; an instance is
+  /// declared in the POU's local variables.
+  insertBlock(id, type) {
+    const e = this.byId(id);
+    const pins = BLOCKS[type.toUpperCase()];
+    if (!pins) throw new Error(`blocks: ${Object.keys(BLOCKS).join(", ")}`);
+    if (!e || !["contact", "coil"].includes(e.localName)) throw new Error("select a contact or a coil to put a block after it");
+    this.snapshot();
+    const T = type.toUpperCase();
+    const { x, y } = this.pos(e);
+    const { w, h } = this.size(e);
+    const my = y + h / 2;
+    const [ins, outs] = pins;
+    const bw = 80;
+    const bh = Math.max(ins.length, outs.length) * 40 + 20;
+    const nx = r10(x + w + 40);
+    const by = my - 30;
+    const after = this.downstream(id).filter((d) => d.localName !== "rightPowerRail");
+    const first = Math.min(...after.map((d) => this.pos(d).x));
+    const dx = after.length ? Math.max(0, r10(nx + bw + 40 - first + 5)) : 0;
+    for (const d of after) this.setPos(d, this.pos(d).x + dx, this.pos(d).y);
+    // Room below for the block's other pins.
+    this.makeRoomBelow(y + h, Math.max(0, r10(bh - 40)));
+    const instance = this.freeName(T);
+    const bid = this.nextId();
+    const block = this.make("block", { localId: bid, typeName: T, instanceName: instance, width: bw, height: bh }, this.make("position", { x: nx, y: by }));
+    const inputs = this.make("inputVariables");
+    ins.forEach(([name], i) => {
+      const cp = this.point("connectionPointIn", 0, 30 + 40 * i);
+      if (i === 0) cp.append(this.conn(id));
+      inputs.append(this.make("variable", { formalParameter: name }, cp));
+    });
+    const outputs = this.make("outputVariables");
+    outs.forEach((name, i) => outputs.append(this.make("variable", { formalParameter: name }, this.point("connectionPointOut", bw, 30 + 40 * i))));
+    block.append(inputs, this.make("inOutVariables"), outputs);
+    for (const { cp } of this.inputs())
+      for (const c of kids(cp, "connection"))
+        if (c.getAttribute("refLocalId") === String(id)) {
+          c.setAttribute("refLocalId", String(bid));
+          c.setAttribute("formalParameter", outs[0]);
+        }
+    e.after(block);
+    // Literals on the other inputs that need a value.
+    let last = block;
+    ins.forEach(([name, literal], i) => {
+      if (i === 0 || !literal) return;
+      const vid = this.nextId();
+      const vw = 60;
+      const v = this.make(
+        "inVariable",
+        { localId: vid, negated: "false", width: vw, height: 20 },
+        this.make("position", { x: nx - vw - 20, y: by + 30 + 40 * i - 10 }),
+        this.point("connectionPointOut", vw, 10),
+        this.make("expression", {}, literal)
+      );
+      last.after(v);
+      last = v;
+      const cp = [...kids(kid(block, "inputVariables"), "variable")][i];
+      kid(cp, "connectionPointIn").append(this.conn(vid));
+    });
+    this.declare(instance, T);
+    this.roomOnTheRight();
+    this.reroute();
+    return bid;
+  }
+
+  /// A name for a new instance: `TON0`, `TON1`...
+  freeName(type) {
+    const used = new Set([...this.doc.getElementsByTagNameNS("*", "variable")].map((v) => (v.getAttribute("name") || "").toLowerCase()));
+    for (let i = 0; ; i++) if (!used.has(`${type}${i}`.toLowerCase())) return `${type}${i}`;
+  }
+
+  /// Declares a local variable of a derived type (an FB instance).
+  declare(name, type) {
+    if (!this.interface) throw new Error("the POU has no interface to declare the instance in");
+    let locals = kid(this.interface, "localVars");
+    if (!locals) this.interface.append((locals = this.make("localVars")));
+    locals.append(this.make("variable", { name }, this.make("type", {}, this.make("derived", { name: type }))));
+  }
+
   /// A contact parallel to contact `id` (an OR branch), below it.
   addBranch(id) {
     const e = this.byId(id);
@@ -308,8 +404,18 @@ export class LadderEdit {
     const e = this.byId(id);
     if (!e || e.localName.endsWith("PowerRail")) throw new Error("select an element other than a rail to delete it");
     this.snapshot();
-    const through = ["contact", "coil"].includes(e.localName);
-    const sources = through ? kids(kid(e, "connectionPointIn"), "connection").map((c) => [c.getAttribute("refLocalId"), c.getAttribute("formalParameter")]) : [];
+    // A contact, coil or block in series is bridged from its (first) input; the
+    // literals that fed only a block go with it.
+    const through = ["contact", "coil", "block"].includes(e.localName);
+    const firstIn = e.getElementsByTagNameNS("*", "connectionPointIn")[0];
+    const sources = through && firstIn ? kids(firstIn, "connection").map((c) => [c.getAttribute("refLocalId"), c.getAttribute("formalParameter")]) : [];
+    const feeds = (f) => this.inputs().some(({ e: o, cp }) => o !== e && kids(cp, "connection").some((c) => c.getAttribute("refLocalId") === f.getAttribute("localId")));
+    const literals =
+      e.localName === "block"
+        ? [...e.getElementsByTagNameNS("*", "connection")]
+            .map((c) => this.byId(c.getAttribute("refLocalId")))
+            .filter((f) => f && f.localName === "inVariable" && !feeds(f))
+        : [];
     for (const { e: owner, cp } of this.inputs()) {
       if (owner === e) continue;
       const cs = kids(cp, "connection");
@@ -325,6 +431,7 @@ export class LadderEdit {
       if (!kids(cp, "connection").length && owner.localName === "rightPowerRail") cp.remove();
     }
     e.remove();
+    for (const f of literals) f.remove();
     this.reroute();
     return sources.length ? sources[0][0] : null;
   }

@@ -202,6 +202,9 @@ async function editOp(op) {
       case "rung":
         next = ed.addRung();
         break;
+      case "block":
+        next = ed.insertBlock(sel, $("ld-block").value.trim());
+        break;
       case "cycle":
         ed.cycle(sel);
         break;
@@ -249,7 +252,7 @@ async function applyXml() {
   }
 }
 
-const EDIT_KEYS = { c: "contact", o: "coil", b: "branch", r: "rung", k: "cycle", Delete: "delete" };
+const EDIT_KEYS = { c: "contact", o: "coil", b: "branch", r: "rung", k: "cycle", l: "block", Delete: "delete" };
 
 function editKeys(ev) {
   if (!state.edit || !$("ld-tools").classList.contains("editing")) return;
@@ -601,6 +604,10 @@ async function main() {
   $("btn-restart").onclick = () => control("restart?mode=cold");
   $("ld-edit").onclick = () => setEditing(!$("ld-tools").classList.contains("editing"));
   for (const b of document.querySelectorAll("#ld-tools [data-op]")) b.onclick = () => editOp(b.dataset.op);
+  $("ld-block-form").addEventListener("submit", (e) => {
+    e.preventDefault();
+    editOp("block");
+  });
   $("ld-var-form").addEventListener("submit", (e) => {
     e.preventDefault();
     editOp("var");
