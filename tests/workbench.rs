@@ -120,6 +120,8 @@ async fn browser(driver: &str, profile: &Path) -> Client {
                 "--disable-background-networking",
                 "--disable-component-update",
                 "--disable-sync",
+                // Containers often give /dev/shm 64 MB, too little for Chromium.
+                "--disable-dev-shm-usage",
                 "--window-size=1400,1000",
                 format!("--user-data-dir={}", profile.display()),
             ],

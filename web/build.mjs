@@ -1,4 +1,4 @@
-// Builds the workbench page into dist/: app.js and app.css (minified, every npm
+// Builds the workbench page into dist/: app.js, editor.js and app.css (minified, every npm
 // package bundled), index.html, and LICENSES.txt (the licences of the bundled
 // packages). plcc embeds dist/ (src/serve/project.rs): the Rust build needs no node.
 import * as esbuild from "esbuild";
@@ -7,13 +7,16 @@ import { dirname, join } from "node:path";
 
 const out = "dist";
 mkdirSync(out, { recursive: true });
+// Two bundles: the page (app.js, app.css) and the source editor (editor.js), which
+// the page imports when a file is first opened.
 const result = await esbuild.build({
-  entryPoints: ["src/main.js"],
+  entryPoints: { app: "src/main.js", editor: "src/editor.js" },
   bundle: true,
   minify: true,
-  format: "iife",
+  format: "esm",
   target: ["es2020"],
-  outfile: join(out, "app.js"),
+  outdir: out,
+  external: ["/assets/*"],
   metafile: true,
   legalComments: "none",
   logLevel: "warning",
@@ -27,7 +30,7 @@ for (const input of Object.keys(result.metafile.inputs)) {
   if (m) packages.set(m[1], join("node_modules", m[1]));
 }
 let text =
-  "The workbench page of plcc (web/dist/app.js, app.css) bundles these npm packages.\n" +
+  "The workbench page of plcc (web/dist/app.js, editor.js, app.css) bundles these npm packages.\n" +
   "Their licences follow.\n";
 for (const [name, dir] of [...packages].sort()) {
   const pkg = JSON.parse(readFileSync(join(dir, "package.json"), "utf8"));

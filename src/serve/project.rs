@@ -37,6 +37,11 @@ const ASSETS: &[(&str, &str, &[u8])] = &[
         include_bytes!("../../web/dist/app.js"),
     ),
     (
+        "/assets/editor.js",
+        "text/javascript; charset=utf-8",
+        include_bytes!("../../web/dist/editor.js"),
+    ),
+    (
         "/assets/app.css",
         "text/css; charset=utf-8",
         include_bytes!("../../web/dist/app.css"),

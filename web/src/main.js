@@ -1,12 +1,7 @@
 // The workbench page of `plcc serve` (docs/workbench.md).
-import { EditorView, basicSetup } from "codemirror";
-import { EditorState, Compartment } from "@codemirror/state";
-import { linter, lintGutter } from "@codemirror/lint";
-import { xml } from "@codemirror/lang-xml";
 import uPlot from "uplot";
 import "uplot/dist/uPlot.min.css";
 import "./style.css";
-import { iec } from "./iec.js";
 import { Diagram, show } from "./diagram.js";
 import { LadderEdit } from "./ldedit.js";
 
@@ -304,64 +299,37 @@ function inspect(e) {
 // --------------------------------------------------------------------- editor
 
 let editor = null;
-const langConf = new Compartment();
-const lintConf = new Compartment();
 
-function checker(fileName) {
-  return linter(
-    async (view) => {
-      const text = view.state.doc.toString();
-      let r;
-      try {
-        r = await api(`/api/check?file=${encodeURIComponent(fileName)}`, { method: "POST", body: text });
-      } catch (e) {
-        $("view-info").textContent = e.message;
-        return [];
-      }
-      const first = r.diagnostics.find((d) => d.here) || r.diagnostics[0];
-      $("view-info").textContent =
-        (r.ok ? `checked: no errors, ${r.diagnostics.length} warning(s)` : `checked: ${r.errors} error(s)`) +
-        (first ? ` — ${first.code}${first.line ? " line " + first.line : ""}: ${first.message}` : "");
-      const len = view.state.doc.length;
-      return r.diagnostics
-        .filter((d) => d.here)
-        .map((d) => ({
-          from: Math.min(d.from, len),
-          to: Math.min(Math.max(d.to, d.from), len),
-          severity: d.severity,
-          message: `${d.code}: ${d.message}${d.label ? " (" + d.label + ")" : ""}${d.notes.length ? "\n" + d.notes.join("\n") : ""}`,
-        }));
-    },
-    { delay: 500 }
-  );
+/// The diagnostics of a file's text as the editor shows them.
+async function check(fileName, text, len) {
+  let r;
+  try {
+    r = await api(`/api/check?file=${encodeURIComponent(fileName)}`, { method: "POST", body: text });
+  } catch (e) {
+    $("view-info").textContent = e.message;
+    return [];
+  }
+  const first = r.diagnostics.find((d) => d.here) || r.diagnostics[0];
+  $("view-info").textContent =
+    (r.ok ? `checked: no errors, ${r.diagnostics.length} warning(s)` : `checked: ${r.errors} error(s)`) +
+    (first ? ` — ${first.code}${first.line ? " line " + first.line : ""}: ${first.message}` : "");
+  return r.diagnostics
+    .filter((d) => d.here)
+    .map((d) => ({
+      from: Math.min(d.from, len),
+      to: Math.min(Math.max(d.to, d.from), len),
+      severity: d.severity,
+      message: `${d.code}: ${d.message}${d.label ? " (" + d.label + ")" : ""}${d.notes.length ? "\n" + d.notes.join("\n") : ""}`,
+    }));
 }
 
 async function openFile(index, at) {
-  const f = await api(`/api/files/${index}`);
+  const [f, cm] = await Promise.all([api(`/api/files/${index}`), import("/assets/editor.js")]);
   $("view-title").textContent = f.name;
   showPane("editor");
   state.view = { kind: "editor", file: index };
   state.diagram = null;
-  const lang = f.lang === "xml" ? xml() : iec;
-  if (!editor) {
-    editor = new EditorView({
-      parent: $("editor"),
-      state: EditorState.create({
-        doc: f.text,
-        extensions: [basicSetup, langConf.of(lang), lintConf.of(checker(f.name)), lintGutter(), EditorView.contentAttributes.of({ "aria-label": "Source editor" })],
-      }),
-    });
-  } else {
-    editor.setState(
-      EditorState.create({
-        doc: f.text,
-        extensions: [basicSetup, langConf.of(lang), lintConf.of(checker(f.name)), lintGutter(), EditorView.contentAttributes.of({ "aria-label": "Source editor" })],
-      })
-    );
-  }
-  if (at !== undefined) {
-    editor.dispatch({ selection: { anchor: at }, effects: EditorView.scrollIntoView(at, { y: "start" }) });
-  }
+  editor = cm.show(editor, $("editor"), f.text, f.lang, (text, len) => check(f.name, text, len), at);
   resubscribe();
 }
 
