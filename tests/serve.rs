@@ -767,7 +767,7 @@ fn a_thousand_bad_api_requests_leave_the_plc_scanning() {
             // Unknown resources and methods.
             5 => {
                 let (m, p) = [
-                    ("GET", "/"),
+                    ("GET", "/assets/nope.js"),
                     ("GET", "/api"),
                     ("GET", "/api/nope"),
                     ("DELETE", "/api/status"),

@@ -59,6 +59,8 @@ pub struct Api {
     pub cycle_us: u64,
     /// The event streams open.
     pub streams: Arc<std::sync::atomic::AtomicUsize>,
+    /// The project, for the workbench.
+    pub project: super::project::Project,
 }
 
 /// An error reply: the status and a message.
@@ -178,7 +180,7 @@ pub fn display(path: &str) -> &str {
 }
 
 /// `%XX` escapes decoded; `None` if malformed or not UTF-8.
-fn percent_decode(s: &str) -> Option<String> {
+pub(super) fn percent_decode(s: &str) -> Option<String> {
     let b = s.as_bytes();
     let mut out = Vec::with_capacity(b.len());
     let mut i = 0;
@@ -342,7 +344,9 @@ impl Api {
         if route.first() != Some(&"api") {
             return fail(404, format!("no such resource `{path}`"));
         }
-        let writes = !matches!(method, Get | Head);
+        // A check, a build, or reading a diagram of a text changes nothing: no token.
+        let writes =
+            !matches!(method, Get | Head) && !matches!(route[1..], ["check"] | ["diagram", _]);
         if writes && !self.authorized(req) {
             return fail(
                 401,
@@ -396,6 +400,54 @@ impl Api {
                 done(self.ask(Cmd::Unforce(var.path().to_string())))
             }
             (Post, ["program"]) => self.program(req, query),
+            (Get, ["project"]) => Ok(self.project.info()),
+            (Get, ["files", n]) => self.project.file(n),
+            (Get, ["diagram", p]) => match percent_decode(p) {
+                Some(p) => self.project.diagram(&p),
+                None => fail(400, format!("`{p}` is not a well-formed name")),
+            },
+            (Post, ["diagram", p]) => {
+                let Some(p) = percent_decode(p) else {
+                    return fail(400, format!("`{p}` is not a well-formed name"));
+                };
+                let mut body = Vec::new();
+                if req
+                    .as_reader()
+                    .take(MAX_PROGRAM + 1)
+                    .read_to_end(&mut body)
+                    .is_err()
+                    || body.len() as u64 > MAX_PROGRAM
+                {
+                    return fail(413, format!("the text is larger than {MAX_PROGRAM} bytes"));
+                }
+                super::project::diagram_of(&body, &p)
+            }
+            (Post, ["build"]) => {
+                let mut body = Vec::new();
+                if req
+                    .as_reader()
+                    .take(MAX_PROGRAM + 1)
+                    .read_to_end(&mut body)
+                    .is_err()
+                    || body.len() as u64 > MAX_PROGRAM
+                {
+                    return fail(413, format!("the text is larger than {MAX_PROGRAM} bytes"));
+                }
+                self.project.build(&self.loader, query, body)
+            }
+            (Post, ["check"]) => {
+                let mut body = Vec::new();
+                if req
+                    .as_reader()
+                    .take(MAX_PROGRAM + 1)
+                    .read_to_end(&mut body)
+                    .is_err()
+                    || body.len() as u64 > MAX_PROGRAM
+                {
+                    return fail(413, format!("the text is larger than {MAX_PROGRAM} bytes"));
+                }
+                self.project.check(&self.loader, query, body)
+            }
             (Post, ["stop"]) => done(self.ask(Cmd::Stop)),
             (Post, ["start"]) => done(self.ask(Cmd::Start)),
             (Post, ["restart"]) => match query {
@@ -413,7 +465,12 @@ impl Api {
                 | ["start"]
                 | ["restart"]
                 | ["stream"]
-                | ["program"],
+                | ["program"]
+                | ["project"]
+                | ["files", _]
+                | ["diagram", _]
+                | ["check"]
+                | ["build"],
             ) => fail(405, format!("{method} is not allowed on `{path}`")),
             _ => fail(404, format!("no such resource `{path}`")),
         }
@@ -520,6 +577,17 @@ fn respond(req: tiny_http::Request, status: u16, body: &Json) {
     let _ = req.respond(r);
 }
 
+/// An asset of the page.
+fn respond_bytes(req: tiny_http::Request, ty: &str, bytes: &'static [u8]) {
+    let mut r = tiny_http::Response::from_data(bytes);
+    for (k, v) in [("Content-Type", ty), ("Cache-Control", "no-cache")] {
+        if let Ok(h) = tiny_http::Header::from_bytes(k.as_bytes(), v.as_bytes()) {
+            r = r.with_header(h);
+        }
+    }
+    let _ = req.respond(r);
+}
+
 /// Binds `addr` and serves the API on a thread of its own; the address bound.
 pub fn start(addr: SocketAddr, api: Api) -> std::io::Result<SocketAddr> {
     let server = tiny_http::Server::http(addr).map_err(std::io::Error::other)?;
@@ -553,6 +621,23 @@ pub fn start(addr: SocketAddr, api: Api) -> std::io::Result<SocketAddr> {
                             }
                         }
                         Err((status, msg)) => respond(req, status, &json!({"error": msg})),
+                    }
+                    continue;
+                }
+                // The workbench's page and assets (`project`).
+                let get = matches!(
+                    *req.method(),
+                    tiny_http::Method::Get | tiny_http::Method::Head
+                );
+                let path = req.url().split('?').next().unwrap_or("").to_string();
+                if get && !path.starts_with("/api/") {
+                    match super::project::asset(&path) {
+                        Some((ty, bytes)) => respond_bytes(req, ty, bytes),
+                        None => respond(
+                            req,
+                            404,
+                            &json!({"error": format!("no such resource `{path}`")}),
+                        ),
                     }
                     continue;
                 }

@@ -8,6 +8,7 @@
 pub mod http;
 pub mod image;
 pub mod modbus;
+pub mod project;
 pub mod retain;
 pub mod scan;
 
@@ -321,6 +322,7 @@ pub fn serve(a: &ServeArgs) -> u8 {
         );
     }
     let module_copy = module.clone();
+    let project = project::Project::new(&build, &a.files, &module);
     let loader = match Loader::new(a, target) {
         Ok(l) => l,
         Err(s) => return s,
@@ -405,6 +407,7 @@ pub fn serve(a: &ServeArgs) -> u8 {
             target: target.to_string(),
             cycle_us: cycle.us,
             streams: Arc::default(),
+            project,
         };
         match http::start(addr, api) {
             Ok(bound) => eprintln!("http: listening on {bound}"),
