@@ -398,6 +398,7 @@ bad! {
     oo_not_implementing,
     oo_override_final,
     oo_private_call,
+    oo_class,
     oo_protected_access,
     oo_super_without_base,
     oo_unknown_method,

@@ -83,6 +83,11 @@ pub struct OoParts {
     pub properties: Vec<Property>,
     /// Access specifiers of VAR blocks (`VAR PROTECTED`): block index, specifier.
     pub var_access: Vec<(u32, AccessSpec, Span)>,
+    /// `CLASS name ... END_CLASS` (IEC 61131-3 ed. 3, 6.6.5), held as a
+    /// FUNCTION_BLOCK: the span of its `CLASS` keyword. A class has no body and no
+    /// inputs, outputs or in-outs, and its instances are not called (only their
+    /// METHODs).
+    pub class: Option<Span>,
 }
 
 /// `METHOD [modifiers] name [: type] ... END_METHOD`: its variables, result and body

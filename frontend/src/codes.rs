@@ -117,10 +117,10 @@ codes! {
          \n    VAR AT %QX0.1 : BOOL; END_VAR        (* error *)\n\
          \n    VAR lamp AT %QX0.1 : BOOL; END_VAR   (* fix *)";
     SYNTAX_NOT_SUPPORTED = "E0107", "syntax not supported",
-        "The construct is valid in some IEC 61131-3 dialect (object-oriented INTERFACE, \
-         CLASS, METHOD or PROPERTY outside a FUNCTION_BLOCK, VAR_ACCESS paths) but plcc does not support it. The parser skips it and goes on.\n\
-         \n    INTERFACE I_Motor ... END_INTERFACE   (* error: not supported *)\n\
-         \n    (* fix: use FUNCTION_BLOCKs and FUNCTIONs *)";
+        "The construct is valid in some IEC 61131-3 dialect (an INTERFACE or CLASS \
+         declared inside a POU, a METHOD inside a METHOD, VAR_ACCESS paths) but plcc does not support it. The parser skips it and goes on.\n\
+         \n    FUNCTION_BLOCK Line\n      INTERFACE I_Motor ... END_INTERFACE   (* error: not supported here *)\n    END_FUNCTION_BLOCK\n\
+         \n    (* fix: declare INTERFACEs and CLASSes at the top level of a file *)";
     NOT_A_STATEMENT = "E0108", "expression is not a statement",
         "A statement must be an assignment `target := value;`, a call `f(...);` or a \
          keyword statement (IF, CASE, FOR, ...). An expression on its own does nothing; \

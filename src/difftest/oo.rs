@@ -93,6 +93,9 @@ pub struct Class {
     pub is_abstract: bool,
     /// FINAL.
     pub is_final: bool,
+    /// Declared a CLASS (IEC 61131-3 ed. 3, 6.6.5): no inputs, outputs or body, its
+    /// base (if any) a CLASS too, its instances never invoked.
+    pub is_class: bool,
     /// VAR_INPUT, VAR_OUTPUT and VAR (with initial values).
     pub inputs: Vec<(String, T, Expr)>,
     /// VAR_OUTPUT.
@@ -348,7 +351,7 @@ pub fn strip(p: &mut Prog) {
 }
 
 /// The features of the OO part [`features`] tells apart.
-pub const FEATURES: [&str; 24] = [
+pub const FEATURES: [&str; 26] = [
     "method input",
     "method result",
     "method without result",
@@ -362,6 +365,8 @@ pub const FEATURES: [&str; 24] = [
     "ABSTRACT",
     "FINAL method",
     "FINAL FB",
+    "CLASS",
+    "FUNCTION_BLOCK extending a CLASS",
     "PROPERTY",
     "PROTECTED",
     "INTERFACE EXTENDS",
@@ -416,6 +421,13 @@ pub fn features(p: &Prog) -> Vec<&'static str> {
         bodies.iter().any(|(_, b)| b.contains("SUPER^.")),
     );
     add("SUPER^() body", oo.classes.iter().any(|c| c.super_body));
+    add("CLASS", oo.classes.iter().any(|c| c.is_class));
+    add(
+        "FUNCTION_BLOCK extending a CLASS",
+        oo.classes
+            .iter()
+            .any(|c| !c.is_class && c.base.is_some_and(|b| oo.classes[b].is_class)),
+    );
     // A base's method calling, through THIS^, a method a derived class overrides.
     let overridden_below = |c: usize, name: &str| {
         (0..oo.classes.len()).any(|d| {

@@ -929,6 +929,17 @@ impl<'s> BodyCx<'_, 's> {
     }
 
     pub(super) fn fb_call(&mut self, inst: Place, fb: PouId, args: &'s [Arg], span: Span) {
+        if let Some(kw) = self.l.pou_ast(fb).oo.class {
+            let n = self.l.pou(fb).display.clone();
+            let d = Diagnostic::error(
+                codes::E_OO_DECLARATION,
+                format!("an instance of the CLASS `{n}` is not called: call one of its METHODs"),
+                span,
+            )
+            .with_secondary(kw, "declared a CLASS here");
+            self.l.diags.push(d);
+            return;
+        }
         self.instance_call(inst, fb, None, args, span);
     }
 

@@ -244,6 +244,14 @@ impl<'s> Lowerer<'s> {
                                 .with_secondary(f, "declared FINAL here"),
                             );
                         }
+                        if pou.oo.class.is_some() && self.pou_ast(base).oo.class.is_none() {
+                            let n = self.pou(base).display.clone();
+                            self.error(
+                                codes::E_OO_DECLARATION,
+                                format!("a CLASS extends only a CLASS: `{n}` is a FUNCTION_BLOCK"),
+                                b.span,
+                            );
+                        }
                         // Kept even when FINAL, so that its uses give no more errors.
                         self.pous[i].base = Some(base);
                     }
@@ -265,6 +273,9 @@ impl<'s> Lowerer<'s> {
                         self.error(codes::E_OO_DECLARATION, msg, b.span);
                     }
                 }
+            }
+            if let Some(kw) = pou.oo.class {
+                self.check_class(pou, kw);
             }
             let mut list = Vec::new();
             for itf in &pou.oo.implements {
@@ -327,6 +338,42 @@ impl<'s> Lowerer<'s> {
                 self.classes.class_id.insert(id, next);
                 next += 1;
             }
+        }
+    }
+
+    /// What a CLASS may not have (IEC 61131-3 ed. 3, 6.6.5): a body, inputs, outputs,
+    /// in-outs or temporaries.
+    fn check_class(&mut self, pou: &ast::Pou, kw: Span) {
+        use ast::VarKind;
+        let n = self.text(pou.name.span).to_string();
+        for b in &pou.var_blocks {
+            let what = match b.kind {
+                VarKind::Input => "VAR_INPUT",
+                VarKind::Output => "VAR_OUTPUT",
+                VarKind::InOut => "VAR_IN_OUT",
+                VarKind::Temp => "VAR_TEMP",
+                _ => continue,
+            };
+            self.diags.push(
+                Diagnostic::error(
+                    codes::E_OO_DECLARATION,
+                    format!("a CLASS has no {what}: `{n}` is not called, only its METHODs are"),
+                    b.span,
+                )
+                .with_secondary(kw, "declared a CLASS here")
+                .with_note("declare the parameters in the METHODs, or make it a FUNCTION_BLOCK"),
+            );
+        }
+        if !pou.body.stmts.is_empty() || pou.sfc.is_some() {
+            self.diags.push(
+                Diagnostic::error(
+                    codes::E_OO_DECLARATION,
+                    format!("a CLASS has no body: `{n}` is not called, only its METHODs are"),
+                    pou.sfc.as_ref().map_or(pou.body.span, |c| c.span),
+                )
+                .with_secondary(kw, "declared a CLASS here")
+                .with_note("move the statements into a METHOD, or make it a FUNCTION_BLOCK"),
+            );
         }
     }
 

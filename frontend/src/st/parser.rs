@@ -289,7 +289,7 @@ fn is_top_start(t: Tok) -> bool {
 fn is_pou_end(t: Tok) -> bool {
     matches!(
         t,
-        Tok::EndProgram | Tok::EndFunction | Tok::EndFunctionBlock
+        Tok::EndProgram | Tok::EndFunction | Tok::EndFunctionBlock | Tok::EndClass
     )
 }
 
@@ -937,6 +937,12 @@ impl<'a> Parser<'a> {
                     self.bump();
                 }
                 _ => match self.member_at() {
+                    Some(Member::Class) => {
+                        if let Some(p) = self.pou_with(PouKind::FunctionBlock, Tok::EndClass) {
+                            self.last_pou = Some(p.name);
+                            items.push(Item::Pou(p));
+                        }
+                    }
                     Some(Member::Action) => {
                         if let Some(a) = self.action(true, &[]) {
                             items.push(Item::Action(a));
@@ -1020,12 +1026,18 @@ impl<'a> Parser<'a> {
     // ---------------------------------------------------------------- POUs
 
     fn pou(&mut self, kind: PouKind) -> Option<Pou> {
-        let kw = self.bump();
         let end_tok = match kind {
             PouKind::Program => Tok::EndProgram,
             PouKind::Function => Tok::EndFunction,
             PouKind::FunctionBlock => Tok::EndFunctionBlock,
         };
+        self.pou_with(kind, end_tok)
+    }
+
+    /// A POU closed by `end_tok`: `END_CLASS` makes it a CLASS (a FUNCTION_BLOCK
+    /// marked as one).
+    fn pou_with(&mut self, kind: PouKind, end_tok: Tok) -> Option<Pou> {
+        let kw = self.bump();
         let modifiers = self.modifiers();
         let name = if kind == PouKind::Function
             && matches!(
@@ -1066,6 +1078,7 @@ impl<'a> Parser<'a> {
         let oo = OoParts {
             modifiers,
             implements,
+            class: (end_tok == Tok::EndClass).then(|| self.tspan(kw)),
             ..OoParts::default()
         };
         self.pou_rest(kind, kw, end_tok, name, return_type, extends, oo)
@@ -1085,10 +1098,7 @@ impl<'a> Parser<'a> {
         mut oo: OoParts,
     ) -> Option<Pou> {
         // A method or accessor: its own END_ keyword, no members of its own.
-        let member = !matches!(
-            end_tok,
-            Tok::EndProgram | Tok::EndFunction | Tok::EndFunctionBlock
-        );
+        let member = !is_pou_end(end_tok);
         let mut unsupported = Vec::new();
         self.eat(Tok::Semi);
         let mut var_blocks = Vec::new();

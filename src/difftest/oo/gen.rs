@@ -110,7 +110,15 @@ impl<'r> Builder<'r> {
         let root_abstract = depth >= 2 && self.rng.chance(30);
         let mut finals: Vec<String> = Vec::new();
         let mut abstract_pending: Vec<String> = Vec::new();
+        // The first levels may be CLASSes (a class extends only a class; a
+        // FUNCTION_BLOCK may extend one).
+        let class_levels = if self.rng.chance(25) {
+            1 + self.rng.below(depth as u64) as usize
+        } else {
+            0
+        };
         for level in 0..depth {
+            let is_class = level < class_levels;
             let idx = self.oo.classes.len();
             let leaf = level + 1 == depth;
             let base = (level > 0).then(|| idx - 1);
@@ -172,6 +180,13 @@ impl<'r> Builder<'r> {
             }
             let c = idx;
             let (ni, nq, ns) = (self.rng.below(3), 1 + self.rng.below(2), self.rng.below(2));
+            // A class's methods write its VARs (an FB's write its outputs too).
+            let (ni, nq, ns) = if is_class {
+                (0, 0, 1 + ns)
+            } else {
+                (ni, nq, ns)
+            };
+            let base_is_class = level > 0 && level - 1 < class_levels;
             let class = Class {
                 name: format!("K{c}"),
                 base,
@@ -182,12 +197,13 @@ impl<'r> Builder<'r> {
                 },
                 is_abstract: level == 0 && root_abstract,
                 is_final: leaf && depth > 1 && self.rng.chance(30),
+                is_class,
                 inputs: decl_list(self.rng, &format!("i{c}_"), ni),
                 outputs: decl_list(self.rng, &format!("q{c}_"), nq),
                 vars: decl_list(self.rng, &format!("s{c}_"), ns),
                 methods,
                 props,
-                super_body: codesys && level > 0 && self.rng.chance(60),
+                super_body: codesys && level > 0 && !base_is_class && self.rng.chance(60),
                 body: Vec::new(),
             };
             self.oo.classes.push(class);
@@ -251,6 +267,9 @@ impl<'r> Builder<'r> {
             // loop, whose control variable a base's body might declare too.
             let calls = self.callables(c, 0);
             let n = self.rng.below(3);
+            if self.oo.classes[c].is_class {
+                continue;
+            }
             let body = self.block(&writable, &inputs, &calls, n, false);
             self.oo.classes[c].body = body;
         }
@@ -549,9 +568,10 @@ impl<'r> Builder<'r> {
 
     /// A statement of `main` on the OO part.
     fn main_stmt(&mut self, p: &Prog) -> Option<OoStmt> {
-        if self.rng.chance(15) {
-            // An output or a property read into a variable of `main`.
-            let reads = self.readables();
+        let reads = self.readables();
+        if !reads.is_empty() && self.rng.chance(15) {
+            // An output or a property read into a variable of `main` (there are
+            // none when every instance is of a CLASS, outside CODESYS).
             let (name, t) = self.rng.pick(&reads).clone();
             let target = self.result_var(p, t);
             let e = match t {
@@ -620,7 +640,15 @@ impl<'r> Builder<'r> {
             }
             60..=74 => self.bind(),
             75..=84 => {
-                let (inst, c) = self.rng.pick(&self.oo.insts).clone();
+                // A CLASS's instances are not invoked.
+                let fbs: Vec<(String, usize)> = (self.oo.insts.iter())
+                    .filter(|(_, c)| !self.oo.classes[*c].is_class)
+                    .cloned()
+                    .collect();
+                if fbs.is_empty() {
+                    return None;
+                }
+                let (inst, c) = self.rng.pick(&fbs).clone();
                 let ins: Vec<(String, T)> = self
                     .oo
                     .fields(c)

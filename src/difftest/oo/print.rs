@@ -166,7 +166,11 @@ impl Oo {
             o.push_str("END_INTERFACE\n\n");
         }
         for c in &self.classes {
-            o.push_str("FUNCTION_BLOCK ");
+            o.push_str(if c.is_class {
+                "CLASS "
+            } else {
+                "FUNCTION_BLOCK "
+            });
             if c.is_abstract {
                 o.push_str("ABSTRACT ");
             }
@@ -247,7 +251,11 @@ impl Oo {
                 o.push_str("    SUPER^();\n");
             }
             o.push_str(&stmts_text(&c.body, 1));
-            o.push_str("END_FUNCTION_BLOCK\n\n");
+            o.push_str(if c.is_class {
+                "END_CLASS\n\n"
+            } else {
+                "END_FUNCTION_BLOCK\n\n"
+            });
         }
         o
     }
