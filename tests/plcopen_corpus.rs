@@ -83,25 +83,32 @@ const CASES: &[Case] = &[
     case("AandIF__e-COCKPIT_python_scripting", Compiles),
     case("Fantazzj__CodeSys-SFC-to-Cpp-converter__test", Fails("a converter's test chart: an INT variable (`outDS`) associated as an action, which CODESYS and IEC allow only for BOOL variables", &["E0783"])),
     case("FelipeWoo__smart-factory-integration__openplc", Compiles),
-    // Their methods, properties, inheritance and interfaces are read (issue 20).
-    // With the trailing commas removed, what remains is CODESYS's libraries, which
-    // plcc does not have: MQTT, OSCAT_BASIC, OSCAT_BUILDING, WagoAppPlcModbus, Util,
-    // SysMem/SysSock (E0201, E0203, an interface of the MQTT library E0800), and,
-    // in the Exports file, two configurations (one per device).
+    // Their methods, properties, inheritance and interfaces are read (issue 20), the
+    // commas before a call's `)` and the `COVER_STATES.Idle` enumeration values are
+    // accepted. What remains is mostly CODESYS's libraries, which plcc does not have:
+    // MQTT, OSCAT_BASIC, OSCAT_BUILDING, WagoAppPlcModbus, Util, SysMem/SysSock
+    // (E0201, E0203, an interface of the MQTT library E0800, and their types' uses,
+    // E0301); besides, positional arguments after named ones (E0402), `ADR('TRUE')`
+    // of a string literal (E0504) and, in the Exports file, two configurations (one
+    // per device: E0202), pointers indexed as arrays (`pt[i]`, E0303) and array
+    // bounds given by a library's constant (E0206).
     case(
         "MichielVanwelsenaere__HomeAutomation.CoDeSys3__src_Exports_PLCopen",
         Fails(
-            "ST bodies end calls' argument lists with a comma (`Callback := c,\n);`), \
-             which plcc's ST parser rejects; then CODESYS libraries plcc does not have",
-            &["E0101"],
+            "CODESYS libraries plcc does not have (MQTT, OSCAT, WAGO), two devices' \
+             configurations, pointer indexing, arguments positional after named ones",
+            &[
+                "E0201", "E0202", "E0203", "E0206", "E0301", "E0303", "E0402", "E0504",
+                "E0800",
+            ],
         ),
     ),
     case(
         "MichielVanwelsenaere__HomeAutomation.CoDeSys3__src_PLCopen_HomeAutomation",
         Fails(
-            "ST bodies end calls' argument lists with a comma (`Callback := c,\n);`), \
-             which plcc's ST parser rejects; then CODESYS libraries plcc does not have",
-            &["E0101"],
+            "CODESYS libraries plcc does not have (MQTT, OSCAT, WAGO), arguments \
+             positional after named ones, ADR of a string literal",
+            &["E0201", "E0203", "E0301", "E0402", "E0504", "E0800"],
         ),
     ),
     case("VerifAPS__verifaps-lib__share_PPU_Scenario0_Final", Compiles),

@@ -8,16 +8,21 @@
 //!   instance's; its ACTIONs may be called (`Prog.A()`). A PROGRAM with several
 //!   configured instances, or none that runs in the build, is E0211.
 //!
+//! - in the CODESYS dialect, an enumeration type's name: `Color.Red` is `Color#Red`
+//!   (CODESYS's qualified access to a value, the only one with `{attribute
+//!   'qualified_only'}`).
+//!
 //! A variable of the name in scope wins: `Q` is a qualifier only where it names no
 //! variable.
 
 use super::body::{BodyCx, Named, Place};
+use super::consts::ConstVal;
 use super::Lowerer;
 use crate::ast::{self, Expr, ExprKind, PouKind};
 use crate::codes;
 use crate::intern::Symbol;
-use crate::types::{PouId, Ty};
-use plcc_ir::{DataDef, DataId, DataKind, MemType};
+use crate::types::{EnumId, PouId, Ty};
+use plcc_ir::{DataDef, DataId, DataKind, ElemType, MemType};
 
 /// What the left side of `Q.x` names when it is not a variable.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -26,6 +31,8 @@ pub(super) enum Qualifier {
     List(Symbol),
     /// A PROGRAM (CODESYS dialect).
     Program(PouId),
+    /// An enumeration type (CODESYS dialect).
+    Enum(EnumId, ElemType),
 }
 
 impl<'s> Lowerer<'s> {
@@ -135,6 +142,11 @@ impl<'s> BodyCx<'_, 's> {
         if self.l.is_global_list(sym) {
             return Some(Qualifier::List(sym));
         }
+        if self.l.codesys {
+            if let Some((e, base)) = self.l.enum_type_named(sym) {
+                return Some(Qualifier::Enum(e, base));
+            }
+        }
         let &p = self.l.pou_by_name.get(&sym)?;
         let prog = self.l.pou(p);
         (self.l.codesys
@@ -164,6 +176,24 @@ impl<'s> BodyCx<'_, 's> {
                 }
                 self.resolve_global(name, true).unwrap_or(Named::Error)
             }
+            Qualifier::Enum(e, b) => match self.l.enum_value_of(e, name.sym) {
+                Some(v) => Named::Const(ConstVal::Int(v), Ty::Enum(e, b)),
+                None => {
+                    let en = &self.l.user.enums[e.0 as usize];
+                    let names: Vec<&str> = en.values.iter().map(|v| v.display.as_str()).collect();
+                    let note = format!("its values are {}", names.join(", "));
+                    let msg = format!(
+                        "the enumeration {} has no value `{}`",
+                        en.display,
+                        self.l.text(name.span)
+                    );
+                    self.l.diags.push(
+                        plcc_ir::diag::Diagnostic::error(codes::E_NO_MEMBER, msg, name.span)
+                            .with_note(note),
+                    );
+                    Named::Error
+                }
+            },
             // Its own PROGRAM's name qualifies the POU's own variable.
             Qualifier::Program(p) if p == self.pou => self.resolve_name(name, true, None),
             Qualifier::Program(p) => {
@@ -195,6 +225,12 @@ impl<'s> BodyCx<'_, 's> {
                 None => return Ty::Error,
             },
             Qualifier::Program(p) => p,
+            Qualifier::Enum(e, b) => {
+                return match self.l.enum_value_of(e, name.sym) {
+                    Some(_) => Ty::Enum(e, b),
+                    None => Ty::Error,
+                }
+            }
         };
         let pou = self.l.pou(p);
         pou.var(name.sym)

@@ -571,6 +571,19 @@ impl<'s> BodyCx<'_, 's> {
                 Some((e2, b, _)) => Some(Ty::Enum(e2, b)),
                 None => return None,
             },
+            // CODESYS's `Color.Red`.
+            ExprKind::Member(base, name) => match self.qualifier(base) {
+                Some(q @ super::qualified::Qualifier::Enum(..)) => {
+                    match self.qualified(q, base, *name) {
+                        super::body::Named::Const(ConstVal::Int(v), t) if t == sel_ty => {
+                            return Some(v)
+                        }
+                        super::body::Named::Const(_, t) => Some(t),
+                        _ => return None,
+                    }
+                }
+                _ => None,
+            },
             _ => None,
         };
         let want = self.l.ty_name(sel_ty);

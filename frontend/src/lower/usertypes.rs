@@ -672,6 +672,15 @@ impl<'s> Lowerer<'s> {
     }
 
     /// The value of an enumeration's element by name.
+    /// The enumeration type named `sym`, once the types are resolved.
+    pub(super) fn enum_type_named(&self, sym: Symbol) -> Option<(EnumId, ElemType)> {
+        let &i = self.user.by_name.get(&sym)?;
+        match self.user.named[i as usize].state {
+            TypeState::Done(Ty::Enum(id, base), _) => Some((id, base)),
+            _ => None,
+        }
+    }
+
     pub(super) fn enum_value_of(&self, id: EnumId, sym: Symbol) -> Option<i128> {
         self.user.enums[id.0 as usize]
             .values

@@ -675,6 +675,11 @@ impl<'a> Parser<'a> {
                 return None;
             }
             if self.eat(Tok::Comma) {
+                // `f(a := 1, b := 2,)`: CODESYS accepts a comma before the `)`, and
+                // its exports have them; plcc does in both dialects.
+                if self.at(Tok::RParen) {
+                    return Some(self.bump().end);
+                }
                 continue;
             }
             return Some(self.expect_close(Tok::RParen, "`,` or `)`", open)?.end);
