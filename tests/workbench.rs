@@ -41,14 +41,15 @@ impl Drop for Proc {
     }
 }
 
-/// `plcc serve` on the example, HTTP on a free loopback port: the process and the
-/// page's address.
-fn serve(example: &Path) -> (Proc, String) {
+/// `plcc serve` on the example (with `extra` arguments), HTTP on a free loopback
+/// port: the process and the page's address.
+fn serve(example: &Path, extra: &[&str]) -> (Proc, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_plcc"))
         .current_dir(root())
         .arg("serve")
         .arg(example)
         .args(["--http", "127.0.0.1:0", "--modbus", "none"])
+        .args(extra)
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
@@ -471,6 +472,89 @@ async fn fbd(c: &Client, page: &str) {
 }
 
 /// What `script` passes to its callback (the last argument), e.g. a fetch's JSON.
+/// A server started with `--token-file`: a control call without the token is
+/// refused (the PLC keeps running) and the page asks for the token; given it, the
+/// same call stops the PLC; a wrong one is refused again.
+async fn token(c: &Client, page: &str, secret: &str) {
+    c.goto(page).await.expect("the page loads");
+    until(
+        c,
+        "the diagram",
+        "return document.body.dataset.ready === 'true'",
+    )
+    .await;
+    let state = "return document.getElementById('state').textContent";
+    until(
+        c,
+        "a running PLC",
+        &format!("{state}.startsWith('running')"),
+    )
+    .await;
+    assert_eq!(
+        js(c, "return document.getElementById('token-form').hidden").await,
+        json!(true),
+        "the token field shows before any call was refused"
+    );
+    click(c, "#btn-stop").await;
+    until(
+        c,
+        "the token field",
+        "return !document.getElementById('token-form').hidden",
+    )
+    .await;
+    let info = js(c, "return document.getElementById('view-info').textContent").await;
+    assert!(
+        info.as_str().is_some_and(|t| t.contains("token")),
+        "the page says why: {info}"
+    );
+    // Refused: the PLC still runs (the next status poll says so).
+    tokio::time::sleep(Duration::from_millis(1200)).await;
+    let now = js(c, state).await;
+    assert!(
+        now.as_str().is_some_and(|t| t.starts_with("running")),
+        "stopped without the token: {now}"
+    );
+    screenshot(c, "token").await;
+    let input = c
+        .find(Locator::Css("#token-input"))
+        .await
+        .expect("the token input");
+    input.send_keys(secret).await.expect("typed");
+    click(c, "#token-form button").await;
+    until(
+        c,
+        "the token field hidden",
+        "return document.getElementById('token-form').hidden",
+    )
+    .await;
+    click(c, "#btn-stop").await;
+    until(
+        c,
+        "a stopped PLC",
+        &format!("{state}.startsWith('stopped')"),
+    )
+    .await;
+    // A wrong token: refused, the field shows again, the PLC stays stopped.
+    js(
+        c,
+        "sessionStorage.setItem('plcc-token', 'wrong'); return true",
+    )
+    .await;
+    click(c, "#btn-start").await;
+    until(
+        c,
+        "the token field again",
+        "return !document.getElementById('token-form').hidden",
+    )
+    .await;
+    tokio::time::sleep(Duration::from_millis(1200)).await;
+    let now = js(c, state).await;
+    assert!(
+        now.as_str().is_some_and(|t| t.starts_with("stopped")),
+        "started with a wrong token: {now}"
+    );
+}
+
 async fn js_async(c: &Client, script: &str, args: Vec<Json>) -> Json {
     c.execute_async(script, args)
         .await
@@ -709,9 +793,17 @@ fn the_workbench_in_chromium() {
             "{tool} is missing: install Debian's chromium and chromium-driver (apt-get install chromium chromium-driver); .ci/run installs them ({what} drives the workbench test)"
         );
     }
-    let (_server, page) = serve(Path::new("examples/ladder_demo.xml"));
-    let (_fbd_server, fbd_page) = serve(Path::new("tests/programs/plcopen/fbd_logic.xml"));
-    let (_sfc_server, sfc_page) = serve(Path::new("tests/workbench/sfc_demo.xml"));
+    let (_server, page) = serve(Path::new("examples/ladder_demo.xml"), &[]);
+    let (_fbd_server, fbd_page) = serve(Path::new("tests/programs/plcopen/fbd_logic.xml"), &[]);
+    let (_sfc_server, sfc_page) = serve(Path::new("tests/workbench/sfc_demo.xml"), &[]);
+    let secret = format!("plcc-test-{}", std::process::id());
+    let token_file =
+        std::env::temp_dir().join(format!("plcc-workbench-token-{}", std::process::id()));
+    std::fs::write(&token_file, format!("{secret}\n")).expect("the token file written");
+    let (_token_server, token_page) = serve(
+        Path::new("examples/ladder_demo.xml"),
+        &["--token-file", token_file.to_str().expect("a UTF-8 path")],
+    );
     let (_driver, driver) = chromedriver();
     let profile = std::env::temp_dir().join(format!("plcc-workbench-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&profile);
@@ -725,10 +817,12 @@ fn the_workbench_in_chromium() {
             drive(&c, &page).await;
             fbd(&c, &fbd_page).await;
             sfc(&c, &sfc_page).await;
+            token(&c, &token_page, &secret).await;
         })
         .await;
         let _ = c.close().await;
         r.expect("the test ran in 90 s");
     });
     let _ = std::fs::remove_dir_all(&profile);
+    let _ = std::fs::remove_file(&token_file);
 }

@@ -7,11 +7,39 @@ import { LadderEdit } from "./ldedit.js";
 
 const $ = (id) => document.getElementById(id);
 
+// The server's token (`plcc serve --token-file`), kept for this tab only: sent with
+// every call once the user has given it.
+const TOKEN_KEY = "plcc-token";
+
 async function api(path, opts = {}) {
+  const token = sessionStorage.getItem(TOKEN_KEY);
+  if (token) opts = { ...opts, headers: { ...(opts.headers || {}), Authorization: `Bearer ${token}` } };
   const r = await fetch(path, opts);
   const body = await r.json().catch(() => ({ error: `${r.status} ${r.statusText}` }));
+  if (r.status === 401) {
+    askToken(!!token);
+    throw new Error(token ? "the server refused the token: enter it again, then repeat" : "this server needs its token for that: enter it above, then repeat");
+  }
   if (!r.ok) throw new Error(body.error || `${r.status}`);
   return body;
+}
+
+function askToken(wrong) {
+  const form = $("token-form");
+  form.hidden = false;
+  form.classList.toggle("bad", wrong);
+  $("token-input").value = "";
+  $("token-input").focus();
+}
+
+function tokenGiven(e) {
+  e.preventDefault();
+  const t = $("token-input").value.trim();
+  if (!t) return;
+  sessionStorage.setItem(TOKEN_KEY, t);
+  $("token-input").value = "";
+  $("token-form").hidden = true;
+  flash("token set: writes, forces and control calls now carry it");
 }
 
 const state = {
@@ -585,6 +613,7 @@ async function main() {
     e.preventDefault();
     buildFor($("build-target").value);
   });
+  $("token-form").addEventListener("submit", tokenGiven);
   $("watch-add").addEventListener("submit", (e) => {
     e.preventDefault();
     addWatch($("watch-input").value);
