@@ -377,6 +377,43 @@ async fn drive(c: &Client, page: &str) {
     )
     .await;
     screenshot(c, "diagnostics").await;
+    // Apply refuses the text with the error: the PLC runs on, the project unchanged.
+    click(c, "#ed-tools button[data-op='apply']").await;
+    until(
+        c,
+        "the refusal",
+        "return document.getElementById('view-info').classList.contains('bad')",
+    )
+    .await;
+    let project = "return JSON.stringify(window.plccWorkbench.state.project)";
+    let before = js(c, project).await;
+    assert!(before.as_str().is_some_and(|p| p.contains("T#20ms")));
+    // Put right, with the task's interval changed: applied, and the project tree
+    // shows the new interval.
+    let edited = js(
+        c,
+        "const v = window.plccWorkbench.editor(); let t = v.state.doc.toString();          t = t.replace('<variable>stop_btn</variable>', '<variable>stop_pb</variable>').replace('interval=\"T#20ms\"', 'interval=\"T#50ms\"');          v.dispatch({changes: {from: 0, to: v.state.doc.length, insert: t}}); return t.includes('T#50ms')",
+    )
+    .await;
+    assert_eq!(edited, json!(true));
+    click(c, "#ed-tools button[data-op='apply']").await;
+    until(
+        c,
+        "the online change",
+        "return document.getElementById('view-info').textContent.startsWith('loaded into the PLC')",
+    )
+    .await;
+    until(
+        c,
+        "the new project",
+        &format!("{project}.includes('T#50ms')"),
+    )
+    .await;
+    let state = js(c, "return document.getElementById('state').textContent").await;
+    assert!(
+        state.as_str().is_some_and(|t| t.starts_with("running")),
+        "the PLC runs after the change: {state}"
+    );
 }
 
 /// Builds for the chip, the VM and C from the page: the files to download and the

@@ -59,8 +59,9 @@ pub struct Api {
     pub cycle_us: u64,
     /// The event streams open.
     pub streams: Arc<std::sync::atomic::AtomicUsize>,
-    /// The project, for the workbench.
-    pub project: super::project::Project,
+    /// The project, for the workbench (replaced by an online change of one of its
+    /// files).
+    pub project: std::sync::RwLock<super::project::Project>,
 }
 
 /// An error reply: the status and a message.
@@ -229,12 +230,30 @@ impl Api {
     }
 
     /// `POST /api/program?lang=L`: the body is the new program's source.
+    /// The project (a poisoned lock still holds a whole project: it is only ever
+    /// replaced whole).
+    fn project(&self) -> std::sync::RwLockReadGuard<'_, super::project::Project> {
+        self.project.read().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// `POST /api/program?lang=L` (the body is the whole program) or `?file=NAME`
+    /// (the body replaces the project's file NAME, the other files with it; the
+    /// project the page shows becomes the new one).
     fn program(&self, req: &mut tiny_http::Request, query: &str) -> Result<Json, Fail> {
-        let lang = match query {
-            "" => "st",
-            q => match q.strip_prefix("lang=") {
-                Some(l @ ("st" | "il" | "stl" | "xml")) => l,
-                _ => return fail(400, format!("`{q}`: use lang=st, il, stl or xml")),
+        let (lang, file) = match query {
+            "" => ("st", None),
+            q => match (q.strip_prefix("lang="), q.strip_prefix("file=")) {
+                (Some(l @ ("st" | "il" | "stl" | "xml")), _) => (l, None),
+                (_, Some(f)) => match percent_decode(f) {
+                    Some(f) => ("", Some(f)),
+                    None => return fail(400, format!("`{f}` is not a well-formed name")),
+                },
+                _ => {
+                    return fail(
+                        400,
+                        format!("`{q}`: use lang=st, il, stl or xml, or file=NAME"),
+                    )
+                }
             },
         };
         let mut body = Vec::new();
@@ -252,10 +271,27 @@ impl Api {
                 format!("the program is larger than {MAX_PROGRAM} bytes"),
             );
         }
-        let (catalog, loaded) = self.loader.compile(body, lang).map_err(|e| (400, e))?;
+        let (catalog, loaded, project) = match file {
+            None => {
+                let (c, l) = self.loader.compile(body, lang).map_err(|e| (400, e))?;
+                (c, l, None)
+            }
+            Some(f) => {
+                let (files, names) = {
+                    let p = self.project();
+                    (p.with_file(&f, body)?, p.paths())
+                };
+                let (c, l, build) = self.loader.compile_files(files).map_err(|e| (400, e))?;
+                let project = super::project::Project::new(&build, &names, &c.module);
+                (c, l, Some(project))
+            }
+        };
         match self.ask(Cmd::Load(Box::new(loaded)))? {
             Some(Value::Scalar(kept)) => {
                 *self.catalog() = catalog;
+                if let Some(p) = project {
+                    *self.project.write().unwrap_or_else(|e| e.into_inner()) = p;
+                }
                 Ok(json!({"ok": true, "kept": kept.bits}))
             }
             _ => fail(500, "no answer from the scan thread"),
@@ -400,10 +436,10 @@ impl Api {
                 done(self.ask(Cmd::Unforce(var.path().to_string())))
             }
             (Post, ["program"]) => self.program(req, query),
-            (Get, ["project"]) => Ok(self.project.info()),
-            (Get, ["files", n]) => self.project.file(n),
+            (Get, ["project"]) => Ok(self.project().info()),
+            (Get, ["files", n]) => self.project().file(n),
             (Get, ["diagram", p]) => match percent_decode(p) {
-                Some(p) => self.project.diagram(&p),
+                Some(p) => self.project().diagram(&p),
                 None => fail(400, format!("`{p}` is not a well-formed name")),
             },
             (Post, ["diagram", p]) => {
@@ -433,7 +469,7 @@ impl Api {
                 {
                     return fail(413, format!("the text is larger than {MAX_PROGRAM} bytes"));
                 }
-                self.project.build(&self.loader, query, body)
+                self.project().build(&self.loader, query, body)
             }
             (Post, ["check"]) => {
                 let mut body = Vec::new();
@@ -446,7 +482,7 @@ impl Api {
                 {
                     return fail(413, format!("the text is larger than {MAX_PROGRAM} bytes"));
                 }
-                self.project.check(&self.loader, query, body)
+                self.project().check(&self.loader, query, body)
             }
             (Post, ["stop"]) => done(self.ask(Cmd::Stop)),
             (Post, ["start"]) => done(self.ask(Cmd::Start)),

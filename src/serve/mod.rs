@@ -153,12 +153,19 @@ impl Loader {
         text: Vec<u8>,
         lang: &str,
     ) -> Result<(http::Catalog, scan::Loaded), String> {
-        let build = crate::driver::build_sources_with_library(
-            vec![(format!("program.{lang}"), text)],
-            self.library.clone(),
-            &self.opts,
-        )
-        .map_err(|e| e.0)?;
+        let files = vec![(format!("program.{lang}"), text)];
+        self.compile_files(files).map(|(c, l, _)| (c, l))
+    }
+
+    /// [`Loader::compile`] of several files (each language by its name's
+    /// extension), with the build (for the workbench's view of the project).
+    pub fn compile_files(
+        &self,
+        files: Vec<(String, Vec<u8>)>,
+    ) -> Result<(http::Catalog, scan::Loaded, crate::driver::Build), String> {
+        let build =
+            crate::driver::build_sources_with_library(files, self.library.clone(), &self.opts)
+                .map_err(|e| e.0)?;
         let Some(module) = build.module.clone() else {
             return Err(render::render(&build.sources, &build.diagnostics));
         };
@@ -183,6 +190,7 @@ impl Loader {
                 vars: scan_vars,
                 retained,
             },
+            build,
         ))
     }
 }
@@ -407,7 +415,7 @@ pub fn serve(a: &ServeArgs) -> u8 {
             target: target.to_string(),
             cycle_us: cycle.us,
             streams: Arc::default(),
-            project,
+            project: std::sync::RwLock::new(project),
         };
         match http::start(addr, api) {
             Ok(bound) => eprintln!("http: listening on {bound}"),

@@ -419,6 +419,35 @@ fn diagram_in(text: &str, name: &str) -> Result<Json, (u16, String)> {
 }
 
 impl Project {
+    /// The project's files (name and text) with `text` in place of the file `name`.
+    pub fn with_file(
+        &self,
+        name: &str,
+        text: Vec<u8>,
+    ) -> Result<Vec<(String, Vec<u8>)>, (u16, String)> {
+        let Some(i) = self.files.iter().position(|x| x.name == name) else {
+            return Err((404, format!("no file `{name}` in the project")));
+        };
+        let mut text = Some(text);
+        Ok(self
+            .files
+            .iter()
+            .enumerate()
+            .map(|(j, x)| {
+                let t = match (i == j).then(|| text.take()).flatten() {
+                    Some(t) => t,
+                    None => x.text.as_bytes().to_vec(),
+                };
+                (x.name.clone(), t)
+            })
+            .collect())
+    }
+
+    /// The files' names as paths (what [`Project::new`] takes).
+    pub fn paths(&self) -> Vec<std::path::PathBuf> {
+        self.files.iter().map(|f| f.name.clone().into()).collect()
+    }
+
     /// `POST /api/check?file=NAME|lang=L`: the diagnostics of `text`, built in place
     /// of the project's file NAME (the other files with it), or alone as language L.
     pub fn check(
@@ -444,25 +473,7 @@ impl Project {
             }
         }
         let (texts, name) = match (file, lang) {
-            (Some(f), None) => {
-                let Some(i) = self.files.iter().position(|x| x.name == f) else {
-                    return Err((404, format!("no file `{f}` in the project")));
-                };
-                let texts = self
-                    .files
-                    .iter()
-                    .enumerate()
-                    .map(|(j, x)| {
-                        let t = if i == j {
-                            text.clone()
-                        } else {
-                            x.text.as_bytes().to_vec()
-                        };
-                        (x.name.clone(), t)
-                    })
-                    .collect();
-                (texts, f)
-            }
+            (Some(f), None) => (self.with_file(&f, text)?, f),
             (None, Some(l)) => {
                 let name = format!("program.{l}");
                 (vec![(name.clone(), text)], name)
@@ -536,24 +547,10 @@ impl Project {
         else {
             return Err((400, format!("give target=T, one of {names}")));
         };
-        let texts: Vec<(String, Vec<u8>)> = self
-            .files
-            .iter()
-            .map(|f| {
-                let t = if file.as_deref() == Some(f.name.as_str()) {
-                    body.clone()
-                } else {
-                    f.text.as_bytes().to_vec()
-                };
-                (f.name.clone(), t)
-            })
-            .collect();
-        if let Some(f) = file
-            .as_deref()
-            .filter(|f| !self.files.iter().any(|x| x.name == *f))
-        {
-            return Err((404, format!("no file `{f}` in the project")));
-        }
+        let texts = match &file {
+            Some(f) => self.with_file(f, body)?,
+            None => self.with_file(&self.files[0].name, self.files[0].text.clone().into())?,
+        };
         let mut opts = loader.opts.clone();
         opts.inline_c = crate::targets::find(target).is_some_and(|t| t.inline_c);
         let build = crate::driver::build_sources_with_library(texts, loader.library.clone(), &opts)

@@ -254,25 +254,43 @@ async function editOp(op) {
   await renderDiagram(model, text, next);
 }
 
-function saveXml() {
-  const text = state.edit ? state.edit.text() : state.view.text;
-  const name = state.project.files[state.view.file].name.split("/").pop();
-  const a = h("a", { href: URL.createObjectURL(new Blob([text], { type: "application/xml" })), download: name });
+/// Downloads `text` under the name of the project's file `index`.
+function download(index, text, type) {
+  const name = state.project.files[index].name.split("/").pop();
+  const a = h("a", { href: URL.createObjectURL(new Blob([text], { type })), download: name });
   document.body.append(a);
   a.click();
   a.remove();
-  state.saved = text;
   flash(`saved as ${name}`);
 }
 
-async function applyXml() {
+function saveXml() {
   const text = state.edit ? state.edit.text() : state.view.text;
+  download(state.view.file, text, "application/xml");
+  state.saved = text;
+}
+
+/// Loads the project with `text` in place of its file `index` into the running PLC
+/// (an online change); the project tree follows.
+async function apply(index, text) {
+  const name = state.project.files[index].name;
   try {
-    const r = await api("/api/program?lang=xml", { method: "POST", body: text });
+    const r = await api(`/api/program?file=${encodeURIComponent(name)}`, { method: "POST", body: text });
     flash(`loaded into the PLC: ${r.kept} variable(s) kept`);
   } catch (e) {
     flash(e.message.split("\n")[0], true);
+    return;
   }
+  const [project, vars] = await Promise.all([api("/api/project"), api("/api/vars")]);
+  state.project = project;
+  state.vars.clear();
+  for (const v of vars) state.vars.set(v.path.toLowerCase(), v);
+  $("var-list").replaceChildren(...vars.map((v) => h("option", { value: v.path })));
+  renderTree();
+}
+
+function applyXml() {
+  return apply(state.view.file, state.edit ? state.edit.text() : state.view.text);
 }
 
 const EDIT_KEYS = { c: "contact", o: "coil", b: "branch", r: "rung", k: "cycle", l: "block", Delete: "delete" };
@@ -361,9 +379,19 @@ async function openFile(index, at) {
   resubscribe();
 }
 
+/// The editor's Save (download) and Apply (online change) buttons.
+function editorOp(op) {
+  if (!editor || state.view?.kind !== "editor") return;
+  const text = editor.state.doc.toString();
+  const f = state.project.files[state.view.file];
+  if (op === "save") return download(state.view.file, text, f.lang === "xml" ? "application/xml" : "text/plain");
+  if (op === "apply") return apply(state.view.file, text);
+}
+
 function showPane(which) {
   $("diagram").hidden = which !== "diagram";
   if (which !== "diagram") $("ld-tools").hidden = true;
+  $("ed-tools").hidden = which !== "editor";
   $("editor").hidden = which !== "editor";
   $("inspector").hidden = true;
 }
@@ -614,6 +642,7 @@ async function main() {
     buildFor($("build-target").value);
   });
   $("token-form").addEventListener("submit", tokenGiven);
+  for (const b of document.querySelectorAll("#ed-tools [data-op]")) b.addEventListener("click", () => editorOp(b.dataset.op));
   $("watch-add").addEventListener("submit", (e) => {
     e.preventDefault();
     addWatch($("watch-input").value);
