@@ -418,13 +418,12 @@ fn diagram_in(text: &str, name: &str) -> Result<Json, (u16, String)> {
     }))
 }
 
+/// A source file to build: its name and text.
+pub type Source = (String, Vec<u8>);
+
 impl Project {
     /// The project's files (name and text) with `text` in place of the file `name`.
-    pub fn with_file(
-        &self,
-        name: &str,
-        text: Vec<u8>,
-    ) -> Result<Vec<(String, Vec<u8>)>, (u16, String)> {
+    pub fn with_file(&self, name: &str, text: Vec<u8>) -> Result<Vec<Source>, (u16, String)> {
         let Some(i) = self.files.iter().position(|x| x.name == name) else {
             return Err((404, format!("no file `{name}` in the project")));
         };
