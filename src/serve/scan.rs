@@ -18,8 +18,8 @@ use std::time::{Duration, Instant};
 /// How many recent samples the 99th percentile is taken over.
 const WINDOW: usize = 1000;
 
-/// Minimum, mean, maximum and 99th percentile of a series of durations, in
-/// microseconds (the percentile over the last [`WINDOW`] samples).
+/// Minimum, mean, maximum, median and 99th percentile of a series of durations, in
+/// microseconds (the percentiles over the last [`WINDOW`] samples).
 #[derive(Clone, Debug, Default)]
 pub struct Series {
     count: u64,
@@ -45,21 +45,40 @@ impl Series {
         self.recent.push_back(us);
     }
 
-    /// `(min, mean, max, p99)` in microseconds; zeros before the first sample.
-    pub fn summary(&self) -> (u64, f64, u64, u64) {
+    /// The summary in microseconds; zeros before the first sample.
+    pub fn summary(&self) -> Summary {
         if self.count == 0 {
-            return (0, 0.0, 0, 0);
+            return Summary::default();
         }
         let mut sorted: Vec<u64> = self.recent.iter().copied().collect();
         sorted.sort_unstable();
-        let k = (sorted.len() * 99).div_ceil(100).max(1) - 1;
-        (
-            self.min,
-            self.sum as f64 / self.count as f64,
-            self.max,
-            sorted[k],
-        )
+        // The nearest-rank percentile: the smallest sample with at least p% of the
+        // samples at or below it.
+        let rank = |p: usize| sorted[(sorted.len() * p).div_ceil(100).max(1) - 1];
+        Summary {
+            min: self.min,
+            mean: self.sum as f64 / self.count as f64,
+            max: self.max,
+            p50: rank(50),
+            p99: rank(99),
+        }
     }
+}
+
+/// A [`Series`] summed up, in microseconds: minimum, mean and maximum over every
+/// sample, median and 99th percentile over the last [`WINDOW`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Summary {
+    /// The smallest sample.
+    pub min: u64,
+    /// The mean of the samples.
+    pub mean: f64,
+    /// The largest sample.
+    pub max: u64,
+    /// The median of the recent samples.
+    pub p50: u64,
+    /// The 99th percentile of the recent samples.
+    pub p99: u64,
 }
 
 /// What the scan thread has done.
@@ -87,11 +106,13 @@ pub struct Stats {
 impl Stats {
     /// The line printed when the server ends.
     pub fn line(&self) -> String {
-        let (lmin, lmean, lmax, lp99) = self.lateness.summary();
-        let (emin, emean, emax, ep99) = self.exec.summary();
+        let text = |s: Summary| format!("{}/{:.1}/{}/{}/{}", s.min, s.mean, s.max, s.p50, s.p99);
         format!(
-            "scans: {}, overruns: {}, lateness us min/mean/max/p99: {lmin}/{lmean:.1}/{lmax}/{lp99}, execution us min/mean/max/p99: {emin}/{emean:.1}/{emax}/{ep99}",
-            self.scans, self.overruns
+            "scans: {}, overruns: {}, lateness us min/mean/max/p50/p99: {}, execution us min/mean/max/p50/p99: {}",
+            self.scans,
+            self.overruns,
+            text(self.lateness.summary()),
+            text(self.exec.summary())
         )
     }
 }
@@ -583,12 +604,28 @@ mod tests {
     #[test]
     fn series_summary() {
         let mut s = Series::default();
-        assert_eq!(s.summary(), (0, 0.0, 0, 0));
+        assert_eq!(s.summary(), Summary::default());
         for us in 1..=100 {
             s.add(Duration::from_micros(us));
         }
-        let (min, mean, max, p99) = s.summary();
-        assert_eq!((min, max, p99), (1, 100, 99));
-        assert!((mean - 50.5).abs() < 1e-9);
+        let t = s.summary();
+        assert_eq!((t.min, t.max, t.p50, t.p99), (1, 100, 50, 99));
+        assert!((t.mean - 50.5).abs() < 1e-9);
+        // One sample: every statistic is that sample.
+        let mut one = Series::default();
+        one.add(Duration::from_micros(7));
+        let t = one.summary();
+        assert_eq!((t.min, t.max, t.p50, t.p99), (7, 7, 7, 7));
+        // The percentiles follow the last WINDOW samples; min, mean and max all.
+        let mut long = Series::default();
+        for _ in 0..WINDOW {
+            long.add(Duration::from_micros(1000));
+        }
+        for _ in 0..WINDOW {
+            long.add(Duration::from_micros(10));
+        }
+        let t = long.summary();
+        assert_eq!((t.min, t.max, t.p50, t.p99), (10, 1000, 10, 10));
+        assert!((t.mean - 505.0).abs() < 1e-9);
     }
 }
