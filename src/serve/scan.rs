@@ -215,6 +215,16 @@ pub struct Request {
 /// How often the scan thread looks at the stop flag while it waits.
 const POLL: Duration = Duration::from_millis(50);
 
+/// When to hand the RETAIN variables' values to the retain file's writer.
+pub struct Periodic {
+    /// How often.
+    pub every: Duration,
+    /// The next time (none: never, past the end of time).
+    pub next: Option<Instant>,
+    /// The writer's end.
+    pub outbox: super::retain::Outbox,
+}
+
 /// The scan thread's state.
 struct Plc<'a> {
     m: Box<dyn Machine>,
@@ -226,6 +236,8 @@ struct Plc<'a> {
     /// The RETAIN variables.
     retained: Vec<Var>,
     cycle_ns: u64,
+    /// The periodic saving of the RETAIN variables (`--retain-every`).
+    periodic: Option<Periodic>,
     /// Held variables, by canonical path.
     forced: BTreeMap<String, PlcValue>,
     running: bool,
@@ -239,6 +251,22 @@ struct Plc<'a> {
 impl Plc<'_> {
     fn at(&self, n: u64) -> Instant {
         self.start + Duration::from_nanos(self.cycle_ns.saturating_mul(n))
+    }
+
+    /// Between two scans: when due, the RETAIN variables' values to the writer of
+    /// the retain file, which writes them on its own thread if they changed.
+    fn save_if_due(&mut self, now: Instant) {
+        let Some(p) = &mut self.periodic else {
+            return;
+        };
+        if p.next.is_none_or(|t| now < t) {
+            return;
+        }
+        p.next = now.checked_add(p.every);
+        match super::retain::snapshot(&*self.m, &self.retained) {
+            Ok(values) => p.outbox.offer(values),
+            Err(e) => eprintln!("error: retain: {e}"),
+        }
     }
 
     fn set_state(&self, state: &str) {
@@ -510,12 +538,15 @@ pub struct Setup {
     pub retained: Vec<Var>,
     /// Their values from the retain file.
     pub saved: Map<String, Json>,
+    /// Their periodic saving, if any (`next` from the start).
+    pub periodic: Option<Periodic>,
 }
 
 /// Cold start (the retained variables from `saved`), then scans every `cycle` until
 /// a stop is requested, answering `requests` between scans. A failed scan stops the
 /// scans; without requests (no HTTP server, so nothing could restart it) it ends
-/// the loop. The retained variables' values at the end.
+/// the loop. With `periodic`, the retained variables' values go to the retain
+/// file's writer every so often, between two scans. Their values at the end.
 pub fn run(
     m: Box<dyn Machine>,
     shared: &Shared,
@@ -528,6 +559,7 @@ pub fn run(
         requests,
         retained,
         saved,
+        periodic,
     } = setup;
     let now = Instant::now();
     let mut plc = Plc {
@@ -538,6 +570,7 @@ pub fn run(
         cycle_ns: cycle.as_nanos().clamp(1, u64::MAX as u128) as u64,
         requests,
         retained,
+        periodic,
         forced: BTreeMap::new(),
         running: false,
         epoch: now,
@@ -553,6 +586,8 @@ pub fn run(
         if stopping() {
             return end(&plc);
         }
+        // Here, between two scans (after one, before waiting for the next).
+        plc.save_if_due(Instant::now());
         if !plc.running {
             if plc.requests.is_none() {
                 return end(&plc);
