@@ -15,7 +15,7 @@ use std::sync::atomic::Ordering;
 use std::sync::mpsc::{Receiver, Sender};
 use std::time::{Duration, Instant};
 
-/// How many recent samples the 99th percentile is taken over.
+/// How many recent samples the percentiles (p50, p99) are taken over.
 const WINDOW: usize = 1000;
 
 /// Minimum, mean, maximum, median and 99th percentile of a series of durations, in
