@@ -165,9 +165,14 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         token_file: Option<PathBuf>,
         /// Where the RETAIN and PERSISTENT variables are kept: read at start (if it
-        /// exists), written atomically at the end
+        /// exists), written atomically every --retain-every seconds while the PLC
+        /// runs (when they changed) and at the end
         #[arg(long, value_name = "FILE")]
         retain: Option<PathBuf>,
+        /// How often the RETAIN variables are saved to the --retain file while the
+        /// PLC runs, in seconds (e.g. 10 or 0.5; 0: only at the end); default 10
+        #[arg(long, value_name = "SECONDS", value_parser = plcc::serve::retain::parse_seconds, requires = "retain")]
+        retain_every: Option<std::time::Duration>,
     },
     /// Check programs and print diagnostics only
     Check {
@@ -298,6 +303,7 @@ fn main() -> ExitCode {
             http,
             token_file,
             retain,
+            retain_every,
         }) => plcc::serve::serve(&plcc::serve::ServeArgs {
             files: common.files,
             library: common.lib,
@@ -313,6 +319,7 @@ fn main() -> ExitCode {
             http,
             token_file,
             retain,
+            retain_every,
         }),
         Some(Command::Check { common }) => commands::check(
             &common.files,

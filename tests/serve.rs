@@ -640,8 +640,13 @@ fn http_api_reads_writes_forces_and_controls() {
     let st = status_of(api);
     assert_eq!(st["state"], json!("running"));
     assert!(st["scans"].as_u64().unwrap() > 0);
-    assert!(st["exec_us"]["max"].as_u64().is_some());
-    assert!(st["lateness_us"]["p99"].as_u64().is_some());
+    for series in ["exec_us", "lateness_us"] {
+        let n = |k: &str| st[series][k].as_u64().unwrap_or_else(|| panic!("{st}"));
+        assert!(
+            n("min") <= n("p50") && n("p50") <= n("p99") && n("p99") <= n("max"),
+            "{st}"
+        );
+    }
     drop(c);
     let (status, lines) = s.terminate();
     assert!(status.success(), "{status}: {}", lines.join("\n"));
@@ -894,7 +899,10 @@ fn retain_survives_restarts_of_the_server_and_warm_restarts() {
     let mut s = start();
     assert_eq!(
         s.line("retain: "),
-        format!("retain: 5 variable(s), kept in {}", file.display())
+        format!(
+            "retain: 5 variable(s), kept in {}, saved every 10 s and at the end",
+            file.display()
+        )
     );
     let api = http_addr(&mut s);
     assert_eq!(put(api, "keeper.name", json!("hello"), None), 200);
@@ -988,6 +996,157 @@ fn retain_survives_restarts_of_the_server_and_warm_restarts() {
     assert_eq!(value(api, "keeper.level"), json!(7));
     let (status, _) = s.terminate();
     assert!(status.success());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Sends SIGKILL (no chance to save anything at the end) and waits for the end.
+fn kill_9(mut s: Server) {
+    // SAFETY: signalling our own child, which has not been waited for.
+    unsafe {
+        libc::kill(s.child.id() as libc::pid_t, libc::SIGKILL);
+    }
+    let status = s.child.wait().expect("wait");
+    use std::os::unix::process::ExitStatusExt;
+    assert_eq!(status.signal(), Some(libc::SIGKILL), "{status}");
+}
+
+/// The retain file's `keeper.total`, if the file is there. Whenever it is there it
+/// must be a whole retain file: a periodic save is never seen half written.
+fn saved_total(file: &std::path::Path) -> Option<u64> {
+    let text = match std::fs::read_to_string(file) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return None,
+        Err(e) => panic!("{}: {e}", file.display()),
+    };
+    let j: serde_json::Value =
+        serde_json::from_str(&text).unwrap_or_else(|e| panic!("a torn retain file ({e}):\n{text}"));
+    assert_eq!(j["plcc_retain"], serde_json::json!(1), "{text}");
+    let values = j["values"].as_object().expect("values");
+    assert_eq!(values.len(), 5, "{text}");
+    Some(values["keeper.total"].as_u64().expect("keeper.total"))
+}
+
+/// Polls the retain file until `want` holds of its `keeper.total`.
+fn until_saved(file: &std::path::Path, what: &str, want: impl Fn(u64) -> bool) -> u64 {
+    let t = Instant::now();
+    loop {
+        if let Some(n) = saved_total(file).filter(|&n| want(n)) {
+            return n;
+        }
+        assert!(t.elapsed() < PATIENCE, "never saved: {what}");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+#[test]
+fn retain_is_saved_periodically_and_survives_kill_9() {
+    use serde_json::json;
+    let dir = std::env::temp_dir().join(format!("plcc-serve-retain9-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("plc.retain");
+    let prog = program("retained.st");
+    let start = |every: &str| {
+        let f = file.to_str().unwrap();
+        let p = prog.to_str().unwrap();
+        Server::start(&[
+            p,
+            "--cycle-ms",
+            "2",
+            "--modbus",
+            "none",
+            "--http",
+            "127.0.0.1:0",
+            "--retain",
+            f,
+            "--retain-every",
+            every,
+        ])
+    };
+    // Saved only at the end: nothing is written while the PLC runs.
+    let mut s = start("0");
+    assert_eq!(
+        s.line("retain: "),
+        format!(
+            "retain: 5 variable(s), kept in {}, saved at the end",
+            file.display()
+        )
+    );
+    let api = http_addr(&mut s);
+    until("scans", true, || {
+        value(api, "keeper.total").as_u64().unwrap() > 300
+    });
+    assert_eq!(saved_total(&file), None, "saved before the end");
+    let (status, lines) = s.terminate();
+    assert!(status.success(), "{status}: {}", lines.join("\n"));
+    let first = saved_total(&file).expect("saved at the end");
+    assert!(first > 300, "{first}");
+
+    // Every 0.2 s: the file follows the counter while the PLC scans, and a kill -9
+    // leaves the last whole file.
+    let mut s = start("0.2");
+    assert_eq!(
+        s.line("retain: "),
+        format!(
+            "retain: 5 variable(s), kept in {}, saved every 0.2 s and at the end",
+            file.display()
+        )
+    );
+    let api = http_addr(&mut s);
+    let a = until_saved(&file, "a first periodic save", |n| n > first);
+    let b = until_saved(&file, "a second periodic save", |n| n > a);
+    // The file is read before the API: the value saved was reached before.
+    let now = value(api, "keeper.total").as_u64().unwrap();
+    assert!(b <= now, "saved {b}, reached {now}");
+    kill_9(s);
+    let killed = saved_total(&file).expect("the file survives");
+    assert!(killed >= b, "the file went back from {b} to {killed}");
+    // Warm from the file: the counter goes on from the saved value, as do the
+    // other retained variables; plain ones start from their initial values.
+    let mut s = start("0.2");
+    let api = http_addr(&mut s);
+    let plain = value(api, "keeper.plain").as_u64().unwrap();
+    let total = value(api, "keeper.total").as_u64().unwrap();
+    assert!(total >= killed + plain, "{killed} {plain} {total}");
+    assert!(value(api, "g_count").as_i64().unwrap() as u64 >= killed);
+    // Written through the API, saved periodically: survives the kill too.
+    assert_eq!(put(api, "keeper.name", json!("kept"), None), 200);
+    // Stopped, the values still go to the file when they change (a write through
+    // the API) and are exactly the ones the PLC holds.
+    assert_eq!(http(api, "POST", "/api/stop", None, None).0, 200);
+    let stopped = value(api, "keeper.total").as_u64().unwrap();
+    assert!(stopped >= total);
+    until_saved(&file, "the values of the stopped PLC", |n| n == stopped);
+    kill_9(s);
+    assert_eq!(saved_total(&file), Some(stopped));
+    let mut s = start("0.2");
+    let api = http_addr(&mut s);
+    let plain = value(api, "keeper.plain").as_u64().unwrap();
+    let total = value(api, "keeper.total").as_u64().unwrap();
+    assert!(total >= stopped + plain, "{stopped} {plain} {total}");
+    assert_eq!(value(api, "keeper.name"), json!("kept"));
+    let (status, lines) = s.terminate();
+    assert!(status.success(), "{status}: {}", lines.join("\n"));
+    assert!(saved_total(&file).unwrap() >= total);
+    // Bad intervals, and an interval without a file: usage errors.
+    for bad in [
+        vec!["--retain", "x.retain", "--retain-every", "soon"],
+        vec!["--retain", "x.retain", "--retain-every=-1"],
+        vec!["--retain", "x.retain", "--retain-every", "1,5"],
+        vec!["--retain-every", "1"],
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_plcc"))
+            .arg("serve")
+            .arg(&prog)
+            .args(["--http", "none", "--modbus", "none"])
+            .args(&bad)
+            .current_dir(&dir)
+            .output()
+            .expect("plcc runs");
+        assert_eq!(out.status.code(), Some(2), "{bad:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("--retain"), "{bad:?}: {err}");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

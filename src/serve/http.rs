@@ -327,8 +327,8 @@ impl Api {
     fn status(&self) -> Json {
         let s = self.shared.lock_stats().clone();
         let series = |x: &super::scan::Series| {
-            let (min, mean, max, p99) = x.summary();
-            json!({"min": min, "mean": mean, "max": max, "p99": p99})
+            let t = x.summary();
+            json!({"min": t.min, "mean": t.mean, "max": t.max, "p50": t.p50, "p99": t.p99})
         };
         json!({
             "state": s.state,

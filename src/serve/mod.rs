@@ -50,6 +50,9 @@ pub struct ServeArgs {
     pub token_file: Option<PathBuf>,
     /// `--retain FILE`: where the RETAIN variables are kept between runs.
     pub retain: Option<PathBuf>,
+    /// `--retain-every`: how often the retained values are saved while the PLC runs
+    /// (default [`retain::DEFAULT_EVERY`]; zero: only at the end).
+    pub retain_every: Option<Duration>,
 }
 
 /// Where the HTTP API listens unless told.
@@ -322,12 +325,38 @@ pub fn serve(a: &ServeArgs) -> u8 {
         },
         None => serde_json::Map::new(),
     };
+    let every = a.retain_every.unwrap_or(retain::DEFAULT_EVERY);
+    // The thread that saves the retained values while the PLC runs; dropped (ended)
+    // on every way out of this function.
+    let mut writer = None;
+    let mut periodic = None;
     if let Some(f) = &a.retain {
+        let when = if every.is_zero() {
+            "at the end".to_string()
+        } else {
+            format!("every {} s and at the end", every.as_secs_f64())
+        };
         eprintln!(
-            "retain: {} variable(s), kept in {}",
+            "retain: {} variable(s), kept in {}, saved {when}",
             retained.len(),
             f.display()
         );
+        if !every.is_zero() {
+            match retain::Writer::start(f.clone(), Some(saved.clone())) {
+                Ok((w, outbox)) => {
+                    writer = Some(w);
+                    periodic = Some(scan::Periodic {
+                        every,
+                        next: std::time::Instant::now().checked_add(every),
+                        outbox,
+                    });
+                }
+                Err(e) => {
+                    eprintln!("error: cannot start the retain thread: {e}");
+                    return EXIT_USAGE;
+                }
+            }
+        }
     }
     let module_copy = module.clone();
     let project = project::Project::new(&build, &a.files, &module);
@@ -368,6 +397,7 @@ pub fn serve(a: &ServeArgs) -> u8 {
                     requests: requests_rx,
                     retained,
                     saved,
+                    periodic,
                 },
             )
         });
@@ -437,8 +467,10 @@ pub fn serve(a: &ServeArgs) -> u8 {
     };
     let stats = shared.lock_stats().clone();
     eprintln!("{}", stats.line());
+    // The periodic writer ends (after the write in progress) before the last save.
+    drop(writer);
     if let Some(f) = &a.retain {
-        match kept.and_then(|values| retain::save(f, values)) {
+        match kept.and_then(|values| retain::save(f, &values)) {
             Ok(()) => eprintln!("retain: saved to {}", f.display()),
             Err(e) => {
                 eprintln!("error: retain: {e}");

@@ -6,7 +6,11 @@
 //! in a configuration or resource, each with everything inside it (an FB instance's
 //! variables, a struct's fields, an array's elements). The file is JSON,
 //! `{"plcc_retain": 1, "values": {"plant.count": 5, ...}}`, written whole to a
-//! temporary file and renamed over the old one.
+//! temporary file, synced, and renamed over the old one (the directory synced too).
+//!
+//! While the PLC scans, the scan thread takes the values between two scans every
+//! `--retain-every` seconds and hands them to a [`Writer`], whose thread writes
+//! them when they changed since its last write: the scans never wait for the disk.
 
 use super::http::{from_json, to_json};
 use super::scan::{Value, Var};
@@ -16,7 +20,10 @@ use plcc_ir::machine::{read_string, write_string, Machine};
 use plcc_ir::{AggDef, MemType, Module};
 use serde_json::{json, Map, Value as Json};
 use std::collections::{HashMap, HashSet};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::thread::JoinHandle;
+use std::time::Duration;
 
 /// The version of the file format.
 const FORMAT: u64 = 1;
@@ -202,10 +209,285 @@ pub fn load(path: &Path) -> Result<Map<String, Json>, (u8, String)> {
     }
 }
 
-/// Writes a retain file atomically.
-pub fn save(path: &Path, values: Map<String, Json>) -> Result<(), String> {
+/// Writes a retain file atomically: a temporary file beside it, synced, renamed over
+/// it, then the directory synced so that the rename itself survives a power cut.
+pub fn save(path: &Path, values: &Map<String, Json>) -> Result<(), String> {
     let text = serde_json::to_string_pretty(&json!({"plcc_retain": FORMAT, "values": values}))
         .map_err(|e| e.to_string())?;
     crate::output::write_atomic(path, format!("{text}\n").as_bytes())
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    // A directory opened for reading can be synced on Unix; elsewhere the rename is
+    // as durable as the system makes it.
+    if cfg!(unix) && path.is_file() {
+        std::fs::File::open(dir)
+            .and_then(|d| d.sync_all())
+            .map_err(|e| format!("cannot sync the directory of {}: {e}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// How often the values are saved while the PLC runs unless `--retain-every` says.
+pub const DEFAULT_EVERY: Duration = Duration::from_secs(10);
+
+/// Parses `--retain-every`: seconds, with up to three decimals (`10`, `0.25`); `0`
+/// saves only at the end.
+pub fn parse_seconds(text: &str) -> Result<Duration, String> {
+    let bad = || {
+        format!("`{text}` is not a number of seconds in whole milliseconds (e.g. 10 or 0.5; 0: only at the end)")
+    };
+    let (whole, frac) = text.split_once('.').unwrap_or((text, ""));
+    if whole.is_empty() && frac.is_empty()
+        || !whole.bytes().all(|b| b.is_ascii_digit())
+        || !frac.bytes().all(|b| b.is_ascii_digit())
+        || frac.len() > 3
+    {
+        return Err(bad());
+    }
+    let whole: u64 = if whole.is_empty() {
+        0
+    } else {
+        whole.parse().map_err(|_| bad())?
+    };
+    let frac: u64 = format!("{frac:0<3}").parse().map_err(|_| bad())?;
+    whole
+        .checked_mul(1000)
+        .and_then(|w| w.checked_add(frac))
+        .map(Duration::from_millis)
+        .ok_or_else(bad)
+}
+
+/// The retain file and the values last written to it.
+struct Kept {
+    path: PathBuf,
+    /// The values the file holds (those read at start, then those last written).
+    last: Option<Map<String, Json>>,
+}
+
+impl Kept {
+    /// Writes `values` unless the file already holds them: whether it wrote.
+    fn save_if_changed(&mut self, values: Map<String, Json>) -> Result<bool, String> {
+        if self.last.as_ref() == Some(&values) {
+            return Ok(false);
+        }
+        save(&self.path, &values)?;
+        self.last = Some(values);
+        Ok(true)
+    }
+}
+
+/// What the scan thread hands to the writer.
+#[derive(Default)]
+struct Pending {
+    /// The latest values not yet taken (a newer offer replaces an older one).
+    values: Option<Map<String, Json>>,
+    /// The writer is to end.
+    closed: bool,
+}
+
+#[derive(Default)]
+struct Slot {
+    pending: Mutex<Pending>,
+    wake: Condvar,
+}
+
+impl Slot {
+    fn lock(&self) -> MutexGuard<'_, Pending> {
+        self.pending.lock().unwrap_or_else(|p| p.into_inner())
+    }
+}
+
+/// The scan thread's end of a [`Writer`].
+#[derive(Clone)]
+pub struct Outbox {
+    slot: Arc<Slot>,
+}
+
+impl Outbox {
+    /// Hands `values` to the writer and returns at once (only a lock the writer holds
+    /// for a moment, never while it writes). Values the writer has not taken yet are
+    /// replaced: it always writes the latest.
+    pub fn offer(&self, values: Map<String, Json>) {
+        self.slot.lock().values = Some(values);
+        self.slot.wake.notify_one();
+    }
+}
+
+/// A thread that writes the values offered through its [`Outbox`] to the retain
+/// file, skipping values the file already holds. A failed write is reported on
+/// standard error (once until the next success) and tried again at the next offer.
+/// Dropping it ends the thread after the write in progress; values not yet taken are
+/// dropped (the final save at the end of the command supersedes them).
+pub struct Writer {
+    slot: Arc<Slot>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl Writer {
+    /// Starts the thread for `path`, which holds `last` (the values read at start).
+    pub fn start(
+        path: PathBuf,
+        last: Option<Map<String, Json>>,
+    ) -> std::io::Result<(Writer, Outbox)> {
+        let slot = Arc::new(Slot::default());
+        let theirs = Arc::clone(&slot);
+        let thread = std::thread::Builder::new()
+            .name("plc-retain".into())
+            .spawn(move || {
+                let mut kept = Kept { path, last };
+                let mut failing: Option<String> = None;
+                loop {
+                    let values = {
+                        let mut p = theirs.lock();
+                        loop {
+                            if p.closed {
+                                return;
+                            }
+                            if let Some(v) = p.values.take() {
+                                break v;
+                            }
+                            p = theirs.wake.wait(p).unwrap_or_else(|e| e.into_inner());
+                        }
+                    };
+                    match kept.save_if_changed(values) {
+                        Ok(wrote) => {
+                            if wrote && failing.take().is_some() {
+                                eprintln!("retain: saving to {} again", kept.path.display());
+                            }
+                        }
+                        Err(e) => {
+                            if failing.as_ref() != Some(&e) {
+                                eprintln!("error: retain: {e} (the PLC scans on; tried again at the next save)");
+                            }
+                            failing = Some(e);
+                        }
+                    }
+                }
+            })?;
+        Ok((
+            Writer {
+                slot: Arc::clone(&slot),
+                thread: Some(thread),
+            },
+            Outbox { slot },
+        ))
+    }
+}
+
+impl Drop for Writer {
+    fn drop(&mut self) {
+        self.slot.lock().closed = true;
+        self.slot.wake.notify_one();
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Instant;
+
+    fn dir(name: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("plcc-retain-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    fn values(n: i64) -> Map<String, Json> {
+        let mut m = Map::new();
+        m.insert("keeper.total".into(), json!(n));
+        m
+    }
+
+    #[test]
+    fn seconds() {
+        assert_eq!(parse_seconds("10"), Ok(Duration::from_secs(10)));
+        assert_eq!(parse_seconds("0.2"), Ok(Duration::from_millis(200)));
+        assert_eq!(parse_seconds(".25"), Ok(Duration::from_millis(250)));
+        assert_eq!(parse_seconds("1."), Ok(Duration::from_secs(1)));
+        assert_eq!(parse_seconds("0"), Ok(Duration::ZERO));
+        assert_eq!(parse_seconds("1.005"), Ok(Duration::from_millis(1005)));
+        for bad in [
+            "",
+            ".",
+            "-1",
+            "1.0001",
+            "1e3",
+            "ten",
+            " 1",
+            "99999999999999999999",
+        ] {
+            let e = parse_seconds(bad).unwrap_err();
+            assert!(e.contains("not a number of seconds"), "{bad}: {e}");
+        }
+    }
+
+    #[test]
+    fn saves_what_changed_and_reads_back() {
+        let d = dir("kept");
+        let path = d.join("plc.retain");
+        let mut kept = Kept {
+            path: path.clone(),
+            last: Some(values(1)),
+        };
+        // The values the file was read with are not written again.
+        assert_eq!(kept.save_if_changed(values(1)), Ok(false));
+        assert!(!path.exists());
+        assert_eq!(kept.save_if_changed(values(2)), Ok(true));
+        assert_eq!(load(&path), Ok(values(2)));
+        assert_eq!(kept.save_if_changed(values(2)), Ok(false));
+        assert_eq!(kept.save_if_changed(values(3)), Ok(true));
+        assert_eq!(load(&path), Ok(values(3)));
+        // Only the file is left: no temporary beside it.
+        assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1);
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn a_failed_save_is_tried_again() {
+        let d = dir("fail");
+        let sub = d.join("gone");
+        let path = sub.join("plc.retain");
+        let mut kept = Kept {
+            path: path.clone(),
+            last: None,
+        };
+        let e = kept.save_if_changed(values(1)).unwrap_err();
+        assert!(e.contains("cannot write"), "{e}");
+        // The same values once the directory is there: written, not skipped.
+        std::fs::create_dir_all(&sub).unwrap();
+        assert_eq!(kept.save_if_changed(values(1)), Ok(true));
+        assert_eq!(load(&path), Ok(values(1)));
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn the_writer_thread_writes_the_latest_offer() {
+        let d = dir("writer");
+        let path = d.join("plc.retain");
+        let (writer, outbox) = Writer::start(path.clone(), None).unwrap();
+        for n in 1..=50 {
+            outbox.offer(values(n));
+        }
+        let t = Instant::now();
+        while load(&path) != Ok(values(50)) {
+            assert!(
+                t.elapsed() < Duration::from_secs(60),
+                "never saved the last offer"
+            );
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        drop(writer);
+        // Once dropped, the thread has ended: offers are not written any more.
+        outbox.offer(values(51));
+        std::thread::sleep(Duration::from_millis(50));
+        assert_eq!(load(&path), Ok(values(50)));
+        std::fs::remove_dir_all(&d).unwrap();
+    }
 }

@@ -15,11 +15,11 @@ use std::sync::atomic::Ordering;
 use std::sync::mpsc::{Receiver, Sender};
 use std::time::{Duration, Instant};
 
-/// How many recent samples the 99th percentile is taken over.
+/// How many recent samples the percentiles (p50, p99) are taken over.
 const WINDOW: usize = 1000;
 
-/// Minimum, mean, maximum and 99th percentile of a series of durations, in
-/// microseconds (the percentile over the last [`WINDOW`] samples).
+/// Minimum, mean, maximum, median and 99th percentile of a series of durations, in
+/// microseconds (the percentiles over the last [`WINDOW`] samples).
 #[derive(Clone, Debug, Default)]
 pub struct Series {
     count: u64,
@@ -45,21 +45,40 @@ impl Series {
         self.recent.push_back(us);
     }
 
-    /// `(min, mean, max, p99)` in microseconds; zeros before the first sample.
-    pub fn summary(&self) -> (u64, f64, u64, u64) {
+    /// The summary in microseconds; zeros before the first sample.
+    pub fn summary(&self) -> Summary {
         if self.count == 0 {
-            return (0, 0.0, 0, 0);
+            return Summary::default();
         }
         let mut sorted: Vec<u64> = self.recent.iter().copied().collect();
         sorted.sort_unstable();
-        let k = (sorted.len() * 99).div_ceil(100).max(1) - 1;
-        (
-            self.min,
-            self.sum as f64 / self.count as f64,
-            self.max,
-            sorted[k],
-        )
+        // The nearest-rank percentile: the smallest sample with at least p% of the
+        // samples at or below it.
+        let rank = |p: usize| sorted[(sorted.len() * p).div_ceil(100).max(1) - 1];
+        Summary {
+            min: self.min,
+            mean: self.sum as f64 / self.count as f64,
+            max: self.max,
+            p50: rank(50),
+            p99: rank(99),
+        }
     }
+}
+
+/// A [`Series`] summed up, in microseconds: minimum, mean and maximum over every
+/// sample, median and 99th percentile over the last [`WINDOW`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Summary {
+    /// The smallest sample.
+    pub min: u64,
+    /// The mean of the samples.
+    pub mean: f64,
+    /// The largest sample.
+    pub max: u64,
+    /// The median of the recent samples.
+    pub p50: u64,
+    /// The 99th percentile of the recent samples.
+    pub p99: u64,
 }
 
 /// What the scan thread has done.
@@ -87,11 +106,13 @@ pub struct Stats {
 impl Stats {
     /// The line printed when the server ends.
     pub fn line(&self) -> String {
-        let (lmin, lmean, lmax, lp99) = self.lateness.summary();
-        let (emin, emean, emax, ep99) = self.exec.summary();
+        let text = |s: Summary| format!("{}/{:.1}/{}/{}/{}", s.min, s.mean, s.max, s.p50, s.p99);
         format!(
-            "scans: {}, overruns: {}, lateness us min/mean/max/p99: {lmin}/{lmean:.1}/{lmax}/{lp99}, execution us min/mean/max/p99: {emin}/{emean:.1}/{emax}/{ep99}",
-            self.scans, self.overruns
+            "scans: {}, overruns: {}, lateness us min/mean/max/p50/p99: {}, execution us min/mean/max/p50/p99: {}",
+            self.scans,
+            self.overruns,
+            text(self.lateness.summary()),
+            text(self.exec.summary())
         )
     }
 }
@@ -194,6 +215,16 @@ pub struct Request {
 /// How often the scan thread looks at the stop flag while it waits.
 const POLL: Duration = Duration::from_millis(50);
 
+/// When to hand the RETAIN variables' values to the retain file's writer.
+pub struct Periodic {
+    /// How often.
+    pub every: Duration,
+    /// The next time (none: never, past the end of time).
+    pub next: Option<Instant>,
+    /// The writer's end.
+    pub outbox: super::retain::Outbox,
+}
+
 /// The scan thread's state.
 struct Plc<'a> {
     m: Box<dyn Machine>,
@@ -205,6 +236,8 @@ struct Plc<'a> {
     /// The RETAIN variables.
     retained: Vec<Var>,
     cycle_ns: u64,
+    /// The periodic saving of the RETAIN variables (`--retain-every`).
+    periodic: Option<Periodic>,
     /// Held variables, by canonical path.
     forced: BTreeMap<String, PlcValue>,
     running: bool,
@@ -218,6 +251,22 @@ struct Plc<'a> {
 impl Plc<'_> {
     fn at(&self, n: u64) -> Instant {
         self.start + Duration::from_nanos(self.cycle_ns.saturating_mul(n))
+    }
+
+    /// Between two scans: when due, the RETAIN variables' values to the writer of
+    /// the retain file, which writes them on its own thread if they changed.
+    fn save_if_due(&mut self, now: Instant) {
+        let Some(p) = &mut self.periodic else {
+            return;
+        };
+        if p.next.is_none_or(|t| now < t) {
+            return;
+        }
+        p.next = now.checked_add(p.every);
+        match super::retain::snapshot(&*self.m, &self.retained) {
+            Ok(values) => p.outbox.offer(values),
+            Err(e) => eprintln!("error: retain: {e}"),
+        }
     }
 
     fn set_state(&self, state: &str) {
@@ -489,12 +538,26 @@ pub struct Setup {
     pub retained: Vec<Var>,
     /// Their values from the retain file.
     pub saved: Map<String, Json>,
+    /// Their periodic saving, if any (`next` from the start).
+    pub periodic: Option<Periodic>,
+}
+
+/// Asks Linux to wake this thread at its timeouts without the default 50 µs of
+/// timer slack (the kernel's leeway to merge wake-ups), which would otherwise add to
+/// every scan's lateness.
+fn slack() {
+    #[cfg(target_os = "linux")]
+    // SAFETY: PR_SET_TIMERSLACK takes a number and changes only this thread's slack.
+    unsafe {
+        libc::prctl(libc::PR_SET_TIMERSLACK, 1 as libc::c_ulong, 0, 0, 0);
+    }
 }
 
 /// Cold start (the retained variables from `saved`), then scans every `cycle` until
 /// a stop is requested, answering `requests` between scans. A failed scan stops the
 /// scans; without requests (no HTTP server, so nothing could restart it) it ends
-/// the loop. The retained variables' values at the end.
+/// the loop. With `periodic`, the retained variables' values go to the retain
+/// file's writer every so often, between two scans. Their values at the end.
 pub fn run(
     m: Box<dyn Machine>,
     shared: &Shared,
@@ -507,7 +570,9 @@ pub fn run(
         requests,
         retained,
         saved,
+        periodic,
     } = setup;
+    slack();
     let now = Instant::now();
     let mut plc = Plc {
         m,
@@ -517,6 +582,7 @@ pub fn run(
         cycle_ns: cycle.as_nanos().clamp(1, u64::MAX as u128) as u64,
         requests,
         retained,
+        periodic,
         forced: BTreeMap::new(),
         running: false,
         epoch: now,
@@ -532,6 +598,8 @@ pub fn run(
         if stopping() {
             return end(&plc);
         }
+        // Here, between two scans (after one, before waiting for the next).
+        plc.save_if_due(Instant::now());
         if !plc.running {
             if plc.requests.is_none() {
                 return end(&plc);
@@ -583,12 +651,28 @@ mod tests {
     #[test]
     fn series_summary() {
         let mut s = Series::default();
-        assert_eq!(s.summary(), (0, 0.0, 0, 0));
+        assert_eq!(s.summary(), Summary::default());
         for us in 1..=100 {
             s.add(Duration::from_micros(us));
         }
-        let (min, mean, max, p99) = s.summary();
-        assert_eq!((min, max, p99), (1, 100, 99));
-        assert!((mean - 50.5).abs() < 1e-9);
+        let t = s.summary();
+        assert_eq!((t.min, t.max, t.p50, t.p99), (1, 100, 50, 99));
+        assert!((t.mean - 50.5).abs() < 1e-9);
+        // One sample: every statistic is that sample.
+        let mut one = Series::default();
+        one.add(Duration::from_micros(7));
+        let t = one.summary();
+        assert_eq!((t.min, t.max, t.p50, t.p99), (7, 7, 7, 7));
+        // The percentiles follow the last WINDOW samples; min, mean and max all.
+        let mut long = Series::default();
+        for _ in 0..WINDOW {
+            long.add(Duration::from_micros(1000));
+        }
+        for _ in 0..WINDOW {
+            long.add(Duration::from_micros(10));
+        }
+        let t = long.summary();
+        assert_eq!((t.min, t.max, t.p50, t.p99), (10, 1000, 10, 10));
+        assert!((t.mean - 505.0).abs() < 1e-9);
     }
 }
