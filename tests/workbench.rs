@@ -621,7 +621,7 @@ async fn press(c: &Client, keys: &[char]) {
     c.perform_actions(a).await.expect("the keys pressed");
 }
 
-/// Ladder editing from the keyboard, undo, and the edited rung through PLCopen XML
+/// Ladder editing from the keyboard, undo and redo, and the edited rung through PLCopen XML
 /// (load, save, load: the same model), checked and loaded into the PLC.
 async fn edit(c: &Client) {
     let contacts = "return document.querySelectorAll('svg .el-contact').length";
@@ -651,6 +651,30 @@ async fn edit(c: &Client) {
     until(
         c,
         "the contact undone",
+        "return document.querySelectorAll('svg .el-contact').length === 7",
+    )
+    .await;
+    // Ctrl+Y brings it back, Ctrl+Z takes it away again; Ctrl+Y with nothing undone
+    // does nothing.
+    press(c, &[Key::Control.into(), 'y']).await;
+    until(
+        c,
+        "the contact redone",
+        "return document.querySelectorAll('svg .el-contact').length === 8",
+    )
+    .await;
+    press(c, &[Key::Control.into(), 'y']).await;
+    until(
+        c,
+        "nothing to redo",
+        "return document.getElementById('view-info').textContent === 'nothing to redo'",
+    )
+    .await;
+    assert_eq!(js(c, contacts).await, json!(8));
+    press(c, &[Key::Control.into(), 'z']).await;
+    until(
+        c,
+        "the contact undone again",
         "return document.querySelectorAll('svg .el-contact').length === 7",
     )
     .await;

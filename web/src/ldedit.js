@@ -1,6 +1,7 @@
 // Editing a ladder body in its PLCopen XML: the document is changed in place, so
 // everything else in the file (other POUs, types, configurations, what editors keep
-// in addData) is saved as it was read. Each operation keeps the undo stack.
+// in addData) is saved as it was read. Each operation keeps the undo stack (and
+// clears the redo stack).
 
 const GRID = 10;
 
@@ -35,6 +36,7 @@ export class LadderEdit {
   constructor(text, pou) {
     this.pou = pou;
     this.undoStack = [];
+    this.redoStack = [];
     this.load(text);
   }
 
@@ -56,14 +58,27 @@ export class LadderEdit {
     return s.startsWith("<?xml") ? s : `<?xml version="1.0" encoding="utf-8"?>\n${s}`;
   }
 
+  /// Before an edit: the text kept for undo; what was undone can no longer be
+  /// redone.
   snapshot() {
     this.undoStack.push(this.text());
     if (this.undoStack.length > 100) this.undoStack.shift();
+    this.redoStack = [];
   }
 
   undo() {
     const t = this.undoStack.pop();
     if (t === undefined) return false;
+    this.redoStack.push(this.text());
+    this.load(t);
+    return true;
+  }
+
+  /// The last undone edit made again.
+  redo() {
+    const t = this.redoStack.pop();
+    if (t === undefined) return false;
+    this.undoStack.push(this.text());
     this.load(t);
     return true;
   }

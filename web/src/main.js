@@ -171,6 +171,8 @@ async function rungChecks(text, pou) {
 async function renderDiagram(model, text, select) {
   let problems = new Map();
   let summary = "";
+  // The keyboard stays on the diagram when it is drawn again (after an undo).
+  const hadFocus = $("diagram").contains(document.activeElement);
   try {
     const c = await rungChecks(text, model.pou);
     problems = c.problems;
@@ -190,10 +192,9 @@ async function renderDiagram(model, text, select) {
   });
   state.diagram.update(state.values, state.forced);
   flash(`${model.elements.length} elements · ${summary}`, summary.includes("error"));
-  if (select != null) {
-    const n = state.diagram.nodes.get(Number(select));
-    if (n) state.diagram.select(n);
-  }
+  const n = select != null ? state.diagram.nodes.get(Number(select)) : null;
+  if (n) state.diagram.select(n);
+  else if (hadFocus) $("diagram").querySelector(".el[tabindex]")?.focus();
   resubscribe();
 }
 
@@ -236,6 +237,9 @@ async function editOp(op) {
         break;
       case "undo":
         if (!ed.undo()) return flash("nothing to undo");
+        break;
+      case "redo":
+        if (!ed.redo()) return flash("nothing to redo");
         break;
       case "var":
         ed.setVariable(sel, $("ld-var").value);
@@ -298,6 +302,10 @@ const EDIT_KEYS = { c: "contact", o: "coil", b: "branch", r: "rung", k: "cycle",
 function editKeys(ev) {
   if (!state.edit || !$("ld-tools").classList.contains("editing")) return;
   if (ev.target.closest && ev.target.closest("input, form")) return;
+  if ((ev.ctrlKey || ev.metaKey) && (ev.key === "y" || (ev.key.toLowerCase() === "z" && ev.shiftKey))) {
+    ev.preventDefault();
+    return editOp("redo");
+  }
   if ((ev.ctrlKey || ev.metaKey) && ev.key === "z") {
     ev.preventDefault();
     return editOp("undo");
