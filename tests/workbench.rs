@@ -451,6 +451,25 @@ async fn build(c: &Client) {
         "the chip's resource report: {summary}"
     );
     screenshot(c, "build").await;
+    // A target setting the VM does not have: its diagnostic; then none again.
+    let settings = c
+        .find(Locator::Id("build-settings"))
+        .await
+        .expect("the settings field");
+    settings.send_keys("bogus=1").await.expect("typed");
+    click(c, "#build-target option[value=vmasm]").await;
+    click(
+        c,
+        "button[aria-label='Build the project for the chosen target']",
+    )
+    .await;
+    until(
+        c,
+        "the setting refused",
+        "return document.getElementById('build-out').textContent.includes('unknown setting `bogus`')",
+    )
+    .await;
+    settings.clear().await.expect("cleared");
 }
 
 /// A sequential function chart drawn read-only, its active step lit.

@@ -519,7 +519,8 @@ const BUILDS: &[(&str, &[&str])] = &[
 
 impl Project {
     /// `POST /api/build?target=T`: the project (its files as started, or the body in
-    /// place of the file `file=NAME` when given) built for target T: the output files
+    /// place of the file `file=NAME` when given) built for target T, with its settings
+    /// `set=KEY=VALUE` (each percent-encoded, as `-s` gives them): the output files
     /// (contents in base64) and the target's resource report; the diagnostics if it
     /// does not build.
     pub fn build(
@@ -530,11 +531,27 @@ impl Project {
     ) -> Result<Json, (u16, String)> {
         let mut target = None;
         let mut file = None;
+        let mut settings = Vec::new();
         for kv in query.split('&').filter(|kv| !kv.is_empty()) {
             match kv.split_once('=') {
                 Some(("target", t)) => target = Some(t.to_string()),
                 Some(("file", f)) => file = super::http::percent_decode(f),
-                _ => return Err((400, format!("`{kv}`: use target=T and file=NAME"))),
+                // A target setting, as `-s KEY=VALUE` gives it (`pin.%IX0.0=RA2`).
+                Some(("set", s)) => match super::http::percent_decode(s)
+                    .as_deref()
+                    .and_then(|s| s.split_once('='))
+                {
+                    Some((k, v)) if !k.trim().is_empty() => {
+                        settings.push((k.trim().to_string(), v.trim().to_string()))
+                    }
+                    _ => return Err((400, format!("`{kv}`: a setting is set=KEY=VALUE"))),
+                },
+                _ => {
+                    return Err((
+                        400,
+                        format!("`{kv}`: use target=T, file=NAME and set=KEY=VALUE"),
+                    ))
+                }
             }
         }
         let names = BUILDS
@@ -575,7 +592,7 @@ impl Project {
         for emit in emits {
             let opts = plcc_ir::backend::Options {
                 emit: Some(emit.to_string()),
-                settings: Vec::new(),
+                settings: settings.clone(),
                 sources: crate::driver::source_texts(&build.sources, module),
                 output_stem: stem.clone(),
             };
@@ -1003,6 +1020,54 @@ mod tests {
         assert_eq!(r["ok"], false);
         assert!(r["errors"].as_str().unwrap().contains("stop_btn"));
         assert!(p.build(&loader, "target=host", Vec::new()).is_err());
+        // Target settings: a pin of the chip moved (the assembly reads RA2), an
+        // unknown setting reported, a malformed one refused.
+        let asm = |r: &Json| {
+            let f = r["files"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|f| f["name"] == "ladder_demo.asm");
+            String::from_utf8(decode64(f.unwrap()["base64"].as_str().unwrap())).unwrap()
+        };
+        let moved = p
+            .build(
+                &loader,
+                "target=pic16f876a&set=pin.%25IX0.0%3DRA2",
+                Vec::new(),
+            )
+            .unwrap();
+        assert_eq!(moved["ok"], true, "{moved}");
+        assert_ne!(asm(&moved), asm(&pic));
+        assert!(asm(&moved).contains("RA2") || asm(&moved).contains("PORTA, 2"));
+        let unknown = p
+            .build(&loader, "target=vmasm&set=bogus%3D1", Vec::new())
+            .unwrap();
+        assert_eq!(unknown["ok"], false);
+        assert!(
+            unknown["errors"].as_str().unwrap().contains("bogus"),
+            "{unknown}"
+        );
+        assert!(p
+            .build(&loader, "target=vmasm&set=mode", Vec::new())
+            .is_err());
+    }
+
+    /// Standard base64 back to bytes (for the tests).
+    fn decode64(s: &str) -> Vec<u8> {
+        const ABC: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        let mut bits = 0u32;
+        let mut n = 0;
+        let mut out = Vec::new();
+        for c in s.bytes().filter(|&c| c != b'=') {
+            bits = (bits << 6) | ABC.iter().position(|&x| x == c).unwrap() as u32;
+            n += 6;
+            if n >= 8 {
+                n -= 8;
+                out.push((bits >> n) as u8);
+            }
+        }
+        out
     }
 
     #[test]

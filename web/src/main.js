@@ -605,6 +605,8 @@ async function buildFor(target) {
   const out = $("build-out");
   out.replaceChildren(h("p", { class: "hint" }, `building for ${target}…`));
   let q = `target=${encodeURIComponent(target)}`;
+  // The target's settings, as `-s` takes them: `pin.%IX0.0=RA2 mode=32`.
+  for (const kv of $("build-settings").value.trim().split(/\s+/).filter(Boolean)) q += `&set=${encodeURIComponent(kv)}`;
   let body = "";
   if (state.edit) {
     q += `&file=${encodeURIComponent(state.project.files[state.view.file].name)}`;
