@@ -39,4 +39,19 @@ for (const [name, dir] of [...packages].sort()) {
   text += file ? readFileSync(join(dir, file), "utf8").trim() + "\n" : `(licence ${pkg.license}, no licence file in the package)\n`;
 }
 writeFileSync(join(out, "LICENSES.txt"), text);
+
+// What dist/ was built from: a FNV-1a 64 of every source file, which a test of the
+// Rust build compares with the sources in the repository (a changed source with an
+// old bundle fails it).
+const fnv = (bytes) => {
+  let h = 0xcbf29ce484222325n;
+  for (const b of bytes) h = BigInt.asUintN(64, (h ^ BigInt(b)) * 0x100000001b3n);
+  return h.toString(16).padStart(16, "0");
+};
+const sources = ["build.mjs", "package.json", "package-lock.json", ...readdirSync("src").sort().map((f) => `src/${f}`)];
+writeFileSync(
+  join(out, "SOURCES.txt"),
+  "# FNV-1a 64 of the files web/dist/ was built from (src/serve/project.rs checks them)\n" +
+    sources.map((f) => `${fnv(readFileSync(f))}  ${f}\n`).join("")
+);
 console.log(`dist/: ${packages.size} packages bundled`);

@@ -858,6 +858,40 @@ mod tests {
         assert!(asset("/assets/nothing.js").is_none());
     }
 
+    /// `web/dist/` is the bundle of the sources in `web/`: every source file has the
+    /// FNV-1a 64 that `web/build.mjs` recorded in `web/dist/SOURCES.txt` when it
+    /// built the bundle (and every file of `web/src/` is listed).
+    #[test]
+    fn the_bundle_is_built_from_the_sources() {
+        let web = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("web");
+        let fnv = |bytes: &[u8]| {
+            let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+            for &b in bytes {
+                h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+            }
+            format!("{h:016x}")
+        };
+        let listed = std::fs::read_to_string(web.join("dist/SOURCES.txt")).unwrap();
+        let mut names = Vec::new();
+        for line in listed.lines().filter(|l| !l.starts_with('#')) {
+            let (hash, name) = line.split_once("  ").expect("`hash  path`");
+            let text = std::fs::read(web.join(name)).unwrap_or_else(|e| panic!("web/{name}: {e}"));
+            assert_eq!(
+                fnv(&text),
+                hash,
+                "web/{name} changed since web/dist/ was built: cd web && npm ci && npm run build"
+            );
+            names.push(name.to_string());
+        }
+        for f in std::fs::read_dir(web.join("src")).unwrap() {
+            let name = format!("src/{}", f.unwrap().file_name().to_string_lossy());
+            assert!(
+                names.contains(&name),
+                "web/{name} is not in the bundle: cd web && npm run build"
+            );
+        }
+    }
+
     fn project(files: &[(&str, &str)]) -> (Project, Loader) {
         let texts: Vec<(String, Vec<u8>)> = files
             .iter()
