@@ -528,6 +528,90 @@ async fn fbd(c: &Client, page: &str) {
 }
 
 /// What `script` passes to its callback (the last argument), e.g. a fetch's JSON.
+/// A function block of the project's own put in a rung from the ladder editor
+/// (`tests/workbench/user_block.xml`): offered beside the standard ones, placed
+/// after the contact with its other input given a literal, the rung without
+/// problems, applied, and the lamp lit through it; a PROGRAM is refused as a block.
+async fn user_block(c: &Client, page: &str) {
+    c.goto(page).await.expect("the page loads");
+    until(
+        c,
+        "the diagram",
+        "return document.body.dataset.ready === 'true'",
+    )
+    .await;
+    click(c, "#ld-edit").await;
+    let offered = js(
+        c,
+        "return [...document.querySelectorAll('#ld-block-types option')].map(o => o.value)",
+    )
+    .await;
+    assert!(
+        offered
+            .as_array()
+            .is_some_and(|o| o.contains(&json!("Hold")) && o.contains(&json!("TON"))),
+        "the block types offered: {offered}"
+    );
+    let select = "const e = document.querySelector('svg .el-contact[data-var=switch]'); e.focus(); return true";
+    js(c, select).await;
+    press(c, &[Key::Enter.into()]).await;
+    js(
+        c,
+        "document.getElementById('ld-block').value = 'lamp_demo'; return true",
+    )
+    .await;
+    press(c, &['l']).await;
+    until(
+        c,
+        "a PROGRAM refused as a block",
+        "return document.getElementById('view-info').textContent.includes('lamp_demo is a program')",
+    )
+    .await;
+    js(c, select).await;
+    press(c, &[Key::Enter.into()]).await;
+    js(
+        c,
+        "document.getElementById('ld-block').value = 'Hold'; return true",
+    )
+    .await;
+    press(c, &['l']).await;
+    until(
+        c,
+        "the Hold block",
+        "return !!document.querySelector('svg .el-block[aria-label^=\"block Hold Hold0\"]')",
+    )
+    .await;
+    let problems = js(c, "return [...document.querySelectorAll('svg .has-warning, svg .has-error')].map(e => e.getAttribute('aria-description')).join(' | ')").await;
+    assert_eq!(problems, json!(""), "rung checks after adding a Hold");
+    assert_eq!(count(c, "svg .el-inVariable").await, 1, "n gets a literal");
+    screenshot(c, "user-block").await;
+    click(c, "button[data-op=apply]").await;
+    until(
+        c,
+        "the online change",
+        "return document.getElementById('view-info').textContent.startsWith('loaded into the PLC')",
+    )
+    .await;
+    js(
+        c,
+        "window.plccWorkbench.force('main.switch', true); return true",
+    )
+    .await;
+    let lit = "fetch('/api/vars/main.lamp').then(r => r.json()).then(v => arguments[0](v.value), e => arguments[0](String(e)))";
+    let t = Instant::now();
+    while js_async(c, lit, vec![]).await != json!(true) {
+        assert!(t.elapsed() < PATIENCE, "the lamp never lit through Hold");
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    let edges = js_async(
+        c,
+        "fetch('/api/vars/main.Hold0.edges').then(r => r.json()).then(v => arguments[0](v.value), e => arguments[0](String(e)))",
+        vec![],
+    )
+    .await;
+    assert_eq!(edges, json!(1), "Hold counted the switch's rising edge");
+}
+
 /// A server started with `--token-file`: a control call without the token is
 /// refused (the PLC keeps running) and the page asks for the token; given it, the
 /// same call stops the PLC; a wrong one is refused again.
@@ -876,6 +960,7 @@ fn the_workbench_in_chromium() {
     let (_server, page) = serve(Path::new("examples/ladder_demo.xml"), &[]);
     let (_fbd_server, fbd_page) = serve(Path::new("tests/programs/plcopen/fbd_logic.xml"), &[]);
     let (_sfc_server, sfc_page) = serve(Path::new("tests/workbench/sfc_demo.xml"), &[]);
+    let (_user_server, user_page) = serve(Path::new("tests/workbench/user_block.xml"), &[]);
     let secret = format!("plcc-test-{}", std::process::id());
     let token_file =
         std::env::temp_dir().join(format!("plcc-workbench-token-{}", std::process::id()));
@@ -897,6 +982,7 @@ fn the_workbench_in_chromium() {
             drive(&c, &page).await;
             fbd(&c, &fbd_page).await;
             sfc(&c, &sfc_page).await;
+            user_block(&c, &user_page).await;
             token(&c, &token_page, &secret).await;
         })
         .await;

@@ -18,6 +18,12 @@ const BLOCKS = {
   SR: [[["S1"], ["R", "FALSE"]], ["Q1"]],
   RS: [[["S"], ["R1", "FALSE"]], ["Q1"]],
 };
+/// The literal a new block's input of an elementary type gets (the others stay
+/// unwired: they keep their initial value).
+const DEFAULTS = {
+  BOOL: "FALSE", SINT: "0", INT: "0", DINT: "0", LINT: "0", USINT: "0", UINT: "0", UDINT: "0", ULINT: "0",
+  BYTE: "0", WORD: "0", DWORD: "0", LWORD: "0", REAL: "0.0", LREAL: "0.0", TIME: "T#0s",
+};
 const r10 = (v) => Math.round(v / GRID) * GRID;
 
 function kids(n, name) {
@@ -263,17 +269,47 @@ export class LadderEdit {
   /// input takes what the element gave, its first output feeds what the element fed;
   /// its other inputs get literals (`T#1s`, `10`) or stay open; an instance is
   /// declared in the POU's local variables.
+  /// The function blocks of this file (`pouType="functionBlock"`) a rung can hold:
+  /// their names.
+  userBlocks() {
+    return [...this.doc.getElementsByTagNameNS("*", "pou")].filter((p) => p.getAttribute("pouType") === "functionBlock").map((p) => p.getAttribute("name"));
+  }
+
+  /// The pins of a block type: the inputs (name, and the literal a new block gets
+  /// on it, none on the first, which takes the power), the outputs, and which
+  /// output carries the power on. A standard FB's from the table; a function
+  /// block of this file's from its interface: its first input and one of its
+  /// outputs must be BOOL.
+  blockPins(type) {
+    const std = BLOCKS[type.toUpperCase()];
+    if (std) return { name: type.toUpperCase(), ins: std[0], outs: std[1], flow: 0 };
+    const pou = [...this.doc.getElementsByTagNameNS("*", "pou")].find((p) => p.getAttribute("name")?.toLowerCase() === type.toLowerCase());
+    if (!pou || pou.getAttribute("pouType") !== "functionBlock") {
+      const user = this.userBlocks();
+      throw new Error(`blocks: ${[...Object.keys(BLOCKS), ...user].join(", ")}${pou ? ` (${type} is a ${pou.getAttribute("pouType")}: not yet in a rung)` : ""}`);
+    }
+    const vars = (section) => {
+      const iface = kid(pou, "interface");
+      const block = iface && kid(iface, section);
+      return block ? kids(block, "variable").map((v) => [v.getAttribute("name"), kid(v, "type")?.firstElementChild?.localName || ""]) : [];
+    };
+    const ins = vars("inputVars");
+    const outs = vars("outputVars");
+    const name = pou.getAttribute("name");
+    if (!ins.length || ins[0][1] !== "BOOL") throw new Error(`${name}'s first input is not BOOL: it cannot take the power of a rung`);
+    const flow = outs.findIndex(([, t]) => t === "BOOL");
+    if (flow < 0) throw new Error(`${name} has no BOOL output to carry the power on`);
+    return { name, ins: ins.map(([n, t], i) => [n, i ? DEFAULTS[t] : undefined]), outs: outs.map(([n]) => n), flow };
+  }
+
   insertBlock(id, type) {
     const e = this.byId(id);
-    const pins = BLOCKS[type.toUpperCase()];
-    if (!pins) throw new Error(`blocks: ${Object.keys(BLOCKS).join(", ")}`);
+    const { name: T, ins, outs, flow } = this.blockPins(type);
     if (!e || !["contact", "coil"].includes(e.localName)) throw new Error("select a contact or a coil to put a block after it");
     this.snapshot();
-    const T = type.toUpperCase();
     const { x, y } = this.pos(e);
     const { w, h } = this.size(e);
     const my = y + h / 2;
-    const [ins, outs] = pins;
     const bw = 80;
     const bh = Math.max(ins.length, outs.length) * 40 + 20;
     const nx = r10(x + w + 40);
@@ -300,7 +336,7 @@ export class LadderEdit {
       for (const c of kids(cp, "connection"))
         if (c.getAttribute("refLocalId") === String(id)) {
           c.setAttribute("refLocalId", String(bid));
-          c.setAttribute("formalParameter", outs[0]);
+          c.setAttribute("formalParameter", outs[flow]);
         }
     e.after(block);
     // Literals on the other inputs that need a value.

@@ -204,7 +204,13 @@ function setEditing(on) {
   $("ld-tools").classList.toggle("editing", on);
   $("ld-edit").setAttribute("aria-pressed", String(on));
   $("diagram").classList.toggle("editing", on);
-  if (on && !state.edit) state.edit = new LadderEdit(state.view.text, state.view.pou);
+  if (on && !state.edit) {
+    state.edit = new LadderEdit(state.view.text, state.view.pou);
+    // The block types: the standard FBs, and the function blocks of the file.
+    const list = $("ld-block-types");
+    for (const o of list.querySelectorAll("option.user")) o.remove();
+    for (const n of state.edit.userBlocks()) list.append(h("option", { value: n, class: "user" }));
+  }
 }
 
 async function editOp(op) {
