@@ -422,16 +422,10 @@ const FUZZ_WORDS: &[&str] = &[
     "&N x",
 ];
 
-struct Rng(u64);
-
-impl Rng {
-    fn below(&mut self, n: usize) -> usize {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 % n.max(1) as u64) as usize
-    }
-}
+#[allow(dead_code)]
+#[path = "common/rng.rs"]
+mod rng;
+use rng::Rng;
 
 /// Line-level mutations of IL (deleted, duplicated, swapped, inserted instructions)
 /// go through the whole compiler and the interpreter without a panic or an internal
@@ -447,10 +441,10 @@ fn mutated_il_never_breaks_the_compiler() {
         ir(&[("seed.il", seed)]);
         for _ in 0..300 {
             let mut lines: Vec<String> = seed.lines().map(str::to_string).collect();
-            for _ in 0..1 + rng.below(4) {
+            for _ in 0..1 + rng.index(4) {
                 let n = lines.len();
-                let k = 2 + rng.below(n - 3);
-                match rng.below(4) {
+                let k = 2 + rng.index(n - 3);
+                match rng.index(4) {
                     0 => {
                         lines.remove(k);
                     }
@@ -459,10 +453,10 @@ fn mutated_il_never_breaks_the_compiler() {
                         lines.insert(k, l);
                     }
                     2 => {
-                        let j = 2 + rng.below(n - 3);
+                        let j = 2 + rng.index(n - 3);
                         lines.swap(k, j);
                     }
-                    _ => lines.insert(k, FUZZ_WORDS[rng.below(FUZZ_WORDS.len())].into()),
+                    _ => lines.insert(k, FUZZ_WORDS[rng.index(FUZZ_WORDS.len())].into()),
                 }
             }
             let src = lines.join("\n");

@@ -11,19 +11,10 @@ use plcc::driver::{build_sources, BuildOptions};
 use plcc::targets;
 use std::path::{Path, PathBuf};
 
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
+#[allow(dead_code)]
+#[path = "common/rng.rs"]
+mod rng;
+use rng::Rng;
 
 const TOKENS: &[&str] = &[
     ";",
@@ -112,36 +103,36 @@ fn words(v: &[u8]) -> Vec<(usize, usize)> {
 
 fn mutate(src: &[u8], rng: &mut Rng) -> Vec<u8> {
     let mut v = src.to_vec();
-    for _ in 0..1 + rng.below(4) {
+    for _ in 0..1 + rng.index(4) {
         if v.is_empty() {
             break;
         }
-        let at = rng.below(v.len());
-        if rng.below(2) == 0 {
+        let at = rng.index(v.len());
+        if rng.index(2) == 0 {
             // Swap one word for another word of the file: the syntax usually stays
             // valid, so the checks and the lowering get exercised.
             let ws = words(&v);
             if ws.len() >= 2 {
-                let (a0, a1) = ws[rng.below(ws.len())];
-                let (b0, b1) = ws[rng.below(ws.len())];
+                let (a0, a1) = ws[rng.index(ws.len())];
+                let (b0, b1) = ws[rng.index(ws.len())];
                 let word: Vec<u8> = v[b0..b1].to_vec();
                 v.splice(a0..a1, word);
                 continue;
             }
         }
-        match rng.below(4) {
+        match rng.index(4) {
             0 => {
-                let n = rng.below(16).min(v.len() - at);
+                let n = rng.index(16).min(v.len() - at);
                 v.drain(at..at + n);
             }
             1 => {
-                let n = rng.below(24).min(v.len() - at);
+                let n = rng.index(24).min(v.len() - at);
                 let chunk: Vec<u8> = v[at..at + n].to_vec();
-                let to = rng.below(v.len());
+                let to = rng.index(v.len());
                 v.splice(to..to, chunk);
             }
             2 => {
-                let t = TOKENS[rng.below(TOKENS.len())];
+                let t = TOKENS[rng.index(TOKENS.len())];
                 let bytes = format!(" {t} ");
                 v.splice(at..at, bytes.bytes());
             }
@@ -256,22 +247,22 @@ fn ladder_sources() -> Vec<PathBuf> {
 fn mutate_xml(src: &[u8], rng: &mut Rng) -> Vec<u8> {
     let text = String::from_utf8_lossy(src).into_owned();
     let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
-    for _ in 0..1 + rng.below(3) {
+    for _ in 0..1 + rng.index(3) {
         if lines.len() < 2 {
             break;
         }
-        let i = rng.below(lines.len());
-        match rng.below(5) {
+        let i = rng.index(lines.len());
+        match rng.index(5) {
             0 => {
                 lines.remove(i);
             }
             1 => {
                 let l = lines[i].clone();
-                let j = rng.below(lines.len());
+                let j = rng.index(lines.len());
                 lines.insert(j, l);
             }
             2 => {
-                let j = rng.below(lines.len());
+                let j = rng.index(lines.len());
                 lines.swap(i, j);
             }
             3 => {
@@ -285,9 +276,9 @@ fn mutate_xml(src: &[u8], rng: &mut Rng) -> Vec<u8> {
                     .map(|(k, _)| k + 1)
                     .collect();
                 if !quoted.is_empty() {
-                    let at = quoted[rng.below(quoted.len())];
+                    let at = quoted[rng.index(quoted.len())];
                     let end = l[at..].find('"').map_or(l.len(), |e| at + e);
-                    let n = rng.below(24).to_string();
+                    let n = rng.index(24).to_string();
                     lines[i] = format!("{}{n}{}", &l[..at], &l[end..]);
                 }
             }

@@ -19,6 +19,8 @@ pub mod sfc;
 pub mod source;
 pub mod st;
 pub mod stl;
+#[cfg(test)]
+mod test_rng;
 pub mod types;
 
 use plcc_ir::diag::{Diagnostic, FileId};

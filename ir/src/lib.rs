@@ -20,6 +20,8 @@ pub mod layout;
 pub mod machine;
 pub mod module;
 pub mod passes;
+#[cfg(test)]
+mod test_rng;
 pub mod text;
 pub mod types;
 pub mod value;

@@ -1,4 +1,5 @@
-//! A small fixed-seed random generator (xorshift64*) shared by the soft-float tests.
+//! A small fixed-seed random generator (xorshift64*), the one of every integration
+//! test that draws cases (soft float, ladder and SFC equivalence, mutation fuzzing).
 
 /// xorshift64*: deterministic, so every run checks the same cases.
 pub struct Rng(pub u64);
@@ -20,6 +21,11 @@ impl Rng {
     /// Uniform in `0..n`.
     pub fn below(&mut self, n: u32) -> u32 {
         ((self.word() as u64 * n as u64) >> 32) as u32
+    }
+
+    /// Uniform in `0..n` as an index (0 when `n` is 0).
+    pub fn index(&mut self, n: usize) -> usize {
+        self.below(n.clamp(1, u32::MAX as usize) as u32) as usize
     }
 
     /// Uniform in `lo..=hi`.

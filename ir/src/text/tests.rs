@@ -570,20 +570,7 @@ fn plain_names() {
     }
 }
 
-/// A small deterministic generator for the fuzz tests.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-}
+use crate::test_rng::Rng;
 
 /// Parses `text`; if it parses, verifies and prints the module (none may panic), and
 /// the printed module must print the same after another parse.
@@ -704,16 +691,16 @@ fn mutated_inputs_do_not_panic() {
     let sample: Vec<char> = SAMPLE.chars().collect();
     for _ in 0..3000 {
         let mut chars = sample.clone();
-        for _ in 0..1 + rng.below(4) {
-            let at = rng.below(chars.len());
-            match rng.below(4) {
+        for _ in 0..1 + rng.index(4) {
+            let at = rng.index(chars.len());
+            match rng.index(4) {
                 0 => {
                     chars.remove(at);
                 }
-                1 => chars.insert(at, alphabet[rng.below(alphabet.len())]),
-                2 => chars[at] = alphabet[rng.below(alphabet.len())],
+                1 => chars.insert(at, alphabet[rng.index(alphabet.len())]),
+                2 => chars[at] = alphabet[rng.index(alphabet.len())],
                 _ => {
-                    let w = words[rng.below(words.len())];
+                    let w = words[rng.index(words.len())];
                     for (k, c) in w.chars().enumerate() {
                         chars.insert(at + k, c);
                     }
@@ -788,10 +775,10 @@ fn token_soup_does_not_panic() {
     ];
     let mut rng = Rng(42);
     for _ in 0..3000 {
-        let n = rng.below(60);
+        let n = rng.index(60);
         let mut text = String::new();
         for _ in 0..n {
-            text.push_str(words[rng.below(words.len())]);
+            text.push_str(words[rng.index(words.len())]);
             text.push(' ');
         }
         exercise(&text);

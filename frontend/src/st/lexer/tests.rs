@@ -369,15 +369,12 @@ fn garbage_is_one_error_token() {
 
 #[test]
 fn arbitrary_bytes_never_panic() {
-    let mut seed = 0x1234_5678_9abc_def0u64;
+    let mut rng = crate::test_rng::Rng(0x1234_5678_9abc_def0);
     for len in 0..400 {
         let mut bytes = Vec::with_capacity(len);
         for _ in 0..len {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
             let pool = b"(*)/{}'\"$%#:=.0123456789eE_abcxTtD-+ \n\xc3\xa4\xe2\x82\xac";
-            bytes.push(pool[(seed % pool.len() as u64) as usize]);
+            bytes.push(rng.pick(pool));
         }
         let text = String::from_utf8_lossy(&bytes);
         let (l, _, _) = lx(&text);

@@ -240,7 +240,7 @@ fn garbage_and_truncation_never_panic() {
         }
     }
     // Every prefix of a token soup, and random byte strings.
-    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    let mut rng = crate::test_rng::Rng(0x9e37_79b9_7f4a_7c15);
     let words = [
         "IF",
         "THEN",
@@ -304,12 +304,9 @@ fn garbage_and_truncation_never_panic() {
     ];
     for _ in 0..300 {
         let mut s = String::new();
-        let n = (seed % 60) as usize;
+        let n = (rng.0 % 60) as usize;
         for _ in 0..n {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            s.push_str(words[(seed % words.len() as u64) as usize]);
+            s.push_str(rng.pick(&words));
             s.push(' ');
         }
         let _ = parse_str(&s);

@@ -17,26 +17,7 @@ use crate::module::{
 };
 use crate::types::{ElemType, MemType, Type};
 
-/// xorshift64*: deterministic and good enough for picking shapes.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-    fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
-    }
-    fn chance(&mut self, percent: u64) -> bool {
-        self.below(100) < percent
-    }
-    fn pick<T: Copy>(&mut self, xs: &[T]) -> T {
-        xs[self.below(xs.len() as u64) as usize]
-    }
-}
+use crate::test_rng::Rng;
 
 /// Field types of the struct `%S` (index = field number); the last field is `arr`.
 const FIELDS: [(Type, ElemType); 7] = [
