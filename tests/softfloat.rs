@@ -140,6 +140,7 @@ fn test_program(lanes: usize) -> String {
     s
 }
 
+#[allow(dead_code)]
 #[path = "common/rng.rs"]
 mod rng;
 use rng::Rng;

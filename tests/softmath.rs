@@ -187,6 +187,7 @@ fn ulps(a: u32, b: u32) -> u64 {
     (ordered(a) - ordered(b)).unsigned_abs()
 }
 
+#[allow(dead_code)]
 #[path = "common/rng.rs"]
 mod rng;
 use rng::Rng;
