@@ -19,7 +19,7 @@ pub const CODES: &[plcc_ir::diag::CodeInfo] = &[
     plcc_ir::diag::CodeInfo {
         code: E_INTERNAL,
         title: "internal compiler error",
-        explanation: "plcc produced invalid IR, or a machine could not be set up for a valid module: a bug in plcc. Please report it with the program that shows it. No correct program shows it, so there is no example.",
+        explanation: "plcc produced invalid IR, a machine could not be set up for a valid module, or the front end or a backend panicked (the panic is caught and reported, the command goes on as for any error): a bug in plcc. Please report it with the program that shows it. No correct program shows it, so there is no example.",
     },
     plcc_ir::diag::CodeInfo {
         code: E_CANNOT_RUN,
@@ -186,7 +186,26 @@ pub fn build_sources_with_library(
         library: inputs[first_library..].iter().map(|&(f, _)| f).collect(),
         inline_c: opts.inline_c,
     };
-    let compiled = plcc_frontend::compile(&mut sources, &inputs, &lower_opts);
+    // The panic boundary of the front end (ARCHITECTURE.md, "Panics"): a panic is a
+    // bug in plcc, reported as an internal error, not a crash of the command.
+    let compiled = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        plcc_frontend::compile(&mut sources, &inputs, &lower_opts)
+    }))
+    .unwrap_or_else(|payload| plcc_frontend::Compiled {
+        module: None,
+        diagnostics: vec![Diagnostic::error_nowhere(
+            E_INTERNAL,
+            format!(
+                "internal error: the front end panicked: {} \
+                 (a bug in plcc: please report it with the program)",
+                panic_message(payload.as_ref())
+            ),
+        )],
+        timings: Vec::new(),
+        syntax: Vec::new(),
+        ladder: Vec::new(),
+        charts: Vec::new(),
+    });
     let mut diagnostics = compiled.diagnostics;
     let mut timings = compiled.timings;
     let mut module = compiled.module;
@@ -226,6 +245,15 @@ pub fn build_sources_with_library(
         ladder: compiled.ladder,
         charts: compiled.charts,
     })
+}
+
+/// The message of a panic's payload (`panic!("...")` gives a `&str` or a `String`).
+pub fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "no message".into())
 }
 
 /// Verifies a module; failures are internal errors (bugs in plcc), reported as

@@ -201,13 +201,65 @@ pub fn difftest_help() -> String {
     )
 }
 
-/// The backend of a target that generates code.
+/// The backend of a target that generates code, behind the panic boundary
+/// ([`Guarded`]).
 pub fn backend(name: &str) -> Option<Box<dyn Backend>> {
-    TARGETS
-        .iter()
-        .find(|t| t.name == name)
-        .and_then(|t| t.backend)
-        .map(|make| make())
+    let t = TARGETS.iter().find(|t| t.name == name)?;
+    let make = t.backend?;
+    Some(Box::new(Guarded {
+        target: t.name,
+        inner: make(),
+    }))
+}
+
+/// A backend whose panics become internal-error diagnostics (E9901) that name the
+/// target and ask for a report, instead of taking the command (or `plcc serve`, or
+/// the language server) down: the panic policy of ARCHITECTURE.md.
+pub struct Guarded {
+    target: &'static str,
+    inner: Box<dyn Backend>,
+}
+
+impl Guarded {
+    fn catch<T>(&self, what: &str, f: impl FnOnce() -> T) -> Result<T, Vec<Diagnostic>> {
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).map_err(|payload| {
+            let why = crate::driver::panic_message(payload.as_ref());
+            vec![Diagnostic::error_nowhere(
+                crate::driver::E_INTERNAL,
+                format!(
+                    "internal error: the {} backend panicked while {what}: {why}                      (a bug in plcc: please report it with the program)",
+                    self.target
+                ),
+            )]
+        })
+    }
+}
+
+impl Backend for Guarded {
+    fn facts(&self) -> plcc_ir::backend::TargetFacts {
+        self.inner.facts()
+    }
+
+    fn compile(
+        &self,
+        module: &Module,
+        options: &Options,
+    ) -> Result<plcc_ir::backend::Artifacts, Vec<Diagnostic>> {
+        self.catch("compiling", || self.inner.compile(module, options))?
+    }
+
+    fn machine(
+        &self,
+        module: &Module,
+        options: &Options,
+    ) -> Option<Result<Box<dyn Machine>, Vec<Diagnostic>>> {
+        match self.catch("setting up its machine", || {
+            self.inner.machine(module, options)
+        }) {
+            Ok(m) => m,
+            Err(d) => Some(Err(d)),
+        }
+    }
 }
 
 /// How long one scan may run under `plcc run`/`plcc test` before the watchdog stops it.
@@ -297,4 +349,63 @@ pub fn machine_owned(
     };
     m.set_watchdog(Some(WATCHDOG));
     Ok(m)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A backend that panics: the boundary's test subject.
+    struct Panics;
+
+    impl Backend for Panics {
+        fn facts(&self) -> plcc_ir::backend::TargetFacts {
+            panic!("facts are not the point")
+        }
+        fn compile(
+            &self,
+            _: &Module,
+            _: &Options,
+        ) -> Result<plcc_ir::backend::Artifacts, Vec<Diagnostic>> {
+            panic!("index out of bounds: the len is 3 but the index is 7")
+        }
+        fn machine(
+            &self,
+            _: &Module,
+            _: &Options,
+        ) -> Option<Result<Box<dyn Machine>, Vec<Diagnostic>>> {
+            let reason = String::from("no such register");
+            panic!("{reason}")
+        }
+    }
+
+    #[test]
+    fn a_backend_panic_is_an_internal_error_diagnostic() {
+        let g = Guarded {
+            target: "test",
+            inner: Box::new(Panics),
+        };
+        let m = Module::default();
+        let e = g.compile(&m, &Options::default()).unwrap_err();
+        assert_eq!(e[0].code, crate::driver::E_INTERNAL);
+        assert!(
+            e[0].message
+                .contains("the test backend panicked while compiling: index out of bounds"),
+            "{}",
+            e[0].message
+        );
+        let Some(Err(e)) = g.machine(&m, &Options::default()) else {
+            panic!("the machine's panic is an error")
+        };
+        assert!(
+            e[0].message
+                .contains("setting up its machine: no such register"),
+            "{}",
+            e[0].message
+        );
+        // Every target's backend is behind the boundary.
+        for t in TARGETS.iter().filter(|t| t.backend.is_some()) {
+            assert!(backend(t.name).is_some());
+        }
+    }
 }
