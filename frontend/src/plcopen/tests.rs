@@ -353,6 +353,46 @@ fn tc6_1_0_files_and_st_bodies() {
     assert_eq!(&xml[span.start as usize..span.end as usize], "n");
 }
 
+/// An ST body written with entities (`&lt;`, `&amp;`, `&#62;`) and CRLF line ends,
+/// as CODESYS exports it, maps back byte for byte between them and each entity to
+/// itself: a diagnostic after them points at its word, not at the whole body.
+#[test]
+fn st_bodies_with_entities_map_byte_for_byte() {
+    let xml = "<?xml version=\"1.0\"?>\r\n<project xmlns=\"http://www.plcopen.org/xml/tc6_0201\" xmlns:xhtml=\"http://www.w3.org/1999/xhtml\">\r\n<types><dataTypes/><pous>\r\n<pou name=\"p\" pouType=\"program\"><interface><localVars><variable name=\"n\"><type><INT/></type></variable></localVars></interface>\r\n<body><ST><xhtml:p>IF n &lt; 3 &amp;&amp; n &#62; 1 THEN\r\n  n := n + 1;\r\nEND_IF;\r\nn := later;</xhtml:p></ST></body></pou>\r\n</pous></types></project>";
+    let (c, _) = convert_text(xml);
+    let c = c.unwrap();
+    assert!(
+        c.il.contains("IF n < 3 && n > 1 THEN\n  n := n + 1;"),
+        "{}",
+        c.il
+    );
+    for word in ["later", "n + 1", " 3 ", "THEN", "END_IF"] {
+        let at = c.il.find(word).unwrap() as u32;
+        let mut d = Diagnostic::error(
+            "E0201",
+            "x",
+            plcc_ir::diag::Span::new(FileId(7), at, at + word.len() as u32),
+        );
+        c.map.remap(&mut d, FileId(7), FileId(1));
+        let span = d.span.unwrap();
+        assert_eq!(
+            &xml[span.start as usize..span.end as usize],
+            word,
+            "in\n{}",
+            c.il
+        );
+    }
+    // An entity maps to its own start.
+    let at = c.il.find('<').unwrap() as u32;
+    let mut d = Diagnostic::error(
+        "E0201",
+        "x",
+        plcc_ir::diag::Span::new(FileId(7), at, at + 1),
+    );
+    c.map.remap(&mut d, FileId(7), FileId(1));
+    assert!(xml[d.span.unwrap().start as usize..].starts_with("&lt;"));
+}
+
 /// Task intervals in each form the editors write: `T#20ms`, an XML duration and the
 /// old schema's `HH:MM:SS.ffffff`.
 #[test]

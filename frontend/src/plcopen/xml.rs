@@ -722,6 +722,10 @@ impl Reader<'_, '_> {
                             len: s.len() as u32,
                         });
                     }
+                } else {
+                    // Entities (`&lt;`) or line ends the parser normalised: the runs
+                    // that are verbatim map byte for byte, each entity to itself.
+                    exact.extend(entity_pieces(raw, s, value.len() as u32, r.start as u32));
                 }
             }
             value.push_str(s);
@@ -779,5 +783,71 @@ impl Reader<'_, '_> {
         self.instances(root, &mut p);
         types::quote_string_values(&mut p);
         Some(p)
+    }
+}
+
+/// The pieces of a text node whose source `raw` holds entity references or `\r\n`
+/// line ends that the parser decoded into `decoded`: every verbatim run maps byte for
+/// byte (`at` counts from `at0` in the value, `src` from `src0` in the file), every
+/// entity or line end maps its decoded bytes to its own start. Stops at the first
+/// difference it cannot explain (what follows then maps to the element).
+fn entity_pieces(raw: &str, decoded: &str, at0: u32, src0: u32) -> Vec<Piece> {
+    /// Adds a piece, extending the last one when both run on together.
+    fn add(out: &mut Vec<Piece>, at: u32, src: u32, len: u32) {
+        match out.last_mut() {
+            Some(p) if p.at + p.len == at && p.src + p.len == src => p.len += len,
+            _ => out.push(Piece { at, src, len }),
+        }
+    }
+    let (rb, db) = (raw.as_bytes(), decoded.as_bytes());
+    let (mut i, mut j) = (0usize, 0usize);
+    let mut out = Vec::new();
+    while i < rb.len() && j < db.len() {
+        let (at, src) = (at0 + j as u32, src0 + i as u32);
+        if rb[i] == db[j] && rb[i] != b'&' {
+            add(&mut out, at, src, 1);
+            i += 1;
+            j += 1;
+        } else if rb[i] == b'\r' && db[j] == b'\n' {
+            add(&mut out, at, src, 1);
+            i += if rb.get(i + 1) == Some(&b'\n') { 2 } else { 1 };
+            j += 1;
+        } else if rb[i] == b'&' {
+            let Some(end) = raw[i..].find(';').map(|k| i + k) else {
+                break;
+            };
+            let Some(c) = entity(&raw[i + 1..end]) else {
+                break;
+            };
+            let k = c.len_utf8();
+            if decoded.get(j..j + k) != Some(c.encode_utf8(&mut [0; 4])) {
+                break;
+            }
+            add(&mut out, at, src, k as u32);
+            i = end + 1;
+            j += k;
+        } else {
+            break;
+        }
+    }
+    out
+}
+
+/// The character of an XML entity reference's name (`lt`, `#60`, `#x3C`).
+fn entity(name: &str) -> Option<char> {
+    match name {
+        "lt" => Some('<'),
+        "gt" => Some('>'),
+        "amp" => Some('&'),
+        "quot" => Some('"'),
+        "apos" => Some('\''),
+        _ => {
+            let n = name.strip_prefix('#')?;
+            let v = match n.strip_prefix(['x', 'X']) {
+                Some(h) => u32::from_str_radix(h, 16).ok()?,
+                None => n.parse().ok()?,
+            };
+            char::from_u32(v)
+        }
     }
 }
