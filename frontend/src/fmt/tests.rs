@@ -1,0 +1,51 @@
+//! Unit tests of the formatter: its parts on small texts (the exact layouts are
+//! snapshots in `tests/fmt.rs`).
+
+use super::{format_st, FmtError};
+
+fn fmt(s: &str) -> String {
+    match format_st(s) {
+        Ok(t) => t,
+        Err(e) => panic!("{e}: {s}"),
+    }
+}
+
+#[test]
+fn keywords_upper_names_and_literals_kept() {
+    let out = fmt("program p var x : int; s : string := 'if$N'; end_var\nif x = 16#ff then x := t#1s; end_if; end_program\n");
+    assert!(out.contains("PROGRAM p"), "{out}");
+    assert!(out.contains("IF x = 16#ff THEN"), "{out}");
+    assert!(out.contains("'if$N'"), "{out}");
+    assert!(out.contains("t#1s"), "{out}");
+    // `int` is a type name, not a reserved word.
+    assert!(out.contains(": int;"), "{out}");
+}
+
+#[test]
+fn refuses_what_does_not_parse() {
+    match format_st("PROGRAM p\nx := ;\nEND_PROGRAM\n") {
+        Err(FmtError::Syntax(d)) => assert!(!d.is_empty()),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn crlf_kept() {
+    let out = fmt("PROGRAM p\r\nVAR x : INT; END_VAR\r\nx := 1;\r\nEND_PROGRAM\r\n");
+    assert_eq!(
+        out,
+        "PROGRAM p\r\nVAR x : INT; END_VAR\r\n    x := 1;\r\nEND_PROGRAM\r\n"
+    );
+}
+
+#[test]
+fn paren_star_never_glued() {
+    let out = fmt("PROGRAM p\nVAR a : ARRAY[*] OF INT; END_VAR\nEND_PROGRAM\n");
+    assert!(out.contains("ARRAY[*]"), "{out}");
+}
+
+#[test]
+fn unary_minus_glued_binary_spaced() {
+    let out = fmt("PROGRAM p VAR x : INT; END_VAR\nx:=-x-(-1)*-2;\nEND_PROGRAM\n");
+    assert!(out.contains("x := -x - (-1) * -2;"), "{out}");
+}
