@@ -8,6 +8,10 @@ use plcc_frontend::fmt::{format_st, FmtError};
 use plcc_ir::text::{print_module, PrintOptions};
 use std::path::{Path, PathBuf};
 
+#[path = "common/rng.rs"]
+#[allow(dead_code)]
+mod rng;
+
 fn st_files(dir: &Path, out: &mut Vec<PathBuf>) {
     let Ok(rd) = std::fs::read_dir(dir) else {
         return;
@@ -391,4 +395,78 @@ fn cli_refuses_broken_and_unreadable_files() {
     assert_eq!(plcc(&["fmt", missing.to_str().unwrap()], None).0, 2);
     assert_eq!(plcc(&["fmt", "--check", "--write", b], None).0, 2);
     assert_eq!(plcc(&["fmt", "--write"], Some(UNFORMATTED)).0, 2);
+}
+
+/// `text` with, between random tokens, comments of every kind and line breaks.
+fn sprinkled(text: &str, rng: &mut rng::Rng) -> String {
+    let mut interner = plcc_frontend::intern::Interner::new();
+    let lexed = plcc_frontend::st::lexer::lex(
+        plcc_ir::diag::FileId(0),
+        text,
+        &mut interner,
+        &mut Vec::new(),
+    );
+    let mut out = String::with_capacity(text.len() * 2);
+    let mut pos = 0;
+    for t in &lexed.tokens {
+        let start = t.start as usize;
+        out.push_str(&text[pos..start]);
+        if rng.below(6) == 0 {
+            out.push_str(match rng.below(7) {
+                0 => " (* c *) ",
+                1 => "// line\n",
+                2 => "\n",
+                3 => " /* c\n  two lines */ ",
+                4 => "{attribute 'x'}",
+                5 => "\n\n\n",
+                _ => "\t(* (* nested *) *)\n",
+            });
+        }
+        out.push_str(&text[start..t.end as usize]);
+        pos = t.end as usize;
+    }
+    out.push_str(&text[pos..]);
+    out
+}
+
+#[test]
+fn comments_and_line_breaks_anywhere() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    st_files(&root.join("tests/programs"), &mut files);
+    let mut rng = rng::Rng(0x5eed_f0f0);
+    let mut failures = Vec::new();
+    let mut checked = 0;
+    for f in &files {
+        let text = std::fs::read_to_string(f).expect("UTF-8");
+        let name = f.display().to_string();
+        let codesys = is_codesys(f);
+        if ir_of(&name, &text, codesys).is_err() {
+            continue;
+        }
+        let messy = sprinkled(&text, &mut rng);
+        // Line breaks matter in IL (a chart's transitions may be written in it).
+        let Ok(original) = ir_of(&name, &messy, codesys) else {
+            continue;
+        };
+        let once = match format_st(&messy) {
+            Ok(s) => s,
+            // A comment or line break may end a line comment's line early or fall
+            // inside a pragma-sensitive place the parser rejects: not the formatter's.
+            Err(FmtError::Syntax(_)) => continue,
+            Err(e) => {
+                failures.push(format!("{name}: {e}"));
+                continue;
+            }
+        };
+        checked += 1;
+        if format_st(&once).ok().as_deref() != Some(once.as_str()) {
+            failures.push(format!("{name}: not idempotent"));
+        } else if ir_of(&name, &once, codesys) != Ok(original) {
+            failures.push(format!("{name}: another meaning"));
+        }
+    }
+    println!("{checked} files with comments and line breaks sprinkled");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(checked > 250, "only {checked} files checked");
 }

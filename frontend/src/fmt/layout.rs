@@ -71,6 +71,9 @@ struct Frame {
     header: bool,
     id: usize,
     arm: Arm,
+    /// A TRANSITION whose condition is Instruction List (its header ends with `:`):
+    /// each line is an instruction, never a continuation.
+    il: bool,
 }
 
 impl Frame {
@@ -416,6 +419,7 @@ impl<'a> State<'a> {
                         header,
                         id: self.next_id,
                         arm: Arm::None,
+                        il: false,
                     });
                     self.next_id += 1;
                     self.open = header;
@@ -449,9 +453,14 @@ impl<'a> State<'a> {
         if self.paren > 0 {
             return;
         }
+        let after_colon = self.prev == Some(Tok::Colon);
         if let Some(f) = self.stack.last_mut() {
             if f.header && matches!(f.kind, Kind::Pou | Kind::Member | Kind::Sfc | Kind::Config) {
                 f.header = false;
+                self.open = false;
+                f.il = f.closer == Tok::EndTransition && after_colon;
+            }
+            if f.il {
                 self.open = false;
             }
         }

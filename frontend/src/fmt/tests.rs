@@ -49,3 +49,20 @@ fn unary_minus_glued_binary_spaced() {
     let out = fmt("PROGRAM p VAR x : INT; END_VAR\nx:=-x-(-1)*-2;\nEND_PROGRAM\n");
     assert!(out.contains("x := -x - (-1) * -2;"), "{out}");
 }
+
+#[test]
+fn il_transition_lines_are_instructions() {
+    let out = fmt("PROGRAM p\nVAR a, b : BOOL; END_VAR\nINITIAL_STEP s: END_STEP\nSTEP t: END_STEP\nTRANSITION FROM s TO t :\nLD a\nAND b\nEND_TRANSITION\nEND_PROGRAM\n");
+    assert!(
+        out.contains(
+            "    TRANSITION FROM s TO t :\n        LD a\n        AND b\n    END_TRANSITION\n"
+        ),
+        "{out}"
+    );
+}
+
+#[test]
+fn empty_and_comment_only_texts() {
+    assert_eq!(fmt(""), "");
+    assert_eq!(fmt("\n\n(* a *)\n\n\n\n// b"), "(* a *)\n\n// b\n");
+}
