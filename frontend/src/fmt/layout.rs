@@ -67,7 +67,7 @@ struct Frame {
     /// The level of the line that opens it (and of its END_ line).
     level: usize,
     /// Still in the header (POUs: until the end of the line; IF, CASE and the loops:
-    /// until THEN, OF, DO).
+    /// until THEN, OF, DO); for REPEAT: after UNTIL.
     header: bool,
     id: usize,
     arm: Arm,
@@ -301,8 +301,15 @@ impl<'a> State<'a> {
         if let Some(level) = self.member_level(i) {
             return level;
         }
+        // A block opened on a line of its own (`TYPE T :` then `STRUCT`) is no
+        // continuation.
+        if self.paren == 0 && self.opener(i).is_some() {
+            return self.content();
+        }
         let closing = matches!(t, Tok::RParen | Tok::RBracket) && self.paren <= 1;
-        if (self.open || self.paren > 0) && !closing {
+        // UNTIL's condition on lines of its own: one level in from UNTIL.
+        let until = top.is_some_and(|f| f.kind == Kind::Repeat && f.header);
+        if (self.open || self.paren > 0) && !closing && !until {
             self.content() + 1
         } else {
             self.content()
@@ -369,6 +376,14 @@ impl<'a> State<'a> {
                     f.header = false;
                 }
                 self.open = false;
+            }
+            Tok::Until => {
+                if let Some(f) = self.stack.last_mut() {
+                    if f.kind == Kind::Repeat {
+                        f.header = true;
+                    }
+                }
+                self.open = true;
             }
             Tok::Else => {
                 if let Some(f) = self.stack.last_mut() {

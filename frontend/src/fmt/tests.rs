@@ -66,3 +66,16 @@ fn empty_and_comment_only_texts() {
     assert_eq!(fmt(""), "");
     assert_eq!(fmt("\n\n(* a *)\n\n\n\n// b"), "(* a *)\n\n// b\n");
 }
+
+#[test]
+fn struct_on_its_own_line_and_until_condition() {
+    let out = fmt("TYPE T :\nSTRUCT\na : INT;\nEND_STRUCT\nEND_TYPE\nPROGRAM p\nVAR i : INT; END_VAR\nREPEAT\ni := i + 1;\nUNTIL\ni > 3\nEND_REPEAT;\nEND_PROGRAM\n");
+    assert!(
+        out.starts_with("TYPE T :\n    STRUCT\n        a : INT;\n    END_STRUCT\nEND_TYPE\n"),
+        "{out}"
+    );
+    assert!(
+        out.contains("    UNTIL\n        i > 3\n    END_REPEAT;\n"),
+        "{out}"
+    );
+}
