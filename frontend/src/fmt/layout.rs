@@ -230,7 +230,11 @@ impl<'a> State<'a> {
             };
             return Some((Kind::Member, closer));
         }
-        if name_like {
+        // In a list of declarations they are names (`step AT %IX0.0 : BOOL`).
+        let in_decls = self
+            .top()
+            .is_some_and(|f| matches!(f.kind, Kind::Var | Kind::Struct | Kind::Type));
+        if name_like || in_decls {
             return None;
         }
         Some(match word.as_str() {

@@ -79,3 +79,12 @@ fn struct_on_its_own_line_and_until_condition() {
         "{out}"
     );
 }
+
+#[test]
+fn block_words_are_names_in_declarations() {
+    let out = fmt("PROGRAM p\nVAR\nstep AT %IX0.0 : BOOL;\nlonger : INT;\nEND_VAR\nEND_PROGRAM\n");
+    assert!(
+        out.contains("VAR\n    step AT %IX0.0 : BOOL;\n    longer         : INT;\nEND_VAR\n"),
+        "{out}"
+    );
+}
