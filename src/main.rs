@@ -221,6 +221,19 @@ enum Command {
         #[arg(long)]
         dcp: Option<PathBuf>,
     },
+    /// Format Structured Text: keywords in upper case, blocks indented, the `:` of
+    /// declarations aligned, comments and literals kept as written (docs/editors.md)
+    Fmt {
+        /// Files to format (`-` or none: standard input); the formatted text is
+        /// printed unless --check or --write
+        files: Vec<PathBuf>,
+        /// Change nothing: name each file that would change, and exit with 1 if any
+        #[arg(long, conflicts_with = "write")]
+        check: bool,
+        /// Rewrite the files that change, in place (atomically)
+        #[arg(long)]
+        write: bool,
+    },
     /// Explain a diagnostic code (e.g. E0301); without one, list every code
     Explain {
         /// The code
@@ -328,6 +341,20 @@ fn main() -> ExitCode {
             common.dialect.as_deref(),
             &commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs)
                 .with_sfc(common.sfc),
+        ),
+        Some(Command::Fmt {
+            files,
+            check,
+            write,
+        }) => plcc::format::fmt(
+            &files,
+            if check {
+                plcc::format::FmtMode::Check
+            } else if write {
+                plcc::format::FmtMode::Write
+            } else {
+                plcc::format::FmtMode::Print
+            },
         ),
         Some(Command::Explain { code }) => commands::explain(code.as_deref()),
         Some(Command::Difftest {

@@ -13,6 +13,7 @@ pub mod codes;
 pub mod direct;
 pub mod edges;
 pub mod eno;
+pub mod fmt;
 pub mod il;
 pub mod intern;
 pub mod lower;

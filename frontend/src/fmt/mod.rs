@@ -1,0 +1,105 @@
+//! `plcc fmt`: Structured Text written again in one layout.
+//!
+//! A token-stream formatter: the lexer's tokens, with the comments and pragmas found
+//! between them ([`items`]), are split into the lines the user wrote ([`layout`]: at
+//! most one empty line kept in a row; expressions never reflowed), each line indented
+//! from the blocks open at its start (POUs and their members, VAR blocks, TYPE and
+//! STRUCT, IF, CASE labels and arms, the loops, SFC steps and transitions,
+//! continuation lines), and written ([`print`]) with keywords in upper case, one space
+//! or none between tokens, the `:` of the declarations of one VAR block or STRUCT
+//! aligned, and comments where they were. Literals and names are written exactly as
+//! they were spelt.
+//!
+//! A file that does not parse is refused with the parser's diagnostics. The result
+//! is checked before it is returned: it must lex to the same tokens (keywords
+//! compared without case) and the same comments (a comment that starts a line moves
+//! its other lines with it), in the same order.
+
+mod items;
+mod layout;
+mod print;
+
+#[cfg(test)]
+mod tests;
+
+use crate::intern::Interner;
+use plcc_ir::diag::{Diagnostic, FileId};
+
+/// Why a text was not formatted.
+#[derive(Debug)]
+pub enum FmtError {
+    /// The text does not lex or parse: the front end's diagnostics (file 0, offsets
+    /// into the text given).
+    Syntax(Vec<Diagnostic>),
+    /// The formatter would have changed the program's tokens or comments (a bug of
+    /// the formatter; the text is left as it is).
+    Internal(String),
+}
+
+impl std::fmt::Display for FmtError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            FmtError::Syntax(d) => write!(f, "the text does not parse ({} diagnostics)", d.len()),
+            FmtError::Internal(m) => write!(f, "internal formatter error: {m}"),
+        }
+    }
+}
+
+/// Formats one Structured Text file. Its diagnostics, if it does not parse, are for
+/// file 0 (`FileId(0)`), at offsets into `text`. Line breaks are written as the
+/// text's first one is (`\r\n` or `\n`); the result ends with one line break.
+pub fn format_st(text: &str) -> Result<String, FmtError> {
+    let mut interner = Interner::new();
+    let mut diags = Vec::new();
+    crate::st::parse(FileId(0), text, &mut interner, &mut diags);
+    if diags.iter().any(Diagnostic::is_error) {
+        return Err(FmtError::Syntax(diags));
+    }
+    let crlf = text.find('\n').is_some_and(|i| text[..i].ends_with('\r'));
+    let text = text.replace("\r\n", "\n");
+    let items = items::items(&text).map_err(|e| match e {
+        Some(d) => FmtError::Syntax(d),
+        None => FmtError::Internal("text between tokens that is no comment".into()),
+    })?;
+    let layout = layout::layout(&text, &items);
+    let out = print::print(&text, &items, &layout);
+    verify(&text, &items, &out)?;
+    Ok(if crlf { out.replace('\n', "\r\n") } else { out })
+}
+
+/// The formatted text `out` holds the items of `text`, in order, written the same
+/// (keywords compared without case, comments without the indentation of their lines).
+fn verify(text: &str, before: &[items::Item], out: &str) -> Result<(), FmtError> {
+    let after = items::items(out)
+        .map_err(|_| FmtError::Internal("the formatted text does not lex".into()))?;
+    if after.len() != before.len() {
+        return Err(FmtError::Internal(format!(
+            "{} tokens and comments became {}",
+            before.len(),
+            after.len()
+        )));
+    }
+    for (b, a) in before.iter().zip(&after) {
+        let tb = print::item_text(text, b);
+        let ta = print::item_text(out, a);
+        // A comment's lines after its first may move with it.
+        let same = if b.is_comment() {
+            let lines = |s: &str| {
+                s.lines()
+                    .map(str::trim_start)
+                    .collect::<Vec<_>>()
+                    .join("\n")
+            };
+            lines(&ta) == lines(&tb)
+        } else {
+            ta == tb
+        };
+        if a.tok != b.tok || !same {
+            return Err(FmtError::Internal(format!(
+                "`{tb}` (byte {}) became `{ta}`",
+                b.start
+            )));
+        }
+    }
+    Ok(())
+}
