@@ -405,6 +405,11 @@ diagnostics_catalogue` rewrites it).\n",
     o
 }
 
+/// The title and explanation of a diagnostic code (any case), as `plcc explain` has them.
+pub fn code_info(code: &str) -> Option<&'static plcc_ir::diag::CodeInfo> {
+    all_codes().find(|c| c.code.eq_ignore_ascii_case(code))
+}
+
 /// `plcc explain CODE`, or the list of codes without one.
 pub fn explain(code: Option<&str>) -> u8 {
     let Some(code) = code else {
@@ -413,7 +418,7 @@ pub fn explain(code: Option<&str>) -> u8 {
         }
         return 0;
     };
-    match all_codes().find(|c| c.code.eq_ignore_ascii_case(code)) {
+    match code_info(code) {
         Some(c) => {
             println!("{}: {}\n\n{}", c.code, c.title, c.explanation);
             0

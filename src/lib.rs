@@ -9,6 +9,7 @@ pub mod commands;
 pub mod difftest;
 pub mod driver;
 pub mod format;
+pub mod lsp;
 pub mod output;
 pub mod render;
 pub mod scenario;

@@ -234,6 +234,9 @@ enum Command {
         #[arg(long)]
         write: bool,
     },
+    /// Run a language server over standard input and output (LSP: diagnostics,
+    /// outline, hover, go to definition, references, completion; docs/editors.md)
+    Lsp,
     /// Explain a diagnostic code (e.g. E0301); without one, list every code
     Explain {
         /// The code
@@ -356,6 +359,7 @@ fn main() -> ExitCode {
                 plcc::format::FmtMode::Print
             },
         ),
+        Some(Command::Lsp) => plcc::lsp::run(),
         Some(Command::Explain { code }) => commands::explain(code.as_deref()),
         Some(Command::Difftest {
             seed,

@@ -87,6 +87,16 @@ pub(super) enum StlOp {
     Clr,
 }
 
+/// The names of the standard functions plcc compiles (conversions `X_TO_Y` aside,
+/// which are too many to list), upper case: for editors' completion lists.
+pub const STANDARD_FUNCTIONS: &[&str] = &[
+    "ABS", "SQRT", "LN", "LOG", "EXP", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "EXPT",
+    "TRUNC", "ADD", "SUB", "MUL", "DIV", "MOD", "GT", "GE", "EQ", "LE", "LT", "NE", "AND", "OR",
+    "XOR", "NOT", "MOVE", "SHL", "SHR", "ROL", "ROR", "SEL", "MAX", "MIN", "LIMIT", "MUX",
+    "ADD_TIME", "SUB_TIME", "MUL_TIME", "DIV_TIME", "LEN", "LEFT", "RIGHT", "MID", "CONCAT",
+    "INSERT", "DELETE", "REPLACE", "FIND", "REF", "ADR", "SIZEOF",
+];
+
 impl Builtin {
     /// The standard function with this (upper-case) name.
     pub(super) fn lookup(name: &str) -> Option<Builtin> {
@@ -1034,5 +1044,20 @@ impl<'s> BodyCx<'_, 's> {
             v,
             ty: Ty::Elem(to),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_listed_standard_function_is_one() {
+        for name in STANDARD_FUNCTIONS {
+            assert!(
+                Builtin::lookup(name).is_some(),
+                "{name} is not a standard function"
+            );
+        }
     }
 }

@@ -51,6 +51,7 @@ use plcc_ir::diag::{Diagnostic, Span};
 use plcc_ir::{AggId, FuncId, Module};
 use rustc_hash::FxHashMap;
 
+pub use builtins::STANDARD_FUNCTIONS;
 pub use consts::ConstVal;
 
 /// A node of the call graph the recursion check walks: a POU's body, or an ACTION

@@ -1,0 +1,386 @@
+//! What the server shows of declarations: the outline of a file
+//! (`textDocument/documentSymbol`) and the text of a hover.
+
+use super::index::Decl;
+use super::text::Lines;
+use lsp_types::{DocumentSymbol, SymbolKind};
+use plcc_frontend::ast::*;
+use plcc_frontend::source::SourceMap;
+use plcc_ir::diag::Span;
+
+/// At most this many lines of a TYPE's text go into a hover.
+const MAX_HOVER_LINES: usize = 20;
+
+/// The text of a span, without surrounding blanks and a final `;`.
+fn text(sources: &SourceMap, span: Span) -> &str {
+    let t = sources.get(span.file).slice(span).trim();
+    t.strip_suffix(';').unwrap_or(t).trim_end()
+}
+
+/// The keyword of a declaration block, with its qualifiers.
+pub fn block_keyword(b: &VarBlock) -> String {
+    let kw = match b.kind {
+        VarKind::Var => "VAR",
+        VarKind::Input => "VAR_INPUT",
+        VarKind::Output => "VAR_OUTPUT",
+        VarKind::InOut => "VAR_IN_OUT",
+        VarKind::Temp => "VAR_TEMP",
+        VarKind::Global => "VAR_GLOBAL",
+        VarKind::External => "VAR_EXTERNAL",
+        VarKind::Access => "VAR_ACCESS",
+        VarKind::Config => "VAR_CONFIG",
+        VarKind::Stat => "VAR_STAT",
+        VarKind::Inst => "VAR_INST",
+    };
+    let mut s = kw.to_string();
+    if b.constant {
+        s.push_str(" CONSTANT");
+    }
+    if b.retain {
+        s.push_str(" RETAIN");
+    }
+    s
+}
+
+fn pou_keyword(kind: PouKind) -> &'static str {
+    match kind {
+        PouKind::Program => "PROGRAM",
+        PouKind::Function => "FUNCTION",
+        PouKind::FunctionBlock => "FUNCTION_BLOCK",
+    }
+}
+
+/// A POU's header and its interface (inputs, outputs, in-outs), as IEC text.
+fn pou_signature(sources: &SourceMap, keyword: &str, p: &Pou) -> String {
+    let mut s = format!("{keyword} {}", text(sources, p.name.span));
+    if let Some(t) = &p.return_type {
+        s.push_str(" : ");
+        s.push_str(text(sources, t.span()));
+    }
+    for b in &p.var_blocks {
+        if !matches!(b.kind, VarKind::Input | VarKind::Output | VarKind::InOut) {
+            continue;
+        }
+        s.push('\n');
+        s.push_str(&block_keyword(b));
+        for d in &b.decls {
+            s.push_str("\n    ");
+            s.push_str(text(sources, d.span));
+            s.push(';');
+        }
+        s.push_str("\nEND_VAR");
+    }
+    s
+}
+
+fn code(s: &str) -> String {
+    format!("```iecst\n{s}\n```")
+}
+
+/// The Markdown shown when hovering a name that resolves to `d`: its declaration
+/// as written and, for a variable, its block, owner and type.
+pub fn hover_text(sources: &SourceMap, d: &Decl<'_>) -> String {
+    let name = |id: &Ident| text(sources, id.span).to_string();
+    match *d {
+        Decl::Pou(p) => code(&pou_signature(sources, pou_keyword(p.kind), p)),
+        Decl::Method(owner, m) => format!(
+            "{}\n\nMETHOD of `{}`",
+            code(&pou_signature(sources, "METHOD", &m.pou)),
+            name(owner)
+        ),
+        Decl::Property(owner, p) => format!(
+            "{}\n\nPROPERTY of `{}`",
+            code(&format!(
+                "PROPERTY {} : {}",
+                name(&p.name),
+                text(sources, p.ty.span())
+            )),
+            name(owner)
+        ),
+        Decl::Action(a) => {
+            let owner = a
+                .pou
+                .map(|o| format!(" of `{}`", name(&o)))
+                .unwrap_or_default();
+            format!(
+                "{}\n\nACTION{owner}",
+                code(&format!("ACTION {}", name(&a.name)))
+            )
+        }
+        Decl::Var {
+            decl, block, owner, ..
+        } => {
+            let of = owner
+                .map(|o| format!(" of `{}`", name(o)))
+                .unwrap_or_default();
+            format!(
+                "{}\n\n{}{of}; type `{}`",
+                code(text(sources, decl.span)),
+                block_keyword(block),
+                text(sources, decl.ty.span())
+            )
+        }
+        Decl::Field { decl, ty, .. } => format!(
+            "{}\n\nfield of `{}`; type `{}`",
+            code(text(sources, decl.span)),
+            name(&ty.name),
+            text(sources, decl.ty.span())
+        ),
+        Decl::EnumValue { name: v, ty } => format!(
+            "{}\n\nvalue of the enumeration `{}`",
+            code(&format!("{}#{}", name(&ty.name), name(v))),
+            name(&ty.name)
+        ),
+        Decl::Type(t) => {
+            let body = text(sources, t.span);
+            let mut lines: Vec<&str> = body.lines().take(MAX_HOVER_LINES).collect();
+            if body.lines().count() > MAX_HOVER_LINES {
+                lines.push("...");
+            }
+            code(&format!("TYPE {}\nEND_TYPE", lines.join("\n")))
+        }
+        Decl::Interface(i) => code(&format!("INTERFACE {}", name(&i.name))),
+        Decl::Config(c) => code(&format!("CONFIGURATION {}", name(&c.name))),
+        Decl::Resource(r) => code(&format!("RESOURCE {}", name(&r.name))),
+        Decl::Task(t) => code(text(sources, t.span)),
+        Decl::Instance(p) => code(text(sources, p.span)),
+    }
+}
+
+/// Builds LSP document symbols against one file's lines.
+pub struct Outline<'s> {
+    /// Every source of the build.
+    pub sources: &'s SourceMap,
+    /// The lines of the file the outline is of.
+    pub lines: Lines<'s>,
+}
+
+impl Outline<'_> {
+    /// The outline of a file's items: POUs with their variables, METHODs,
+    /// PROPERTYs and ACTIONs; types with their fields or values; global variable
+    /// lists; configurations with their variables, resources, tasks and program
+    /// instances; interfaces.
+    pub fn items(&self, items: &[Item]) -> Vec<DocumentSymbol> {
+        items.iter().filter_map(|item| self.item(item)).collect()
+    }
+
+    fn item(&self, item: &Item) -> Option<DocumentSymbol> {
+        Some(match item {
+            Item::Pou(p) => {
+                let kind = match p.kind {
+                    PouKind::Program => SymbolKind::MODULE,
+                    PouKind::Function => SymbolKind::FUNCTION,
+                    PouKind::FunctionBlock => SymbolKind::CLASS,
+                };
+                self.pou(p, kind, pou_keyword(p.kind))
+            }
+            Item::Type(t) => {
+                let (kind, children) = match &t.spec {
+                    TypeSpec::Struct { fields, .. } => (
+                        SymbolKind::STRUCT,
+                        fields
+                            .iter()
+                            .flat_map(|d| self.vars(d, "", SymbolKind::FIELD))
+                            .collect(),
+                    ),
+                    TypeSpec::Enum { values, .. } => (
+                        SymbolKind::ENUM,
+                        values
+                            .iter()
+                            .map(|(v, _)| {
+                                self.symbol(v, v.span, SymbolKind::ENUM_MEMBER, None, vec![])
+                            })
+                            .collect(),
+                    ),
+                    _ => (SymbolKind::TYPE_PARAMETER, vec![]),
+                };
+                let detail = format!(
+                    "TYPE : {}",
+                    self.text(t.spec.span()).lines().next().unwrap_or("")
+                );
+                self.symbol(&t.name, t.span, kind, Some(detail), children)
+            }
+            Item::Globals(b) => {
+                let children = self.block(b);
+                let keyword = block_keyword(b);
+                match &b.list {
+                    Some(list) => {
+                        self.symbol(list, b.span, SymbolKind::NAMESPACE, Some(keyword), children)
+                    }
+                    None => self.named(&keyword, b.span, SymbolKind::NAMESPACE, children),
+                }
+            }
+            Item::Configuration(c) => {
+                let mut children: Vec<_> =
+                    c.var_blocks.iter().flat_map(|b| self.block(b)).collect();
+                for r in &c.resources {
+                    let mut inner: Vec<_> =
+                        r.var_blocks.iter().flat_map(|b| self.block(b)).collect();
+                    for t in &r.tasks {
+                        inner.push(self.symbol(
+                            &t.name,
+                            t.span,
+                            SymbolKind::EVENT,
+                            Some("TASK".into()),
+                            vec![],
+                        ));
+                    }
+                    for p in &r.programs {
+                        let detail = format!("PROGRAM instance of {}", self.text(p.pou.span));
+                        inner.push(self.symbol(
+                            &p.name,
+                            p.span,
+                            SymbolKind::OBJECT,
+                            Some(detail),
+                            vec![],
+                        ));
+                    }
+                    children.push(self.symbol(
+                        &r.name,
+                        r.span,
+                        SymbolKind::NAMESPACE,
+                        Some("RESOURCE".into()),
+                        inner,
+                    ));
+                }
+                self.symbol(
+                    &c.name,
+                    c.span,
+                    SymbolKind::PACKAGE,
+                    Some("CONFIGURATION".into()),
+                    children,
+                )
+            }
+            Item::Action(a) => self.symbol(
+                &a.name,
+                a.span,
+                SymbolKind::FUNCTION,
+                Some("ACTION".into()),
+                vec![],
+            ),
+            Item::Interface(i) => {
+                let mut children: Vec<_> = i
+                    .methods
+                    .iter()
+                    .map(|m| self.pou(&m.pou, SymbolKind::METHOD, "METHOD"))
+                    .collect();
+                children.extend(i.properties.iter().map(|p| self.property(p)));
+                self.symbol(
+                    &i.name,
+                    i.span,
+                    SymbolKind::INTERFACE,
+                    Some("INTERFACE".into()),
+                    children,
+                )
+            }
+        })
+    }
+
+    fn pou(&self, p: &Pou, kind: SymbolKind, keyword: &str) -> DocumentSymbol {
+        let mut children: Vec<_> = p.var_blocks.iter().flat_map(|b| self.block(b)).collect();
+        children.extend(
+            p.oo.methods
+                .iter()
+                .map(|m| self.pou(&m.pou, SymbolKind::METHOD, "METHOD")),
+        );
+        children.extend(p.oo.properties.iter().map(|pr| self.property(pr)));
+        children.extend(p.actions.iter().map(|a| {
+            self.symbol(
+                &a.name,
+                a.span,
+                SymbolKind::FUNCTION,
+                Some("ACTION".into()),
+                vec![],
+            )
+        }));
+        let detail = match &p.return_type {
+            Some(t) => format!("{keyword} : {}", self.text(t.span())),
+            None => keyword.to_string(),
+        };
+        self.symbol(&p.name, p.span, kind, Some(detail), children)
+    }
+
+    fn property(&self, p: &Property) -> DocumentSymbol {
+        let detail = format!("PROPERTY : {}", self.text(p.ty.span()));
+        self.symbol(&p.name, p.span, SymbolKind::PROPERTY, Some(detail), vec![])
+    }
+
+    fn block(&self, b: &VarBlock) -> Vec<DocumentSymbol> {
+        let kind = if b.constant {
+            SymbolKind::CONSTANT
+        } else {
+            SymbolKind::VARIABLE
+        };
+        let keyword = block_keyword(b);
+        b.decls
+            .iter()
+            .flat_map(|d| self.vars(d, &keyword, kind))
+            .collect()
+    }
+
+    /// One symbol per name of a declaration; the detail is `KEYWORD : TYPE`.
+    fn vars(&self, d: &VarDecl, keyword: &str, kind: SymbolKind) -> Vec<DocumentSymbol> {
+        let ty = self.text(d.ty.span());
+        let detail = if keyword.is_empty() {
+            ty.to_string()
+        } else {
+            format!("{keyword} : {ty}")
+        };
+        d.names
+            .iter()
+            .map(|n| self.symbol(n, d.span, kind, Some(detail.clone()), vec![]))
+            .collect()
+    }
+
+    fn text(&self, span: Span) -> &str {
+        text(self.sources, span)
+    }
+
+    fn symbol(
+        &self,
+        name: &Ident,
+        whole: Span,
+        kind: SymbolKind,
+        detail: Option<String>,
+        children: Vec<DocumentSymbol>,
+    ) -> DocumentSymbol {
+        let whole = if whole.file == name.span.file {
+            whole.to(name.span)
+        } else {
+            name.span
+        };
+        #[allow(deprecated)] // `deprecated` is a field every literal must give.
+        DocumentSymbol {
+            name: self.text(name.span).to_string(),
+            detail,
+            kind,
+            tags: None,
+            deprecated: None,
+            range: self.lines.range(whole),
+            selection_range: self.lines.range(name.span),
+            children: (!children.is_empty()).then_some(children),
+        }
+    }
+
+    /// A symbol with no name of its own in the text (an unnamed global block).
+    fn named(
+        &self,
+        name: &str,
+        whole: Span,
+        kind: SymbolKind,
+        children: Vec<DocumentSymbol>,
+    ) -> DocumentSymbol {
+        let at = Span::new(whole.file, whole.start, whole.start);
+        #[allow(deprecated)]
+        DocumentSymbol {
+            name: name.to_string(),
+            detail: None,
+            kind,
+            tags: None,
+            deprecated: None,
+            range: self.lines.range(whole),
+            selection_range: self.lines.range(at),
+            children: (!children.is_empty()).then_some(children),
+        }
+    }
+}

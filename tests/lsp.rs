@@ -1,0 +1,627 @@
+//! `plcc lsp` driven through the protocol: the real binary as a child process, a
+//! small client writing Content-Length frames to its standard input and reading
+//! them from its standard output, on a temporary workspace.
+
+use serde_json::{json, Value};
+use std::io::{BufRead, BufReader, Read, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Child, ChildStdin, Command, Stdio};
+use std::sync::mpsc;
+use std::time::Duration;
+
+/// How long any answer may take before the test fails (a debug build, a busy machine).
+const TIMEOUT: Duration = Duration::from_secs(60);
+
+/// A client of `plcc lsp`.
+struct Client {
+    child: Child,
+    stdin: Option<ChildStdin>,
+    rx: mpsc::Receiver<Value>,
+    /// Notifications read while waiting for something else.
+    pending: Vec<Value>,
+    next_id: i64,
+}
+
+impl Client {
+    fn start() -> Client {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_plcc"))
+            .arg("lsp")
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("start plcc lsp");
+        let stdout = child.stdout.take().expect("stdout");
+        let (tx, rx) = mpsc::channel();
+        std::thread::spawn(move || {
+            let mut r = BufReader::new(stdout);
+            while let Some(v) = read_frame(&mut r) {
+                if tx.send(v).is_err() {
+                    return;
+                }
+            }
+        });
+        Client {
+            stdin: child.stdin.take(),
+            child,
+            rx,
+            pending: Vec::new(),
+            next_id: 1,
+        }
+    }
+
+    fn write_raw(&mut self, bytes: &[u8]) {
+        let stdin = self.stdin.as_mut().expect("stdin open");
+        // The server may have exited already (the bad-input tests): ignore EPIPE.
+        let _ = stdin.write_all(bytes);
+        let _ = stdin.flush();
+    }
+
+    fn send(&mut self, msg: Value) {
+        let body = msg.to_string();
+        self.write_raw(format!("Content-Length: {}\r\n\r\n{body}", body.len()).as_bytes());
+    }
+
+    fn next(&mut self) -> Value {
+        self.rx
+            .recv_timeout(TIMEOUT)
+            .expect("the server answered in time")
+    }
+
+    /// Sends a request and returns its whole response (`result` or `error`).
+    fn request(&mut self, method: &str, params: Value) -> Value {
+        let id = self.next_id;
+        self.next_id += 1;
+        self.send(json!({"jsonrpc": "2.0", "id": id, "method": method, "params": params}));
+        loop {
+            let v = self.next();
+            if v.get("id") == Some(&json!(id)) && v.get("method").is_none() {
+                return v;
+            }
+            self.pending.push(v);
+        }
+    }
+
+    /// The result of a request that must succeed.
+    fn call(&mut self, method: &str, params: Value) -> Value {
+        let r = self.request(method, params);
+        assert!(r.get("error").is_none(), "{method} failed: {r}");
+        r["result"].clone()
+    }
+
+    fn notify(&mut self, method: &str, params: Value) {
+        self.send(json!({"jsonrpc": "2.0", "method": method, "params": params}));
+    }
+
+    /// The next diagnostics published for `uri`.
+    fn diagnostics(&mut self, uri: &str) -> Value {
+        let is_for = |v: &Value| {
+            v["method"] == "textDocument/publishDiagnostics" && v["params"]["uri"] == uri
+        };
+        if let Some(k) = self.pending.iter().position(is_for) {
+            return self.pending.remove(k)["params"]["diagnostics"].clone();
+        }
+        loop {
+            let v = self.next();
+            if is_for(&v) {
+                return v["params"]["diagnostics"].clone();
+            }
+            self.pending.push(v);
+        }
+    }
+
+    fn initialize(&mut self, root: &Path, options: Value) {
+        let r = self.call(
+            "initialize",
+            json!({"capabilities": {}, "rootUri": uri(root), "initializationOptions": options}),
+        );
+        assert_eq!(r["serverInfo"]["name"], "plcc");
+        assert_eq!(r["capabilities"]["hoverProvider"], true);
+        self.notify("initialized", json!({}));
+    }
+
+    fn open(&mut self, path: &Path) {
+        let text = std::fs::read_to_string(path).expect("read");
+        self.notify(
+            "textDocument/didOpen",
+            json!({"textDocument": {"uri": uri(path), "languageId": "st", "version": 1, "text": text}}),
+        );
+    }
+
+    /// Closes standard input and waits for the exit status; the server must not
+    /// have panicked.
+    fn finish(mut self) -> i32 {
+        self.stdin = None;
+        let status = wait_timeout(&mut self.child);
+        let mut err = String::new();
+        if let Some(mut e) = self.child.stderr.take() {
+            let _ = e.read_to_string(&mut err);
+        }
+        assert!(!err.contains("panicked"), "the server panicked: {err}");
+        status
+    }
+
+    fn shutdown_and_exit(mut self) -> i32 {
+        assert_eq!(self.call("shutdown", Value::Null), Value::Null);
+        self.notify("exit", Value::Null);
+        self.finish()
+    }
+}
+
+fn wait_timeout(child: &mut Child) -> i32 {
+    let start = std::time::Instant::now();
+    loop {
+        if let Some(s) = child.try_wait().expect("wait") {
+            return s
+                .code()
+                .expect("exited with a status, not killed by a signal");
+        }
+        if start.elapsed() > TIMEOUT {
+            let _ = child.kill();
+            panic!("the server did not exit");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+fn read_frame(r: &mut impl BufRead) -> Option<Value> {
+    let mut len = None;
+    loop {
+        let mut line = String::new();
+        if r.read_line(&mut line).ok()? == 0 {
+            return None;
+        }
+        let line = line.trim_end();
+        if line.is_empty() {
+            break;
+        }
+        if let Some(v) = line.strip_prefix("Content-Length: ") {
+            len = v.parse::<usize>().ok();
+        }
+    }
+    let mut body = vec![0; len?];
+    r.read_exact(&mut body).ok()?;
+    serde_json::from_slice(&body).ok()
+}
+
+fn uri(path: &Path) -> String {
+    format!("file://{}", path.display())
+}
+
+/// A fresh folder of its own for each test.
+fn workspace(name: &str, files: &[(&str, &str)]) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("plcc-lsp-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("mkdir");
+    for (file, text) in files {
+        std::fs::write(dir.join(file), text).expect("write");
+    }
+    dir
+}
+
+const MOTOR: &str = "FUNCTION_BLOCK Motor
+VAR_INPUT
+    start : BOOL;
+    speed : INT := 5;
+END_VAR
+VAR_OUTPUT
+    running : BOOL;
+END_VAR
+running := start AND speed > 0;
+END_FUNCTION_BLOCK
+";
+
+/// Line 0 is not ASCII, and so is the error's line before the error: `é` is one
+/// UTF-16 unit (two bytes), `𝄞` two (four bytes).
+const MAIN: &str = "(* Température of the café: ☕ *)
+PROGRAM Main
+VAR
+    m : Motor;
+    go : BOOL;
+END_VAR
+m(start := go);
+go := (* é𝄞 *) m.running AND nope;
+END_PROGRAM
+";
+
+fn pos(line: u32, character: u32) -> Value {
+    json!({"line": line, "character": character})
+}
+
+fn range(l0: u32, c0: u32, l1: u32, c1: u32) -> Value {
+    json!({"start": pos(l0, c0), "end": pos(l1, c1)})
+}
+
+fn at(path: &Path, line: u32, character: u32) -> Value {
+    json!({"textDocument": {"uri": uri(path)}, "position": pos(line, character)})
+}
+
+#[test]
+fn diagnostics_outline_hover_and_definition_across_files() {
+    let dir = workspace("main", &[("motor.st", MOTOR), ("main.st", MAIN)]);
+    let (main, motor) = (dir.join("main.st"), dir.join("motor.st"));
+    let mut c = Client::start();
+    c.initialize(&dir, Value::Null);
+    c.open(&main);
+    // Column 30 in UTF-16 units (29 characters, 35 bytes).
+    assert_eq!(
+        c.diagnostics(&uri(&main)),
+        json!([{
+            "code": "E0201",
+            "message": "`nope` is not declared",
+            "range": range(7, 30, 7, 34),
+            "severity": 1,
+            "source": "plcc",
+        }])
+    );
+
+    // Fixed in the editor, not on disk: the unsaved text wins.
+    c.notify(
+        "textDocument/didChange",
+        json!({
+            "textDocument": {"uri": uri(&main), "version": 2},
+            "contentChanges": [{"text": MAIN.replace("AND nope", "AND go")}],
+        }),
+    );
+    assert_eq!(c.diagnostics(&uri(&main)), json!([]));
+
+    let symbols = c.call(
+        "textDocument/documentSymbol",
+        json!({"textDocument": {"uri": uri(&motor)}}),
+    );
+    let var = |name: &str, detail: &str, line: u32, end: u32| {
+        json!({
+            "name": name, "detail": detail, "kind": 13,
+            "range": range(line, 4, line, end),
+            "selectionRange": range(line, 4, line, 4 + name.len() as u32),
+        })
+    };
+    assert_eq!(
+        symbols,
+        json!([{
+            "name": "Motor",
+            "detail": "FUNCTION_BLOCK",
+            "kind": 5,
+            "range": range(0, 0, 9, 18),
+            "selectionRange": range(0, 15, 0, 20),
+            "children": [
+                var("start", "VAR_INPUT : BOOL", 2, 16),
+                var("speed", "VAR_INPUT : INT", 3, 20),
+                var("running", "VAR_OUTPUT : BOOL", 6, 18),
+            ],
+        }])
+    );
+
+    // `running` of `m.running`, in the other file.
+    assert_eq!(
+        c.call("textDocument/hover", at(&main, 7, 20)),
+        json!({
+            "contents": {
+                "kind": "markdown",
+                "value": "```iecst\nrunning : BOOL\n```\n\nVAR_OUTPUT of `Motor`; type `BOOL`",
+            },
+            "range": range(7, 18, 7, 25),
+        })
+    );
+    // The FB's name: its interface.
+    assert_eq!(
+        c.call("textDocument/hover", at(&main, 3, 10))["contents"]["value"],
+        "```iecst\nFUNCTION_BLOCK Motor\nVAR_INPUT\n    start : BOOL;\n    speed : INT := 5;\nEND_VAR\nVAR_OUTPUT\n    running : BOOL;\nEND_VAR\n```"
+    );
+
+    // The instance's type, a parameter of the call, a member: in motor.st.
+    let motor_at = |l0, c0, l1, c1| json!({"uri": uri(&motor), "range": range(l0, c0, l1, c1)});
+    assert_eq!(
+        c.call("textDocument/definition", at(&main, 3, 9)),
+        motor_at(0, 15, 0, 20)
+    );
+    assert_eq!(
+        c.call("textDocument/definition", at(&main, 6, 3)),
+        motor_at(2, 4, 2, 9)
+    );
+    assert_eq!(
+        c.call("textDocument/definition", at(&main, 7, 19)),
+        motor_at(6, 4, 6, 11)
+    );
+    // A local variable: in main.st; nothing at a keyword.
+    assert_eq!(
+        c.call("textDocument/definition", at(&main, 6, 0)),
+        json!({"uri": uri(&main), "range": range(3, 4, 3, 5)})
+    );
+    assert_eq!(
+        c.call("textDocument/definition", at(&main, 1, 2)),
+        Value::Null
+    );
+
+    // Every use of `running`, the declaration included.
+    let refs = c.call(
+        "textDocument/references",
+        json!({
+            "textDocument": {"uri": uri(&motor)},
+            "position": pos(6, 5),
+            "context": {"includeDeclaration": true},
+        }),
+    );
+    assert_eq!(
+        refs,
+        json!([
+            {"uri": uri(&main), "range": range(7, 18, 7, 25)},
+            motor_at(6, 4, 6, 11),
+            motor_at(8, 0, 8, 7),
+        ])
+    );
+
+    // Completion in Main's body: its variables, the POUs, standard blocks and functions.
+    let items = c.call("textDocument/completion", at(&main, 7, 0));
+    let labels: Vec<&str> = items
+        .as_array()
+        .expect("a list")
+        .iter()
+        .map(|i| i["label"].as_str().expect("label"))
+        .collect();
+    for want in ["m", "go", "Motor", "Main", "TON", "LIMIT"] {
+        assert!(labels.contains(&want), "{want} missing from {labels:?}");
+    }
+    assert!(!labels.contains(&"start"), "another POU's variable offered");
+    assert!(labels.iter().all(|l| !l.contains("__")), "{labels:?}");
+
+    assert_eq!(c.shutdown_and_exit(), 0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn diagnostics_go_to_the_file_they_are_about_and_are_cleared() {
+    // motor.st is wrong on disk and not open; main.st, which uses it, is opened.
+    let bad_motor = MOTOR.replace("running := start", "running := stort");
+    let dir = workspace("other", &[("motor.st", &bad_motor), ("main.st", MAIN)]);
+    let (main, motor) = (dir.join("main.st"), dir.join("motor.st"));
+    let mut c = Client::start();
+    c.initialize(&dir, Value::Null);
+    c.open(&main);
+    let d = c.diagnostics(&uri(&motor));
+    assert_eq!(d[0]["code"], "E0201");
+    assert_eq!(d[0]["range"], range(8, 11, 8, 16));
+    assert_eq!(c.diagnostics(&uri(&main))[0]["range"], range(7, 30, 7, 34));
+
+    // Opened and fixed in the editor: motor.st's diagnostics are cleared.
+    c.open(&motor);
+    c.notify(
+        "textDocument/didChange",
+        json!({
+            "textDocument": {"uri": uri(&motor), "version": 2},
+            "contentChanges": [{"text": MOTOR}],
+        }),
+    );
+    loop {
+        if c.diagnostics(&uri(&motor)) == json!([]) {
+            break;
+        }
+    }
+    // Saved with the fix for main.st too.
+    c.notify(
+        "textDocument/didSave",
+        json!({"textDocument": {"uri": uri(&main)}, "text": MAIN.replace("nope", "go")}),
+    );
+    loop {
+        if c.diagnostics(&uri(&main)) == json!([]) {
+            break;
+        }
+    }
+    assert_eq!(c.shutdown_and_exit(), 0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn il_and_stl_files_get_diagnostics() {
+    let il = "FUNCTION_BLOCK Blink\nVAR_INPUT x : BOOL; END_VAR\nVAR_OUTPUT y : BOOL; END_VAR\n    LD x\n    ANDN missing\n    ST y\nEND_FUNCTION_BLOCK\n";
+    let dir = workspace("il", &[("blink.il", il)]);
+    let path = dir.join("blink.il");
+    let mut c = Client::start();
+    c.initialize(&dir, Value::Null);
+    c.open(&path);
+    let d = c.diagnostics(&uri(&path));
+    assert_eq!(d[0]["code"], "E0201", "{d}");
+    assert_eq!(d[0]["range"], range(4, 9, 4, 16));
+    assert_eq!(c.shutdown_and_exit(), 0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_codesys_dialect_is_chosen_by_initialization_options() {
+    let text = "PROGRAM P\nVAR\n    x : INT;\n    p : POINTER TO INT;\nEND_VAR\np := ADR(x);\nEND_PROGRAM\n";
+    let dir = workspace("codesys", &[("p.st", text)]);
+    let path = dir.join("p.st");
+    let mut c = Client::start();
+    c.initialize(&dir, Value::Null);
+    c.open(&path);
+    assert_ne!(
+        c.diagnostics(&uri(&path)),
+        json!([]),
+        "IEC refuses POINTER TO"
+    );
+    assert_eq!(c.shutdown_and_exit(), 0);
+
+    let mut c = Client::start();
+    c.initialize(&dir, json!({"dialect": "codesys"}));
+    c.open(&path);
+    assert_eq!(c.diagnostics(&uri(&path)), json!([]));
+    assert_eq!(c.shutdown_and_exit(), 0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn malformed_messages_get_protocol_errors() {
+    let dir = workspace("errors", &[("a.st", MOTOR)]);
+    let mut c = Client::start();
+    // Before initialize: ServerNotInitialized.
+    let r = c.request("textDocument/hover", at(&dir.join("a.st"), 0, 0));
+    assert_eq!(r["error"]["code"], -32002);
+    // A body that is not JSON, then JSON that is no message: errors with a null id.
+    c.write_raw(b"Content-Length: 5\r\n\r\n{oops");
+    let v = c.next();
+    assert_eq!(
+        (v["id"].clone(), v["error"]["code"].clone()),
+        (Value::Null, json!(-32700))
+    );
+    c.write_raw(b"Content-Length: 2\r\n\r\n[]");
+    let v = c.next();
+    assert_eq!(
+        (v["id"].clone(), v["error"]["code"].clone()),
+        (Value::Null, json!(-32600))
+    );
+    c.initialize(&dir, Value::Null);
+    // Bad params, an unknown method, a second initialize.
+    let r = c.request("textDocument/hover", json!({"textDocument": 3}));
+    assert_eq!(r["error"]["code"], -32602);
+    let r = c.request("plcc/nothing", json!({}));
+    assert_eq!(r["error"]["code"], -32601);
+    let r = c.request("initialize", json!({"capabilities": {}}));
+    assert_eq!(r["error"]["code"], -32600);
+    // A notification with bad params is dropped; the server goes on.
+    c.notify("textDocument/didOpen", json!({"textDocument": "x"}));
+    // A document that is not a file, and one in a folder that does not exist.
+    c.notify(
+        "textDocument/didOpen",
+        json!({"textDocument": {"uri": "untitled:1", "languageId": "st", "version": 1, "text": "x"}}),
+    );
+    let ghost = dir.join("no/such/b.st");
+    c.notify(
+        "textDocument/didOpen",
+        json!({"textDocument": {"uri": uri(&ghost), "languageId": "st", "version": 1, "text": "PROGRAM"}}),
+    );
+    assert_ne!(c.diagnostics(&uri(&ghost)), json!([]));
+    // A position past the end of the text is its end, where the error is.
+    let hover = c.call("textDocument/hover", at(&ghost, 99, 99));
+    let text = hover["contents"]["value"].as_str().expect("a hover");
+    assert!(text.starts_with("**E0101** "), "{text}");
+    // After shutdown, requests are refused; exit ends with 0.
+    assert_eq!(c.call("shutdown", Value::Null), Value::Null);
+    let r = c.request("textDocument/hover", at(&ghost, 0, 0));
+    assert_eq!(r["error"]["code"], -32600);
+    c.notify("exit", Value::Null);
+    assert_eq!(c.finish(), 0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn broken_input_ends_the_server_with_status_1() {
+    let cases: [&[u8]; 5] = [
+        b"hello, this is not LSP\n",
+        b"Content-Length: 99999999999999999\r\n\r\n",
+        b"Content-Length: x\r\n\r\n{}",
+        b"Content-Type: text\r\n\r\n{}",
+        b"Content-Length: 100\r\n\r\n{\"jsonrpc\"",
+    ];
+    for input in cases {
+        let mut c = Client::start();
+        c.write_raw(input);
+        assert_eq!(c.finish(), 1, "{}", String::from_utf8_lossy(input));
+    }
+    // An exit without shutdown, and the end of the input without exit.
+    let mut c = Client::start();
+    c.notify("exit", Value::Null);
+    assert_eq!(c.finish(), 1);
+    let c = Client::start();
+    assert_eq!(c.finish(), 1);
+}
+
+#[test]
+fn rename_formatting_and_the_explanation_of_a_code() {
+    const MESSY: &str = "program P\nvar x:int;\nend_var\nx:=x+1;\nend_program\n";
+    let dir = workspace(
+        "rename",
+        &[("motor.st", MOTOR), ("main.st", MAIN), ("messy.st", MESSY)],
+    );
+    let (main, motor, messy) = (
+        dir.join("main.st"),
+        dir.join("motor.st"),
+        dir.join("messy.st"),
+    );
+    let mut c = Client::start();
+    c.initialize(&dir, Value::Null);
+    c.open(&main);
+    assert_eq!(c.diagnostics(&uri(&main))[0]["code"], "E0201");
+
+    // On the undeclared name: the explanation `plcc explain E0201` prints.
+    let explain = Command::new(env!("CARGO_BIN_EXE_plcc"))
+        .args(["explain", "E0201"])
+        .output()
+        .expect("plcc explain");
+    let explain = String::from_utf8(explain.stdout).expect("UTF-8");
+    let (title, text) = explain
+        .trim_end()
+        .strip_prefix("E0201: ")
+        .and_then(|t| t.split_once("\n\n"))
+        .expect("a title and a text");
+    assert_eq!(
+        c.call("textDocument/hover", at(&main, 7, 31)),
+        json!({
+            "contents": {"kind": "markdown", "value": format!("**E0201** {title}\n\n{text}")},
+            "range": range(7, 30, 7, 34),
+        })
+    );
+
+    // `running` renamed from its use in main.st: the declaration and both uses.
+    let rename = |c: &mut Client, line, character, name: &str| {
+        let mut p = at(&main, line, character);
+        p["newName"] = json!(name);
+        c.request("textDocument/rename", p)
+    };
+    let edit = |l0, c0, l1, c1| json!({"range": range(l0, c0, l1, c1), "newText": "on"});
+    assert_eq!(
+        rename(&mut c, 7, 20, "on")["result"],
+        json!({"changes": {
+            uri(&main): [edit(7, 18, 7, 25)],
+            uri(&motor): [edit(6, 4, 6, 11), edit(8, 0, 8, 7)],
+        }})
+    );
+    // Refused: a name taken in the FB, a keyword, something of the standard library.
+    let refused = |r: Value| {
+        r["error"]["message"]
+            .as_str()
+            .expect("an error")
+            .to_string()
+    };
+    let taken = refused(rename(&mut c, 7, 20, "speed"));
+    assert!(
+        taken.starts_with("renaming `running` to `speed` would give E"),
+        "{taken}"
+    );
+    assert!(refused(rename(&mut c, 7, 20, "END_IF")).contains("is not a name"));
+    c.notify(
+        "textDocument/didChange",
+        json!({
+            "textDocument": {"uri": uri(&main), "version": 2},
+            "contentChanges": [{"text": MAIN
+                .replace("    go : BOOL;", "    go : BOOL;\n    latch : SR;")
+                .replace("AND nope", "AND go")}],
+        }),
+    );
+    assert_eq!(c.diagnostics(&uri(&main)), json!([]));
+    assert!(refused(rename(&mut c, 5, 13, "Latch")).contains("standard library"));
+
+    // Formatting: one edit over the whole text, then none.
+    let format = |c: &mut Client| {
+        c.call(
+            "textDocument/formatting",
+            json!({"textDocument": {"uri": uri(&messy)}, "options": {"tabSize": 4, "insertSpaces": true}}),
+        )
+    };
+    let formatted = "PROGRAM P\nVAR x : int;\nEND_VAR\n    x := x + 1;\nEND_PROGRAM\n";
+    assert_eq!(
+        format(&mut c),
+        json!([{"range": range(0, 0, 5, 0), "newText": formatted}])
+    );
+    c.open(&messy);
+    c.notify(
+        "textDocument/didChange",
+        json!({
+            "textDocument": {"uri": uri(&messy), "version": 2},
+            "contentChanges": [{"text": formatted}],
+        }),
+    );
+    assert_eq!(format(&mut c), json!([]));
+
+    assert_eq!(c.shutdown_and_exit(), 0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
