@@ -561,6 +561,13 @@ fn rename_formatting_and_the_explanation_of_a_code() {
         })
     );
 
+    // The comment right before a POU is its doc.
+    let hover = c.call("textDocument/hover", at(&main, 1, 9));
+    assert_eq!(
+        hover["contents"]["value"],
+        "```iecst\nPROGRAM Main\n```\n\nTempérature of the café: ☕"
+    );
+
     // `running` renamed from its use in main.st: the declaration and both uses.
     let rename = |c: &mut Client, line, character, name: &str| {
         let mut p = at(&main, line, character);

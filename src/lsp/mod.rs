@@ -9,6 +9,7 @@
 //! about; the syntax trees answer outlines, hovers, definitions, references and
 //! completion ([`index`]).
 
+pub mod doc;
 pub mod index;
 pub mod outline;
 pub mod text;

@@ -78,8 +78,17 @@ fn code(s: &str) -> String {
 }
 
 /// The Markdown shown when hovering a name that resolves to `d`: its declaration
-/// as written and, for a variable, its block, owner and type.
+/// as written and, for a variable, its block, owner and type; then its doc comment
+/// ([`super::doc`]).
 pub fn hover_text(sources: &SourceMap, d: &Decl<'_>) -> String {
+    let declaration = declaration_text(sources, d);
+    match super::doc::doc_comment(sources, d) {
+        Some(doc) => format!("{declaration}\n\n{doc}"),
+        None => declaration,
+    }
+}
+
+fn declaration_text(sources: &SourceMap, d: &Decl<'_>) -> String {
     let name = |id: &Ident| text(sources, id.span).to_string();
     match *d {
         Decl::Pou(p) => code(&pou_signature(sources, pou_keyword(p.kind), p)),
