@@ -632,3 +632,101 @@ fn rename_formatting_and_the_explanation_of_a_code() {
     assert_eq!(c.shutdown_and_exit(), 0);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn semantic_tokens_say_what_each_word_is() {
+    const TEXT: &str = "FUNCTION_BLOCK Motor (* a motor,
+   two lines *)
+VAR_INPUT
+    start : BOOL;
+END_VAR
+VAR
+    n : INT := 16#FF;
+    s : STRING := 'é';
+    p : Pump;
+END_VAR
+n := ABS(n) + 1;
+p(on := start);
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK Pump
+VAR_INPUT on : BOOL; END_VAR
+END_FUNCTION_BLOCK
+";
+    let dir = workspace("tokens", &[("motor.st", TEXT)]);
+    let motor = dir.join("motor.st");
+    let mut c = Client::start();
+    let init = c.request(
+        "initialize",
+        json!({"processId": null, "rootUri": uri(&dir), "capabilities": {}}),
+    );
+    let legend = init["result"]["capabilities"]["semanticTokensProvider"]["legend"]["tokenTypes"]
+        .as_array()
+        .expect("a legend")
+        .clone();
+    c.notify("initialized", json!({}));
+    c.open(&motor);
+    let data = c.call(
+        "textDocument/semanticTokens/full",
+        json!({"textDocument": {"uri": uri(&motor)}}),
+    )["data"]
+        .as_array()
+        .expect("data")
+        .iter()
+        .map(|v| v.as_u64().expect("a number") as u32)
+        .collect::<Vec<_>>();
+    // Decoded: line, column, length, type.
+    let (mut line, mut col) = (0, 0);
+    let mut got = Vec::new();
+    for t in data.chunks(5) {
+        if t[0] > 0 {
+            col = 0;
+        }
+        line += t[0];
+        col += t[1];
+        got.push(format!(
+            "{line}:{col}+{} {}",
+            t[2],
+            legend[t[3] as usize].as_str().expect("a name")
+        ));
+    }
+    assert_eq!(
+        got,
+        [
+            "0:0+14 keyword",
+            "0:15+5 class",
+            "0:21+11 comment",
+            "1:3+12 comment",
+            "2:0+9 keyword",
+            "3:4+5 parameter",
+            "3:12+4 type",
+            "4:0+7 keyword",
+            "5:0+3 keyword",
+            "6:4+1 variable",
+            "6:8+3 type",
+            "6:15+5 number",
+            "7:4+1 variable",
+            "7:8+6 type",
+            "7:18+3 string",
+            "8:4+1 variable",
+            "8:8+4 class",
+            "9:0+7 keyword",
+            "10:0+1 variable",
+            "10:5+3 function",
+            "10:9+1 variable",
+            "10:14+1 number",
+            "11:0+1 variable",
+            "11:2+2 parameter",
+            "11:8+5 parameter",
+            "12:0+18 keyword",
+            "13:0+14 keyword",
+            "13:15+4 class",
+            "14:0+9 keyword",
+            "14:10+2 parameter",
+            "14:15+4 type",
+            "14:21+7 keyword",
+            "15:0+18 keyword",
+        ]
+    );
+    assert_eq!(c.shutdown_and_exit(), 0);
+    let _ = std::fs::remove_dir_all(&dir);
+}

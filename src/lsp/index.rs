@@ -230,6 +230,22 @@ impl Index {
         found
     }
 
+    /// Every name written in `file` that resolves, with its declaration, in text
+    /// order (one walk of the file: for semantic tokens).
+    pub fn names_in(&self, file: FileId) -> Vec<(Span, Decl<'_>)> {
+        let mut out = Vec::new();
+        if let Some(unit) = self.unit(file) {
+            walk_unit(unit, self, &mut |occ, scope| {
+                if let Some(d) = self.resolve(occ, scope) {
+                    out.push((occ.ident().span, d));
+                }
+            });
+        }
+        out.sort_by_key(|(s, _)| s.start);
+        out.dedup_by_key(|(s, _)| s.start);
+        out
+    }
+
     /// Every place, in every file, where `target` is declared or used by name.
     pub fn references(&self, target: &Decl<'_>) -> Vec<Span> {
         let key = target.name().span;

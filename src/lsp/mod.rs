@@ -13,6 +13,7 @@ pub mod doc;
 pub mod index;
 pub mod outline;
 pub mod text;
+pub mod tokens;
 
 use crate::driver::{self, Build, BuildOptions};
 use index::{Decl, Index};
@@ -337,6 +338,10 @@ impl Server {
                 let edit = self.rename(&p.text_document_position, &p.new_name)?;
                 ok(edit)
             }
+            request::SemanticTokensFullRequest::METHOD => {
+                let p: SemanticTokensParams = params(req)?;
+                ok(self.semantic_tokens(&p.text_document.uri))
+            }
             request::Formatting::METHOD => {
                 let p: DocumentFormattingParams = params(req)?;
                 let edits = self.format(&p.text_document.uri)?;
@@ -391,6 +396,15 @@ impl Server {
                 }),
                 rename_provider: Some(OneOf::Left(true)),
                 document_formatting_provider: Some(OneOf::Left(true)),
+                semantic_tokens_provider: Some(
+                    SemanticTokensServerCapabilities::SemanticTokensOptions(
+                        SemanticTokensOptions {
+                            legend: tokens::legend(),
+                            full: Some(SemanticTokensFullOptions::Bool(true)),
+                            ..Default::default()
+                        },
+                    ),
+                ),
                 ..Default::default()
             },
             server_info: Some(ServerInfo {
@@ -763,6 +777,22 @@ impl Server {
             }
         }
         Ok(Some(WorkspaceEdit::new(changes)))
+    }
+
+    /// The semantic tokens of a Structured Text document ([`tokens`]); none for the
+    /// other languages.
+    fn semantic_tokens(&mut self, uri: &Url) -> Option<SemanticTokensResult> {
+        let (a, path) = self.analysis(uri)?;
+        let f = a.file(&path)?;
+        let src = a.build.sources.get(f.id);
+        if !matches!(Lang::from_path(&src.name), Some(Lang::St | Lang::Cst)) {
+            return None;
+        }
+        let data = tokens::tokens(&a.index, f.id, &src.text, &a.lines(f));
+        Some(SemanticTokensResult::Tokens(SemanticTokens {
+            result_id: None,
+            data,
+        }))
     }
 
     /// `plcc fmt` on a Structured Text document: one edit replacing the whole text,
