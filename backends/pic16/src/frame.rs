@@ -7,6 +7,7 @@
 //! placed.
 
 use crate::ram::{scalar_bytes, PicLayout};
+use plcc_ir::analysis::Liveness;
 use plcc_ir::function::{Function, ValueDef};
 use plcc_ir::inst::{BinaryOp, InstData, Intrinsic};
 use plcc_ir::{DataId, FuncId, SlotId, Type, Value};
@@ -282,40 +283,16 @@ pub fn build_frame(f: &Function, ptrs: &FxHashMap<Value, Ptr>, slot_sizes: &[u32
     };
     let homed = |v: Value| needs_home[v.index()];
 
-    // Liveness (block granularity, then per instruction).
-    let nb = f.blocks.len();
-    let mut live_in: Vec<FxHashSet<Value>> = vec![FxHashSet::default(); nb];
-    let succs: Vec<Vec<plcc_ir::Block>> = (0..nb)
-        .map(|i| f.successors(plcc_ir::Block::new(i)))
-        .collect();
-    let mut changed = true;
-    while changed {
-        changed = false;
-        for &b in f.layout.iter().rev() {
-            let mut live: FxHashSet<Value> = FxHashSet::default();
-            for s in &succs[b.index()] {
-                live.extend(live_in[s.index()].iter().copied());
+    // Liveness (block granularity from `ir`, then per instruction): a use of a
+    // derived value is a use of its base, and only values with a home count.
+    let liveness = Liveness::compute(f, |inst, push| {
+        f.inst(inst).for_each_arg(|a| {
+            let a = base_of(a);
+            if homed(a) {
+                push(a);
             }
-            for &inst in f.block(b).insts.iter().rev() {
-                if let Some(r) = f.result(inst) {
-                    live.remove(&r);
-                }
-                f.inst(inst).for_each_arg(|a| {
-                    let a = base_of(a);
-                    if homed(a) {
-                        live.insert(a);
-                    }
-                });
-            }
-            for p in &f.block(b).params {
-                live.remove(p);
-            }
-            if live != live_in[b.index()] {
-                live_in[b.index()] = live;
-                changed = true;
-            }
-        }
-    }
+        })
+    });
     // Interference.
     let mut adj: Vec<Vec<Value>> = vec![Vec::new(); nv];
     let mut hint: Vec<Option<Value>> = vec![None; nv];
@@ -343,10 +320,7 @@ pub fn build_frame(f: &Function, ptrs: &FxHashMap<Value, Ptr>, slot_sizes: &[u32
         }
     };
     for &b in &f.layout {
-        let mut live: FxHashSet<Value> = FxHashSet::default();
-        for s in &succs[b.index()] {
-            live.extend(live_in[s.index()].iter().copied());
-        }
+        let mut live: FxHashSet<Value> = liveness.live_out(b).collect();
         for &inst in f.block(b).insts.iter().rev() {
             let mut operands = Vec::new();
             f.inst(inst).for_each_arg(|a| {

@@ -1,6 +1,7 @@
 //! Coalescing block parameters with their arguments by liveness.
 
 use super::*;
+use plcc_ir::analysis::Liveness;
 
 /// Block parameters share a home with the arguments that flow into them when the two
 /// are never live at once, so the copies on the edges disappear (SSA's phi copies,
@@ -9,11 +10,7 @@ impl Fx<'_, '_> {
     pub(super) fn coalesce_block_params(&mut self) {
         let f = self.f;
         let nv = f.values.len();
-        let words = nv.div_ceil(64);
         let layout = f.layout.clone();
-        let nb = f.blocks.len();
-        let bit = |set: &[u64], v: usize| set[v / 64] >> (v % 64) & 1 != 0;
-        let set_bit = |set: &mut Vec<u64>, v: usize| set[v / 64] |= 1 << (v % 64);
         let late_use = self.late_use.clone();
         let inst_uses = |i: plcc_ir::entities::Inst| -> Vec<Value> {
             let mut used = Vec::new();
@@ -23,61 +20,33 @@ impl Fx<'_, '_> {
         };
         // Where each value is defined: block and position (-1 for parameters).
         let mut def_at: Vec<Option<(usize, i64)>> = vec![None; nv];
-        let mut uses_b = vec![vec![0u64; words]; nb];
-        let mut defs_b = vec![vec![0u64; words]; nb];
         for &b in &layout {
             let bi = b.index();
             for &p in &f.block(b).params {
                 def_at[p.index()] = Some((bi, -1));
-                set_bit(&mut defs_b[bi], p.index());
             }
             for (k, &i) in f.block(b).insts.iter().enumerate() {
-                for v in inst_uses(i) {
-                    if !bit(&defs_b[bi], v.index()) {
-                        set_bit(&mut uses_b[bi], v.index());
-                    }
-                }
                 if let Some(r) = f.result(i) {
                     def_at[r.index()] = Some((bi, k as i64));
-                    set_bit(&mut defs_b[bi], r.index());
                 }
             }
         }
-        let mut live_in = vec![vec![0u64; words]; nb];
-        let mut live_out = vec![vec![0u64; words]; nb];
-        let mut changed = true;
-        while changed {
-            changed = false;
-            for &b in layout.iter().rev() {
-                let bi = b.index();
-                let mut out = vec![0u64; words];
-                for sb in f.successors(b) {
-                    for (o, x) in out.iter_mut().zip(&live_in[sb.index()]) {
-                        *o |= x;
-                    }
-                }
-                let mut inn = uses_b[bi].clone();
-                for w in 0..words {
-                    inn[w] |= out[w] & !defs_b[bi][w];
-                }
-                if out != live_out[bi] || inn != live_in[bi] {
-                    live_out[bi] = out;
-                    live_in[bi] = inn;
-                    changed = true;
-                }
+        let liveness = Liveness::compute(f, |i, push| {
+            for v in inst_uses(i) {
+                push(v);
             }
-        }
+        });
         // Is `v` live just after position `k` of block `bi`?
         let live_after = |v: Value, bi: usize, k: i64| -> bool {
             let vi = v.index();
             let defined_before = match def_at[vi] {
                 Some((db, dk)) if db == bi => dk <= k,
-                _ => bit(&live_in[bi], vi),
+                _ => liveness.is_live_in(Block::new(bi), v),
             };
             if !defined_before {
                 return false;
             }
-            if bit(&live_out[bi], vi) {
+            if liveness.is_live_out(Block::new(bi), v) {
                 return true;
             }
             let insts = &f.block(Block::new(bi)).insts;

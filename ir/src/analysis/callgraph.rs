@@ -1,4 +1,4 @@
-//! Analyses of a whole module shared by the passes and the backends: the call graph.
+//! The call graph of a module.
 //!
 //! A `call_table` calls every entry of its table as far as the call graph is
 //! concerned: any of them may run, so recursion checks, stack depths and the
