@@ -16,7 +16,8 @@
 //! labels: a label gets its block before the code around it is lowered, so values and
 //! blocks are numbered differently from ST. The groups where that happens are listed
 //! in [`RENUMBERED_IL`] (and say so in their source comments); their IL is compared
-//! after renaming values and blocks in order of appearance ([`renumber`]), nothing
+//! after renaming values and blocks in order of appearance (the printer's canonical
+//! numbering), nothing
 //! else. A group on that list whose IL is identical anyway is an error, so the list
 //! stays exact. A build must give no diagnostics at all, not even warnings.
 //!
@@ -85,8 +86,9 @@ fn groups(dir: &Path) -> (BTreeMap<String, [Option<PathBuf>; 3]>, Vec<String>) {
 }
 
 /// The optimised IR of the file at `path` read as `lang` and built under the name
-/// `name`, or why it could not be had (it does not compile, or gives diagnostics).
-fn optimised_ir(path: &Path, lang: Lang, name: &str) -> Result<String, String> {
+/// `name`, printed as built and with canonical numbering, or why it could not be had
+/// (it does not compile, or gives diagnostics).
+fn optimised_ir(path: &Path, lang: Lang, name: &str) -> Result<(String, String), String> {
     let text = std::fs::read(path).map_err(|e| format!("cannot read it: {e}"))?;
     let opts = BuildOptions {
         lang: Some(lang),
@@ -100,58 +102,14 @@ fn optimised_ir(path: &Path, lang: Lang, name: &str) -> Result<String, String> {
     let module = build
         .module
         .ok_or_else(|| "no module and no diagnostics".to_string())?;
-    Ok(print_module(&module, &PrintOptions::default()))
-}
-
-/// `text` with its SSA values `vN` and blocks `blockN` renamed `v1, v2, ...` and
-/// `block1, block2, ...` in the order they first appear, afresh in every function
-/// (a line starting with `func `). Nothing else changes: a word that is part of a
-/// symbol (after `@`, `%`, `.` or `$`, as in `@v1` or `%main.v1`) is a name from the
-/// source and stays.
-fn renumber(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    let mut names: HashMap<String, String> = HashMap::new();
-    let mut counts = [0usize; 2];
-    for line in text.split_inclusive('\n') {
-        if line.starts_with("func ") {
-            names.clear();
-            counts = [0, 0];
-        }
-        let mut rest = line;
-        let mut prev = ' ';
-        while !rest.is_empty() {
-            let len = rest
-                .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
-                .unwrap_or(rest.len());
-            if len == 0 {
-                let c = rest.chars().next().expect("not empty");
-                out.push(c);
-                prev = c;
-                rest = &rest[c.len_utf8()..];
-                continue;
-            }
-            let word = &rest[..len];
-            rest = &rest[len..];
-            let in_symbol = matches!(prev, '@' | '%' | '.' | '$');
-            let kind = ["v", "block"].iter().position(|p| {
-                !in_symbol
-                    && word
-                        .strip_prefix(p)
-                        .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
-            });
-            match kind {
-                Some(k) => {
-                    let new = names.entry(word.to_string()).or_insert_with(|| {
-                        counts[k] += 1;
-                        format!("{}{}", ["v", "block"][k], counts[k])
-                    });
-                    out.push_str(new);
-                }
-                None => out.push_str(word),
-            }
-        }
-    }
-    out
+    let canonical = PrintOptions {
+        canonical: true,
+        ..PrintOptions::default()
+    };
+    Ok((
+        print_module(&module, &PrintOptions::default()),
+        print_module(&module, &canonical),
+    ))
 }
 
 /// The first line where `st` and `other` (from the file with extension `ext`)
@@ -181,7 +139,7 @@ fn check_group(stem: &str, files: &[Option<PathBuf>; 3]) -> Vec<String> {
     let mut problems = Vec::new();
     // The same name for every language: the file table of the IR must agree too.
     let name = format!("tests/programs/equiv/{stem}");
-    let mut irs: Vec<Option<String>> = Vec::new();
+    let mut irs: Vec<Option<(String, String)>> = Vec::new();
     for ((ext, lang), file) in LANGS.iter().zip(files) {
         let ir = file
             .as_ref()
@@ -194,7 +152,7 @@ fn check_group(stem: &str, files: &[Option<PathBuf>; 3]) -> Vec<String> {
             });
         irs.push(ir);
     }
-    let Some(st) = &irs[0] else {
+    let Some((st, st_canonical)) = &irs[0] else {
         return problems;
     };
     if !st.contains("func ") {
@@ -202,7 +160,9 @@ fn check_group(stem: &str, files: &[Option<PathBuf>; 3]) -> Vec<String> {
     }
     let renumbered = RENUMBERED_IL.contains(&stem);
     for ((ext, lang), ir) in LANGS.iter().zip(&irs).skip(1) {
-        let Some(ir) = ir else { continue };
+        let Some((ir, ir_canonical)) = ir else {
+            continue;
+        };
         let may_renumber = renumbered && *lang == Lang::Il;
         if ir == st {
             if may_renumber {
@@ -214,9 +174,9 @@ fn check_group(stem: &str, files: &[Option<PathBuf>; 3]) -> Vec<String> {
             continue;
         }
         let (a, b) = if may_renumber {
-            (renumber(st), renumber(ir))
+            (st_canonical, ir_canonical)
         } else {
-            (st.clone(), ir.clone())
+            (st, ir)
         };
         if a != b {
             let how = if may_renumber {
@@ -293,20 +253,4 @@ fn groups_are_complete() {
         }
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
-}
-
-/// [`renumber`] renames in order of appearance, per function, and leaves names from
-/// the source alone.
-#[test]
-fn renumbering_follows_the_order_of_appearance_per_function() {
-    let text = "func @f(ptr) program {\nblock3(v7: ptr):\n    v9 = iconst.i16 1\n    \
-                brif v9, block5(v7), block3\n}\nfunc @g() init {\nblock0:\n    \
-                v4 = iconst.i8 2\n    return\n}\n";
-    let want = "func @f(ptr) program {\nblock1(v1: ptr):\n    v2 = iconst.i16 1\n    \
-                brif v2, block2(v1), block1\n}\nfunc @g() init {\nblock1:\n    \
-                v1 = iconst.i8 2\n    return\n}\n";
-    assert_eq!(renumber(text), want);
-    // Names that only look numbered are left alone.
-    let other = "data @v12: %block9 program\n    v = field_addr v0x, %main.v1\n";
-    assert_eq!(renumber(other), other);
 }

@@ -8,8 +8,9 @@ use plcc::driver::{build_sources, BuildOptions};
 use plcc_ir::text::{print_module, PrintOptions};
 
 /// Builds the given (name, text) files together and prints the optimised IR, without
-/// the table of source files (their names differ).
-fn ir(files: &[(&str, &str)]) -> String {
+/// the table of source files (their names differ); with `canonical`, values and
+/// blocks numbered in order of appearance.
+fn ir(files: &[(&str, &str)], canonical: bool) -> String {
     let texts = files
         .iter()
         .map(|(n, t)| (n.to_string(), t.as_bytes().to_vec()))
@@ -25,7 +26,11 @@ fn ir(files: &[(&str, &str)]) -> String {
         "unexpected warnings:\n{}",
         warnings.join("\n")
     );
-    print_module(&module, &PrintOptions::default())
+    let opts = PrintOptions {
+        canonical,
+        ..PrintOptions::default()
+    };
+    print_module(&module, &opts)
         .lines()
         .filter(|l| !l.starts_with("file "))
         .collect::<Vec<_>>()
@@ -33,8 +38,8 @@ fn ir(files: &[(&str, &str)]) -> String {
 }
 
 fn same(st: &str, il: &str) {
-    let a = ir(&[("prog.st", st)]);
-    let b = ir(&[("prog.il", il)]);
+    let a = ir(&[("prog.st", st)], false);
+    let b = ir(&[("prog.il", il)], false);
     assert_eq!(
         a, b,
         "ST and IL give different IR:\n--- ST\n{a}\n--- IL\n{b}"
@@ -42,57 +47,15 @@ fn same(st: &str, il: &str) {
 }
 
 /// Like [`same`], for IL with jumps: labels get their blocks before the code is
-/// lowered, so values and blocks are numbered differently; they are renumbered in
-/// the order they appear in each function before comparing.
+/// lowered, so values and blocks are numbered differently; they are printed with
+/// canonical numbering (in the order they appear in each function) to compare.
 fn same_up_to_numbering(st: &str, il: &str) {
-    let a = renumber(&ir(&[("prog.st", st)]));
-    let b = renumber(&ir(&[("prog.il", il)]));
+    let a = ir(&[("prog.st", st)], true);
+    let b = ir(&[("prog.il", il)], true);
     assert_eq!(
         a, b,
         "ST and IL give different IR:\n--- ST\n{a}\n--- IL\n{b}"
     );
-}
-
-/// Renames `vN` and `blockN` in order of appearance, per function.
-fn renumber(text: &str) -> String {
-    let mut out = String::new();
-    let mut names: std::collections::HashMap<String, String> = Default::default();
-    let (mut values, mut blocks) = (0, 0);
-    for line in text.lines() {
-        if line.starts_with("func ") {
-            names.clear();
-            (values, blocks) = (0, 0);
-        }
-        let mut word = String::new();
-        for c in line.chars().chain(std::iter::once('\n')) {
-            if c.is_ascii_alphanumeric() || c == '_' {
-                word.push(c);
-                continue;
-            }
-            let numbered = |prefix: &str| {
-                word.strip_prefix(prefix)
-                    .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
-            };
-            if numbered("v") || numbered("block") {
-                let is_value = numbered("v");
-                let name = names.entry(word.clone()).or_insert_with(|| {
-                    if is_value {
-                        values += 1;
-                        format!("v{values}")
-                    } else {
-                        blocks += 1;
-                        format!("block{blocks}")
-                    }
-                });
-                out.push_str(name);
-            } else {
-                out.push_str(&word);
-            }
-            word.clear();
-            out.push(c);
-        }
-    }
-    out
 }
 
 #[test]
@@ -248,16 +211,19 @@ fn functions_and_results_from_the_current_result() {
 #[test]
 fn a_temporary_is_computed_once_and_optimised_away() {
     // `x := __CR1; y := __CR1` with `__CR1 := a + b`: one addition, no slot left.
-    let out = ir(&[(
-        "prog.il",
-        "PROGRAM p
+    let out = ir(
+        &[(
+            "prog.il",
+            "PROGRAM p
          VAR a, b, x, y : INT; END_VAR
            LD a
            ADD b
            ST x
            ST y
          END_PROGRAM",
-    )]);
+        )],
+        false,
+    );
     let body = out.split("func @p$init").next().unwrap_or_default();
     assert_eq!(body.matches("iadd").count(), 1, "{out}");
     assert_eq!(body.matches("store").count(), 2, "{out}");
@@ -286,10 +252,10 @@ fn mixed_languages_in_one_build() {
                      twice
                      ST b
                    END_PROGRAM";
-    let all_st = ir(&[("f.st", st_fn), ("p.st", st_prog)]);
-    assert_eq!(all_st, ir(&[("f.st", st_fn), ("p.il", il_prog)]));
-    assert_eq!(all_st, ir(&[("f.il", il_fn), ("p.st", st_prog)]));
-    assert_eq!(all_st, ir(&[("f.il", il_fn), ("p.il", il_prog)]));
+    let all_st = ir(&[("f.st", st_fn), ("p.st", st_prog)], false);
+    assert_eq!(all_st, ir(&[("f.st", st_fn), ("p.il", il_prog)], false));
+    assert_eq!(all_st, ir(&[("f.il", il_fn), ("p.st", st_prog)], false));
+    assert_eq!(all_st, ir(&[("f.il", il_fn), ("p.il", il_prog)], false));
 }
 
 #[test]
@@ -438,7 +404,7 @@ fn mutated_il_never_breaks_the_compiler() {
     let mut compiled = 0;
     for seed in FUZZ_SEEDS {
         // The seed itself is valid: the mutants exercise lowering, not only errors.
-        ir(&[("seed.il", seed)]);
+        ir(&[("seed.il", seed)], false);
         for _ in 0..300 {
             let mut lines: Vec<String> = seed.lines().map(str::to_string).collect();
             for _ in 0..1 + rng.index(4) {

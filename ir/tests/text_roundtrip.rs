@@ -8,8 +8,14 @@ use plcc_ir::text::{parse_module, print_function, print_module, PrintOptions};
 use plcc_ir::verify::verify_module;
 use plcc_ir::*;
 
-const PLAIN: PrintOptions = PrintOptions { locations: false };
-const LOCS: PrintOptions = PrintOptions { locations: true };
+const PLAIN: PrintOptions = PrintOptions {
+    locations: false,
+    canonical: false,
+};
+const LOCS: PrintOptions = PrintOptions {
+    locations: true,
+    canonical: false,
+};
 
 #[track_caller]
 fn roundtrip(m: &Module) {

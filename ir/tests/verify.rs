@@ -1220,7 +1220,13 @@ fn corrupted_modules_do_not_panic() {
             }
         }
         let res = verify_module(&m);
-        let text = print_module(&m, &PrintOptions { locations: true });
+        let text = print_module(
+            &m,
+            &PrintOptions {
+                locations: true,
+                ..Default::default()
+            },
+        );
         if let Err(errs) = &res {
             for e in errs {
                 let _ = e.to_string();
@@ -1229,7 +1235,16 @@ fn corrupted_modules_do_not_panic() {
         // A module that still verifies must still print and parse back.
         if res.is_ok() {
             let m2 = parse_module(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
-            assert_eq!(print_module(&m2, &PrintOptions { locations: true }), text);
+            assert_eq!(
+                print_module(
+                    &m2,
+                    &PrintOptions {
+                        locations: true,
+                        ..Default::default()
+                    }
+                ),
+                text
+            );
         }
     }
 }

@@ -17,6 +17,10 @@ use std::fmt::{self, Write};
 pub struct PrintOptions {
     /// Write the source location of instructions and functions (`!F:S..E`).
     pub locations: bool,
+    /// Number the values and blocks of each function afresh in the order they first
+    /// appear in its text (`block0`, `v0`, `v1`, ...), so that two functions that
+    /// differ only in how their builders numbered them print the same.
+    pub canonical: bool,
 }
 
 /// Prints a whole module in the text form.
@@ -212,7 +216,72 @@ pub fn print_function(m: &Module, f: &Function, opts: &PrintOptions) -> String {
         }
     }
     s.push_str("}\n");
-    s
+    if opts.canonical {
+        canonical_numbers(&s)
+    } else {
+        s
+    }
+}
+
+/// `text` (one function) with its values `vN` and blocks `blockN` renamed in the
+/// order they first appear, from 0. Names from the source are left alone: a word
+/// inside quotes or right after `@`, `%`, `.` or `$` (`@v1`, `%main.v1`).
+pub(super) fn canonical_numbers(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut names: std::collections::HashMap<&str, String> = std::collections::HashMap::new();
+    let mut counts = [0usize; 2];
+    let mut rest = text;
+    let mut prev = ' ';
+    let mut quoted = false;
+    while let Some(c) = rest.chars().next() {
+        let len = rest
+            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .unwrap_or(rest.len());
+        if len == 0 {
+            if quoted && c == '\\' {
+                // An escape: the backslash and the character it escapes.
+                let n = rest[1..].chars().next().map_or(0, char::len_utf8);
+                out.push_str(&rest[..1 + n]);
+                rest = &rest[1 + n..];
+                prev = ' ';
+                continue;
+            }
+            if c == '"' {
+                quoted = !quoted;
+            }
+            out.push(c);
+            prev = c;
+            rest = &rest[c.len_utf8()..];
+            continue;
+        }
+        let word = &rest[..len];
+        rest = &rest[len..];
+        let numbered = |p: &str| {
+            word.strip_prefix(p)
+                .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+        };
+        let kind = if quoted || matches!(prev, '@' | '%' | '.' | '$') {
+            None
+        } else if numbered("v") {
+            Some(0)
+        } else if numbered("block") {
+            Some(1)
+        } else {
+            None
+        };
+        match kind {
+            Some(k) => {
+                let new = names.entry(word).or_insert_with(|| {
+                    counts[k] += 1;
+                    format!("{}{}", ["v", "block"][k], counts[k] - 1)
+                });
+                out.push_str(new);
+            }
+            None => out.push_str(word),
+        }
+        prev = word.chars().last().unwrap_or(' ');
+    }
+    out
 }
 
 /// Prints one instruction (`v5 = iadd v3, v4`) without location or indentation.

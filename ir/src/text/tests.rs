@@ -577,9 +577,24 @@ use crate::test_rng::Rng;
 fn exercise(text: &str) {
     if let Ok(m) = parse_module(text) {
         let _ = verify_module(&m);
-        let t = print_module(&m, &PrintOptions { locations: true });
+        let t = print_module(
+            &m,
+            &PrintOptions {
+                locations: true,
+                ..Default::default()
+            },
+        );
         let m2 = parse_module(&t).unwrap_or_else(|e| panic!("{e}\n{t}\nfrom\n{text}"));
-        assert_eq!(print_module(&m2, &PrintOptions { locations: true }), t);
+        assert_eq!(
+            print_module(
+                &m2,
+                &PrintOptions {
+                    locations: true,
+                    ..Default::default()
+                }
+            ),
+            t
+        );
     }
 }
 
@@ -783,4 +798,38 @@ fn token_soup_does_not_panic() {
         }
         exercise(&text);
     }
+}
+
+/// Canonical numbering renames in order of appearance, from 0, per function, and
+/// leaves names from the source (symbols, quoted names) alone.
+#[test]
+fn canonical_numbering_follows_the_order_of_appearance() {
+    use super::print::canonical_numbers;
+    let text = "func @f(ptr) program {\n    ss0 = slot i16 \"v9 \\\"block3\\\\\"\nblock3(v7: ptr):\n    v9 = iconst.i16 1\n    \
+                brif v9, block5(v7), block3\n}\n";
+    let want = "func @f(ptr) program {\n    ss0 = slot i16 \"v9 \\\"block3\\\\\"\nblock0(v0: ptr):\n    v1 = iconst.i16 1\n    \
+                brif v1, block1(v0), block0\n}\n";
+    assert_eq!(canonical_numbers(text), want);
+    let other = "data @v12: %block9 program\n    v = field_addr v0x, %main.v1\n";
+    assert_eq!(canonical_numbers(other), other);
+}
+
+/// Two builds of one function numbered differently print the same canonically.
+#[test]
+fn canonical_printing_hides_the_builders_numbering() {
+    let a = "func @f(i32) -> i32 function {\nblock0(v0: i32):\n    v1 = iconst.i32 2\n    v2 = iadd v0, v1\n    return v2\n}\n";
+    let b = "func @f(i32) -> i32 function {\nblock4(v3: i32):\n    v7 = iconst.i32 2\n    v5 = iadd v3, v7\n    return v5\n}\n";
+    let print = |t: &str, canonical| {
+        let m = parse_module(t).expect("parses");
+        print_module(
+            &m,
+            &PrintOptions {
+                locations: false,
+                canonical,
+            },
+        )
+    };
+    assert_ne!(print(a, false), print(b, false));
+    assert_eq!(print(a, true), print(b, true));
+    assert_eq!(print(b, true), print(a, false));
 }
