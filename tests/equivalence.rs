@@ -28,7 +28,7 @@
 use plcc::driver::{build_sources, BuildOptions};
 use plcc_frontend::Lang;
 use plcc_ir::text::{print_module, PrintOptions};
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// The languages of a group, by file extension, in the order they are compared (the
@@ -186,7 +186,7 @@ fn check_group(stem: &str, files: &[Option<PathBuf>; 3]) -> Vec<String> {
             };
             problems.push(format!(
                 "{stem}.{ext}: the IR differs from ST's{how}, first at {}",
-                first_difference(&a, &b, ext)
+                first_difference(a, b, ext)
             ));
         }
     }
