@@ -362,6 +362,14 @@ fn diagnostics_outline_hover_and_definition_across_files() {
     for want in ["m", "go", "Motor", "Main", "TON", "LIMIT"] {
         assert!(labels.contains(&want), "{want} missing from {labels:?}");
     }
+    let limit = items
+        .as_array()
+        .and_then(|a| a.iter().find(|i| i["label"] == "LIMIT"))
+        .expect("LIMIT");
+    assert_eq!(
+        limit["detail"],
+        "LIMIT(MN, IN, MX : ANY_ELEMENTARY) : ANY_ELEMENTARY"
+    );
     assert!(!labels.contains(&"start"), "another POU's variable offered");
     assert!(labels.iter().all(|l| !l.contains("__")), "{labels:?}");
 
@@ -726,6 +734,14 @@ END_FUNCTION_BLOCK
             "14:21+7 keyword",
             "15:0+18 keyword",
         ]
+    );
+    // Names no file declares: a standard function's signature.
+    assert_eq!(
+        c.call("textDocument/hover", at(&motor, 10, 6)),
+        json!({
+            "contents": {"kind": "markdown", "value": "```iecst\nABS(IN : ANY_NUM) : ANY_NUM\n```\n\nstandard function"},
+            "range": range(10, 5, 10, 8),
+        })
     );
     assert_eq!(c.shutdown_and_exit(), 0);
     let _ = std::fs::remove_dir_all(&dir);

@@ -652,6 +652,9 @@ impl Server {
         if let Some((span, decl)) = a.index.resolve_at(f.id, offset) {
             parts.push(outline::hover_text(&a.build.sources, &decl));
             range = Some(lines.range(span));
+        } else if let Some((span, text)) = outline::builtin_hover(&a.build.sources, f.id, offset) {
+            parts.push(text);
+            range = Some(lines.range(span));
         }
         let mut codes = BTreeSet::new();
         for d in &a.build.diagnostics {
@@ -865,12 +868,12 @@ impl Server {
                 ..Default::default()
             });
         }
-        for name in plcc_frontend::lower::STANDARD_FUNCTIONS {
+        for (name, signature) in plcc_frontend::lower::STANDARD_FUNCTIONS {
             if seen.insert(name.to_string()) {
                 items.push(CompletionItem {
                     label: name.to_string(),
                     kind: Some(CompletionItemKind::FUNCTION),
-                    detail: Some("standard function".into()),
+                    detail: Some(signature.to_string()),
                     ..Default::default()
                 });
             }

@@ -6,7 +6,7 @@ use super::text::Lines;
 use lsp_types::{DocumentSymbol, SymbolKind};
 use plcc_frontend::ast::*;
 use plcc_frontend::source::SourceMap;
-use plcc_ir::diag::Span;
+use plcc_ir::diag::{FileId, Span};
 
 /// At most this many lines of a TYPE's text go into a hover.
 const MAX_HOVER_LINES: usize = 20;
@@ -86,6 +86,45 @@ pub fn hover_text(sources: &SourceMap, d: &Decl<'_>) -> String {
         Some(doc) => format!("{declaration}\n\n{doc}"),
         None => declaration,
     }
+}
+
+/// The hover of a name no file declares: a standard function (its signature) or a
+/// type conversion `A_TO_B`; with the span of the word at `offset`.
+pub fn builtin_hover(sources: &SourceMap, file: FileId, offset: u32) -> Option<(Span, String)> {
+    let text: &str = &sources.get(file).text;
+    let at = (offset as usize).min(text.len());
+    let is_word = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    let start = text[..at].rfind(|c: char| !is_word(c)).map_or(0, |k| k + 1);
+    let end = text[at..]
+        .find(|c: char| !is_word(c))
+        .map_or(text.len(), |k| at + k);
+    let word = text.get(start..end).filter(|w| !w.is_empty())?;
+    let span = Span {
+        file,
+        start: start as u32,
+        end: end as u32,
+    };
+    if text[..start].ends_with('#') || word.starts_with(|c: char| c.is_ascii_digit()) {
+        return None;
+    }
+    let upper = word.to_ascii_uppercase();
+    if let Some((_, signature)) = plcc_frontend::lower::STANDARD_FUNCTIONS
+        .iter()
+        .find(|(n, _)| *n == upper)
+    {
+        return Some((span, format!("{}\n\nstandard function", code(signature))));
+    }
+    let (from, to) = upper.split_once("_TO_")?;
+    let known = |t: &str| t == "BCD" || super::tokens::ELEMENTARY.contains(&t);
+    (known(from) && known(to)).then(|| {
+        (
+            span,
+            format!(
+                "{}\n\ntype conversion from `{from}` to `{to}`",
+                code(&format!("{upper}(IN : {from}) : {to}"))
+            ),
+        )
+    })
 }
 
 fn declaration_text(sources: &SourceMap, d: &Decl<'_>) -> String {
@@ -391,5 +430,31 @@ impl Outline<'_> {
             selection_range: self.lines.range(at),
             children: (!children.is_empty()).then_some(children),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use plcc_frontend::source::SourceFile;
+
+    #[test]
+    fn names_no_file_declares() {
+        let mut sources = SourceMap::new();
+        let text = "x := int_to_dint(a) + ABS(b) + GO_TO_START + 16#FF_TO_AB;";
+        let f = sources.add(SourceFile::new("a.st", text));
+        let hover = |word: &str| builtin_hover(&sources, f, text.find(word).unwrap() as u32 + 1);
+        let (span, conv) = hover("int_to_dint").expect("a conversion");
+        assert_eq!(&text[span.start as usize..span.end as usize], "int_to_dint");
+        assert_eq!(
+            conv,
+            "```iecst\nINT_TO_DINT(IN : INT) : DINT\n```\n\ntype conversion from `INT` to `DINT`"
+        );
+        assert!(hover("ABS")
+            .expect("ABS")
+            .1
+            .starts_with("```iecst\nABS(IN : ANY_NUM)"));
+        assert_eq!(hover("GO_TO_START"), None);
+        assert_eq!(hover("FF_TO_AB"), None);
     }
 }

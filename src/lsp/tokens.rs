@@ -37,7 +37,7 @@ const TYPES: &[SemanticTokenType] = &[
 ];
 
 /// The elementary types of IEC 61131-3 (names, not keywords, to the lexer).
-const ELEMENTARY: &[&str] = &[
+pub(super) const ELEMENTARY: &[&str] = &[
     "BOOL",
     "SINT",
     "INT",
@@ -131,7 +131,7 @@ pub fn tokens(index: &Index, file: FileId, text: &str, lines: &Lines<'_>) -> Vec
                     }
                     _ if plcc_frontend::lower::STANDARD_FUNCTIONS
                         .iter()
-                        .any(|f| f.eq_ignore_ascii_case(word)) =>
+                        .any(|(f, _)| f.eq_ignore_ascii_case(word)) =>
                     {
                         Some(SemanticTokenType::FUNCTION)
                     }

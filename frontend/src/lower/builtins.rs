@@ -87,14 +87,80 @@ pub(super) enum StlOp {
     Clr,
 }
 
-/// The names of the standard functions plcc compiles (conversions `X_TO_Y` aside,
-/// which are too many to list), upper case: for editors' completion lists.
-pub const STANDARD_FUNCTIONS: &[&str] = &[
-    "ABS", "SQRT", "LN", "LOG", "EXP", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "EXPT",
-    "TRUNC", "ADD", "SUB", "MUL", "DIV", "MOD", "GT", "GE", "EQ", "LE", "LT", "NE", "AND", "OR",
-    "XOR", "NOT", "MOVE", "SHL", "SHR", "ROL", "ROR", "SEL", "MAX", "MIN", "LIMIT", "MUX",
-    "ADD_TIME", "SUB_TIME", "MUL_TIME", "DIV_TIME", "LEN", "LEFT", "RIGHT", "MID", "CONCAT",
-    "INSERT", "DELETE", "REPLACE", "FIND", "REF", "ADR", "SIZEOF",
+/// The standard functions plcc compiles (conversions `X_TO_Y` aside, which are too
+/// many to list) with their signatures in IEC 61131-3's generic types (`ANY_NUM`,
+/// ...; `*` for any number of inputs of that kind): names upper case, for editors'
+/// completion and hovers.
+pub const STANDARD_FUNCTIONS: &[(&str, &str)] = &[
+    ("ABS", "ABS(IN : ANY_NUM) : ANY_NUM"),
+    ("SQRT", "SQRT(IN : ANY_REAL) : ANY_REAL"),
+    ("LN", "LN(IN : ANY_REAL) : ANY_REAL"),
+    ("LOG", "LOG(IN : ANY_REAL) : ANY_REAL"),
+    ("EXP", "EXP(IN : ANY_REAL) : ANY_REAL"),
+    ("SIN", "SIN(IN : ANY_REAL) : ANY_REAL"),
+    ("COS", "COS(IN : ANY_REAL) : ANY_REAL"),
+    ("TAN", "TAN(IN : ANY_REAL) : ANY_REAL"),
+    ("ASIN", "ASIN(IN : ANY_REAL) : ANY_REAL"),
+    ("ACOS", "ACOS(IN : ANY_REAL) : ANY_REAL"),
+    ("ATAN", "ATAN(IN : ANY_REAL) : ANY_REAL"),
+    ("EXPT", "EXPT(IN1 : ANY_REAL, IN2 : ANY_NUM) : ANY_REAL"),
+    ("TRUNC", "TRUNC(IN : ANY_REAL) : ANY_INT"),
+    ("ADD", "ADD(IN1, IN2, * : ANY_MAGNITUDE) : ANY_MAGNITUDE"),
+    ("SUB", "SUB(IN1, IN2 : ANY_MAGNITUDE) : ANY_MAGNITUDE"),
+    ("MUL", "MUL(IN1, IN2, * : ANY_NUM) : ANY_NUM"),
+    ("DIV", "DIV(IN1, IN2 : ANY_NUM) : ANY_NUM"),
+    ("MOD", "MOD(IN1, IN2 : ANY_INT) : ANY_INT"),
+    ("GT", "GT(IN1, IN2, * : ANY_ELEMENTARY) : BOOL"),
+    ("GE", "GE(IN1, IN2, * : ANY_ELEMENTARY) : BOOL"),
+    ("EQ", "EQ(IN1, IN2, * : ANY_ELEMENTARY) : BOOL"),
+    ("LE", "LE(IN1, IN2, * : ANY_ELEMENTARY) : BOOL"),
+    ("LT", "LT(IN1, IN2, * : ANY_ELEMENTARY) : BOOL"),
+    ("NE", "NE(IN1, IN2 : ANY_ELEMENTARY) : BOOL"),
+    ("AND", "AND(IN1, IN2, * : ANY_BIT) : ANY_BIT"),
+    ("OR", "OR(IN1, IN2, * : ANY_BIT) : ANY_BIT"),
+    ("XOR", "XOR(IN1, IN2, * : ANY_BIT) : ANY_BIT"),
+    ("NOT", "NOT(IN : ANY_BIT) : ANY_BIT"),
+    ("MOVE", "MOVE(IN : ANY) : ANY"),
+    ("SHL", "SHL(IN : ANY_BIT, N : ANY_INT) : ANY_BIT"),
+    ("SHR", "SHR(IN : ANY_BIT, N : ANY_INT) : ANY_BIT"),
+    ("ROL", "ROL(IN : ANY_BIT, N : ANY_INT) : ANY_BIT"),
+    ("ROR", "ROR(IN : ANY_BIT, N : ANY_INT) : ANY_BIT"),
+    ("SEL", "SEL(G : BOOL, IN0, IN1 : ANY) : ANY"),
+    ("MAX", "MAX(IN1, IN2, * : ANY_ELEMENTARY) : ANY_ELEMENTARY"),
+    ("MIN", "MIN(IN1, IN2, * : ANY_ELEMENTARY) : ANY_ELEMENTARY"),
+    (
+        "LIMIT",
+        "LIMIT(MN, IN, MX : ANY_ELEMENTARY) : ANY_ELEMENTARY",
+    ),
+    ("MUX", "MUX(K : ANY_INT, IN0, IN1, * : ANY) : ANY"),
+    ("ADD_TIME", "ADD_TIME(IN1, IN2 : TIME) : TIME"),
+    ("SUB_TIME", "SUB_TIME(IN1, IN2 : TIME) : TIME"),
+    ("MUL_TIME", "MUL_TIME(IN1 : TIME, IN2 : ANY_NUM) : TIME"),
+    ("DIV_TIME", "DIV_TIME(IN1 : TIME, IN2 : ANY_NUM) : TIME"),
+    ("LEN", "LEN(IN : ANY_STRING) : INT"),
+    ("LEFT", "LEFT(IN : ANY_STRING, L : ANY_INT) : ANY_STRING"),
+    ("RIGHT", "RIGHT(IN : ANY_STRING, L : ANY_INT) : ANY_STRING"),
+    ("MID", "MID(IN : ANY_STRING, L, P : ANY_INT) : ANY_STRING"),
+    ("CONCAT", "CONCAT(IN1, IN2, * : ANY_STRING) : ANY_STRING"),
+    (
+        "INSERT",
+        "INSERT(IN1, IN2 : ANY_STRING, P : ANY_INT) : ANY_STRING",
+    ),
+    (
+        "DELETE",
+        "DELETE(IN : ANY_STRING, L, P : ANY_INT) : ANY_STRING",
+    ),
+    (
+        "REPLACE",
+        "REPLACE(IN1, IN2 : ANY_STRING, L, P : ANY_INT) : ANY_STRING",
+    ),
+    ("FIND", "FIND(IN1, IN2 : ANY_STRING) : INT"),
+    ("REF", "REF(IN : ANY) : REF_TO ANY"),
+    ("ADR", "ADR(IN : ANY) : POINTER TO ANY (CODESYS)"),
+    (
+        "SIZEOF",
+        "SIZEOF(IN : ANY) : ANY_INT (CODESYS: the size in bytes)",
+    ),
 ];
 
 impl Builtin {
