@@ -1119,11 +1119,12 @@ mod tests {
 
     #[test]
     fn every_listed_standard_function_is_one() {
-        for name in STANDARD_FUNCTIONS {
+        for (name, signature) in STANDARD_FUNCTIONS {
             assert!(
                 Builtin::lookup(name).is_some(),
                 "{name} is not a standard function"
             );
+            assert!(signature.starts_with(&format!("{name}(")), "{signature}");
         }
     }
 }
