@@ -79,27 +79,34 @@ pub fn format_ms(us: u64) -> String {
     }
 }
 
-/// Reads a number of milliseconds (`20`, `0.5`) as microseconds: positive, in whole
-/// microseconds. The parser of `--cycle-ms`.
-pub fn parse_ms(text: &str) -> Result<u64, String> {
-    let bad = || format!("`{text}` is not a positive number of milliseconds in whole µs");
+/// Reads a decimal number with at most three decimals (`20`, `0.5`, `.25`) in
+/// thousandths of its unit; `None` for anything else or a value past `u64`.
+pub fn parse_thousandths(text: &str) -> Option<u64> {
     let (whole, frac) = text.split_once('.').unwrap_or((text, ""));
     if whole.is_empty() && frac.is_empty()
         || !whole.bytes().all(|b| b.is_ascii_digit())
         || !frac.bytes().all(|b| b.is_ascii_digit())
         || frac.len() > 3
     {
-        return Err(bad());
+        return None;
     }
     let whole: u64 = if whole.is_empty() {
         0
     } else {
-        whole.parse().map_err(|_| bad())?
+        whole.parse().ok()?
     };
-    let frac: u64 = format!("{frac:0<3}").parse().map_err(|_| bad())?;
-    match whole.checked_mul(1000).and_then(|w| w.checked_add(frac)) {
+    let frac: u64 = format!("{frac:0<3}").parse().ok()?;
+    whole.checked_mul(1000)?.checked_add(frac)
+}
+
+/// Reads a number of milliseconds (`20`, `0.5`) as microseconds: positive, in whole
+/// microseconds. The parser of `--cycle-ms`.
+pub fn parse_ms(text: &str) -> Result<u64, String> {
+    match parse_thousandths(text) {
         Some(us) if us > 0 => Ok(us),
-        _ => Err(bad()),
+        _ => Err(format!(
+            "`{text}` is not a positive number of milliseconds in whole µs"
+        )),
     }
 }
 

@@ -71,6 +71,24 @@ fn fail<T>(status: u16, msg: impl Into<String>) -> Result<T, Fail> {
     Err((status, msg.into()))
 }
 
+/// The request's body, of at most `max` bytes: 400 when it cannot be read, 413 when
+/// it is larger (`what` names it in the message: "the program", "the text").
+fn read_body(req: &mut tiny_http::Request, max: u64, what: &str) -> Result<Vec<u8>, Fail> {
+    let mut body = Vec::new();
+    if req
+        .as_reader()
+        .take(max + 1)
+        .read_to_end(&mut body)
+        .is_err()
+    {
+        return fail(400, "cannot read the request body");
+    }
+    if body.len() as u64 > max {
+        return fail(413, format!("{what} is larger than {max} bytes"));
+    }
+    Ok(body)
+}
+
 /// The type of a variable as the API shows it.
 pub fn type_name(v: &Var) -> String {
     match v {
@@ -256,21 +274,7 @@ impl Api {
                 }
             },
         };
-        let mut body = Vec::new();
-        if req
-            .as_reader()
-            .take(MAX_PROGRAM + 1)
-            .read_to_end(&mut body)
-            .is_err()
-        {
-            return fail(400, "cannot read the request body");
-        }
-        if body.len() as u64 > MAX_PROGRAM {
-            return fail(
-                413,
-                format!("the program is larger than {MAX_PROGRAM} bytes"),
-            );
-        }
+        let body = read_body(req, MAX_PROGRAM, "the program")?;
         let (catalog, loaded, project) = match file {
             None => {
                 let (c, l) = self.loader.compile(body, lang).map_err(|e| (400, e))?;
@@ -346,18 +350,7 @@ impl Api {
 
     /// The `value` of a request body `{"value": ...}`.
     fn body_value(req: &mut tiny_http::Request) -> Result<Json, Fail> {
-        let mut body = Vec::new();
-        if req
-            .as_reader()
-            .take(MAX_BODY + 1)
-            .read_to_end(&mut body)
-            .is_err()
-        {
-            return fail(400, "cannot read the request body");
-        }
-        if body.len() as u64 > MAX_BODY {
-            return fail(413, format!("the body is larger than {MAX_BODY} bytes"));
-        }
+        let body = read_body(req, MAX_BODY, "the body")?;
         let j: Json = match serde_json::from_slice(&body) {
             Ok(j) => j,
             Err(e) => return fail(400, format!("bad JSON: {e}")),
@@ -446,42 +439,15 @@ impl Api {
                 let Some(p) = percent_decode(p) else {
                     return fail(400, format!("`{p}` is not a well-formed name"));
                 };
-                let mut body = Vec::new();
-                if req
-                    .as_reader()
-                    .take(MAX_PROGRAM + 1)
-                    .read_to_end(&mut body)
-                    .is_err()
-                    || body.len() as u64 > MAX_PROGRAM
-                {
-                    return fail(413, format!("the text is larger than {MAX_PROGRAM} bytes"));
-                }
+                let body = read_body(req, MAX_PROGRAM, "the text")?;
                 super::project::diagram_of(&body, &p)
             }
             (Post, ["build"]) => {
-                let mut body = Vec::new();
-                if req
-                    .as_reader()
-                    .take(MAX_PROGRAM + 1)
-                    .read_to_end(&mut body)
-                    .is_err()
-                    || body.len() as u64 > MAX_PROGRAM
-                {
-                    return fail(413, format!("the text is larger than {MAX_PROGRAM} bytes"));
-                }
+                let body = read_body(req, MAX_PROGRAM, "the text")?;
                 self.project().build(&self.loader, query, body)
             }
             (Post, ["check"]) => {
-                let mut body = Vec::new();
-                if req
-                    .as_reader()
-                    .take(MAX_PROGRAM + 1)
-                    .read_to_end(&mut body)
-                    .is_err()
-                    || body.len() as u64 > MAX_PROGRAM
-                {
-                    return fail(413, format!("the text is larger than {MAX_PROGRAM} bytes"));
-                }
+                let body = read_body(req, MAX_PROGRAM, "the text")?;
                 self.project().check(&self.loader, query, body)
             }
             (Post, ["stop"]) => done(self.ask(Cmd::Stop)),

@@ -236,28 +236,11 @@ pub const DEFAULT_EVERY: Duration = Duration::from_secs(10);
 /// Parses `--retain-every`: seconds, with up to three decimals (`10`, `0.25`); `0`
 /// saves only at the end.
 pub fn parse_seconds(text: &str) -> Result<Duration, String> {
-    let bad = || {
-        format!("`{text}` is not a number of seconds in whole milliseconds (e.g. 10 or 0.5; 0: only at the end)")
-    };
-    let (whole, frac) = text.split_once('.').unwrap_or((text, ""));
-    if whole.is_empty() && frac.is_empty()
-        || !whole.bytes().all(|b| b.is_ascii_digit())
-        || !frac.bytes().all(|b| b.is_ascii_digit())
-        || frac.len() > 3
-    {
-        return Err(bad());
-    }
-    let whole: u64 = if whole.is_empty() {
-        0
-    } else {
-        whole.parse().map_err(|_| bad())?
-    };
-    let frac: u64 = format!("{frac:0<3}").parse().map_err(|_| bad())?;
-    whole
-        .checked_mul(1000)
-        .and_then(|w| w.checked_add(frac))
+    crate::scenario::parse_thousandths(text)
         .map(Duration::from_millis)
-        .ok_or_else(bad)
+        .ok_or_else(|| {
+            format!("`{text}` is not a number of seconds in whole milliseconds (e.g. 10 or 0.5; 0: only at the end)")
+        })
 }
 
 /// The retain file and the values last written to it.
