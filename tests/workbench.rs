@@ -11,7 +11,9 @@
 //! Needs Debian's `chromium` and `chromium-driver` (`.ci/run` installs them): without
 //! them the test fails and says so.
 
-use fantoccini::actions::{InputSource, KeyAction, KeyActions};
+use fantoccini::actions::{
+    InputSource, KeyAction, KeyActions, MouseActions, PointerAction, MOUSE_BUTTON_LEFT,
+};
 use fantoccini::key::Key;
 use fantoccini::{Client, ClientBuilder, Locator};
 use serde_json::{json, Value as Json};
@@ -148,7 +150,14 @@ async fn until(c: &Client, what: &str, script: &str) {
         if js(c, script).await == json!(true) {
             return;
         }
-        assert!(t.elapsed() < PATIENCE, "the page never showed {what}");
+        if t.elapsed() > PATIENCE {
+            let info = js(
+                c,
+                "return document.getElementById('view-info')?.textContent ?? ''",
+            )
+            .await;
+            panic!("the page never showed {what} (its status line: {info})");
+        }
         tokio::time::sleep(Duration::from_millis(50)).await;
     }
 }
@@ -612,6 +621,234 @@ async fn user_block(c: &Client, page: &str) {
     assert_eq!(edges, json!(1), "Hold counted the switch's rising edge");
 }
 
+/// Selects the diagram element with localId `id` (as a click does).
+async fn select_id(c: &Client, id: &Json) {
+    js_async(
+        c,
+        "const [id, done] = arguments; const s = window.plccWorkbench.state; s.diagram.select(s.diagram.nodes.get(Number(id))); done(true)",
+        vec![id.clone()],
+    )
+    .await;
+}
+
+/// The localId of the element feeding input `pin` of the block of type `ty`.
+async fn feeding(c: &Client, ty: &str, pin: &str) -> Json {
+    js_async(
+        c,
+        "const [ty, pin, done] = arguments; const ed = window.plccWorkbench.ladder(); \
+         const b = ed.elements().find(e => e.getAttribute('typeName') === ty); \
+         const v = [...b.getElementsByTagNameNS('*', 'variable')].find(v => v.getAttribute('formalParameter') === pin); \
+         done(v.getElementsByTagNameNS('*', 'connection')[0].getAttribute('refLocalId'))",
+        vec![json!(ty), json!(pin)],
+    )
+    .await
+}
+
+/// The position of the element with localId `id` in the edited XML.
+async fn position(c: &Client, id: &Json) -> Json {
+    js_async(
+        c,
+        "const [id, done] = arguments; const ed = window.plccWorkbench.ladder(); done(ed.pos(ed.byId(id)))",
+        vec![id.clone()],
+    )
+    .await
+}
+
+/// A variable's value in the running PLC, polled until `want(value)` or the test's
+/// patience runs out.
+async fn until_value(c: &Client, path: &str, what: &str, want: impl Fn(&Json) -> bool) {
+    let script = format!("fetch('/api/vars/{path}').then(r => r.json()).then(v => arguments[0](v.value), e => arguments[0](String(e)))");
+    let t = Instant::now();
+    loop {
+        let v = js_async(c, &script, vec![]).await;
+        if want(&v) {
+            return;
+        }
+        assert!(t.elapsed() < PATIENCE, "{what}: {path} is {v}");
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+}
+
+/// Functions on a rung with EN and ENO: ADD (its result in a new variable), a
+/// function of another file of the project (`tests/workbench/above.st`, its BOOL
+/// result carrying the power) with a literal set on an input, a TON whose elapsed
+/// time is wired out with + Output; the coil moved with Shift+arrow and dragged
+/// back with the mouse; applied, and the lamp lit through all of them.
+async fn functions(c: &Client, page: &str) {
+    c.goto(page).await.expect("the page loads");
+    until(
+        c,
+        "the diagram",
+        "return document.body.dataset.ready === 'true'",
+    )
+    .await;
+    click(c, "#ld-edit").await;
+    let offered = js(
+        c,
+        "return [...document.querySelectorAll('#ld-block-types option')].map(o => o.value)",
+    )
+    .await;
+    for b in ["TON", "ADD", "MOVE", "GT", "Hold", "Above"] {
+        assert!(
+            offered.as_array().is_some_and(|o| o.contains(&json!(b))),
+            "{b} among the block types offered: {offered}"
+        );
+    }
+    let switch = "const e = document.querySelector('svg .el-contact[data-var=switch]'); e.focus(); return true";
+    let add_block = |ty: &'static str| async move {
+        js(c, switch).await;
+        press(c, &[Key::Enter.into()]).await;
+        js(
+            c,
+            &format!("document.getElementById('ld-block').value = '{ty}'; return true"),
+        )
+        .await;
+        press(c, &['l']).await;
+        until(
+            c,
+            ty,
+            &format!(
+                "return !!document.querySelector('svg .el-block[aria-label^=\"block {ty}\"]')"
+            ),
+        )
+        .await;
+    };
+    let problems = "return [...document.querySelectorAll('svg .has-warning, svg .has-error')].map(e => e.getAttribute('aria-description')).join(' | ')";
+    // ADD: EN takes the power, ENO passes it on, OUT goes to a new INT variable.
+    add_block("ADD").await;
+    assert_eq!(js(c, problems).await, json!(""), "rung checks after ADD");
+    let declared = "const ed = window.plccWorkbench.ladder(); return [...ed.interface.getElementsByTagNameNS('*', 'variable')].map(v => v.getAttribute('name') + ':' + (v.getElementsByTagNameNS('*', 'type')[0].firstElementChild.localName)).join(' ')";
+    assert!(
+        js(c, declared)
+            .await
+            .as_str()
+            .is_some_and(|d| d.contains("ADD_OUT:INT")),
+        "ADD's result declared: {}",
+        js(c, declared).await
+    );
+    assert_eq!(count(c, "svg .el-outVariable[data-var=ADD_OUT]").await, 1);
+    assert_eq!(
+        count(c, "svg .el-inVariable").await,
+        2,
+        "IN1 and IN2 get literals"
+    );
+    // + Output on ADD: nothing left to wire.
+    press(c, &['u']).await;
+    until(
+        c,
+        "+ Output refused",
+        "return document.getElementById('view-info').textContent.includes('every output of ADD is wired already')",
+    )
+    .await;
+    // A TON before it, its ET wired out with + Output (U).
+    add_block("TON").await;
+    press(c, &['u']).await;
+    until(
+        c,
+        "TON0.ET wired out",
+        "return !!document.querySelector('svg .el-outVariable[data-var=TON0_ET]')",
+    )
+    .await;
+    // Above (another file's function) before that, x set to the literal 5.
+    add_block("Above").await;
+    assert_eq!(js(c, problems).await, json!(""), "rung checks after Above");
+    let x = feeding(c, "Above", "x").await;
+    select_id(c, &x).await;
+    js(
+        c,
+        "document.getElementById('ld-var').value = '5'; return true",
+    )
+    .await;
+    click(c, "#ld-var-form button").await;
+    until(
+        c,
+        "x set to 5",
+        "return !!document.querySelector('svg .el-inVariable[data-var=\"5\"]')",
+    )
+    .await;
+    screenshot(c, "functions").await;
+    // The coil moves down a grid step with Shift+Down, then is dragged 20 up.
+    let coil = js(
+        c,
+        "return document.querySelector('svg .el-coil[data-var=lamp]').dataset.id",
+    )
+    .await;
+    let start = position(c, &coil).await;
+    select_id(c, &coil).await;
+    press(c, &[Key::Shift.into(), Key::Down.into()]).await;
+    let t = Instant::now();
+    let y0 = start["y"].as_f64().expect("a y");
+    while position(c, &coil).await["y"].as_f64() != Some(y0 + 10.0) {
+        assert!(t.elapsed() < PATIENCE, "Shift+Down did not move the coil");
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    let at = js(
+        c,
+        "const g = document.querySelector('svg .el-coil[data-var=lamp]'); const r = g.getBoundingClientRect(); \
+         return [r.x + r.width / 2, r.y + r.height / 2, g.ownerSVGElement.getScreenCTM().d]",
+    )
+    .await;
+    let (px, py, scale) = (
+        at[0].as_f64().unwrap(),
+        at[1].as_f64().unwrap(),
+        at[2].as_f64().unwrap(),
+    );
+    let drag = MouseActions::new("mouse".into())
+        .then(PointerAction::MoveTo {
+            duration: None,
+            x: px,
+            y: py,
+        })
+        .then(PointerAction::Down {
+            button: MOUSE_BUTTON_LEFT,
+        })
+        .then(PointerAction::MoveBy {
+            duration: Some(Duration::from_millis(100)),
+            x: 0.0,
+            y: -20.0 * scale,
+        })
+        .then(PointerAction::Up {
+            button: MOUSE_BUTTON_LEFT,
+        });
+    c.perform_actions(drag).await.expect("the coil dragged");
+    let t = Instant::now();
+    while position(c, &coil).await["y"].as_f64() != Some(y0 - 10.0) {
+        assert!(
+            t.elapsed() < PATIENCE,
+            "the drag did not move the coil: {}",
+            position(c, &coil).await
+        );
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    assert_eq!(
+        js(c, problems).await,
+        json!(""),
+        "rung checks after the moves"
+    );
+    screenshot(c, "functions-moved").await;
+    click(c, "button[data-op=apply]").await;
+    until(
+        c,
+        "the online change",
+        "return document.getElementById('view-info').textContent.startsWith('loaded into the PLC')",
+    )
+    .await;
+    js(
+        c,
+        "window.plccWorkbench.force('main.switch', true); return true",
+    )
+    .await;
+    until_value(c, "main.lamp", "the lamp through Above, TON and ADD", |v| {
+        v == &json!(true)
+    })
+    .await;
+    until_value(c, "main.ADD_OUT", "ADD's result", |v| v == &json!(1)).await;
+    until_value(c, "main.TON0_ET", "TON0.ET wired out", |v| {
+        v.as_str().is_some_and(|s| s != "T#0ms" && s != "T#0s")
+    })
+    .await;
+}
+
 /// A server started with `--token-file`: a control call without the token is
 /// refused (the PLC keeps running) and the page asks for the token; given it, the
 /// same call stops the PLC; a wrong one is refused again.
@@ -961,6 +1198,10 @@ fn the_workbench_in_chromium() {
     let (_fbd_server, fbd_page) = serve(Path::new("tests/programs/plcopen/fbd_logic.xml"), &[]);
     let (_sfc_server, sfc_page) = serve(Path::new("tests/workbench/sfc_demo.xml"), &[]);
     let (_user_server, user_page) = serve(Path::new("tests/workbench/user_block.xml"), &[]);
+    let (_fn_server, fn_page) = serve(
+        Path::new("tests/workbench/user_block.xml"),
+        &["tests/workbench/above.st"],
+    );
     let secret = format!("plcc-test-{}", std::process::id());
     let token_file =
         std::env::temp_dir().join(format!("plcc-workbench-token-{}", std::process::id()));
@@ -983,6 +1224,7 @@ fn the_workbench_in_chromium() {
             fbd(&c, &fbd_page).await;
             sfc(&c, &sfc_page).await;
             user_block(&c, &user_page).await;
+            functions(&c, &fn_page).await;
             token(&c, &token_page, &secret).await;
         })
         .await;

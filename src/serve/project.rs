@@ -84,6 +84,20 @@ struct Pou {
     file: usize,
     /// Where it is in a textual file (bytes).
     range: Option<(usize, usize)>,
+    /// A function's or function block's pins, as the ladder editor places it:
+    /// `{"inputs": [[name, type]], "outputs": [[name, type]], "result": type}`
+    /// (types as written).
+    pins: Option<Json>,
+}
+
+/// The pins JSON of a POU (see [`Pou::pins`]).
+fn pins_json(
+    kind: &str,
+    inputs: Vec<(String, String)>,
+    outputs: Vec<(String, String)>,
+    result: Option<String>,
+) -> Option<Json> {
+    (kind != "program").then(|| json!({"inputs": inputs, "outputs": outputs, "result": result}))
 }
 
 /// The project `plcc serve` was started with, as the workbench shows it.
@@ -164,12 +178,33 @@ impl Project {
                         } else {
                             lang
                         };
+                        let source = |s: plcc_ir::diag::Span| {
+                            text.get(s.start as usize..s.end as usize)
+                                .unwrap_or("")
+                                .to_string()
+                        };
+                        let section = |k: ast::VarKind| -> Vec<(String, String)> {
+                            pou.var_blocks
+                                .iter()
+                                .filter(|b| b.kind == k)
+                                .flat_map(|b| &b.decls)
+                                .flat_map(|d| {
+                                    d.names.iter().map(|n| (name(n), source(d.ty.span())))
+                                })
+                                .collect()
+                        };
                         p.pous.push(Pou {
                             name: name(&pou.name),
                             kind,
                             lang,
                             file,
                             range: Some((pou.span.start as usize, pou.span.end as usize)),
+                            pins: pins_json(
+                                kind,
+                                section(ast::VarKind::Input),
+                                section(ast::VarKind::Output),
+                                pou.return_type.as_ref().map(|t| source(t.span())),
+                            ),
                         });
                     }
                     ast::Item::Type(t) => p.types.push((name(&t.name), file)),
@@ -260,12 +295,28 @@ impl Project {
                         .and_then(|b| b.children().find(|c| c.is_element()))
                         .map_or("", |b| b.tag_name().name())
                         .to_string();
+                    let iface = child(n, "interface");
+                    let section = |tag: &str| -> Vec<(String, String)> {
+                        iface
+                            .into_iter()
+                            .flat_map(|i| i.children().filter(move |b| b.tag_name().name() == tag))
+                            .flat_map(|b| {
+                                b.children().filter(|v| v.tag_name().name() == "variable")
+                            })
+                            .map(|v| {
+                                let ty = child(v, "type").map(xml_type).unwrap_or_default();
+                                (v.attribute("name").unwrap_or("").to_string(), ty)
+                            })
+                            .collect()
+                    };
+                    let result = iface.and_then(|i| child(i, "returnType")).map(xml_type);
                     self.pous.push(Pou {
                         name: n.attribute("name").unwrap_or("").to_string(),
                         kind,
                         lang,
                         file,
                         range: None,
+                        pins: pins_json(kind, section("inputVars"), section("outputVars"), result),
                     });
                 }
                 "dataType" => self
@@ -329,6 +380,9 @@ impl Project {
                     "file": p.file,
                     "graphical": matches!(p.lang.as_str(), "LD" | "FBD" | "SFC") && p.range.is_none(),
                 });
+                if let Some(pins) = &p.pins {
+                    j["pins"] = pins.clone();
+                }
                 if let Some((s, e)) = p.range {
                     j["from"] = json!(utf16(text, s));
                     j["to"] = json!(utf16(text, e));
@@ -648,6 +702,18 @@ fn base64(bytes: &[u8]) -> String {
 }
 
 /// The first child element of `n` named `tag`.
+/// The type a PLCopen `type` or `returnType` element holds: an elementary type's
+/// name in upper case, a derived type's name as written.
+fn xml_type(t: roxmltree::Node) -> String {
+    match t.children().find(|c| c.is_element()) {
+        Some(c) if c.tag_name().name() == "derived" => {
+            c.attribute("name").unwrap_or("").to_string()
+        }
+        Some(c) => c.tag_name().name().to_ascii_uppercase(),
+        None => String::new(),
+    }
+}
+
 fn child<'a, 'i>(n: roxmltree::Node<'a, 'i>, tag: &str) -> Option<roxmltree::Node<'a, 'i>> {
     n.children().find(|c| c.tag_name().name() == tag)
 }
@@ -918,6 +984,10 @@ mod tests {
         assert_eq!(info["pous"][0]["name"], "ladder_demo");
         assert_eq!(info["pous"][0]["lang"], "LD");
         assert_eq!(info["pous"][0]["graphical"], true);
+        assert!(
+            info["pous"][0].get("pins").is_none(),
+            "a PROGRAM has no pins"
+        );
         assert_eq!(
             info["instances"],
             json!([{"name": "main", "pou": "ladder_demo"}])
@@ -969,6 +1039,23 @@ mod tests {
     }
 
     #[test]
+    fn pins_of_a_plcopen_function() {
+        let xml = include_str!("../../tests/programs/plcopen/fbd_user_function.xml");
+        let (p, _) = project(&[("f.xml", xml)]);
+        let info = p.info();
+        let scale = info["pous"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|p| p["name"] == "SCALE3")
+            .expect("SCALE3");
+        assert_eq!(
+            scale["pins"],
+            json!({"inputs": [["x", "INT"], ["k", "INT"]], "outputs": [], "result": "INT"})
+        );
+    }
+
+    #[test]
     fn textual_pous_with_their_places() {
         let st = "FUNCTION_BLOCK fb\nVAR_INPUT x : INT; END_VAR\nEND_FUNCTION_BLOCK\nTYPE t : INT; END_TYPE\nPROGRAM p\nVAR f : fb; END_VAR\nf(x := 1);\nEND_PROGRAM\n";
         let (p, loader) = project(&[("a.st", st)]);
@@ -979,6 +1066,12 @@ mod tests {
         assert_eq!(pous[1]["name"], "p");
         assert_eq!(pous[1]["line"], 5);
         assert_eq!(pous[1]["graphical"], false);
+        // The pins the ladder editor places the FB with; a PROGRAM has none.
+        assert_eq!(
+            pous[0]["pins"],
+            json!({"inputs": [["x", "INT"]], "outputs": [], "result": null})
+        );
+        assert!(pous[1].get("pins").is_none());
         assert_eq!(info["types"][0]["name"], "t");
         assert_eq!(info["instances"], json!([{"name": "p", "pou": "p"}]));
         assert_eq!(p.file("0").unwrap()["text"], st);

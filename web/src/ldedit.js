@@ -6,18 +6,44 @@
 const GRID = 10;
 
 /// The standard function blocks the editor adds: the inputs (with a literal for
-/// those that need a value) and the outputs; the first input takes the power.
+/// those that need a value) and the outputs with their types; the first input takes
+/// the power, the first output carries it on.
 const BLOCKS = {
-  TON: [[["IN"], ["PT", "T#1s"]], ["Q", "ET"]],
-  TOF: [[["IN"], ["PT", "T#1s"]], ["Q", "ET"]],
-  TP: [[["IN"], ["PT", "T#1s"]], ["Q", "ET"]],
-  CTU: [[["CU"], ["R", "FALSE"], ["PV", "10"]], ["Q", "CV"]],
-  CTD: [[["CD"], ["LD", "FALSE"], ["PV", "10"]], ["Q", "CV"]],
-  R_TRIG: [[["CLK"]], ["Q"]],
-  F_TRIG: [[["CLK"]], ["Q"]],
-  SR: [[["S1"], ["R", "FALSE"]], ["Q1"]],
-  RS: [[["S"], ["R1", "FALSE"]], ["Q1"]],
+  TON: [[["IN"], ["PT", "T#1s"]], [["Q", "BOOL"], ["ET", "TIME"]]],
+  TOF: [[["IN"], ["PT", "T#1s"]], [["Q", "BOOL"], ["ET", "TIME"]]],
+  TP: [[["IN"], ["PT", "T#1s"]], [["Q", "BOOL"], ["ET", "TIME"]]],
+  CTU: [[["CU"], ["R", "FALSE"], ["PV", "10"]], [["Q", "BOOL"], ["CV", "INT"]]],
+  CTD: [[["CD"], ["LD", "FALSE"], ["PV", "10"]], [["Q", "BOOL"], ["CV", "INT"]]],
+  R_TRIG: [[["CLK"]], [["Q", "BOOL"]]],
+  F_TRIG: [[["CLK"]], [["Q", "BOOL"]]],
+  SR: [[["S1"], ["R", "FALSE"]], [["Q1", "BOOL"]]],
+  RS: [[["S"], ["R1", "FALSE"]], [["Q1", "BOOL"]]],
 };
+/// The standard functions the editor adds, called with EN and ENO (IEC 61131-3,
+/// 6.6.1.7: power into EN, the function runs only when it is TRUE): the inputs
+/// with their literals, and the result's type. A comparison's BOOL result carries
+/// the power on (FALSE when EN is FALSE); the others pass it on through ENO and
+/// write their result to a new variable.
+const FUNCS = {
+  ADD: [[["IN1", "0"], ["IN2", "1"]], "INT"],
+  SUB: [[["IN1", "0"], ["IN2", "1"]], "INT"],
+  MUL: [[["IN1", "0"], ["IN2", "1"]], "INT"],
+  DIV: [[["IN1", "0"], ["IN2", "1"]], "INT"],
+  MOD: [[["IN1", "0"], ["IN2", "1"]], "INT"],
+  MAX: [[["IN1", "0"], ["IN2", "1"]], "INT"],
+  MIN: [[["IN1", "0"], ["IN2", "1"]], "INT"],
+  LIMIT: [[["MN", "0"], ["IN", "0"], ["MX", "100"]], "INT"],
+  MOVE: [[["IN", "0"]], "INT"],
+  GT: [[["IN1", "0"], ["IN2", "0"]], "BOOL"],
+  GE: [[["IN1", "0"], ["IN2", "0"]], "BOOL"],
+  EQ: [[["IN1", "0"], ["IN2", "0"]], "BOOL"],
+  NE: [[["IN1", "0"], ["IN2", "0"]], "BOOL"],
+  LT: [[["IN1", "0"], ["IN2", "0"]], "BOOL"],
+  LE: [[["IN1", "0"], ["IN2", "0"]], "BOOL"],
+};
+/// The block types the editor offers: the standard function blocks, then the
+/// standard functions.
+export const STANDARD_BLOCKS = [...Object.keys(BLOCKS), ...Object.keys(FUNCS)];
 /// The literal a new block's input of an elementary type gets (the others stay
 /// unwired: they keep their initial value).
 const DEFAULTS = {
@@ -39,8 +65,11 @@ function num(n, a) {
 
 export class LadderEdit {
   /// text: the PLCopen file; pou: the POU whose LD body is edited.
-  constructor(text, pou) {
+  /// external: the functions and function blocks of the project's other files
+  /// (see `userPous`).
+  constructor(text, pou, external = []) {
     this.pou = pou;
+    this.external = external;
     this.undoStack = [];
     this.redoStack = [];
     this.load(text);
@@ -239,6 +268,22 @@ export class LadderEdit {
     );
   }
 
+  /// Moves what element `id` feeds, with the literals and variables attached to
+  /// the blocks among it, right until all of it starts at `x` or further.
+  makeRoomAfter(id, x) {
+    const moving = new Set();
+    const own = new Set(this.attached(this.byId(id)));
+    for (const d of this.downstream(id)) {
+      if (d.localName === "rightPowerRail" || own.has(d)) continue;
+      moving.add(d);
+      for (const a of this.attached(d)) moving.add(a);
+    }
+    if (!moving.size) return;
+    const first = Math.min(...[...moving].map((d) => this.pos(d).x));
+    const dx = Math.max(0, r10(x - first + 5));
+    for (const d of moving) this.setPos(d, this.pos(d).x + dx, this.pos(d).y);
+  }
+
   /// A contact or coil put in series after element `id` (a contact or coil): what
   /// was fed by it is fed by the new one. Returns the new element's id.
   insertAfter(id, kind) {
@@ -249,10 +294,7 @@ export class LadderEdit {
     const { w } = this.size(e);
     // Room for the new element: what follows moves right as far as needed.
     const nx = r10(x + w + 30);
-    const after = this.downstream(id).filter((d) => d.localName !== "rightPowerRail");
-    const first = Math.min(...after.map((d) => this.pos(d).x));
-    const dx = after.length ? Math.max(0, r10(nx + 21 + 30 - first + 5)) : 0;
-    for (const d of after) this.setPos(d, this.pos(d).x + dx, this.pos(d).y);
+    this.makeRoomAfter(id, nx + 21 + 30);
     const variable = kid(e, "variable")?.textContent.trim() || this.boolVar(kind === "coil");
     const ne = kind === "coil" ? this.newCoil(nx, y, variable, []) : this.newContact(nx, y, variable, []);
     const nid = ne.getAttribute("localId");
@@ -265,46 +307,84 @@ export class LadderEdit {
     return nid;
   }
 
-  /// A function block in series after element `id` (a contact or coil): its first
-  /// input takes what the element gave, its first output feeds what the element fed;
-  /// its other inputs get literals (`T#1s`, `10`) or stay open; an instance is
-  /// declared in the POU's local variables.
-  /// The function blocks of this file (`pouType="functionBlock"`) a rung can hold:
-  /// their names.
+  /// The functions and function blocks of this file a rung can hold, with their
+  /// pins: `{ name, kind, inputs: [[name, type]], outputs: [[name, type]], result }`.
+  ownPous() {
+    const typeOf = (t) => {
+      const e = t?.firstElementChild;
+      if (!e) return "";
+      return e.localName === "derived" ? e.getAttribute("name") || "" : e.localName.toUpperCase();
+    };
+    return [...this.doc.getElementsByTagNameNS("*", "pou")]
+      .filter((p) => ["function", "functionBlock"].includes(p.getAttribute("pouType")))
+      .map((p) => {
+        const iface = kid(p, "interface");
+        const vars = (section) => (iface ? kids(iface, section).flatMap((b) => kids(b, "variable").map((v) => [v.getAttribute("name"), typeOf(kid(v, "type"))])) : []);
+        return {
+          name: p.getAttribute("name"),
+          kind: p.getAttribute("pouType"),
+          inputs: vars("inputVars"),
+          outputs: vars("outputVars"),
+          result: iface ? typeOf(kid(iface, "returnType")) || null : null,
+        };
+      });
+  }
+
+  /// The functions and function blocks a rung can hold besides the standard ones:
+  /// this file's, then those of the project's other files (`external`, in the same
+  /// shape, from the server's project).
+  userPous() {
+    const own = this.ownPous();
+    const seen = new Set(own.map((p) => p.name.toLowerCase()));
+    return [...own, ...this.external.filter((p) => !seen.has(p.name.toLowerCase()))];
+  }
+
+  /// The names of `userPous`.
   userBlocks() {
-    return [...this.doc.getElementsByTagNameNS("*", "pou")].filter((p) => p.getAttribute("pouType") === "functionBlock").map((p) => p.getAttribute("name"));
+    return this.userPous().map((p) => p.name);
   }
 
   /// The pins of a block type: the inputs (name, and the literal a new block gets
-  /// on it, none on the first, which takes the power), the outputs, and which
-  /// output carries the power on. A standard FB's from the table; a function
-  /// block of this file's from its interface: its first input and one of its
-  /// outputs must be BOOL.
+  /// on it, none on the first, which takes the power), the outputs with their
+  /// types, which output carries the power on (`flow`), and whether it is a
+  /// function (no instance). A standard FB's pins from the table; a function's
+  /// with EN and ENO; a function block of the project's with its own pins when its
+  /// first input and one output are BOOL, else with EN and ENO.
   blockPins(type) {
-    const std = BLOCKS[type.toUpperCase()];
-    if (std) return { name: type.toUpperCase(), ins: std[0], outs: std[1], flow: 0 };
-    const pou = [...this.doc.getElementsByTagNameNS("*", "pou")].find((p) => p.getAttribute("name")?.toLowerCase() === type.toLowerCase());
-    if (!pou || pou.getAttribute("pouType") !== "functionBlock") {
-      const user = this.userBlocks();
-      throw new Error(`blocks: ${[...Object.keys(BLOCKS), ...user].join(", ")}${pou ? ` (${type} is a ${pou.getAttribute("pouType")}: not yet in a rung)` : ""}`);
-    }
-    const vars = (section) => {
-      const iface = kid(pou, "interface");
-      const block = iface && kid(iface, section);
-      return block ? kids(block, "variable").map((v) => [v.getAttribute("name"), kid(v, "type")?.firstElementChild?.localName || ""]) : [];
+    const T = type.trim().toUpperCase();
+    const std = BLOCKS[T];
+    if (std) return { name: T, fn: false, ins: std[0], outs: std[1], flow: 0 };
+    const withEn = (name, fn, ins, outs, result) => {
+      const o = [["ENO", "BOOL"], ...(fn ? [["OUT", result]] : []), ...outs];
+      return { name, fn, ins: [["EN"], ...ins], outs: o, flow: fn && (result || "").toUpperCase() === "BOOL" ? 1 : 0 };
     };
-    const ins = vars("inputVars");
-    const outs = vars("outputVars");
-    const name = pou.getAttribute("name");
-    if (!ins.length || ins[0][1] !== "BOOL") throw new Error(`${name}'s first input is not BOOL: it cannot take the power of a rung`);
-    const flow = outs.findIndex(([, t]) => t === "BOOL");
-    if (flow < 0) throw new Error(`${name} has no BOOL output to carry the power on`);
-    return { name, ins: ins.map(([n, t], i) => [n, i ? DEFAULTS[t] : undefined]), outs: outs.map(([n]) => n), flow };
+    const f = FUNCS[T];
+    if (f) return withEn(T, true, f[0], [], f[1]);
+    const pou = this.userPous().find((p) => p.name.toLowerCase() === type.trim().toLowerCase());
+    if (!pou) {
+      const other = [...this.doc.getElementsByTagNameNS("*", "pou")].find((p) => p.getAttribute("name")?.toLowerCase() === type.trim().toLowerCase());
+      const why = other ? ` (${other.getAttribute("name")} is a ${other.getAttribute("pouType")}: only functions and function blocks go into a rung)` : "";
+      throw new Error(`blocks: ${[...STANDARD_BLOCKS, ...this.userBlocks()].join(", ")}${why}`);
+    }
+    const up = (t) => (t || "").toUpperCase();
+    const ins = pou.inputs.map(([n, t]) => [n, DEFAULTS[up(t)]]);
+    if (pou.kind === "function") {
+      if (!pou.result) throw new Error(`${pou.name} has no result type: it cannot be a block`);
+      return withEn(pou.name, true, ins, pou.outputs, pou.result);
+    }
+    const flow = pou.outputs.findIndex(([, t]) => up(t) === "BOOL");
+    if (ins.length && up(pou.inputs[0][1]) === "BOOL" && flow >= 0) return { name: pou.name, fn: false, ins: ins.map(([n, l], i) => [n, i ? l : undefined]), outs: pou.outputs, flow };
+    return withEn(pou.name, false, ins, pou.outputs, null);
   }
 
+  /// A block in series after element `id` (a contact or coil): its first input
+  /// takes what the element gave, its power output feeds what the element fed; its
+  /// other inputs get literals (`T#1s`, `10`) or stay open. A function block gets
+  /// an instance declared in the POU's local variables; a function's result, when
+  /// it does not carry the power, goes to a new local variable.
   insertBlock(id, type) {
     const e = this.byId(id);
-    const { name: T, ins, outs, flow } = this.blockPins(type);
+    const { name: T, fn, ins, outs, flow } = this.blockPins(type);
     if (!e || !["contact", "coil"].includes(e.localName)) throw new Error("select a contact or a coil to put a block after it");
     this.snapshot();
     const { x, y } = this.pos(e);
@@ -314,15 +394,15 @@ export class LadderEdit {
     const bh = Math.max(ins.length, outs.length) * 40 + 20;
     const nx = r10(x + w + 40);
     const by = my - 30;
-    const after = this.downstream(id).filter((d) => d.localName !== "rightPowerRail");
-    const first = Math.min(...after.map((d) => this.pos(d).x));
-    const dx = after.length ? Math.max(0, r10(nx + bw + 40 - first + 5)) : 0;
-    for (const d of after) this.setPos(d, this.pos(d).x + dx, this.pos(d).y);
+    // Beyond the block and, for a function, the variable its result goes to.
+    this.makeRoomAfter(id, nx + bw + (fn ? 130 : 40));
     // Room below for the block's other pins.
     this.makeRoomBelow(y + h, Math.max(0, r10(bh - 40)));
-    const instance = this.freeName(T);
+    const instance = fn ? null : this.freeName(T);
     const bid = this.nextId();
-    const block = this.make("block", { localId: bid, typeName: T, instanceName: instance, width: bw, height: bh }, this.make("position", { x: nx, y: by }));
+    const attrs = { localId: bid, typeName: T, width: bw, height: bh };
+    if (instance) attrs.instanceName = instance;
+    const block = this.make("block", attrs, this.make("position", { x: nx, y: by }));
     const inputs = this.make("inputVariables");
     ins.forEach(([name], i) => {
       const cp = this.point("connectionPointIn", 0, 30 + 40 * i);
@@ -330,13 +410,13 @@ export class LadderEdit {
       inputs.append(this.make("variable", { formalParameter: name }, cp));
     });
     const outputs = this.make("outputVariables");
-    outs.forEach((name, i) => outputs.append(this.make("variable", { formalParameter: name }, this.point("connectionPointOut", bw, 30 + 40 * i))));
+    outs.forEach(([name], i) => outputs.append(this.make("variable", { formalParameter: name }, this.point("connectionPointOut", bw, 30 + 40 * i))));
     block.append(inputs, this.make("inOutVariables"), outputs);
     for (const { cp } of this.inputs())
       for (const c of kids(cp, "connection"))
         if (c.getAttribute("refLocalId") === String(id)) {
           c.setAttribute("refLocalId", String(bid));
-          c.setAttribute("formalParameter", outs[flow]);
+          c.setAttribute("formalParameter", outs[flow][0]);
         }
     e.after(block);
     // Literals on the other inputs that need a value.
@@ -357,24 +437,108 @@ export class LadderEdit {
       const cp = [...kids(kid(block, "inputVariables"), "variable")][i];
       kid(cp, "connectionPointIn").append(this.conn(vid));
     });
-    this.declare(instance, T);
+    if (instance) this.declare(instance, T);
+    // A function's result that does not carry the power is kept in a variable.
+    if (fn && flow !== 1) this.outputTo(block, "OUT");
     this.roomOnTheRight();
     this.reroute();
     return bid;
   }
 
-  /// A name for a new instance: `TON0`, `TON1`...
-  freeName(type) {
-    const used = new Set([...this.doc.getElementsByTagNameNS("*", "variable")].map((v) => (v.getAttribute("name") || "").toLowerCase()));
-    for (let i = 0; ; i++) if (!used.has(`${type}${i}`.toLowerCase())) return `${type}${i}`;
+  /// An output variable for the first output of block `id` that nothing takes
+  /// yet (other than the one carrying the power and ENO): a new local variable of
+  /// the output's type is declared and written there. Returns its id.
+  addOutput(id) {
+    const b = this.byId(id);
+    if (!b || b.localName !== "block") throw new Error("select a block to wire one of its outputs");
+    const { outs, flow } = this.blockPins(b.getAttribute("typeName") || "");
+    const taken = new Set();
+    for (const { cp } of this.inputs())
+      for (const c of kids(cp, "connection")) if (c.getAttribute("refLocalId") === String(id)) taken.add((c.getAttribute("formalParameter") || "").toLowerCase());
+    const free = outs.filter(([n], i) => i !== flow && n.toUpperCase() !== "ENO" && !taken.has(n.toLowerCase()));
+    if (!free.length) throw new Error(`every output of ${b.getAttribute("typeName")} is wired already`);
+    this.snapshot();
+    // Room right of the block for the variable.
+    this.makeRoomAfter(id, this.pos(b).x + this.size(b).w + 130);
+    const vid = this.outputTo(b, free[0][0]);
+    this.roomOnTheRight();
+    this.reroute();
+    return vid;
   }
 
-  /// Declares a local variable of a derived type (an FB instance).
+  /// An output variable right of `block` at its pin `pin`, holding a new local
+  /// variable of the pin's type. Returns its id.
+  outputTo(block, pin) {
+    const { outs } = this.blockPins(block.getAttribute("typeName") || "");
+    const type = outs.find(([n]) => n.toLowerCase() === pin.toLowerCase())?.[1];
+    if (!type) throw new Error(`the type of ${pin} is not known: wire it in the text editor`);
+    const cp = [...kids(kid(block, "outputVariables"), "variable")].find((v) => (v.getAttribute("formalParameter") || "").toLowerCase() === pin.toLowerCase());
+    const at = this.abs(block, kid(cp, "connectionPointOut"));
+    const name = this.freeName(`${block.getAttribute("instanceName") || block.getAttribute("typeName")}_${pin}`, false);
+    this.declare(name, type);
+    const vid = this.nextId();
+    const v = this.make(
+      "outVariable",
+      { localId: vid, negated: "false", width: 80, height: 20 },
+      this.make("position", { x: r10(at.x + 30), y: at.y - 10 }),
+      this.point("connectionPointIn", 0, 10, this.conn(block.getAttribute("localId"), pin)),
+      this.make("expression", {}, name)
+    );
+    block.after(v);
+    return vid;
+  }
+
+  /// Moves element `id` by (dx, dy), on the grid; a block takes along the literals
+  /// and output variables wired to it alone. Rails stay.
+  move(id, dx, dy) {
+    const e = this.byId(id);
+    if (!e || e.localName.endsWith("PowerRail")) throw new Error("select an element other than a rail to move it");
+    dx = r10(dx);
+    dy = r10(dy);
+    if (!dx && !dy) return id;
+    this.snapshot();
+    for (const m of [e, ...this.attached(e)]) {
+      const p = this.pos(m);
+      this.setPos(m, Math.max(0, p.x + dx), Math.max(0, p.y + dy));
+    }
+    this.roomOnTheRight();
+    this.reroute();
+    return id;
+  }
+
+  /// The literals that feed only block `e` and the output variables it alone feeds.
+  attached(e) {
+    if (!e || e.localName !== "block") return [];
+    const id = e.getAttribute("localId");
+    const feeds = (f) => this.inputs().some(({ e: o, cp }) => o !== e && kids(cp, "connection").some((c) => c.getAttribute("refLocalId") === f.getAttribute("localId")));
+    const literals = [...e.getElementsByTagNameNS("*", "connection")]
+      .map((c) => this.byId(c.getAttribute("refLocalId")))
+      .filter((f) => f && f.localName === "inVariable" && !feeds(f));
+    const outs = this.elements().filter((o) => {
+      if (o.localName !== "outVariable") return false;
+      const cs = [...o.getElementsByTagNameNS("*", "connection")];
+      return cs.length > 0 && cs.every((c) => c.getAttribute("refLocalId") === id);
+    });
+    return [...literals, ...outs];
+  }
+
+  /// A name for a new variable: `TON0`, `TON1`...; with `numbered` false, `base`
+  /// itself while it is free.
+  freeName(base, numbered = true) {
+    const used = new Set([...this.doc.getElementsByTagNameNS("*", "variable")].map((v) => (v.getAttribute("name") || "").toLowerCase()));
+    if (!numbered && !used.has(base.toLowerCase())) return base;
+    for (let i = numbered ? 0 : 1; ; i++) if (!used.has(`${base}${i}`.toLowerCase())) return `${base}${i}`;
+  }
+
+  /// Declares a local variable of an elementary type or a derived one (an FB
+  /// instance).
   declare(name, type) {
-    if (!this.interface) throw new Error("the POU has no interface to declare the instance in");
+    if (!this.interface) throw new Error("the POU has no interface to declare the variable in");
     let locals = kid(this.interface, "localVars");
     if (!locals) this.interface.append((locals = this.make("localVars")));
-    locals.append(this.make("variable", { name }, this.make("type", {}, this.make("derived", { name: type }))));
+    const T = type.toUpperCase();
+    const ty = T in DEFAULTS || ["LTIME", "DATE", "TOD", "DT"].includes(T) ? this.make(T) : T === "STRING" || T === "WSTRING" ? this.make(T.toLowerCase()) : this.make("derived", { name: type });
+    locals.append(this.make("variable", { name }, this.make("type", {}, ty)));
   }
 
   /// A contact parallel to contact `id` (an OR branch), below it.
@@ -397,9 +561,13 @@ export class LadderEdit {
     return nid;
   }
 
-  /// Everything below `y` moved down by `dy`; the rails grow.
+  /// Everything below `y` moved down by `dy`, except the literals and variables
+  /// attached to a block that stays; the rails grow.
   makeRoomBelow(y, dy) {
+    const stays = new Set();
+    for (const b of this.elements()) if (b.localName === "block" && this.pos(b).y <= y) for (const a of this.attached(b)) stays.add(a);
     for (const e of this.elements()) {
+      if (stays.has(e)) continue;
       const kind = e.localName;
       if (kind === "leftPowerRail" || kind === "rightPowerRail") {
         const p = this.pos(e);
@@ -460,18 +628,17 @@ export class LadderEdit {
     const through = ["contact", "coil", "block"].includes(e.localName);
     const firstIn = e.getElementsByTagNameNS("*", "connectionPointIn")[0];
     const sources = through && firstIn ? kids(firstIn, "connection").map((c) => [c.getAttribute("refLocalId"), c.getAttribute("formalParameter")]) : [];
-    const feeds = (f) => this.inputs().some(({ e: o, cp }) => o !== e && kids(cp, "connection").some((c) => c.getAttribute("refLocalId") === f.getAttribute("localId")));
-    const literals =
-      e.localName === "block"
-        ? [...e.getElementsByTagNameNS("*", "connection")]
-            .map((c) => this.byId(c.getAttribute("refLocalId")))
-            .filter((f) => f && f.localName === "inVariable" && !feeds(f))
-        : [];
+    const literals = this.attached(e);
+    // Only what took a block's power output is bridged; what took its other
+    // outputs loses the connection.
+    const flowPin = e.localName === "block" ? this.flowPin(e) : null;
     for (const { e: owner, cp } of this.inputs()) {
       if (owner === e) continue;
-      const cs = kids(cp, "connection");
-      if (!cs.some((c) => c.getAttribute("refLocalId") === String(id))) continue;
-      for (const c of cs) if (c.getAttribute("refLocalId") === String(id)) c.remove();
+      const cs = kids(cp, "connection").filter((c) => c.getAttribute("refLocalId") === String(id));
+      if (!cs.length) continue;
+      const carried = !flowPin || cs.some((c) => (c.getAttribute("formalParameter") || "").toLowerCase() === flowPin);
+      for (const c of cs) c.remove();
+      if (!carried) continue;
       // What fed the element feeds what it fed, unless that already reaches it
       // another way (the element was a parallel branch: a wire there would be a
       // short circuit around the other branches).
@@ -487,12 +654,27 @@ export class LadderEdit {
     return sources.length ? sources[0][0] : null;
   }
 
+  /// The name (lower case) of the output of block `e` that carries the power: its
+  /// type's, else its first output's.
+  flowPin(e) {
+    try {
+      const { outs, flow } = this.blockPins(e.getAttribute("typeName") || "");
+      return outs[flow][0].toLowerCase();
+    } catch {
+      const o = e.getElementsByTagNameNS("*", "outputVariables")[0];
+      return (o && kids(o, "variable")[0]?.getAttribute("formalParameter")?.toLowerCase()) || "";
+    }
+  }
+
   /// Sets the variable of a contact or coil, or the expression of a variable.
   setVariable(id, name) {
     const e = this.byId(id);
     const t = e && (kid(e, "variable") || kid(e, "expression"));
     if (!t) throw new Error("select a contact, a coil or a variable to name its variable");
-    if (!/^[A-Za-z_%][A-Za-z0-9_.%#[\]]*$/.test(name.trim())) throw new Error(`\`${name}\` is not a variable`);
+    const variable = /^[A-Za-z_%][A-Za-z0-9_.%#[\]]*$/.test(name.trim());
+    // An input variable of a block may hold a literal: 5, -2, 1.5, 16#FF, INT#3.
+    const literal = t.localName === "expression" && /^[+-]?[0-9][0-9A-Za-z_.#+-]*$/.test(name.trim());
+    if (!variable && !literal) throw new Error(`\`${name}\` is not a ${t.localName === "expression" ? "variable or literal" : "variable"}`);
     this.snapshot();
     t.textContent = name.trim();
   }

@@ -3,7 +3,7 @@ import uPlot from "uplot";
 import "uplot/dist/uPlot.min.css";
 import "./style.css";
 import { Diagram, show } from "./diagram.js";
-import { LadderEdit } from "./ldedit.js";
+import { LadderEdit, STANDARD_BLOCKS } from "./ldedit.js";
 
 const $ = (id) => document.getElementById(id);
 
@@ -205,11 +205,15 @@ function setEditing(on) {
   $("ld-edit").setAttribute("aria-pressed", String(on));
   $("diagram").classList.toggle("editing", on);
   if (on && !state.edit) {
-    state.edit = new LadderEdit(state.view.text, state.view.pou);
-    // The block types: the standard FBs, and the function blocks of the file.
+    // The functions and function blocks of the project's other files, with their
+    // pins, can go into a rung too.
+    const external = state.project.pous
+      .filter((p) => p.pins && p.file !== state.view.file)
+      .map((p) => ({ name: p.name, kind: p.kind, inputs: p.pins.inputs, outputs: p.pins.outputs, result: p.pins.result }));
+    state.edit = new LadderEdit(state.view.text, state.view.pou, external);
+    // The block types: the standard FBs and functions, then the project's own.
     const list = $("ld-block-types");
-    for (const o of list.querySelectorAll("option.user")) o.remove();
-    for (const n of state.edit.userBlocks()) list.append(h("option", { value: n, class: "user" }));
+    list.replaceChildren(...STANDARD_BLOCKS.map((n) => h("option", { value: n })), ...state.edit.userBlocks().map((n) => h("option", { value: n, class: "user" })));
   }
 }
 
@@ -235,6 +239,9 @@ async function editOp(op) {
       case "block":
         next = ed.insertBlock(sel, $("ld-block").value.trim());
         break;
+      case "output":
+        next = ed.addOutput(sel);
+        break;
       case "cycle":
         ed.cycle(sel);
         break;
@@ -258,10 +265,64 @@ async function editOp(op) {
   } catch (e) {
     return flash(e.message, true);
   }
-  const text = ed.text();
+  await redraw(next);
+}
+
+/// The edited text drawn again, with element `select` selected.
+async function redraw(select) {
+  const text = state.edit.text();
   state.view.text = text;
   const model = await api(`/api/diagram/${encodeURIComponent(state.view.pou)}`, { method: "POST", body: text });
-  await renderDiagram(model, text, next);
+  await renderDiagram(model, text, select);
+}
+
+/// Moves the selected element by (dx, dy).
+async function moveSelected(dx, dy) {
+  try {
+    state.edit.move(state.selected, dx, dy);
+  } catch (e) {
+    return flash(e.message, true);
+  }
+  await redraw(state.selected);
+}
+
+/// Dragging an element with the mouse while editing moves it (on the grid) when
+/// the button is let go.
+function dragToMove(svgHost) {
+  let drag = null;
+  svgHost.addEventListener("pointerdown", (ev) => {
+    if (!state.edit || !$("ld-tools").classList.contains("editing") || ev.button !== 0) return;
+    const g = ev.target.closest(".el");
+    const node = g && [...state.diagram.nodes.entries()].find(([, n]) => n.g === g);
+    if (!node || /PowerRail$/.test(node[1].e.kind)) return;
+    const svg = g.ownerSVGElement;
+    drag = { id: node[0], g, svg, x: ev.clientX, y: ev.clientY, moved: false };
+    g.setPointerCapture?.(ev.pointerId);
+  });
+  const scale = (d) => {
+    const m = d.svg.getScreenCTM();
+    return m && m.a ? 1 / m.a : 1;
+  };
+  svgHost.addEventListener("pointermove", (ev) => {
+    if (!drag) return;
+    const k = scale(drag);
+    const dx = (ev.clientX - drag.x) * k, dy = (ev.clientY - drag.y) * k;
+    if (Math.abs(dx) + Math.abs(dy) > 3) drag.moved = true;
+    if (drag.moved) drag.g.setAttribute("transform", `translate(${dx},${dy})`);
+  });
+  const end = async (ev) => {
+    const d = drag;
+    drag = null;
+    if (!d || !d.moved) return;
+    const k = scale(d);
+    state.selected = d.id;
+    await moveSelected((ev.clientX - d.x) * k, (ev.clientY - d.y) * k);
+  };
+  svgHost.addEventListener("pointerup", end);
+  svgHost.addEventListener("pointercancel", () => {
+    drag?.g.removeAttribute("transform");
+    drag = null;
+  });
 }
 
 /// Downloads `text` under the name of the project's file `index`.
@@ -303,7 +364,8 @@ function applyXml() {
   return apply(state.view.file, state.edit ? state.edit.text() : state.view.text);
 }
 
-const EDIT_KEYS = { c: "contact", o: "coil", b: "branch", r: "rung", k: "cycle", l: "block", Delete: "delete" };
+const EDIT_KEYS = { c: "contact", o: "coil", b: "branch", r: "rung", k: "cycle", l: "block", u: "output", Delete: "delete" };
+const MOVES = { ArrowLeft: [-10, 0], ArrowRight: [10, 0], ArrowUp: [0, -10], ArrowDown: [0, 10] };
 
 function editKeys(ev) {
   if (!state.edit || !$("ld-tools").classList.contains("editing")) return;
@@ -319,6 +381,12 @@ function editKeys(ev) {
   if (ev.key === "v") {
     ev.preventDefault();
     return $("ld-var").focus();
+  }
+  // Shift+arrow moves the selected element a grid step.
+  if (ev.shiftKey && MOVES[ev.key] && state.selected != null) {
+    ev.preventDefault();
+    ev.stopPropagation();
+    return moveSelected(...MOVES[ev.key]);
   }
   const op = !ev.ctrlKey && !ev.altKey && EDIT_KEYS[ev.key];
   if (op) {
@@ -652,7 +720,8 @@ async function main() {
     e.preventDefault();
     editOp("var");
   });
-  $("diagram").addEventListener("keydown", editKeys);
+  $("diagram").addEventListener("keydown", editKeys, true);
+  dragToMove($("diagram"));
   $("build-form").addEventListener("submit", (e) => {
     e.preventDefault();
     buildFor($("build-target").value);
