@@ -180,7 +180,9 @@ pub fn agrees_under_asan(module: &Module, scans: u32, cycle_us: u64) -> Result<u
     std::fs::write(dir.path().join("main.c"), main).map_err(|e| e.to_string())?;
     let mut cmd = Command::new("cc");
     cmd.current_dir(dir.path())
-        .args(["-std=c99", "-O0", "-g", "-ffp-contract=off", "-I."])
+        // No -g: the sanitizers' reports name the function without it, and debug
+        // information makes every build slower (add it back to debug a finding).
+        .args(["-std=c99", "-O0", "-ffp-contract=off", "-I."])
         .args(plcc_c::cc::WARNINGS)
         .args([
             "-fsanitize=address,undefined,float-cast-overflow",
