@@ -537,11 +537,8 @@ async fn fbd(c: &Client, page: &str) {
 }
 
 /// What `script` passes to its callback (the last argument), e.g. a fetch's JSON.
-/// A function block of the project's own put in a rung from the ladder editor
-/// (`tests/workbench/user_block.xml`): offered beside the standard ones, placed
-/// after the contact with its other input given a literal, the rung without
-/// problems, applied, and the lamp lit through it; a PROGRAM is refused as a block.
-async fn user_block(c: &Client, page: &str) {
+/// The page at `page` with its ladder in edit mode: the block types offered.
+async fn editing(c: &Client, page: &str) -> Json {
     c.goto(page).await.expect("the page loads");
     until(
         c,
@@ -550,11 +547,35 @@ async fn user_block(c: &Client, page: &str) {
     )
     .await;
     click(c, "#ld-edit").await;
-    let offered = js(
+    js(
         c,
         "return [...document.querySelectorAll('#ld-block-types option')].map(o => o.value)",
     )
+    .await
+}
+
+/// Apply (the edited file loaded into the PLC), then `main.switch` forced on.
+async fn apply_and_switch_on(c: &Client) {
+    click(c, "button[data-op=apply]").await;
+    until(
+        c,
+        "the online change",
+        "return document.getElementById('view-info').textContent.startsWith('loaded into the PLC')",
+    )
     .await;
+    js(
+        c,
+        "window.plccWorkbench.force('main.switch', true); return true",
+    )
+    .await;
+}
+
+/// A function block of the project's own put in a rung from the ladder editor
+/// (`tests/workbench/user_block.xml`): offered beside the standard ones, placed
+/// after the contact with its other input given a literal, the rung without
+/// problems, applied, and the lamp lit through it; a PROGRAM is refused as a block.
+async fn user_block(c: &Client, page: &str) {
+    let offered = editing(c, page).await;
     assert!(
         offered
             .as_array()
@@ -594,18 +615,7 @@ async fn user_block(c: &Client, page: &str) {
     assert_eq!(problems, json!(""), "rung checks after adding a Hold");
     assert_eq!(count(c, "svg .el-inVariable").await, 1, "n gets a literal");
     screenshot(c, "user-block").await;
-    click(c, "button[data-op=apply]").await;
-    until(
-        c,
-        "the online change",
-        "return document.getElementById('view-info').textContent.startsWith('loaded into the PLC')",
-    )
-    .await;
-    js(
-        c,
-        "window.plccWorkbench.force('main.switch', true); return true",
-    )
-    .await;
+    apply_and_switch_on(c).await;
     let lit = "fetch('/api/vars/main.lamp').then(r => r.json()).then(v => arguments[0](v.value), e => arguments[0](String(e)))";
     let t = Instant::now();
     while js_async(c, lit, vec![]).await != json!(true) {
@@ -675,19 +685,7 @@ async fn until_value(c: &Client, path: &str, what: &str, want: impl Fn(&Json) ->
 /// time is wired out with + Output; the coil moved with Shift+arrow and dragged
 /// back with the mouse; applied, and the lamp lit through all of them.
 async fn functions(c: &Client, page: &str) {
-    c.goto(page).await.expect("the page loads");
-    until(
-        c,
-        "the diagram",
-        "return document.body.dataset.ready === 'true'",
-    )
-    .await;
-    click(c, "#ld-edit").await;
-    let offered = js(
-        c,
-        "return [...document.querySelectorAll('#ld-block-types option')].map(o => o.value)",
-    )
-    .await;
+    let offered = editing(c, page).await;
     for b in ["TON", "ADD", "MOVE", "GT", "Hold", "Above"] {
         assert!(
             offered.as_array().is_some_and(|o| o.contains(&json!(b))),
@@ -826,18 +824,7 @@ async fn functions(c: &Client, page: &str) {
         "rung checks after the moves"
     );
     screenshot(c, "functions-moved").await;
-    click(c, "button[data-op=apply]").await;
-    until(
-        c,
-        "the online change",
-        "return document.getElementById('view-info').textContent.startsWith('loaded into the PLC')",
-    )
-    .await;
-    js(
-        c,
-        "window.plccWorkbench.force('main.switch', true); return true",
-    )
-    .await;
+    apply_and_switch_on(c).await;
     until_value(c, "main.lamp", "the lamp through Above, TON and ADD", |v| {
         v == &json!(true)
     })
