@@ -18,6 +18,7 @@ use fantoccini::key::Key;
 use fantoccini::{Client, ClientBuilder, Locator};
 use serde_json::{json, Value as Json};
 use std::io::{BufRead, BufReader};
+use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::sync::{Arc, Mutex};
@@ -31,15 +32,21 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// A child process killed when dropped.
+/// A child process killed when dropped. chromedriver runs in a process group of
+/// its own, killed whole: the browsers it started must not outlive a failed test
+/// (they would poll their pages and take CPU from everything after).
 struct Proc(Child);
 
 impl Drop for Proc {
     fn drop(&mut self) {
+        let _ = Command::new("kill")
+            .args(["-KILL", "--", &format!("-{}", self.0.id())])
+            .stderr(Stdio::null())
+            .status();
         if let Ok(None) = self.0.try_wait() {
             let _ = self.0.kill();
-            let _ = self.0.wait();
         }
+        let _ = self.0.wait();
     }
 }
 
@@ -96,6 +103,7 @@ fn chromedriver() -> (Proc, String) {
         .port();
     let child = Command::new(CHROMEDRIVER)
         .arg(format!("--port={port}"))
+        .process_group(0)
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::null())
