@@ -12,10 +12,7 @@ const PLAIN: PrintOptions = PrintOptions {
     locations: false,
     canonical: false,
 };
-const LOCS: PrintOptions = PrintOptions {
-    locations: true,
-    canonical: false,
-};
+const LOCS: PrintOptions = PrintOptions::LOCATED;
 
 #[track_caller]
 fn roundtrip(m: &Module) {

@@ -1220,13 +1220,7 @@ fn corrupted_modules_do_not_panic() {
             }
         }
         let res = verify_module(&m);
-        let text = print_module(
-            &m,
-            &PrintOptions {
-                locations: true,
-                ..Default::default()
-            },
-        );
+        let text = print_module(&m, &PrintOptions::LOCATED);
         if let Err(errs) = &res {
             for e in errs {
                 let _ = e.to_string();
@@ -1235,16 +1229,7 @@ fn corrupted_modules_do_not_panic() {
         // A module that still verifies must still print and parse back.
         if res.is_ok() {
             let m2 = parse_module(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
-            assert_eq!(
-                print_module(
-                    &m2,
-                    &PrintOptions {
-                        locations: true,
-                        ..Default::default()
-                    }
-                ),
-                text
-            );
+            assert_eq!(print_module(&m2, &PrintOptions::LOCATED), text);
         }
     }
 }

@@ -23,6 +23,14 @@ pub struct PrintOptions {
     pub canonical: bool,
 }
 
+impl PrintOptions {
+    /// The text with source locations, as the round trip through the parser keeps it.
+    pub const LOCATED: PrintOptions = PrintOptions {
+        locations: true,
+        canonical: false,
+    };
+}
+
 /// Prints a whole module in the text form.
 pub fn print_module(m: &Module, opts: &PrintOptions) -> String {
     let mut sections: Vec<String> = Vec::new();

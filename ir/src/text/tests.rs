@@ -577,24 +577,9 @@ use crate::test_rng::Rng;
 fn exercise(text: &str) {
     if let Ok(m) = parse_module(text) {
         let _ = verify_module(&m);
-        let t = print_module(
-            &m,
-            &PrintOptions {
-                locations: true,
-                ..Default::default()
-            },
-        );
+        let t = print_module(&m, &PrintOptions::LOCATED);
         let m2 = parse_module(&t).unwrap_or_else(|e| panic!("{e}\n{t}\nfrom\n{text}"));
-        assert_eq!(
-            print_module(
-                &m2,
-                &PrintOptions {
-                    locations: true,
-                    ..Default::default()
-                }
-            ),
-            t
-        );
+        assert_eq!(print_module(&m2, &PrintOptions::LOCATED), t);
     }
 }
 
