@@ -37,6 +37,7 @@ use super::{Options, Profile};
 use crate::codes;
 use plcc_ir::diag::{Diagnostic, FileId, Span};
 use rustc_hash::{FxHashMap, FxHashSet};
+use std::rc::Rc;
 
 // ------------------------------------------------------------------ names
 
@@ -208,8 +209,11 @@ enum X {
     True,
     /// A variable, an expression, an output (`ton0.Q`), a hidden variable.
     Term(Vec<Part>),
-    Not(Box<X>),
-    And(Vec<X>),
+    Not(Rc<X>),
+    /// A conjunction, kept as a tree (its operands are flattened when it is written):
+    /// the values of a rung's elements share their prefix, so a series of n contacts
+    /// costs n nodes, not n² operands.
+    And(Rc<X>, Rc<X>),
     Or(Vec<X>),
 }
 
@@ -232,25 +236,33 @@ fn named(s: impl Into<String>) -> X {
 
 fn not(x: X) -> X {
     match x {
-        X::Not(inner) => *inner,
-        x => X::Not(Box::new(x)),
+        X::Not(inner) => Rc::unwrap_or_clone(inner),
+        x => X::Not(Rc::new(x)),
     }
 }
 
 fn and(a: X, b: X) -> X {
-    let mut v = Vec::new();
-    for x in [a, b] {
+    match (a, b) {
+        (X::True, x) | (x, X::True) => x,
+        (a, b) => X::And(Rc::new(a), Rc::new(b)),
+    }
+}
+
+/// The operands of a conjunction, left to right, nested conjunctions flattened
+/// (without recursion: a long rung is a deep tree).
+fn conjuncts(x: &X) -> Vec<&X> {
+    let mut out = Vec::new();
+    let mut stack = vec![x];
+    while let Some(x) = stack.pop() {
         match x {
-            X::True => {}
-            X::And(inner) => v.extend(inner),
-            x => v.push(x),
+            X::And(a, b) => {
+                stack.push(b);
+                stack.push(a);
+            }
+            x => out.push(x),
         }
     }
-    match v.len() {
-        0 => X::True,
-        1 => v.pop().expect("one"),
-        _ => X::And(v),
-    }
+    out
 }
 
 fn or(xs: Vec<X>) -> X {
@@ -288,8 +300,8 @@ fn render(x: &X, top: bool, out: &mut Vec<Part>) {
             render(inner, true, out);
             out.push(part(")"));
         }
-        X::And(v) => {
-            for (i, x) in v.iter().enumerate() {
+        X::And(..) => {
+            for (i, x) in conjuncts(x).into_iter().enumerate() {
                 if i > 0 {
                     out.push(part(" AND "));
                 }
@@ -368,8 +380,36 @@ fn reads(x: &X, out: &mut Vec<String>) {
             }
         }
         X::Not(i) => reads(i, out),
-        X::And(v) | X::Or(v) => v.iter().for_each(|x| reads(x, out)),
+        X::And(..) => conjuncts(x).into_iter().for_each(|x| reads(x, out)),
+        X::Or(v) => v.iter().for_each(|x| reads(x, out)),
     }
+}
+
+/// True if `x` reads one of `names`. `seen` holds the answers for the shared parts
+/// of earlier values (by address): the values of a rung's elements are built on
+/// each other, and each shared part is read once.
+fn reads_any(x: &X, names: &[&String], seen: &mut FxHashMap<*const X, bool>) -> bool {
+    match x {
+        X::True => false,
+        X::Term(_) => {
+            let mut r = Vec::new();
+            reads(x, &mut r);
+            r.iter().any(|n| names.contains(&n))
+        }
+        X::Not(i) => shared_reads_any(i, names, seen),
+        X::And(a, b) => shared_reads_any(a, names, seen) || shared_reads_any(b, names, seen),
+        X::Or(v) => v.iter().any(|x| reads_any(x, names, seen)),
+    }
+}
+
+fn shared_reads_any(x: &Rc<X>, names: &[&String], seen: &mut FxHashMap<*const X, bool>) -> bool {
+    let key = Rc::as_ptr(x);
+    if let Some(&r) = seen.get(&key) {
+        return r;
+    }
+    let r = reads_any(x, names, seen);
+    seen.insert(key, r);
+    r
 }
 
 /// The variable a statement writing `expr` changes: its first name.
@@ -667,19 +707,16 @@ impl Lower<'_, '_, '_, '_> {
         if writes.is_empty() || self.memo.is_empty() {
             return;
         }
-        let mut hit: Vec<Src> = self
-            .memo
-            .iter()
-            .filter(|(_, m)| {
-                m.power && {
-                    let mut r = Vec::new();
-                    reads(&m.x, &mut r);
-                    r.iter().any(|n| writes.contains(&n))
-                }
-            })
+        // In element order: a value is mostly built on those of elements before it,
+        // whose shared parts `seen` then already holds.
+        let mut memos: Vec<(&Src, &Memo)> = self.memo.iter().filter(|(_, m)| m.power).collect();
+        memos.sort_by_key(|(s, _)| (s.elem, s.port));
+        let mut seen = FxHashMap::default();
+        let hit: Vec<Src> = memos
+            .into_iter()
+            .filter(|(_, m)| reads_any(&m.x, &writes, &mut seen))
             .map(|(s, _)| *s)
             .collect();
-        hit.sort_by_key(|s| (s.elem, s.port));
         for s in hit {
             let id = self.elem(s.elem).id;
             let name = self.names.temp(&format!("_P{id}"), "BOOL");
