@@ -1,10 +1,10 @@
-//! `plcc fmt`: Structured Text files formatted by the front end's formatter
+//! `plcc fmt`: Structured Text and Instruction List files formatted by the front end's formatter
 //! (`plcc_frontend::fmt`), printed, checked (`--check`) or rewritten in place
 //! (`--write`, atomically). See docs/editors.md.
 
 use crate::commands::{EXIT_FAIL, EXIT_USAGE};
 use crate::{output, render};
-use plcc_frontend::fmt::{format_st, FmtError};
+use plcc_frontend::fmt::{format_il, format_st, FmtError};
 use plcc_frontend::source::{SourceFile, SourceMap};
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
@@ -63,9 +63,10 @@ fn encode(d: &Decoded, text: &str) -> Vec<u8> {
     out
 }
 
-/// Runs `plcc fmt` on `files` (none, or `-`: standard input). Exit status: 0, 1 when
-/// a file does not parse or (`--check`) would change, 2 for usage and I/O errors.
-pub fn fmt(files: &[PathBuf], mode: FmtMode) -> u8 {
+/// Runs `plcc fmt` on `files` (none, or `-`: standard input), in `lang` (`st` or
+/// `il`; `None`: from each file's extension). Exit status: 0, 1 when a file does not
+/// parse or (`--check`) would change, 2 for usage and I/O errors.
+pub fn fmt(files: &[PathBuf], lang: Option<&str>, mode: FmtMode) -> u8 {
     let stdin = PathBuf::from("-");
     let files: Vec<&Path> = if files.is_empty() {
         vec![stdin.as_path()]
@@ -74,28 +75,30 @@ pub fn fmt(files: &[PathBuf], mode: FmtMode) -> u8 {
     };
     let mut status = 0u8;
     for path in files {
-        let s = fmt_one(path, mode);
+        let s = fmt_one(path, lang, mode);
         status = status.max(s);
     }
     status
 }
 
-fn fmt_one(path: &Path, mode: FmtMode) -> u8 {
+fn fmt_one(path: &Path, lang: Option<&str>, mode: FmtMode) -> u8 {
     let is_stdin = path.as_os_str() == "-";
     let name = if is_stdin {
         "<stdin>".to_string()
     } else {
         path.display().to_string()
     };
-    if !is_stdin {
-        let ext = path
-            .extension()
-            .map(|e| e.to_string_lossy().to_ascii_lowercase());
-        if matches!(ext.as_deref(), Some("il" | "stl" | "xml")) {
-            eprintln!("error: {name}: plcc fmt formats Structured Text only");
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let il = match (lang, ext.as_deref()) {
+        (Some(l), _) => l == "il",
+        (None, Some("stl" | "xml")) if !is_stdin => {
+            eprintln!("error: {name}: plcc fmt formats Structured Text and Instruction List only (STL and PLCopen XML not yet)");
             return EXIT_USAGE;
         }
-    }
+        (None, e) => e == Some("il") && !is_stdin,
+    };
     if is_stdin && mode == FmtMode::Write {
         eprintln!("error: --write needs files (standard input is printed)");
         return EXIT_USAGE;
@@ -117,7 +120,8 @@ fn fmt_one(path: &Path, mode: FmtMode) -> u8 {
         }
     };
     let decoded = decode(&bytes);
-    let formatted = match format_st(&decoded.text) {
+    let format = if il { format_il } else { format_st };
+    let formatted = match format(&decoded.text) {
         Ok(t) => t,
         Err(FmtError::Syntax(diags)) => {
             let mut map = SourceMap::new();

@@ -221,8 +221,9 @@ enum Command {
         #[arg(long)]
         dcp: Option<PathBuf>,
     },
-    /// Format Structured Text: keywords in upper case, blocks indented, the `:` of
-    /// declarations aligned, comments and literals kept as written (docs/editors.md)
+    /// Format Structured Text and Instruction List: keywords and IL operators in
+    /// upper case, blocks indented, the `:` of declarations aligned, comments and
+    /// literals kept as written (docs/editors.md)
     Fmt {
         /// Files to format (`-` or none: standard input); the formatted text is
         /// printed unless --check or --write
@@ -233,6 +234,10 @@ enum Command {
         /// Rewrite the files that change, in place (atomically)
         #[arg(long)]
         write: bool,
+        /// The language of all files: st or il (default: from the extension, `.il`
+        /// being IL; standard input is ST)
+        #[arg(long, value_parser = ["st", "il"])]
+        lang: Option<String>,
     },
     /// Run a language server over standard input and output (LSP: diagnostics,
     /// outline, hover, go to definition, references, completion; docs/editors.md)
@@ -349,8 +354,10 @@ fn main() -> ExitCode {
             files,
             check,
             write,
+            lang,
         }) => plcc::format::fmt(
             &files,
+            lang.as_deref(),
             if check {
                 plcc::format::FmtMode::Check
             } else if write {

@@ -536,9 +536,16 @@ fn broken_input_ends_the_server_with_status_1() {
 #[test]
 fn rename_formatting_and_the_explanation_of_a_code() {
     const MESSY: &str = "program P\nvar x:int;\nend_var\nx:=x+1;\nend_program\n";
+    const MESSY_IL: &str =
+        "function incr : int\nvar_input a:int; end_var\nld a\n add 1\nst incr\nend_function\n";
     let dir = workspace(
         "rename",
-        &[("motor.st", MOTOR), ("main.st", MAIN), ("messy.st", MESSY)],
+        &[
+            ("motor.st", MOTOR),
+            ("main.st", MAIN),
+            ("messy.st", MESSY),
+            ("messy.il", MESSY_IL),
+        ],
     );
     let (main, motor, messy) = (
         dir.join("main.st"),
@@ -636,6 +643,17 @@ fn rename_formatting_and_the_explanation_of_a_code() {
         }),
     );
     assert_eq!(format(&mut c), json!([]));
+    // An Instruction List document: its instructions indented, the operators in
+    // upper case.
+    let il = c.call(
+        "textDocument/formatting",
+        json!({"textDocument": {"uri": uri(&dir.join("messy.il"))}, "options": {"tabSize": 4, "insertSpaces": true}}),
+    );
+    let formatted_il = "FUNCTION incr : int\nVAR_INPUT a : int; END_VAR\n    LD a\n    ADD 1\n    ST incr\nEND_FUNCTION\n";
+    assert_eq!(
+        il,
+        json!([{"range": range(0, 0, 6, 0), "newText": formatted_il}])
+    );
 
     assert_eq!(c.shutdown_and_exit(), 0);
     let _ = std::fs::remove_dir_all(&dir);

@@ -806,15 +806,20 @@ impl Server {
             .to_file_path()
             .map_err(|()| failed(format!("{uri}: only file: documents are formatted")))?;
         let name = path.display().to_string();
-        if !matches!(Lang::from_path(&name), Some(Lang::St | Lang::Cst)) {
-            return Err(failed(format!("{name}: only Structured Text is formatted")));
-        }
+        let format = match Lang::from_path(&name) {
+            Some(Lang::St | Lang::Cst) => plcc_frontend::fmt::format_st,
+            Some(Lang::Il) => plcc_frontend::fmt::format_il,
+            _ => {
+                return Err(failed(format!(
+                    "{name}: only Structured Text and Instruction List are formatted"
+                )))
+            }
+        };
         let text = match self.docs.get(&path) {
             Some(d) => d.text.clone(),
             None => std::fs::read_to_string(&path).map_err(|e| failed(format!("{name}: {e}")))?,
         };
-        let formatted = plcc_frontend::fmt::format_st(&text)
-            .map_err(|e| failed(format!("{name}: not formatted: {e}")))?;
+        let formatted = format(&text).map_err(|e| failed(format!("{name}: not formatted: {e}")))?;
         if formatted == text {
             return Ok(Vec::new());
         }

@@ -26,8 +26,12 @@ pub(super) struct Line {
 pub(super) struct Layout {
     /// The lines in order.
     pub lines: Vec<Line>,
-    /// Per item: a `:` written without a space before it.
-    pub glued_colon: Vec<bool>,
+    /// Per item: written without a space before it (the `:` of CASE labels, of
+    /// `ACTION name:` and of IL labels; the `N` of IL's `&N`).
+    pub glued: Vec<bool>,
+    /// Per item: the operator of an Instruction List instruction (written in upper
+    /// case, against a `(` after it).
+    pub il_op: Vec<bool>,
 }
 
 #[derive(Copy, Clone, PartialEq, Eq, Debug)]
@@ -93,9 +97,12 @@ struct State<'a> {
     /// In the middle of a statement, declaration or header.
     open: bool,
     next_id: usize,
-    glued_colon: Vec<bool>,
+    glued: Vec<bool>,
     /// The previous token's kind.
     prev: Option<Tok>,
+    /// The byte ranges of the Instruction List bodies, in order.
+    il: &'a [Range<usize>],
+    il_op: Vec<bool>,
 }
 
 fn is_var_keyword(t: Tok) -> bool {
@@ -397,7 +404,7 @@ impl<'a> State<'a> {
                 }
                 self.open = false;
             }
-            Tok::Colon if self.glued_colon[i] => {
+            Tok::Colon if self.glued[i] => {
                 if let Some(f) = self.stack.last_mut() {
                     if f.kind == Kind::Case {
                         f.arm = Arm::Label;
@@ -462,7 +469,7 @@ impl<'a> State<'a> {
             if self.tok(c) == Tok::Colon
                 && matches!(word.as_str(), "ACTION" | "STEP" | "INITIAL_STEP")
             {
-                self.glued_colon[c] = true;
+                self.glued[c] = true;
             }
         }
     }
@@ -481,6 +488,45 @@ impl<'a> State<'a> {
             }
             if f.il {
                 self.open = false;
+            }
+        }
+    }
+
+    /// True if the token `i` is in an Instruction List body.
+    fn in_il(&self, i: usize) -> bool {
+        let at = self.items[i].start;
+        let k = self.il.partition_point(|r| r.end <= at);
+        self.il.get(k).is_some_and(|r| r.contains(&at))
+    }
+
+    /// An instruction line of `items` (outside parentheses): its label's `:` glued to
+    /// the label, its operator marked.
+    fn il_instruction(&mut self, items: Range<usize>) {
+        let tokens: Vec<usize> = items.filter(|&j| !self.items[j].is_comment()).collect();
+        let mut k = 0;
+        if tokens.len() >= 2
+            && self.tok(tokens[0]) == Tok::Ident
+            && self.tok(tokens[1]) == Tok::Colon
+        {
+            self.glued[tokens[1]] = true;
+            k = 2;
+        }
+        let Some(&op) = tokens.get(k) else { return };
+        let is_op = match self.tok(op) {
+            Tok::Ident => crate::il::instr::is_operator(self.text(op)),
+            t => matches!(
+                t,
+                Tok::And | Tok::Or | Tok::Xor | Tok::Mod | Tok::Not | Tok::Amp
+            ),
+        };
+        self.il_op[op] = is_op;
+        // `&N` lexes as `&` and the name `N`.
+        if let Some(&n) = tokens.get(k + 1) {
+            if self.tok(op) == Tok::Amp
+                && self.items[n].start == self.items[op].end
+                && self.text(n).eq_ignore_ascii_case("N")
+            {
+                self.glued[n] = true;
             }
         }
     }
@@ -511,15 +557,17 @@ impl<'a> State<'a> {
 }
 
 /// Splits `items` into lines and indents them.
-pub(super) fn layout(text: &str, items: &[Item]) -> Layout {
+pub(super) fn layout(text: &str, items: &[Item], il: &[Range<usize>]) -> Layout {
     let mut st = State {
+        il,
+        il_op: vec![false; items.len()],
         text,
         items,
         stack: Vec::new(),
         paren: 0,
         open: false,
         next_id: 0,
-        glued_colon: vec![false; items.len()],
+        glued: vec![false; items.len()],
         prev: None,
     };
     let mut lines: Vec<Line> = Vec::new();
@@ -542,6 +590,13 @@ pub(super) fn layout(text: &str, items: &[Item]) -> Layout {
             decl: None,
         };
         if let Some(first) = first {
+            // An Instruction List line is one instruction: nothing continues onto it
+            // but what is inside parentheses.
+            let il_line = st.paren == 0 && st.in_il(first);
+            if il_line {
+                st.open = false;
+                st.il_instruction(range.clone());
+            }
             line.decl = st.decl_colon(first, range.clone());
             for j in range.clone() {
                 if items[j].is_comment() {
@@ -549,7 +604,7 @@ pub(super) fn layout(text: &str, items: &[Item]) -> Layout {
                 }
                 let label = st.label_colon(j);
                 if let Some(c) = label {
-                    st.glued_colon[c] = true;
+                    st.glued[c] = true;
                 }
                 if j == first {
                     line.indent = st.line_indent(j, label.is_some());
@@ -557,6 +612,9 @@ pub(super) fn layout(text: &str, items: &[Item]) -> Layout {
                 st.step(j);
             }
             st.line_end();
+            if il_line && st.paren == 0 {
+                st.open = false;
+            }
         }
         comment_only.push(first.is_none());
         lines.push(line);
@@ -580,6 +638,7 @@ pub(super) fn layout(text: &str, items: &[Item]) -> Layout {
     }
     Layout {
         lines,
-        glued_colon: st.glued_colon,
+        glued: st.glued,
+        il_op: st.il_op,
     }
 }

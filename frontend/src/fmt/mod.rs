@@ -1,4 +1,4 @@
-//! `plcc fmt`: Structured Text written again in one layout.
+//! `plcc fmt`: Structured Text and Instruction List written again in one layout.
 //!
 //! A token-stream formatter: the lexer's tokens, with the comments and pragmas found
 //! between them ([`items`]), are split into the lines the user wrote ([`layout`]: at
@@ -9,6 +9,12 @@
 //! or none between tokens, the `:` of the declarations of one VAR block or STRUCT
 //! aligned, and comments where they were. Literals and names are written exactly as
 //! they were spelt.
+//!
+//! An Instruction List file has ST's tokens, declarations and POU structure; the IL
+//! parser tells which bodies are IL, and their lines are laid out as instructions:
+//! one per line at the body's level, a line inside parentheses (`AND(` ... `)`) one
+//! level deeper, labels with their `:` against them, the operators in upper case and
+//! against a `(` that follows them.
 //!
 //! A file that does not parse is refused with the parser's diagnostics. The result
 //! is checked before it is returned: it must lex to the same tokens (keywords
@@ -55,21 +61,44 @@ pub fn format_st(text: &str) -> Result<String, FmtError> {
     if diags.iter().any(Diagnostic::is_error) {
         return Err(FmtError::Syntax(diags));
     }
+    format_parsed(text, &[])
+}
+
+/// Formats one Instruction List file (its ST bodies as [`format_st`] does); as
+/// [`format_st`] for its diagnostics and line breaks.
+pub fn format_il(text: &str) -> Result<String, FmtError> {
+    let mut interner = Interner::new();
+    let mut diags = Vec::new();
+    // The ranges are offsets into the text as given; the layout reads the text with
+    // `\r\n` made `\n`, so they are mapped there.
+    let (_, ranges) = crate::il::parse_with_bodies(FileId(0), text, &mut interner, &mut diags);
+    if diags.iter().any(Diagnostic::is_error) {
+        return Err(FmtError::Syntax(diags));
+    }
+    let lf = |at: usize| at - text[..at].matches("\r\n").count();
+    let ranges: Vec<_> = ranges.iter().map(|r| lf(r.start)..lf(r.end)).collect();
+    format_parsed(text, &ranges)
+}
+
+/// Formats a text that parsed; `il`: the byte ranges of its IL bodies (in the text
+/// with `\n` line breaks).
+fn format_parsed(text: &str, il: &[std::ops::Range<usize>]) -> Result<String, FmtError> {
     let crlf = text.find('\n').is_some_and(|i| text[..i].ends_with('\r'));
     let text = text.replace("\r\n", "\n");
     let items = items::items(&text).map_err(|e| match e {
         Some(d) => FmtError::Syntax(d),
         None => FmtError::Internal("text between tokens that is no comment".into()),
     })?;
-    let layout = layout::layout(&text, &items);
+    let layout = layout::layout(&text, &items, il);
     let out = print::print(&text, &items, &layout);
-    verify(&text, &items, &out)?;
+    verify(&text, &items, &layout.il_op, &out)?;
     Ok(if crlf { out.replace('\n', "\r\n") } else { out })
 }
 
 /// The formatted text `out` holds the items of `text`, in order, written the same
-/// (keywords compared without case, comments without the indentation of their lines).
-fn verify(text: &str, before: &[items::Item], out: &str) -> Result<(), FmtError> {
+/// (keywords and the IL operators marked in `il_op` compared without case, comments
+/// without the indentation of their lines).
+fn verify(text: &str, before: &[items::Item], il_op: &[bool], out: &str) -> Result<(), FmtError> {
     let after = items::items(out)
         .map_err(|_| FmtError::Internal("the formatted text does not lex".into()))?;
     if after.len() != before.len() {
@@ -79,9 +108,12 @@ fn verify(text: &str, before: &[items::Item], out: &str) -> Result<(), FmtError>
             after.len()
         )));
     }
-    for (b, a) in before.iter().zip(&after) {
-        let tb = print::item_text(text, b);
-        let ta = print::item_text(out, a);
+    for (k, (b, a)) in before.iter().zip(&after).enumerate() {
+        let (mut tb, mut ta) = (print::item_text(text, b), print::item_text(out, a));
+        if il_op.get(k).copied().unwrap_or(false) {
+            tb.make_ascii_uppercase();
+            ta.make_ascii_uppercase();
+        }
         // A comment's lines after its first may move with it.
         let same = if b.is_comment() {
             let lines = |s: &str| {

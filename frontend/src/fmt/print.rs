@@ -76,6 +76,12 @@ fn space_between(before_a: Option<Tok>, label: bool, a: Tok, b: Tok) -> bool {
     }
 }
 
+/// True if item `p` is the `(` right after an IL operator (`AND(`): its operand
+/// follows after a space.
+fn il_paren_operand(layout: &Layout, prev_token: &[Option<usize>], p: usize) -> bool {
+    prev_token[p].is_some_and(|k| layout.il_op[k] && k + 1 == p)
+}
+
 /// What rendering a line needs besides the line.
 struct Ctx<'a> {
     text: &'a str,
@@ -163,10 +169,17 @@ impl Ctx<'_> {
                             let col = end_column(&s);
                             let pad = place.pad.unwrap_or(0);
                             s.extend(std::iter::repeat_n(' ', pad.saturating_sub(col).max(1)));
-                        } else if !self.layout.glued_colon[j]
+                        } else if a == Tok::LParen
+                            && il_paren_operand(self.layout, &self.prev_token, p)
+                        {
+                            // `AND( x`: the operand of a parenthesised IL operator.
+                            s.push(' ');
+                        } else if !(self.layout.glued[j]
+                            // `AND(`: an IL operator against its parenthesis.
+                            || self.layout.il_op[p] && b == Tok::LParen)
                             && space_between(
                                 self.prev_token[p].and_then(|k| items[k].tok),
-                                self.prev_token[p].is_some_and(|k| self.layout.glued_colon[k]),
+                                self.prev_token[p].is_some_and(|k| self.layout.glued[k]),
                                 a,
                                 b,
                             )
@@ -176,7 +189,10 @@ impl Ctx<'_> {
                     }
                 }
             }
-            let t = item_text(self.text, it);
+            let mut t = item_text(self.text, it);
+            if self.layout.il_op[j] {
+                t.make_ascii_uppercase();
+            }
             if it.is_comment() && prev.is_none() {
                 // A comment starting the line: its other lines move with it.
                 let shift = (line.indent * INDENT) as isize - it.col as isize;

@@ -75,6 +75,12 @@ pub(crate) struct Words {
     keyword_ops: [(Tok, Symbol); 5],
 }
 
+/// True if `word` is an IL operator written as an identifier (`LD`, `JMPC`, `CAL`...;
+/// not `AND`, `OR`, `XOR`, `MOD`, `NOT`, which are ST keywords), in any case.
+pub(crate) fn is_operator(word: &str) -> bool {
+    OPS.iter().any(|(op, _)| op.eq_ignore_ascii_case(word))
+}
+
 const OPS: &[(&str, Word)] = &[
     ("LD", Word::Ld(false)),
     ("LDN", Word::Ld(true)),

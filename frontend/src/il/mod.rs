@@ -41,12 +41,24 @@ pub fn parse(
     interner: &mut Interner,
     diags: &mut Vec<Diagnostic>,
 ) -> SourceUnit {
+    parse_with_bodies(file, text, interner, diags).0
+}
+
+/// [`parse`], and the byte ranges of the bodies read as IL (from their first token to
+/// the token that ends them), in source order: the formatter lays out their lines
+/// as instructions.
+pub(crate) fn parse_with_bodies(
+    file: FileId,
+    text: &str,
+    interner: &mut Interner,
+    diags: &mut Vec<Diagnostic>,
+) -> (SourceUnit, Vec<std::ops::Range<usize>>) {
     let first = diags.len();
     let lexed = lexer::lex(file, text, interner, diags);
     let mut bodies = IlBodies::new(interner);
     let unit = parser::parse_tokens_with(file, text, &lexed, interner, diags, Some(&mut bodies));
     diags[first..].sort_by_key(|d| d.span.map_or(u32::MAX, |s| s.start));
-    unit
+    (unit, bodies.ranges)
 }
 
 /// The [`BodyHook`] that recognises and translates IL bodies.
@@ -54,6 +66,8 @@ struct IlBodies {
     words: Words,
     /// Number of compiler temporaries made so far in the file (`__CR1`, `__CR2`...).
     temps: u32,
+    /// The byte ranges of the IL bodies read so far.
+    ranges: Vec<std::ops::Range<usize>>,
 }
 
 impl IlBodies {
@@ -61,6 +75,7 @@ impl IlBodies {
         IlBodies {
             words: Words::new(interner),
             temps: 0,
+            ranges: Vec::new(),
         }
     }
 }
@@ -70,7 +85,9 @@ impl BodyHook for IlBodies {
         if !ctx.continuing && !looks_like_il(p, &self.words) {
             return None;
         }
+        let start = p.tok().start as usize;
         let instrs = instr::parse_body(p, &self.words);
+        self.ranges.push(start..p.tok().start as usize);
         let mut env = environment(ctx, &self.words);
         if let Some(name) = env.result {
             env.result_text = p.source(name.span).to_string();
