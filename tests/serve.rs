@@ -4,112 +4,22 @@
 //! Nothing here asserts on speed: conditions are polled with generous timeouts, so a
 //! loaded machine only makes the tests slower.
 
-use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
-use std::process::{Child, Command, ExitStatus, Stdio};
-use std::sync::{Arc, Mutex};
+use std::process::Command;
 use std::time::{Duration, Instant};
 
+#[path = "common/server.rs"]
+#[allow(dead_code)]
+mod server;
+use server::Server;
+
 /// How long any condition may take to come true.
-const PATIENCE: Duration = Duration::from_secs(60);
+const PATIENCE: Duration = server::SERVER_PATIENCE;
 
 fn program(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/serve")
         .join(name)
-}
-
-/// A running `plcc serve` and the lines of its standard error so far.
-struct Server {
-    child: Child,
-    lines: Arc<Mutex<Vec<String>>>,
-}
-
-impl Server {
-    fn start(args: &[&str]) -> Server {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_plcc"))
-            .arg("serve")
-            .args(args)
-            .stdin(Stdio::null())
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("plcc starts");
-        let lines = Arc::new(Mutex::new(Vec::new()));
-        let stderr = child.stderr.take().expect("piped");
-        let sink = Arc::clone(&lines);
-        std::thread::spawn(move || {
-            for line in BufReader::new(stderr).lines() {
-                let Ok(line) = line else { break };
-                sink.lock().unwrap().push(line);
-            }
-        });
-        Server { child, lines }
-    }
-
-    /// The first line of standard error that starts with `prefix`, waiting for it.
-    fn line(&mut self, prefix: &str) -> String {
-        let t = Instant::now();
-        loop {
-            if let Some(l) = self
-                .lines
-                .lock()
-                .unwrap()
-                .iter()
-                .find(|l| l.starts_with(prefix))
-            {
-                return l.clone();
-            }
-            if let Ok(Some(status)) = self.child.try_wait() {
-                // Let the reader take the last lines.
-                std::thread::sleep(Duration::from_millis(200));
-                panic!(
-                    "plcc serve ended ({status}) before printing `{prefix}`:\n{}",
-                    self.lines.lock().unwrap().join("\n")
-                );
-            }
-            assert!(t.elapsed() < PATIENCE, "no line `{prefix}`");
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    }
-
-    /// Sends SIGTERM and waits for the end: the status and every line.
-    fn terminate(mut self) -> (ExitStatus, Vec<String>) {
-        // SAFETY: signalling our own child, which has not been waited for.
-        unsafe {
-            libc::kill(self.child.id() as libc::pid_t, libc::SIGTERM);
-        }
-        let t = Instant::now();
-        let status = loop {
-            if let Some(s) = self.child.try_wait().expect("wait") {
-                break s;
-            }
-            assert!(t.elapsed() < PATIENCE, "plcc serve did not end on SIGTERM");
-            std::thread::sleep(Duration::from_millis(20));
-        };
-        let t = Instant::now();
-        while t.elapsed() < Duration::from_secs(5)
-            && !self
-                .lines
-                .lock()
-                .unwrap()
-                .iter()
-                .any(|l| l.starts_with("scans: "))
-        {
-            std::thread::sleep(Duration::from_millis(20));
-        }
-        let lines = self.lines.lock().unwrap().clone();
-        (status, lines)
-    }
-}
-
-impl Drop for Server {
-    fn drop(&mut self) {
-        if let Ok(None) = self.child.try_wait() {
-            let _ = self.child.kill();
-            let _ = self.child.wait();
-        }
-    }
 }
 
 /// The number after `scans: ` in the statistics line.
@@ -1003,9 +913,9 @@ fn retain_survives_restarts_of_the_server_and_warm_restarts() {
 fn kill_9(mut s: Server) {
     // SAFETY: signalling our own child, which has not been waited for.
     unsafe {
-        libc::kill(s.child.id() as libc::pid_t, libc::SIGKILL);
+        libc::kill(s.id() as libc::pid_t, libc::SIGKILL);
     }
-    let status = s.child.wait().expect("wait");
+    let status = s.wait();
     use std::os::unix::process::ExitStatusExt;
     assert_eq!(status.signal(), Some(libc::SIGKILL), "{status}");
 }

@@ -17,12 +17,15 @@ use fantoccini::actions::{
 use fantoccini::key::Key;
 use fantoccini::{Client, ClientBuilder, Locator};
 use serde_json::{json, Value as Json};
-use std::io::{BufRead, BufReader};
 use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
-use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
+
+#[path = "common/server.rs"]
+#[allow(dead_code)]
+mod server;
+use server::Server;
 
 const CHROMIUM: &str = "/usr/bin/chromium";
 const CHROMEDRIVER: &str = "/usr/bin/chromedriver";
@@ -51,48 +54,14 @@ impl Drop for Proc {
 }
 
 /// `plcc serve` on the example (with `extra` arguments), HTTP on a free loopback
-/// port: the process and the page's address.
-fn serve(example: &Path, extra: &[&str]) -> (Proc, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_plcc"))
-        .current_dir(root())
-        .arg("serve")
-        .arg(example)
-        .args(["--http", "127.0.0.1:0", "--modbus", "none"])
-        .args(extra)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("plcc starts");
-    let lines = Arc::new(Mutex::new(Vec::<String>::new()));
-    let stderr = child.stderr.take().expect("piped");
-    let sink = Arc::clone(&lines);
-    std::thread::spawn(move || {
-        for line in BufReader::new(stderr).lines() {
-            let Ok(line) = line else { break };
-            sink.lock().unwrap().push(line);
-        }
-    });
-    let mut p = Proc(child);
-    let t = Instant::now();
-    loop {
-        let found = lines
-            .lock()
-            .unwrap()
-            .iter()
-            .find_map(|l| l.strip_prefix("http: listening on ").map(str::to_string));
-        if let Some(addr) = found {
-            return (p, format!("http://{addr}"));
-        }
-        if let Ok(Some(status)) = p.0.try_wait() {
-            panic!(
-                "plcc serve ended ({status}):\n{}",
-                lines.lock().unwrap().join("\n")
-            );
-        }
-        assert!(t.elapsed() < PATIENCE, "plcc serve printed no address");
-        std::thread::sleep(Duration::from_millis(20));
-    }
+/// port: the server and the page's address.
+fn serve(example: &Path, extra: &[&str]) -> (Server, String) {
+    let example = example.to_str().expect("a UTF-8 path");
+    let mut args = vec![example, "--http", "127.0.0.1:0", "--modbus", "none"];
+    args.extend_from_slice(extra);
+    let mut s = Server::start(&args);
+    let url = s.http_url();
+    (s, url)
 }
 
 /// chromedriver on a free loopback port: the process and its address.
