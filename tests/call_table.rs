@@ -17,6 +17,9 @@ use plcc_ir::text::parse_module;
 use plcc_ir::verify::verify_module;
 use plcc_ir::Module;
 
+#[path = "common/skip.rs"]
+mod skip;
+
 /// Every machine of the registry, and the VM's 32-bit modes.
 fn machines() -> Vec<String> {
     let mut ms = plcc::targets::checked_machines();
@@ -137,7 +140,7 @@ fn a_counter_driven_dispatch_agrees_on_every_machine() {
 fn gpsim_agrees_with_the_simulator_on_call_tables() {
     let tools = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/tools");
     if !tools.join("pic16-run").exists() || !gpsim::have("gpasm") || !gpsim::have("gpsim") {
-        eprintln!("notice: gpasm, gpsim or ../shared/tools/pic16-run is missing; skipping");
+        skip::notice("gpasm, gpsim or ../shared/tools/pic16-run is missing; skipping");
         return;
     }
     let dir = plcc_c::cc::TempDir::new().expect("a temporary directory");
@@ -155,7 +158,7 @@ fn gpsim_agrees_with_the_simulator_on_call_tables() {
 #[test]
 fn the_c_of_call_tables_is_clean_under_every_compiler_and_the_sanitizers() {
     if !plcc_c::can_run() {
-        eprintln!("notice: no C compiler here; the C of call tables is not checked");
+        skip::notice("no C compiler here; the C of call tables is not checked");
         return;
     }
     let modules = [

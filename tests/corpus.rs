@@ -16,6 +16,9 @@ use plcc::{scenario, targets};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+#[path = "common/skip.rs"]
+mod skip;
+
 fn corpus_dir() -> Option<PathBuf> {
     let d = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus");
     d.is_dir().then_some(d)
@@ -247,11 +250,13 @@ fn run_corpus(dir: &Path, target: &str) -> (String, usize) {
 #[test]
 fn corpus_on_every_machine() {
     let Some(dir) = corpus_dir() else {
-        eprintln!("notice: ../shared/corpus not found; skipping the corpus test");
+        skip::notice("../shared/corpus not found; skipping the corpus test");
         return;
     };
     for t in targets::not_running() {
-        eprintln!("notice: target `{t}` cannot run programs here; the corpus skips it");
+        skip::notice(&format!(
+            "target `{t}` cannot run programs here; the corpus skips it"
+        ));
     }
     let machines = targets::checked_machines();
     let results: Vec<(String, usize)> = std::thread::scope(|s| {
@@ -287,11 +292,11 @@ fn corpus_on_every_machine() {
 #[test]
 fn corpus_c_under_address_sanitizer() {
     let Some(dir) = corpus_dir() else {
-        eprintln!("notice: ../shared/corpus not found; skipping the corpus test");
+        skip::notice("../shared/corpus not found; skipping the corpus test");
         return;
     };
     if !targets::find("c").is_some_and(|t| t.runs()) {
-        eprintln!("notice: no C compiler; skipping the corpus under the address sanitizer");
+        skip::notice("no C compiler; skipping the corpus under the address sanitizer");
         return;
     }
     let mut modules = Vec::new();
@@ -363,7 +368,7 @@ fn corpus_c_under_address_sanitizer() {
 #[test]
 fn corpus_never_panics() {
     let Some(dir) = corpus_dir() else {
-        eprintln!("notice: ../shared/corpus not found; skipping the corpus test");
+        skip::notice("../shared/corpus not found; skipping the corpus test");
         return;
     };
     let mut files = Vec::new();
@@ -416,7 +421,7 @@ fn corpus_never_panics() {
 #[test]
 fn matiec_il_syntax_file_checks() {
     let Some(dir) = corpus_dir() else {
-        eprintln!("notice: ../shared/corpus not found; skipping the corpus test");
+        skip::notice("../shared/corpus not found; skipping the corpus test");
         return;
     };
     let path = dir.join("il/matiec_syntax_basic_code.il");

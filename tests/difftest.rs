@@ -15,7 +15,9 @@ fn machines() -> Vec<&'static str> {
     MACHINES
         .get_or_init(|| {
             for t in plcc::targets::not_running() {
-                eprintln!("notice: target `{t}` cannot run programs here; the batches skip it");
+                skip::notice(&format!(
+                    "target `{t}` cannot run programs here; the batches skip it"
+                ));
             }
             plcc::targets::checked_machines()
         })
@@ -591,6 +593,9 @@ fn the_chart_shrinker_keeps_the_cause_and_drops_the_rest() {
 
 use plcc::difftest::oo;
 
+#[path = "common/skip.rs"]
+mod skip;
+
 #[test]
 fn one_hundred_random_oo_programs_agree_on_every_machine() {
     let mut machines_ran = 0;
@@ -652,7 +657,7 @@ fn every_oo_feature_comes_often_enough() {
 #[test]
 fn random_programs_pass_the_address_sanitizer() {
     if !plcc::targets::find("c").is_some_and(|t| t.runs()) {
-        eprintln!("notice: no C compiler; skipping the address sanitizer batch");
+        skip::notice("no C compiler; skipping the address sanitizer batch");
         return;
     }
     let mut modules: Vec<(String, plcc_ir::Module)> = Vec::new();

@@ -270,6 +270,9 @@ use plcc_ir::{ElemType, Module};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 
+#[path = "common/skip.rs"]
+mod skip;
+
 /// The clock step of `run N` for a compiled case: the rule `plcc test` follows
 /// without `--cycle-ms` (the common tick of the configuration's tasks, else 10 ms).
 fn cycle_us(module: &Module) -> u64 {
@@ -631,7 +634,7 @@ fn every_machine_of_the_registry_is_tested() {
         "targets of src/targets.rs without programs_on_* and *_agree tests: {missing:?}"
     );
     for t in targets::not_running() {
-        println!("notice: target `{t}` cannot run programs here");
+        skip::notice(&format!("target `{t}` cannot run programs here"));
     }
 }
 
@@ -930,7 +933,7 @@ fn c_builds_for_avr() {
         .output()
         .is_err()
     {
-        eprintln!("notice: avr-gcc is not installed (.ci/run installs gcc-avr and avr-libc); skipping the AVR builds");
+        skip::notice("avr-gcc is not installed (.ci/run installs gcc-avr and avr-libc); skipping the AVR builds");
         return;
     }
     let (cases, mut failures) = cases();

@@ -9,12 +9,15 @@ use plcc::driver::{build_sources, BuildOptions};
 use plcc_frontend::ast::Item;
 use std::path::{Path, PathBuf};
 
+#[path = "common/skip.rs"]
+mod skip;
+
 fn libs_dir() -> Option<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/libs");
     if dir.is_dir() {
         Some(dir)
     } else {
-        println!("skipped: {} is absent", dir.display());
+        skip::notice(&format!("{} is absent", dir.display()));
         None
     }
 }

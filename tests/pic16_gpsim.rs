@@ -18,6 +18,9 @@ mod gpsim;
 use plcc::driver::{build_sources, BuildOptions};
 use std::path::{Path, PathBuf};
 
+#[path = "common/skip.rs"]
+mod skip;
+
 /// Fewer programs than this means the discovery or the backend is broken.
 const MIN_PROGRAMS: usize = 40;
 
@@ -86,11 +89,11 @@ fn check(src: &Path, tools: &Path, dir: &Path) -> Result<bool, String> {
 fn gpasm_and_gpsim_agree_with_plcc() {
     let tools = root().join("../shared/tools");
     if !tools.join("pic16-run").exists() {
-        println!("skipping: ../shared/tools/pic16-run is not there");
+        skip::notice("../shared/tools/pic16-run is not there");
         return;
     }
     if !gpsim::have("gpasm") || !gpsim::have("gpsim") {
-        println!("skipping: gpasm or gpsim is not installed (apt-get install gputils gpsim)");
+        skip::notice("gpasm or gpsim is not installed (apt-get install gputils gpsim)");
         return;
     }
     let mut progs = Vec::new();

@@ -9,6 +9,9 @@ use plcc::targets;
 use plcc_frontend::sfc::Profile;
 use std::path::{Path, PathBuf};
 
+#[path = "common/skip.rs"]
+mod skip;
+
 /// The codes of a program too large for the target.
 const UNFIT: [&str; 4] = ["E9001", "E9002", "E9003", "E9004"];
 
@@ -89,7 +92,7 @@ fn trace_form(v: plcc_ir::value::PlcValue) -> String {
 #[test]
 fn matiec_profile_matches_matiec_scan_by_scan() {
     let Some(dir) = samples() else {
-        eprintln!("NOTICE: ../shared/reference is absent: the matiec SFC traces are skipped");
+        skip::notice("../shared/reference is absent: the matiec SFC traces are skipped");
         return;
     };
     let mut failures = Vec::new();
@@ -194,7 +197,7 @@ fn writable(path: &str) -> bool {
 #[test]
 fn xml_charts_run_as_the_editors_text() {
     let Some(dir) = samples() else {
-        eprintln!("NOTICE: ../shared/reference is absent: the SFC sample comparison is skipped");
+        skip::notice("../shared/reference is absent: the SFC sample comparison is skipped");
         return;
     };
     let build = |files: Vec<(String, Vec<u8>)>| {
@@ -251,7 +254,7 @@ fn xml_charts_run_as_the_editors_text() {
 #[test]
 fn graphical_condition_blocks_are_late_only_under_matiec() {
     let Some(dir) = samples() else {
-        eprintln!("NOTICE: ../shared/reference is absent: the graphical condition test is skipped");
+        skip::notice("../shared/reference is absent: the graphical condition test is skipped");
         return;
     };
     let xml = dir.join("sfc_graphical.xml");

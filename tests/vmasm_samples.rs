@@ -15,12 +15,15 @@ use plcc_vmasm::isa::Mode;
 use plcc_vmasm::vm::{End, Vm};
 use std::path::{Path, PathBuf};
 
+#[path = "common/skip.rs"]
+mod skip;
+
 fn samples_dir() -> Option<PathBuf> {
     let d = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/reference/cpdev-samples");
     if d.is_dir() {
         Some(d)
     } else {
-        eprintln!("notice: ../shared/reference/cpdev-samples not found; skipping");
+        skip::notice("../shared/reference/cpdev-samples not found; skipping");
         None
     }
 }
