@@ -782,16 +782,18 @@ impl Server {
         Ok(Some(WorkspaceEdit::new(changes)))
     }
 
-    /// The semantic tokens of a Structured Text document ([`tokens`]); none for the
-    /// other languages.
+    /// The semantic tokens of a Structured Text or Instruction List document
+    /// ([`tokens`]); none for the other languages.
     fn semantic_tokens(&mut self, uri: &Url) -> Option<SemanticTokensResult> {
         let (a, path) = self.analysis(uri)?;
         let f = a.file(&path)?;
         let src = a.build.sources.get(f.id);
-        if !matches!(Lang::from_path(&src.name), Some(Lang::St | Lang::Cst)) {
-            return None;
-        }
-        let data = tokens::tokens(&a.index, f.id, &src.text, &a.lines(f));
+        let il = match Lang::from_path(&src.name) {
+            Some(Lang::St | Lang::Cst) => false,
+            Some(Lang::Il) => true,
+            _ => return None,
+        };
+        let data = tokens::tokens(&a.index, f.id, &src.text, &a.lines(f), il);
         Some(SemanticTokensResult::Tokens(SemanticTokens {
             result_id: None,
             data,

@@ -1,5 +1,7 @@
-//! Semantic tokens (`textDocument/semanticTokens/full`) of a Structured Text file:
-//! what each word is, for editors that colour by meaning rather than by a grammar.
+//! Semantic tokens (`textDocument/semanticTokens/full`) of a Structured Text or
+//! Instruction List file: what each word is, for editors that colour by meaning
+//! rather than by a grammar. In IL, an operator (`LD`, `JMPC`, `CAL`...) that starts
+//! a line or follows the line's label is a keyword.
 //!
 //! The text is lexed again; keywords, numbers, strings and comments come from the
 //! tokens and the gaps between them, names from the index ([`Index::names_in`]): a
@@ -104,8 +106,15 @@ fn of_decl(d: &Decl<'_>) -> SemanticTokenType {
     }
 }
 
-/// The semantic tokens of the Structured Text file `file`, whose text `lines` holds.
-pub fn tokens(index: &Index, file: FileId, text: &str, lines: &Lines<'_>) -> Vec<SemanticToken> {
+/// The semantic tokens of the Structured Text (or, `il`, Instruction List) file
+/// `file`, whose text `lines` holds.
+pub fn tokens(
+    index: &Index,
+    file: FileId,
+    text: &str,
+    lines: &Lines<'_>,
+    il: bool,
+) -> Vec<SemanticToken> {
     let mut interner = Interner::new();
     let mut diags = Vec::new();
     let lexed = lexer::lex(file, text, &mut interner, &mut diags);
@@ -114,12 +123,28 @@ pub fn tokens(index: &Index, file: FileId, text: &str, lines: &Lines<'_>) -> Vec
     // (start, end, type) in text order.
     let mut raw: Vec<(u32, u32, u32)> = Vec::new();
     let mut gap_start = 0u32;
-    for t in &lexed.tokens {
+    // The kinds of the tokens on the line so far (IL: where an operator may stand).
+    let mut on_line: Vec<Tok> = Vec::new();
+    for (k, t) in lexed.tokens.iter().enumerate() {
+        if t.newline_before() {
+            on_line.clear();
+        }
+        // First on its line, or after `label:`; not a variable an ST statement
+        // assigns (`S := 1;`).
+        let operator_place = (on_line.is_empty() || on_line.as_slice() == [Tok::Ident, Tok::Colon])
+            && lexed
+                .tokens
+                .get(k + 1)
+                .is_none_or(|n| n.kind != Tok::Assign);
+        on_line.push(t.kind);
         comments(text, gap_start, t.start, &mut raw);
         gap_start = t.end;
         let word = &text[t.start as usize..t.end as usize];
         let ty = match t.kind {
             Tok::Eof => break,
+            Tok::Ident if il && operator_place && plcc_frontend::il::is_operator(word) => {
+                Some(SemanticTokenType::KEYWORD)
+            }
             Tok::Ident => {
                 while next_name < names.len() && names[next_name].0.start < t.start {
                     next_name += 1;

@@ -77,7 +77,7 @@ pub(crate) struct Words {
 
 /// True if `word` is an IL operator written as an identifier (`LD`, `JMPC`, `CAL`...;
 /// not `AND`, `OR`, `XOR`, `MOD`, `NOT`, which are ST keywords), in any case.
-pub(crate) fn is_operator(word: &str) -> bool {
+pub fn is_operator(word: &str) -> bool {
     OPS.iter().any(|(op, _)| op.eq_ignore_ascii_case(word))
 }
 

@@ -21,6 +21,8 @@
 pub(crate) mod instr;
 pub(crate) mod translate;
 
+pub use instr::is_operator;
+
 #[cfg(test)]
 mod tests;
 
