@@ -165,3 +165,42 @@ fn the_call_graph_sees_every_entry() {
     );
     assert_eq!(plcc_ir::analysis::call_depths(&m)[main.index()], 1);
 }
+
+/// From the roots, callers before callees, and only what the roots reach.
+#[test]
+fn callers_come_before_their_callees_from_the_roots() {
+    let m = module();
+    let main = m.func_by_name("main").unwrap();
+    let order = plcc_ir::analysis::callers_first_from(&m, &[main]);
+    assert_eq!(order[0], main);
+    let at = |f: usize| order.iter().position(|g| g.index() == f);
+    for (i, f) in order.iter().enumerate() {
+        for c in plcc_ir::analysis::callees(&m, f.index()) {
+            assert!(
+                at(c).is_some_and(|p| p > i),
+                "{} comes before its caller {}",
+                m.funcs[c].name,
+                m.funcs[f.index()].name
+            );
+        }
+    }
+    // Exactly the functions reachable from main.
+    let mut reach = vec![main.index()];
+    let mut k = 0;
+    while k < reach.len() {
+        for c in plcc_ir::analysis::callees(&m, reach[k]) {
+            if !reach.contains(&c) {
+                reach.push(c);
+            }
+        }
+        k += 1;
+    }
+    let mut got: Vec<usize> = order.iter().map(|f| f.index()).collect();
+    got.sort_unstable();
+    reach.sort_unstable();
+    assert_eq!(got, reach);
+    assert!(
+        reach.len() < m.funcs.len(),
+        "the module has functions main does not reach"
+    );
+}

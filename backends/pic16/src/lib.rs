@@ -304,20 +304,13 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
     let layout = PicLayout::compute(module);
     let nf = module.funcs.len();
 
-    // Call graph from the roots.
-    let callees: Vec<Vec<FuncId>> = module
-        .funcs
-        .iter()
+    // Call graph from the roots (`plcc_ir::analysis`): callers before callees.
+    let callees: Vec<Vec<FuncId>> = (0..nf)
         .map(|f| {
-            let mut v = Vec::new();
-            for (_, i) in f.inst_iter() {
-                if let InstData::Call { func, .. } = f.inst(i) {
-                    if !v.contains(func) {
-                        v.push(*func);
-                    }
-                }
-            }
-            v
+            plcc_ir::analysis::callees(module, f)
+                .into_iter()
+                .map(FuncId::new)
+                .collect()
         })
         .collect();
     let mut roots: Vec<FuncId> = Vec::new();
@@ -326,23 +319,7 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
         roots.push(p.init);
         roots.push(p.body);
     }
-    // Reverse post-order = callers before callees.
-    let mut order = Vec::new();
-    let mut state = vec![0u8; nf];
-    fn dfs(f: FuncId, c: &[Vec<FuncId>], st: &mut [u8], out: &mut Vec<FuncId>) {
-        if st[f.index()] != 0 {
-            return;
-        }
-        st[f.index()] = 1;
-        for &g in &c[f.index()] {
-            dfs(g, c, st, out);
-        }
-        out.push(f);
-    }
-    for &r in &roots {
-        dfs(r, &callees, &mut state, &mut order);
-    }
-    order.reverse();
+    let order = plcc_ir::analysis::callers_first_from(module, &roots);
 
     // Pointers every caller agrees on.
     let mut root_params: FxHashMap<FuncId, Vec<Option<Ptr>>> = FxHashMap::default();

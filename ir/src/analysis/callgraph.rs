@@ -37,6 +37,46 @@ pub fn callees_first(module: &Module) -> Vec<FuncId> {
     order
 }
 
+/// The functions reachable from `roots` by calls, ordered so that every caller comes
+/// before its callees (a reverse post-order of a depth-first walk from the roots in
+/// their order, the callees of each function in index order). Functions no root
+/// reaches are left out. With recursion (which the verifier rejects) the order within
+/// a cycle is arbitrary.
+pub fn callers_first_from(module: &Module, roots: &[FuncId]) -> Vec<FuncId> {
+    let n = module.funcs.len();
+    let mut state = vec![false; n];
+    let mut post = Vec::with_capacity(n);
+    for &root in roots {
+        if root.index() >= n || state[root.index()] {
+            continue;
+        }
+        // Iterative post-order DFS; each frame's pending callees in reverse so that
+        // the lowest index is walked first.
+        let pending = |f: usize| {
+            let mut c = callees(module, f);
+            c.reverse();
+            c
+        };
+        let mut stack: Vec<(usize, Vec<usize>)> = vec![(root.index(), pending(root.index()))];
+        state[root.index()] = true;
+        while let Some((node, next)) = stack.last_mut() {
+            match next.pop() {
+                Some(g) if !state[g] => {
+                    state[g] = true;
+                    stack.push((g, pending(g)));
+                }
+                Some(_) => {}
+                None => {
+                    post.push(FuncId::new(*node));
+                    stack.pop();
+                }
+            }
+        }
+    }
+    post.reverse();
+    post
+}
+
 /// The functions an instruction may call: the callee of a `call`, every entry of the
 /// table of a `call_table` (ids out of range left out), none for other instructions.
 pub fn inst_callees(module: &Module, data: &InstData) -> Vec<FuncId> {
