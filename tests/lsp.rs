@@ -659,6 +659,21 @@ fn rename_formatting_and_the_explanation_of_a_code() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A server initialized on `dir`, and the token types of its semantic-token legend.
+fn started_with_legend(dir: &Path) -> (Client, Vec<Value>) {
+    let mut c = Client::start();
+    let init = c.request(
+        "initialize",
+        json!({"processId": null, "rootUri": uri(dir), "capabilities": {}}),
+    );
+    let legend = init["result"]["capabilities"]["semanticTokensProvider"]["legend"]["tokenTypes"]
+        .as_array()
+        .expect("a legend")
+        .clone();
+    c.notify("initialized", json!({}));
+    (c, legend)
+}
+
 /// A document's semantic tokens, decoded: `line:column+length type`.
 fn semantic_tokens(c: &mut Client, legend: &[Value], path: &Path) -> Vec<String> {
     let data = c.call(
@@ -702,16 +717,7 @@ END_FUNCTION_BLOCK
 ";
     let dir = workspace("il_tokens", &[("latch.il", TEXT)]);
     let latch = dir.join("latch.il");
-    let mut c = Client::start();
-    let init = c.request(
-        "initialize",
-        json!({"processId": null, "rootUri": uri(&dir), "capabilities": {}}),
-    );
-    let legend = init["result"]["capabilities"]["semanticTokensProvider"]["legend"]["tokenTypes"]
-        .as_array()
-        .expect("a legend")
-        .clone();
-    c.notify("initialized", json!({}));
+    let (mut c, legend) = started_with_legend(&dir);
     c.open(&latch);
     // The operators are keywords (`OR` is one to the lexer anyway); `st`, an
     // input named like the operator, is a parameter where it is an operand.
@@ -766,16 +772,7 @@ END_FUNCTION_BLOCK
 ";
     let dir = workspace("tokens", &[("motor.st", TEXT)]);
     let motor = dir.join("motor.st");
-    let mut c = Client::start();
-    let init = c.request(
-        "initialize",
-        json!({"processId": null, "rootUri": uri(&dir), "capabilities": {}}),
-    );
-    let legend = init["result"]["capabilities"]["semanticTokensProvider"]["legend"]["tokenTypes"]
-        .as_array()
-        .expect("a legend")
-        .clone();
-    c.notify("initialized", json!({}));
+    let (mut c, legend) = started_with_legend(&dir);
     c.open(&motor);
     assert_eq!(
         semantic_tokens(&mut c, &legend, &motor),
