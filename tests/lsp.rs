@@ -752,6 +752,47 @@ END_FUNCTION_BLOCK
 }
 
 #[test]
+fn semantic_tokens_of_stl() {
+    const TEXT: &str = "(* a counter *)
+program count;
+begin
+  var
+    n : INT := 16#0F;
+  end_var;
+  if n < 100 then n := n + 1;
+end.
+";
+    let dir = workspace("stl_tokens", &[("count.stl", TEXT)]);
+    let count = dir.join("count.stl");
+    let (mut c, legend) = started_with_legend(&dir);
+    c.open(&count);
+    assert_eq!(
+        semantic_tokens(&mut c, &legend, &count),
+        [
+            "0:0+15 comment",
+            "1:0+7 keyword",
+            "1:8+5 namespace",
+            "2:0+5 keyword",
+            "3:2+3 keyword",
+            "4:4+1 variable",
+            "4:8+3 type",
+            "4:15+5 number",
+            "5:2+7 keyword",
+            "6:2+2 keyword",
+            "6:5+1 variable",
+            "6:9+3 number",
+            "6:13+4 keyword",
+            "6:18+1 variable",
+            "6:23+1 variable",
+            "6:27+1 number",
+            "7:0+3 keyword",
+        ]
+    );
+    assert_eq!(c.shutdown_and_exit(), 0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn semantic_tokens_say_what_each_word_is() {
     const TEXT: &str = "FUNCTION_BLOCK Motor (* a motor,
    two lines *)

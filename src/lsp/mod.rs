@@ -782,18 +782,19 @@ impl Server {
         Ok(Some(WorkspaceEdit::new(changes)))
     }
 
-    /// The semantic tokens of a Structured Text or Instruction List document
-    /// ([`tokens`]); none for the other languages.
+    /// The semantic tokens of a Structured Text, Instruction List or STL document
+    /// ([`tokens`]); none for PLCopen XML.
     fn semantic_tokens(&mut self, uri: &Url) -> Option<SemanticTokensResult> {
         let (a, path) = self.analysis(uri)?;
         let f = a.file(&path)?;
         let src = a.build.sources.get(f.id);
-        let il = match Lang::from_path(&src.name) {
-            Some(Lang::St | Lang::Cst) => false,
-            Some(Lang::Il) => true,
+        let lines = a.lines(f);
+        let data = match Lang::from_path(&src.name) {
+            Some(Lang::St | Lang::Cst) => tokens::tokens(&a.index, f.id, &src.text, &lines, false),
+            Some(Lang::Il) => tokens::tokens(&a.index, f.id, &src.text, &lines, true),
+            Some(Lang::Stl) => tokens::stl_tokens(&a.index, f.id, &src.text, &lines),
             _ => return None,
         };
-        let data = tokens::tokens(&a.index, f.id, &src.text, &a.lines(f), il);
         Some(SemanticTokensResult::Tokens(SemanticTokens {
             result_id: None,
             data,

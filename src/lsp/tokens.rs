@@ -118,8 +118,7 @@ pub fn tokens(
     let mut interner = Interner::new();
     let mut diags = Vec::new();
     let lexed = lexer::lex(file, text, &mut interner, &mut diags);
-    let names = index.names_in(file);
-    let mut next_name = 0;
+    let mut names = Names::new(index, file);
     // (start, end, type) in text order.
     let mut raw: Vec<(u32, u32, u32)> = Vec::new();
     let mut gap_start = 0u32;
@@ -145,30 +144,83 @@ pub fn tokens(
             Tok::Ident if il && operator_place && plcc_frontend::il::is_operator(word) => {
                 Some(SemanticTokenType::KEYWORD)
             }
-            Tok::Ident => {
-                while next_name < names.len() && names[next_name].0.start < t.start {
-                    next_name += 1;
-                }
-                match names.get(next_name) {
-                    Some((span, d)) if span.start == t.start => Some(of_decl(d)),
-                    _ if ELEMENTARY.iter().any(|e| e.eq_ignore_ascii_case(word)) => {
-                        Some(SemanticTokenType::TYPE)
-                    }
-                    _ if plcc_frontend::lower::STANDARD_FUNCTIONS
-                        .iter()
-                        .any(|(f, _)| f.eq_ignore_ascii_case(word)) =>
-                    {
-                        Some(SemanticTokenType::FUNCTION)
-                    }
-                    _ => None,
-                }
-            }
+            Tok::Ident => names.at(t.start, word),
             Tok::Lit if word.starts_with(['\'', '"']) => Some(SemanticTokenType::STRING),
             Tok::Lit => Some(SemanticTokenType::NUMBER),
             // STRING and WSTRING are reserved (for `STRING(n)`), but types.
             k if k.is_keyword() && ELEMENTARY.iter().any(|e| e.eq_ignore_ascii_case(word)) => {
                 Some(SemanticTokenType::TYPE)
             }
+            k if k.is_keyword() => Some(SemanticTokenType::KEYWORD),
+            _ => None,
+        };
+        if let Some(ty) = ty {
+            raw.push((t.start, t.end, type_index(&ty)));
+        }
+    }
+    encode(&raw, text, lines)
+}
+
+/// The names of a file in text order, walked along with its tokens.
+struct Names<'i> {
+    names: Vec<(plcc_ir::diag::Span, Decl<'i>)>,
+    next: usize,
+}
+
+impl<'i> Names<'i> {
+    fn new(index: &'i Index, file: FileId) -> Names<'i> {
+        Names {
+            names: index.names_in(file),
+            next: 0,
+        }
+    }
+
+    /// The type of the name `word` starting at byte `start` (names are asked for in
+    /// text order): what it resolves to, else an elementary type or a standard
+    /// function, else nothing.
+    fn at(&mut self, start: u32, word: &str) -> Option<SemanticTokenType> {
+        while self.next < self.names.len() && self.names[self.next].0.start < start {
+            self.next += 1;
+        }
+        match self.names.get(self.next) {
+            Some((span, d)) if span.start == start => Some(of_decl(d)),
+            _ if ELEMENTARY.iter().any(|e| e.eq_ignore_ascii_case(word)) => {
+                Some(SemanticTokenType::TYPE)
+            }
+            _ if plcc_frontend::lower::STANDARD_FUNCTIONS
+                .iter()
+                .any(|(f, _)| f.eq_ignore_ascii_case(word)) =>
+            {
+                Some(SemanticTokenType::FUNCTION)
+            }
+            _ => None,
+        }
+    }
+}
+
+/// The semantic tokens of the PLC-UD STL file `file`, whose text `lines` holds: its
+/// reserved words, numbers, comments and pragma lines, and its names as in ST.
+pub fn stl_tokens(
+    index: &Index,
+    file: FileId,
+    text: &str,
+    lines: &Lines<'_>,
+) -> Vec<SemanticToken> {
+    use plcc_frontend::stl::lexer::{self as stl, Tok as T};
+    let mut interner = Interner::new();
+    let lexed = stl::lex(file, text, &mut interner, &mut Vec::new());
+    let mut names = Names::new(index, file);
+    let mut raw: Vec<(u32, u32, u32)> = Vec::new();
+    let mut gap_start = 0u32;
+    for t in &lexed.tokens {
+        comments(text, gap_start, t.start, &mut raw);
+        gap_start = t.end;
+        let word = &text[t.start as usize..t.end as usize];
+        let ty = match t.kind {
+            T::Eof => break,
+            T::Ident(_) => names.at(t.start, word),
+            T::Int(_) | T::Real => Some(SemanticTokenType::NUMBER),
+            T::Pragma => Some(SemanticTokenType::COMMENT),
             k if k.is_keyword() => Some(SemanticTokenType::KEYWORD),
             _ => None,
         };
