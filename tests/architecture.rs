@@ -3,6 +3,9 @@
 //! `plcc-ir` only (in their dependencies, dev-dependencies and build-dependencies
 //! alike); only the root package sees everything. Every crate directory under
 //! `backends/` is a workspace member (so none escapes the check).
+//!
+//! Also a house rule of the tests: every insta snapshot file belongs to a test that
+//! still names it (a deleted or renamed test leaves no stale `.snap` behind).
 
 use std::path::Path;
 
@@ -94,5 +97,72 @@ fn the_check_sees_a_forbidden_dependency() {
     assert_eq!(
         members("[workspace]\nmembers = [\"ir\", \"backends/c\"]\n"),
         ["ir", "backends/c"]
+    );
+}
+
+/// The source file a snapshot's module path points at (`fmt` → `tests/fmt.rs`,
+/// `plcc_frontend__st__tests` → `frontend/src/st/tests.rs`), if there is one.
+fn snapshot_source(root: &Path, module: &[&str]) -> Option<std::path::PathBuf> {
+    let (base, rest) = match *module.first()? {
+        "plcc_frontend" => (root.join("frontend/src"), &module[1..]),
+        "plcc_ir" => (root.join("ir/src"), &module[1..]),
+        "plcc" => (root.join("src"), &module[1..]),
+        _ => (root.join("tests"), module),
+    };
+    let rel = rest.join("/");
+    [
+        base.join(format!("{rel}.rs")),
+        base.join(rel).join("mod.rs"),
+    ]
+    .into_iter()
+    .find(|p| p.is_file())
+}
+
+/// The snapshot file names under `dir`'s `snapshots/` directories, recursively.
+fn snapshot_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
+    let Ok(rd) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in rd.flatten() {
+        let p = e.path();
+        if p.is_dir() && !p.ends_with("target") && !p.ends_with("node_modules") {
+            snapshot_files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "snap") {
+            out.push(p);
+        }
+    }
+}
+
+#[test]
+fn every_snapshot_belongs_to_a_test_that_names_it() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    for d in ["tests", "frontend", "ir", "backends", "src"] {
+        snapshot_files(&root.join(d), &mut files);
+    }
+    assert!(files.len() > 100, "only {} snapshots found", files.len());
+    let mut stale = Vec::new();
+    for f in &files {
+        let stem = f
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .expect("a UTF-8 name");
+        let parts: Vec<&str> = stem.split("__").collect();
+        let (module, name) = parts.split_at(parts.len() - 1);
+        // The second and later snapshots of one test are `name-2`, `name-3`...
+        let name = name[0]
+            .rsplit_once('-')
+            .filter(|(_, n)| n.chars().all(|c| c.is_ascii_digit()))
+            .map_or(name[0], |(n, _)| n);
+        let named = snapshot_source(root, module)
+            .and_then(|src| std::fs::read_to_string(src).ok())
+            .is_some_and(|text| text.contains(name));
+        if !named {
+            stale.push(f.strip_prefix(root).unwrap_or(f).display().to_string());
+        }
+    }
+    assert!(
+        stale.is_empty(),
+        "snapshot files no test names (delete them, or bring the test back): {stale:?}"
     );
 }
