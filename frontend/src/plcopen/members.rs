@@ -3,11 +3,11 @@
 //! project's INTERFACEs, written as the ST front end reads them in the CODESYS
 //! dialect.
 
-use super::body::Line;
 use super::decls::{write_group, write_type};
 use super::graph::Graph;
 use super::map::Out;
 use super::view::write_text;
+use super::wire::Line;
 use super::xml::{Accessor, Body, Interface, Method, Mods, Oo, Property, Text};
 
 /// A name of a base or an interface. CODESYS qualifies a library's by the

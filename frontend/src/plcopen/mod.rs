@@ -33,6 +33,7 @@ mod order;
 mod sfc;
 pub(crate) mod text;
 mod view;
+mod wire;
 mod wiretype;
 pub(crate) mod xml;
 

@@ -26,10 +26,11 @@
 //! The text order decides the order of evaluation of the chart (matiec's, which the
 //! textual SFC of the lowering follows), hence the care for the translator's order.
 
-use super::body::{emit_body, emit_condition, CondState, Line, Names, PouCtx};
+use super::body::{emit_body, emit_condition, CondState, Names, PouCtx};
 use super::graph::Graph;
 use super::map::Out;
 use super::view::write_text;
+use super::wire::Line;
 use super::xml::{ActionTarget, Body, Cond, Kind, NodeKind, Pou, Sfc, SfcNode, Text};
 use crate::codes;
 use plcc_ir::diag::{Diagnostic, Span};

@@ -7,12 +7,13 @@
 //! bodies as written, charts (SFC) as textual SFC (`sfc`); then the configurations. The front end compiles that text like
 //! any source file, and `--emit il` prints it.
 
-use super::body::{emit_body, write_hidden, Line, Names, PouCtx};
+use super::body::{emit_body, write_hidden, Names, PouCtx};
 use super::decls::{comment_safe, write_config, write_group, write_type, write_value};
 use super::graph::Graph;
 use super::map::Out;
 use super::members::{push_name, write_inheritance, write_interface, write_members, write_mods};
 use super::sfc;
+use super::wire::Line;
 use super::xml::{Body, Pou, PouKind, Project, Text, Var, VarGroup};
 use plcc_ir::diag::{Diagnostic, FileId};
 
