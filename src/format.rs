@@ -1,10 +1,10 @@
-//! `plcc fmt`: Structured Text and Instruction List files formatted by the front end's formatter
+//! `plcc fmt`: Structured Text, Instruction List and STL files formatted by the front end's formatter
 //! (`plcc_frontend::fmt`), printed, checked (`--check`) or rewritten in place
 //! (`--write`, atomically). See docs/editors.md.
 
 use crate::commands::{EXIT_FAIL, EXIT_USAGE};
 use crate::{output, render};
-use plcc_frontend::fmt::{format_il, format_st, FmtError};
+use plcc_frontend::fmt::{format_il, format_st, format_stl, FmtError};
 use plcc_frontend::source::{SourceFile, SourceMap};
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
@@ -63,8 +63,8 @@ fn encode(d: &Decoded, text: &str) -> Vec<u8> {
     out
 }
 
-/// Runs `plcc fmt` on `files` (none, or `-`: standard input), in `lang` (`st` or
-/// `il`; `None`: from each file's extension). Exit status: 0, 1 when a file does not
+/// Runs `plcc fmt` on `files` (none, or `-`: standard input), in `lang` (`st`, `il`
+/// or `stl`; `None`: from each file's extension). Exit status: 0, 1 when a file does not
 /// parse or (`--check`) would change, 2 for usage and I/O errors.
 pub fn fmt(files: &[PathBuf], lang: Option<&str>, mode: FmtMode) -> u8 {
     let stdin = PathBuf::from("-");
@@ -91,13 +91,14 @@ fn fmt_one(path: &Path, lang: Option<&str>, mode: FmtMode) -> u8 {
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
-    let il = match (lang, ext.as_deref()) {
-        (Some(l), _) => l == "il",
-        (None, Some("stl" | "xml")) if !is_stdin => {
-            eprintln!("error: {name}: plcc fmt formats Structured Text and Instruction List only (STL and PLCopen XML not yet)");
+    let lang = match (lang, ext.as_deref()) {
+        (Some(l), _) => l,
+        (None, Some("xml")) if !is_stdin => {
+            eprintln!("error: {name}: plcc fmt formats Structured Text, Instruction List and STL (not PLCopen XML)");
             return EXIT_USAGE;
         }
-        (None, e) => e == Some("il") && !is_stdin,
+        (None, Some(e @ ("il" | "stl"))) if !is_stdin => e,
+        (None, _) => "st",
     };
     if is_stdin && mode == FmtMode::Write {
         eprintln!("error: --write needs files (standard input is printed)");
@@ -120,7 +121,11 @@ fn fmt_one(path: &Path, lang: Option<&str>, mode: FmtMode) -> u8 {
         }
     };
     let decoded = decode(&bytes);
-    let format = if il { format_il } else { format_st };
+    let format = match lang {
+        "il" => format_il,
+        "stl" => format_stl,
+        _ => format_st,
+    };
     let formatted = match format(&decoded.text) {
         Ok(t) => t,
         Err(FmtError::Syntax(diags)) => {

@@ -221,7 +221,7 @@ enum Command {
         #[arg(long)]
         dcp: Option<PathBuf>,
     },
-    /// Format Structured Text and Instruction List: keywords and IL operators in
+    /// Format Structured Text, Instruction List and STL: keywords and IL operators in
     /// upper case, blocks indented, the `:` of declarations aligned, comments and
     /// literals kept as written (docs/editors.md)
     Fmt {
@@ -234,9 +234,9 @@ enum Command {
         /// Rewrite the files that change, in place (atomically)
         #[arg(long)]
         write: bool,
-        /// The language of all files: st or il (default: from the extension, `.il`
-        /// being IL; standard input is ST)
-        #[arg(long, value_parser = ["st", "il"])]
+        /// The language of all files: st, il or stl (default: from the extension,
+        /// `.il` and `.stl`; standard input is ST)
+        #[arg(long, value_parser = ["st", "il", "stl"])]
         lang: Option<String>,
     },
     /// Run a language server over standard input and output (LSP: diagnostics,

@@ -1,10 +1,10 @@
-//! `plcc fmt` (docs/editors.md): every ST and IL file of `tests/programs` and
+//! `plcc fmt` (docs/editors.md): every ST, IL and STL file of `tests/programs` and
 //! `../shared/corpus` (OSCAT included) formats idempotently, and a file that compiles
 //! compiles after formatting to the same optimised IR; snapshots of small layouts;
 //! the command's exit statuses and file handling.
 
 use plcc::driver::{build_sources, BuildOptions};
-use plcc_frontend::fmt::{format_il, format_st, FmtError};
+use plcc_frontend::fmt::{format_il, format_st, format_stl, FmtError};
 use plcc_frontend::Lang;
 use plcc_ir::text::{print_module, PrintOptions};
 use std::path::{Path, PathBuf};
@@ -16,7 +16,7 @@ mod skip;
 #[allow(dead_code)]
 mod rng;
 
-/// The `.st` and `.il` files under `dir`, sorted.
+/// The `.st`, `.il` and `.stl` files under `dir`, sorted.
 fn source_files(dir: &Path, out: &mut Vec<PathBuf>) {
     let Ok(rd) = std::fs::read_dir(dir) else {
         return;
@@ -32,7 +32,7 @@ fn source_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// ST or IL, by the file's extension; `None` for other files.
+/// ST, IL or STL, by the file's extension; `None` for other files.
 fn lang_of(p: &Path) -> Option<Lang> {
     match p
         .extension()?
@@ -42,15 +42,16 @@ fn lang_of(p: &Path) -> Option<Lang> {
     {
         "st" => Some(Lang::St),
         "il" => Some(Lang::Il),
+        "stl" => Some(Lang::Stl),
         _ => None,
     }
 }
 
 fn format(text: &str, lang: Lang) -> Result<String, FmtError> {
-    if lang == Lang::Il {
-        format_il(text)
-    } else {
-        format_st(text)
+    match lang {
+        Lang::Il => format_il(text),
+        Lang::Stl => format_stl(text),
+        _ => format_st(text),
     }
 }
 
@@ -108,7 +109,7 @@ struct Tally {
 }
 
 fn check_file(path: &Path, codesys: bool, t: &mut Tally) {
-    let lang = lang_of(path).expect("an ST or IL file");
+    let lang = lang_of(path).expect("an ST, IL or STL file");
     let bytes = std::fs::read(path).expect("readable");
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(&bytes);
     let text = match std::str::from_utf8(bytes) {
@@ -349,6 +350,22 @@ fn instruction_list_bodies() {
     insta::assert_snapshot!(out);
 }
 
+#[test]
+fn stl_blocks_and_one_statement_branches() {
+    let text = "(* a sequencer *)\nprogram seq;\nvar\nstate : USINT;\nn, total : INT := 5;\nend_var;\n\
+                begin\nif state = 0 then\nbegin\nif n > 0 then\nn := n - 1;\nstate := 1;\nend\n\
+                else if state = 1 then state := 2\nelse\nstate := 0;\nwhile n < 10 do\nn := n + 1;\n\
+                for n := 1 to 3 do begin total := total + n; end;\nrepeat\nn := n - 1;\nuntil n = 0;\n\
+                total := total +\nn * 2;   (* kept *)\nend.\n";
+    let out = format_stl(text).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        format_stl(&out).ok().as_deref(),
+        Some(out.as_str()),
+        "not idempotent"
+    );
+    insta::assert_snapshot!(out);
+}
+
 /// A scratch directory of this test's own.
 fn scratch(name: &str) -> PathBuf {
     let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("fmt_{name}"));
@@ -438,15 +455,13 @@ fn cli_refuses_broken_and_unreadable_files() {
     assert_eq!(plcc(&["fmt", missing.to_str().unwrap()], None).0, 2);
     assert_eq!(plcc(&["fmt", "--check", "--write", b], None).0, 2);
     assert_eq!(plcc(&["fmt", "--write"], Some(UNFORMATTED)).0, 2);
-    // STL and PLCopen XML are not formatted (yet): a usage error, the file untouched.
-    let stl = d.join("p.stl");
-    std::fs::write(&stl, "PROGRAM p\nEND_PROGRAM\n").unwrap();
-    let (code, _, err) = plcc(&["fmt", "--write", stl.to_str().unwrap()], None);
+    // PLCopen XML is not formatted: a usage error, the file untouched.
+    let xml = d.join("p.xml");
+    std::fs::write(&xml, "<project/>\n").unwrap();
+    let (code, _, err) = plcc(&["fmt", "--write", xml.to_str().unwrap()], None);
     assert_eq!(code, 2);
-    assert!(
-        err.contains("Structured Text and Instruction List only"),
-        "{err}"
-    );
+    assert!(err.contains("not PLCopen XML"), "{err}");
+    assert_eq!(std::fs::read_to_string(&xml).unwrap(), "<project/>\n");
 }
 
 #[test]

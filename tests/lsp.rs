@@ -536,6 +536,7 @@ fn broken_input_ends_the_server_with_status_1() {
 #[test]
 fn rename_formatting_and_the_explanation_of_a_code() {
     const MESSY: &str = "program P\nvar x:int;\nend_var\nx:=x+1;\nend_program\n";
+    const MESSY_STL: &str = "program tick;\nbegin\nvar x:INT; end_var;\nx:=x+1;\nend.\n";
     const MESSY_IL: &str =
         "function incr : int\nvar_input a:int; end_var\nld a\n add 1\nst incr\nend_function\n";
     let dir = workspace(
@@ -545,6 +546,7 @@ fn rename_formatting_and_the_explanation_of_a_code() {
             ("main.st", MAIN),
             ("messy.st", MESSY),
             ("messy.il", MESSY_IL),
+            ("messy.stl", MESSY_STL),
         ],
     );
     let (main, motor, messy) = (
@@ -653,6 +655,16 @@ fn rename_formatting_and_the_explanation_of_a_code() {
     assert_eq!(
         il,
         json!([{"range": range(0, 0, 6, 0), "newText": formatted_il}])
+    );
+    // And an STL one: reserved words in upper case, the block indented.
+    let stl = c.call(
+        "textDocument/formatting",
+        json!({"textDocument": {"uri": uri(&dir.join("messy.stl"))}, "options": {"tabSize": 4, "insertSpaces": true}}),
+    );
+    let formatted_stl = "PROGRAM tick;\nBEGIN\n    VAR x : INT; END_VAR;\n    x := x + 1;\nEND.\n";
+    assert_eq!(
+        stl,
+        json!([{"range": range(0, 0, 5, 0), "newText": formatted_stl}])
     );
 
     assert_eq!(c.shutdown_and_exit(), 0);

@@ -812,11 +812,8 @@ impl Server {
         let format = match Lang::from_path(&name) {
             Some(Lang::St | Lang::Cst) => plcc_frontend::fmt::format_st,
             Some(Lang::Il) => plcc_frontend::fmt::format_il,
-            _ => {
-                return Err(failed(format!(
-                    "{name}: only Structured Text and Instruction List are formatted"
-                )))
-            }
+            Some(Lang::Stl) => plcc_frontend::fmt::format_stl,
+            _ => return Err(failed(format!("{name}: PLCopen XML is not formatted"))),
         };
         let text = match self.docs.get(&path) {
             Some(d) => d.text.clone(),

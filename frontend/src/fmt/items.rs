@@ -59,7 +59,7 @@ pub(super) fn items(text: &str) -> Result<Vec<Item>, Option<Vec<Diagnostic>>> {
 }
 
 /// The visual column of byte `at` (tabs to multiples of 4).
-fn column(text: &str, at: usize) -> usize {
+pub(super) fn column(text: &str, at: usize) -> usize {
     let line_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
     let mut col = 0;
     for c in text[line_start..at].chars() {
@@ -124,7 +124,7 @@ fn push_comment(text: &str, start: usize, end: usize, breaks: &mut u8, out: &mut
 }
 
 /// End of the `(* ... *)` comment at `i` (nested comments counted), at most `to`.
-fn nested_comment_end(src: &[u8], mut i: usize, to: usize) -> usize {
+pub(super) fn nested_comment_end(src: &[u8], mut i: usize, to: usize) -> usize {
     let mut depth = 0usize;
     while i < to {
         if src[i] == b'(' && src.get(i + 1) == Some(&b'*') {

@@ -1,4 +1,4 @@
-//! `plcc fmt`: Structured Text and Instruction List written again in one layout.
+//! `plcc fmt`: Structured Text, Instruction List and STL written again in one layout.
 //!
 //! A token-stream formatter: the lexer's tokens, with the comments and pragmas found
 //! between them ([`items`]), are split into the lines the user wrote ([`layout`]: at
@@ -16,6 +16,9 @@
 //! level deeper, labels with their `:` against them, the operators in upper case and
 //! against a `(` that follows them.
 //!
+//! STL has a lexer and a block structure of its own (`begin`/`end`, one-statement
+//! branches): [`stl`] lays it out.
+//!
 //! A file that does not parse is refused with the parser's diagnostics. The result
 //! is checked before it is returned: it must lex to the same tokens (keywords
 //! compared without case) and the same comments (a comment that starts a line moves
@@ -24,6 +27,7 @@
 mod items;
 mod layout;
 mod print;
+mod stl;
 
 #[cfg(test)]
 mod tests;
@@ -78,6 +82,18 @@ pub fn format_il(text: &str) -> Result<String, FmtError> {
     let lf = |at: usize| at - text[..at].matches("\r\n").count();
     let ranges: Vec<_> = ranges.iter().map(|r| lf(r.start)..lf(r.end)).collect();
     format_parsed(text, &ranges)
+}
+
+/// Formats one file of PLC-UD STL (`stl`): reserved words in upper case, Pascal's
+/// indentation; as [`format_st`] for its diagnostics and line breaks.
+pub fn format_stl(text: &str) -> Result<String, FmtError> {
+    let mut interner = Interner::new();
+    let mut diags = Vec::new();
+    crate::stl::parse(FileId(0), text, &mut interner, &mut diags);
+    if diags.iter().any(Diagnostic::is_error) {
+        return Err(FmtError::Syntax(diags));
+    }
+    stl::format(text)
 }
 
 /// Formats a text that parsed; `il`: the byte ranges of its IL bodies (in the text
