@@ -793,7 +793,7 @@ pub fn compile(a: &CompileArgs) -> u8 {
             let mut s = String::new();
             for v in &build.charts {
                 s.push_str(&format!("(* {} *)\n", build.sources.get(v.st).name));
-                s.push_str(&build.sources.get(v.st).text);
+                s.push_str(&formatted_view(&build.sources.get(v.st).text, false));
             }
             std::mem::forget(module);
             (s.into_bytes(), "st".to_string())
@@ -807,7 +807,7 @@ pub fn compile(a: &CompileArgs) -> u8 {
             let mut s = String::new();
             for v in &build.ladder {
                 if view != "ld-text" {
-                    s.push_str(&build.sources.get(v.il).text);
+                    s.push_str(&formatted_view(&build.sources.get(v.il).text, true));
                 } else {
                     if build.ladder.len() > 1 {
                         s.push_str(&format!("(* {} *)\n", build.sources.get(v.xml).name));
@@ -1056,4 +1056,18 @@ pub fn iec2c(cmd: &str, args: &[String]) -> u8 {
     } else {
         EXIT_FAIL
     }
+}
+
+/// A view of `--emit st` (`il`: it may hold IL bodies) laid out by `plcc fmt`; as it
+/// was made, with a note on standard error, if the formatter refuses it.
+fn formatted_view(text: &str, il: bool) -> String {
+    let formatted = if il {
+        plcc_frontend::fmt::format_il(text)
+    } else {
+        plcc_frontend::fmt::format_st(text)
+    };
+    formatted.unwrap_or_else(|e| {
+        eprintln!("note: the view is shown as made, not formatted: {e}");
+        text.to_string()
+    })
 }

@@ -332,6 +332,9 @@ fn the_cli_draws_a_chart_and_shows_its_st() {
     );
     assert!(drawing.contains("  | L  stirrer (T#40ms)\n"), "{drawing}");
     let st = run("st");
-    assert!(st.contains("Idle : __SFC_STEP := (X := TRUE);"), "{st}");
+    // Laid out by `plcc fmt` (the declarations' colons aligned): compared by words.
+    let words = st.split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(words.contains("Idle : __SFC_STEP := (X := TRUE);"), "{st}");
+    assert!(st.contains("\n    Idle    "), "not formatted:\n{st}");
     assert!(st.contains("END_PROGRAM"), "{st}");
 }
