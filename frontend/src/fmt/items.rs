@@ -58,6 +58,23 @@ pub(super) fn items(text: &str) -> Result<Vec<Item>, Option<Vec<Diagnostic>>> {
     Ok(out)
 }
 
+/// The lines the user wrote, from the line breaks before each item (`breaks[k]`, 2
+/// for two or more): each line's item range, and whether an empty line comes before
+/// it (never before the first).
+pub(super) fn source_lines(breaks: &[u8]) -> Vec<(std::ops::Range<usize>, bool)> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < breaks.len() {
+        let start = i;
+        i += 1;
+        while i < breaks.len() && breaks[i] == 0 {
+            i += 1;
+        }
+        out.push((start..i, !out.is_empty() && breaks[start] >= 2));
+    }
+    out
+}
+
 /// The visual column of byte `at` (tabs to multiples of 4).
 pub(super) fn column(text: &str, at: usize) -> usize {
     let line_start = text[..at].rfind('\n').map_or(0, |i| i + 1);

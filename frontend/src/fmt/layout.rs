@@ -571,17 +571,10 @@ pub(super) fn layout(text: &str, items: &[Item], il: &[Range<usize>]) -> Layout 
         prev: None,
     };
     let mut lines: Vec<Line> = Vec::new();
-    let mut i = 0;
     // Lines holding only comments, with the indentation the state gives them.
     let mut comment_only: Vec<bool> = Vec::new();
-    while i < items.len() {
-        let start = i;
-        i += 1;
-        while i < items.len() && items[i].breaks == 0 {
-            i += 1;
-        }
-        let range = start..i;
-        let blank_before = !lines.is_empty() && items[start].breaks >= 2;
+    let breaks: Vec<u8> = items.iter().map(|it| it.breaks).collect();
+    for (range, blank_before) in super::items::source_lines(&breaks) {
         let first = range.clone().find(|&j| !items[j].is_comment());
         let mut line = Line {
             items: range.clone(),

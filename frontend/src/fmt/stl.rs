@@ -7,7 +7,7 @@
 //! words in upper case, one space or none between tokens, the `:` of a `var`
 //! block's declarations aligned, comments at their column as in ST.
 
-use super::items::{column, nested_comment_end};
+use super::items::{column, nested_comment_end, source_lines};
 use super::FmtError;
 use crate::stl::lexer::{self, Tok};
 use plcc_ir::diag::FileId;
@@ -125,15 +125,8 @@ fn layout(items: &[Item]) -> Vec<Line> {
     let mut open = false;
     let mut next_id = 0;
     let mut lines = Vec::new();
-    let mut i = 0;
-    while i < items.len() {
-        let start = i;
-        i += 1;
-        while i < items.len() && items[i].breaks == 0 {
-            i += 1;
-        }
-        let range = start..i;
-        let blank_before = !lines.is_empty() && items[start].breaks >= 2;
+    let breaks: Vec<u8> = items.iter().map(|it| it.breaks).collect();
+    for (range, blank_before) in source_lines(&breaks) {
         let content = |frames: &[Frame], ctl: &[usize]| {
             let base = frames.last().map_or(0, |f| f.level + 1);
             let from = frames.last().map_or(0, |f| f.ctl);
