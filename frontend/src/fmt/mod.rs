@@ -59,27 +59,48 @@ impl std::fmt::Display for FmtError {
 /// file 0 (`FileId(0)`), at offsets into `text`. Line breaks are written as the
 /// text's first one is (`\r\n` or `\n`); the result ends with one line break.
 pub fn format_st(text: &str) -> Result<String, FmtError> {
+    parsed(|i, d| crate::st::parse(FileId(0), text, i, d))?;
+    format_parsed(text, &[])
+}
+
+/// What `parse` gives, unless it reports an error: then its diagnostics.
+fn parsed<R>(parse: impl FnOnce(&mut Interner, &mut Vec<Diagnostic>) -> R) -> Result<R, FmtError> {
     let mut interner = Interner::new();
     let mut diags = Vec::new();
-    crate::st::parse(FileId(0), text, &mut interner, &mut diags);
+    let r = parse(&mut interner, &mut diags);
     if diags.iter().any(Diagnostic::is_error) {
         return Err(FmtError::Syntax(diags));
     }
-    format_parsed(text, &[])
+    Ok(r)
+}
+
+/// `format` run on `text` with `\r\n` made `\n`; its result written with the line
+/// break `text`'s first line ends with.
+fn with_lf(
+    text: &str,
+    format: impl FnOnce(&str) -> Result<String, FmtError>,
+) -> Result<String, FmtError> {
+    let crlf = text.find('\n').is_some_and(|i| text[..i].ends_with('\r'));
+    let out = format(&text.replace("\r\n", "\n"))?;
+    Ok(if crlf { out.replace('\n', "\r\n") } else { out })
+}
+
+/// Two comments are written the same: their lines compared without the blanks that
+/// start them (a comment that starts a line moves its other lines with it).
+fn same_comment(a: &str, b: &str) -> bool {
+    a.lines()
+        .map(str::trim_start)
+        .eq(b.lines().map(str::trim_start))
 }
 
 /// Formats one Instruction List file (its ST bodies as [`format_st`] does); as
 /// [`format_st`] for its diagnostics and line breaks.
 pub fn format_il(text: &str) -> Result<String, FmtError> {
-    let mut interner = Interner::new();
-    let mut diags = Vec::new();
+    let (_, ranges) = parsed(|i, d| crate::il::parse_with_bodies(FileId(0), text, i, d))?;
     // The ranges are offsets into the text as given; the layout reads the text with
     // `\r\n` made `\n`, so they are mapped there.
-    let (_, ranges) = crate::il::parse_with_bodies(FileId(0), text, &mut interner, &mut diags);
-    if diags.iter().any(Diagnostic::is_error) {
-        return Err(FmtError::Syntax(diags));
-    }
-    let lf = |at: usize| at - text[..at].matches("\r\n").count();
+    let crs: Vec<usize> = text.match_indices("\r\n").map(|(k, _)| k).collect();
+    let lf = |at: usize| at - crs.partition_point(|&k| k < at);
     let ranges: Vec<_> = ranges.iter().map(|r| lf(r.start)..lf(r.end)).collect();
     format_parsed(text, &ranges)
 }
@@ -87,28 +108,23 @@ pub fn format_il(text: &str) -> Result<String, FmtError> {
 /// Formats one file of PLC-UD STL (`stl`): reserved words in upper case, Pascal's
 /// indentation; as [`format_st`] for its diagnostics and line breaks.
 pub fn format_stl(text: &str) -> Result<String, FmtError> {
-    let mut interner = Interner::new();
-    let mut diags = Vec::new();
-    crate::stl::parse(FileId(0), text, &mut interner, &mut diags);
-    if diags.iter().any(Diagnostic::is_error) {
-        return Err(FmtError::Syntax(diags));
-    }
-    stl::format(text)
+    parsed(|i, d| crate::stl::parse(FileId(0), text, i, d))?;
+    with_lf(text, stl::format)
 }
 
 /// Formats a text that parsed; `il`: the byte ranges of its IL bodies (in the text
 /// with `\n` line breaks).
 fn format_parsed(text: &str, il: &[std::ops::Range<usize>]) -> Result<String, FmtError> {
-    let crlf = text.find('\n').is_some_and(|i| text[..i].ends_with('\r'));
-    let text = text.replace("\r\n", "\n");
-    let items = items::items(&text).map_err(|e| match e {
-        Some(d) => FmtError::Syntax(d),
-        None => FmtError::Internal("text between tokens that is no comment".into()),
-    })?;
-    let layout = layout::layout(&text, &items, il);
-    let out = print::print(&text, &items, &layout);
-    verify(&text, &items, &layout.il_op, &out)?;
-    Ok(if crlf { out.replace('\n', "\r\n") } else { out })
+    with_lf(text, |text| {
+        let items = items::items(text).map_err(|e| match e {
+            Some(d) => FmtError::Syntax(d),
+            None => FmtError::Internal("text between tokens that is no comment".into()),
+        })?;
+        let layout = layout::layout(text, &items, il);
+        let out = print::print(text, &items, &layout);
+        verify(text, &items, &layout.il_op, &out)?;
+        Ok(out)
+    })
 }
 
 /// The formatted text `out` holds the items of `text`, in order, written the same
@@ -130,15 +146,8 @@ fn verify(text: &str, before: &[items::Item], il_op: &[bool], out: &str) -> Resu
             tb.make_ascii_uppercase();
             ta.make_ascii_uppercase();
         }
-        // A comment's lines after its first may move with it.
         let same = if b.is_comment() {
-            let lines = |s: &str| {
-                s.lines()
-                    .map(str::trim_start)
-                    .collect::<Vec<_>>()
-                    .join("\n")
-            };
-            lines(&ta) == lines(&tb)
+            same_comment(&ta, &tb)
         } else {
             ta == tb
         };

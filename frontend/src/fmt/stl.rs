@@ -8,7 +8,7 @@
 //! block's declarations aligned, comments at their column as in ST.
 
 use super::items::{column, nested_comment_end, source_lines};
-use super::FmtError;
+use super::{same_comment, FmtError};
 use crate::stl::lexer::{self, Tok};
 use plcc_ir::diag::FileId;
 
@@ -111,6 +111,27 @@ struct Frame {
     id: usize,
 }
 
+/// Closes, at the word `closer` (`END`, `END_VAR`, `UNTIL`), the innermost block it
+/// ends and those inside it; the control and `if` stacks go back to where they were
+/// when that block opened. The block's level, if one was open.
+fn close(
+    frames: &mut Vec<Frame>,
+    ctl: &mut Vec<usize>,
+    ifs: &mut Vec<usize>,
+    closer: Tok,
+) -> Option<usize> {
+    let kind = match closer {
+        Tok::End => Block::Begin,
+        Tok::EndVar => Block::Var,
+        _ => Block::Repeat,
+    };
+    let k = frames.iter().rposition(|f| f.kind == kind)?;
+    let f = frames.drain(k..).next()?;
+    ctl.truncate(f.ctl);
+    ifs.truncate(f.ifs);
+    Some(f.level)
+}
+
 /// The indentation of each line.
 fn layout(items: &[Item]) -> Vec<Line> {
     let tok = |i: usize| items[i].tok;
@@ -149,18 +170,10 @@ fn layout(items: &[Item]) -> Vec<Line> {
         let t = tok(first).expect("a token");
         let indent = match t {
             Tok::End | Tok::EndVar | Tok::Until => {
-                let want = match t {
-                    Tok::End => Block::Begin,
-                    Tok::EndVar => Block::Var,
-                    _ => Block::Repeat,
-                };
-                match frames.iter().rposition(|f| f.kind == want) {
-                    Some(k) => {
-                        let f = frames.drain(k..).next().expect("the frame");
-                        ctl.truncate(f.ctl);
-                        ifs.truncate(f.ifs);
+                match close(&mut frames, &mut ctl, &mut ifs, t) {
+                    Some(level) => {
                         open = t == Tok::Until;
-                        f.level
+                        level
                     }
                     None => content(&frames, &ctl),
                 }
@@ -237,23 +250,10 @@ fn layout(items: &[Item]) -> Vec<Line> {
                     next_id += 1;
                 }
                 Tok::End | Tok::EndVar if j != first && paren == 0 => {
-                    let want = if k == Tok::End {
-                        Block::Begin
-                    } else {
-                        Block::Var
-                    };
-                    if let Some(p) = frames.iter().rposition(|f| f.kind == want) {
-                        let f = frames.drain(p..).next().expect("the frame");
-                        ctl.truncate(f.ctl);
-                        ifs.truncate(f.ifs);
-                    }
+                    close(&mut frames, &mut ctl, &mut ifs, k);
                 }
                 Tok::Until if j != first => {
-                    if let Some(p) = frames.iter().rposition(|f| f.kind == Block::Repeat) {
-                        let f = frames.drain(p..).next().expect("the frame");
-                        ctl.truncate(f.ctl);
-                        ifs.truncate(f.ifs);
-                    }
+                    close(&mut frames, &mut ctl, &mut ifs, k);
                 }
                 Tok::If => ifs.push(if j == first {
                     indent
@@ -388,25 +388,19 @@ fn print(text: &str, items: &[Item], lines: &[Line]) -> String {
     out
 }
 
-/// Formats one STL file; as [`super::format_st`] for its diagnostics and line
-/// breaks.
+/// Formats one STL file that parsed, its line breaks `\n`.
 pub(super) fn format(text: &str) -> Result<String, FmtError> {
-    let crlf = text.find('\n').is_some_and(|i| text[..i].ends_with('\r'));
-    let text = text.replace("\r\n", "\n");
-    let items = items(&text)?;
+    let items = items(text)?;
     let lines = layout(&items);
-    let out = print(&text, &items, &lines);
+    let out = print(text, &items, &lines);
     // The same tokens (reserved words without case) and comments, in order.
     let after = items_of(&out)?;
     let same = after.len() == items.len()
         && items.iter().zip(&after).all(|(b, a)| {
-            let (tb, ta) = (item_text(&text, b), item_text(&out, a));
-            let comment_lines = |s: &str| -> Vec<String> {
-                s.lines().map(|l| l.trim_start().to_string()).collect()
-            };
+            let (tb, ta) = (item_text(text, b), item_text(&out, a));
             b.tok == a.tok
                 && if b.tok.is_none() {
-                    comment_lines(&tb) == comment_lines(&ta)
+                    same_comment(&tb, &ta)
                 } else {
                     tb == ta
                 }
@@ -416,7 +410,7 @@ pub(super) fn format(text: &str) -> Result<String, FmtError> {
             "the formatted text has other tokens or comments".into(),
         ));
     }
-    Ok(if crlf { out.replace('\n', "\r\n") } else { out })
+    Ok(out)
 }
 
 fn items_of(text: &str) -> Result<Vec<Item>, FmtError> {
