@@ -686,6 +686,19 @@ fn started_with_legend(dir: &Path) -> (Client, Vec<Value>) {
     (c, legend)
 }
 
+/// The semantic tokens of `text`, the one file (`name`) of a workspace of its own
+/// (`dir`), decoded as [`semantic_tokens`] does; the server shut down after.
+fn tokens_of_one_file(dir: &str, name: &str, text: &str) -> Vec<String> {
+    let dir = workspace(dir, &[(name, text)]);
+    let file = dir.join(name);
+    let (mut c, legend) = started_with_legend(&dir);
+    c.open(&file);
+    let tokens = semantic_tokens(&mut c, &legend, &file);
+    assert_eq!(c.shutdown_and_exit(), 0);
+    let _ = std::fs::remove_dir_all(&dir);
+    tokens
+}
+
 /// A document's semantic tokens, decoded: `line:column+length type`.
 fn semantic_tokens(c: &mut Client, legend: &[Value], path: &Path) -> Vec<String> {
     let data = c.call(
@@ -727,14 +740,10 @@ VAR_OUTPUT q : BOOL; END_VAR
 done: RET
 END_FUNCTION_BLOCK
 ";
-    let dir = workspace("il_tokens", &[("latch.il", TEXT)]);
-    let latch = dir.join("latch.il");
-    let (mut c, legend) = started_with_legend(&dir);
-    c.open(&latch);
     // The operators are keywords (`OR` is one to the lexer anyway); `st`, an
     // input named like the operator, is a parameter where it is an operand.
     assert_eq!(
-        semantic_tokens(&mut c, &legend, &latch),
+        tokens_of_one_file("il_tokens", "latch.il", TEXT),
         [
             "0:0+14 keyword",
             "0:15+5 class",
@@ -759,8 +768,6 @@ END_FUNCTION_BLOCK
             "9:0+18 keyword",
         ]
     );
-    assert_eq!(c.shutdown_and_exit(), 0);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -774,12 +781,8 @@ begin
   if n < 100 then n := n + 1;
 end.
 ";
-    let dir = workspace("stl_tokens", &[("count.stl", TEXT)]);
-    let count = dir.join("count.stl");
-    let (mut c, legend) = started_with_legend(&dir);
-    c.open(&count);
     assert_eq!(
-        semantic_tokens(&mut c, &legend, &count),
+        tokens_of_one_file("stl_tokens", "count.stl", TEXT),
         [
             "0:0+15 comment",
             "1:0+7 keyword",
@@ -800,8 +803,6 @@ end.
             "7:0+3 keyword",
         ]
     );
-    assert_eq!(c.shutdown_and_exit(), 0);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
