@@ -284,6 +284,27 @@ impl<'a> State<'a> {
         None
     }
 
+    /// At the first token `i` of a line in a body: the index of the `:` of a jump
+    /// label (`retry:`) that starts there, if one does.
+    fn jump_label_colon(&self, i: usize) -> Option<usize> {
+        let f = self.top()?;
+        let body = matches!(
+            f.kind,
+            Kind::Pou
+                | Kind::Member
+                | Kind::If
+                | Kind::Case
+                | Kind::For
+                | Kind::While
+                | Kind::Repeat
+        );
+        if !body || self.open || self.paren > 0 || self.tok(i) != Tok::Ident {
+            return None;
+        }
+        let c = self.next_token(i)?;
+        (self.tok(c) == Tok::Colon).then_some(c)
+    }
+
     /// The indentation of a line whose first token is `i` (before stepping over it).
     fn line_indent(&self, i: usize, label: bool) -> usize {
         let t = self.tok(i);
@@ -595,7 +616,9 @@ pub(super) fn layout(text: &str, items: &[Item], il: &[Range<usize>]) -> Layout 
                 if items[j].is_comment() {
                     continue;
                 }
-                let label = st.label_colon(j);
+                let label = st
+                    .label_colon(j)
+                    .or_else(|| (j == first).then(|| st.jump_label_colon(j)).flatten());
                 if let Some(c) = label {
                     st.glued[c] = true;
                 }
