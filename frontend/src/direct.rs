@@ -8,117 +8,12 @@
 //! L LWORD. An address without a size (`%I0.1`) or a wildcard (`%I*`) is E0205.
 
 use crate::ast::{
-    ArgKind, CaseLabel, Expr, ExprKind, Ident, Item, Pou, SourceUnit, Stmt, StmtKind, TypeSpec,
-    VarBlock, VarDecl, VarKind,
+    ExprKind, Ident, Item, Pou, SourceUnit, Stmt, TypeSpec, VarBlock, VarDecl, VarKind,
 };
 use crate::codes;
 use crate::intern::{Interner, Symbol};
 use plcc_ir::diag::{Diagnostic, Span};
 use std::collections::BTreeMap;
-
-/// Calls `f` on every expression of `stmts`, outermost first, children after `f`.
-fn each_expr(stmts: &mut [Stmt], f: &mut dyn FnMut(&mut Expr)) {
-    for s in stmts {
-        match &mut s.kind {
-            StmtKind::Assign { target, value } | StmtKind::RefAssign { target, value } => {
-                expr(target, f);
-                expr(value, f);
-            }
-            StmtKind::Call(e) | StmtKind::Let { value: e, .. } => expr(e, f),
-            StmtKind::If {
-                branches,
-                else_body,
-            } => {
-                for (c, b) in branches {
-                    expr(c, f);
-                    each_expr(b, f);
-                }
-                if let Some(b) = else_body {
-                    each_expr(b, f);
-                }
-            }
-            StmtKind::Case {
-                selector,
-                arms,
-                else_body,
-            } => {
-                expr(selector, f);
-                for a in arms {
-                    for l in &mut a.labels {
-                        match l {
-                            CaseLabel::Value(e) => expr(e, f),
-                            CaseLabel::Range(a, b) => {
-                                expr(a, f);
-                                expr(b, f);
-                            }
-                        }
-                    }
-                    each_expr(&mut a.body, f);
-                }
-                if let Some(b) = else_body {
-                    each_expr(b, f);
-                }
-            }
-            StmtKind::For {
-                from, to, by, body, ..
-            } => {
-                expr(from, f);
-                expr(to, f);
-                if let Some(b) = by {
-                    expr(b, f);
-                }
-                each_expr(body, f);
-            }
-            StmtKind::While { cond, body } | StmtKind::Repeat { body, until: cond } => {
-                expr(cond, f);
-                each_expr(body, f);
-            }
-            StmtKind::Exit
-            | StmtKind::Continue
-            | StmtKind::Return
-            | StmtKind::Empty
-            | StmtKind::InlineC(_)
-            | StmtKind::Label(_)
-            | StmtKind::Goto(_) => {}
-        }
-    }
-}
-
-fn expr(e: &mut Expr, f: &mut dyn FnMut(&mut Expr)) {
-    f(e);
-    match &mut e.kind {
-        ExprKind::Member(b, _) | ExprKind::Deref(b) | ExprKind::Paren(b) => expr(b, f),
-        ExprKind::Partial(b, ..) | ExprKind::Unary(_, b) | ExprKind::UsedBy { value: b, .. } => {
-            expr(b, f)
-        }
-        ExprKind::Bit(a, b) | ExprKind::Binary(_, a, b) => {
-            expr(a, f);
-            expr(b, f);
-        }
-        ExprKind::Index(b, ix) => {
-            expr(b, f);
-            for i in ix {
-                expr(i, f);
-            }
-        }
-        ExprKind::Call { callee, args } => {
-            expr(callee, f);
-            for a in args {
-                match &mut a.kind {
-                    ArgKind::Positional(v) | ArgKind::Input { value: v, .. } => expr(v, f),
-                    ArgKind::Output {
-                        target: Some(t), ..
-                    } => expr(t, f),
-                    ArgKind::Output { target: None, .. } => {}
-                }
-            }
-        }
-        ExprKind::Literal(_)
-        | ExprKind::Name(_)
-        | ExprKind::EnumValue { .. }
-        | ExprKind::DirectAddress(_) => {}
-    }
-}
 
 /// `%QX0.1` as a key: upper case, no spaces.
 fn key(a: &str) -> String {
@@ -168,7 +63,7 @@ pub fn resolve(units: &mut [SourceUnit], interner: &mut Interner, diags: &mut Ve
             let Item::Pou(p) = item else { continue };
             let own: BTreeMap<String, Symbol> = located(&p.var_blocks).collect();
             for stmts in bodies(p) {
-                each_expr(stmts, &mut |e| {
+                crate::visit::each_expr_mut(stmts, &mut |e| {
                     let ExprKind::DirectAddress(a) = &e.kind else {
                         return;
                     };
