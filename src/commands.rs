@@ -121,8 +121,9 @@ pub(crate) fn build_and_report<P: AsRef<Path>>(
         sfc,
         programs,
         no_opt: mode == Mode::Unoptimised,
-        check_only: mode == Mode::Check,
+        check_only: matches!(mode, Mode::Check | Mode::PrintSt),
         inline_c,
+        print_st: mode == Mode::PrintSt,
     };
     let mut build = driver::build_files(files, library, &opts).map_err(usage)?;
     render::to_stderr(&build.sources, &build.diagnostics);
@@ -157,6 +158,8 @@ pub(crate) struct How {
 pub(crate) enum Mode {
     /// Diagnostics only.
     Check,
+    /// Diagnostics and the files printed as Structured Text.
+    PrintSt,
     /// IR as the front end made it.
     Unoptimised,
     /// Optimised IR, for code generation.
@@ -748,7 +751,8 @@ pub fn compile(a: &CompileArgs) -> u8 {
     let mode = match emit {
         Some("ir-raw") => Mode::Unoptimised,
         // The views of ladder files need the front end's checks only.
-        Some("il") | Some("st") | Some("ld-text") | Some("sfc-text") => Mode::Check,
+        Some("il") | Some("ld-text") | Some("sfc-text") => Mode::Check,
+        Some("st") => Mode::PrintSt,
         _ => Mode::Full,
     };
     let (build, module) = match build_and_report(
@@ -788,17 +792,14 @@ pub fn compile(a: &CompileArgs) -> u8 {
             std::mem::forget(module);
             (s.into_bytes(), "sfc.txt".to_string())
         }
-        Some("st") if build.ladder.is_empty() && !build.charts.is_empty() => {
-            // The ST the charts of ST and IL files are written as.
-            let mut s = String::new();
-            for v in &build.charts {
-                s.push_str(&format!("(* {} *)\n", build.sources.get(v.st).name));
-                s.push_str(&formatted_view(&build.sources.get(v.st).text, false));
-            }
+        Some("st") => {
+            let Some(st) = build.st.clone() else {
+                return EXIT_FAIL;
+            };
             std::mem::forget(module);
-            (s.into_bytes(), "st".to_string())
+            (formatted_view(&st, false).into_bytes(), "st".to_string())
         }
-        Some(view @ ("il" | "st" | "ld-text")) => {
+        Some(view @ ("il" | "ld-text")) => {
             if build.ladder.is_empty() {
                 return usage(format!(
                     "`--emit {view}` shows what PLCopen diagrams (and sequential function charts) become: give a PLCopen XML file (.xml) or a file with a chart"

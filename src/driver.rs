@@ -61,6 +61,8 @@ pub struct Build {
     pub ladder: Vec<plcc_frontend::plcopen::View>,
     /// The files with charts (see [`plcc_frontend::Compiled::charts`]).
     pub charts: Vec<plcc_frontend::sfc::View>,
+    /// The files as Structured Text (see [`plcc_frontend::Compiled::st`]).
+    pub st: Option<String>,
 }
 
 impl Build {
@@ -119,6 +121,8 @@ pub struct BuildOptions {
     /// Keep the C code of pragmas for a target that copies it into its output
     /// ([`plcc_frontend::LowerOptions::inline_c`]).
     pub inline_c: bool,
+    /// Print the files as Structured Text ([`Build::st`]).
+    pub print_st: bool,
 }
 
 /// Reads the files and the library files (`--lib`) and builds them together.
@@ -185,6 +189,7 @@ pub fn build_sources_with_library(
         sfc: opts.sfc,
         library: inputs[first_library..].iter().map(|&(f, _)| f).collect(),
         inline_c: opts.inline_c,
+        print_st: opts.print_st,
     };
     // The panic boundary of the front end (ARCHITECTURE.md, "Panics"): a panic is a
     // bug in plcc, reported as an internal error, not a crash of the command.
@@ -205,6 +210,7 @@ pub fn build_sources_with_library(
         syntax: Vec::new(),
         ladder: Vec::new(),
         charts: Vec::new(),
+        st: None,
     });
     let mut diagnostics = compiled.diagnostics;
     let mut timings = compiled.timings;
@@ -244,6 +250,7 @@ pub fn build_sources_with_library(
         syntax: compiled.syntax,
         ladder: compiled.ladder,
         charts: compiled.charts,
+        st: compiled.st,
     })
 }
 

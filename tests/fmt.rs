@@ -12,40 +12,13 @@ use std::path::{Path, PathBuf};
 #[path = "common/skip.rs"]
 mod skip;
 
+#[path = "common/sources.rs"]
+mod sources;
+use sources::{is_codesys, lang_of, read_text, source_files};
+
 #[path = "common/rng.rs"]
 #[allow(dead_code)]
 mod rng;
-
-/// The `.st`, `.il` and `.stl` files under `dir`, sorted.
-fn source_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(rd) = std::fs::read_dir(dir) else {
-        return;
-    };
-    let mut entries: Vec<PathBuf> = rd.filter_map(|e| e.ok().map(|e| e.path())).collect();
-    entries.sort();
-    for p in entries {
-        if p.is_dir() {
-            source_files(&p, out);
-        } else if lang_of(&p).is_some() {
-            out.push(p);
-        }
-    }
-}
-
-/// ST, IL or STL, by the file's extension; `None` for other files.
-fn lang_of(p: &Path) -> Option<Lang> {
-    match p
-        .extension()?
-        .to_string_lossy()
-        .to_ascii_lowercase()
-        .as_str()
-    {
-        "st" => Some(Lang::St),
-        "il" => Some(Lang::Il),
-        "stl" => Some(Lang::Stl),
-        _ => None,
-    }
-}
 
 fn format(text: &str, lang: Lang) -> Result<String, FmtError> {
     match lang {
@@ -110,12 +83,7 @@ struct Tally {
 
 fn check_file(path: &Path, codesys: bool, t: &mut Tally) {
     let lang = lang_of(path).expect("an ST, IL or STL file");
-    let bytes = std::fs::read(path).expect("readable");
-    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(&bytes);
-    let text = match std::str::from_utf8(bytes) {
-        Ok(s) => s.to_string(),
-        Err(_) => bytes.iter().map(|&b| b as char).collect(),
-    };
+    let text = read_text(path);
     let name = path.display().to_string();
     let once = match format(&text, lang) {
         Ok(s) => s,
@@ -179,24 +147,15 @@ fn check_file(path: &Path, codesys: bool, t: &mut Tally) {
     }
 }
 
-/// Files under a `codesys` directory and the OSCAT library are in the CODESYS
-/// dialect.
-fn is_codesys(p: &Path) -> bool {
-    p.components().any(|c| {
-        let c = c.as_os_str().to_string_lossy().to_ascii_lowercase();
-        c == "codesys" || c.starts_with("oscat")
-    })
-}
-
 #[test]
 fn corpus_formats_idempotently_to_the_same_ir() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut files = Vec::new();
-    source_files(&root.join("tests/programs"), &mut files);
+    source_files(&root.join("tests/programs"), false, &mut files);
     let ours = files.len();
     let shared = root.join("../shared/corpus");
     if shared.is_dir() {
-        source_files(&shared, &mut files);
+        source_files(&shared, false, &mut files);
     } else {
         skip::notice("../shared/corpus not found; formatting tests/programs only");
     }
@@ -513,7 +472,7 @@ fn sprinkled(text: &str, rng: &mut rng::Rng) -> String {
 fn comments_and_line_breaks_anywhere() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut files = Vec::new();
-    source_files(&root.join("tests/programs"), &mut files);
+    source_files(&root.join("tests/programs"), false, &mut files);
     // Line breaks end IL instructions: ST only.
     files.retain(|f| lang_of(f) == Some(Lang::St));
     let mut rng = rng::Rng(0x5eed_f0f0);

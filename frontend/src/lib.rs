@@ -18,6 +18,7 @@ pub mod il;
 pub mod intern;
 pub mod lower;
 pub mod plcopen;
+pub mod print;
 pub mod sfc;
 pub mod source;
 pub mod st;
@@ -25,6 +26,7 @@ pub mod stl;
 #[cfg(test)]
 mod test_rng;
 pub mod types;
+pub mod visit;
 
 use plcc_ir::diag::{Diagnostic, FileId};
 use plcc_ir::Module;
@@ -99,6 +101,9 @@ pub struct Compiled {
     pub ladder: Vec<plcopen::View>,
     /// The files with charts, their ST and drawings (for `--emit sfc-text`).
     pub charts: Vec<sfc::View>,
+    /// With [`LowerOptions::print_st`], when the build has no error: its files
+    /// printed as Structured Text ([`print`]), each after a comment naming it.
+    pub st: Option<String>,
 }
 
 /// Parses, checks and lowers the given files (already in `sources`) to one module.
@@ -194,6 +199,8 @@ pub fn compile(
         &il_files,
         &mut diagnostics,
     );
+    // Printed as the user wrote them: before addresses become names and globals move.
+    let printable = opts.print_st.then(|| units.clone());
     direct::resolve(&mut units, &mut interner, &mut diagnostics);
     if let Some(g) = globals_unit(&mut units, &mut interner) {
         units.push(g);
@@ -211,6 +218,7 @@ pub fn compile(
             syntax: units,
             ladder,
             charts,
+            st: None,
         };
     }
     let started = std::time::Instant::now();
@@ -221,11 +229,18 @@ pub fn compile(
         .filter(|(_, l)| *l == Lang::Cst)
         .map(|(f, _)| *f)
         .collect();
-    let (module, mut more) = lowerer.run(1, &dialect_of_files(&opts, &ladder));
-    diagnostics.append(&mut more);
+    let mut lowered = lowerer.run(1, &dialect_of_files(&opts, &ladder));
+    let module = lowered.module;
+    diagnostics.append(&mut lowered.diagnostics);
     timings.push(("check and lower", started.elapsed()));
     sfc::remap_all(&charts, &mut diagnostics);
     plcopen::remap_all(&ladder, &mut diagnostics);
+    let st = match printable {
+        Some(p) if module.is_some() => {
+            Some(print_units(&p, sources, &interner, &lowered.temp_types))
+        }
+        _ => None,
+    };
     Compiled {
         module,
         diagnostics,
@@ -233,7 +248,31 @@ pub fn compile(
         syntax: units,
         ladder,
         charts,
+        st,
     }
+}
+
+/// `units` as Structured Text, each after a comment naming its file.
+fn print_units(
+    units: &[ast::SourceUnit],
+    sources: &SourceMap,
+    interner: &intern::Interner,
+    temps: &print::TempTypes,
+) -> String {
+    let mut out = String::new();
+    for u in units {
+        let file = sources.get(u.file);
+        if !out.is_empty() {
+            out.push('\n');
+        }
+        out.push_str(&format!("(* {} *)\n", file.name));
+        let text = print::Printer::new(interner)
+            .with_sources(sources)
+            .with_temps(temps)
+            .unit(u);
+        out.push_str(&text);
+    }
+    out
 }
 
 /// The options to lower with: in the CODESYS dialect when a PLCopen file of the

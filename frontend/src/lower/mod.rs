@@ -88,6 +88,8 @@ pub struct LowerOptions {
     /// a target that copies it into its output (`c`); otherwise such pragmas are
     /// skipped with warning W0010.
     pub inline_c: bool,
+    /// Print the build's files as Structured Text ([`crate::Compiled::st`]).
+    pub print_st: bool,
 }
 
 /// One declared variable of a POU.
@@ -251,6 +253,19 @@ pub struct Lowerer<'s> {
     pub(crate) ref_depth: u32,
     /// METHODs, PROPERTYs, INTERFACEs, class ids (see `classes`).
     pub(crate) classes: classes::Classes,
+    /// The types given to compiler temporaries (IL's spilled current results), for
+    /// printing the build as ST.
+    pub(crate) temp_types: crate::print::TempTypes,
+}
+
+/// What [`Lowerer::run`] made.
+pub struct Lowered {
+    /// The module, if there were no errors.
+    pub module: Option<Module>,
+    /// Errors and warnings.
+    pub diagnostics: Vec<Diagnostic>,
+    /// The type of each compiler temporary ([`crate::ast::StmtKind::Let`]).
+    pub temp_types: crate::print::TempTypes,
 }
 
 impl<'s> Lowerer<'s> {
@@ -294,17 +309,14 @@ impl<'s> Lowerer<'s> {
             program_data: FxHashMap::default(),
             ref_depth: 0,
             classes: Default::default(),
+            temp_types: Default::default(),
         }
     }
 
     /// Runs every phase. `std_units` is the number of leading units that hold the
-    /// standard library. Returns the module (if there were no errors) and every
-    /// diagnostic.
-    pub fn run(
-        mut self,
-        std_units: usize,
-        opts: &LowerOptions,
-    ) -> (Option<Module>, Vec<Diagnostic>) {
+    /// standard library. Returns the module (if there were no errors), every
+    /// diagnostic and what the compiler temporaries became.
+    pub fn run(mut self, std_units: usize, opts: &LowerOptions) -> Lowered {
         self.codesys = opts.codesys;
         self.inline_c = opts.inline_c;
         self.run_programs = opts.programs.clone();
@@ -320,7 +332,11 @@ impl<'s> Lowerer<'s> {
         }
         if !self.check_containment() {
             self.merge_unknown_blocks();
-            return (None, self.diags);
+            return Lowered {
+                module: None,
+                diagnostics: self.diags,
+                temp_types: self.temp_types,
+            };
         }
         self.check_externals();
         self.mark_used();
@@ -351,8 +367,11 @@ impl<'s> Lowerer<'s> {
         self.diags
             .retain(|d| seen.insert((d.code, d.span, d.message.clone())));
         let has_errors = self.diags.iter().any(|d| d.is_error());
-        let module = (!has_errors).then_some(self.module);
-        (module, self.diags)
+        Lowered {
+            module: (!has_errors).then_some(self.module),
+            diagnostics: self.diags,
+            temp_types: self.temp_types,
+        }
     }
 
     /// Makes a FUNCTION of the standard library (a string helper) callable: its IR

@@ -4,6 +4,7 @@ use super::body::{Access, BodyCx, LoopTargets};
 use super::consts::ConstVal;
 use crate::ast::{self, CaseLabel, Expr, ExprKind, Stmt, StmtKind, VarKind};
 use crate::codes;
+use crate::print::TempType;
 use crate::types::Ty;
 use plcc_ir::diag::Span;
 use plcc_ir::{BinaryOp, ElemType, IntCC, Type, Value};
@@ -132,6 +133,9 @@ impl<'s> BodyCx<'_, 's> {
                 if let Some(p) = self.void_call(value) {
                     self.call_stmt(value);
                     self.void_temps.insert(name.sym, (p, false));
+                    self.l
+                        .temp_types
+                        .insert((name.span.file, name.sym), TempType::Void);
                     return;
                 }
                 let v = self.emit(value, None);
@@ -147,6 +151,12 @@ impl<'s> BodyCx<'_, 's> {
                 // its uses report nothing more.
                 let t = v.ty.ir().unwrap_or(plcc_ir::Type::I32);
                 let ty = if v.ty.ir().is_some() { v.ty } else { Ty::Error };
+                if ty != Ty::Error {
+                    let name_of_type = temp_type_name(self.l, ty, t);
+                    self.l
+                        .temp_types
+                        .insert((name.span.file, name.sym), TempType::Value(name_of_type));
+                }
                 let slot = self.b.slot(
                     self.l.sym_name(name.sym).to_string(),
                     plcc_ir::MemType::Scalar(t),
@@ -818,70 +828,43 @@ fn writes_var(stmts: &[Stmt], sym: crate::intern::Symbol) -> bool {
             _ => false,
         }
     }
-    fn in_call_args(e: &Expr, sym: crate::intern::Symbol) -> bool {
-        match &e.kind {
-            ExprKind::Call { callee, args } => {
-                args.iter().any(|a| match &a.kind {
-                    ast::ArgKind::Positional(x) | ast::ArgKind::Input { value: x, .. } => {
-                        root_is(x, sym) || in_call_args(x, sym)
-                    }
-                    ast::ArgKind::Output { target, .. } => {
-                        target.as_ref().is_some_and(|t| root_is(t, sym))
-                    }
-                }) || in_call_args(callee, sym)
-            }
-            ExprKind::Paren(x)
-            | ExprKind::UsedBy { value: x, .. }
-            | ExprKind::Unary(_, x)
-            | ExprKind::Member(x, _)
-            | ExprKind::Deref(x) => in_call_args(x, sym),
-            ExprKind::Bit(x, y) | ExprKind::Binary(_, x, y) => {
-                in_call_args(x, sym) || in_call_args(y, sym)
-            }
-            ExprKind::Index(x, ys) => {
-                in_call_args(x, sym) || ys.iter().any(|y| in_call_args(y, sym))
-            }
-            _ => false,
+    let mut writes = false;
+    crate::visit::each_stmt(stmts, &mut |s| match &s.kind {
+        StmtKind::Assign { target, .. } | StmtKind::RefAssign { target, .. } => {
+            writes |= root_is(target, sym)
         }
+        StmtKind::For { var, .. } => writes |= var.sym == sym,
+        _ => {}
+    });
+    crate::visit::each_expr(stmts, &mut |e| {
+        if let ExprKind::Call { args, .. } = &e.kind {
+            writes |= args.iter().any(|a| match &a.kind {
+                ast::ArgKind::Positional(x) | ast::ArgKind::Input { value: x, .. } => {
+                    root_is(x, sym)
+                }
+                ast::ArgKind::Output { target, .. } => {
+                    target.as_ref().is_some_and(|t| root_is(t, sym))
+                }
+            });
+        }
+    });
+    writes
+}
+
+/// The IEC type a compiler temporary holding a value of type `ty` (`ir` in the IR)
+/// is declared with when the build is printed as ST: a literal's generic type by
+/// the width lowering gave it.
+fn temp_type_name(l: &super::Lowerer, ty: Ty, ir: Type) -> String {
+    match ty {
+        Ty::AnyInt => match ir {
+            Type::I8 => "SINT",
+            Type::I16 => "INT",
+            Type::I64 => "LINT",
+            _ => "DINT",
+        }
+        .to_string(),
+        Ty::AnyReal if ir == Type::F32 => "REAL".to_string(),
+        Ty::AnyReal => "LREAL".to_string(),
+        _ => l.ty_name(ty),
     }
-    stmts.iter().any(|s| match &s.kind {
-        StmtKind::Assign { target, value } | StmtKind::RefAssign { target, value } => {
-            root_is(target, sym) || in_call_args(target, sym) || in_call_args(value, sym)
-        }
-        StmtKind::Call(e) | StmtKind::Let { value: e, .. } => in_call_args(e, sym),
-        StmtKind::If {
-            branches,
-            else_body,
-        } => {
-            branches
-                .iter()
-                .any(|(c, b)| in_call_args(c, sym) || writes_var(b, sym))
-                || else_body.as_deref().is_some_and(|b| writes_var(b, sym))
-        }
-        StmtKind::Case {
-            selector,
-            arms,
-            else_body,
-        } => {
-            in_call_args(selector, sym)
-                || arms.iter().any(|a| writes_var(&a.body, sym))
-                || else_body.as_deref().is_some_and(|b| writes_var(b, sym))
-        }
-        StmtKind::For {
-            var,
-            from,
-            to,
-            by,
-            body,
-        } => {
-            var.sym == sym
-                || in_call_args(from, sym)
-                || in_call_args(to, sym)
-                || by.as_ref().is_some_and(|b| in_call_args(b, sym))
-                || writes_var(body, sym)
-        }
-        StmtKind::While { cond, body } => in_call_args(cond, sym) || writes_var(body, sym),
-        StmtKind::Repeat { body, until } => writes_var(body, sym) || in_call_args(until, sym),
-        _ => false,
-    })
 }
