@@ -15,6 +15,7 @@
 use plcc_frontend::ast::*;
 use plcc_frontend::intern::{Interner, Symbol};
 use plcc_frontend::source::SourceMap;
+use plcc_frontend::visit::{self, walk_expr as walk_expr_children, walk_stmt, Visitor};
 use plcc_frontend::Lang;
 use plcc_ir::diag::{FileId, Span};
 
@@ -903,115 +904,47 @@ fn walk_init<'a>(init: &'a Init, scope: Scope<'a>, f: Visit<'_, 'a>) {
     }
 }
 
-fn walk_stmts<'a>(stmts: &'a [Stmt], scope: Scope<'a>, f: Visit<'_, 'a>) {
-    for s in stmts {
-        match &s.kind {
-            StmtKind::Assign { target, value } | StmtKind::RefAssign { target, value } => {
-                walk_expr(target, scope, f);
-                walk_expr(value, scope, f);
+/// The occurrences of names in statements and expressions, found by the front end's
+/// visitor.
+struct Names<'v, 'a> {
+    scope: Scope<'a>,
+    f: Visit<'v, 'a>,
+}
+
+impl<'a> Visitor<'a> for Names<'_, 'a> {
+    fn visit_stmt(&mut self, s: &'a Stmt) {
+        if let StmtKind::For { var, .. } = &s.kind {
+            (self.f)(Occ::Name(var), self.scope);
+        }
+        walk_stmt(self, s);
+    }
+
+    fn visit_expr(&mut self, e: &'a Expr) {
+        match &e.kind {
+            ExprKind::Name(id) => (self.f)(Occ::Name(id), self.scope),
+            ExprKind::Member(base, id) => {
+                self.visit_expr(base);
+                (self.f)(Occ::Member(base, id), self.scope);
             }
-            StmtKind::Call(e) => walk_expr(e, scope, f),
-            StmtKind::If {
-                branches,
-                else_body,
-            } => {
-                for (c, body) in branches {
-                    walk_expr(c, scope, f);
-                    walk_stmts(body, scope, f);
-                }
-                if let Some(b) = else_body {
-                    walk_stmts(b, scope, f);
-                }
+            ExprKind::EnumValue { ty, value } => {
+                (self.f)(Occ::Type(ty), self.scope);
+                (self.f)(Occ::EnumValue(ty, value), self.scope);
             }
-            StmtKind::Case {
-                selector,
-                arms,
-                else_body,
-            } => {
-                walk_expr(selector, scope, f);
-                for arm in arms {
-                    for label in &arm.labels {
-                        match label {
-                            CaseLabel::Value(e) => walk_expr(e, scope, f),
-                            CaseLabel::Range(a, b) => {
-                                walk_expr(a, scope, f);
-                                walk_expr(b, scope, f);
-                            }
-                        }
-                    }
-                    walk_stmts(&arm.body, scope, f);
-                }
-                if let Some(b) = else_body {
-                    walk_stmts(b, scope, f);
-                }
+            ExprKind::Call { callee, args } => {
+                self.visit_expr(callee);
+                walk_args(args, Callee::Expr(callee), self.scope, self.f);
             }
-            StmtKind::For {
-                var,
-                from,
-                to,
-                by,
-                body,
-            } => {
-                f(Occ::Name(var), scope);
-                walk_expr(from, scope, f);
-                walk_expr(to, scope, f);
-                if let Some(b) = by {
-                    walk_expr(b, scope, f);
-                }
-                walk_stmts(body, scope, f);
-            }
-            StmtKind::While { cond, body } => {
-                walk_expr(cond, scope, f);
-                walk_stmts(body, scope, f);
-            }
-            StmtKind::Repeat { body, until } => {
-                walk_stmts(body, scope, f);
-                walk_expr(until, scope, f);
-            }
-            StmtKind::Let { value, .. } => walk_expr(value, scope, f),
-            StmtKind::Exit
-            | StmtKind::Continue
-            | StmtKind::Return
-            | StmtKind::Empty
-            | StmtKind::InlineC(_)
-            | StmtKind::Label(_)
-            | StmtKind::Goto(_) => {}
+            _ => walk_expr_children(self, e),
         }
     }
 }
 
+fn walk_stmts<'a>(stmts: &'a [Stmt], scope: Scope<'a>, f: Visit<'_, 'a>) {
+    visit::walk_stmts(&mut Names { scope, f }, stmts);
+}
+
 fn walk_expr<'a>(e: &'a Expr, scope: Scope<'a>, f: Visit<'_, 'a>) {
-    match &e.kind {
-        ExprKind::Literal(_) | ExprKind::DirectAddress(_) => {}
-        ExprKind::Name(id) => f(Occ::Name(id), scope),
-        ExprKind::Member(base, id) => {
-            walk_expr(base, scope, f);
-            f(Occ::Member(base, id), scope);
-        }
-        ExprKind::Bit(a, b) | ExprKind::Binary(_, a, b) => {
-            walk_expr(a, scope, f);
-            walk_expr(b, scope, f);
-        }
-        ExprKind::Partial(a, ..)
-        | ExprKind::Deref(a)
-        | ExprKind::Unary(_, a)
-        | ExprKind::Paren(a)
-        | ExprKind::UsedBy { value: a, .. } => walk_expr(a, scope, f),
-        ExprKind::Index(base, idx) => {
-            walk_expr(base, scope, f);
-            for i in idx {
-                walk_expr(i, scope, f);
-            }
-        }
-        ExprKind::EnumValue { ty, value } => {
-            f(Occ::Type(ty), scope);
-            f(Occ::EnumValue(ty, value), scope);
-        }
-        ExprKind::Call { callee, args } => {
-            walk_expr(callee, scope, f);
-            walk_args(args, Callee::Expr(callee), scope, f);
-        }
-    }
+    Names { scope, f }.visit_expr(e);
 }
 
 fn walk_args<'a>(args: &'a [Arg], callee: Callee<'a>, scope: Scope<'a>, f: Visit<'_, 'a>) {
