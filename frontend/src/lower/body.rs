@@ -757,50 +757,27 @@ impl<'a, 's> BodyCx<'a, 's> {
 
     /// Gives every label of the body (at any depth) a block; reports duplicates.
     fn collect_labels(&mut self, stmts: &'s [ast::Stmt]) {
-        for s in stmts {
-            match &s.kind {
-                ast::StmtKind::Label(id) => {
-                    if let Some(&(_, first)) = self.labels.get(&id.sym) {
-                        let n = self.l.text(id.span).to_string();
-                        self.l.diags.push(
-                            plcc_ir::diag::Diagnostic::error(
-                                codes::E_DUPLICATE_LABEL,
-                                format!("label `{n}` is defined twice in this body"),
-                                id.span,
-                            )
-                            .with_secondary(first, "first defined here"),
-                        );
-                        continue;
-                    }
-                    let b = self.b.create_block();
-                    self.labels.insert(id.sym, (b, id.span));
-                }
-                ast::StmtKind::If {
-                    branches,
-                    else_body,
-                } => {
-                    for (_, body) in branches {
-                        self.collect_labels(body);
-                    }
-                    if let Some(e) = else_body {
-                        self.collect_labels(e);
-                    }
-                }
-                ast::StmtKind::Case {
-                    arms, else_body, ..
-                } => {
-                    for a in arms {
-                        self.collect_labels(&a.body);
-                    }
-                    if let Some(e) = else_body {
-                        self.collect_labels(e);
-                    }
-                }
-                ast::StmtKind::For { body, .. }
-                | ast::StmtKind::While { body, .. }
-                | ast::StmtKind::Repeat { body, .. } => self.collect_labels(body),
-                _ => {}
+        let mut labels = Vec::new();
+        crate::visit::each_stmt(stmts, &mut |s| {
+            if let ast::StmtKind::Label(id) = &s.kind {
+                labels.push(*id);
             }
+        });
+        for id in labels {
+            if let Some(&(_, first)) = self.labels.get(&id.sym) {
+                let n = self.l.text(id.span).to_string();
+                self.l.diags.push(
+                    plcc_ir::diag::Diagnostic::error(
+                        codes::E_DUPLICATE_LABEL,
+                        format!("label `{n}` is defined twice in this body"),
+                        id.span,
+                    )
+                    .with_secondary(first, "first defined here"),
+                );
+                continue;
+            }
+            let b = self.b.create_block();
+            self.labels.insert(id.sym, (b, id.span));
         }
     }
 
