@@ -6,6 +6,7 @@
 use super::parse;
 use crate::ast::*;
 use crate::intern::Interner;
+use crate::print::{Printer, Style};
 use crate::source::SourceFile;
 use plcc_ir::diag::{Diagnostic, FileId, Severity};
 use std::fmt::Write;
@@ -89,104 +90,9 @@ fn codes(body: &str) -> Vec<&'static str> {
     parse_with(&src, true).1.iter().map(|d| d.code).collect()
 }
 
+/// Statements as the printer's tree style writes them, one per line.
 fn render(stmts: &[Stmt], i: &Interner) -> String {
-    let parts: Vec<String> = stmts.iter().map(|s| stmt(s, i)).collect();
-    parts.join("\n")
-}
-
-fn stmt(s: &Stmt, i: &Interner) -> String {
-    match &s.kind {
-        StmtKind::Assign { target, value } => format!("{} := {};", ex(target, i), ex(value, i)),
-        StmtKind::Call(e) => format!("{};", ex(e, i)),
-        StmtKind::If {
-            branches,
-            else_body,
-        } => {
-            let mut out = String::new();
-            for (k, (c, body)) in branches.iter().enumerate() {
-                let kw = if k == 0 { "IF" } else { " ELSIF" };
-                let body: Vec<String> = body.iter().map(|s| stmt(s, i)).collect();
-                let _ = write!(out, "{kw} {} THEN {}", ex(c, i), body.join(" "));
-            }
-            if let Some(e) = else_body {
-                let body: Vec<String> = e.iter().map(|s| stmt(s, i)).collect();
-                let _ = write!(out, " ELSE {}", body.join(" "));
-            }
-            out + " END_IF;"
-        }
-        StmtKind::Label(id) => format!("{}:", i.name(id.sym)),
-        StmtKind::Goto(id) => format!("GOTO {};", i.name(id.sym)),
-        StmtKind::Return => "RETURN;".into(),
-        StmtKind::Let { name, value } => {
-            format!("LET {} := {};", i.name(name.sym), ex(value, i))
-        }
-        StmtKind::Empty => ";".into(),
-        other => format!("<{other:?}>"),
-    }
-}
-
-fn ex(e: &Expr, i: &Interner) -> String {
-    match &e.kind {
-        ExprKind::Literal(l) => {
-            let v = match &l.kind {
-                LiteralKind::Int(v) => v.to_string(),
-                LiteralKind::Real(t) => t.to_string(),
-                LiteralKind::Bool(b) => b.to_string().to_uppercase(),
-                LiteralKind::Duration { ns, long } => {
-                    format!("{}#{ns}ns", if *long { "LT" } else { "T" })
-                }
-                other => format!("{other:?}"),
-            };
-            match l.type_prefix {
-                Some(p) => format!("{}#{v}", i.name(p.sym)),
-                None => v,
-            }
-        }
-        ExprKind::Name(id) => i.name(id.sym).to_string(),
-        ExprKind::Member(b, m) => format!("{}.{}", ex(b, i), i.name(m.sym)),
-        ExprKind::Bit(b, n) => format!("{}.{}", ex(b, i), ex(n, i)),
-        ExprKind::Partial(b, size, n) => format!("{}.%{size}/{n}", ex(b, i)),
-        ExprKind::Index(b, ix) => {
-            let ix: Vec<String> = ix.iter().map(|e| ex(e, i)).collect();
-            format!("{}[{}]", ex(b, i), ix.join(", "))
-        }
-        ExprKind::Deref(b) => format!("{}^", ex(b, i)),
-        ExprKind::EnumValue { ty, value } => {
-            format!("{}#{}", i.name(ty.sym), i.name(value.sym))
-        }
-        ExprKind::DirectAddress(a) => a.to_string(),
-        ExprKind::Unary(op, a) => match op {
-            UnaryOp::Not => format!("NOT {}", ex(a, i)),
-            UnaryOp::Neg => format!("-{}", ex(a, i)),
-            UnaryOp::Plus => format!("+{}", ex(a, i)),
-        },
-        ExprKind::Binary(op, a, b) => format!("({} {} {})", ex(a, i), op.symbol(), ex(b, i)),
-        ExprKind::Call { callee, args } => {
-            let args: Vec<String> = args
-                .iter()
-                .map(|a| match &a.kind {
-                    ArgKind::Positional(v) => ex(v, i),
-                    ArgKind::Input { name, value } => {
-                        format!("{} := {}", i.name(name.sym), ex(value, i))
-                    }
-                    ArgKind::Output {
-                        name,
-                        negated,
-                        target,
-                    } => format!(
-                        "{}{} => {}",
-                        if *negated { "NOT " } else { "" },
-                        i.name(name.sym),
-                        target.as_ref().map_or(String::new(), |t| ex(t, i))
-                    ),
-                })
-                .collect();
-            format!("{}({})", ex(callee, i), args.join(", "))
-        }
-        ExprKind::Paren(a) => format!("({})", ex(a, i)),
-        // The instruction that tests a value is not part of the ST it reads as.
-        ExprKind::UsedBy { value, .. } => ex(value, i),
-    }
+    Printer::new(i).with_style(Style::Tree).stmts(stmts)
 }
 
 /// The source text of a span.
@@ -211,10 +117,10 @@ fn every_operator() {
         ("LD p\n& q\nST u", "U := (P AND Q);"),
         ("LD p\nOR q\nST u", "U := (P OR Q);"),
         ("LD p\nXOR q\nST u", "U := (P XOR Q);"),
-        ("LD p\nANDN q\nST u", "U := (P AND NOT Q);"),
-        ("LD p\n&N q\nST u", "U := (P AND NOT Q);"),
-        ("LD p\nORN q\nST u", "U := (P OR NOT Q);"),
-        ("LD p\nXORN q\nST u", "U := (P XOR NOT Q);"),
+        ("LD p\nANDN q\nST u", "U := (P AND (NOT Q));"),
+        ("LD p\n&N q\nST u", "U := (P AND (NOT Q));"),
+        ("LD p\nORN q\nST u", "U := (P OR (NOT Q));"),
+        ("LD p\nXORN q\nST u", "U := (P XOR (NOT Q));"),
         ("LD a\nADD b\nST x", "X := (A + B);"),
         ("LD a\nSUB b\nST x", "X := (A - B);"),
         ("LD a\nMUL b\nST x", "X := (A * B);"),
@@ -226,9 +132,9 @@ fn every_operator() {
         ("LD a\nNE b\nST p", "P := (A <> B);"),
         ("LD a\nLE b\nST p", "P := (A <= B);"),
         ("LD a\nLT b\nST p", "P := (A < B);"),
-        ("LD p\nNOT\nST u", "U := NOT P;"),
-        ("LDN p\nST u", "U := NOT P;"),
-        ("LD p\nSTN u", "U := NOT P;"),
+        ("LD p\nNOT\nST u", "U := (NOT P);"),
+        ("LDN p\nST u", "U := (NOT P);"),
+        ("LD p\nSTN u", "U := (NOT P);"),
         ("LD p\nS u", "IF P THEN U := TRUE; END_IF;"),
         ("LD p\nR u", "IF P THEN U := FALSE; END_IF;"),
         // Lower case and odd spacing.
@@ -242,11 +148,11 @@ fn every_operator() {
 #[test]
 fn operands_of_every_form() {
     let cases: &[(&str, &str)] = &[
-        ("LD -5\nST x", "X := -5;"),
-        ("LD +5\nST x", "X := +5;"),
+        ("LD -5\nST x", "X := (-5);"),
+        ("LD +5\nST x", "X := (+5);"),
         ("LD INT#-7\nST x", "INT#-7"),
         ("LD 16#FF\nST w", "W := 255;"),
-        ("LD T#1s\nST tm", "TM := T#1000000000ns;"),
+        ("LD T#1s\nST tm", "TM := T#1s;"),
         ("LD 1.5\nST re", "RE := 1.5;"),
         ("LD arr[2]\nST x", "X := ARR[2];"),
         ("LD arr[a]\nST x", "X := ARR[A];"),
@@ -276,11 +182,11 @@ fn the_cr_keeps_its_value_after_st() {
     // A computed CR used again goes into a temporary.
     assert_eq!(
         il("LD a\nADD b\nST x\nST y"),
-        "LET __CR1 := (A + B);\nX := __CR1;\nY := __CR1;"
+        "__CR1 := (A + B);\nX := __CR1;\nY := __CR1;"
     );
     assert_eq!(
         il("LD a\nADD b\nST x\nMUL 2\nST y"),
-        "LET __CR1 := (A + B);\nX := __CR1;\nY := (__CR1 * 2);"
+        "__CR1 := (A + B);\nX := __CR1;\nY := (__CR1 * 2);"
     );
     // ...but not if nothing reads it afterwards (the next LD replaces it; CAL keeps
     // it without reading it).
@@ -290,17 +196,17 @@ fn the_cr_keeps_its_value_after_st() {
     );
     assert_eq!(
         il("LD p\nAND q\nS u\nR v"),
-        "LET __CR1 := (P AND Q);\nIF __CR1 THEN U := TRUE; END_IF;\nIF __CR1 THEN V := FALSE; END_IF;"
+        "__CR1 := (P AND Q);\nIF __CR1 THEN U := TRUE; END_IF;\nIF __CR1 THEN V := FALSE; END_IF;"
     );
     // A store to what the CR reads: the old value is kept.
     assert_eq!(
         il("LD p\nSTN p\nST u"),
-        "LET __CR1 := P;\nP := NOT __CR1;\nU := __CR1;"
+        "__CR1 := P;\nP := (NOT __CR1);\nU := __CR1;"
     );
     // A call of an instance may change anything the CR reads.
     assert_eq!(
         il("LD t.Q\nCAL t\nST p"),
-        "LET __CR1 := T.Q;\nT();\nP := __CR1;"
+        "__CR1 := T.Q;\nT();\nP := __CR1;"
     );
     // Literals never need a temporary, nor constant expressions (a temporary would
     // fix their type).
@@ -328,8 +234,8 @@ fn temporaries_are_numbered_per_file() {
             _ => None,
         })
         .collect();
-    assert!(bodies[0].starts_with("LET __CR1 :="), "{}", bodies[0]);
-    assert!(bodies[1].starts_with("LET __CR2 :="), "{}", bodies[1]);
+    assert!(bodies[0].starts_with("__CR1 :="), "{}", bodies[0]);
+    assert!(bodies[1].starts_with("__CR2 :="), "{}", bodies[1]);
 }
 
 // ---------------------------------------------------------------- labels, jumps
@@ -338,20 +244,20 @@ fn temporaries_are_numbered_per_file() {
 fn labels_and_jumps() {
     assert_eq!(
         il("LD p\nJMPC l1\nLD 1\nST x\nl1:\nLD 2\nST y"),
-        "IF P THEN GOTO L1; END_IF;\nX := 1;\nL1:\nY := 2;"
+        "IF P THEN JMP L1; END_IF;\nX := 1;\nL1:\nY := 2;"
     );
     assert_eq!(
         il("LD p\nJMPCN l1\nJMP l2\nl1: LD 1\nST x\nl2: LD 2\nST y"),
-        "IF NOT P THEN GOTO L1; END_IF;\nGOTO L2;\nL1:\nX := 1;\nL2:\nY := 2;"
+        "IF (NOT P) THEN JMP L1; END_IF;\nJMP L2;\nL1:\nX := 1;\nL2:\nY := 2;"
     );
     // The CR is unchanged by a conditional jump: a computed one is kept in a
     // temporary when read after it.
     assert_eq!(
         il("LD a\nGT 5\nJMPC l\nST p\nl: LD 0\nST x"),
-        "LET __CR1 := (A > 5);\nIF __CR1 THEN GOTO L; END_IF;\nP := __CR1;\nL:\nX := 0;"
+        "__CR1 := (A > 5);\nIF __CR1 THEN JMP L; END_IF;\nP := __CR1;\nL:\nX := 0;"
     );
     // Labels are emitted as written; unknown or duplicate ones are lowering's concern.
-    assert_eq!(il("JMP nowhere"), "GOTO NOWHERE;");
+    assert_eq!(il("JMP nowhere"), "JMP NOWHERE;");
     assert_eq!(il("l: l:\nLD 1\nST x"), "L:\nL:\nX := 1;");
 }
 
@@ -379,7 +285,7 @@ fn deferred_operations() {
     // Nested, with N.
     assert_eq!(
         il("LD p\nANDN( q\nOR( r\nAND v\n)\n)\nST u"),
-        "U := (P AND NOT ((Q OR ((R AND V)))));"
+        "U := (P AND (NOT ((Q OR ((R AND V))))));"
     );
     // A plain operand needs no parentheses.
     assert_eq!(il("LD a\nSUB( b\n)\nST x"), st("x := a - b;"));
@@ -392,7 +298,7 @@ fn stores_inside_parentheses_keep_the_left_operand() {
     // IL reads `a` at `ADD(`; the store to `a` inside must not change it.
     assert_eq!(
         il("LD a\nADD( b\nST a\n)\nST c"),
-        "LET __CR1 := A;\nA := B;\nC := (__CR1 + B);"
+        "__CR1 := A;\nA := B;\nC := (__CR1 + B);"
     );
 }
 
@@ -432,7 +338,7 @@ fn deep_nesting_is_one_diagnostic() {
     body.push_str(&")\n".repeat(super::translate::MAX_PAREN_DEPTH));
     body.push_str("ST u\n");
     let out = il(&body);
-    assert!(out.lines().all(|l| l.starts_with("LET __CR")) || out.lines().count() > 1);
+    assert!(out.lines().all(|l| l.starts_with("__CR")) || out.lines().count() > 1);
     assert!(
         out.lines()
             .last()
@@ -448,7 +354,7 @@ fn long_chains_are_split() {
     body.push_str(&"ADD 1\n".repeat(5_000));
     body.push_str("ST x\n");
     let out = il(&body);
-    let lets = out.lines().filter(|l| l.starts_with("LET ")).count();
+    let lets = out.lines().filter(|l| l.starts_with("__CR")).count();
     assert_eq!(lets, 5_000 / (super::translate::SPILL_HEIGHT as usize));
     let last = out.lines().last().unwrap();
     assert!(
@@ -477,12 +383,12 @@ fn function_block_calls() {
     assert_eq!(il("LD p\nCALC t"), "IF P THEN T(); END_IF;");
     assert_eq!(
         il("LD p\nCALCN t(IN := q)"),
-        "IF NOT P THEN T(IN := Q); END_IF;"
+        "IF (NOT P) THEN T(IN := Q); END_IF;"
     );
     assert_eq!(il("CAL sr1(R := p)"), "SR1(R := P);");
     // The FB input operators.
     assert_eq!(il("LD p\nIN t"), "T(IN := P);");
-    assert_eq!(il("LD T#2s\nPT t"), "T(PT := T#2000000000ns);");
+    assert_eq!(il("LD T#2s\nPT t"), "T(PT := T#2s);");
     assert_eq!(
         il("LD p\nCU cnt\nLD 10\nPV cnt"),
         "CNT(CU := P);\nCNT(PV := 10);"
@@ -510,13 +416,10 @@ fn function_calls() {
     // Chained, then used: the call is evaluated once.
     assert_eq!(
         il("LD a\nABS\nST x\nST y"),
-        "LET __CR1 := ABS(A);\nX := __CR1;\nY := __CR1;"
+        "__CR1 := ABS(A);\nX := __CR1;\nY := __CR1;"
     );
     // A call left unused still runs.
-    assert_eq!(
-        il("LD a\nMYFUN\nLD 1\nST x"),
-        "LET __CR1 := MYFUN(A);\nX := 1;"
-    );
+    assert_eq!(il("LD a\nMYFUN\nLD 1\nST x"), "__CR1 := MYFUN(A);\nX := 1;");
 }
 
 // ---------------------------------------------------------------- FUNCTION results
@@ -534,7 +437,7 @@ fn function_result_from_the_cr() {
     assert_eq!(
         il_file(&function("INT", "LD p\nJMPC l\nLD 1\nRET\nl: LD 2")),
         (
-            "IF P THEN GOTO L; END_IF;\nF := 1;\nRETURN;\nL:\nF := 2;".into(),
+            "IF P THEN JMP L; END_IF;\nF := 1;\nRETURN;\nL:\nF := 2;".into(),
             vec![]
         )
     );
@@ -542,7 +445,7 @@ fn function_result_from_the_cr() {
     assert_eq!(
         il_file(&function("BOOL", "LD a\nGT b\nRETC\nLD FALSE")),
         (
-            "LET __CR1 := (A > B);\nIF __CR1 THEN F := __CR1; RETURN; END_IF;\nF := FALSE;".into(),
+            "__CR1 := (A > B);\nIF __CR1 THEN F := __CR1; RETURN; END_IF;\nF := FALSE;".into(),
             vec![]
         )
     );
@@ -576,7 +479,7 @@ fn undefined_cr_uses_a_neutral_value() {
         ("XOR p", "U := (FALSE XOR P);"),
         ("EQ a", "U := (0 = A);"),
         ("ADD re", "X := (0.0 + RE);"),
-        ("ADD tm", "X := (T#0ns + TM);"),
+        ("ADD tm", "X := (T#0s + TM);"),
     ];
     for (line, want) in cases {
         let target = if want.starts_with('U') { "u" } else { "x" };
@@ -587,7 +490,7 @@ fn undefined_cr_uses_a_neutral_value() {
     // Storing an undefined CR stores nothing.
     assert_eq!(il_file(&program("ST x")), (String::new(), vec!["W0701"]));
     // FB inputs get a value of their type.
-    assert_eq!(il_file(&program("PT t")).0, "T(PT := T#0ns);");
+    assert_eq!(il_file(&program("PT t")).0, "T(PT := T#0s);");
     assert_eq!(il_file(&program("CU cnt")).0, "CNT(CU := FALSE);");
     // One warning, not one per instruction.
     assert_eq!(il_file(&program("ADD 1\nMUL 2\nST x\nST y")).1, ["W0701"]);

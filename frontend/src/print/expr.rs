@@ -1,6 +1,6 @@
 //! Expressions and literals.
 
-use super::{Printer, Style};
+use super::Printer;
 use crate::ast::*;
 use plcc_ir::value::{format_string_literal, PlcValue};
 use plcc_ir::ElemType;
@@ -35,7 +35,7 @@ impl Printer<'_> {
         match &e.kind {
             ExprKind::Binary(op, a, b) => {
                 let p = binding(*op);
-                let parens = p < min || self.style == Style::Tree;
+                let parens = p < min || self.all_parens();
                 if parens {
                     self.push("(");
                 }
@@ -49,7 +49,7 @@ impl Printer<'_> {
                 }
             }
             ExprKind::Unary(op, a) => {
-                let parens = UNARY < min;
+                let parens = UNARY < min || self.all_parens();
                 if parens {
                     self.push("(");
                 }
@@ -59,7 +59,7 @@ impl Printer<'_> {
                     UnaryOp::Plus => "+",
                 });
                 // `- -5` would read as one token pair too, but `(-5)` is plainer.
-                let signed = matches!(&a.kind, ExprKind::Unary(..))
+                let signed = matches!(&a.kind, ExprKind::Unary(..)) && !self.all_parens()
                     || matches!(&a.kind, ExprKind::Literal(l) if literal_is_signed(l));
                 if signed {
                     self.push("(");

@@ -21,7 +21,8 @@
 //! are found in the source text and printed on lines of their own before the
 //! statement they preceded (those among declarations are not; `plcc fmt` keeps
 //! every comment where it was).
-//! [`Style::Tree`] prints every binary operation in parentheses on one line per
+//! [`Style::Parenthesised`] and [`Style::Tree`] print every operation in parentheses
+//! ([`Style::Tree`] one line per
 //! statement, the form the front ends' tests compare.
 
 mod expr;
@@ -52,8 +53,11 @@ pub enum Style {
     /// Source text: parentheses only where written or needed, statements on lines
     /// of their own, indented.
     Source,
-    /// Every binary operation in parentheses, a block's statements on one line: the
-    /// shape of a tree, for tests.
+    /// Laid out as [`Style::Source`], every operation (binary and prefix) in
+    /// parentheses: the parser's reading made visible, for tests.
+    Parenthesised,
+    /// Every operation in parentheses as in [`Style::Parenthesised`], each statement of the outermost list on
+    /// one line (the statements inside it too): the shape of a tree, for tests.
     Tree,
 }
 
@@ -170,10 +174,11 @@ impl<'a> Printer<'a> {
         self.out.push_str(s);
     }
 
-    /// Starts a line at the current depth (a space in [`Style::Tree`]).
+    /// Starts a line at the current depth (in [`Style::Tree`], a space inside a
+    /// statement).
     fn line(&mut self) {
         if self.style == Style::Tree {
-            if !self.out.is_empty() && !self.out.ends_with(' ') {
+            if !self.out.is_empty() && !self.out.ends_with([' ', '\n']) {
                 self.out.push(' ');
             }
             return;
@@ -186,9 +191,14 @@ impl<'a> Printer<'a> {
         }
     }
 
+    /// Whether every operation is printed in parentheses.
+    fn all_parens(&self) -> bool {
+        self.style != Style::Source
+    }
+
     /// Ends the current line.
     fn end_line(&mut self) {
-        if self.style == Style::Source {
+        if self.style != Style::Tree {
             self.out.push('\n');
         }
     }

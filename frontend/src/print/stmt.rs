@@ -1,6 +1,6 @@
 //! Statements.
 
-use super::{Printer, TempType};
+use super::{Printer, Style, TempType};
 use crate::ast::*;
 
 impl Printer<'_> {
@@ -30,6 +30,9 @@ impl Printer<'_> {
 
     fn statement(&mut self, s: &Stmt) {
         self.comments_before(s.span.file, s.span.start);
+        if self.style == Style::Tree && self.depth == 0 && !self.out.is_empty() {
+            self.push("\n");
+        }
         self.line();
         match &s.kind {
             StmtKind::Assign { target, value } => {

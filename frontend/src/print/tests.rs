@@ -81,7 +81,7 @@ fn parentheses_where_written_and_where_needed() {
     }
     assert_eq!(
         body(&program("a := b + c * d - -5;"), Style::Tree),
-        "a := ((b + (c * d)) - -5);"
+        "a := ((b + (c * d)) - (-5));"
     );
 }
 

@@ -5,6 +5,7 @@
 use super::parse;
 use crate::ast::*;
 use crate::intern::Interner;
+use crate::print::{Printer, Style};
 use crate::source::SourceFile;
 use plcc_ir::diag::{Diagnostic, FileId};
 use std::fmt::Write;
@@ -52,169 +53,9 @@ fn errs(src: &str, want: &[&str]) {
 
 // ---------------------------------------------------------------- rendering
 
-fn name(i: &Interner, id: &Ident) -> String {
-    i.name(id.sym).to_string()
-}
-
-/// An expression in ST syntax with every operation parenthesised.
-fn ex(e: &Expr, i: &Interner) -> String {
-    match &e.kind {
-        ExprKind::Literal(l) => match &l.kind {
-            LiteralKind::Int(v) => v.to_string(),
-            LiteralKind::Real(t) => t.to_string(),
-            LiteralKind::Bool(b) => b.to_string().to_uppercase(),
-            other => format!("{other:?}"),
-        },
-        ExprKind::Name(id) => name(i, id),
-        ExprKind::Unary(op, x) => {
-            let o = match op {
-                UnaryOp::Neg => "-",
-                UnaryOp::Plus => "+",
-                UnaryOp::Not => "NOT ",
-            };
-            format!("({o}{})", ex(x, i))
-        }
-        ExprKind::Binary(op, a, b) => format!("({} {} {})", ex(a, i), op.symbol(), ex(b, i)),
-        ExprKind::Call { callee, args } => {
-            let a: Vec<String> = args
-                .iter()
-                .map(|a| match &a.kind {
-                    ArgKind::Positional(e) => ex(e, i),
-                    other => format!("{other:?}"),
-                })
-                .collect();
-            format!("{}({})", ex(callee, i), a.join(", "))
-        }
-        ExprKind::Paren(x) => format!("({})", ex(x, i)),
-        other => format!("{other:?}"),
-    }
-}
-
-fn stmts(out: &mut String, ss: &[Stmt], ind: usize, i: &Interner) {
-    for s in ss {
-        stmt(out, s, ind, i);
-    }
-}
-
-fn stmt(out: &mut String, s: &Stmt, ind: usize, i: &Interner) {
-    let pad = " ".repeat(ind);
-    match &s.kind {
-        StmtKind::Assign { target, value } => {
-            let _ = writeln!(out, "{pad}{} := {};", ex(target, i), ex(value, i));
-        }
-        StmtKind::Call(c) => {
-            let _ = writeln!(out, "{pad}{};", ex(c, i));
-        }
-        StmtKind::If {
-            branches,
-            else_body,
-        } => {
-            for (k, (c, body)) in branches.iter().enumerate() {
-                let kw = if k == 0 { "IF" } else { "ELSIF" };
-                let _ = writeln!(out, "{pad}{kw} {} THEN", ex(c, i));
-                stmts(out, body, ind + 2, i);
-            }
-            if let Some(e) = else_body {
-                let _ = writeln!(out, "{pad}ELSE");
-                stmts(out, e, ind + 2, i);
-            }
-            let _ = writeln!(out, "{pad}END_IF;");
-        }
-        StmtKind::While { cond, body } => {
-            let _ = writeln!(out, "{pad}WHILE {} DO", ex(cond, i));
-            stmts(out, body, ind + 2, i);
-            let _ = writeln!(out, "{pad}END_WHILE;");
-        }
-        StmtKind::Repeat { body, until } => {
-            let _ = writeln!(out, "{pad}REPEAT");
-            stmts(out, body, ind + 2, i);
-            let _ = writeln!(out, "{pad}UNTIL {}", ex(until, i));
-            let _ = writeln!(out, "{pad}END_REPEAT;");
-        }
-        StmtKind::For {
-            var,
-            from,
-            to,
-            by,
-            body,
-        } => {
-            let by = by
-                .as_ref()
-                .map_or(String::new(), |b| format!(" BY {}", ex(b, i)));
-            let _ = writeln!(
-                out,
-                "{pad}FOR {} := {} TO {}{by} DO",
-                name(i, var),
-                ex(from, i),
-                ex(to, i)
-            );
-            stmts(out, body, ind + 2, i);
-            let _ = writeln!(out, "{pad}END_FOR;");
-        }
-        StmtKind::Empty => {
-            let _ = writeln!(out, "{pad};");
-        }
-        other => {
-            let _ = writeln!(out, "{pad}{other:?}");
-        }
-    }
-}
-
-fn block(out: &mut String, b: &VarBlock, i: &Interner) {
-    let kw = match b.kind {
-        VarKind::Var => "VAR",
-        VarKind::Input => "VAR_INPUT",
-        VarKind::Global => "VAR_GLOBAL",
-        other => panic!("unexpected block kind {other:?}"),
-    };
-    let c = if b.constant { " CONSTANT" } else { "" };
-    let _ = writeln!(out, "{kw}{c}");
-    for d in &b.decls {
-        let names: Vec<String> = d.names.iter().map(|n| name(i, n)).collect();
-        let ty = match &d.ty {
-            TypeSpec::Named(t) => name(i, t),
-            other => format!("{other:?}"),
-        };
-        let init = match &d.init {
-            Some(Init::Expr(e)) => format!(" := {}", ex(e, i)),
-            Some(other) => format!(" := {other:?}"),
-            None => String::new(),
-        };
-        let _ = writeln!(out, "  {} : {ty}{init};", names.join(", "));
-    }
-    let _ = writeln!(out, "END_VAR");
-}
-
-/// The unit in an ST-like form.
+/// The unit printed as ST, every operation in parentheses (names as interned).
 fn render(u: &SourceUnit, i: &Interner) -> String {
-    let mut out = String::new();
-    for item in &u.items {
-        match item {
-            Item::Globals(b) => block(&mut out, b, i),
-            Item::Pou(p) => {
-                let (kw, end) = match p.kind {
-                    PouKind::Program => ("PROGRAM", "END_PROGRAM"),
-                    PouKind::Function => ("FUNCTION", "END_FUNCTION"),
-                    PouKind::FunctionBlock => ("FUNCTION_BLOCK", "END_FUNCTION_BLOCK"),
-                };
-                let rt = match &p.return_type {
-                    Some(TypeSpec::Named(t)) => format!(" : {}", name(i, t)),
-                    Some(other) => format!(" : {other:?}"),
-                    None => String::new(),
-                };
-                let _ = writeln!(out, "{kw} {}{rt}", name(i, &p.name));
-                for b in &p.var_blocks {
-                    block(&mut out, b, i);
-                }
-                stmts(&mut out, &p.body.stmts, 2, i);
-                let _ = writeln!(out, "{end}");
-            }
-            other => {
-                let _ = writeln!(out, "{other:?}");
-            }
-        }
-    }
-    out
+    Printer::new(i).with_style(Style::Parenthesised).unit(u)
 }
 
 /// Parses without errors and renders.
@@ -224,28 +65,38 @@ fn rendered(src: &str) -> String {
     render(&u, &i)
 }
 
-/// The rendering of the main body's statements only.
+/// The main body's statements printed as ST.
 #[track_caller]
 fn body(stmts_src: &str) -> String {
-    let src = format!("program t;\nbegin\n{stmts_src}\nend.\n");
-    let (u, i) = ok(&src);
-    let Some(Item::Pou(p)) = u.items.last() else {
-        panic!("no program")
-    };
-    let mut out = String::new();
-    stmts(&mut out, &p.body.stmts, 0, &i);
-    out
+    let (p, i) = main_program(stmts_src);
+    Printer::new(&i)
+        .with_style(Style::Parenthesised)
+        .stmts(&p.body.stmts)
 }
 
-/// The expression of `x := <src>;`.
+/// The program around the statements `stmts_src`.
+#[track_caller]
+fn main_program(stmts_src: &str) -> (Pou, Interner) {
+    let src = format!("program t;\nbegin\n{stmts_src}\nend.\n");
+    let (u, i) = ok(&src);
+    let Some(Item::Pou(p)) = u.items.into_iter().last() else {
+        panic!("no program")
+    };
+    (p, i)
+}
+
+/// The expression of `x := <src>;`, every operation in parentheses.
 #[track_caller]
 fn expr(src: &str) -> String {
-    let b = body(&format!("x := {src};"));
-    b.trim()
-        .strip_prefix("X := ")
-        .and_then(|s| s.strip_suffix(';'))
-        .unwrap_or_else(|| panic!("not one assignment: {b}"))
-        .to_string()
+    let (p, i) = main_program(&format!("x := {src};"));
+    let [Stmt {
+        kind: StmtKind::Assign { value, .. },
+        ..
+    }] = &p.body.stmts[..]
+    else {
+        panic!("not one assignment: {:?}", p.body.stmts)
+    };
+    Printer::new(&i).with_style(Style::Tree).expr(value)
 }
 
 // ---------------------------------------------------------------- program shape
@@ -284,45 +135,50 @@ end.
 ";
     let want = "\
 VAR_GLOBAL
-  TOTAL : INT;
-  A, B : BOOL := TRUE;
+    TOTAL : INT;
+    A, B : BOOL := TRUE;
 END_VAR
+
 VAR_GLOBAL
-  FLAGS : USINT;
+    FLAGS : USINT;
 END_VAR
+
 VAR_GLOBAL CONSTANT
-  LIMIT : INT := 10;
-  STEP : INT := (2 + 1);
+    LIMIT : INT := 10;
+    STEP : INT := (2 + 1);
 END_VAR
+
 FUNCTION SCALE : INT
-VAR_INPUT
-  X : INT;
-  K : INT;
-END_VAR
-  SCALE := (X * K);
+    VAR_INPUT
+        X : INT;
+        K : INT;
+    END_VAR
+    SCALE := (X * K);
 END_FUNCTION
+
 FUNCTION BUMP
-VAR_INPUT
-  N : INT;
-END_VAR
-VAR
-  REST : INT;
-END_VAR
-  REST := (N MOD LIMIT);
-  TOTAL := (TOTAL + REST);
+    VAR_INPUT
+        N : INT;
+    END_VAR
+    VAR
+        REST : INT;
+    END_VAR
+    REST := (N MOD LIMIT);
+    TOTAL := (TOTAL + REST);
 END_FUNCTION
+
 PROGRAM DEMO
-VAR
-  I : INT;
-END_VAR
-VAR
-  J : SINT := (-1);
-END_VAR
-VAR CONSTANT
-  TWO : INT := 2;
-END_VAR
-  I := SCALE(I, TWO);
-  BUMP(I);
+    VAR
+        I : INT;
+    END_VAR
+    VAR
+        J : SINT := (-1);
+    END_VAR
+    VAR CONSTANT
+        TWO : INT := 2;
+    END_VAR
+    I := SCALE(I, TWO);
+    BUMP(I);
 END_PROGRAM
 ";
     assert_eq!(rendered(src), want);
@@ -335,15 +191,15 @@ fn parameter_list_forms() {
     // colon, grouped names, and no parameters at all.
     let want_rd3 = "\
 FUNCTION RD3 : INT
-VAR_INPUT
-  S1 : INT;
-  S2 : INT;
-  S3 : INT;
-END_VAR
-  RD3 := ((S1 * S2) / S3);
+    VAR_INPUT
+        S1 : INT;
+        S2 : INT;
+        S3 : INT;
+    END_VAR
+    RD3 := ((S1 * S2) / S3);
 END_FUNCTION
 ";
-    let body = "begin\n  rd3 := s1 * s2 / s3;\nend;\nbegin end.";
+    let body = "begin\n    rd3 := s1 * s2 / s3;\nend;\nbegin end.";
     for header in [
         "FUNCTION RD3(S1 : INT; S2 : INT; S3 : INT); INT",
         "function rd3(s1 : INT, s2 : INT, s3 : INT) INT;",
@@ -358,7 +214,7 @@ END_FUNCTION
         "program p;\nfunction f(a, b : INT; c : BOOL) INT;\nbegin f := a; end;\nbegin end.",
     );
     assert!(
-        r.contains("VAR_INPUT\n  A, B : INT;\n  C : BOOL;\nEND_VAR"),
+        r.contains("    VAR_INPUT\n        A, B : INT;\n        C : BOOL;\n    END_VAR"),
         "{r}"
     );
     for header in ["function f INT;", "function f() INT;", "function f: INT;"] {
@@ -366,7 +222,7 @@ END_FUNCTION
             "program p;\n{header}\nbegin f := 1; end;\nbegin end."
         ));
         assert!(
-            r.starts_with("FUNCTION F : INT\n  F := 1;\nEND_FUNCTION"),
+            r.starts_with("FUNCTION F : INT\n    F := 1;\nEND_FUNCTION"),
             "{header}:\n{r}"
         );
     }
@@ -378,7 +234,7 @@ END_FUNCTION
 
 #[test]
 fn subprogram_locals_before_or_after_begin() {
-    let want = "VAR\n  T : INT;\nEND_VAR\nVAR CONSTANT\n  K : INT := 3;\nEND_VAR\n  T := (A * K);\n  F := T;\n";
+    let want = "    VAR\n        T : INT;\n    END_VAR\n    VAR CONSTANT\n        K : INT := 3;\n    END_VAR\n    T := (A * K);\n    F := T;\n";
     for src in [
         "function f(a : INT) INT;\nvar t : INT; end_var;\nconstant k : INT := 3;\nbegin t := a * k; f := t; end;",
         "function f(a : INT) INT;\nbegin var t : INT; end_var;\nconstant k : INT := 3;\nt := a * k; f := t; end;",
@@ -397,7 +253,7 @@ fn empty_program_and_case_insensitivity() {
     );
     assert_eq!(
         rendered("PrOgRaM Mixed; BeGiN X := 1; EnD."),
-        "PROGRAM MIXED\n  X := 1;\nEND_PROGRAM\n"
+        "PROGRAM MIXED\n    X := 1;\nEND_PROGRAM\n"
     );
     // Nested comments, comments between any tokens, the end of the file after `end.`.
     assert_eq!(
@@ -418,7 +274,7 @@ fn assignments_and_calls() {
 
 #[test]
 fn if_forms() {
-    let want = "IF (A = B) THEN\n  X := 1;\nELSE\n  X := 2;\nEND_IF;\n";
+    let want = "IF (A = B) THEN\n    X := 1;\nELSE\n    X := 2;\nEND_IF;\n";
     // With `;` before else, without it, and with blocks (with or without `;` after
     // their `end`).
     assert_eq!(body("if a = b then x := 1; else x := 2;"), want);
@@ -432,47 +288,50 @@ fn if_forms() {
         want
     );
     assert_eq!(
-        body("IF A = B THEN\nBEGIN\n  A := A + #1;\nEND\nELSE\nBEGIN\n  B := A - #1;\nEND"),
-        "IF (A = B) THEN\n  A := (A + 1);\nELSE\n  B := (A - 1);\nEND_IF;\n"
+        body("IF A = B THEN\nBEGIN\n    A := A + #1;\nEND\nELSE\nBEGIN\n    B := A - #1;\nEND"),
+        "IF (A = B) THEN\n    A := (A + 1);\nELSE\n    B := (A - 1);\nEND_IF;\n"
     );
-    assert_eq!(body("if c then x := 1;"), "IF C THEN\n  X := 1;\nEND_IF;\n");
+    assert_eq!(
+        body("if c then x := 1;"),
+        "IF C THEN\n    X := 1;\nEND_IF;\n"
+    );
     // `else if` becomes ELSIF; a dangling else goes to the innermost if.
     assert_eq!(
         body("if a then x := 1; else if b then x := 2; else x := 3;"),
-        "IF A THEN\n  X := 1;\nELSIF B THEN\n  X := 2;\nELSE\n  X := 3;\nEND_IF;\n"
+        "IF A THEN\n    X := 1;\nELSIF B THEN\n    X := 2;\nELSE\n    X := 3;\nEND_IF;\n"
     );
     assert_eq!(
         body("if a then if b then x := 1; else x := 2;"),
-        "IF A THEN\n  IF B THEN\n    X := 1;\n  ELSE\n    X := 2;\n  END_IF;\nEND_IF;\n"
+        "IF A THEN\n    IF B THEN\n        X := 1;\n    ELSE\n        X := 2;\n    END_IF;\nEND_IF;\n"
     );
     // A block after `else` holding one if is not merged (it is written as a block).
     assert_eq!(
         body("if a then x := 1; else begin if b then x := 2; y := 3; end"),
-        "IF A THEN\n  X := 1;\nELSE\n  IF B THEN\n    X := 2;\n  END_IF;\n  Y := 3;\nEND_IF;\n"
+        "IF A THEN\n    X := 1;\nELSE\n    IF B THEN\n        X := 2;\n    END_IF;\n    Y := 3;\nEND_IF;\n"
     );
 }
 
 #[test]
 fn loops() {
     assert_eq!(
-        body("while x <= y do\nbegin\n  x := x + 1;\n  y := y + 2;\nend"),
-        "WHILE (X <= Y) DO\n  X := (X + 1);\n  Y := (Y + 2);\nEND_WHILE;\n"
+        body("while x <= y do\nbegin\n    x := x + 1;\n    y := y + 2;\nend"),
+        "WHILE (X <= Y) DO\n    X := (X + 1);\n    Y := (Y + 2);\nEND_WHILE;\n"
     );
     assert_eq!(
         body("while x <= y do x := x + 1;"),
-        "WHILE (X <= Y) DO\n  X := (X + 1);\nEND_WHILE;\n"
+        "WHILE (X <= Y) DO\n    X := (X + 1);\nEND_WHILE;\n"
     );
     assert_eq!(
-        body("repeat\n  a := b + c;\n  d := d + 1;\nuntil d = 30;"),
-        "REPEAT\n  A := (B + C);\n  D := (D + 1);\nUNTIL (D = 30)\nEND_REPEAT;\n"
+        body("repeat\n    a := b + c;\n    d := d + 1;\nuntil d = 30;"),
+        "REPEAT\n    A := (B + C);\n    D := (D + 1);\nUNTIL (D = 30)\nEND_REPEAT;\n"
     );
     assert_eq!(
         body("for i := 1 to n do s := s + i;"),
-        "FOR I := 1 TO N DO\n  S := (S + I);\nEND_FOR;\n"
+        "FOR I := 1 TO N DO\n    S := (S + I);\nEND_FOR;\n"
     );
     assert_eq!(
         body("for i := 10 downto 1 do begin s := s + i; t := i; end"),
-        "FOR I := 10 TO 1 BY -1 DO\n  S := (S + I);\n  T := I;\nEND_FOR;\n"
+        "FOR I := 10 TO 1 BY -1 DO\n    S := (S + I);\n    T := I;\nEND_FOR;\n"
     );
 }
 
@@ -568,7 +427,7 @@ fn literals() {
 
 #[test]
 fn spans() {
-    let src = "program p;\nbegin\n  x := a + f(b);\n  if c then y := 1;\n  repeat z := 2; until z = 2;\nend.";
+    let src = "program p;\nbegin\n    x := a + f(b);\n    if c then y := 1;\n    repeat z := 2; until z = 2;\nend.";
     let (u, _) = ok(src);
     let Some(Item::Pou(p)) = u.items.last() else {
         panic!()
@@ -591,7 +450,7 @@ fn spans() {
     assert_eq!(text(p.name.span), "p");
     assert_eq!(
         text(p.body.span),
-        "begin\n  x := a + f(b);\n  if c then y := 1;\n  repeat z := 2; until z = 2;\nend"
+        "begin\n    x := a + f(b);\n    if c then y := 1;\n    repeat z := 2; until z = 2;\nend"
     );
     // Unary operators start at the operator.
     let src2 = "program p; begin x := -a * b; end.";
@@ -758,7 +617,7 @@ fn unclosed_blocks() {
     errs("program p; var x : INT; begin end.", &["E0728"]);
     errs("program p; begin var x : INT;\nx := 1; end.", &["E0728"]);
     errs(
-        "program p;\nfunction f INT;\nbegin\n  f := 1;\nfunction g INT; begin g := 2; end;\nbegin end.",
+        "program p;\nfunction f INT;\nbegin\n    f := 1;\nfunction g INT; begin g := 2; end;\nbegin end.",
         &["E0728"],
     );
 }
@@ -944,8 +803,7 @@ fn recovery_keeps_the_good_statements() {
     let Some(Item::Pou(p)) = u.items.last() else {
         panic!()
     };
-    let mut out = String::new();
-    stmts(&mut out, &p.body.stmts, 0, &i);
+    let out = Printer::new(&i).stmts(&p.body.stmts);
     assert_eq!(out, "A := 1;\nC := 3;\nIF X THEN\nEND_IF;\nE := 5;\n");
 }
 
