@@ -229,7 +229,8 @@ pub fn compile(
         .filter(|(_, l)| *l == Lang::Cst)
         .map(|(f, _)| *f)
         .collect();
-    let mut lowered = lowerer.run(1, &dialect_of_files(&opts, &ladder));
+    let lower_opts = dialect_of_files(&opts, &ladder);
+    let mut lowered = lowerer.run(1, &lower_opts);
     let module = lowered.module;
     diagnostics.append(&mut lowered.diagnostics);
     timings.push(("check and lower", started.elapsed()));
@@ -237,7 +238,12 @@ pub fn compile(
     plcopen::remap_all(&ladder, &mut diagnostics);
     let st = match printable {
         Some(p) if module.is_some() => {
-            Some(print_units(&p, sources, &interner, &lowered.temp_types))
+            let mut st = String::new();
+            if lower_opts.codesys {
+                st.push_str("(* built in the CODESYS dialect: compile with --dialect codesys *)\n");
+            }
+            st.push_str(&print_units(&p, sources, &interner, &lowered.temp_types));
+            Some(st)
         }
         _ => None,
     };
