@@ -121,9 +121,12 @@ pub(crate) fn build_and_report<P: AsRef<Path>>(
         sfc,
         programs,
         no_opt: mode == Mode::Unoptimised,
-        check_only: matches!(mode, Mode::Check | Mode::PrintSt),
+        check_only: matches!(mode, Mode::Check | Mode::Print(_)),
         inline_c,
-        print_st: mode == Mode::PrintSt,
+        print: match mode {
+            Mode::Print(p) => p,
+            _ => plcc_frontend::PrintAs::Nothing,
+        },
     };
     let mut build = driver::build_files(files, library, &opts).map_err(usage)?;
     render::to_stderr(&build.sources, &build.diagnostics);
@@ -158,8 +161,8 @@ pub(crate) struct How {
 pub(crate) enum Mode {
     /// Diagnostics only.
     Check,
-    /// Diagnostics and the files printed as Structured Text.
-    PrintSt,
+    /// Diagnostics and the files printed (as ST, or as a PLCopen project).
+    Print(plcc_frontend::PrintAs),
     /// IR as the front end made it.
     Unoptimised,
     /// Optimised IR, for code generation.
@@ -752,7 +755,8 @@ pub fn compile(a: &CompileArgs) -> u8 {
         Some("ir-raw") => Mode::Unoptimised,
         // The views of ladder files need the front end's checks only.
         Some("il") | Some("ld-text") | Some("sfc-text") => Mode::Check,
-        Some("st") => Mode::PrintSt,
+        Some("st") => Mode::Print(plcc_frontend::PrintAs::St),
+        Some("plcopen") => Mode::Print(plcc_frontend::PrintAs::Plcopen),
         _ => Mode::Full,
     };
     let (build, module) = match build_and_report(
@@ -793,11 +797,24 @@ pub fn compile(a: &CompileArgs) -> u8 {
             (s.into_bytes(), "sfc.txt".to_string())
         }
         Some("st") => {
-            let Some(st) = build.st.clone() else {
+            let Some(st) = build.printed.clone() else {
                 return EXIT_FAIL;
             };
             std::mem::forget(module);
             (formatted_view(&st, false).into_bytes(), "st".to_string())
+        }
+        Some("plcopen") => {
+            if !build.ladder.is_empty() {
+                return usage(
+                    "`--emit plcopen` writes ST, IL and STL files as a PLCopen project: the files are one already",
+                );
+            }
+            let Some(xml) = build.printed.clone() else {
+                eprintln!("error: the build cannot be written as PLCopen XML");
+                return EXIT_FAIL;
+            };
+            std::mem::forget(module);
+            (xml.into_bytes(), "xml".to_string())
         }
         Some(view @ ("il" | "ld-text")) => {
             if build.ladder.is_empty() {
@@ -876,8 +893,8 @@ pub fn compile(a: &CompileArgs) -> u8 {
     };
     build.report_timings(&[]);
     let out = a.output.clone().unwrap_or_else(|| {
-        if matches!(ext.as_str(), "ir" | "il" | "st" | "ld-text" | "sfc.txt") && a.output.is_none()
-        {
+        let text = matches!(ext.as_str(), "ir" | "il" | "st" | "ld-text" | "sfc.txt");
+        if (text || emit == Some("plcopen")) && a.output.is_none() {
             PathBuf::from("-")
         } else {
             a.files[0].with_extension(&ext)

@@ -61,8 +61,8 @@ pub struct Build {
     pub ladder: Vec<plcc_frontend::plcopen::View>,
     /// The files with charts (see [`plcc_frontend::Compiled::charts`]).
     pub charts: Vec<plcc_frontend::sfc::View>,
-    /// The files as Structured Text (see [`plcc_frontend::Compiled::st`]).
-    pub st: Option<String>,
+    /// The files printed (see [`plcc_frontend::Compiled::printed`]).
+    pub printed: Option<String>,
 }
 
 impl Build {
@@ -121,8 +121,8 @@ pub struct BuildOptions {
     /// Keep the C code of pragmas for a target that copies it into its output
     /// ([`plcc_frontend::LowerOptions::inline_c`]).
     pub inline_c: bool,
-    /// Print the files as Structured Text ([`Build::st`]).
-    pub print_st: bool,
+    /// What to print of the files ([`Build::printed`]).
+    pub print: plcc_frontend::PrintAs,
 }
 
 /// Reads the files and the library files (`--lib`) and builds them together.
@@ -189,7 +189,7 @@ pub fn build_sources_with_library(
         sfc: opts.sfc,
         library: inputs[first_library..].iter().map(|&(f, _)| f).collect(),
         inline_c: opts.inline_c,
-        print_st: opts.print_st,
+        print: opts.print,
     };
     // The panic boundary of the front end (ARCHITECTURE.md, "Panics"): a panic is a
     // bug in plcc, reported as an internal error, not a crash of the command.
@@ -210,7 +210,7 @@ pub fn build_sources_with_library(
         syntax: Vec::new(),
         ladder: Vec::new(),
         charts: Vec::new(),
-        st: None,
+        printed: None,
     });
     let mut diagnostics = compiled.diagnostics;
     let mut timings = compiled.timings;
@@ -250,7 +250,7 @@ pub fn build_sources_with_library(
         syntax: compiled.syntax,
         ladder: compiled.ladder,
         charts: compiled.charts,
-        st: compiled.st,
+        printed: compiled.printed,
     })
 }
 

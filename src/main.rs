@@ -67,9 +67,10 @@ struct BuildArgs {
     /// standard output)
     #[arg(short, long)]
     output: Option<PathBuf>,
-    /// What to produce: ir (optimised IR), ir-raw (unoptimised), st (what the LD and
-    /// FBD bodies of a PLCopen XML file become: the project as IEC text; `il` is the
-    /// same), ld-text (the diagrams drawn in ASCII), sfc-text (sequential function
+    /// What to produce: ir (optimised IR), ir-raw (unoptimised), st (any build printed
+    /// as Structured Text: IL, STL, PLCopen diagrams, charts), plcopen (ST and IL
+    /// files as one PLCopen XML project), il (a PLCopen file's view, IL bodies kept),
+    /// ld-text (the diagrams drawn in ASCII), sfc-text (sequential function
     /// charts drawn as text), or a target output (host: obj,
     /// header; pic16f876a: asm, hex; vmasm: xcp, asm; c: c, headers)
     #[arg(long)]

@@ -32,7 +32,7 @@ use plcc_ir::diag::{Diagnostic, FileId};
 use plcc_ir::Module;
 use source::{SourceFile, SourceMap};
 
-pub use lower::LowerOptions;
+pub use lower::{LowerOptions, PrintAs};
 
 /// The source languages plcc reads.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
@@ -101,9 +101,10 @@ pub struct Compiled {
     pub ladder: Vec<plcopen::View>,
     /// The files with charts, their ST and drawings (for `--emit sfc-text`).
     pub charts: Vec<sfc::View>,
-    /// With [`LowerOptions::print_st`], when the build has no error: its files
-    /// printed as Structured Text ([`print`]), each after a comment naming it.
-    pub st: Option<String>,
+    /// With [`LowerOptions::print`], when the build has no error: its files printed
+    /// as Structured Text ([`print`]), each after a comment naming it, or as one
+    /// PLCopen XML project ([`plcopen::export`]).
+    pub printed: Option<String>,
 }
 
 /// Parses, checks and lowers the given files (already in `sources`) to one module.
@@ -121,6 +122,8 @@ pub fn compile(
     let (std_unit, mut interner, mut diagnostics) = parse_std_library(std_file);
     let mut units = Vec::with_capacity(inputs.len() + 1);
     let mut ladder = Vec::new();
+    // The bodies each IL file holds in IL (for `--emit plcopen`).
+    let mut il_bodies = Vec::new();
     // A library's units: a ladder file's unit is its IL view.
     let mut opts = std::borrow::Cow::Borrowed(opts);
     for &(file, lang) in inputs {
@@ -131,12 +134,16 @@ pub fn compile(
                 &mut interner,
                 &mut diagnostics,
             )),
-            Lang::Il => units.push(il::parse(
-                file,
-                &sources.get(file).text,
-                &mut interner,
-                &mut diagnostics,
-            )),
+            Lang::Il => {
+                let (unit, bodies) = il::parse_with_bodies(
+                    file,
+                    &sources.get(file).text,
+                    &mut interner,
+                    &mut diagnostics,
+                );
+                il_bodies.push((file, bodies));
+                units.push(unit);
+            }
             Lang::Stl => units.push(stl::parse(
                 file,
                 &sources.get(file).text,
@@ -200,7 +207,7 @@ pub fn compile(
         &mut diagnostics,
     );
     // Printed as the user wrote them: before addresses become names and globals move.
-    let printable = opts.print_st.then(|| units.clone());
+    let printable = (opts.print != PrintAs::Nothing).then(|| units.clone());
     direct::resolve(&mut units, &mut interner, &mut diagnostics);
     if let Some(g) = globals_unit(&mut units, &mut interner) {
         units.push(g);
@@ -218,7 +225,7 @@ pub fn compile(
             syntax: units,
             ladder,
             charts,
-            st: None,
+            printed: None,
         };
     }
     let started = std::time::Instant::now();
@@ -236,7 +243,35 @@ pub fn compile(
     timings.push(("check and lower", started.elapsed()));
     sfc::remap_all(&charts, &mut diagnostics);
     plcopen::remap_all(&ladder, &mut diagnostics);
-    let st = match printable {
+    let printed = match printable {
+        Some(p) if module.is_some() && opts.print == PrintAs::Plcopen => {
+            let units: Vec<plcopen::export::ExportUnit> = p
+                .iter()
+                .zip(inputs)
+                .map(|(unit, &(_, lang))| plcopen::export::ExportUnit {
+                    unit,
+                    lang,
+                    il_bodies: il_bodies
+                        .iter()
+                        .find(|(f, _)| *f == unit.file)
+                        .map_or(Vec::new(), |(_, r)| r.clone()),
+                })
+                .collect();
+            let name = inputs
+                .first()
+                .map(|&(f, _)| sources.get(f).name.clone())
+                .unwrap_or_default();
+            let name = std::path::Path::new(&name)
+                .file_stem()
+                .map_or("project".to_string(), |s| s.to_string_lossy().into_owned());
+            match plcopen::export::export(&units, sources, &interner, &name, lower_opts.codesys) {
+                Ok(xml) => Some(xml),
+                Err(mut d) => {
+                    diagnostics.append(&mut d);
+                    None
+                }
+            }
+        }
         Some(p) if module.is_some() => {
             let mut st = String::new();
             if lower_opts.codesys {
@@ -254,7 +289,7 @@ pub fn compile(
         syntax: units,
         ladder,
         charts,
-        st,
+        printed,
     }
 }
 

@@ -140,7 +140,7 @@ impl Loader {
             no_opt: false,
             check_only: false,
             inline_c: targets::find(target).is_some_and(|t| t.inline_c),
-            print_st: false,
+            print: plcc_frontend::PrintAs::Nothing,
         };
         Ok(Loader {
             library,

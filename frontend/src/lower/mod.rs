@@ -88,8 +88,20 @@ pub struct LowerOptions {
     /// a target that copies it into its output (`c`); otherwise such pragmas are
     /// skipped with warning W0010.
     pub inline_c: bool,
-    /// Print the build's files as Structured Text ([`crate::Compiled::st`]).
-    pub print_st: bool,
+    /// What to print of the build's files ([`crate::Compiled::printed`]).
+    pub print: PrintAs,
+}
+
+/// What [`crate::compile`] prints of a build that compiles.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum PrintAs {
+    /// Nothing.
+    #[default]
+    Nothing,
+    /// Structured Text ([`crate::print`]; `--emit st`).
+    St,
+    /// A PLCopen XML project ([`crate::plcopen::export`]; `--emit plcopen`).
+    Plcopen,
 }
 
 /// One declared variable of a POU.

@@ -26,6 +26,7 @@
 
 mod body;
 mod decls;
+pub mod export;
 pub(crate) mod graph;
 pub mod map;
 mod members;
