@@ -21,6 +21,7 @@ pub mod interp;
 pub mod layout;
 pub mod machine;
 pub mod module;
+pub mod names;
 pub mod passes;
 #[cfg(test)]
 mod test_rng;

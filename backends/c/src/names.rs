@@ -10,6 +10,7 @@
 use crate::repr::{Repr, Reprs};
 use plcc_ir::diag::Diagnostic;
 use plcc_ir::module::{AggDef, DataKind, StructKind};
+use plcc_ir::names::Namer;
 use plcc_ir::types::MemType;
 use plcc_ir::vars::{PathStep, VarRef};
 use plcc_ir::{AggId, DataId, FuncKind, Module, Type};
@@ -81,16 +82,7 @@ pub struct Names {
 /// digits and `_` turned into `_`, and `PLCC` before a name that would start with `_`
 /// or a digit (C reserves `_X…`; plcc's own names start with `__plcc`).
 pub fn ident(name: &str) -> String {
-    let mut s: String = name
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '_' {
-                c.to_ascii_uppercase()
-            } else {
-                '_'
-            }
-        })
-        .collect();
+    let mut s = plcc_ir::names::identifier(name).to_ascii_uppercase();
     if s.is_empty() || s.starts_with('_') || s.starts_with(|c: char| c.is_ascii_digit()) {
         s = if s.starts_with('_') {
             format!("PLCC{s}")
@@ -144,17 +136,19 @@ pub const RUNTIME_BLOCKS: &[&str] = &[
     "SEMA",
 ];
 
-struct Taken(HashSet<String>);
+/// The names given so far in one scope (the module's, or a struct's fields): none
+/// of C's and the headers' reserved names.
+struct Taken(Namer);
 
 impl Taken {
+    fn new() -> Taken {
+        let mut n = Namer::new(false);
+        n.reserve(RESERVED.iter().copied());
+        Taken(n)
+    }
+
     fn take(&mut self, want: String) -> String {
-        if !RESERVED.contains(&want.as_str()) && self.0.insert(want.clone()) {
-            return want;
-        }
-        (2..)
-            .map(|k| format!("{want}_{k}"))
-            .find(|n| self.0.insert(n.clone()))
-            .expect("a free name")
+        self.0.unique(&want)
     }
 }
 
@@ -163,7 +157,7 @@ impl Names {
     /// checks its located variables).
     pub fn new(module: &Module) -> Result<Names, Vec<Diagnostic>> {
         let repr = Reprs::new(module)?;
-        let mut taken = Taken(HashSet::new());
+        let mut taken = Taken::new();
         let aggs: Vec<String> = module
             .aggs
             .iter()
@@ -182,7 +176,7 @@ impl Names {
             .iter()
             .map(|a| match a {
                 AggDef::Struct(s) => {
-                    let mut t = Taken(HashSet::new());
+                    let mut t = Taken::new();
                     s.fields.iter().map(|f| t.take(ident(&f.name))).collect()
                 }
                 AggDef::Array(_) => Vec::new(),

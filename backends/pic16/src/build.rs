@@ -28,6 +28,7 @@ use crate::{banks, codes, softfloat, Build};
 use plcc_ir::backend::{Options, Symbol};
 use plcc_ir::diag::Diagnostic;
 use plcc_ir::inst::{BinaryOp, InstData, Intrinsic};
+use plcc_ir::names::{identifier, Namer};
 use plcc_ir::{DataId, FuncId, MemType, Module, Type};
 use rustc_hash::{FxHashMap, FxHashSet};
 
@@ -289,14 +290,11 @@ impl RuntimeNeeds {
 }
 
 /// The names the listing reserves: the assembler's, and the runtime's symbols.
-fn taken_names() -> FxHashSet<String> {
-    let mut taken: FxHashSet<String> = asm::reserved_names()
-        .map(|s| s.to_ascii_lowercase())
-        .collect();
-    for (n, ..) in runtime::common_symbols() {
-        taken.insert(n.to_string());
-    }
-    for n in [
+fn taken_names() -> Namer {
+    let mut taken = Namer::new(true);
+    taken.reserve(asm::reserved_names());
+    taken.reserve(runtime::common_symbols().into_iter().map(|(n, ..)| n));
+    taken.reserve([
         "plc_flags",
         "plc_isr_save",
         "plc_clock_ms",
@@ -304,9 +302,7 @@ fn taken_names() -> FxHashSet<String> {
         "plc_clock_ns",
         "plc_now_ns",
         "plc_ws",
-    ] {
-        taken.insert(n.to_string());
-    }
+    ]);
     taken
 }
 
@@ -334,7 +330,7 @@ fn emit(
     frames: &Frames,
     ram: &place::RamPlan,
     options: &Options,
-    taken: &mut FxHashSet<String>,
+    taken: &mut Namer,
 ) -> Result<Code, Vec<Diagnostic>> {
     let nf = module.funcs.len();
     let mut program = Program {
@@ -648,7 +644,7 @@ fn symbols(
     ram: &place::RamPlan,
     widest_muldiv: u16,
     program: &mut Program,
-    taken: &mut FxHashSet<String>,
+    taken: &mut Namer,
 ) -> Vars {
     let rt = ram.rt;
     let mut vars = Vars {
@@ -767,17 +763,8 @@ fn header(pins: &[PinBinding]) -> Vec<String> {
 }
 
 /// Assembler-safe name of a source path: `main.timer.Q` → `main_timer_Q`.
-fn asm_name(path: &str, taken: &mut FxHashSet<String>) -> String {
-    let mut s: String = path
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '_' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect();
+fn asm_name(path: &str, taken: &mut Namer) -> String {
+    let mut s = identifier(path);
     while s.contains("__") {
         s = s.replace("__", "_");
     }
@@ -787,11 +774,5 @@ fn asm_name(path: &str, taken: &mut FxHashSet<String>) -> String {
     } else {
         s
     };
-    let mut name = s.clone();
-    let mut n = 1;
-    while !taken.insert(name.to_ascii_lowercase()) {
-        n += 1;
-        name = format!("{s}_{n}");
-    }
-    name
+    taken.unique(&s)
 }
