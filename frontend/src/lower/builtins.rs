@@ -2,8 +2,9 @@
 //! selection and comparison functions, and the function forms of the operators.
 
 use super::body::BodyCx;
-use super::expr::{concretize, unify, Val};
+use super::expr::Val;
 use super::strings::StrFn;
+use super::typing::{concretize, unify};
 use crate::ast::{Arg, ArgKind, BinaryOp as Op, Expr};
 use crate::codes;
 use crate::types::Ty;

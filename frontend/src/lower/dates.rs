@@ -51,7 +51,7 @@ pub(super) fn date_arith_type(op: Op, l: Ty, r: Ty) -> Option<Ty> {
 
 /// True for the types of table 30's arithmetic: TIME, LTIME, DATE, TOD and DT.
 pub(super) fn is_time_or_date(t: Ty) -> bool {
-    super::expr::is_duration(t) || is_date(t)
+    super::typing::is_duration(t) || is_date(t)
 }
 
 /// The result of the overloaded function `ADD`, `SUB`, `MUL` or `DIV` (`op`) on `l`
@@ -60,7 +60,7 @@ pub(super) fn is_time_or_date(t: Ty) -> bool {
 /// DT + TIME; TIME - TIME, DATE - DATE, TOD - TIME, TOD - TOD, DT - TIME, DT - DT;
 /// TIME * ANY_NUM and TIME / ANY_NUM, the TIME first; the same for LTIME.
 pub(super) fn time_fn_type(op: Op, l: Ty, r: Ty) -> Option<Ty> {
-    use super::expr::{is_duration, unify};
+    use super::typing::{is_duration, unify};
     match op {
         Op::Add | Op::Sub if is_date(l) || is_date(r) => date_arith_type(op, l, r),
         Op::Add | Op::Sub => unify(l, r).filter(|t| is_duration(*t)),

@@ -10,7 +10,8 @@
 
 use super::body::BodyCx;
 use super::consts::ConstVal;
-use super::expr::{concretize, Val};
+use super::expr::Val;
+use super::typing::concretize;
 use super::usertypes::TypeState;
 use crate::ast::{BinaryOp as Op, Expr, ExprKind, Literal, LiteralKind, UnaryOp};
 use crate::codes;

@@ -39,6 +39,7 @@ mod stmt;
 mod strings;
 mod tasks;
 mod timestr;
+mod typing;
 mod unknown;
 mod usertypes;
 

@@ -5,7 +5,6 @@
 
 use super::body::{BodyCx, Named, Place};
 use super::consts::ConstVal;
-use super::expr::index_chain;
 use crate::ast::{Expr, ExprKind};
 use crate::codes;
 use crate::types::Ty;
@@ -401,4 +400,18 @@ impl<'s> BodyCx<'_, 's> {
         });
         range.is_some_and(|(a, b)| a >= lo as i128 && b <= hi as i128)
     }
+}
+
+/// The array and every index of `a[i, j]`, `a[i][j]` or `a[i][j, k]`: ARRAY OF ARRAY
+/// is one array with more dimensions, so indexes of nested subscripts add up (an
+/// element is never itself an array).
+pub(super) fn index_chain(e: &Expr) -> (&Expr, Vec<&Expr>) {
+    let mut base = e;
+    let mut lists = Vec::new();
+    while let ExprKind::Index(b, idx) = &base.kind {
+        lists.push(idx);
+        base = b;
+    }
+    let idx = lists.into_iter().rev().flat_map(|l| l.iter()).collect();
+    (base, idx)
 }

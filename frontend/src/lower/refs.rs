@@ -452,7 +452,7 @@ impl<'s> BodyCx<'_, 's> {
         op: Op,
         l: Ty,
         r: Ty,
-    ) -> Option<super::expr::BinTyping> {
+    ) -> Option<super::typing::BinTyping> {
         if !self.l.codesys {
             return None;
         }
@@ -467,7 +467,7 @@ impl<'s> BodyCx<'_, 's> {
                 Op::Sub if lp && rp => Ty::Elem(ElemType::DWord),
                 _ => return None,
             };
-            return Some(super::expr::BinTyping {
+            return Some(super::typing::BinTyping {
                 operand: if lp { l } else { r },
                 right: Some(if lp { r } else { l }),
                 result,
@@ -477,7 +477,7 @@ impl<'s> BodyCx<'_, 's> {
         if (l2, r2) == (l, r) {
             return None;
         }
-        super::expr::binary_typing(op, l2, r2, &|_| String::new()).ok()
+        super::typing::binary_typing(op, l2, r2, &|_| String::new()).ok()
     }
 
     /// `l op r` with a CODESYS pointer on one side: addresses as numbers.

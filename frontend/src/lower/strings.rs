@@ -698,7 +698,7 @@ impl<'s> BodyCx<'_, 's> {
         let e = match v.ty {
             Ty::Elem(e) => e,
             Ty::AnyInt | Ty::AnyReal => {
-                let t = super::expr::concretize(v.ty, None);
+                let t = super::typing::concretize(v.ty, None);
                 return self.format_value(Val { v: v.v, ty: t }, rs, x.span);
             }
             Ty::Error => return None,
