@@ -134,11 +134,15 @@ fn compare(name: &str, original: &Module, printed: &Module, t: &mut Tally) {
     }
 }
 
+/// A file's name, text and language.
+fn source(path: &Path) -> (String, String, Lang) {
+    let lang = lang_of(path).expect("a source file");
+    (path.display().to_string(), read_text(path), lang)
+}
+
 /// `--emit st` of one file, compiled as ST and compared.
 fn check_st(path: &Path, t: &mut Tally) {
-    let lang = lang_of(path).expect("a source file");
-    let name = path.display().to_string();
-    let text = read_text(path);
+    let (name, text, lang) = source(path);
     let file = [(name.as_str(), text.as_str(), lang)];
     let Ok((original, Some(st), codesys)) = build(&file, is_codesys(path), PrintAs::St) else {
         t.not_compiling += 1;
@@ -154,9 +158,7 @@ fn check_st(path: &Path, t: &mut Tally) {
 
 /// `--emit plcopen` of one ST, IL or STL file, read back and compared.
 fn check_plcopen(path: &Path, t: &mut Tally) {
-    let lang = lang_of(path).expect("a source file");
-    let name = path.display().to_string();
-    let text = read_text(path);
+    let (name, text, lang) = source(path);
     let codesys = is_codesys(path);
     let file = [(name.as_str(), text.as_str(), lang)];
     let xml = match build(&file, codesys, PrintAs::Plcopen) {
@@ -215,9 +217,10 @@ fn check_plcopen(path: &Path, t: &mut Tally) {
     }
 }
 
-/// The files `check` is run on: the project's and the corpus's (with `xml`, the
-/// PLCopen files too), and how many are the project's.
-fn corpus(xml: bool) -> (Vec<std::path::PathBuf>, usize) {
+/// Runs `check` on the project's and the corpus's files (with `xml`, the PLCopen
+/// files too): the tally, how many files, and how many are the project's. Fails on
+/// any failure, or when too few files compiled.
+fn over_corpus(xml: bool, check: fn(&Path, &mut Tally)) -> (Tally, usize, usize) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut files = Vec::new();
     source_files(&root.join("tests/programs"), xml, &mut files);
@@ -228,50 +231,10 @@ fn corpus(xml: bool) -> (Vec<std::path::PathBuf>, usize) {
     } else {
         skip::notice("../shared/corpus not found; printing tests/programs only");
     }
-    (files, ours)
-}
-
-#[test]
-fn every_program_printed_as_st_means_the_same() {
-    let (files, ours) = corpus(true);
     let mut t = Tally::default();
     for f in &files {
-        check_st(f, &mut t);
+        check(f, &mut t);
     }
-    println!(
-        "{} files ({ours} of tests/programs): {} printed as ST to the same IR, {} to other IR \
-         with the same values over {SCANS} random scans, {} do not compile",
-        files.len(),
-        t.same_ir,
-        t.same_values,
-        t.not_compiling,
-    );
-    assert!(
-        t.failures.is_empty(),
-        "{} failures:\n{}",
-        t.failures.len(),
-        t.failures.join("\n")
-    );
-    assert!(t.same_ir >= ours / 2, "too few files compiled");
-}
-
-#[test]
-fn every_st_il_and_stl_program_written_as_plcopen_means_the_same() {
-    let (files, ours) = corpus(false);
-    let mut t = Tally::default();
-    for f in &files {
-        check_plcopen(f, &mut t);
-    }
-    println!(
-        "{} files ({ours} of tests/programs): {} written as PLCopen XML to the same IR, {} to \
-         other IR with the same values over {SCANS} random scans, {} refused (E0601), {} do \
-         not compile",
-        files.len(),
-        t.same_ir,
-        t.same_values,
-        t.refused.len(),
-        t.not_compiling,
-    );
     for r in &t.refused {
         println!("  refused: {r}");
     }
@@ -282,6 +245,31 @@ fn every_st_il_and_stl_program_written_as_plcopen_means_the_same() {
         t.failures.join("\n")
     );
     assert!(t.same_ir >= ours / 2, "too few files compiled");
+    (t, files.len(), ours)
+}
+
+#[test]
+fn every_program_printed_as_st_means_the_same() {
+    let (t, files, ours) = over_corpus(true, check_st);
+    println!(
+        "{files} files ({ours} of tests/programs): {} printed as ST to the same IR, {} to other IR \
+         with the same values over {SCANS} random scans, {} do not compile",
+        t.same_ir, t.same_values, t.not_compiling,
+    );
+}
+
+#[test]
+fn every_st_il_and_stl_program_written_as_plcopen_means_the_same() {
+    let (t, files, ours) = over_corpus(false, check_plcopen);
+    println!(
+        "{files} files ({ours} of tests/programs): {} written as PLCopen XML to the same IR, {} to \
+         other IR with the same values over {SCANS} random scans, {} refused (E0601), {} do \
+         not compile",
+        t.same_ir,
+        t.same_values,
+        t.refused.len(),
+        t.not_compiling,
+    );
 }
 
 fn plcc(args: &[&str]) -> std::process::Output {

@@ -294,6 +294,25 @@ pub enum VarKind {
     Inst,
 }
 
+impl VarKind {
+    /// The keyword that opens the block (`VAR_INPUT`).
+    pub fn keyword(self) -> &'static str {
+        match self {
+            VarKind::Var => "VAR",
+            VarKind::Input => "VAR_INPUT",
+            VarKind::Output => "VAR_OUTPUT",
+            VarKind::InOut => "VAR_IN_OUT",
+            VarKind::Temp => "VAR_TEMP",
+            VarKind::Global => "VAR_GLOBAL",
+            VarKind::External => "VAR_EXTERNAL",
+            VarKind::Access => "VAR_ACCESS",
+            VarKind::Config => "VAR_CONFIG",
+            VarKind::Stat => "VAR_STAT",
+            VarKind::Inst => "VAR_INST",
+        }
+    }
+}
+
 /// `VAR ... END_VAR` and its kin.
 #[derive(Clone, Debug)]
 pub struct VarBlock {

@@ -347,13 +347,13 @@ impl<'s> Lowerer<'s> {
         use ast::VarKind;
         let n = self.text(pou.name.span).to_string();
         for b in &pou.var_blocks {
-            let what = match b.kind {
-                VarKind::Input => "VAR_INPUT",
-                VarKind::Output => "VAR_OUTPUT",
-                VarKind::InOut => "VAR_IN_OUT",
-                VarKind::Temp => "VAR_TEMP",
-                _ => continue,
-            };
+            if !matches!(
+                b.kind,
+                VarKind::Input | VarKind::Output | VarKind::InOut | VarKind::Temp
+            ) {
+                continue;
+            }
+            let what = b.kind.keyword();
             self.diags.push(
                 Diagnostic::error(
                     codes::E_OO_DECLARATION,

@@ -328,19 +328,7 @@ impl Printer<'_> {
 
     pub(super) fn var_block(&mut self, b: &VarBlock, access_spec: Option<AccessSpec>) {
         self.line();
-        self.push(match b.kind {
-            VarKind::Var => "VAR",
-            VarKind::Input => "VAR_INPUT",
-            VarKind::Output => "VAR_OUTPUT",
-            VarKind::InOut => "VAR_IN_OUT",
-            VarKind::Temp => "VAR_TEMP",
-            VarKind::Global => "VAR_GLOBAL",
-            VarKind::External => "VAR_EXTERNAL",
-            VarKind::Access => "VAR_ACCESS",
-            VarKind::Config => "VAR_CONFIG",
-            VarKind::Stat => "VAR_STAT",
-            VarKind::Inst => "VAR_INST",
-        });
+        self.push(b.kind.keyword());
         if let Some(a) = access_spec {
             self.push(" ");
             self.push(access(a));
