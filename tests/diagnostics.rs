@@ -36,7 +36,12 @@ use plcc::driver::{build_sources, BuildOptions};
 use plcc_ir::diag::Severity;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
+
+#[path = "common/cli.rs"]
+#[allow(dead_code)]
+mod cli;
+use cli::{plcc, stderr};
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -629,20 +634,8 @@ fn expected_codes_exist() {
 // ---------------------------------------------------------------- the binary
 
 /// Runs `plcc` in the crate's root, so that `tests/bad/...` paths work.
-fn plcc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_plcc"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("cannot run plcc")
-}
-
 fn status(o: &Output) -> i32 {
     o.status.code().expect("plcc was killed by a signal")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 /// A fresh directory for one test's files.

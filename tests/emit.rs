@@ -24,6 +24,11 @@ mod skip;
 mod sources;
 use sources::{is_codesys, lang_of, read_text, source_files};
 
+#[path = "common/cli.rs"]
+#[allow(dead_code)]
+mod cli;
+use cli::{plcc, stderr};
+
 #[path = "common/rng.rs"]
 #[allow(dead_code)]
 mod rng;
@@ -272,14 +277,6 @@ fn every_st_il_and_stl_program_written_as_plcopen_means_the_same() {
     );
 }
 
-fn plcc(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_plcc"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("plcc runs")
-}
-
 /// The command line: `--emit st` and `--emit plcopen` on standard output or into a
 /// file that builds again; what cannot be written is an error with its code and
 /// place; a PLCopen file is not written as one again.
@@ -288,12 +285,7 @@ fn the_command_line_prints_and_refuses() {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("emit");
     std::fs::create_dir_all(&dir).unwrap();
     let o = plcc(&["--emit", "st", "tests/programs/il/bake_timer.il"]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let st = String::from_utf8(o.stdout).unwrap();
     assert!(st.contains("JMP in_limit;"), "{st}");
     let xml = dir.join("bake_timer.xml");
@@ -304,22 +296,12 @@ fn the_command_line_prints_and_refuses() {
         "-o",
         xml.to_str().unwrap(),
     ]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let text = std::fs::read_to_string(&xml).unwrap();
     assert!(text.starts_with("<?xml version='1.0' encoding='utf-8'?>\n<project "));
     assert!(text.contains("<IL>\n"), "{text}");
     let o = plcc(&["check", xml.to_str().unwrap()]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     // A FUNCTION_BLOCK with a METHOD: E0601 at the METHOD, nothing written.
     let oo = dir.join("oo.st");
     std::fs::write(
@@ -329,7 +311,7 @@ fn the_command_line_prints_and_refuses() {
     )
     .unwrap();
     let o = plcc(&["--emit", "plcopen", oo.to_str().unwrap()]);
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = stderr(&o);
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(
         err.contains("error[E0601]: a METHOD cannot be written as PLCopen XML")
@@ -340,5 +322,5 @@ fn the_command_line_prints_and_refuses() {
     // A PLCopen file: a usage error.
     let o = plcc(&["--emit", "plcopen", "tests/programs/ld/counter_reset.xml"]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("are one already"));
+    assert!(stderr(&o).contains("are one already"));
 }

@@ -7,26 +7,14 @@
 //! ST view of one program is another. Review with `cargo insta review`.
 
 use std::path::Path;
-use std::process::{Command, Output};
+
+#[path = "common/cli.rs"]
+#[allow(dead_code)]
+mod cli;
+use cli::{plcc, stderr, stdout};
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn plcc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_plcc"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("cannot run plcc")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 /// The ladder programs, sorted.

@@ -4,26 +4,14 @@
 //! any language plcc reads, and its PROGRAMs run only when named.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+
+#[path = "common/cli.rs"]
+#[allow(dead_code)]
+mod cli;
+use cli::{plcc, stderr, stdout};
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn plcc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_plcc"))
-        .current_dir(root())
-        .args(args)
-        .output()
-        .expect("plcc runs")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 /// A fresh directory for one test's files.

@@ -6,14 +6,11 @@ use plcc::driver::{build_sources, BuildOptions};
 use plcc_ir::backend::{Backend, Options};
 use plcc_vmasm::dcp_read;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-fn plcc(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_plcc"))
-        .args(args)
-        .output()
-        .expect("plcc runs")
-}
+#[path = "common/cli.rs"]
+#[allow(dead_code)]
+mod cli;
+use cli::plcc;
 
 fn example() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/traffic_light.st")
