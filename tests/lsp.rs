@@ -877,3 +877,362 @@ END_FUNCTION_BLOCK
     assert_eq!(c.shutdown_and_exit(), 0);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A PLCopen project of two POUs: a FUNCTION_BLOCK with an ST body, a PROGRAM with a
+/// ladder body (a contact on `alarm`, a coil on `lamp`).
+const PLANT_XML: &str = r#"<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0201" xmlns:xhtml="http://www.w3.org/1999/xhtml">
+  <fileHeader companyName="plcc" productName="lsp" productVersion="1" creationDateTime="2024-05-01T10:00:00"/>
+  <contentHeader name="plant">
+    <coordinateInfo>
+      <fbd><scaling x="1" y="1"/></fbd>
+      <ld><scaling x="1" y="1"/></ld>
+      <sfc><scaling x="1" y="1"/></sfc>
+    </coordinateInfo>
+  </contentHeader>
+  <types>
+    <dataTypes/>
+    <pous>
+      <pou name="Pump" pouType="functionBlock">
+        <interface>
+          <inputVars>
+            <variable name="level"><type><INT/></type></variable>
+          </inputVars>
+          <outputVars>
+            <variable name="run"><type><BOOL/></type></variable>
+          </outputVars>
+        </interface>
+        <body>
+          <ST>
+            <xhtml:p><![CDATA[run := level > 10;]]></xhtml:p>
+          </ST>
+        </body>
+      </pou>
+      <pou name="Plant" pouType="program">
+        <interface>
+          <localVars>
+            <variable name="p"><type><derived name="Pump"/></type></variable>
+            <variable name="alarm"><type><BOOL/></type></variable>
+          </localVars>
+          <outputVars>
+            <variable name="lamp"><type><BOOL/></type></variable>
+          </outputVars>
+        </interface>
+        <body>
+          <LD>
+            <leftPowerRail localId="1" width="2" height="40">
+              <position x="10" y="10"/>
+              <connectionPointOut formalParameter=""><relPosition x="2" y="20"/></connectionPointOut>
+            </leftPowerRail>
+            <contact localId="2" negated="false" width="20" height="20">
+              <position x="40" y="20"/>
+              <connectionPointIn><relPosition x="0" y="10"/><connection refLocalId="1"/></connectionPointIn>
+              <connectionPointOut><relPosition x="20" y="10"/></connectionPointOut>
+              <variable>alarm</variable>
+            </contact>
+            <coil localId="3" negated="false" width="20" height="20">
+              <position x="80" y="20"/>
+              <connectionPointIn><relPosition x="0" y="10"/><connection refLocalId="2"/></connectionPointIn>
+              <connectionPointOut><relPosition x="20" y="10"/></connectionPointOut>
+              <variable>lamp</variable>
+            </coil>
+            <rightPowerRail localId="4" width="2" height="40">
+              <position x="120" y="10"/>
+              <connectionPointIn><relPosition x="0" y="20"/><connection refLocalId="3"/></connectionPointIn>
+            </rightPowerRail>
+          </LD>
+        </body>
+      </pou>
+    </pous>
+  </types>
+  <instances>
+    <configurations/>
+  </instances>
+</project>
+"#;
+
+/// Uses the function block of `plant.xml`.
+const PLANT_MAIN: &str = r#"PROGRAM Main
+VAR
+    p2 : Pump;
+    r : BOOL;
+END_VAR
+p2(level := 20);
+r := p2.run;
+END_PROGRAM
+"#;
+
+/// A FUNCTION with an output besides its result.
+const SPLIT_ST: &str = r#"FUNCTION split : INT
+VAR_INPUT
+    x : INT;
+END_VAR
+VAR_OUTPUT
+    rest : INT;
+END_VAR
+split := x / 10;
+rest := x MOD 10;
+END_FUNCTION
+"#;
+
+/// An FBD program calling `split` as a block with both outputs wired: the view
+/// writes the output `rest => …` itself, from the block.
+const CUT_XML: &str = r#"<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0201">
+  <fileHeader companyName="plcc" productName="lsp" productVersion="1" creationDateTime="2024-05-01T10:00:00"/>
+  <contentHeader name="cut"/>
+  <types>
+    <dataTypes/>
+    <pous>
+      <pou name="Cut" pouType="program">
+        <interface>
+          <localVars>
+            <variable name="n"><type><INT/></type></variable>
+            <variable name="hi"><type><INT/></type></variable>
+            <variable name="lo"><type><INT/></type></variable>
+          </localVars>
+        </interface>
+        <body>
+          <FBD>
+            <inVariable localId="1" width="20" height="20">
+              <position x="10" y="10"/>
+              <connectionPointOut><relPosition x="20" y="10"/></connectionPointOut>
+              <expression>n</expression>
+            </inVariable>
+            <block localId="2" typeName="split" width="40" height="40">
+              <position x="50" y="10"/>
+              <inputVariables>
+                <variable formalParameter="x">
+                  <connectionPointIn><relPosition x="0" y="10"/><connection refLocalId="1"/></connectionPointIn>
+                </variable>
+              </inputVariables>
+              <inOutVariables/>
+              <outputVariables>
+                <variable formalParameter="OUT"><connectionPointOut><relPosition x="40" y="10"/></connectionPointOut></variable>
+                <variable formalParameter="rest"><connectionPointOut><relPosition x="40" y="30"/></connectionPointOut></variable>
+              </outputVariables>
+            </block>
+            <outVariable localId="3" width="20" height="20">
+              <position x="120" y="10"/>
+              <connectionPointIn><relPosition x="0" y="10"/><connection refLocalId="2" formalParameter="OUT"/></connectionPointIn>
+              <expression>hi</expression>
+            </outVariable>
+            <outVariable localId="4" width="20" height="20">
+              <position x="120" y="40"/>
+              <connectionPointIn><relPosition x="0" y="10"/><connection refLocalId="2" formalParameter="rest"/></connectionPointIn>
+              <expression>lo</expression>
+            </outVariable>
+          </FBD>
+        </body>
+      </pou>
+    </pous>
+  </types>
+  <instances><configurations/></instances>
+</project>
+"#;
+
+/// `edits` (LSP text edits, on ASCII text) applied to `text`.
+fn apply_edits(text: &str, edits: &Value) -> String {
+    let offset = |p: &Value| {
+        let line = p["line"].as_u64().expect("line") as usize;
+        let start: usize = text.split_inclusive('\n').take(line).map(str::len).sum();
+        start + p["character"].as_u64().expect("character") as usize
+    };
+    let mut edits: Vec<(usize, usize, &str)> = edits
+        .as_array()
+        .expect("edits")
+        .iter()
+        .map(|e| {
+            (
+                offset(&e["range"]["start"]),
+                offset(&e["range"]["end"]),
+                e["newText"].as_str().expect("text"),
+            )
+        })
+        .collect();
+    edits.sort_by_key(|e| std::cmp::Reverse(e.0));
+    let mut out = text.to_string();
+    for (s, e, t) in edits {
+        out.replace_range(s..e, t);
+    }
+    out
+}
+
+#[test]
+fn references_and_rename_inside_plcopen_xml() {
+    let dir = workspace(
+        "plcopen",
+        &[
+            ("plant.xml", PLANT_XML),
+            ("main.st", PLANT_MAIN),
+            ("split.st", SPLIT_ST),
+            ("cut.xml", CUT_XML),
+        ],
+    );
+    let (plant, main, split, cut) = (
+        dir.join("plant.xml"),
+        dir.join("main.st"),
+        dir.join("split.st"),
+        dir.join("cut.xml"),
+    );
+    let mut c = Client::start();
+    c.initialize(&dir, Value::Null);
+    c.open(&main);
+    assert_eq!(c.diagnostics(&uri(&main)), json!([]));
+    let loc = |p: &Path, l0, c0, l1, c1| json!({"uri": uri(p), "range": range(l0, c0, l1, c1)});
+    let references = |c: &mut Client, p: &Path, line, character, decl: bool| {
+        let mut q = at(p, line, character);
+        q["context"] = json!({"includeDeclaration": decl});
+        c.call("textDocument/references", q)
+    };
+
+    // `run` from its use in main.st: that use, then in plant.xml its declaration
+    // (`<variable name="run">`) and its use in the ST body.
+    assert_eq!(
+        references(&mut c, &main, 6, 9, true),
+        json!([
+            loc(&main, 6, 8, 6, 11),
+            loc(&plant, 19, 28, 19, 31),
+            loc(&plant, 24, 30, 24, 33),
+        ])
+    );
+    // `alarm` asked from the ladder contact in the XML: the contact's variable.
+    assert_eq!(
+        references(&mut c, &plant, 48, 25, false),
+        json!([loc(&plant, 48, 24, 48, 29)])
+    );
+    // The definition of `Pump` from main.st: the POU's name in the XML.
+    assert_eq!(
+        c.call("textDocument/definition", at(&main, 2, 10)),
+        loc(&plant, 13, 17, 13, 21)
+    );
+    // The input `x` of split.st: also the block's formal parameter in cut.xml; the
+    // output `rest`: not its use by the block, which the XML does not write as such.
+    assert_eq!(
+        references(&mut c, &split, 2, 4, true),
+        json!([
+            loc(&split, 2, 4, 2, 5),
+            loc(&split, 7, 9, 7, 10),
+            loc(&split, 8, 8, 8, 9),
+            loc(&cut, 25, 43, 25, 44),
+        ])
+    );
+    assert_eq!(
+        references(&mut c, &split, 5, 4, true),
+        json!([loc(&split, 5, 4, 5, 8), loc(&split, 8, 0, 8, 4)])
+    );
+
+    let rename = |c: &mut Client, p: &Path, line, character, name: &str| {
+        let mut q = at(p, line, character);
+        q["newName"] = json!(name);
+        c.request("textDocument/rename", q)
+    };
+    let edit =
+        |l0, c0, l1, c1, name: &str| json!({"range": range(l0, c0, l1, c1), "newText": name});
+    // `run` renamed: in main.st, and in the XML's declaration and ST body.
+    let run = rename(&mut c, &main, 6, 9, "running")["result"].clone();
+    assert_eq!(
+        run,
+        json!({"changes": {
+            uri(&main): [edit(6, 8, 6, 11, "running")],
+            uri(&plant): [edit(19, 28, 19, 31, "running"), edit(24, 30, 24, 33, "running")],
+        }})
+    );
+    // `Pump` renamed: the POU's name and the type of `p` in the XML, the type of
+    // `p2` in main.st.
+    let pump = rename(&mut c, &main, 2, 10, "Pump2")["result"].clone();
+    assert_eq!(
+        pump,
+        json!({"changes": {
+            uri(&main): [edit(2, 9, 2, 13, "Pump2")],
+            uri(&plant): [edit(13, 17, 13, 21, "Pump2"), edit(31, 52, 31, 56, "Pump2")],
+        }})
+    );
+    // `alarm` renamed from the XML: its declaration and the contact.
+    let alarm = rename(&mut c, &plant, 48, 25, "fault")["result"].clone();
+    assert_eq!(
+        alarm,
+        json!({"changes": {
+            uri(&plant): [edit(32, 28, 32, 33, "fault"), edit(48, 24, 48, 29, "fault")],
+        }})
+    );
+    // Refused: `rest` is used by the block of cut.xml, whose output the view writes
+    // itself (at the block, line 23 column 13 of the XML).
+    let refused = rename(&mut c, &split, 5, 5, "remainder");
+    let why = refused["error"]["message"].as_str().expect("an error");
+    assert_eq!(
+        why,
+        format!(
+            "`rest` is used in the PLCopen project {} at 23:13, where the name is not written as such \
+             (plcc makes that use from the element), so the XML cannot be edited there safely: rename by hand",
+            cut.display()
+        )
+    );
+    // `split`: its declaration and result in split.st, the block's type in cut.xml.
+    assert_eq!(
+        rename(&mut c, &split, 0, 10, "divide")["result"],
+        json!({"changes": {
+            uri(&split): [edit(0, 9, 0, 14, "divide"), edit(7, 0, 7, 5, "divide")],
+            uri(&cut): [edit(22, 41, 22, 46, "divide")],
+        }})
+    );
+    // Refused while cut.xml does not convert: its uses are not known.
+    c.open(&cut);
+    c.notify(
+        "textDocument/didChange",
+        json!({
+            "textDocument": {"uri": uri(&cut), "version": 2},
+            "contentChanges": [{"text": CUT_XML.replace("</project>", "")}],
+        }),
+    );
+    let why = rename(&mut c, &split, 0, 10, "divide")["error"]["message"].clone();
+    assert_eq!(
+        why,
+        format!(
+            "the PLCopen project {} does not convert (it has errors), and it may use `split`: \
+             rename there by hand, or mend it first",
+            cut.display()
+        )
+    );
+    assert_eq!(c.shutdown_and_exit(), 0);
+
+    // The three renames applied together: the folder still builds, without errors.
+    let plant_text = apply_edits(
+        &apply_edits(
+            &apply_edits(PLANT_XML, &run["changes"][uri(&plant)]),
+            &pump["changes"][uri(&plant)],
+        ),
+        &alarm["changes"][uri(&plant)],
+    );
+    assert!(plant_text.contains(r#"<variable name="running">"#));
+    assert!(plant_text.contains("<![CDATA[running := level > 10;]]>"));
+    assert!(plant_text.contains(r#"<pou name="Pump2""#));
+    assert!(plant_text.contains("<variable>fault</variable>"));
+    let main_text = apply_edits(
+        &apply_edits(PLANT_MAIN, &run["changes"][uri(&main)]),
+        &pump["changes"][uri(&main)],
+    );
+    let texts = [
+        ("plant.xml", plant_text),
+        ("main.st", main_text),
+        ("split.st", SPLIT_ST.to_string()),
+        ("cut.xml", CUT_XML.to_string()),
+    ];
+    let build = plcc::driver::build_sources(
+        texts
+            .iter()
+            .map(|(n, t)| (n.to_string(), t.clone().into_bytes()))
+            .collect(),
+        &plcc::driver::BuildOptions::default(),
+    )
+    .expect("builds");
+    let errors: Vec<String> = build
+        .diagnostics
+        .iter()
+        .filter(|d| d.is_error())
+        .map(|d| d.to_string())
+        .collect();
+    assert_eq!(errors, Vec::<String>::new());
+    assert!(build.module.is_some());
+    let _ = std::fs::remove_dir_all(&dir);
+}

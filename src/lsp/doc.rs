@@ -6,7 +6,9 @@
 //! declaration, a comment right before it (no empty line between, nothing else on
 //! the comment's first line); for a POU or METHOD, the comment that opens its body
 //! after the last VAR block (where OSCAT and CODESYS 2 exports put their
-//! descriptions). Comments starting with `@` are CODESYS attributes, not docs.
+//! descriptions). Comments starting with `@` are CODESYS attributes, not docs; in the
+//! view of a PLCopen file, the `(* network n *)` comments plcc writes before each
+//! network of a diagram are not a POU's doc either.
 
 use super::index::Decl;
 use plcc_frontend::source::SourceMap;
@@ -35,12 +37,26 @@ pub fn doc_comment(sources: &SourceMap, d: &Decl<'_>) -> Option<String> {
         let last = blocks.last()?.span.end as usize;
         let rest = text.get(last..end)?;
         let skip = rest.len() - rest.trim_start().len();
-        comment_at(text, last + skip)
+        let (a, b) = comment_at(text, last + skip)?;
+        let view = sources
+            .get(span.file)
+            .name
+            .ends_with(&plcc_frontend::plcopen::il_view_name(""));
+        (!(view && is_network_mark(&text[a..b]))).then_some((a, b))
     };
     let found = |r: Option<(usize, usize)>| r.and_then(|(a, b)| clean(&text[a..b]));
     found(trailing())
         .or_else(|| found(before(text, start)))
         .or_else(|| found(opening()))
+}
+
+/// True for `(* network 3 *)`, the comment the view of a PLCopen file writes before
+/// each network of a diagram.
+fn is_network_mark(comment: &str) -> bool {
+    comment
+        .strip_prefix("(* network ")
+        .and_then(|r| r.strip_suffix(" *)"))
+        .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
 }
 
 /// The comment starting at byte `i`, as a byte range.
@@ -175,5 +191,7 @@ mod tests {
         assert_eq!(before(t, t.find("FUNCTION").unwrap()), None);
         assert_eq!(clean("(* @END_DECLARATION := '0' *)"), None);
         assert_eq!(clean("(*   *)"), None);
+        assert!(is_network_mark("(* network 12 *)"));
+        assert!(!is_network_mark("(* network of pumps *)"));
     }
 }

@@ -14,6 +14,7 @@ pub mod index;
 pub mod outline;
 pub mod text;
 pub mod tokens;
+pub mod xml;
 
 use crate::driver::{self, Build, BuildOptions};
 use index::{Decl, Index};
@@ -217,9 +218,35 @@ impl Analysis {
         Lines::new(self.build.sources.get(f.id), f.bom)
     }
 
+    /// The place of a span in a file of the folder: a span of a PLCopen file's view
+    /// in the XML where it is copied verbatim from there, else nowhere.
     fn location(&self, span: Span) -> Option<Location> {
+        match xml::map(&self.build.ladder, &self.build.sources, span) {
+            xml::Mapped::Text(s) | xml::Mapped::Exact(s) => self.file_location(s),
+            xml::Mapped::Element(_) => None,
+        }
+    }
+
+    /// As [`Analysis::location`], but a span of a view not copied verbatim is at the
+    /// XML element it comes from (for a definition).
+    fn location_or_element(&self, span: Span) -> Option<Location> {
+        match xml::map(&self.build.ladder, &self.build.sources, span) {
+            xml::Mapped::Text(s) | xml::Mapped::Exact(s) | xml::Mapped::Element(Some(s)) => {
+                self.file_location(s)
+            }
+            xml::Mapped::Element(None) => None,
+        }
+    }
+
+    fn file_location(&self, span: Span) -> Option<Location> {
         let f = self.file_of(span.file)?;
         Some(Location::new(f.uri.clone(), self.lines(f).range(span)))
+    }
+
+    /// The file and offset a name at `offset` of the folder's file `f` is resolved
+    /// at: in the view for a PLCopen file, where the XML is copied verbatim there.
+    fn resolve_place(&self, f: &FileEntry, offset: u32) -> (FileId, u32) {
+        xml::to_view(&self.build.ladder, f.id, offset).unwrap_or((f.id, offset))
     }
 }
 
@@ -534,6 +561,8 @@ impl Server {
             }
             files.push(FileEntry { id, path, uri, bom });
         }
+        // The views of the PLCopen files are parsed as the front end parses them.
+        langs.extend(build.ladder.iter().map(|v| (v.il, Lang::Il)));
         let index = Index::new(&build.sources, &langs);
         let analysis = Analysis {
             build,
@@ -631,12 +660,13 @@ impl Server {
         Some(DocumentSymbolResponse::Nested(outline.items(&unit.items)))
     }
 
-    /// The declaration under a position, with the span of the name there.
+    /// The declaration under a position, with the span of the name there (in the
+    /// view, for a name in a PLCopen file).
     fn resolve(&mut self, at: &TextDocumentPositionParams) -> Option<(&Analysis, Span, Decl<'_>)> {
         let (a, path) = self.analysis(&at.text_document.uri)?;
         let f = a.file(&path)?;
-        let offset = a.lines(f).offset(at.position);
-        let (span, decl) = a.index.resolve_at(f.id, offset)?;
+        let (file, offset) = a.resolve_place(f, a.lines(f).offset(at.position));
+        let (span, decl) = a.index.resolve_at(file, offset)?;
         Some((a, span, decl))
     }
 
@@ -684,10 +714,12 @@ impl Server {
     }
 
     /// Every use of the declaration under the position renamed, the declaration's
-    /// own name included. Refused when the name is no identifier, when the
-    /// declaration is not in the folder's text files (the standard library's), when
-    /// the folder holds PLCopen XML (whose uses are not indexed), and when the renamed
-    /// folder would build with an error the folder had not (a name taken, say).
+    /// own name included, in the folder's text files and PLCopen XML files alike.
+    /// Refused when the name is no identifier, when the declaration is not in the
+    /// folder's files (the standard library's), when a use in a PLCopen project is
+    /// not written verbatim in its XML (or the project does not convert and holds
+    /// the name), and when the renamed folder would build with an error the folder
+    /// had not (a name taken, say).
     fn rename(
         &mut self,
         at: &TextDocumentPositionParams,
@@ -709,22 +741,28 @@ impl Server {
             .get(decl.name().span.file)
             .slice(decl.name().span)
             .to_string();
-        if a.file_of(decl.name().span.file).is_none() {
+        let declared = decl.name().span.file;
+        if a.file_of(declared).is_none() && xml::view_of(&a.build.ladder, declared).is_none() {
             return refuse(format!(
                 "`{old}` is declared in the standard library, not in the folder: it cannot be renamed"
             ));
         }
-        if let Some(xml) = a
+        let sources = &a.build.sources;
+        let xml_files = a
             .files
             .iter()
-            .find(|f| Lang::from_path(&a.build.sources.get(f.id).name) == Some(Lang::Ld))
-        {
+            .filter(|f| Lang::from_path(&sources.get(f.id).name) == Some(Lang::Ld))
+            .map(|f| f.id);
+        if let Some(name) = xml::unconverted_use(&a.build.ladder, sources, xml_files, &old) {
             return refuse(format!(
-                "the folder holds the PLCopen project {}, whose uses of names are not indexed: rename there by hand",
-                xml.path.display()
+                "the PLCopen project {name} does not convert (it has errors), and it may use `{old}`: rename there by hand, or mend it first"
             ));
         }
-        let spans = a.index.references(&decl);
+        let spans =
+            match xml::rename_spans(&a.build.ladder, sources, &a.index.references(&decl), &old) {
+                Ok(s) => s,
+                Err(why) => return refuse(why),
+            };
         // The folder's texts with the spans replaced (from the back of each file).
         let mut texts: Vec<(String, String)> = a
             .files
@@ -831,19 +869,30 @@ impl Server {
 
     fn definition(&mut self, at: &TextDocumentPositionParams) -> Option<Location> {
         let (a, _, decl) = self.resolve(at)?;
-        a.location(decl.name().span)
+        a.location_or_element(decl.name().span)
     }
 
+    /// Every use of the declaration under the position (and the declaration if
+    /// asked), in the folder's text files and, where the name is written verbatim,
+    /// in its PLCopen XML files; each place once.
     fn references(&mut self, p: &ReferenceParams) -> Option<Vec<Location>> {
         let with_decl = p.context.include_declaration;
         let (a, _, decl) = self.resolve(&p.text_document_position)?;
-        let own = decl.name().span;
+        let own = a.location(decl.name().span);
+        let mut seen = BTreeSet::new();
         Some(
             a.index
                 .references(&decl)
                 .into_iter()
-                .filter(|&s| with_decl || s != own)
                 .filter_map(|s| a.location(s))
+                .filter(|l| with_decl || Some(l) != own.as_ref())
+                .filter(|l| {
+                    let r = l.range;
+                    seen.insert((
+                        l.uri.clone(),
+                        (r.start.line, r.start.character, r.end.line, r.end.character),
+                    ))
+                })
                 .collect(),
         )
     }

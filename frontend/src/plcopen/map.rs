@@ -52,6 +52,42 @@ impl SpanMap {
         Some(seg.fallback.clone())
     }
 
+    /// The XML range the range `start..end` of the generated text is copied from
+    /// verbatim: `Some` only when the whole (non-empty) range lies inside one part
+    /// copied from the file (a variable's name, a POU's name, an ST or IL body, the
+    /// variable of a contact or coil), never for text the view makes up or changes
+    /// (keywords, names it derives, a value it quotes) and that therefore maps only to
+    /// its element. What the language server renames in the XML.
+    pub fn exact(&self, start: u32, end: u32) -> Option<Range<u32>> {
+        if end <= start {
+            return None;
+        }
+        self.segs
+            .iter()
+            .flat_map(|s| &s.exact)
+            .find(|p| p.at <= start && end <= p.at + p.len)
+            .map(|p| p.src + (start - p.at)..p.src + (end - p.at))
+    }
+
+    /// The offset in the generated text that the XML offset `xml` is copied to, if it
+    /// lies in (or just after) a part copied verbatim: the first such part when the
+    /// view writes one text more than once. The inverse of [`SpanMap::exact`], for
+    /// requests made on the XML file.
+    pub fn view_offset(&self, xml: u32) -> Option<u32> {
+        self.segs
+            .iter()
+            .flat_map(|s| &s.exact)
+            .filter(|p| p.src <= xml && xml <= p.src + p.len)
+            .map(|p| p.at + (xml - p.src))
+            .min()
+    }
+
+    /// The XML range a range of the generated text comes from, exact or its element
+    /// (as diagnostics are moved); `None` for text made up with no origin.
+    pub fn place(&self, start: u32, end: u32) -> Option<Range<u32>> {
+        self.lookup(start, end)
+    }
+
     /// Moves the spans of `d` that point into the generated file `il` to the XML file
     /// `xml`, where the map knows their origin.
     pub fn remap(&self, d: &mut Diagnostic, il: FileId, xml: FileId) {
@@ -167,6 +203,33 @@ mod tests {
         assert_eq!(m.lookup(4, 7), Some(40..60));
         // Before the line: nothing.
         assert_eq!(m.lookup(0, 2), None);
+    }
+
+    #[test]
+    fn exact_only_inside_one_verbatim_part_and_back() {
+        let mut o = Out::default();
+        o.push("    ");
+        let line = o.pos();
+        o.push("AND ");
+        o.push_text(&text("start", 100));
+        o.push(" ");
+        o.push_as("STOP", &text("stop", 300));
+        o.mark(line, 40..60);
+        let m = &o.map;
+        // The name, and a part of it: exact.
+        assert_eq!(m.exact(8, 13), Some(100..105));
+        assert_eq!(m.exact(9, 11), Some(101..103));
+        // Past its end, on the operator, empty, or a text written otherwise: not.
+        assert_eq!(m.exact(8, 14), None);
+        assert_eq!(m.exact(4, 7), None);
+        assert_eq!(m.exact(8, 8), None);
+        assert_eq!(m.exact(14, 18), None);
+        assert_eq!(m.place(14, 18), Some(290..314));
+        // Back from the XML: inside the name or just after it.
+        assert_eq!(m.view_offset(100), Some(8));
+        assert_eq!(m.view_offset(105), Some(13));
+        assert_eq!(m.view_offset(99), None);
+        assert_eq!(m.view_offset(300), None);
     }
 
     #[test]
