@@ -19,19 +19,7 @@ fn text(sources: &SourceMap, span: Span) -> &str {
 
 /// The keyword of a declaration block, with its qualifiers.
 pub fn block_keyword(b: &VarBlock) -> String {
-    let kw = match b.kind {
-        VarKind::Var => "VAR",
-        VarKind::Input => "VAR_INPUT",
-        VarKind::Output => "VAR_OUTPUT",
-        VarKind::InOut => "VAR_IN_OUT",
-        VarKind::Temp => "VAR_TEMP",
-        VarKind::Global => "VAR_GLOBAL",
-        VarKind::External => "VAR_EXTERNAL",
-        VarKind::Access => "VAR_ACCESS",
-        VarKind::Config => "VAR_CONFIG",
-        VarKind::Stat => "VAR_STAT",
-        VarKind::Inst => "VAR_INST",
-    };
+    let kw = b.kind.keyword();
     let mut s = kw.to_string();
     if b.constant {
         s.push_str(" CONSTANT");
