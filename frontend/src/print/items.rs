@@ -346,8 +346,10 @@ impl Printer<'_> {
         self.end_line();
         self.depth += 1;
         for d in &b.decls {
+            self.comments_before(d.span.file, d.span.start);
             self.line();
             self.declaration(d);
+            self.trailing_comment(d.span.file, d.span.end);
             self.end_line();
         }
         self.depth -= 1;

@@ -17,10 +17,12 @@
 //! - what the tree holds only as a span (the steps' and transitions' conditions and
 //!   durations of a chart) copied from the source text.
 //!
-//! Comments are not in the tree: those between and inside the statements of a body
-//! are found in the source text and printed on lines of their own before the
-//! statement they preceded (those among declarations are not; `plcc fmt` keeps
-//! every comment where it was).
+//! Comments are not in the tree: those before an item, between and inside the
+//! statements of a body and between the declarations of a VAR block are found in
+//! the source text and printed on lines of their own before what they preceded; a
+//! comment after a statement or a declaration on its line stays after it. (Comments
+//! elsewhere, inside an expression or a type, are not printed; `plcc fmt` keeps every
+//! comment where it was.)
 //! [`Style::Parenthesised`] and [`Style::Tree`] print every operation in parentheses
 //! ([`Style::Tree`] one line per
 //! statement, the form the front ends' tests compare.
@@ -270,6 +272,26 @@ impl<'a> Printer<'a> {
         }
     }
 
+    /// After what was printed for the source text ending at `end` in `file`: the
+    /// comment that follows it on the same source line (after a `;` and blanks),
+    /// printed on the same line.
+    fn trailing_comment(&mut self, file: FileId, end: u32) {
+        let (seen_file, seen) = self.seen;
+        if self.style == Style::Tree || seen_file != file || end < seen {
+            return;
+        }
+        let Some(rest) = self.text_of(file).and_then(|t| t.get(end as usize..)) else {
+            return;
+        };
+        let line = &rest[..rest.find('\n').unwrap_or(rest.len())];
+        let skipped = line.len() - line.trim_start_matches([' ', '\t', ';']).len();
+        if let Some(c) = comment_at(&rest[skipped..]) {
+            self.push(" ");
+            self.push(c.trim_end());
+            self.seen = (file, end + (skipped + c.len()) as u32);
+        }
+    }
+
     /// The source text under `span`, or a comment saying it is not there.
     fn copied(&self, span: Span) -> String {
         match self.span_text(span) {
@@ -291,41 +313,46 @@ fn item_span(item: &Item) -> Span {
     }
 }
 
+/// The comment (`(* *)`, `/* */`, `//`) that `text` starts with, if it starts with
+/// one (to its end, or to the end of `text` if it is not closed).
+fn comment_at(text: &str) -> Option<&str> {
+    let until = |end: &str| {
+        text[2..]
+            .find(end)
+            .map_or(text.len(), |k| 2 + k + end.len())
+    };
+    let len = match text.get(..2)? {
+        "(*" => until("*)"),
+        "/*" => until("*/"),
+        "//" => text.find('\n').unwrap_or(text.len()),
+        _ => return None,
+    };
+    Some(&text[..len])
+}
+
 /// The comments (`(* *)`, `/* */`, `//`) in `text`, a stretch of ST, IL or STL
 /// source: strings and pragmas are stepped over.
 fn comments_in(text: &str) -> Vec<&str> {
     let b = text.as_bytes();
     let mut found = Vec::new();
     let mut i = 0;
-    let until = |from: usize, end: &str| {
-        text[from..]
-            .find(end)
-            .map_or(b.len(), |k| from + k + end.len())
-    };
     while i < b.len() {
-        let start = i;
-        i = match (b[i], b.get(i + 1)) {
-            (b'(', Some(b'*')) => until(i + 2, "*)"),
-            (b'/', Some(b'*')) => until(i + 2, "*/"),
-            (b'/', Some(b'/')) => text[i..].find('\n').map_or(b.len(), |k| i + k),
-            (b'{', _) => {
-                i = until(i + 1, "}");
-                continue;
-            }
-            (q @ (b'\'' | b'"'), _) => {
+        if let Some(c) = text.get(i..).and_then(comment_at) {
+            found.push(c.trim_end());
+            i += c.len();
+            continue;
+        }
+        i = match b[i] {
+            b'{' => text[i..].find('}').map_or(b.len(), |k| i + k + 1),
+            q @ (b'\'' | b'"') => {
                 let mut j = i + 1;
                 while j < b.len() && b[j] != q {
                     j += if b[j] == b'$' { 2 } else { 1 };
                 }
-                i = j + 1;
-                continue;
+                j + 1
             }
-            _ => {
-                i += 1;
-                continue;
-            }
+            _ => i + 1,
         };
-        found.push(text[start..i.min(b.len())].trim_end());
     }
     found
 }

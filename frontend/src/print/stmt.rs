@@ -184,6 +184,7 @@ impl Printer<'_> {
                 self.push(";");
             }
         }
+        self.trailing_comment(s.span.file, s.span.end);
         self.end_line();
     }
 }

@@ -299,10 +299,13 @@ fn every_kind_of_item_reads_back_to_itself() {
 }
 
 #[test]
-fn comments_between_statements_are_kept() {
+fn comments_between_and_after_statements_and_declarations_are_kept() {
     let src = "(* the head *)
 PROGRAM p
-VAR a : INT; END_VAR
+VAR
+  (* counts *)
+  a : INT; // the count
+END_VAR
 (* before the first *)
 a := 1; // after one
 IF a > 0 THEN
@@ -318,11 +321,11 @@ END_PROGRAM
         "(* the head *)
 PROGRAM p
     VAR
-        a : INT;
+        (* counts *)
+        a : INT; // the count
     END_VAR
     (* before the first *)
-    a := 1;
-    // after one
+    a := 1; // after one
     IF a > 0 THEN
         (* inside *)
         a := 2;
