@@ -243,45 +243,23 @@ pub fn compile(
     timings.push(("check and lower", started.elapsed()));
     sfc::remap_all(&charts, &mut diagnostics);
     plcopen::remap_all(&ladder, &mut diagnostics);
-    let printed = match printable {
-        Some(p) if module.is_some() && opts.print == PrintAs::Plcopen => {
-            let units: Vec<plcopen::export::ExportUnit> = p
-                .iter()
-                .zip(inputs)
-                .map(|(unit, &(_, lang))| plcopen::export::ExportUnit {
-                    unit,
-                    lang,
-                    il_bodies: il_bodies
-                        .iter()
-                        .find(|(f, _)| *f == unit.file)
-                        .map_or(Vec::new(), |(_, r)| r.clone()),
-                })
-                .collect();
-            let name = inputs
-                .first()
-                .map(|&(f, _)| sources.get(f).name.clone())
-                .unwrap_or_default();
-            let name = std::path::Path::new(&name)
-                .file_stem()
-                .map_or("project".to_string(), |s| s.to_string_lossy().into_owned());
-            match plcopen::export::export(&units, sources, &interner, &name, lower_opts.codesys) {
-                Ok(xml) => Some(xml),
-                Err(mut d) => {
-                    diagnostics.append(&mut d);
-                    None
-                }
-            }
+    let printed = printable.filter(|_| module.is_some()).and_then(|units| {
+        let build = Printable {
+            units: &units,
+            inputs,
+            il_bodies: &il_bodies,
+            sources,
+            interner: &interner,
+            codesys: lower_opts.codesys,
+        };
+        match opts.print {
+            PrintAs::Plcopen => build
+                .plcopen()
+                .map_err(|mut d| diagnostics.append(&mut d))
+                .ok(),
+            _ => Some(build.st(&lowered.temp_types)),
         }
-        Some(p) if module.is_some() => {
-            let mut st = String::new();
-            if lower_opts.codesys {
-                st.push_str("(* built in the CODESYS dialect: compile with --dialect codesys *)\n");
-            }
-            st.push_str(&print_units(&p, sources, &interner, &lowered.temp_types));
-            Some(st)
-        }
-        _ => None,
-    };
+    });
     Compiled {
         module,
         diagnostics,
@@ -293,27 +271,62 @@ pub fn compile(
     }
 }
 
-/// `units` as Structured Text, each after a comment naming its file.
-fn print_units(
-    units: &[ast::SourceUnit],
-    sources: &SourceMap,
-    interner: &intern::Interner,
-    temps: &print::TempTypes,
-) -> String {
-    let mut out = String::new();
-    for u in units {
-        let file = sources.get(u.file);
-        if !out.is_empty() {
-            out.push('\n');
+/// A build that compiled, as [`LowerOptions::print`] prints it: its units before
+/// addresses became names and globals moved.
+struct Printable<'a> {
+    units: &'a [ast::SourceUnit],
+    inputs: &'a [(FileId, Lang)],
+    /// The bodies each IL file holds in IL.
+    il_bodies: &'a [(FileId, Vec<std::ops::Range<usize>>)],
+    sources: &'a SourceMap,
+    interner: &'a intern::Interner,
+    /// Built in the CODESYS dialect.
+    codesys: bool,
+}
+
+impl Printable<'_> {
+    /// The units as Structured Text, each after a comment naming its file.
+    fn st(&self, temps: &print::TempTypes) -> String {
+        let mut out = String::new();
+        if self.codesys {
+            out.push_str("(* built in the CODESYS dialect: compile with --dialect codesys *)\n");
         }
-        out.push_str(&format!("(* {} *)\n", file.name));
-        let text = print::Printer::new(interner)
-            .with_sources(sources)
-            .with_temps(temps)
-            .unit(u);
-        out.push_str(&text);
+        for (k, u) in self.units.iter().enumerate() {
+            if k > 0 {
+                out.push('\n');
+            }
+            out.push_str(&format!("(* {} *)\n", self.sources.get(u.file).name));
+            let text = print::Printer::new(self.interner)
+                .with_sources(self.sources)
+                .with_temps(temps)
+                .unit(u);
+            out.push_str(&text);
+        }
+        out
     }
-    out
+
+    /// The units as one PLCopen project named after the first file.
+    fn plcopen(&self) -> Result<String, Vec<Diagnostic>> {
+        let units: Vec<plcopen::export::ExportUnit> = self
+            .units
+            .iter()
+            .zip(self.inputs)
+            .map(|(unit, &(_, lang))| plcopen::export::ExportUnit {
+                unit,
+                lang,
+                il_bodies: self
+                    .il_bodies
+                    .iter()
+                    .find(|(f, _)| *f == unit.file)
+                    .map_or(Vec::new(), |(_, r)| r.clone()),
+            })
+            .collect();
+        let first = self.inputs.first().map(|&(f, _)| &self.sources.get(f).name);
+        let name = first
+            .and_then(|n| std::path::Path::new(n).file_stem())
+            .map_or("project".to_string(), |s| s.to_string_lossy().into_owned());
+        plcopen::export::export(&units, self.sources, self.interner, &name, self.codesys)
+    }
 }
 
 /// The options to lower with: in the CODESYS dialect when a PLCopen file of the
