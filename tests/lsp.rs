@@ -1236,3 +1236,102 @@ fn references_and_rename_inside_plcopen_xml() {
     assert!(build.module.is_some());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Hover and outline asked on a PLCopen XML document: the names resolved through
+/// its view, every range in the XML.
+#[test]
+fn hover_and_outline_inside_plcopen_xml() {
+    let dir = workspace(
+        "plcopen-outline",
+        &[("plant.xml", PLANT_XML), ("main.st", PLANT_MAIN)],
+    );
+    let plant = dir.join("plant.xml");
+    let mut c = Client::start();
+    c.initialize(&dir, Value::Null);
+    c.open(&plant);
+    assert_eq!(c.diagnostics(&uri(&plant)), json!([]));
+    let hover = |value: &str, l0, c0, l1, c1| {
+        json!({
+            "contents": {"kind": "markdown", "value": value},
+            "range": range(l0, c0, l1, c1),
+        })
+    };
+    let level = "```iecst\nlevel : INT\n```\n\nVAR_INPUT of `Pump`; type `INT`";
+    let run = "```iecst\nrun : BOOL\n```\n\nVAR_OUTPUT of `Pump`; type `BOOL`";
+    let pump = "```iecst\nFUNCTION_BLOCK Pump\nVAR_INPUT\n    level : INT;\nEND_VAR\nVAR_OUTPUT\n    run : BOOL;\nEND_VAR\n```";
+    // In the ST body `run := level > 10;`: each name where the CDATA has it.
+    assert_eq!(
+        c.call("textDocument/hover", at(&plant, 24, 38)),
+        hover(level, 24, 37, 24, 42)
+    );
+    assert_eq!(
+        c.call("textDocument/hover", at(&plant, 24, 31)),
+        hover(run, 24, 30, 24, 33)
+    );
+    // A variable's declaration `<variable name="run">`, a contact's variable.
+    assert_eq!(
+        c.call("textDocument/hover", at(&plant, 19, 29)),
+        hover(run, 19, 28, 19, 31)
+    );
+    assert_eq!(
+        c.call("textDocument/hover", at(&plant, 48, 25)),
+        hover(
+            "```iecst\nalarm : BOOL\n```\n\nVAR of `Plant`; type `BOOL`",
+            48,
+            24,
+            48,
+            29
+        )
+    );
+    // The FB's name and the type of `p` (`<derived name="Pump"/>`): its interface.
+    assert_eq!(
+        c.call("textDocument/hover", at(&plant, 13, 18)),
+        hover(pump, 13, 17, 13, 21)
+    );
+    assert_eq!(
+        c.call("textDocument/hover", at(&plant, 31, 53)),
+        hover(pump, 31, 52, 31, 56)
+    );
+    // Nothing on the XML's own markup.
+    assert_eq!(c.call("textDocument/hover", at(&plant, 13, 8)), Value::Null);
+
+    // The outline: each POU at its `pou name="…"` (the element the view's head
+    // comes from), its name where it is written; each variable at its name.
+    let var = |name: &str, detail: &str, line: u32| {
+        let r = range(line, 28, line, 28 + name.len() as u32);
+        json!({"name": name, "detail": detail, "kind": 13, "range": r, "selectionRange": r})
+    };
+    assert_eq!(
+        c.call(
+            "textDocument/documentSymbol",
+            json!({"textDocument": {"uri": uri(&plant)}}),
+        ),
+        json!([
+            {
+                "name": "Pump",
+                "detail": "FUNCTION_BLOCK",
+                "kind": 5,
+                "range": range(13, 7, 13, 21),
+                "selectionRange": range(13, 17, 13, 21),
+                "children": [
+                    var("level", "VAR_INPUT : INT", 16),
+                    var("run", "VAR_OUTPUT : BOOL", 19),
+                ],
+            },
+            {
+                "name": "Plant",
+                "detail": "PROGRAM",
+                "kind": 2,
+                "range": range(28, 7, 28, 22),
+                "selectionRange": range(28, 17, 28, 22),
+                "children": [
+                    var("p", "VAR : Pump", 31),
+                    var("alarm", "VAR : BOOL", 32),
+                    var("lamp", "VAR_OUTPUT : BOOL", 35),
+                ],
+            },
+        ])
+    );
+    assert_eq!(c.shutdown_and_exit(), 0);
+    let _ = std::fs::remove_dir_all(&dir);
+}

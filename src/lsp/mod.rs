@@ -221,21 +221,13 @@ impl Analysis {
     /// The place of a span in a file of the folder: a span of a PLCopen file's view
     /// in the XML where it is copied verbatim from there, else nowhere.
     fn location(&self, span: Span) -> Option<Location> {
-        match xml::map(&self.build.ladder, &self.build.sources, span) {
-            xml::Mapped::Text(s) | xml::Mapped::Exact(s) => self.file_location(s),
-            xml::Mapped::Element(_) => None,
-        }
+        self.file_location(xml::exact(&self.build.ladder, &self.build.sources, span)?)
     }
 
     /// As [`Analysis::location`], but a span of a view not copied verbatim is at the
     /// XML element it comes from (for a definition).
     fn location_or_element(&self, span: Span) -> Option<Location> {
-        match xml::map(&self.build.ladder, &self.build.sources, span) {
-            xml::Mapped::Text(s) | xml::Mapped::Exact(s) | xml::Mapped::Element(Some(s)) => {
-                self.file_location(s)
-            }
-            xml::Mapped::Element(None) => None,
-        }
+        self.file_location(xml::place(&self.build.ladder, &self.build.sources, span)?)
     }
 
     fn file_location(&self, span: Span) -> Option<Location> {
@@ -652,10 +644,13 @@ impl Server {
     fn document_symbols(&mut self, uri: &Url) -> Option<DocumentSymbolResponse> {
         let (a, path) = self.analysis(uri)?;
         let f = a.file(&path)?;
-        let unit = a.index.unit(f.id)?;
+        // A PLCopen file's outline is its view's.
+        let view = a.build.ladder.iter().find(|v| v.xml == f.id);
+        let unit = a.index.unit(view.map_or(f.id, |v| v.il))?;
         let outline = outline::Outline {
             sources: &a.build.sources,
             lines: a.lines(f),
+            views: &a.build.ladder,
         };
         Some(DocumentSymbolResponse::Nested(outline.items(&unit.items)))
     }
@@ -679,12 +674,19 @@ impl Server {
         let offset = lines.offset(at.position);
         let mut parts = Vec::new();
         let mut range = None;
-        if let Some((span, decl)) = a.index.resolve_at(f.id, offset) {
-            parts.push(outline::hover_text(&a.build.sources, &decl));
-            range = Some(lines.range(span));
-        } else if let Some((span, text)) = outline::builtin_hover(&a.build.sources, f.id, offset) {
+        // In a PLCopen file, the name in its view; the range where the XML has it.
+        let (file, at) = a.resolve_place(f, offset);
+        let sources = &a.build.sources;
+        let shown = |s: Span| xml::exact(&a.build.ladder, sources, s).map(|s| lines.range(s));
+        let raw_xml = file == f.id && Lang::from_path(&sources.get(f.id).name) == Some(Lang::Ld);
+        if let Some((span, decl)) = a.index.resolve_at(file, at) {
+            parts.push(outline::hover_text(sources, &decl));
+            range = shown(span);
+        } else if let Some((span, text)) =
+            outline::builtin_hover(sources, file, at).filter(|_| !raw_xml)
+        {
             parts.push(text);
-            range = Some(lines.range(span));
+            range = shown(span);
         }
         let mut codes = BTreeSet::new();
         for d in &a.build.diagnostics {

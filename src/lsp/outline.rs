@@ -3,8 +3,9 @@
 
 use super::index::Decl;
 use super::text::Lines;
-use lsp_types::{DocumentSymbol, SymbolKind};
+use lsp_types::{DocumentSymbol, Range, SymbolKind};
 use plcc_frontend::ast::*;
+use plcc_frontend::plcopen::View;
 use plcc_frontend::source::SourceMap;
 use plcc_ir::diag::{FileId, Span};
 
@@ -189,19 +190,23 @@ pub struct Outline<'s> {
     pub sources: &'s SourceMap,
     /// The lines of the file the outline is of.
     pub lines: Lines<'s>,
+    /// The views of the PLCopen files: the outline of an XML file is its view's,
+    /// each span shown in the XML ([`super::xml::place`]).
+    pub views: &'s [View],
 }
 
 impl Outline<'_> {
     /// The outline of a file's items: POUs with their variables, METHODs,
     /// PROPERTYs and ACTIONs; types with their fields or values; global variable
     /// lists; configurations with their variables, resources, tasks and program
-    /// instances; interfaces.
+    /// instances; interfaces. For a view, a symbol whose name has no place in the
+    /// XML is left out, with its children.
     pub fn items(&self, items: &[Item]) -> Vec<DocumentSymbol> {
         items.iter().filter_map(|item| self.item(item)).collect()
     }
 
     fn item(&self, item: &Item) -> Option<DocumentSymbol> {
-        Some(match item {
+        match item {
             Item::Pou(p) => {
                 let kind = match p.kind {
                     PouKind::Program => SymbolKind::MODULE,
@@ -223,7 +228,7 @@ impl Outline<'_> {
                         SymbolKind::ENUM,
                         values
                             .iter()
-                            .map(|(v, _)| {
+                            .filter_map(|(v, _)| {
                                 self.symbol(v, v.span, SymbolKind::ENUM_MEMBER, None, vec![])
                             })
                             .collect(),
@@ -253,7 +258,7 @@ impl Outline<'_> {
                     let mut inner: Vec<_> =
                         r.var_blocks.iter().flat_map(|b| self.block(b)).collect();
                     for t in &r.tasks {
-                        inner.push(self.symbol(
+                        inner.extend(self.symbol(
                             &t.name,
                             t.span,
                             SymbolKind::EVENT,
@@ -263,7 +268,7 @@ impl Outline<'_> {
                     }
                     for p in &r.programs {
                         let detail = format!("PROGRAM instance of {}", self.text(p.pou.span));
-                        inner.push(self.symbol(
+                        inner.extend(self.symbol(
                             &p.name,
                             p.span,
                             SymbolKind::OBJECT,
@@ -271,7 +276,7 @@ impl Outline<'_> {
                             vec![],
                         ));
                     }
-                    children.push(self.symbol(
+                    children.extend(self.symbol(
                         &r.name,
                         r.span,
                         SymbolKind::NAMESPACE,
@@ -298,9 +303,9 @@ impl Outline<'_> {
                 let mut children: Vec<_> = i
                     .methods
                     .iter()
-                    .map(|m| self.pou(&m.pou, SymbolKind::METHOD, "METHOD"))
+                    .filter_map(|m| self.pou(&m.pou, SymbolKind::METHOD, "METHOD"))
                     .collect();
-                children.extend(i.properties.iter().map(|p| self.property(p)));
+                children.extend(i.properties.iter().filter_map(|p| self.property(p)));
                 self.symbol(
                     &i.name,
                     i.span,
@@ -309,18 +314,18 @@ impl Outline<'_> {
                     children,
                 )
             }
-        })
+        }
     }
 
-    fn pou(&self, p: &Pou, kind: SymbolKind, keyword: &str) -> DocumentSymbol {
+    fn pou(&self, p: &Pou, kind: SymbolKind, keyword: &str) -> Option<DocumentSymbol> {
         let mut children: Vec<_> = p.var_blocks.iter().flat_map(|b| self.block(b)).collect();
         children.extend(
             p.oo.methods
                 .iter()
-                .map(|m| self.pou(&m.pou, SymbolKind::METHOD, "METHOD")),
+                .filter_map(|m| self.pou(&m.pou, SymbolKind::METHOD, "METHOD")),
         );
-        children.extend(p.oo.properties.iter().map(|pr| self.property(pr)));
-        children.extend(p.actions.iter().map(|a| {
+        children.extend(p.oo.properties.iter().filter_map(|pr| self.property(pr)));
+        children.extend(p.actions.iter().filter_map(|a| {
             self.symbol(
                 &a.name,
                 a.span,
@@ -336,7 +341,7 @@ impl Outline<'_> {
         self.symbol(&p.name, p.span, kind, Some(detail), children)
     }
 
-    fn property(&self, p: &Property) -> DocumentSymbol {
+    fn property(&self, p: &Property) -> Option<DocumentSymbol> {
         let detail = format!("PROPERTY : {}", self.text(p.ty.span()));
         self.symbol(&p.name, p.span, SymbolKind::PROPERTY, Some(detail), vec![])
     }
@@ -364,7 +369,7 @@ impl Outline<'_> {
         };
         d.names
             .iter()
-            .map(|n| self.symbol(n, d.span, kind, Some(detail.clone()), vec![]))
+            .filter_map(|n| self.symbol(n, d.span, kind, Some(detail.clone()), vec![]))
             .collect()
     }
 
@@ -372,6 +377,16 @@ impl Outline<'_> {
         text(self.sources, span)
     }
 
+    /// The range of `span` in the file: for a span of a view, where it is in the XML
+    /// (the same text, else its element); `None` where it has no place there.
+    fn range(&self, span: Span) -> Option<(Span, Range)> {
+        let s = super::xml::place(self.views, self.sources, span)?;
+        Some((s, self.lines.range(s)))
+    }
+
+    /// The symbol of `name`, declared by the text `whole`; `None` when the name has
+    /// no place in the file (a view's text made up with no origin in the XML). The
+    /// range holds the selection range.
     fn symbol(
         &self,
         name: &Ident,
@@ -379,23 +394,28 @@ impl Outline<'_> {
         kind: SymbolKind,
         detail: Option<String>,
         children: Vec<DocumentSymbol>,
-    ) -> DocumentSymbol {
+    ) -> Option<DocumentSymbol> {
         let whole = if whole.file == name.span.file {
             whole.to(name.span)
         } else {
             name.span
         };
+        let (at, selection_range) = self.range(name.span)?;
+        let range = match self.range(whole) {
+            Some((w, _)) if w.file == at.file => self.lines.range(w.to(at)),
+            _ => selection_range,
+        };
         #[allow(deprecated)] // `deprecated` is a field every literal must give.
-        DocumentSymbol {
+        Some(DocumentSymbol {
             name: self.text(name.span).to_string(),
             detail,
             kind,
             tags: None,
             deprecated: None,
-            range: self.lines.range(whole),
-            selection_range: self.lines.range(name.span),
+            range,
+            selection_range,
             children: (!children.is_empty()).then_some(children),
-        }
+        })
     }
 
     /// A symbol with no name of its own in the text (an unnamed global block).
@@ -405,19 +425,20 @@ impl Outline<'_> {
         whole: Span,
         kind: SymbolKind,
         children: Vec<DocumentSymbol>,
-    ) -> DocumentSymbol {
+    ) -> Option<DocumentSymbol> {
+        let (whole, range) = self.range(whole)?;
         let at = Span::new(whole.file, whole.start, whole.start);
         #[allow(deprecated)]
-        DocumentSymbol {
+        Some(DocumentSymbol {
             name: name.to_string(),
             detail: None,
             kind,
             tags: None,
             deprecated: None,
-            range: self.lines.range(whole),
+            range,
             selection_range: self.lines.range(at),
             children: (!children.is_empty()).then_some(children),
-        }
+        })
     }
 }
 

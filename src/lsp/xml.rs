@@ -1,4 +1,4 @@
-//! PLCopen XML projects in references and rename.
+//! PLCopen XML projects in references, rename, hover and the outline.
 //!
 //! The front end writes each PLCopen file as a view, IEC text that is a source file
 //! of the build of its own, with a map back to the XML
@@ -52,6 +52,25 @@ pub fn map(views: &[View], sources: &SourceMap, span: Span) -> Mapped {
             .place(span.start, span.end)
             .map(|r| Span::new(v.xml, r.start, r.end)),
     )
+}
+
+/// Where `span` is shown when an element will do: as [`map`], but a span of a view
+/// not copied verbatim is the XML element it comes from; `None` for text the view
+/// makes up with no origin (for definitions and the outline).
+pub fn place(views: &[View], sources: &SourceMap, span: Span) -> Option<Span> {
+    match map(views, sources, span) {
+        Mapped::Text(s) | Mapped::Exact(s) | Mapped::Element(Some(s)) => Some(s),
+        Mapped::Element(None) => None,
+    }
+}
+
+/// Where `span` is shown when only the same text will do: itself outside views, the
+/// XML text a view copies verbatim; `None` for the rest of a view (for hovers).
+pub fn exact(views: &[View], sources: &SourceMap, span: Span) -> Option<Span> {
+    match map(views, sources, span) {
+        Mapped::Text(s) | Mapped::Exact(s) => Some(s),
+        Mapped::Element(_) => None,
+    }
 }
 
 /// The place in a view of an offset in an XML file, where the XML text there is
