@@ -22,7 +22,7 @@ mod skip;
 
 #[path = "common/sources.rs"]
 mod sources;
-use sources::{is_codesys, lang_of, read_text, source_files};
+use sources::{corpus_files, is_codesys, lang_of, read_text};
 
 #[path = "common/cli.rs"]
 #[allow(dead_code)]
@@ -226,16 +226,7 @@ fn check_plcopen(path: &Path, t: &mut Tally) {
 /// files too): the tally, how many files, and how many are the project's. Fails on
 /// any failure, or when too few files compiled.
 fn over_corpus(xml: bool, check: fn(&Path, &mut Tally)) -> (Tally, usize, usize) {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut files = Vec::new();
-    source_files(&root.join("tests/programs"), xml, &mut files);
-    let ours = files.len();
-    let shared = root.join("../shared/corpus");
-    if shared.is_dir() {
-        source_files(&shared, xml, &mut files);
-    } else {
-        skip::notice("../shared/corpus not found; printing tests/programs only");
-    }
+    let (files, ours) = corpus_files(xml, "printing");
     let mut t = Tally::default();
     for f in &files {
         check(f, &mut t);

@@ -14,7 +14,7 @@ mod skip;
 
 #[path = "common/sources.rs"]
 mod sources;
-use sources::{is_codesys, lang_of, read_text, source_files};
+use sources::{corpus_files, is_codesys, lang_of, read_text, source_files};
 
 #[path = "common/rng.rs"]
 #[allow(dead_code)]
@@ -149,16 +149,7 @@ fn check_file(path: &Path, codesys: bool, t: &mut Tally) {
 
 #[test]
 fn corpus_formats_idempotently_to_the_same_ir() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut files = Vec::new();
-    source_files(&root.join("tests/programs"), false, &mut files);
-    let ours = files.len();
-    let shared = root.join("../shared/corpus");
-    if shared.is_dir() {
-        source_files(&shared, false, &mut files);
-    } else {
-        skip::notice("../shared/corpus not found; formatting tests/programs only");
-    }
+    let (files, ours) = corpus_files(false, "formatting");
     let mut t = Tally::default();
     for f in &files {
         check_file(f, is_codesys(f), &mut t);

@@ -21,6 +21,26 @@ pub fn source_files(dir: &Path, xml: bool, out: &mut Vec<PathBuf>) {
     }
 }
 
+/// The source files of `tests/programs`, then those of `../shared/corpus` (with a
+/// skip notice, which the including test's `skip` module shows, when it is absent):
+/// the files, and how many of them are the project's. `doing` says what the test
+/// does with them, for the notice.
+pub fn corpus_files(xml: bool, doing: &str) -> (Vec<PathBuf>, usize) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    source_files(&root.join("tests/programs"), xml, &mut files);
+    let ours = files.len();
+    let shared = root.join("../shared/corpus");
+    if shared.is_dir() {
+        source_files(&shared, xml, &mut files);
+    } else {
+        crate::skip::notice(&format!(
+            "../shared/corpus not found; {doing} tests/programs only"
+        ));
+    }
+    (files, ours)
+}
+
 /// ST, IL, STL or PLCopen XML, by the file's extension; `None` for other files.
 pub fn lang_of(p: &Path) -> Option<Lang> {
     match p
