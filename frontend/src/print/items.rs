@@ -12,7 +12,7 @@ impl Printer<'_> {
                 self.push("TYPE");
                 self.end_line();
                 self.depth += 1;
-                self.type_decl(t);
+                self.type_declaration(t);
                 self.depth -= 1;
                 self.line();
                 self.push("END_TYPE");
@@ -377,7 +377,7 @@ impl Printer<'_> {
         self.push(";");
     }
 
-    fn type_decl(&mut self, t: &TypeDecl) {
+    pub(super) fn type_declaration(&mut self, t: &TypeDecl) {
         self.line();
         self.push_name(&t.name);
         if let Some(base) = &t.extends {

@@ -164,6 +164,12 @@ impl<'a> Printer<'a> {
         self.out
     }
 
+    /// One type declaration `T : spec := init;` (without a line break).
+    pub fn type_decl(mut self, t: &TypeDecl) -> String {
+        self.type_declaration(t);
+        self.out.trim().to_string()
+    }
+
     /// One declaration `a, b : T := init;` (without a line break).
     pub fn var_decl(mut self, d: &VarDecl) -> String {
         self.declaration(d);

@@ -4,6 +4,7 @@
 use super::parse;
 use crate::ast::*;
 use crate::intern::Interner;
+use crate::print::{Printer, Style};
 use crate::source::SourceFile;
 use plcc_ir::diag::{Diagnostic, FileId};
 use std::fmt::Write;
@@ -40,82 +41,9 @@ fn codes_of(src: &str) -> Vec<&'static str> {
     parse_str(src).1.iter().map(|d| d.code).collect()
 }
 
-/// An S-expression of an expression, for precedence tests.
+/// An expression with every operation in parentheses (the printer's tree style).
 fn sx(e: &Expr, i: &Interner) -> String {
-    match &e.kind {
-        ExprKind::Literal(l) => {
-            let v = match &l.kind {
-                LiteralKind::Int(v) => v.to_string(),
-                LiteralKind::Real(t) => t.to_string(),
-                LiteralKind::Bool(b) => b.to_string().to_uppercase(),
-                LiteralKind::Duration { ns, long } => {
-                    format!("{}#{ns}ns", if *long { "LT" } else { "T" })
-                }
-                LiteralKind::Date { days, .. } => format!("D#{days}"),
-                LiteralKind::TimeOfDay { ns, .. } => format!("TOD#{ns}"),
-                LiteralKind::DateTime { ns, .. } => format!("DT#{ns}"),
-                LiteralKind::String { units, wide } => {
-                    let s: String = units
-                        .iter()
-                        .map(|&u| char::from_u32(u as u32).unwrap_or('?'))
-                        .collect();
-                    if *wide {
-                        format!("\"{s}\"")
-                    } else {
-                        format!("'{s}'")
-                    }
-                }
-            };
-            match l.type_prefix {
-                Some(p) => format!("{}#{v}", i.name(p.sym)),
-                None => v,
-            }
-        }
-        ExprKind::Name(id) => i.name(id.sym).to_string(),
-        ExprKind::Member(b, m) => format!("{}.{}", sx(b, i), i.name(m.sym)),
-        ExprKind::Bit(b, n) => format!("(bit {} {})", sx(b, i), sx(n, i)),
-        ExprKind::Partial(b, size, n) => format!("(part{size} {} {n})", sx(b, i)),
-        ExprKind::Index(b, ix) => {
-            let ix: Vec<String> = ix.iter().map(|e| sx(e, i)).collect();
-            format!("{}[{}]", sx(b, i), ix.join(","))
-        }
-        ExprKind::Deref(b) => format!("{}^", sx(b, i)),
-        ExprKind::EnumValue { ty, value } => format!("{}#{}", i.name(ty.sym), i.name(value.sym)),
-        ExprKind::DirectAddress(a) => a.to_string(),
-        ExprKind::Unary(op, e) => {
-            let o = match op {
-                UnaryOp::Neg => "neg",
-                UnaryOp::Plus => "pos",
-                UnaryOp::Not => "not",
-            };
-            format!("({o} {})", sx(e, i))
-        }
-        ExprKind::Binary(op, a, b) => format!("({} {} {})", op.symbol(), sx(a, i), sx(b, i)),
-        ExprKind::Call { callee, args } => {
-            let a: Vec<String> = args
-                .iter()
-                .map(|a| match &a.kind {
-                    ArgKind::Positional(e) => sx(e, i),
-                    ArgKind::Input { name, value } => {
-                        format!("{}:={}", i.name(name.sym), sx(value, i))
-                    }
-                    ArgKind::Output {
-                        name,
-                        negated,
-                        target,
-                    } => format!(
-                        "{}{}=>{}",
-                        if *negated { "NOT " } else { "" },
-                        i.name(name.sym),
-                        target.as_ref().map_or(String::new(), |t| sx(t, i))
-                    ),
-                })
-                .collect();
-            format!("{}({})", sx(callee, i), a.join(", "))
-        }
-        ExprKind::Paren(e) => format!("[{}]", sx(e, i)),
-        ExprKind::UsedBy { instr, value } => format!("{instr}?{}", sx(value, i)),
-    }
+    crate::print::tree(e, i)
 }
 
 /// The expression of `x := <src>;` in a PROGRAM.
@@ -150,54 +78,54 @@ fn pou(src: &str) -> (Pou, Interner) {
 
 #[test]
 fn precedence() {
-    assert_eq!(expr("a OR b AND c"), "(OR A (AND B C))");
-    assert_eq!(expr("a OR_ELSE b XOR c"), "(OR_ELSE A (XOR B C))");
+    assert_eq!(expr("a OR b AND c"), "(A OR (B AND C))");
+    assert_eq!(expr("a OR_ELSE b XOR c"), "(A OR_ELSE (B XOR C))");
     assert_eq!(
         expr("a XOR b & c AND_THEN d"),
-        "(XOR A (AND_THEN (AND B C) D))"
+        "(A XOR ((B AND C) AND_THEN D))"
     );
-    assert_eq!(expr("a = b < c"), "(= A (< B C))");
-    assert_eq!(expr("a <> b + c * d"), "(<> A (+ B (* C D)))");
-    assert_eq!(expr("a - b - c"), "(- (- A B) C)");
-    assert_eq!(expr("a / b MOD c * d"), "(* (MOD (/ A B) C) D)");
-    assert_eq!(expr("a + b * c ** d"), "(+ A (* B (** C D)))");
-    assert_eq!(expr("2 ** 3 ** 2"), "(** (** 2 3) 2)");
-    assert_eq!(expr("-2 ** 2"), "(** (neg 2) 2)");
-    assert_eq!(expr("- x * y"), "(* (neg X) Y)");
-    assert_eq!(expr("NOT a AND b"), "(AND (not A) B)");
-    assert_eq!(expr("NOT a = b"), "(= (not A) B)");
-    assert_eq!(expr("a AND NOT b OR c"), "(OR (AND A (not B)) C)");
-    assert_eq!(expr("a >= b AND c <= d"), "(AND (>= A B) (<= C D))");
-    assert_eq!(expr("(a + b) * c"), "(* [(+ A B)] C)");
-    assert_eq!(expr("- - +x"), "(neg (neg (pos X)))");
-    assert_eq!(expr("2 ** -1"), "(** 2 (neg 1))");
-    assert_eq!(expr("t.Q AND x"), "(AND T.Q X)");
+    assert_eq!(expr("a = b < c"), "(A = (B < C))");
+    assert_eq!(expr("a <> b + c * d"), "(A <> (B + (C * D)))");
+    assert_eq!(expr("a - b - c"), "((A - B) - C)");
+    assert_eq!(expr("a / b MOD c * d"), "(((A / B) MOD C) * D)");
+    assert_eq!(expr("a + b * c ** d"), "(A + (B * (C ** D)))");
+    assert_eq!(expr("2 ** 3 ** 2"), "((2 ** 3) ** 2)");
+    assert_eq!(expr("-2 ** 2"), "((-2) ** 2)");
+    assert_eq!(expr("- x * y"), "((-X) * Y)");
+    assert_eq!(expr("NOT a AND b"), "((NOT A) AND B)");
+    assert_eq!(expr("NOT a = b"), "((NOT A) = B)");
+    assert_eq!(expr("a AND NOT b OR c"), "((A AND (NOT B)) OR C)");
+    assert_eq!(expr("a >= b AND c <= d"), "((A >= B) AND (C <= D))");
+    assert_eq!(expr("(a + b) * c"), "(((A + B)) * C)");
+    assert_eq!(expr("- - +x"), "(-(-(+X)))");
+    assert_eq!(expr("2 ** -1"), "(2 ** (-1))");
+    assert_eq!(expr("t.Q AND x"), "(T.Q AND X)");
 }
 
 #[test]
 fn postfix_forms() {
     assert_eq!(expr("a.b.c"), "A.B.C");
-    assert_eq!(expr("a[1, j + 1].x"), "A[1,(+ J 1)].X");
+    assert_eq!(expr("a[1, j + 1].x"), "A[1, (J + 1)].X");
     assert_eq!(expr("p^.x^"), "P^.X^");
-    assert_eq!(expr("x.3"), "(bit X 3)");
-    assert_eq!(expr("x.%X3"), "(bit X 3)");
+    assert_eq!(expr("x.3"), "X.3");
+    assert_eq!(expr("x.%X3"), "X.3");
     assert_eq!(
         expr("w.%B1 + w.%W0 + d.%D0 + l.%L0"),
-        "(+ (+ (+ (part8 W 1) (part16 W 0)) (part32 D 0)) (part64 L 0))"
+        "(((W.%B1 + W.%W0) + D.%D0) + L.%L0)"
     );
-    assert_eq!(expr("a.b[2].3"), "(bit A.B[2] 3)");
+    assert_eq!(expr("a.b[2].3"), "A.B[2].3");
     assert_eq!(expr("f(1, 2)"), "F(1, 2)");
     assert_eq!(expr("f()"), "F()");
     assert_eq!(expr("inst.act()"), "INST.ACT()");
     assert_eq!(expr("SUPER^.calc()"), "SUPER^.CALC()");
-    assert_eq!(expr("%IX0.0 AND %QW1 > 0"), "(AND %IX0.0 (> %QW1 0))");
+    assert_eq!(expr("%IX0.0 AND %QW1 > 0"), "(%IX0.0 AND (%QW1 > 0))");
     assert_eq!(expr("Color#Red"), "COLOR#RED");
-    assert_eq!(expr("INT#-5 + DINT#16#FF"), "(+ INT#-5 DINT#255)");
+    assert_eq!(expr("INT#-5 + DINT#16#FF"), "(INT#-5 + DINT#255)");
     assert_eq!(expr("MyInt#5"), "MYINT#5");
-    assert_eq!(expr("T#1s + TIME#2ms"), "(+ T#1000000000ns T#2000000ns)");
-    assert_eq!(expr("TRUE AND FALSE"), "(AND TRUE FALSE)");
-    assert_eq!(expr("'a$'b' = \"w\""), "(= 'a'b' \"w\")");
-    assert_eq!(expr("1.5E3 * 2"), "(* 1.5E3 2)");
+    assert_eq!(expr("T#1s + TIME#2ms"), "(T#1s + T#2ms)");
+    assert_eq!(expr("TRUE AND FALSE"), "(TRUE AND FALSE)");
+    assert_eq!(expr("'a$'b' = \"w\""), "('a$'b' = \"w\")");
+    assert_eq!(expr("1.5E3 * 2"), "(1.5E3 * 2)");
 }
 
 #[test]
@@ -208,13 +136,13 @@ fn call_arguments() {
     };
     assert_eq!(
         sx(c, &i),
-        "FB(IN:=X, PT:=T#5000000000ns, Q=>Y, NOT ET=>Z, CV=>)"
+        "FB(IN := X, PT := T#5s, Q => Y, NOT ET => Z, CV =>)"
     );
     let (s, i) = body("f(1, a + 2, g(h(3)));");
     let StmtKind::Call(c) = &s[0].kind else {
         panic!()
     };
-    assert_eq!(sx(c, &i), "F(1, (+ A 2), G(H(3)))");
+    assert_eq!(sx(c, &i), "F(1, (A + 2), G(H(3)))");
 }
 
 #[test]
@@ -301,13 +229,7 @@ fn case_labels_and_arms() {
         .collect();
     assert_eq!(
         labels,
-        [
-            "1,2,5..10",
-            "RED,(neg 3)",
-            "COLOR#GREEN",
-            "(neg 5)..(neg 1)",
-            "E.A"
-        ]
+        ["1,2,5..10", "RED,(-3)", "COLOR#GREEN", "(-5)..(-1)", "E.A"]
     );
     assert_eq!(arms[0].body.len(), 2);
     assert_eq!(arms[2].body.len(), 1); // the empty statement
@@ -347,14 +269,14 @@ fn loops_and_jumps() {
     assert_eq!(i.name(var.sym), "I");
     assert_eq!(
         (sx(from, &i), sx(to, &i), sx(by.as_ref().unwrap(), &i)),
-        ("10".into(), "1".into(), "(neg 1)".into())
+        ("10".into(), "1".into(), "(-1)".into())
     );
     assert_eq!(body.len(), 3);
     assert!(matches!(s[1].kind, StmtKind::While { .. }));
     let StmtKind::Repeat { until, body } = &s[2].kind else {
         panic!()
     };
-    assert_eq!((sx(until, &i), body.len()), ("(= A 0)".into(), 1));
+    assert_eq!((sx(until, &i), body.len()), ("(A = 0)".into(), 1));
     assert!(matches!(s[3].kind, StmtKind::Return));
     assert!(matches!(s[4].kind, StmtKind::Empty));
 }
@@ -485,87 +407,11 @@ fn corpus_parses_without_diagnostics() {
 // ------------------------------------------------------------------ declarations
 
 fn ty(t: &TypeSpec, i: &Interner) -> String {
-    match t {
-        TypeSpec::Named(n) => i.name(n.sym).to_string(),
-        TypeSpec::String { wide, len, .. } => format!(
-            "{}{}",
-            if *wide { "WSTRING" } else { "STRING" },
-            len.as_ref()
-                .map_or(String::new(), |l| format!("[{}]", sx(l, i)))
-        ),
-        TypeSpec::Array { dims, elem, .. } => {
-            let d: Vec<String> = dims
-                .iter()
-                .map(|d| {
-                    d.as_ref()
-                        .map_or("*".into(), |(a, b)| format!("{}..{}", sx(a, i), sx(b, i)))
-                })
-                .collect();
-            format!("ARRAY[{}] OF {}", d.join(","), ty(elem, i))
-        }
-        TypeSpec::Subrange { base, lo, hi, .. } => {
-            format!("{}({}..{})", i.name(base.sym), sx(lo, i), sx(hi, i))
-        }
-        TypeSpec::Enum { values, base, .. } => {
-            let v: Vec<String> = values
-                .iter()
-                .map(|(n, v)| match v {
-                    Some(v) => format!("{}:={}", i.name(n.sym), sx(v, i)),
-                    None => i.name(n.sym).to_string(),
-                })
-                .collect();
-            format!(
-                "({}){}",
-                v.join(","),
-                base.map_or(String::new(), |b| format!(" {}", i.name(b.sym)))
-            )
-        }
-        TypeSpec::Struct { fields, .. } => {
-            let f: Vec<String> = fields.iter().map(|d| decl(d, i)).collect();
-            format!("STRUCT {} END_STRUCT", f.join(" "))
-        }
-        TypeSpec::Ref { target, .. } => format!("REF_TO {}", ty(target, i)),
-        TypeSpec::Reference { target, .. } => format!("REFERENCE TO {}", ty(target, i)),
-        TypeSpec::Pointer { target, .. } => format!("POINTER TO {}", ty(target, i)),
-    }
-}
-
-fn init(v: &Init, i: &Interner) -> String {
-    match v {
-        Init::Expr(e) => sx(e, i),
-        Init::Array { elems, .. } => {
-            let e: Vec<String> = elems
-                .iter()
-                .map(|e| match (&e.repeat, &e.value) {
-                    (Some(r), Some(v)) => format!("{}({})", sx(r, i), init(v, i)),
-                    (Some(r), None) => format!("{}()", sx(r, i)),
-                    (None, Some(v)) => init(v, i),
-                    (None, None) => "?".into(),
-                })
-                .collect();
-            format!("[{}]", e.join(","))
-        }
-        Init::Struct { fields, .. } => {
-            let f: Vec<String> = fields
-                .iter()
-                .map(|(n, v)| format!("{}:={}", i.name(n.sym), init(v, i)))
-                .collect();
-            format!("({})", f.join(","))
-        }
-    }
+    Printer::new(i).with_style(Style::Tree).type_spec(t)
 }
 
 fn decl(d: &VarDecl, i: &Interner) -> String {
-    let names: Vec<&str> = d.names.iter().map(|n| i.name(n.sym)).collect();
-    let mut s = names.join(",");
-    if let Some((a, _)) = &d.location {
-        let _ = write!(s, " AT {a}");
-    }
-    let _ = write!(s, " : {}", ty(&d.ty, i));
-    if let Some(v) = &d.init {
-        let _ = write!(s, " := {}", init(v, i));
-    }
-    s + ";"
+    Printer::new(i).with_style(Style::Tree).var_decl(d)
 }
 
 fn decls(src: &str) -> Vec<String> {
@@ -584,23 +430,23 @@ fn variable_declarations() {
              m : ARRAY[0..N-1] OF ARRAY[1..2] OF REAL;"
         ),
         [
-            "A,B : INT := 5;",
+            "A, B : INT := 5;",
             "X AT %IX0.0 : BOOL;",
             "S1 : STRING;",
             "S2 : STRING[20];",
             "S3 : STRING[20];",
             "W : WSTRING[10];",
-            "ARR : ARRAY[1..10,0..2] OF INT;",
+            "ARR : ARRAY[1..10, 0..2] OF INT;",
             "VA : ARRAY[*] OF INT;",
             "R : INT(0..100);",
-            "NEG : INT((neg 10)..10);",
-            "E : (RED,GREEN:=5,BLUE);",
-            "E2 : (A,B) INT := A;",
-            "E3 : (X:=1,Y:=2) BYTE;",
+            "NEG : INT((-10)..10);",
+            "E : (RED, GREEN := 5, BLUE);",
+            "E2 : (A, B) INT := A;",
+            "E3 : (X := 1, Y := 2) BYTE;",
             "P : REF_TO INT;",
             "Q : POINTER TO ARRAY[0..1] OF BYTE;",
-            "T : TON := (PT:=T#5000000000ns);",
-            "M : ARRAY[0..(- N 1)] OF ARRAY[1..2] OF REAL;",
+            "T : TON := (PT := T#5s);",
+            "M : ARRAY[0..(N - 1)] OF ARRAY[1..2] OF REAL;",
         ]
     );
 }
@@ -619,13 +465,13 @@ fn initialisers() {
              h : ARRAY[0..1] OF INT := other;"
         ),
         [
-            "A : ARRAY[0..5] OF INT := [1,2,3(0),2()];",
-            "B : ARRAY[0..2] OF INT := [1,2,3];",
+            "A : ARRAY[0..5] OF INT := [1, 2, 3(0), 2()];",
+            "B : ARRAY[0..2] OF INT := [1, 2, 3];",
             "C : ARRAY[0..9] OF INT := [10(7)];",
-            "D : ARRAY[0..1] OF S := [(X:=1),(X:=2,Y:=[1,2])];",
-            "E : S := (A:=1,B:=(C:=2));",
-            "F : INT := [(+ 1 2)];",
-            "G : ARRAY[0..1,0..1] OF INT := [[1,2],[3,4]];",
+            "D : ARRAY[0..1] OF S := [(X := 1), (X := 2, Y := [1, 2])];",
+            "E : S := (A := 1, B := (C := 2));",
+            "F : INT := ((1 + 2));",
+            "G : ARRAY[0..1, 0..1] OF INT := [[1, 2], [3, 4]];",
             "H : ARRAY[0..1] OF INT := OTHER;",
         ]
     );
@@ -646,7 +492,7 @@ fn library_qualified_type_names() {
             "TON1 : TON;",
             "TFF1 : TFF;",
             "A : ARRAY[0..1] OF R_TRIG;",
-            "C : CTU := (PV:=3);",
+            "C : CTU := (PV := 3);",
         ]
     );
     let TypeSpec::Named(n) = &p.var_blocks[0].decls[1].ty else {
@@ -705,24 +551,20 @@ fn type_declarations() {
         .iter()
         .map(|it| {
             let Item::Type(t) = it else { panic!() };
-            let mut s = format!("{} : {}", i.name(t.name.sym), ty(&t.spec, &i));
-            if let Some(v) = &t.init {
-                let _ = write!(s, " := {}", init(v, &i));
-            }
-            s
+            Printer::new(&i).with_style(Style::Tree).type_decl(t)
         })
         .collect();
     assert_eq!(
         got,
         [
-            "S : STRUCT A : INT := 1; B : ARRAY[1..2] OF BOOL; END_STRUCT",
-            "E : (RED,GREEN,BLUE) := GREEN",
-            "R : INT(0..10)",
-            "A : ARRAY[1..3] OF R := [1,2,3]",
-            "AL : INT",
-            "TE : (X:=100,Y:=200) INT",
-            "STR : STRING[5] := 'value'",
-            "C : STRUCT RE : REAL; END_STRUCT",
+            "S : STRUCT A : INT := 1; B : ARRAY[1..2] OF BOOL; END_STRUCT;",
+            "E : (RED, GREEN, BLUE) := GREEN;",
+            "R : INT(0..10);",
+            "A : ARRAY[1..3] OF R := [1, 2, 3];",
+            "AL : INT;",
+            "TE : (X := 100, Y := 200) INT;",
+            "STR : STRING[5] := 'value';",
+            "C : STRUCT RE : REAL; END_STRUCT;",
         ]
     );
     let Item::Type(t) = &u.items[0] else { panic!() };
@@ -902,7 +744,7 @@ fn configuration() {
         .iter()
         .map(|(n, v)| format!("{}={}", i.name(n.sym), sx(v, &i)))
         .collect();
-    assert_eq!(props, ["INTERVAL=T#10000000ns", "PRIORITY=1"]);
+    assert_eq!(props, ["INTERVAL=T#10ms", "PRIORITY=1"]);
     assert_eq!(r.programs.len(), 2);
     assert_eq!(i.name(r.programs[0].task.unwrap().sym), "FAST");
     assert_eq!(i.name(r.programs[0].pou.sym), "MAIN");
@@ -937,219 +779,9 @@ use recovery::check_errors;
 
 // ------------------------------------------------------------------ snapshots
 
-fn dump_stmts(out: &mut String, stmts: &[Stmt], i: &Interner, ind: usize) {
-    let pad = "  ".repeat(ind);
-    for s in stmts {
-        match &s.kind {
-            StmtKind::Assign { target, value } => {
-                let _ = writeln!(out, "{pad}{} := {}", sx(target, i), sx(value, i));
-            }
-            StmtKind::RefAssign { target, value } => {
-                let _ = writeln!(out, "{pad}{} REF= {}", sx(target, i), sx(value, i));
-            }
-            StmtKind::Call(e) => {
-                let _ = writeln!(out, "{pad}call {}", sx(e, i));
-            }
-            StmtKind::If {
-                branches,
-                else_body,
-            } => {
-                for (n, (c, b)) in branches.iter().enumerate() {
-                    let _ = writeln!(
-                        out,
-                        "{pad}{} {}",
-                        if n == 0 { "IF" } else { "ELSIF" },
-                        sx(c, i)
-                    );
-                    dump_stmts(out, b, i, ind + 1);
-                }
-                if let Some(b) = else_body {
-                    let _ = writeln!(out, "{pad}ELSE");
-                    dump_stmts(out, b, i, ind + 1);
-                }
-            }
-            StmtKind::Case {
-                selector,
-                arms,
-                else_body,
-            } => {
-                let _ = writeln!(out, "{pad}CASE {}", sx(selector, i));
-                for a in arms {
-                    let l: Vec<String> = a
-                        .labels
-                        .iter()
-                        .map(|l| match l {
-                            CaseLabel::Value(e) => sx(e, i),
-                            CaseLabel::Range(a, b) => format!("{}..{}", sx(a, i), sx(b, i)),
-                        })
-                        .collect();
-                    let _ = writeln!(out, "{pad}  {}:", l.join(", "));
-                    dump_stmts(out, &a.body, i, ind + 2);
-                }
-                if let Some(b) = else_body {
-                    let _ = writeln!(out, "{pad}  ELSE");
-                    dump_stmts(out, b, i, ind + 2);
-                }
-            }
-            StmtKind::For {
-                var,
-                from,
-                to,
-                by,
-                body,
-            } => {
-                let by = by
-                    .as_ref()
-                    .map_or(String::new(), |b| format!(" BY {}", sx(b, i)));
-                let _ = writeln!(
-                    out,
-                    "{pad}FOR {} := {} TO {}{by}",
-                    i.name(var.sym),
-                    sx(from, i),
-                    sx(to, i)
-                );
-                dump_stmts(out, body, i, ind + 1);
-            }
-            StmtKind::While { cond, body } => {
-                let _ = writeln!(out, "{pad}WHILE {}", sx(cond, i));
-                dump_stmts(out, body, i, ind + 1);
-            }
-            StmtKind::Repeat { body, until } => {
-                let _ = writeln!(out, "{pad}REPEAT");
-                dump_stmts(out, body, i, ind + 1);
-                let _ = writeln!(out, "{pad}UNTIL {}", sx(until, i));
-            }
-            StmtKind::Exit => out.push_str(&format!("{pad}EXIT\n")),
-            StmtKind::Continue => out.push_str(&format!("{pad}CONTINUE\n")),
-            StmtKind::Return => out.push_str(&format!("{pad}RETURN\n")),
-            StmtKind::Empty => out.push_str(&format!("{pad};\n")),
-            StmtKind::InlineC(c) => out.push_str(&format!("{pad}{{C: {c}}}\n")),
-            StmtKind::Label(l) => out.push_str(&format!("{pad}{}:\n", i.name(l.sym))),
-            StmtKind::Goto(l) => out.push_str(&format!("{pad}GOTO {}\n", i.name(l.sym))),
-            StmtKind::Let { name, value } => {
-                let _ = writeln!(out, "{pad}LET {} := {}", i.name(name.sym), sx(value, i));
-            }
-        }
-    }
-}
-
-fn dump_block(out: &mut String, b: &VarBlock, i: &Interner, pad: &str) {
-    let q = match (b.constant, b.retain) {
-        (true, true) => " CONSTANT RETAIN",
-        (true, false) => " CONSTANT",
-        (false, true) => " RETAIN",
-        _ => "",
-    };
-    let _ = writeln!(out, "{pad}{:?}{q}", b.kind);
-    for d in &b.decls {
-        let _ = writeln!(out, "{pad}  {}", decl(d, i));
-    }
-}
-
-/// A readable dump of a whole unit, for snapshots.
+/// A whole unit printed with every operation in parentheses, for snapshots.
 fn dump(u: &SourceUnit, i: &Interner) -> String {
-    let mut out = String::new();
-    for item in &u.items {
-        match item {
-            Item::Pou(p) => {
-                let ret = p
-                    .return_type
-                    .as_ref()
-                    .map_or(String::new(), |t| format!(" : {}", ty(t, i)));
-                let ext = p
-                    .extends
-                    .map_or(String::new(), |e| format!(" EXTENDS {}", i.name(e.sym)));
-                let _ = writeln!(out, "{:?} {}{ret}{ext}", p.kind, i.name(p.name.sym));
-                for b in &p.var_blocks {
-                    dump_block(&mut out, b, i, "  ");
-                }
-                let _ = writeln!(out, "  BODY");
-                dump_stmts(&mut out, &p.body.stmts, i, 2);
-                for a in &p.actions {
-                    let _ = writeln!(out, "  ACTION {}", i.name(a.name.sym));
-                    dump_stmts(&mut out, &a.body.stmts, i, 2);
-                }
-                if !p.unsupported_members.is_empty() {
-                    let _ = writeln!(
-                        out,
-                        "  unsupported members: {}",
-                        p.unsupported_members.len()
-                    );
-                }
-                for m in &p.oo.methods {
-                    let _ = writeln!(out, "  METHOD {}", i.name(m.pou.name.sym));
-                    dump_stmts(&mut out, &m.pou.body.stmts, i, 2);
-                }
-            }
-            Item::Interface(itf) => {
-                let _ = writeln!(out, "INTERFACE {}", i.name(itf.name.sym));
-            }
-            Item::Type(t) => {
-                let init = t
-                    .init
-                    .as_ref()
-                    .map_or(String::new(), |v| format!(" := {}", init(v, i)));
-                let _ = writeln!(
-                    out,
-                    "TYPE {} : {}{init}",
-                    i.name(t.name.sym),
-                    ty(&t.spec, i)
-                );
-            }
-            Item::Globals(b) => dump_block(&mut out, b, i, ""),
-            Item::Configuration(c) => {
-                let _ = writeln!(out, "CONFIGURATION {}", i.name(c.name.sym));
-                for b in &c.var_blocks {
-                    dump_block(&mut out, b, i, "  ");
-                }
-                for r in &c.resources {
-                    let on =
-                        r.on.map_or(String::new(), |o| format!(" ON {}", i.name(o.sym)));
-                    let _ = writeln!(out, "  RESOURCE {}{on}", i.name(r.name.sym));
-                    for b in &r.var_blocks {
-                        dump_block(&mut out, b, i, "    ");
-                    }
-                    for t in &r.tasks {
-                        let p: Vec<String> = t
-                            .props
-                            .iter()
-                            .map(|(n, v)| format!("{} := {}", i.name(n.sym), sx(v, i)))
-                            .collect();
-                        let _ = writeln!(out, "    TASK {}({})", i.name(t.name.sym), p.join(", "));
-                    }
-                    for p in &r.programs {
-                        let with = p
-                            .task
-                            .map_or(String::new(), |t| format!(" WITH {}", i.name(t.sym)));
-                        let callee = Expr {
-                            kind: ExprKind::Call {
-                                callee: Box::new(Expr {
-                                    kind: ExprKind::Name(p.pou),
-                                    span: p.pou.span,
-                                }),
-                                args: p.args.clone(),
-                            },
-                            span: p.span,
-                        };
-                        let _ = writeln!(
-                            out,
-                            "    PROGRAM {}{with} : {}",
-                            i.name(p.name.sym),
-                            sx(&callee, i)
-                        );
-                    }
-                }
-            }
-            Item::Action(a) => {
-                let owner = a
-                    .pou
-                    .map_or(String::new(), |p| format!("{}.", i.name(p.sym)));
-                let _ = writeln!(out, "ACTION {owner}{}", i.name(a.name.sym));
-                dump_stmts(&mut out, &a.body.stmts, i, 1);
-            }
-        }
-    }
-    out
+    Printer::new(i).with_style(Style::Parenthesised).unit(u)
 }
 
 /// Diagnostics as `line:col-line:col error[code]: message` with labels, for snapshots.
@@ -1323,12 +955,11 @@ fn c_pragmas_become_statements_where_statements_stand() {
     let crate::ast::Item::Pou(pou) = &unit.items[0] else {
         panic!("a POU")
     };
-    let mut out = String::new();
-    dump_stmts(&mut out, &pou.body.stmts, &interner, 0);
-    assert!(out.contains("{C: __SET_VAR(data__->,A,,1);}"), "{out}");
-    assert!(out.contains("{C: { f(); }}"), "{out}");
-    assert!(out.contains("{C: h();}"), "{out}");
-    assert!(out.contains("{C: { last(); }}"), "{out}");
+    let out = Printer::new(&interner).stmts(&pou.body.stmts);
+    assert!(out.contains("{__SET_VAR(data__->,A,,1);}"), "{out}");
+    assert!(out.contains("{{ f(); }}"), "{out}");
+    assert!(out.contains("{h();}"), "{out}");
+    assert!(out.contains("{{ last(); }}"), "{out}");
     assert!(!out.contains("g();") && !out.contains("x = 1"), "{out}");
     let skipped: Vec<&str> = diags
         .iter()
