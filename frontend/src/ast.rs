@@ -784,6 +784,24 @@ pub enum BinaryOp {
 }
 
 impl BinaryOp {
+    /// How tightly the operator binds in ST, loosest first: OR and OR_ELSE 1, XOR 2,
+    /// AND and AND_THEN 3, `=` `<>` 4, `<` `<=` `>` `>=` 5, `+` `-` 6, `*` `/` MOD 7,
+    /// `**` 8. Every one is left-associative. The parser reads and the printer
+    /// parenthesises by this table.
+    pub fn binding(self) -> u8 {
+        use BinaryOp::*;
+        match self {
+            Or | OrElse => 1,
+            Xor => 2,
+            And | AndThen => 3,
+            Eq | Ne => 4,
+            Lt | Le | Gt | Ge => 5,
+            Add | Sub => 6,
+            Mul | Div | Mod => 7,
+            Pow => 8,
+        }
+    }
+
     /// The operator as written in ST.
     pub fn symbol(self) -> &'static str {
         match self {

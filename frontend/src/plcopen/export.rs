@@ -172,12 +172,9 @@ impl Writer<'_> {
     // ------------------------------------------------------------------ helpers
 
     fn name(&self, id: &Ident) -> String {
-        let interned = self.interner.name(id.sym);
-        let text = &self.sources.get(id.span.file).text;
-        match text.get(id.span.start as usize..id.span.end as usize) {
-            Some(t) if t.eq_ignore_ascii_case(interned) => t.to_string(),
-            _ => interned.to_string(),
-        }
+        Printer::new(self.interner)
+            .with_sources(self.sources)
+            .name(id)
     }
 
     fn expr(&self, e: &Expr) -> String {

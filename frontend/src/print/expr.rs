@@ -5,22 +5,6 @@ use crate::ast::*;
 use plcc_ir::value::{format_string_literal, PlcValue};
 use plcc_ir::ElemType;
 
-/// How tightly a binary operator binds (the ST parser's table: higher binds
-/// tighter; every operator is left-associative).
-fn binding(op: BinaryOp) -> u8 {
-    use BinaryOp::*;
-    match op {
-        Or | OrElse => 1,
-        Xor => 2,
-        And | AndThen => 3,
-        Eq | Ne => 4,
-        Lt | Le | Gt | Ge => 5,
-        Add | Sub => 6,
-        Mul | Div | Mod => 7,
-        Pow => 8,
-    }
-}
-
 /// Prefix operators bind tighter than any binary one.
 const UNARY: u8 = 9;
 /// The base of `.member`, `[i]`, `^` and calls binds tighter still.
@@ -34,7 +18,7 @@ impl Printer<'_> {
     pub(super) fn expression(&mut self, e: &Expr, min: u8) {
         match &e.kind {
             ExprKind::Binary(op, a, b) => {
-                let p = binding(*op);
+                let p = op.binding();
                 let parens = p < min || self.all_parens();
                 if parens {
                     self.push("(");

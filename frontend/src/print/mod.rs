@@ -211,8 +211,9 @@ impl<'a> Printer<'a> {
         }
     }
 
-    /// A name as written, if the span shows it, else as interned.
-    fn name(&self, id: &Ident) -> String {
+    /// A name as written, if the span shows it (in the source given), else as
+    /// interned.
+    pub fn name(&self, id: &Ident) -> String {
         let interned = self.interner.name(id.sym);
         if let Some(text) = self.span_text(id.span) {
             if text.eq_ignore_ascii_case(interned) {

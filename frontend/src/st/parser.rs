@@ -326,27 +326,30 @@ fn is_end_keyword(t: Tok) -> bool {
         || (is_section_stop(t) && !is_top_start(t) && var_kind(t).is_none() && t != Tok::Eof)
 }
 
+/// The binary operator a token is, with how tightly it binds
+/// ([`BinaryOp::binding`]).
 fn binop(t: Tok) -> Option<(BinaryOp, u8)> {
-    Some(match t {
-        Tok::Or => (BinaryOp::Or, 1),
-        Tok::OrElse => (BinaryOp::OrElse, 1),
-        Tok::Xor => (BinaryOp::Xor, 2),
-        Tok::And | Tok::Amp => (BinaryOp::And, 3),
-        Tok::AndThen => (BinaryOp::AndThen, 3),
-        Tok::Eq => (BinaryOp::Eq, 4),
-        Tok::Ne => (BinaryOp::Ne, 4),
-        Tok::Lt => (BinaryOp::Lt, 5),
-        Tok::Le => (BinaryOp::Le, 5),
-        Tok::Gt => (BinaryOp::Gt, 5),
-        Tok::Ge => (BinaryOp::Ge, 5),
-        Tok::Plus => (BinaryOp::Add, 6),
-        Tok::Minus => (BinaryOp::Sub, 6),
-        Tok::Star => (BinaryOp::Mul, 7),
-        Tok::Slash => (BinaryOp::Div, 7),
-        Tok::Mod => (BinaryOp::Mod, 7),
-        Tok::Pow => (BinaryOp::Pow, 8),
+    let op = match t {
+        Tok::Or => BinaryOp::Or,
+        Tok::OrElse => BinaryOp::OrElse,
+        Tok::Xor => BinaryOp::Xor,
+        Tok::And | Tok::Amp => BinaryOp::And,
+        Tok::AndThen => BinaryOp::AndThen,
+        Tok::Eq => BinaryOp::Eq,
+        Tok::Ne => BinaryOp::Ne,
+        Tok::Lt => BinaryOp::Lt,
+        Tok::Le => BinaryOp::Le,
+        Tok::Gt => BinaryOp::Gt,
+        Tok::Ge => BinaryOp::Ge,
+        Tok::Plus => BinaryOp::Add,
+        Tok::Minus => BinaryOp::Sub,
+        Tok::Star => BinaryOp::Mul,
+        Tok::Slash => BinaryOp::Div,
+        Tok::Mod => BinaryOp::Mod,
+        Tok::Pow => BinaryOp::Pow,
         _ => return None,
-    })
+    };
+    Some((op, op.binding()))
 }
 
 fn opener_of(t: Tok) -> &'static str {
