@@ -122,39 +122,9 @@ fn is_var_keyword(t: Tok) -> bool {
     )
 }
 
-/// True for the END_ keywords.
-pub(super) fn is_closer(t: Tok) -> bool {
-    matches!(
-        t,
-        Tok::EndProgram
-            | Tok::EndFunction
-            | Tok::EndFunctionBlock
-            | Tok::EndType
-            | Tok::EndStruct
-            | Tok::EndVar
-            | Tok::EndIf
-            | Tok::EndCase
-            | Tok::EndFor
-            | Tok::EndWhile
-            | Tok::EndRepeat
-            | Tok::EndConfiguration
-            | Tok::EndResource
-            | Tok::EndAction
-            | Tok::EndMethod
-            | Tok::EndProperty
-            | Tok::EndInterface
-            | Tok::EndClass
-            | Tok::EndStep
-            | Tok::EndTransition
-            | Tok::EndActions
-            | Tok::EndGet
-            | Tok::EndSet
-    )
-}
-
 /// True for the words that close a block or start its next part.
 fn ends_block(t: Tok) -> bool {
-    is_closer(t) || matches!(t, Tok::Else | Tok::Elsif | Tok::Until)
+    t.is_end_keyword() || matches!(t, Tok::Else | Tok::Elsif | Tok::Until)
 }
 
 impl<'a> State<'a> {
@@ -309,7 +279,7 @@ impl<'a> State<'a> {
     fn line_indent(&self, i: usize, label: bool) -> usize {
         let t = self.tok(i);
         let top = self.top();
-        if is_closer(t) {
+        if t.is_end_keyword() {
             return self
                 .closed_by(t)
                 .map_or(self.content(), |k| self.stack[k].level);
@@ -391,7 +361,7 @@ impl<'a> State<'a> {
                     self.open = false;
                 }
             }
-            t if is_closer(t) => {
+            t if t.is_end_keyword() => {
                 if let Some(k) = self.closed_by(t) {
                     self.stack.truncate(k);
                 }

@@ -310,6 +310,36 @@ const KEYWORDS: &[(&str, Tok)] = &[
 ];
 
 impl Tok {
+    /// True for the `END_` keywords (`END_IF`, `END_VAR`, `END_PROGRAM`, ...).
+    pub fn is_end_keyword(self) -> bool {
+        matches!(
+            self,
+            Tok::EndProgram
+                | Tok::EndFunction
+                | Tok::EndFunctionBlock
+                | Tok::EndType
+                | Tok::EndStruct
+                | Tok::EndVar
+                | Tok::EndIf
+                | Tok::EndCase
+                | Tok::EndFor
+                | Tok::EndWhile
+                | Tok::EndRepeat
+                | Tok::EndConfiguration
+                | Tok::EndResource
+                | Tok::EndAction
+                | Tok::EndMethod
+                | Tok::EndProperty
+                | Tok::EndInterface
+                | Tok::EndClass
+                | Tok::EndStep
+                | Tok::EndTransition
+                | Tok::EndActions
+                | Tok::EndGet
+                | Tok::EndSet
+        )
+    }
+
     /// True for reserved words (`IF`, `BY`, `AND`, ...), which cannot be names.
     pub fn is_keyword(self) -> bool {
         KEYWORDS.iter().any(|&(_, t)| t == self)

@@ -296,34 +296,14 @@ fn is_pou_end(t: Tok) -> bool {
 /// Tokens no statement list goes past: section keywords and END_s of non-statements.
 fn is_section_stop(t: Tok) -> bool {
     is_top_start(t)
-        || is_pou_end(t)
         || var_kind(t).is_some()
-        || matches!(
-            t,
-            Tok::Eof
-                | Tok::EndVar
-                | Tok::EndType
-                | Tok::EndStruct
-                | Tok::EndConfiguration
-                | Tok::EndResource
-                | Tok::EndAction
-                | Tok::EndMethod
-                | Tok::EndProperty
-                | Tok::EndInterface
-                | Tok::EndClass
-                | Tok::EndStep
-                | Tok::EndTransition
-                | Tok::EndActions
-                | Tok::EndGet
-                | Tok::EndSet
-        )
+        || t == Tok::Eof
+        || (t.is_end_keyword() && !is_end_closer(t))
 }
 
 /// Keywords that close something.
 fn is_end_keyword(t: Tok) -> bool {
-    closer_idx(t).is_some()
-        || is_pou_end(t)
-        || (is_section_stop(t) && !is_top_start(t) && var_kind(t).is_none() && t != Tok::Eof)
+    closer_idx(t).is_some() || t.is_end_keyword()
 }
 
 /// The binary operator a token is, with how tightly it binds
