@@ -28,6 +28,22 @@ fn parse_lang(lang: Option<&str>) -> Result<Option<Lang>, UsageError> {
     }
 }
 
+/// The source files of a build and how to read them: what every building command
+/// takes.
+#[derive(Clone, Debug, Default)]
+pub struct Inputs {
+    /// Source files.
+    pub files: Vec<PathBuf>,
+    /// Library files (`--lib`): declarations for the rest of the build.
+    pub library: Vec<PathBuf>,
+    /// `--lang`
+    pub lang: Option<String>,
+    /// `--dialect`
+    pub dialect: Option<String>,
+    /// `--plcopen-order`, `--strict-rungs`, `--sfc`.
+    pub plcopen: PlcopenFlags,
+}
+
 /// `--plcopen-order`, `--strict-rungs` and `--sfc`, as given.
 #[derive(Clone, Debug, Default)]
 pub struct PlcopenFlags {
@@ -87,14 +103,15 @@ impl PlcopenFlags {
 
 /// Builds and prints the diagnostics; `Err(status)` when the build cannot go on.
 /// The returned build's module has been taken out into the second value.
-pub(crate) fn build_and_report<P: AsRef<Path>>(
-    files: &[P],
-    library: &[PathBuf],
-    lang: Option<&str>,
-    dialect: Option<&str>,
-    plcopen: &PlcopenFlags,
-    how: How,
-) -> Result<(Build, Module), u8> {
+pub(crate) fn build_and_report(inputs: &Inputs, how: How) -> Result<(Build, Module), u8> {
+    let Inputs {
+        files,
+        library,
+        lang,
+        dialect,
+        plcopen,
+    } = inputs;
+    let (lang, dialect) = (lang.as_deref(), dialect.as_deref());
     let How {
         programs,
         mode,
@@ -170,19 +187,9 @@ pub(crate) enum Mode {
 }
 
 /// `plcc check FILE...`
-pub fn check(
-    files: &[PathBuf],
-    library: &[PathBuf],
-    lang: Option<&str>,
-    dialect: Option<&str>,
-    plcopen: &PlcopenFlags,
-) -> u8 {
+pub fn check(inputs: &Inputs) -> u8 {
     match build_and_report(
-        files,
-        library,
-        lang,
-        dialect,
-        plcopen,
+        inputs,
         How {
             programs: Vec::new(),
             mode: Mode::Check,
@@ -437,16 +444,8 @@ pub fn explain(code: Option<&str>) -> u8 {
 
 /// Arguments of `plcc run`.
 pub struct RunArgs {
-    /// Source files.
-    pub files: Vec<PathBuf>,
-    /// Library files (`--lib`): declarations for the rest of the build.
-    pub library: Vec<PathBuf>,
-    /// `--lang`
-    pub lang: Option<String>,
-    /// `--dialect`
-    pub dialect: Option<String>,
-    /// `--plcopen-order`, `--strict-rungs`.
-    pub plcopen: PlcopenFlags,
+    /// The files and how to read them.
+    pub inputs: Inputs,
     /// `--target`
     pub target: String,
     /// `--program`
@@ -515,11 +514,7 @@ pub fn run(a: &RunArgs) -> u8 {
     };
     let programs: Vec<String> = a.program.iter().cloned().collect();
     let (build, module) = match build_and_report(
-        &a.files,
-        &a.library,
-        a.lang.as_deref(),
-        a.dialect.as_deref(),
-        &a.plcopen,
+        &a.inputs,
         How {
             programs,
             mode: Mode::Full,
@@ -619,16 +614,8 @@ fn print_variables(
 
 /// Arguments of `plcc test`.
 pub struct TestArgs {
-    /// Source files.
-    pub files: Vec<PathBuf>,
-    /// Library files (`--lib`): declarations for the rest of the build.
-    pub library: Vec<PathBuf>,
-    /// `--lang`
-    pub lang: Option<String>,
-    /// `--dialect`
-    pub dialect: Option<String>,
-    /// `--plcopen-order`, `--strict-rungs`.
-    pub plcopen: PlcopenFlags,
+    /// The files and how to read them.
+    pub inputs: Inputs,
     /// `--scenario`
     pub scenario: PathBuf,
     /// `--target`
@@ -660,11 +647,7 @@ pub fn test(a: &TestArgs) -> u8 {
     }
     let programs: Vec<String> = scn.program.iter().cloned().collect();
     let (build, module) = match build_and_report(
-        &a.files,
-        &a.library,
-        a.lang.as_deref(),
-        a.dialect.as_deref(),
-        &a.plcopen,
+        &a.inputs,
         How {
             programs,
             mode: Mode::Full,
@@ -716,16 +699,8 @@ pub fn test(a: &TestArgs) -> u8 {
 
 /// Arguments of a plain compilation.
 pub struct CompileArgs {
-    /// Source files.
-    pub files: Vec<PathBuf>,
-    /// Library files (`--lib`): declarations for the rest of the build.
-    pub library: Vec<PathBuf>,
-    /// `--lang`
-    pub lang: Option<String>,
-    /// `--dialect`
-    pub dialect: Option<String>,
-    /// `--plcopen-order`, `--strict-rungs`.
-    pub plcopen: PlcopenFlags,
+    /// The files and how to read them.
+    pub inputs: Inputs,
     /// `--target`
     pub target: String,
     /// `-o`
@@ -740,7 +715,7 @@ pub struct CompileArgs {
 
 /// `plcc [--target T] [--emit KIND] FILE... [-o OUT]`
 pub fn compile(a: &CompileArgs) -> u8 {
-    if a.files.is_empty() {
+    if a.inputs.files.is_empty() {
         return usage("no input files (try `plcc --help`)");
     }
     let Some(target) = targets::find(&a.target) else {
@@ -760,11 +735,7 @@ pub fn compile(a: &CompileArgs) -> u8 {
         _ => Mode::Full,
     };
     let (build, module) = match build_and_report(
-        &a.files,
-        &a.library,
-        a.lang.as_deref(),
-        a.dialect.as_deref(),
-        &a.plcopen,
+        &a.inputs,
         How {
             programs: a.programs.clone(),
             mode,
@@ -851,7 +822,7 @@ pub fn compile(a: &CompileArgs) -> u8 {
                     .output
                     .as_deref()
                     .filter(|o| o.as_os_str() != "-")
-                    .unwrap_or(&a.files[0])
+                    .unwrap_or(&a.inputs.files[0])
                     .file_stem()
                     .map(|s| s.to_string_lossy().into_owned()),
             };
@@ -872,7 +843,7 @@ pub fn compile(a: &CompileArgs) -> u8 {
                     let base = a
                         .output
                         .clone()
-                        .unwrap_or_else(|| a.files[0].with_extension(&main.kind));
+                        .unwrap_or_else(|| a.inputs.files[0].with_extension(&main.kind));
                     for extra in &arts.files[1..] {
                         if base.as_os_str() == "-" {
                             continue;
@@ -897,7 +868,7 @@ pub fn compile(a: &CompileArgs) -> u8 {
         if (text || emit == Some("plcopen")) && a.output.is_none() {
             PathBuf::from("-")
         } else {
-            a.files[0].with_extension(&ext)
+            a.inputs.files[0].with_extension(&ext)
         }
     });
     if out.as_os_str() == "-" {
@@ -1058,11 +1029,13 @@ pub fn iec2c(cmd: &str, args: &[String]) -> u8 {
         _ => return fail("Too many input files".into()),
     }
     let status = compile(&CompileArgs {
-        files,
-        library: Vec::new(),
-        lang: None,
-        dialect: None,
-        plcopen: PlcopenFlags::default().with_sfc(Some("matiec".into())),
+        inputs: Inputs {
+            files,
+            library: Vec::new(),
+            lang: None,
+            dialect: None,
+            plcopen: PlcopenFlags::default().with_sfc(Some("matiec".into())),
+        },
         target: "c".into(),
         output: Some(out.unwrap_or_else(|| PathBuf::from("."))),
         emit: None,

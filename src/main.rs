@@ -57,6 +57,20 @@ struct Common {
     sfc: Option<String>,
 }
 
+impl Common {
+    /// The files and how to read them, as the commands take them.
+    fn inputs(self) -> commands::Inputs {
+        commands::Inputs {
+            files: self.files,
+            library: self.lib,
+            lang: self.lang,
+            dialect: self.dialect,
+            plcopen: commands::PlcopenFlags::new(self.plcopen_order, self.strict_rungs)
+                .with_sfc(self.sfc),
+        }
+    }
+}
+
 #[derive(Args)]
 struct BuildArgs {
     #[command(flatten)]
@@ -284,12 +298,7 @@ fn main() -> ExitCode {
             timing,
             set,
         }) => commands::run(&commands::RunArgs {
-            files: common.files,
-            library: common.lib,
-            lang: common.lang,
-            dialect: common.dialect,
-            plcopen: commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs)
-                .with_sfc(common.sfc),
+            inputs: common.inputs(),
             target,
             program,
             scans,
@@ -304,12 +313,7 @@ fn main() -> ExitCode {
             cycle_ms,
             set,
         }) => commands::test(&commands::TestArgs {
-            files: common.files,
-            library: common.lib,
-            lang: common.lang,
-            dialect: common.dialect,
-            plcopen: commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs)
-                .with_sfc(common.sfc),
+            inputs: common.inputs(),
             scenario,
             target,
             cycle_us: cycle_ms,
@@ -327,12 +331,7 @@ fn main() -> ExitCode {
             retain,
             retain_every,
         }) => plcc::serve::serve(&plcc::serve::ServeArgs {
-            files: common.files,
-            library: common.lib,
-            lang: common.lang,
-            dialect: common.dialect,
-            plcopen: commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs)
-                .with_sfc(common.sfc),
+            inputs: common.inputs(),
             target,
             program,
             cycle_us: cycle_ms,
@@ -343,14 +342,7 @@ fn main() -> ExitCode {
             retain,
             retain_every,
         }),
-        Some(Command::Check { common }) => commands::check(
-            &common.files,
-            &common.lib,
-            common.lang.as_deref(),
-            common.dialect.as_deref(),
-            &commands::PlcopenFlags::new(common.plcopen_order, common.strict_rungs)
-                .with_sfc(common.sfc),
-        ),
+        Some(Command::Check { common }) => commands::check(&common.inputs()),
         Some(Command::Fmt {
             files,
             check,
@@ -392,15 +384,7 @@ fn main() -> ExitCode {
             commands::disasm(&xcp, mode.as_deref(), dcp.as_deref())
         }
         None => commands::compile(&commands::CompileArgs {
-            files: cli.build.common.files,
-            library: cli.build.common.lib,
-            lang: cli.build.common.lang,
-            dialect: cli.build.common.dialect,
-            plcopen: commands::PlcopenFlags::new(
-                cli.build.common.plcopen_order,
-                cli.build.common.strict_rungs,
-            )
-            .with_sfc(cli.build.common.sfc),
+            inputs: cli.build.common.inputs(),
             target: cli.build.target,
             output: cli.build.output,
             emit: cli.build.emit,

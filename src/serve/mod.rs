@@ -12,7 +12,7 @@ pub mod project;
 pub mod retain;
 pub mod scan;
 
-use crate::commands::{self, How, Mode, PlcopenFlags, EXIT_FAIL, EXIT_USAGE};
+use crate::commands::{self, How, Inputs, Mode, EXIT_FAIL, EXIT_USAGE};
 use crate::{render, scenario, targets};
 use image::Image;
 use scan::Stats;
@@ -24,16 +24,8 @@ use std::time::Duration;
 
 /// The arguments of `plcc serve`.
 pub struct ServeArgs {
-    /// Source files.
-    pub files: Vec<PathBuf>,
-    /// Library files (`--lib`).
-    pub library: Vec<PathBuf>,
-    /// `--lang`
-    pub lang: Option<String>,
-    /// `--dialect`
-    pub dialect: Option<String>,
-    /// `--plcopen-order`, `--strict-rungs`, `--sfc`.
-    pub plcopen: PlcopenFlags,
+    /// The files and how to read them.
+    pub inputs: Inputs,
     /// The target whose machine runs the program (`host`: the JIT).
     pub target: String,
     /// The PROGRAM to run (default: every instance).
@@ -118,7 +110,7 @@ pub struct Loader {
 impl Loader {
     fn new(a: &ServeArgs, target: &'static str) -> Result<Loader, u8> {
         let mut library = Vec::new();
-        for f in &a.library {
+        for f in &a.inputs.library {
             match std::fs::read(f) {
                 Ok(b) => library.push((f.display().to_string(), b)),
                 Err(e) => {
@@ -131,12 +123,13 @@ impl Loader {
             lang: None,
             programs: a.program.iter().cloned().collect(),
             codesys: a
+                .inputs
                 .dialect
                 .as_deref()
                 .is_some_and(|d| d.eq_ignore_ascii_case("codesys")),
-            dialect_given: a.dialect.is_some(),
-            plcopen: a.plcopen.options()?,
-            sfc: a.plcopen.sfc_profile()?,
+            dialect_given: a.inputs.dialect.is_some(),
+            plcopen: a.inputs.plcopen.options()?,
+            sfc: a.inputs.plcopen.sfc_profile()?,
             no_opt: false,
             check_only: false,
             inline_c: targets::find(target).is_some_and(|t| t.inline_c),
@@ -288,11 +281,7 @@ pub fn serve(a: &ServeArgs) -> u8 {
         }
     };
     let (build, module) = match commands::build_and_report(
-        &a.files,
-        &a.library,
-        a.lang.as_deref(),
-        a.dialect.as_deref(),
-        &a.plcopen,
+        &a.inputs,
         How {
             programs: a.program.iter().cloned().collect(),
             mode: Mode::Full,
@@ -360,7 +349,7 @@ pub fn serve(a: &ServeArgs) -> u8 {
         }
     }
     let module_copy = module.clone();
-    let project = project::Project::new(&build, &a.files, &module);
+    let project = project::Project::new(&build, &a.inputs.files, &module);
     let loader = match Loader::new(a, target) {
         Ok(l) => l,
         Err(s) => return s,
