@@ -1201,3 +1201,53 @@ fn programs_on_pic16() {
         failures.join("\n")
     );
 }
+
+/// SIZEOF is the size on the machine that runs the code, not one front-end number:
+/// natural alignment on the host (interpreter, JIT, C on this machine), packed in
+/// the VM's 16- and 32-bit modes and aligned to 4 in its mode 32a, and BOOL fields
+/// eight to a byte on the PIC16 (docs/ir.md, `sizeof`).
+#[test]
+fn sizeof_is_each_targets_layout() {
+    let src = "TYPE pair : STRUCT a : BOOL; c : BOOL; b : DINT; w : INT; END_STRUCT; END_TYPE\n\
+               PROGRAM main\n\
+               VAR x : pair; xs : ARRAY[1..3] OF pair; one, three : DINT; small : USINT; END_VAR\n\
+               one := SIZEOF(x); three := SIZEOF(xs); small := SIZEOF(pair);\n\
+               END_PROGRAM\n";
+    let b = build_sources(
+        vec![("sizeof.st".into(), src.as_bytes().to_vec())],
+        &BuildOptions::default(),
+    )
+    .expect("builds");
+    let module = b.module.expect("compiles");
+    // (machine, SIZEOF(pair), SIZEOF(ARRAY[1..3] OF pair))
+    let expected = [
+        ("interp", 12, 36),
+        ("host", 12, 36),
+        ("c", 12, 36),
+        ("vmasm", 8, 24),
+        ("vmasm:mode=32", 8, 24),
+        ("vmasm:mode=32a", 12, 36),
+        ("pic16f876a", 7, 21),
+    ];
+    let mut failures = Vec::new();
+    for (target, one, three) in expected {
+        if targets::not_running().iter().any(|t| target.starts_with(t)) {
+            skip::notice(&format!(
+                "SIZEOF on `{target}`: it cannot run programs here"
+            ));
+            continue;
+        }
+        let mut m = machine(target, &module).unwrap_or_else(|e| panic!("{e}"));
+        m.cold_start().expect("cold start");
+        m.scan().expect("a scan");
+        let got = ["main.one", "main.three", "main.small"]
+            .map(|p| m.read(p).map_or_else(|e| e.to_string(), |v| v.to_string()));
+        let want = [one, three, one].map(|n: u32| n.to_string());
+        if got != want {
+            failures.push(format!(
+                "{target}: SIZEOF(x), SIZEOF(xs), SIZEOF(pair) are {got:?}, expected {want:?}"
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

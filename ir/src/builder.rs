@@ -121,6 +121,11 @@ impl<'f> FuncBuilder<'f> {
         self.push_value(InstData::Iconst { ty, imm }, ty)
     }
 
+    /// `sizeof.ty of`: the size of `of` in the target's layout, as a `ty`.
+    pub fn size_of(&mut self, ty: Type, of: MemType) -> Value {
+        self.push_value(InstData::SizeOf { ty, of }, ty)
+    }
+
     /// A `f32` constant.
     pub fn f32const(&mut self, v: f32) -> Value {
         self.push_value(

@@ -252,7 +252,9 @@ impl Function {
     /// result.
     pub fn result_type_of(&self, module: &Module, data: &InstData) -> Option<Type> {
         match data {
-            InstData::Iconst { ty, .. } | InstData::Fconst { ty, .. } => Some(*ty),
+            InstData::Iconst { ty, .. }
+            | InstData::Fconst { ty, .. }
+            | InstData::SizeOf { ty, .. } => Some(*ty),
             InstData::Unary { arg, .. } => Some(self.value_type(*arg)),
             InstData::Binary { args, .. } => Some(self.value_type(args[0])),
             InstData::Icmp { .. } | InstData::Fcmp { .. } => Some(Type::I1),

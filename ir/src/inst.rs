@@ -7,7 +7,7 @@
 //! conversions truncate toward zero, saturate, and give 0 for NaN.
 
 use crate::entities::{AggId, Block, DataId, FuncId, SlotId, TableId, Value};
-use crate::types::Type;
+use crate::types::{MemType, Type};
 
 /// Unary operations. The result has the operand's type.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
@@ -516,6 +516,18 @@ pub enum InstData {
         /// The value, sign-extended from the type's width (`i1`: 0 or 1).
         imm: i64,
     },
+    /// `sizeof.ty T`: the bytes a value of memory type `of` takes in the running
+    /// target's layout (`SIZEOF` of ST), as an integer of type `ty`. Each target
+    /// answers it with its own layout: the interpreter and the JIT with
+    /// [`LayoutRules::HOST`](crate::layout::LayoutRules::HOST), the CPDev VM with its
+    /// mode's rules, the PIC16 with BOOL fields packed eight to a byte, C with the C
+    /// compiler's `sizeof`. Passes treat it as an unknown constant.
+    SizeOf {
+        /// The result type (an integer type).
+        ty: Type,
+        /// The memory type measured.
+        of: MemType,
+    },
     /// A float constant: `bits` is the IEEE encoding (binary32 in the low 32 bits).
     Fconst {
         /// `F32` or `F64`.
@@ -704,6 +716,7 @@ impl InstData {
     pub fn for_each_arg(&self, mut f: impl FnMut(Value)) {
         match self {
             InstData::Iconst { .. }
+            | InstData::SizeOf { .. }
             | InstData::Fconst { .. }
             | InstData::GlobalAddr { .. }
             | InstData::SlotAddr { .. } => {}
@@ -762,6 +775,7 @@ impl InstData {
     pub fn map_args(&mut self, mut f: impl FnMut(Value) -> Value) {
         match self {
             InstData::Iconst { .. }
+            | InstData::SizeOf { .. }
             | InstData::Fconst { .. }
             | InstData::GlobalAddr { .. }
             | InstData::SlotAddr { .. } => {}

@@ -410,6 +410,17 @@ impl FnCheck<'_> {
                 }
                 Expect::Ty(*ty)
             }
+            InstData::SizeOf { ty, of } => {
+                if !ty.is_int() || *ty == Type::I1 {
+                    self.err(Some(i), format!("sizeof needs an integer type, not {ty}"));
+                }
+                if let MemType::Agg(a) = of {
+                    if a.index() >= m.aggs.len() {
+                        self.err(Some(i), format!("{a} does not exist"));
+                    }
+                }
+                Expect::Ty(*ty)
+            }
             InstData::Fconst { ty, bits } => {
                 if !ty.is_float() {
                     self.err(Some(i), format!("fconst needs a float type, not {ty}"));

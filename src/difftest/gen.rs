@@ -992,6 +992,23 @@ impl<'r> Gen<'r> {
         }
     }
 
+    /// `SIZEOF` of a variable or of its type, as a `t`: a scalar takes its width on
+    /// every machine (a struct would not: the targets lay them out differently, see
+    /// `tests/e2e.rs`), so the machines must agree.
+    fn size_of(&mut self, t: T) -> Option<Expr> {
+        let u = *self.rng.pick(&ALL);
+        let vars = self.readable(u);
+        if vars.is_empty() {
+            return None;
+        }
+        let arg = if self.rng.chance(50) {
+            Expr::Var(u, self.rng.pick(&vars).clone())
+        } else {
+            Expr::Lit(u, u.name().to_string())
+        };
+        Some(Expr::Call(t, "SIZEOF".into(), vec![arg]))
+    }
+
     /// An expression of type `t`.
     pub fn expr(&mut self, t: T) -> Expr {
         self.depth += 1;
@@ -1014,6 +1031,11 @@ impl<'r> Gen<'r> {
             if t == self.prog.array.0 && !self.local && self.rng.chance(30) {
                 let i = self.index();
                 return Expr::Elem(t, Box::new(i));
+            }
+            if (t.is_int() || t.is_bits()) && self.rng.chance(6) {
+                if let Some(e) = self.size_of(t) {
+                    return e;
+                }
             }
             return lit(self.rng, t);
         }

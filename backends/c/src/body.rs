@@ -627,6 +627,12 @@ impl Emitter<'_> {
     fn expr(&self, data: &InstData, rty: Type) -> String {
         match data {
             InstData::Iconst { ty, imm } => int_const(*ty, *imm),
+            // The C compiler's layout is the target's.
+            InstData::SizeOf { ty, of } => format!(
+                "(({})sizeof({}))",
+                value_type(*ty),
+                crate::decls::mem_type(self.names, *of)
+            ),
             InstData::Fconst { ty, bits } => {
                 if *ty == Type::F32 {
                     format!("__plcc_f32(0x{:08x}u)", *bits as u32)

@@ -544,6 +544,13 @@ impl Cx<'_, '_, '_> {
                 let v = self.iconst(cl_type(ty), imm);
                 self.set(inst, v);
             }
+            &InstData::SizeOf { ty, of } => {
+                let v = self.iconst(
+                    cl_type(ty),
+                    ty.canon_int(self.env.layout.size_of(of) as i64),
+                );
+                self.set(inst, v);
+            }
             &InstData::Fconst { ty, bits } => {
                 let v = match ty {
                     Type::F32 => self

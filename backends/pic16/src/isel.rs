@@ -501,6 +501,10 @@ impl<'a> Emitter<'a> {
             InstData::Call { func, args } => self.call(func, &args, res),
             // `build` refuses these first (`reject_inline_c`).
             InstData::InlineC { .. } => self.unsupported(inst, "C code in a pragma"),
+            // `build` answered every one with the layout (passes::sizes).
+            InstData::SizeOf { .. } => {
+                self.unsupported(inst, "a `sizeof` left after its resolution")
+            }
             InstData::Intrinsic { op, .. } => match op {
                 Intrinsic::ClockMs => {
                     if let Some(d) = res.and_then(|r| self.home(r)) {

@@ -249,7 +249,9 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
     // operations plainly.
     let mut legal = module.clone();
     plcc_ir::passes::legalize::run(&mut legal, &settings.port.defines());
+    let legal = legal;
     let module = &legal;
+    let has_sizeof = plcc_ir::passes::sizes::any(module);
     let mode = settings.mode;
     let ptr_bytes = mode.addr_bytes() as u32;
     let max_align = if mode == Mode::M32A { 4 } else { 1 };
@@ -272,7 +274,18 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
             ptr_bytes,
             max_align,
         };
-        let layout = VmLayout::compute_with_tails(module, rules, &temps);
+        let layout = VmLayout::compute_with_tails(&legal, rules, &temps);
+        // SIZEOF is the size in this round's layout (an instance's temporaries
+        // included); the rounds end when the layout no longer changes.
+        let sized;
+        let module = if has_sizeof {
+            let mut m = legal.clone();
+            plcc_ir::passes::sizes::resolve(&mut m, |t| layout.size_of(t) as u64);
+            sized = m;
+            &sized
+        } else {
+            &legal
+        };
         let mut used = vec![0u32; module.aggs.len()];
         let convs: Vec<Conv> = selfs
             .iter()

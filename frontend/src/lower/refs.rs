@@ -367,10 +367,9 @@ impl<'s> BodyCx<'_, 's> {
         Val { v, ty: Ty::BOOL }
     }
 
-    /// `SIZEOF(x)`: the bytes a variable (or a type named as an argument) takes in
-    /// the natural byte layout (BOOL is one byte; a STRUCT's fields aligned to their
-    /// size; what `ir::layout` gives for byte-addressed machines). An integer
-    /// literal, so it takes the type its context wants.
+    /// `SIZEOF(x)`: the bytes a variable (or a type named as an argument) takes on
+    /// the target that runs the code (`sizeof` in the IR, which each backend answers
+    /// with its layout). Typed like an integer literal: the type its context wants.
     pub(super) fn size_of(&mut self, x: &'s Expr, want: Option<Ty>, span: Span) -> Option<Val> {
         let ty = match &x.kind {
             ExprKind::Name(id)
@@ -400,10 +399,24 @@ impl<'s> BodyCx<'_, 's> {
                 .error(codes::E_TYPE_MISMATCH, format!("SIZEOF of {t}"), span);
             return None;
         };
-        let layout =
+        // The target answers (`sizeof` in the IR); the host's size checks that the
+        // result type can hold it.
+        let host =
             plcc_ir::layout::Layout::compute(&self.l.module, plcc_ir::layout::LayoutRules::HOST);
-        let size = layout.size_of(mt) as i128;
-        Some(self.constant(super::consts::ConstVal::Int(size), Ty::AnyInt, want, span))
+        let ty = super::typing::concretize(Ty::AnyInt, want);
+        if let Err(msg) = super::consts::ConstVal::Int(host.size_of(mt) as i128).coerce(ty) {
+            self.l.error(codes::E_LITERAL_RANGE, msg, span);
+            return None;
+        }
+        let v = match ty.ir() {
+            Some(t) if t.is_float() => {
+                let n = self.b.size_of(Type::I64, mt);
+                self.b.convert(ConvOp::SiToF, t, n)
+            }
+            Some(t) => self.b.size_of(t, mt),
+            None => return None,
+        };
+        Some(Val { v, ty })
     }
 
     /// Emits `e` as a reference value of type `to` (or reports it).

@@ -400,6 +400,19 @@ impl Decoder<'_> {
                     bits: canon(ty, imm as u64),
                 }
             }
+            InstData::SizeOf { ty, of } => {
+                self.want(ty.is_int() && ty != Type::I1, "an integer type for sizeof")?;
+                if let MemType::Agg(a) = of {
+                    self.want(
+                        a.index() < self.module.aggs.len(),
+                        "an aggregate that exists",
+                    )?;
+                }
+                Op::Const {
+                    dst,
+                    bits: canon(ty, self.layout.size_of(of) as u64),
+                }
+            }
             InstData::Fconst { ty, bits } => {
                 self.want(ty.is_float(), "a float type for fconst")?;
                 Op::Const {

@@ -446,6 +446,7 @@ pub(super) fn inst_text(
     let _ = match d {
         InstData::Iconst { ty, imm } => write!(s, "iconst.{ty} {imm}"),
         InstData::Fconst { ty, bits } => write!(s, "fconst.{ty} {bits:#x}"),
+        InstData::SizeOf { ty, of } => write!(s, "sizeof.{ty} {of:?}"),
         InstData::Unary { op, arg } => write!(s, "{} {arg}", op.name()),
         InstData::Binary { op, args } => write!(s, "{} {}, {}", op.name(), args[0], args[1]),
         InstData::Icmp { cond, args } => write!(s, "icmp {} {}, {}", cond.name(), args[0], args[1]),

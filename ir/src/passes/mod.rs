@@ -22,6 +22,7 @@ pub mod mem2reg;
 pub mod promote;
 pub mod ranges;
 pub mod simplify_cfg;
+pub mod sizes;
 mod util;
 pub mod watchdog;
 

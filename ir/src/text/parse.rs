@@ -523,6 +523,7 @@ struct RawBlockCall {
 enum RawOp<'a> {
     Iconst(Type, i64),
     Fconst(Type, u64),
+    SizeOf(Type, RawMem<'a>),
     Unary(UnaryOp, V),
     Binary(BinaryOp, V, V),
     Icmp(IntCC, V, V),
@@ -1293,8 +1294,8 @@ impl<'a> Parser<'a> {
             Some((a, b)) => (a, Some(b)),
             None => (word, None),
         };
-        let typed =
-            matches!(m, "iconst" | "fconst" | "load") || ConvOp::ALL.iter().any(|c| c.name() == m);
+        let typed = matches!(m, "iconst" | "fconst" | "sizeof" | "load")
+            || ConvOp::ALL.iter().any(|c| c.name() == m);
         let ty = match (suffix, typed) {
             (None, true) => {
                 return self.err(pos, format!("`{m}` needs a type, as in `{m}.i32`"));
@@ -1326,6 +1327,7 @@ impl<'a> Parser<'a> {
                         None => return self.err(npos, format!("`{n}` is not a 64-bit integer")),
                     }
                 }
+                "sizeof" => RawOp::SizeOf(ty, self.mem_type()?),
                 "fconst" => {
                     if !ty.is_float() {
                         return self.err(pos, format!("`fconst` needs `f32` or `f64`, not `{ty}`"));

@@ -492,6 +492,10 @@ fn write_inst(out: &mut String, m: &Module, f: &Function, inst: Inst, locations:
         InstData::Iconst { ty, imm } => {
             let _ = write!(out, "iconst.{ty} {imm}");
         }
+        InstData::SizeOf { ty, of } => {
+            let _ = write!(out, "sizeof.{ty} ");
+            write_mem_type(out, m, *of);
+        }
         InstData::Fconst { ty, bits } => {
             let _ = write!(out, "fconst.{ty} {}", format_float(*ty, *bits));
         }

@@ -1109,6 +1109,10 @@ impl Fx<'_, '_> {
             InstData::Call { func, args } => self.call(func, &args, res)?,
             // `build` refuses these first (`reject_inline_c`).
             InstData::InlineC { .. } => return Err(self.unsupported("C code in a pragma", span)),
+            // `build` answered every one with the layout (passes::sizes).
+            InstData::SizeOf { .. } => {
+                return Err(self.unsupported("a `sizeof` left after its resolution", span))
+            }
             InstData::Intrinsic { op: iop, .. } => match iop {
                 Intrinsic::ClockMs => {
                     let d = self.home(res.expect("result"));

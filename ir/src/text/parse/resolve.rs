@@ -298,6 +298,14 @@ impl<'a> Resolver<'a> {
                         has_result = Some(true);
                         InstData::Iconst { ty: *t, imm: *imm }
                     }
+                    RawOp::SizeOf(t, of) => {
+                        ty = Some(*t);
+                        has_result = Some(true);
+                        InstData::SizeOf {
+                            ty: *t,
+                            of: self.mem(of, names.aggs)?,
+                        }
+                    }
                     RawOp::Fconst(t, bits) => {
                         ty = Some(*t);
                         has_result = Some(true);
