@@ -136,7 +136,7 @@ fn mutate(src: &[u8], rng: &mut Rng) -> Vec<u8> {
                 let bytes = format!(" {t} ");
                 v.splice(at..at, bytes.bytes());
             }
-            _ => v[at] = (rng.next() & 0xFF) as u8,
+            _ => v[at] = (rng.next_u64() & 0xFF) as u8,
         }
     }
     v

@@ -8,6 +8,9 @@ use std::path::PathBuf;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
+#[path = "common/rng.rs"]
+mod rng;
+use rng::Rng;
 #[path = "common/server.rs"]
 #[allow(dead_code)]
 mod server;
@@ -210,23 +213,6 @@ fn program_logic_through_a_modbus_round_trip() {
     assert!(status.success(), "{status}: {}", lines.join("\n"));
 }
 
-/// A small deterministic generator for the malformed frames.
-struct Lcg(u64);
-
-impl Lcg {
-    fn next(&mut self) -> u64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        self.0 >> 33
-    }
-
-    fn byte(&mut self) -> u8 {
-        self.next() as u8
-    }
-}
-
 /// A Modbus TCP frame: the MBAP header (transaction 1, protocol 0, unit 1) and `pdu`.
 fn frame(pdu: &[u8]) -> Vec<u8> {
     let len = (pdu.len() + 1) as u16;
@@ -268,7 +254,7 @@ fn a_thousand_malformed_modbus_frames_leave_the_plc_scanning() {
     c.write_single_coil(100, true).unwrap().unwrap();
     until("sum", vec![12], || holding(&mut c, 0, 1));
     let before = total(&mut c);
-    let mut rng = Lcg(21);
+    let mut rng = Rng::new(21);
     let mut exceptions = 0;
     for i in 0..1000 {
         // (the bytes, the exception expected: None when the server may close or
@@ -277,10 +263,10 @@ fn a_thousand_malformed_modbus_frames_leave_the_plc_scanning() {
             // Garbage: a frame of a protocol that is not Modbus, or fewer bytes than
             // a header.
             0 => {
-                let n = 1 + rng.next() as usize % 40;
-                let mut b: Vec<u8> = (0..n).map(|_| rng.byte()).collect();
+                let n = 1 + rng.next_u64() as usize % 40;
+                let mut b: Vec<u8> = (0..n).map(|_| rng.next_u64() as u8).collect();
                 if n > 3 {
-                    b[2] = 0x80 | rng.byte();
+                    b[2] = 0x80 | (rng.next_u64() as u8);
                 } else {
                     b.truncate(6);
                 }
@@ -290,27 +276,33 @@ fn a_thousand_malformed_modbus_frames_leave_the_plc_scanning() {
             // ones it does not serve (report server id, mask write, read/write
             // registers, device identification), well formed.
             1 => {
-                let pdu: Vec<u8> = match rng.next() % 6 {
+                let pdu: Vec<u8> = match rng.next_u64() % 6 {
                     0 => vec![0x11],
                     1 => vec![0x16, 0, 4, 0xFF, 0, 0, 1],
                     2 => vec![0x17, 0, 0, 0, 1, 0, 4, 0, 1, 2, 0, 9],
                     3 => vec![0x2B, 0x0E, 1, 0],
                     _ => {
                         let fc = [0x07, 0x08, 0x0B, 0x0C, 0x14, 0x15, 0x18, 0x41, 0x64, 0x7F]
-                            [rng.next() as usize % 10];
-                        vec![fc, rng.byte(), rng.byte(), rng.byte(), rng.byte()]
+                            [rng.next_u64() as usize % 10];
+                        vec![
+                            fc,
+                            (rng.next_u64() as u8),
+                            (rng.next_u64() as u8),
+                            (rng.next_u64() as u8),
+                            (rng.next_u64() as u8),
+                        ]
                     }
                 };
                 (frame(&pdu), Some((pdu[0] | 0x80, 1)))
             }
             // Addresses outside the tables.
             2 => {
-                let (fc, a, n): (u8, u16, u16) = match rng.next() % 5 {
+                let (fc, a, n): (u8, u16, u16) = match rng.next_u64() % 5 {
                     0 => (1, 8000, 500),
                     1 => (2, 8191, 2),
                     2 => (3, 8100, 100),
                     3 => (4, 1000, 25),
-                    _ => (6, 8192 + rng.next() as u16 % 1000, 1),
+                    _ => (6, 8192 + rng.next_u64() as u16 % 1000, 1),
                 };
                 (
                     frame(&[fc, (a >> 8) as u8, a as u8, (n >> 8) as u8, n as u8]),
@@ -319,10 +311,10 @@ fn a_thousand_malformed_modbus_frames_leave_the_plc_scanning() {
             }
             // Quantities the protocol refuses.
             3 => {
-                let (fc, n): (u8, u16) = match rng.next() % 3 {
+                let (fc, n): (u8, u16) = match rng.next_u64() % 3 {
                     0 => (3, 0),
-                    1 => (3, 126 + rng.next() as u16 % 1000),
-                    _ => (1, 2001 + rng.next() as u16 % 1000),
+                    1 => (3, 126 + rng.next_u64() as u16 % 1000),
+                    _ => (1, 2001 + rng.next_u64() as u16 % 1000),
                 };
                 (
                     frame(&[fc, 0, 0, (n >> 8) as u8, n as u8]),
@@ -332,13 +324,13 @@ fn a_thousand_malformed_modbus_frames_leave_the_plc_scanning() {
             // Truncated: the header promises more than comes.
             4 => {
                 let mut f = frame(&[16, 4, 0, 0, 2, 4, 0xAA, 0xBB, 0xCC, 0xDD]);
-                let cut = 1 + rng.next() as usize % (f.len() - 1);
+                let cut = 1 + rng.next_u64() as usize % (f.len() - 1);
                 f.truncate(cut);
                 (f, None)
             }
             // Inconsistent: a write whose byte count disagrees with its quantity, a
             // header length of 0 or 1.
-            _ => match rng.next() % 3 {
+            _ => match rng.next_u64() % 3 {
                 0 => (frame(&[16, 4, 0, 0, 2, 3, 1, 2, 3]), None),
                 1 => (vec![0, 1, 0, 0, 0, 0, 1, 3], None),
                 _ => (vec![0, 1, 0, 0, 0, 1, 1], None),
@@ -587,10 +579,10 @@ fn a_thousand_bad_api_requests_leave_the_plc_scanning() {
     assert_eq!(put(api, "plant.b", json!(5), tok), 200);
     until("sum", json!(12), || value(api, "plant.sum"));
     let scans_before = status_of(api)["scans"].as_u64().unwrap();
-    let mut rng = Lcg(1000);
+    let mut rng = Rng::new(1000);
     let mut statuses = std::collections::BTreeMap::new();
     for i in 0..1000 {
-        let r = rng.next();
+        let r = rng.next_u64();
         let (method, path, body, token): (&str, String, Option<String>, Option<&str>) = match i % 10
         {
             // Bad JSON.
@@ -731,7 +723,7 @@ fn a_thousand_bad_api_requests_leave_the_plc_scanning() {
     }
     // Garbage that is not HTTP at all: an error or a closed connection.
     for k in 0..50u64 {
-        let junk: Vec<u8> = (0..(k % 30 + 1)).map(|_| rng.byte()).collect();
+        let junk: Vec<u8> = (0..(k % 30 + 1)).map(|_| rng.next_u64() as u8).collect();
         let _ = exchange(api, &junk);
     }
     // The scans went on; nothing was written, forced or stopped.

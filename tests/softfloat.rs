@@ -145,7 +145,20 @@ fn test_program(lanes: usize) -> String {
 mod rng;
 use rng::Rng;
 
-impl Rng {
+/// The draws of this file's cases.
+trait FloatDraws {
+    /// A random float with biased exponent `e` (clamped to 0..=254), a random sign,
+    /// and a fraction that is either full or has only its top few bits random (so
+    /// that sums and products can be exact or exact ties).
+    fn float(&mut self, e: i32) -> u32;
+    /// An integer-like bit pattern: a random value shifted right by a random count,
+    /// sometimes negated, sometimes a power of two or a tie pattern.
+    fn int_like(&mut self) -> u32;
+    /// A random operand pair of one of several kinds.
+    fn pair(&mut self) -> (u32, u32);
+}
+
+impl FloatDraws for Rng {
     /// A random float with biased exponent `e` (clamped to 0..=254), a random sign,
     /// and a fraction that is either full or has only its top few bits random (so
     /// that sums and products can be exact or exact ties).
@@ -231,7 +244,7 @@ impl Rng {
             }
             8 => (self.int_like(), self.int_like()),
             _ => {
-                let s = SPECIALS[self.below(SPECIALS.len() as u32) as usize];
+                let s = SPECIALS[self.index(SPECIALS.len())];
                 if self.below(2) == 0 {
                     (s, self.word())
                 } else {
@@ -571,7 +584,7 @@ fn softfloat_long_run() {
     let mut rng = Rng(0x2545_F491_4F6C_DD1D);
     let sweep: Vec<(u32, u32)> = (0..1u64 << (32 - stride_log))
         .map(|i| {
-            let a = ((i << stride_log) as u32) | rng.below(1 << stride_log);
+            let a = ((i << stride_log) as u32) | rng.below(1 << stride_log) as u32;
             (a, rng.pair().1)
         })
         .collect();

@@ -192,10 +192,27 @@ fn ulps(a: u32, b: u32) -> u64 {
 mod rng;
 use rng::Rng;
 
-impl Rng {
+/// The draws of this file's cases.
+trait MathDraws {
+    /// Uniform in `[0, 1)`.
+    fn unit(&mut self) -> f64;
+    /// Uniform in `[lo, hi]` (rounded to a float).
+    fn uniform(&mut self, lo: f64, hi: f64) -> u32;
+    /// A random sign bit.
+    fn sign(&mut self) -> u32;
+    /// A positive float with a random significand and a biased exponent uniform in
+    /// `lo..=hi` (clamped to the finite range; 0 gives subnormals).
+    fn magnitude(&mut self, lo: i32, hi: i32) -> u32;
+    /// `x` moved by a few ulp (or by up to 2^16 ulp), staying finite.
+    fn nudge(&mut self, x: u32) -> u32;
+    /// A random input for the function `name`.
+    fn input(&mut self, name: &str) -> (u32, u32);
+}
+
+impl MathDraws for Rng {
     /// Uniform in `[0, 1)`.
     fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
     }
 
     /// Uniform in `[lo, hi]` (rounded to a float).
@@ -241,12 +258,12 @@ impl Rng {
                     11..=13 => self.magnitude(97, 160) | self.sign(),
                     // near multiples of pi/2, up to about 2^40
                     14..=16 => {
-                        let n = (self.next() >> self.range(24, 63)) as f64;
+                        let n = (self.next_u64() >> self.range(24, 63)) as f64;
                         let x = (n * std::f64::consts::FRAC_PI_2) as f32;
                         self.nudge(x.to_bits()) | self.sign()
                     }
                     17 => {
-                        let x = HARD_REDUCTIONS[self.below(HARD_REDUCTIONS.len() as u32) as usize];
+                        let x = HARD_REDUCTIONS[self.index(HARD_REDUCTIONS.len())];
                         let x = if self.below(2) == 0 { x } else { self.nudge(x) };
                         x | self.sign()
                     }
@@ -259,7 +276,7 @@ impl Rng {
                     4..=11 => self.uniform(-1.0, 1.0),
                     // near +-1
                     12..=15 => {
-                        let d = (self.next() >> self.range(40, 63)) as u32;
+                        let d = (self.next_u64() >> self.range(40, 63)) as u32;
                         (0x3F80_0000 - d.min(0x3F7F_FFFF)) | self.sign()
                     }
                     16..=17 => self.magnitude(90, 126) | self.sign(),
@@ -729,7 +746,7 @@ fn softmath_long_run() {
         .map(|f| {
             (0..1u64 << (32 - stride_log))
                 .map(|i| Input {
-                    a: ((i << stride_log) as u32) | rng.below(1 << stride_log),
+                    a: ((i << stride_log) as u32) | rng.below(1 << stride_log) as u32,
                     b: if f.binary { rng.word() } else { 0 },
                     exact: false,
                 })

@@ -21,15 +21,15 @@ use rng::Rng;
 
 fn random_bits(rng: &mut Rng, ty: ElemType) -> u64 {
     match ty {
-        ElemType::Bool => rng.below(2) as u64,
+        ElemType::Bool => rng.below(2),
         ElemType::Real => (rng.below(20_000) as f32 / 8.0 - 1000.0).to_bits() as u64,
         ElemType::LReal => (rng.below(2_000_000) as f64 / 16.0 - 50_000.0).to_bits(),
         _ => match rng.below(5) {
-            0 => rng.below(3) as u64,
-            1 => rng.below(40) as u64,
-            2 => (rng.below(40) as u64).wrapping_neg(),
-            3 => rng.next(),
-            _ => rng.below(20_000) as u64,
+            0 => rng.below(3),
+            1 => rng.below(40),
+            2 => (rng.below(40)).wrapping_neg(),
+            3 => rng.next_u64(),
+            _ => rng.below(20_000),
         },
     }
 }
@@ -50,7 +50,7 @@ fn agree(m: &Module, scans: u32, seed: u64) -> Result<u32, String> {
     let mut a = Interp::new(m).map_err(|e| e.to_string())?;
     let mut b = Interp::new(&r).map_err(|e| e.to_string())?;
     let vars = plcc::scenario::all_variables(m);
-    let mut rng = Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1);
+    let mut rng = Rng::new(seed);
     a.cold_start().map_err(|e| format!("cold start: {e}"))?;
     b.cold_start()
         .map_err(|e| format!("cold start (ranged): {e}"))?;

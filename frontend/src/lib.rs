@@ -23,8 +23,6 @@ pub mod sfc;
 pub mod source;
 pub mod st;
 pub mod stl;
-#[cfg(test)]
-mod test_rng;
 pub mod types;
 pub mod visit;
 

@@ -23,8 +23,7 @@ pub mod machine;
 pub mod module;
 pub mod names;
 pub mod passes;
-#[cfg(test)]
-mod test_rng;
+pub mod rng;
 pub mod text;
 pub mod types;
 pub mod value;

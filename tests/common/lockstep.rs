@@ -17,14 +17,14 @@ pub const UNFIT: [&str; 8] = [
 
 fn random_bits(rng: &mut Rng, ty: ElemType) -> u64 {
     match ty {
-        ElemType::Bool => rng.below(2) as u64,
+        ElemType::Bool => rng.below(2),
         ElemType::Real => (rng.below(20_000) as f32 / 8.0 - 1000.0).to_bits() as u64,
         ElemType::LReal => (rng.below(2_000_000) as f64 / 16.0 - 50_000.0).to_bits(),
         _ => match rng.below(4) {
-            0 => rng.below(3) as u64,
-            1 => rng.below(200) as u64,
-            2 => rng.next(),
-            _ => rng.below(20_000) as u64,
+            0 => rng.below(3),
+            1 => rng.below(200),
+            2 => rng.next_u64(),
+            _ => rng.below(20_000),
         },
     }
 }

@@ -690,12 +690,12 @@ fn garbage_never_panics() {
         parse_with(&src, true);
     }
     // Pseudo-random bytes from a fixed seed.
-    let mut rng = crate::test_rng::Rng(0x9E37_79B9_7F4A_7C15);
+    let mut rng = plcc_ir::rng::Rng(0x9E37_79B9_7F4A_7C15);
     let alphabet = b"LDSTANDORXNCJMPCALRET()(,:;.=[]%#'\n \t0123456789abxyz&-+END_VAR";
     for _ in 0..200 {
         let mut s = String::from("PROGRAM p\nVAR a, b, x : INT; END_VAR\n");
         for _ in 0..200 {
-            s.push(rng.pick(alphabet) as char);
+            s.push(*rng.pick(alphabet) as char);
         }
         parse_with(&s, true);
     }

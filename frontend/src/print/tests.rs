@@ -4,7 +4,7 @@
 //! and jumps.
 
 use super::*;
-use crate::test_rng::Rng;
+use plcc_ir::rng::Rng;
 
 fn parse(src: &str) -> (SourceUnit, Interner) {
     let mut i = Interner::new();
@@ -95,7 +95,7 @@ fn random_expr(rng: &mut Rng, depth: u32) -> String {
         1 => format!("NOT {}", random_expr(rng, depth - 1)),
         2 => format!("({})", random_expr(rng, depth - 1)),
         _ => {
-            let op = rng.pick(&[
+            let op = *rng.pick(&[
                 "OR", "XOR", "AND", "=", "<>", "<", ">=", "+", "-", "*", "/", "MOD", "**",
             ]);
             format!(

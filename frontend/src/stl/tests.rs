@@ -913,8 +913,8 @@ fn every_truncation_terminates_with_an_error() {
 fn garbage_never_panics() {
     on_small_stack(|| {
         // A fixed-seed generator: bytes, STL tokens and fragments in random order.
-        let mut rng = crate::test_rng::Rng(0x2545_f491_4f6c_dd1d);
-        let mut next = move || rng.next();
+        let mut rng = plcc_ir::rng::Rng(0x2545_f491_4f6c_dd1d);
+        let mut next = move || rng.next_u64();
         let pieces = [
             "program",
             "p",

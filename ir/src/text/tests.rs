@@ -540,11 +540,9 @@ fn float_formatting() {
     assert_eq!(format_float(Type::F64, (-0.0f64).to_bits()), "-0.0");
     assert_eq!(format_float(Type::I32, 5), "0x5");
     // Every printed float reads back to the same bits.
-    let mut x: u64 = 0x1234_5678_9abc_def0;
+    let mut rng = Rng(0x1234_5678_9abc_def0);
     for _ in 0..20000 {
-        x ^= x << 13;
-        x ^= x >> 7;
-        x ^= x << 17;
+        let x = rng.next_u64();
         for (ty, bits) in [(Type::F32, x & 0xffff_ffff), (Type::F64, x)] {
             let s = format_float(ty, bits);
             let t = format!(
@@ -570,7 +568,7 @@ fn plain_names() {
     }
 }
 
-use crate::test_rng::Rng;
+use crate::rng::Rng;
 
 /// Parses `text`; if it parses, verifies and prints the module (none may panic), and
 /// the printed module must print the same after another parse.

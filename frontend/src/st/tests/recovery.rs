@@ -240,7 +240,7 @@ fn garbage_and_truncation_never_panic() {
         }
     }
     // Every prefix of a token soup, and random byte strings.
-    let mut rng = crate::test_rng::Rng(0x9e37_79b9_7f4a_7c15);
+    let mut rng = plcc_ir::rng::Rng(0x9e37_79b9_7f4a_7c15);
     let words = [
         "IF",
         "THEN",
@@ -306,7 +306,7 @@ fn garbage_and_truncation_never_panic() {
         let mut s = String::new();
         let n = (rng.0 % 60) as usize;
         for _ in 0..n {
-            s.push_str(rng.pick(&words));
+            s.push_str(rng.pick::<&str>(&words));
             s.push(' ');
         }
         let _ = parse_str(&s);

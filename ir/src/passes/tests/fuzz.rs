@@ -17,7 +17,7 @@ use crate::module::{
 };
 use crate::types::{ElemType, MemType, Type};
 
-use crate::test_rng::Rng;
+use crate::rng::Rng;
 
 /// Field types of the struct `%S` (index = field number); the last field is `arr`.
 const FIELDS: [(Type, ElemType); 7] = [
@@ -162,7 +162,7 @@ impl Gen<'_, '_> {
         for _ in 0..20 {
             let p = match self.rng.below(5) {
                 4 => Place::Rec(
-                    self.rng.pick(&BASES),
+                    *self.rng.pick(&BASES),
                     if self.rng.chance(40) {
                         Some(self.rng.below(RECS_LEN as u64) as u32)
                     } else {
@@ -171,11 +171,11 @@ impl Gen<'_, '_> {
                     self.rng.below(REC_FIELDS.len() as u64) as u32,
                 ),
                 0 if !self.slots.is_empty() => {
-                    let (s, t) = self.rng.pick(&self.slots);
+                    let (s, t) = *self.rng.pick(&self.slots);
                     Place::Slot(s, t)
                 }
                 1 => Place::Elem(
-                    self.rng.pick(&BASES),
+                    *self.rng.pick(&BASES),
                     if self.rng.chance(60) {
                         Some(self.rng.below(ARR_LEN as u64) as u32)
                     } else {
@@ -183,7 +183,7 @@ impl Gen<'_, '_> {
                     },
                 ),
                 _ => Place::Field(
-                    self.rng.pick(&BASES),
+                    *self.rng.pick(&BASES),
                     self.rng.below(FIELDS.len() as u64) as u32,
                 ),
             };
@@ -196,7 +196,7 @@ impl Gen<'_, '_> {
 
     fn konst(&mut self, ty: Type) -> Value {
         if ty == Type::F32 {
-            let x = self
+            let x = *self
                 .rng
                 .pick(&[0.0f32, -0.0, 1.0, -1.5, 2.5, 0.1, 1e30, -7.0, 3.5, 65536.0]);
             return self.b.f32const(x);
@@ -210,7 +210,7 @@ impl Gen<'_, '_> {
             4 => w as i64,
             5 => self.rng.below(10) as i64,
             6 => 1 << self.rng.below(w as u64),
-            _ => self.rng.next() as i64,
+            _ => self.rng.next_u64() as i64,
         };
         self.b.iconst(ty, x)
     }
@@ -244,14 +244,14 @@ impl Gen<'_, '_> {
         match ty {
             Type::I1 => match self.rng.below(6) {
                 0 | 1 => {
-                    let t = self.rng.pick(&TYPES[1..5]);
+                    let t = *self.rng.pick(&TYPES[1..5]);
                     let (x, y) = (self.expr(t), self.expr(t));
-                    let cc = self.rng.pick(&IntCC::ALL);
+                    let cc = *self.rng.pick(&IntCC::ALL);
                     self.b.icmp(cc, x, y)
                 }
                 2 => {
                     let (x, y) = (self.expr(Type::F32), self.expr(Type::F32));
-                    let cc = self.rng.pick(&FloatCC::ALL);
+                    let cc = *self.rng.pick(&FloatCC::ALL);
                     self.b.fcmp(cc, x, y)
                 }
                 3 => {
@@ -260,7 +260,7 @@ impl Gen<'_, '_> {
                 }
                 4 => {
                     let (x, y) = (self.expr(Type::I1), self.expr(Type::I1));
-                    let op = self
+                    let op = *self
                         .rng
                         .pick(&[BinaryOp::Band, BinaryOp::Bor, BinaryOp::Bxor]);
                     self.b.binary(op, x, y)
@@ -270,7 +270,7 @@ impl Gen<'_, '_> {
             Type::F32 => match self.rng.below(5) {
                 0 | 1 => {
                     let (x, y) = (self.expr(ty), self.expr(ty));
-                    let op = self.rng.pick(&[
+                    let op = *self.rng.pick(&[
                         BinaryOp::Fadd,
                         BinaryOp::Fsub,
                         BinaryOp::Fmul,
@@ -280,7 +280,7 @@ impl Gen<'_, '_> {
                 }
                 2 => {
                     let x = self.expr(ty);
-                    let op = self.rng.pick(&[
+                    let op = *self.rng.pick(&[
                         UnaryOp::Fneg,
                         UnaryOp::Fabs,
                         UnaryOp::Fsqrt,
@@ -293,7 +293,7 @@ impl Gen<'_, '_> {
                 }
                 3 => {
                     let x = self.expr(Type::I32);
-                    let op = self.rng.pick(&[ConvOp::SiToF, ConvOp::UiToF]);
+                    let op = *self.rng.pick(&[ConvOp::SiToF, ConvOp::UiToF]);
                     self.b.convert(op, ty, x)
                 }
                 _ => self.select(ty),
@@ -301,14 +301,14 @@ impl Gen<'_, '_> {
             _ => match self.rng.below(8) {
                 0..=2 => {
                     let (x, y) = (self.expr(ty), self.expr(ty));
-                    let op = self.rng.pick(&BinaryOp::ALL[..15]);
+                    let op = *self.rng.pick(&BinaryOp::ALL[..15]);
                     self.b.binary(op, x, y)
                 }
                 3 => {
                     // Operations with one constant operand exercise the identities.
                     let x = self.expr(ty);
                     let k = self.konst(ty);
-                    let op = self.rng.pick(&BinaryOp::ALL[..15]);
+                    let op = *self.rng.pick(&BinaryOp::ALL[..15]);
                     if self.rng.chance(50) {
                         self.b.binary(op, x, k)
                     } else {
@@ -317,18 +317,18 @@ impl Gen<'_, '_> {
                 }
                 4 => {
                     let x = self.expr(ty);
-                    let op = self
+                    let op = *self
                         .rng
                         .pick(&[UnaryOp::Ineg, UnaryOp::Bnot, UnaryOp::Iabs]);
                     self.b.unary(op, x)
                 }
                 5 => {
-                    let from = self.rng.pick(&TYPES);
+                    let from = *self.rng.pick(&TYPES);
                     let x = self.expr(from);
                     self.convert(x, from, ty)
                 }
                 6 if ty == Type::I32 && self.rng.chance(30) => {
-                    let base = self.rng.pick(&BASES);
+                    let base = *self.rng.pick(&BASES);
                     let p = self.base(base);
                     self.b.call(self.cx.bump, Some(Type::I32), vec![p]).unwrap()
                 }
@@ -357,7 +357,7 @@ impl Gen<'_, '_> {
             return x;
         }
         if from.is_float() {
-            let op = self.rng.pick(&[ConvOp::FToSi, ConvOp::FToUi]);
+            let op = *self.rng.pick(&[ConvOp::FToSi, ConvOp::FToUi]);
             if to == Type::I1 {
                 let z = self.b.f32const(0.0);
                 return self.b.fcmp(FloatCC::Ne, x, z);
@@ -370,7 +370,7 @@ impl Gen<'_, '_> {
             } else {
                 x
             };
-            let op = self.rng.pick(&[ConvOp::SiToF, ConvOp::UiToF]);
+            let op = *self.rng.pick(&[ConvOp::SiToF, ConvOp::UiToF]);
             return self.b.convert(op, to, x);
         }
         if to.bits() < from.bits() {
@@ -455,13 +455,13 @@ impl Gen<'_, '_> {
                 }
                 11 if self.rng.chance(40) => {
                     // R := ADR(somewhere else)
-                    let base = self.rng.pick(&[Base::P, Base::Q, Base::G, Base::L]);
+                    let base = *self.rng.pick(&[Base::P, Base::Q, Base::G, Base::L]);
                     let p = self.base(base);
                     let a = self.b.slot_addr(self.ptr_var);
                     self.b.store(p, a);
                 }
                 10 => {
-                    let base = self.rng.pick(&BASES);
+                    let base = *self.rng.pick(&BASES);
                     let p = self.base(base);
                     self.b.call(self.cx.bump, Some(Type::I32), vec![p]);
                 }
@@ -697,13 +697,13 @@ fn random_function(m: &mut Module, cx: &Ctx, rng: &mut Rng) -> FuncId {
                 g.b.store(v, a);
             }
         }
-        let target = g.rng.pick(&[Base::P, Base::Q, Base::G, Base::L]);
+        let target = *g.rng.pick(&[Base::P, Base::Q, Base::G, Base::L]);
         let p = g.base(target);
         let a = g.b.slot_addr(ptr_var);
         g.b.store(p, a);
         // Locals, initialised as front ends do (sometimes from the inputs).
         for k in 0..g.rng.below(5) + 1 {
-            let ty = g.rng.pick(&TYPES);
+            let ty = *g.rng.pick(&TYPES);
             let s = g.b.slot(format!("l{k}"), MemType::Scalar(ty));
             g.slots.push((s, ty));
             let v = if g.rng.chance(50) {
