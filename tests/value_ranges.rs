@@ -1,5 +1,5 @@
-//! `passes::ranges` (which the `c` target runs before its C) against the program it
-//! started from, on the reference interpreter: the random programs of the three
+//! `passes::ranges` (which the compiling targets run before their code) against the
+//! program it started from, on the reference interpreter: the random programs of the three
 //! difftest generators (ST, PLCopen, charts) run side by side with and without the
 //! pass, with the same random values written to *every* variable before every scan
 //! (indexes and loop state included, so that removed checks meet indexes out of

@@ -146,7 +146,11 @@ impl Translator {
         func: &mut ir::Function,
         frontend: TargetFrontendConfig,
     ) -> Result<(), TransError> {
-        let f = env.module.func(fid);
+        // Compares that value ranges decide (the bounds checks of indexes a loop
+        // keeps in the array) go before translation, as in the `c` target.
+        let mut narrowed = env.module.func(fid).clone();
+        plcc_ir::passes::ranges::run(&mut narrowed);
+        let f = &narrowed;
         func.signature = env.sigs[fid.index()].clone();
         func.name = UserFuncName::user(0, env.funcs[fid.index()].as_u32());
         let st = &mut self.st;

@@ -129,11 +129,16 @@ fn check(module: &Module) -> Result<(), Vec<Diagnostic>> {
 /// The module as the chip can run it: calls bound at run time become compare chains
 /// of direct calls (CALL takes an immediate address), so the call graph, the stack
 /// depth and the frame overlays see every entry; REAL becomes integers and calls of
-/// the soft-float routines; SIZEOF is the size in the chip's layout.
+/// the soft-float routines; SIZEOF is the size in the chip's layout; the compares
+/// value ranges decide are constants.
 fn legalize(module: &Module) -> Result<Module, Vec<Diagnostic>> {
     let mut legal = module.clone();
     let layout = PicLayout::compute(module);
     plcc_ir::passes::sizes::resolve(&mut legal, |t| layout.size(t) as u64);
+    // Compares that value ranges decide (bounds checks a loop makes redundant) go.
+    for f in &mut legal.funcs {
+        plcc_ir::passes::ranges::run(f);
+    }
     plcc_ir::passes::dispatch::run(&mut legal);
     softfloat::legalize(&mut legal)?;
     Ok(legal)

@@ -248,6 +248,11 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
     // range) are the IR's legalization; the instruction selector emits those
     // operations plainly.
     let mut legal = module.clone();
+    // Compares that value ranges decide (bounds checks a loop makes redundant) go
+    // first, as in the other targets.
+    for f in &mut legal.funcs {
+        plcc_ir::passes::ranges::run(f);
+    }
     plcc_ir::passes::legalize::run(&mut legal, &settings.port.defines());
     let legal = legal;
     let module = &legal;
