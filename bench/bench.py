@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """plcc benchmarks: compile throughput and JIT time per scan, printed as tables.
 
-usage: bench/bench.py [--quick] [--only compile|scan|oscat]
+usage: bench/bench.py [--quick] [--only compile|scan|oscat|scaling]
 
 (a) Compile throughput on ../shared/bench/gen_synth.py output (1,000 and 2,000 POUs):
     `plcc check` (parse, check, lower to IR) and the whole path to JIT code
@@ -12,11 +12,19 @@ usage: bench/bench.py [--quick] [--only compile|scan|oscat]
     ref.c times its own loop; checksums must be equal. Both sides run interleaved, N
     sets each, and the ratio is taken per set (the machine is noisy: compare ratios).
 
+    The same scans on plcc's CPDev VM (`--target vmasm`, the XCP image as the VM
+    runs it) give the VM/JIT ratio, interleaved in the same sets.
+
 (c) OSCAT BASIC 3.33 (../shared/corpus/libs/oscat_basic_333, the ISO-8859-1 original
     and the UTF-8 copy) in the CODESYS dialect: `plcc check` and the whole path to
     native code (`plcc --target host -o x.o`: parse, check, lower, verify, optimise,
     Cranelift, object file; the library has no PROGRAM to run and its pointers are
     unchecked, so the JIT would not run it). MB/s and lines/s of the median.
+
+(d) Compile scaling: gen_synth programs from about 10k to 1M lines, `plcc check` and
+    the path to JIT code, one run each (the large ones take seconds), with the peak
+    resident memory of each process (wait4's ru_maxrss). Prints the table and writes
+    docs/img/compile-scaling.svg (time against lines, both axes logarithmic).
 
 Needs ../shared/bench (skips with a notice otherwise), python3, gcc, and a release
 build (`cargo build --release`, done here).
@@ -100,7 +108,7 @@ def checksums_ref(out):
 
 
 def scan_bench(tmp, sets):
-    print(f"\n(b) JIT time per scan vs C (gcc -O2), {sets} interleaved sets, median\n")
+    print(f"\n(b) JIT time per scan vs C (gcc -O2) and the VM, {sets} interleaved sets, median\n")
     ref = os.path.join(tmp, "ref")
     r = run(["gcc", "-O2", "-o", ref, os.path.join(SHARED, "ref.c")])
     if r.returncode != 0:
@@ -109,26 +117,108 @@ def scan_bench(tmp, sets):
     cases = [("lcg", 100, ["scans", "x", "acc", "hi", "lo"]),
              ("control", 20000, ["scan", "qsum", "cvsum", "alarms"]),
              ("sieve", 2000, ["scans", "total", "count", "last"])]
-    print(f"{'program':<10} {'scans':>7} {'plcc us/scan':>13} {'C us/scan':>10} {'ratio':>7}  checksums")
+    print(f"{'program':<10} {'scans':>7} {'plcc us/scan':>13} {'C us/scan':>10} {'ratio':>7}  "
+          f"{'VM us/scan':>11} {'VM/JIT':>7}  checksums")
     for name, scans, keys in cases:
         st = os.path.join(SHARED, name + ".st")
-        p_times, c_times, ratios = [], [], []
+        p_times, c_times, v_times, ratios, vm_ratios = [], [], [], [], []
         same = True
         for _ in range(sets):
             rp = run([PLCC, "run", st, "--scans", str(scans), "--cycle-ms", "1", "--timing"])
             rc = run([ref, name, str(scans)])
-            if rp.returncode != 0 or rc.returncode != 0:
-                sys.exit(f"{name} failed:\n{rp.stderr}\n{rc.stderr}")
+            rv = run([PLCC, "run", st, "--target", "vmasm", "--scans", str(scans), "--cycle-ms", "1", "--timing"])
+            if rp.returncode != 0 or rc.returncode != 0 or rv.returncode != 0:
+                sys.exit(f"{name} failed:\n{rp.stderr}\n{rc.stderr}\n{rv.stderr}")
             tp = float(PER_SCAN.search(rp.stderr).group(1))
             tc = float(REF_PER_SCAN.search(rc.stderr).group(1))
+            tv = float(PER_SCAN.search(rv.stderr).group(1))
             p_times.append(tp)
             c_times.append(tc)
+            v_times.append(tv)
             ratios.append(tp / tc)
+            vm_ratios.append(tv / tp)
             mine = checksums_plcc(rp.stdout, keys)
             theirs = checksums_ref(rc.stdout)
-            same = same and all(mine[k] == theirs.get(k) for k in keys)
+            vm = checksums_plcc(rv.stdout, keys)
+            same = same and all(mine[k] == theirs.get(k) == vm[k] for k in keys)
         print(f"{name:<10} {scans:>7} {statistics.median(p_times):>13.3f} {statistics.median(c_times):>10.3f} "
-              f"{statistics.median(ratios):>6.2f}x  {'equal' if same else 'DIFFER'}")
+              f"{statistics.median(ratios):>6.2f}x  {statistics.median(v_times):>11.3f} {statistics.median(vm_ratios):>6.1f}x  "
+              f"{'equal' if same else 'DIFFER'}")
+
+
+def measured(cmd):
+    """Wall time and peak resident memory (bytes) of one run of `cmd`."""
+    t0 = time.perf_counter()
+    p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    _, status, usage = os.wait4(p.pid, 0)
+    t = time.perf_counter() - t0
+    err = p.stderr.read().decode(errors="replace")
+    p.stderr.close()
+    p.returncode = os.waitstatus_to_exitcode(status)
+    if p.returncode != 0:
+        sys.exit(f"failed: {' '.join(cmd)}\n{err[-2000:]}")
+    return t, usage.ru_maxrss * 1024
+
+
+SCALING_POUS = (170, 850, 1700, 4250, 8500, 17000)
+
+
+def scaling_bench(tmp, quick):
+    pous = SCALING_POUS[:4] if quick else SCALING_POUS
+    print("\n(d) compile scaling (one whole-process run each; peak resident memory)\n")
+    print(f"{'POUs':>6} {'lines':>9} {'check s':>8} {'lines/s':>10} {'MB':>6} {'B/line':>7} "
+          f"{'to JIT s':>9} {'lines/s':>9} {'MB':>6} {'B/line':>7}")
+    rows = []
+    for n in pous:
+        src = os.path.join(tmp, f"scale{n}.st")
+        with open(src, "w") as f:
+            subprocess.run([sys.executable, os.path.join(SHARED, "gen_synth.py"), str(n)], stdout=f, check=True)
+        lines = sum(1 for _ in open(src))
+        tc, mc = measured([PLCC, "check", src])
+        tj, mj = measured([PLCC, "run", src, "--scans", "0"])
+        os.remove(src)
+        rows.append((lines, tc, tj, mc, mj))
+        print(f"{n:>6} {lines:>9,} {tc:>8.3f} {lines / tc:>10,.0f} {mc / 1e6:>6.0f} {mc / lines:>7.0f} "
+              f"{tj:>9.3f} {lines / tj:>9,.0f} {mj / 1e6:>6.0f} {mj / lines:>7.0f}")
+    (l0, c0, j0, _, _), (l1, c1, j1, _, _) = rows[0], rows[-1]
+    print(f"\nfrom {l0:,} to {l1:,} lines ({l1 / l0:.0f}x): check {c1 / c0:.0f}x, to JIT {j1 / j0:.0f}x")
+    out = os.path.join(ROOT, "docs", "img", "compile-scaling.svg")
+    with open(out, "w") as f:
+        f.write(scaling_svg(rows))
+    print(f"wrote {os.path.relpath(out, ROOT)}")
+
+
+def scaling_svg(rows):
+    """Time against lines on log-log axes, one line per path, as a small SVG."""
+    import math
+    w, h, left, bottom, top, right = 640, 400, 70, 50, 20, 150
+    xs = [r[0] for r in rows]
+    ys = [t for r in rows for t in (r[1], r[2])]
+    x0, x1 = math.floor(math.log10(min(xs))), math.ceil(math.log10(max(xs)))
+    y0, y1 = math.floor(math.log10(min(ys))), math.ceil(math.log10(max(ys)))
+    px = lambda x: left + (math.log10(x) - x0) / (x1 - x0) * (w - left - right)
+    py = lambda y: h - bottom - (math.log10(y) - y0) / (y1 - y0) * (h - bottom - top)
+    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" font-family="sans-serif" font-size="12">',
+           f'<rect width="{w}" height="{h}" fill="white"/>']
+    for e in range(x0, x1 + 1):
+        x = px(10 ** e)
+        out.append(f'<line x1="{x:.1f}" y1="{top}" x2="{x:.1f}" y2="{h - bottom}" stroke="#ddd"/>')
+        out.append(f'<text x="{x:.1f}" y="{h - bottom + 16}" text-anchor="middle">{10 ** e:,}</text>')
+    for e in range(y0, y1 + 1):
+        y = py(10 ** e)
+        out.append(f'<line x1="{left}" y1="{y:.1f}" x2="{w - right}" y2="{y:.1f}" stroke="#ddd"/>')
+        out.append(f'<text x="{left - 6}" y="{y + 4:.1f}" text-anchor="end">{10.0 ** e:g} s</text>')
+    out.append(f'<text x="{(left + w - right) / 2}" y="{h - 10}" text-anchor="middle">lines of ST (gen_synth)</text>')
+    for k, (label, colour) in enumerate([("plcc check", "#1f77b4"), ("to JIT code", "#d62728")]):
+        pts = " ".join(f"{px(r[0]):.1f},{py(r[1 + k]):.1f}" for r in rows)
+        out.append(f'<polyline points="{pts}" fill="none" stroke="{colour}" stroke-width="2"/>')
+        for r in rows:
+            out.append(f'<circle cx="{px(r[0]):.1f}" cy="{py(r[1 + k]):.1f}" r="3" fill="{colour}"/>')
+        ly = top + 20 + 20 * k
+        out.append(f'<line x1="{w - right + 10}" y1="{ly}" x2="{w - right + 30}" y2="{ly}" stroke="{colour}" stroke-width="2"/>')
+        out.append(f'<text x="{w - right + 36}" y="{ly + 4}">{label}</text>')
+    out.append("</svg>\n")
+    return "\n".join(out)
 
 
 def main():
@@ -145,6 +235,8 @@ def main():
             scan_bench(tmp, 3 if quick else 9)
         if only in (None, "oscat"):
             oscat_bench(tmp, 3 if quick else 7)
+        if only in (None, "scaling"):
+            scaling_bench(tmp, quick)
 
 
 if __name__ == "__main__":
