@@ -250,7 +250,11 @@ pub enum Port {
     C,
 }
 
-/// Decoded instruction kinds; byte-oriented instructions are split by destination.
+/// Decoded instruction kinds. There is one decoded table per bank (STATUS<RP1:RP0>
+/// selects the table the run loop reads), so a direct file operand is resolved when
+/// the program is decoded: the byte- and bit-oriented kinds below name a storage index
+/// (`Op::a`) of general-purpose RAM or of a register without side effects, and every
+/// other file operand becomes [`Kind::Slow`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u8)]
 enum Kind {
@@ -259,7 +263,6 @@ enum Kind {
     AndwfW,
     AndwfF,
     Clrf,
-    Clrw,
     ComfW,
     ComfF,
     DecfW,
@@ -275,7 +278,6 @@ enum Kind {
     MovfW,
     MovfF,
     Movwf,
-    Nop,
     RlfW,
     RlfF,
     RrfW,
@@ -286,62 +288,101 @@ enum Kind {
     SwapfF,
     XorwfW,
     XorwfF,
+    /// Bit operations: `b` holds the bit mask.
     Bcf,
     Bsf,
     Btfsc,
     Btfss,
-    /// BCF/BSF/BTFSC/BTFSS on STATUS (bank selects and flag tests), kept off the
-    /// special-register path.
+    /// BCF/BSF on STATUS bits other than Z (`b`: the mask without TO and PD, which are
+    /// read-only), and BTFSC/BTFSS on them (`b`: the mask).
     BcfStatus,
     BsfStatus,
     BtfscStatus,
     BtfssStatus,
+    /// The same on STATUS<Z>.
+    BcfZ,
+    BsfZ,
+    BtfscZ,
+    BtfssZ,
+    /// MOVF INDF,W and MOVWF INDF.
+    MovfWIndf,
+    MovwfIndf,
+    /// Literal instructions: `b` holds the literal.
     Addlw,
     Andlw,
-    Call,
-    Clrwdt,
-    Goto,
     Iorlw,
-    Movlw,
-    Retfie,
-    Retlw,
-    Return,
-    Sleep,
-    Sublw,
     Xorlw,
-    /// An unused encoding (`k` holds the word).
+    Movlw,
+    Sublw,
+    Retlw,
+    Clrw,
+    Nop,
+    /// CALL/GOTO: `a` holds the 11-bit target.
+    Call,
+    Goto,
+    Return,
+    Retfie,
+    Clrwdt,
+    Sleep,
+    /// A byte- or bit-oriented instruction on a special or unimplemented address (`a`
+    /// holds the word), executed by [`Core::exec_slow`].
+    Slow,
+    /// An unused encoding (`a` holds the word).
     Invalid,
     /// A stop address of the current `run_until` (the real op is saved aside).
     Break,
+    /// MOVF `a`,W then MOVWF `a2` (both plain), one dispatch for two instructions.
+    MovfWMovwf,
+    /// MOVWF `a` then MOVF `a2`,W (both plain).
+    MovwfMovfW,
 }
 
-/// A decoded instruction: `f` is the 7-bit file address, `k` the literal, the bit mask
-/// (BCF/BSF/BTFSC/BTFSS) or the 11-bit CALL/GOTO target.
+/// A decoded instruction: `a` a storage index (plain file operands), a CALL/GOTO
+/// target or a word; `b` a bit mask or a literal; `a2` the second storage index of a
+/// fused pair.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[repr(C, align(4))]
+#[repr(C, align(8))]
 struct Op {
     kind: Kind,
-    f: u8,
-    k: u16,
+    b: u8,
+    a: u16,
+    a2: u16,
 }
 
 impl Op {
-    fn decode(word: u16) -> Op {
+    const fn new(kind: Kind, b: u8, a: u16) -> Op {
+        Op { kind, b, a, a2: 0 }
+    }
+
+    /// Decodes `word` as executed with STATUS<RP1:RP0> giving data address offset
+    /// `bank` (0, 0x80, 0x100 or 0x180).
+    fn decode(word: u16, bank: u16) -> Op {
         use Inst::*;
         use Kind as K;
-        let op = |kind, f: u16, k: u16| Op {
-            kind,
-            f: (f & 0x7F) as u8,
-            k,
-        };
-        let bo = |f, d, kw, kf| op(if d == Dest::W { kw } else { kf }, f, 0);
+        let op = Op::new;
+        let slow = op(K::Slow, 0, word & 0x3FFF);
         let Some(i) = Inst::decode(word) else {
             return op(K::Invalid, 0, word & 0x3FFF);
         };
+        let addr = |f: u16| usize::from(bank | (f & 0x7F));
+        let rd = |f: u16| Some(RMAP[addr(f)]).filter(|&m| m < SPECIAL);
+        let wr = |f: u16| Some(WMAP[addr(f)]).filter(|&m| m < SPECIAL);
+        let rmw = |f: u16| rd(f).filter(|&m| wr(f) == Some(m));
+        let read = |kind, f, b| rd(f).map_or(slow, |m| op(kind, b, m));
+        let modify = |kind, f, b| rmw(f).map_or(slow, |m| op(kind, b, m));
+        let bo = |f, d, kw, kf| {
+            if d == Dest::W {
+                read(kw, f, 0)
+            } else {
+                modify(kf, f, 0)
+            }
+        };
+        let indf = |f: u16, map: &[u16; RAM_SIZE]| map[addr(f)] == SPECIAL + INDF;
+        let status = |f: u16| f & 0x7F == STATUS;
         match i {
             Addwf(f, d) => bo(f, d, K::AddwfW, K::AddwfF),
             Andwf(f, d) => bo(f, d, K::AndwfW, K::AndwfF),
-            Clrf(f) => op(K::Clrf, f, 0),
+            Clrf(f) => wr(f).map_or(slow, |m| op(K::Clrf, 0, m)),
             Clrw => op(K::Clrw, 0, 0),
             Comf(f, d) => bo(f, d, K::ComfW, K::ComfF),
             Decf(f, d) => bo(f, d, K::DecfW, K::DecfF),
@@ -349,36 +390,68 @@ impl Op {
             Incf(f, d) => bo(f, d, K::IncfW, K::IncfF),
             Incfsz(f, d) => bo(f, d, K::IncfszW, K::IncfszF),
             Iorwf(f, d) => bo(f, d, K::IorwfW, K::IorwfF),
+            Movf(f, Dest::W) if indf(f, &RMAP) => op(K::MovfWIndf, 0, 0),
             Movf(f, d) => bo(f, d, K::MovfW, K::MovfF),
-            Movwf(f) => op(K::Movwf, f, 0),
+            Movwf(f) if indf(f, &WMAP) => op(K::MovwfIndf, 0, 0),
+            Movwf(f) => wr(f).map_or(slow, |m| op(K::Movwf, 0, m)),
             Nop => op(K::Nop, 0, 0),
             Rlf(f, d) => bo(f, d, K::RlfW, K::RlfF),
             Rrf(f, d) => bo(f, d, K::RrfW, K::RrfF),
             Subwf(f, d) => bo(f, d, K::SubwfW, K::SubwfF),
             Swapf(f, d) => bo(f, d, K::SwapfW, K::SwapfF),
             Xorwf(f, d) => bo(f, d, K::XorwfW, K::XorwfF),
-            Bcf(STATUS, b) => op(K::BcfStatus, STATUS, 1 << (b & 7)),
-            Bsf(STATUS, b) => op(K::BsfStatus, STATUS, 1 << (b & 7)),
-            Btfsc(STATUS, b) => op(K::BtfscStatus, STATUS, 1 << (b & 7)),
-            Btfss(STATUS, b) => op(K::BtfssStatus, STATUS, 1 << (b & 7)),
-            Bcf(f, b) => op(K::Bcf, f, 1 << (b & 7)),
-            Bsf(f, b) => op(K::Bsf, f, 1 << (b & 7)),
-            Btfsc(f, b) => op(K::Btfsc, f, 1 << (b & 7)),
-            Btfss(f, b) => op(K::Btfss, f, 1 << (b & 7)),
-            Addlw(k) => op(K::Addlw, 0, k.into()),
-            Andlw(k) => op(K::Andlw, 0, k.into()),
+            Bcf(f, b) | Bsf(f, b) | Btfsc(f, b) | Btfss(f, b) if status(f) => {
+                let mask = 1u8 << (b & 7);
+                let z = mask == Z;
+                match (i, z) {
+                    (Bcf(..), true) => op(K::BcfZ, 0, 0),
+                    (Bsf(..), true) => op(K::BsfZ, 0, 0),
+                    (Btfsc(..), true) => op(K::BtfscZ, 0, 0),
+                    (Btfss(..), true) => op(K::BtfssZ, 0, 0),
+                    (Bcf(..), _) => op(K::BcfStatus, mask & 0xE7, 0),
+                    (Bsf(..), _) => op(K::BsfStatus, mask & 0xE7, 0),
+                    (Btfsc(..), _) => op(K::BtfscStatus, mask, 0),
+                    _ => op(K::BtfssStatus, mask, 0),
+                }
+            }
+            Bcf(f, b) => modify(K::Bcf, f, 1 << (b & 7)),
+            Bsf(f, b) => modify(K::Bsf, f, 1 << (b & 7)),
+            Btfsc(f, b) => read(K::Btfsc, f, 1 << (b & 7)),
+            Btfss(f, b) => read(K::Btfss, f, 1 << (b & 7)),
+            Addlw(k) => op(K::Addlw, k, 0),
+            Andlw(k) => op(K::Andlw, k, 0),
             Call(k) => op(K::Call, 0, k & 0x7FF),
             Clrwdt => op(K::Clrwdt, 0, 0),
             Goto(k) => op(K::Goto, 0, k & 0x7FF),
-            Iorlw(k) => op(K::Iorlw, 0, k.into()),
-            Movlw(k) => op(K::Movlw, 0, k.into()),
+            Iorlw(k) => op(K::Iorlw, k, 0),
+            Movlw(k) => op(K::Movlw, k, 0),
             Retfie => op(K::Retfie, 0, 0),
-            Retlw(k) => op(K::Retlw, 0, k.into()),
+            Retlw(k) => op(K::Retlw, k, 0),
             Return => op(K::Return, 0, 0),
             Sleep => op(K::Sleep, 0, 0),
-            Sublw(k) => op(K::Sublw, 0, k.into()),
-            Xorlw(k) => op(K::Xorlw, 0, k.into()),
+            Sublw(k) => op(K::Sublw, k, 0),
+            Xorlw(k) => op(K::Xorlw, k, 0),
         }
+    }
+
+    fn is_fused(self) -> bool {
+        matches!(self.kind, Kind::MovfWMovwf | Kind::MovwfMovfW)
+    }
+
+    /// The op that executes `self` and then `next` (the instruction after it) in one
+    /// dispatch, if there is one.
+    fn fuse(self, next: Op) -> Option<Op> {
+        let kind = match (self.kind, next.kind) {
+            (Kind::MovfW, Kind::Movwf) => Kind::MovfWMovwf,
+            (Kind::Movwf, Kind::MovfW) => Kind::MovwfMovfW,
+            _ => return None,
+        };
+        Some(Op {
+            kind,
+            b: 0,
+            a: self.a,
+            a2: next.a,
+        })
     }
 }
 
@@ -386,70 +459,86 @@ impl Op {
 #[derive(Debug, Clone, Copy, Default)]
 struct Hot {
     /// Address of the next instruction (13 bits).
-    pc: u16,
-    w: u8,
-    status: u8,
-    /// STATUS<RP1:RP0> as an address offset (0, 0x80, 0x100, 0x180), kept apart from
-    /// the flags so that address computation does not wait for the previous result.
-    bank: u16,
+    pc: usize,
+    /// The decoded table of the current bank: `PROG_WORDS` × STATUS<RP1:RP0>.
+    table: usize,
     cycles: u64,
+    w: u8,
+    /// STATUS but for Z (its Z bit is stale).
+    st: u8,
+    /// Z is set when this is 0: the result of the last instruction that set Z.
+    zv: u8,
 }
 
 impl Hot {
-    /// The full data address of direct file operand `f` (bank from RP1:RP0).
+    /// STATUS.
     #[inline(always)]
-    fn addr(&self, f: u8) -> usize {
-        usize::from(self.bank) | usize::from(f)
+    fn status(&self) -> u8 {
+        (self.st & !Z) | u8::from(self.zv == 0) << 2
     }
 
-    /// Sets STATUS (and the bank offset).
+    /// Sets STATUS (and the bank).
     #[inline(always)]
     fn set_status(&mut self, v: u8) {
-        self.status = v;
-        self.bank = u16::from(v & 0x60) << 2;
+        self.zv = u8::from(v & Z == 0);
+        self.set_st(v);
+    }
+
+    /// Sets STATUS but for Z (and the bank).
+    #[inline(always)]
+    fn set_st(&mut self, v: u8) {
+        self.st = v;
+        self.table = usize::from(v >> 5 & 3) * PROG_WORDS;
+    }
+
+    /// The full data address of direct file operand `f` (bank from RP1:RP0).
+    #[inline(always)]
+    fn addr(&self, f: u16) -> usize {
+        usize::from(self.st & 0x60) << 2 | usize::from(f & 0x7F)
     }
 
     #[inline(always)]
-    fn set_z(&mut self, r: u8) {
-        self.status = (self.status & !Z) | if r == 0 { Z } else { 0 };
+    fn set_c(&mut self, c: u8) {
+        self.st = (self.st & !C) | c;
     }
 
-    #[inline(always)]
-    fn set_c(&mut self, c: bool) {
-        self.status = (self.status & !C) | u8::from(c);
-    }
-
-    #[inline(always)]
-    fn set_cdcz(&mut self, c: bool, dc: bool, r: u8) {
-        self.status =
-            (self.status & !(C | DC | Z)) | u8::from(c) | u8::from(dc) << 1 | u8::from(r == 0) << 2;
-    }
-
-    /// W/f + W/k with C, DC and Z.
+    /// `a + b` with C, DC and Z.
     #[inline(always)]
     fn add(&mut self, a: u8, b: u8) -> u8 {
-        let (r, c) = a.overflowing_add(b);
-        self.set_cdcz(c, (a & 0xF) + (b & 0xF) > 0xF, r);
+        let s = u16::from(a) + u16::from(b);
+        let r = s as u8;
+        self.st = (self.st & !(C | DC)) | (s >> 8) as u8 | ((a ^ b ^ r) & 0x10) >> 3;
+        self.zv = r;
         r
     }
 
     /// `a - b` with C = no borrow, DC = no borrow from the low nibble, Z.
     #[inline(always)]
     fn sub(&mut self, a: u8, b: u8) -> u8 {
-        let r = a.wrapping_sub(b);
-        self.set_cdcz(a >= b, (a & 0xF) >= (b & 0xF), r);
+        let nb = !b;
+        let s = u16::from(a) + u16::from(nb) + 1;
+        let r = s as u8;
+        self.st = (self.st & !(C | DC)) | (s >> 8) as u8 | ((a ^ nb ^ r) & 0x10) >> 3;
+        self.zv = r;
         r
     }
 }
+
+/// Entries of the decoded program: one table of `PROG_WORDS` per bank.
+const TABLE: usize = 4 * PROG_WORDS;
 
 /// The simulated chip. Construct with [`Pic16::new`], then [`run_until`](Pic16::run_until)
 /// or [`step`](Pic16::step); inspect and poke with [`read`](Pic16::read) and
 /// [`write`](Pic16::write).
 #[derive(Clone)]
 pub struct Pic16 {
-    /// Decoded program memory.
-    prog: Box<[Op; PROG_WORDS]>,
-    /// Ops replaced by `Kind::Break` during `run_until`.
+    /// Decoded program memory, one table per bank (see [`Kind`]); consecutive plain
+    /// instructions are fused into one op where [`Op::fuse`] can.
+    prog: Box<[Op; TABLE]>,
+    /// The program words (program memory beyond them reads 0x3FFF).
+    words: Box<[u16]>,
+    /// Table entries replaced during `run_until` (by `Kind::Break`, or a fused op
+    /// before a stop address by its single op), with the op to restore.
     saved: Vec<(usize, Op)>,
     c: Core,
 }
@@ -458,6 +547,9 @@ pub struct Pic16 {
 #[derive(Clone)]
 struct Core {
     h: Hot,
+    /// Run loop: leave the fast path when `cycles >= next` (0 in `step`, so that a
+    /// fused pair executes one instruction there).
+    next: u64,
     /// Storage by canonical address (plus the zero and sink slots).
     ram: [u8; RAM_SIZE],
     stack: [u16; 8],
@@ -465,8 +557,6 @@ struct Core {
     max_sp: u8,
     /// External levels of the port pins (A, B, C).
     inputs: [u8; 3],
-    /// Run loop: leave the fast path when `cycles >= next_check`.
-    next_check: u64,
     /// Cycle budget of the current `run_until`.
     limit: u64,
     /// Cycle at which the last change to an interrupt condition became visible.
@@ -493,7 +583,7 @@ impl fmt::Debug for Pic16 {
         f.debug_struct("Pic16")
             .field("pc", &format_args!("{:#06x}", self.c.h.pc))
             .field("w", &format_args!("{:#04x}", self.c.h.w))
-            .field("status", &format_args!("{:#04x}", self.c.h.status))
+            .field("status", &format_args!("{:#04x}", self.c.h.status()))
             .field("cycles", &self.c.h.cycles)
             .field("stack_depth", &self.c.sp)
             .finish_non_exhaustive()
@@ -502,14 +592,19 @@ impl fmt::Debug for Pic16 {
 
 #[cold]
 #[inline(never)]
-fn invalid(word: u16, at: u16) -> SimError {
+fn invalid(word: u16, at: usize) -> SimError {
     err_at(&format!("invalid instruction word 0x{word:04X}"), at)
 }
 
 #[cold]
 #[inline(never)]
-fn err_at(what: &str, at: u16) -> SimError {
+fn err_at(what: &str, at: usize) -> SimError {
     SimError(format!("{what} at 0x{at:04X}"))
+}
+
+/// The bank offset (0, 0x80, 0x100, 0x180) of decoded table entry `i`.
+fn table_bank(i: usize) -> u16 {
+    (i / PROG_WORDS) as u16 * 0x80
 }
 
 impl Pic16 {
@@ -524,21 +619,34 @@ impl Pic16 {
             "program has {} words; program memory holds {PROG_WORDS}",
             program.len()
         );
-        let mut prog = Box::new([Op::decode(0x3FFF); PROG_WORDS]);
-        for (o, &w) in prog.iter_mut().zip(program) {
-            *o = Op::decode(w);
+        let mut prog: Box<[Op; TABLE]> = vec![Op::decode(0x3FFF, 0); TABLE]
+            .into_boxed_slice()
+            .try_into()
+            .expect("decoded program size");
+        for (t, table) in prog.chunks_exact_mut(PROG_WORDS).enumerate() {
+            let bank = t as u16 * 0x80;
+            for (o, &w) in table.iter_mut().zip(program) {
+                *o = Op::decode(w, bank);
+            }
+            // table[i + 1] is still single when table[i] is fused
+            for i in 1..program.len() {
+                if let Some(op) = table[i - 1].fuse(table[i]) {
+                    table[i - 1] = op;
+                }
+            }
         }
         let mut p = Pic16 {
             prog,
+            words: program.into(),
             saved: Vec::new(),
             c: Core {
                 h: Hot::default(),
+                next: 0,
                 ram: [0; RAM_SIZE],
                 stack: [0; 8],
                 sp: 0,
                 max_sp: 0,
                 inputs: [0; 3],
-                next_check: 0,
                 limit: u64::MAX,
                 irq_change_at: 0,
                 irq_hold: 0,
@@ -580,12 +688,12 @@ impl Pic16 {
 
     /// The address of the next instruction.
     pub fn pc(&self) -> u16 {
-        self.c.h.pc
+        self.c.h.pc as u16
     }
 
     /// Sets the PC (13 bits), e.g. to call a routine from the host.
     pub fn set_pc(&mut self, pc: u16) {
-        self.c.h.pc = pc & 0x1FFF;
+        self.c.h.pc = usize::from(pc & 0x1FFF);
     }
 
     /// The W register.
@@ -651,7 +759,9 @@ impl Pic16 {
             return c.enter_irq();
         }
         let mut h = c.h;
-        let op = self.prog[usize::from(h.pc) & (PROG_WORDS - 1)];
+        // a fused op stops after its first instruction
+        c.next = 0;
+        let op = self.prog[(h.table | h.pc) & (TABLE - 1)];
         let r = c.exec(&mut h, op);
         c.h = h;
         match r {
@@ -680,15 +790,27 @@ impl Pic16 {
         }
         for &a in stop_at {
             let a = usize::from(a);
-            if a < PROG_WORDS && self.prog[a].kind != Kind::Break {
-                self.saved.push((a, self.prog[a]));
-                self.prog[a].kind = Kind::Break;
+            if a >= PROG_WORDS {
+                continue;
+            }
+            for t in (0..TABLE).step_by(PROG_WORDS) {
+                // a fused op must not run past the stop address
+                if a > 0 && self.prog[t + a - 1].is_fused() {
+                    let word = self.words.get(a - 1).copied().unwrap_or(0x3FFF);
+                    self.saved.push((t + a - 1, self.prog[t + a - 1]));
+                    self.prog[t + a - 1] = Op::decode(word, table_bank(t));
+                }
+                if self.prog[t + a].kind != Kind::Break {
+                    self.saved.push((t + a, self.prog[t + a]));
+                    self.prog[t + a].kind = Kind::Break;
+                }
             }
         }
-        self.c.next_check = 0;
+        self.c.next = 0;
         let r = run_loop(&self.prog, &mut self.c);
-        for (a, op) in self.saved.drain(..) {
-            self.prog[a] = op;
+        // in reverse: an entry can be saved twice (unfused, then a stop address)
+        while let Some((i, op)) = self.saved.pop() {
+            self.prog[i] = op;
         }
         self.c.limit = u64::MAX;
         r
@@ -696,11 +818,11 @@ impl Pic16 {
 }
 
 /// The run loop: the fast path executes instructions until the cycle counter reaches
-/// `c.next_check`, where [`Core::service`] handles timers, interrupts and the budget.
-fn run_loop(prog: &[Op; PROG_WORDS], c: &mut Core) -> Result<Stop, SimError> {
+/// `next`, where [`Core::service`] handles timers, interrupts and the budget.
+fn run_loop(prog: &[Op; TABLE], c: &mut Core) -> Result<Stop, SimError> {
     let mut h = c.h;
     let r = loop {
-        if h.cycles >= c.next_check {
+        if h.cycles >= c.next {
             c.h = h;
             match c.service() {
                 Ok(None) => {}
@@ -709,10 +831,10 @@ fn run_loop(prog: &[Op; PROG_WORDS], c: &mut Core) -> Result<Stop, SimError> {
             }
             h = c.h;
         }
-        let op = prog[usize::from(h.pc) & (PROG_WORDS - 1)];
+        let op = prog[(h.table | h.pc) & (TABLE - 1)];
         match c.exec(&mut h, op) {
             Ok(()) => {}
-            Err(Exit::Break) => break Ok(Stop::Breakpoint(h.pc)),
+            Err(Exit::Break) => break Ok(Stop::Breakpoint(h.pc as u16)),
             Err(Exit::Fault(e)) => break Err(e),
         }
     };
@@ -739,17 +861,11 @@ impl Core {
         for (a, v) in POR_VALUES {
             self.ram[a as usize] = v;
         }
-        self.h = Hot {
-            pc: 0,
-            w: 0,
-            status: 0x18,
-            bank: 0,
-            cycles: 0,
-        };
+        self.h = Hot::default();
+        self.h.set_status(0x18);
         self.sp = 0;
         self.max_sp = 0;
         self.stack = [0; 8];
-        self.next_check = 0;
         self.irq_change_at = 0;
         self.irq_hold = 0;
         self.t1_origin = 0;
@@ -768,7 +884,7 @@ impl Core {
         }
         match m - SPECIAL {
             INDF => 0,
-            STATUS => self.h.status,
+            STATUS => self.h.status(),
             PCL => self.h.pc as u8,
             c => self.rd_periph(c, self.h.cycles),
         }
@@ -783,10 +899,10 @@ impl Core {
         match m - SPECIAL {
             INDF => {}
             STATUS => self.h.set_status(v),
-            PCL => self.h.pc = (self.h.pc & 0x1F00) | u16::from(v),
+            PCL => self.h.pc = (self.h.pc & 0x1F00) | usize::from(v),
             c => self.wr_periph(c, v, self.h.cycles),
         }
-        self.next_check = 0;
+        self.next = 0;
     }
 
     fn set_input(&mut self, port: Port, bit: u8, level: bool) {
@@ -805,7 +921,8 @@ impl Core {
             && level == (self.ram[OPTION_REG as usize] & 0x40 != 0)
         {
             self.ram[INTCON as usize] |= 0x02;
-            self.irq_changed(self.h.cycles);
+            self.irq_change_at = self.h.cycles;
+            self.next = 0;
         }
     }
 
@@ -837,6 +954,7 @@ impl Core {
 
     /// The slow path of the run loop: timer events, the cycle budget, interrupts, and
     /// the cycle of the next check.
+    #[cold]
     #[inline(never)]
     fn service(&mut self) -> Result<Option<Stop>, SimError> {
         self.advance_timers(self.h.cycles);
@@ -851,7 +969,7 @@ impl Core {
                 next = next.min(self.irq_hold);
             }
         }
-        self.next_check = next.min(self.limit);
+        self.next = next.min(self.limit);
         Ok(None)
     }
 
@@ -870,7 +988,7 @@ impl Core {
 
     fn enter_irq(&mut self) -> Result<(), SimError> {
         let b = self.h.cycles;
-        self.push(self.h.pc, self.h.pc)?;
+        self.push(self.h.pc as u16, self.h.pc)?;
         self.ram[INTCON as usize] &= !0x80;
         self.h.pc = 4;
         self.h.cycles += u64::from(self.irq_change_at >= b);
@@ -878,7 +996,7 @@ impl Core {
     }
 
     #[inline(always)]
-    fn push(&mut self, ret: u16, at: u16) -> Result<(), SimError> {
+    fn push(&mut self, ret: u16, at: usize) -> Result<(), SimError> {
         if self.sp >= 8 {
             return Err(err_at("hardware stack overflow: 9 levels", at));
         }
@@ -889,7 +1007,7 @@ impl Core {
     }
 
     #[inline(always)]
-    fn pop(&mut self, what: &str, at: u16) -> Result<u16, SimError> {
+    fn pop(&mut self, what: &str, at: usize) -> Result<u16, SimError> {
         if self.sp == 0 {
             return Err(err_at(&format!("{what} with an empty stack"), at));
         }
@@ -897,10 +1015,10 @@ impl Core {
         Ok(self.stack[usize::from(self.sp)])
     }
 
-    /// An interrupt condition may have changed, visible from cycle `at`.
+    /// An interrupt condition may have changed, visible from cycle `at` (the caller
+    /// makes the run loop check: `next = 0`).
     fn irq_changed(&mut self, at: u64) {
         self.irq_change_at = at;
-        self.next_check = 0;
     }
 
     // ---- data memory as instructions see it ----------------------------------------
@@ -917,23 +1035,40 @@ impl Core {
     #[inline(always)]
     fn rd_special(&self, h: &Hot, c: u16) -> u8 {
         if c == INDF {
-            let a = (usize::from(h.status & 0x80) << 1) | usize::from(self.ram[FSR]);
-            if a & 0x7F == 0 {
-                return 0;
-            }
-            let m = RMAP[a];
-            if m < SPECIAL {
-                return self.ram[usize::from(m)];
-            }
-            return self.rd_direct(h, m - SPECIAL);
+            return self.rd_indf(h);
         }
         self.rd_direct(h, c)
+    }
+
+    /// Reads INDF: the address in IRP:FSR (INDF itself reads 0).
+    #[inline(always)]
+    fn rd_indf(&self, h: &Hot) -> u8 {
+        let a = (usize::from(h.st & 0x80) << 1) | usize::from(self.ram[FSR]);
+        if a & 0x7F == 0 {
+            return 0;
+        }
+        let m = RMAP[a];
+        if m < SPECIAL {
+            return self.ram[usize::from(m)];
+        }
+        self.rd_direct_cold(h.status(), h.pc, h.cycles, m - SPECIAL)
+    }
+
+    // The cold paths do not take the run loop's registers by reference (it would then
+    // keep them in memory): they take values, or work on `self.h`.
+    #[inline(never)]
+    fn rd_direct_cold(&self, status: u8, pc: usize, now: u64, c: u16) -> u8 {
+        match c {
+            STATUS => status,
+            PCL => pc as u8,
+            _ => self.rd_periph(c, now),
+        }
     }
 
     #[inline(always)]
     fn rd_direct(&self, h: &Hot, c: u16) -> u8 {
         match c {
-            STATUS => h.status,
+            STATUS => h.status(),
             PCL => h.pc as u8,
             _ => self.rd_periph(c, h.cycles),
         }
@@ -964,19 +1099,35 @@ impl Core {
         }
         let c = m - SPECIAL;
         if c == INDF {
-            let a = (usize::from(h.status & 0x80) << 1) | usize::from(self.ram[FSR]);
-            if a & 0x7F == 0 {
-                return;
-            }
-            let m = WMAP[a];
-            if m < SPECIAL {
-                self.ram[usize::from(m)] = v;
-            } else {
-                self.wr_direct(h, m - SPECIAL, v, flags);
-            }
+            self.wr_indf(h, v, flags);
             return;
         }
         self.wr_direct(h, c, v, flags);
+    }
+
+    /// Writes INDF: the address in IRP:FSR (writes to INDF itself are lost).
+    #[inline(always)]
+    fn wr_indf(&mut self, h: &mut Hot, v: u8, flags: bool) {
+        let a = (usize::from(h.st & 0x80) << 1) | usize::from(self.ram[FSR]);
+        if a & 0x7F == 0 {
+            return;
+        }
+        let m = WMAP[a];
+        if m < SPECIAL {
+            self.ram[usize::from(m)] = v;
+        } else {
+            self.h = *h;
+            self.wr_direct_cold(m - SPECIAL, v, flags);
+            *h = self.h;
+        }
+    }
+
+    /// [`Core::wr_direct`] on `self.h`.
+    #[inline(never)]
+    fn wr_direct_cold(&mut self, c: u16, v: u8, flags: bool) {
+        let mut h = self.h;
+        self.wr_direct(&mut h, c, v, flags);
+        self.h = h;
     }
 
     #[inline(always)]
@@ -984,13 +1135,16 @@ impl Core {
         match c {
             STATUS => {
                 let mask = if flags { 0xE0 } else { 0xE7 };
-                h.set_status((h.status & !mask) | (v & mask));
+                h.set_status((h.status() & !mask) | (v & mask));
             }
             PCL => {
-                h.pc = (u16::from(self.ram[PCLATH as usize] & 0x1F) << 8) | u16::from(v);
+                h.pc = (usize::from(self.ram[PCLATH as usize] & 0x1F) << 8) | usize::from(v);
                 h.cycles += 1;
             }
-            _ => self.wr_periph(c, v, h.cycles),
+            _ => {
+                self.wr_periph(c, v, h.cycles);
+                self.next = 0;
+            }
         }
     }
 
@@ -1044,7 +1198,6 @@ impl Core {
             }
             _ => self.ram[ci] = v,
         }
-        self.next_check = 0;
     }
 
     // ---- timers --------------------------------------------------------------------
@@ -1186,273 +1339,370 @@ impl Core {
 
     // ---- the instructions ----------------------------------------------------------
 
-    /// Executes `op`, the instruction at `h.pc`.
+    /// Executes `op`, the instruction at `h.pc` (a fused op: both instructions, unless
+    /// the cycle counter reaches `next` after the first).
     #[inline(always)]
     fn exec(&mut self, h: &mut Hot, op: Op) -> Result<(), Exit> {
+        use Kind as K;
         let at = h.pc;
         h.pc = (at + 1) & 0x1FFF;
-        let f = op.f;
-        let k = op.k as u8;
+        let a = usize::from(op.a) & (RAM_SIZE - 1);
+        let k = op.b;
         match op.kind {
-            Kind::AddwfW => {
-                let v = self.rd(h, h.addr(f));
-                h.w = h.add(v, h.w);
+            K::AddwfW => h.w = h.add(self.ram[a], h.w),
+            K::AddwfF => self.ram[a] = h.add(self.ram[a], h.w),
+            K::AndwfW => {
+                h.w &= self.ram[a];
+                h.zv = h.w;
             }
-            Kind::AddwfF => {
-                let a = h.addr(f);
-                let v = self.rd(h, a);
-                let (r, c) = v.overflowing_add(h.w);
-                let dc = (v & 0xF) + (h.w & 0xF) > 0xF;
-                self.wr(h, a, r, true);
-                h.set_cdcz(c, dc, r);
+            K::AndwfF => {
+                let r = self.ram[a] & h.w;
+                self.ram[a] = r;
+                h.zv = r;
             }
-            Kind::AndwfW => {
-                h.w &= self.rd(h, h.addr(f));
-                h.set_z(h.w);
+            K::Clrf => {
+                self.ram[a] = 0;
+                h.zv = 0;
             }
-            Kind::AndwfF => {
-                let a = h.addr(f);
-                let r = self.rd(h, a) & h.w;
-                self.wr(h, a, r, true);
-                h.set_z(r);
-            }
-            Kind::Clrf => {
-                self.wr(h, h.addr(f), 0, true);
-                h.status |= Z;
-            }
-            Kind::Clrw => {
+            K::Clrw => {
                 h.w = 0;
-                h.status |= Z;
+                h.zv = 0;
             }
-            Kind::ComfW => {
-                h.w = !self.rd(h, h.addr(f));
-                h.set_z(h.w);
+            K::ComfW => {
+                h.w = !self.ram[a];
+                h.zv = h.w;
             }
-            Kind::ComfF => {
-                let a = h.addr(f);
-                let r = !self.rd(h, a);
-                self.wr(h, a, r, true);
-                h.set_z(r);
+            K::ComfF => {
+                let r = !self.ram[a];
+                self.ram[a] = r;
+                h.zv = r;
             }
-            Kind::DecfW => {
-                h.w = self.rd(h, h.addr(f)).wrapping_sub(1);
-                h.set_z(h.w);
+            K::DecfW => {
+                h.w = self.ram[a].wrapping_sub(1);
+                h.zv = h.w;
             }
-            Kind::DecfF => {
-                let a = h.addr(f);
-                let r = self.rd(h, a).wrapping_sub(1);
-                self.wr(h, a, r, true);
-                h.set_z(r);
+            K::DecfF => {
+                let r = self.ram[a].wrapping_sub(1);
+                self.ram[a] = r;
+                h.zv = r;
             }
-            Kind::DecfszW => {
-                h.w = self.rd(h, h.addr(f)).wrapping_sub(1);
+            K::DecfszW => {
+                h.w = self.ram[a].wrapping_sub(1);
                 if h.w == 0 {
                     skip(h);
                 }
             }
-            Kind::DecfszF => {
-                let a = h.addr(f);
-                let r = self.rd(h, a).wrapping_sub(1);
-                self.wr(h, a, r, false);
+            K::DecfszF => {
+                let r = self.ram[a].wrapping_sub(1);
+                self.ram[a] = r;
                 if r == 0 {
                     skip(h);
                 }
             }
-            Kind::IncfW => {
-                h.w = self.rd(h, h.addr(f)).wrapping_add(1);
-                h.set_z(h.w);
+            K::IncfW => {
+                h.w = self.ram[a].wrapping_add(1);
+                h.zv = h.w;
             }
-            Kind::IncfF => {
-                let a = h.addr(f);
-                let r = self.rd(h, a).wrapping_add(1);
-                self.wr(h, a, r, true);
-                h.set_z(r);
+            K::IncfF => {
+                let r = self.ram[a].wrapping_add(1);
+                self.ram[a] = r;
+                h.zv = r;
             }
-            Kind::IncfszW => {
-                h.w = self.rd(h, h.addr(f)).wrapping_add(1);
+            K::IncfszW => {
+                h.w = self.ram[a].wrapping_add(1);
                 if h.w == 0 {
                     skip(h);
                 }
             }
-            Kind::IncfszF => {
-                let a = h.addr(f);
-                let r = self.rd(h, a).wrapping_add(1);
-                self.wr(h, a, r, false);
+            K::IncfszF => {
+                let r = self.ram[a].wrapping_add(1);
+                self.ram[a] = r;
                 if r == 0 {
                     skip(h);
                 }
             }
-            Kind::IorwfW => {
-                h.w |= self.rd(h, h.addr(f));
-                h.set_z(h.w);
+            K::IorwfW => {
+                h.w |= self.ram[a];
+                h.zv = h.w;
             }
-            Kind::IorwfF => {
-                let a = h.addr(f);
-                let r = self.rd(h, a) | h.w;
-                self.wr(h, a, r, true);
-                h.set_z(r);
+            K::IorwfF => {
+                let r = self.ram[a] | h.w;
+                self.ram[a] = r;
+                h.zv = r;
             }
-            Kind::MovfW => {
-                h.w = self.rd(h, h.addr(f));
-                h.set_z(h.w);
+            K::MovfW => {
+                h.w = self.ram[a];
+                h.zv = h.w;
             }
-            Kind::MovfF => {
-                let a = h.addr(f);
-                let r = self.rd(h, a);
-                self.wr(h, a, r, true);
-                h.set_z(r);
+            K::MovfF => h.zv = self.ram[a],
+            K::Movwf => self.ram[a] = h.w,
+            K::Nop => {}
+            K::RlfW => {
+                let v = self.ram[a];
+                h.w = v << 1 | (h.st & C);
+                h.set_c(v >> 7);
             }
-            Kind::Movwf => self.wr(h, h.addr(f), h.w, false),
-            Kind::Nop => {}
-            Kind::RlfW => {
-                let v = self.rd(h, h.addr(f));
-                h.w = v << 1 | (h.status & C);
-                h.set_c(v & 0x80 != 0);
+            K::RlfF => {
+                let v = self.ram[a];
+                self.ram[a] = v << 1 | (h.st & C);
+                h.set_c(v >> 7);
             }
-            Kind::RlfF => {
-                let a = h.addr(f);
-                let v = self.rd(h, a);
-                let r = v << 1 | (h.status & C);
-                self.wr(h, a, r, true);
-                h.set_c(v & 0x80 != 0);
+            K::RrfW => {
+                let v = self.ram[a];
+                h.w = v >> 1 | (h.st & C) << 7;
+                h.set_c(v & 1);
             }
-            Kind::RrfW => {
-                let v = self.rd(h, h.addr(f));
-                h.w = v >> 1 | (h.status & C) << 7;
-                h.set_c(v & 1 != 0);
+            K::RrfF => {
+                let v = self.ram[a];
+                self.ram[a] = v >> 1 | (h.st & C) << 7;
+                h.set_c(v & 1);
             }
-            Kind::RrfF => {
-                let a = h.addr(f);
-                let v = self.rd(h, a);
-                let r = v >> 1 | (h.status & C) << 7;
-                self.wr(h, a, r, true);
-                h.set_c(v & 1 != 0);
+            K::SubwfW => h.w = h.sub(self.ram[a], h.w),
+            K::SubwfF => self.ram[a] = h.sub(self.ram[a], h.w),
+            K::SwapfW => h.w = self.ram[a].rotate_left(4),
+            K::SwapfF => self.ram[a] = self.ram[a].rotate_left(4),
+            K::XorwfW => {
+                h.w ^= self.ram[a];
+                h.zv = h.w;
             }
-            Kind::SubwfW => {
-                let v = self.rd(h, h.addr(f));
-                h.w = h.sub(v, h.w);
+            K::XorwfF => {
+                let r = self.ram[a] ^ h.w;
+                self.ram[a] = r;
+                h.zv = r;
             }
-            Kind::SubwfF => {
-                let a = h.addr(f);
-                let v = self.rd(h, a);
-                let w = h.w;
-                let r = v.wrapping_sub(w);
-                self.wr(h, a, r, true);
-                h.set_cdcz(v >= w, (v & 0xF) >= (w & 0xF), r);
-            }
-            Kind::SwapfW => h.w = self.rd(h, h.addr(f)).rotate_left(4),
-            Kind::SwapfF => {
-                let a = h.addr(f);
-                let r = self.rd(h, a).rotate_left(4);
-                self.wr(h, a, r, false);
-            }
-            Kind::XorwfW => {
-                h.w ^= self.rd(h, h.addr(f));
-                h.set_z(h.w);
-            }
-            Kind::XorwfF => {
-                let a = h.addr(f);
-                let r = self.rd(h, a) ^ h.w;
-                self.wr(h, a, r, true);
-                h.set_z(r);
-            }
-            Kind::Bcf => {
-                let a = h.addr(f);
-                let r = self.rd(h, a) & !k;
-                self.wr(h, a, r, false);
-            }
-            Kind::Bsf => {
-                let a = h.addr(f);
-                let r = self.rd(h, a) | k;
-                self.wr(h, a, r, false);
-            }
-            Kind::Btfsc => {
-                if self.rd(h, h.addr(f)) & k == 0 {
+            K::Bcf => self.ram[a] &= !k,
+            K::Bsf => self.ram[a] |= k,
+            K::Btfsc => {
+                if self.ram[a] & k == 0 {
                     skip(h);
                 }
             }
-            Kind::Btfss => {
-                if self.rd(h, h.addr(f)) & k != 0 {
+            K::Btfss => {
+                if self.ram[a] & k != 0 {
                     skip(h);
                 }
             }
-            // TO and PD are read-only
-            Kind::BcfStatus => h.set_status(h.status & !(k & 0xE7)),
-            Kind::BsfStatus => h.set_status(h.status | (k & 0xE7)),
-            Kind::BtfscStatus => {
-                if h.status & k == 0 {
+            K::BcfStatus => h.set_st(h.st & !k),
+            K::BsfStatus => h.set_st(h.st | k),
+            K::BtfscStatus => {
+                if h.st & k == 0 {
                     skip(h);
                 }
             }
-            Kind::BtfssStatus => {
-                if h.status & k != 0 {
+            K::BtfssStatus => {
+                if h.st & k != 0 {
                     skip(h);
                 }
             }
-            Kind::Addlw => h.w = h.add(k, h.w),
-            Kind::Andlw => {
+            K::BcfZ => h.zv = 1,
+            K::BsfZ => h.zv = 0,
+            K::BtfscZ => {
+                if h.zv != 0 {
+                    skip(h);
+                }
+            }
+            K::BtfssZ => {
+                if h.zv == 0 {
+                    skip(h);
+                }
+            }
+            K::MovfWIndf => {
+                h.w = self.rd_indf(h);
+                h.zv = h.w;
+            }
+            K::MovwfIndf => self.wr_indf(h, h.w, false),
+            K::Addlw => h.w = h.add(k, h.w),
+            K::Andlw => {
                 h.w &= k;
-                h.set_z(h.w);
+                h.zv = h.w;
             }
-            Kind::Iorlw => {
+            K::Iorlw => {
                 h.w |= k;
-                h.set_z(h.w);
+                h.zv = h.w;
             }
-            Kind::Xorlw => {
+            K::Xorlw => {
                 h.w ^= k;
-                h.set_z(h.w);
+                h.zv = h.w;
             }
-            Kind::Movlw => h.w = k,
-            Kind::Sublw => h.w = h.sub(k, h.w),
-            Kind::Call => {
-                if let Err(e) = self.push(h.pc, at) {
+            K::Movlw => h.w = k,
+            K::Sublw => h.w = h.sub(k, h.w),
+            K::Call => {
+                if let Err(e) = self.push(h.pc as u16, at) {
                     h.pc = at;
                     return Err(Exit::Fault(e));
                 }
-                h.pc = u16::from(self.ram[PCLATH as usize] & 0x18) << 8 | op.k;
+                h.pc = usize::from(self.ram[PCLATH as usize] & 0x18) << 8 | usize::from(op.a);
                 h.cycles += 1;
             }
-            Kind::Goto => {
-                h.pc = u16::from(self.ram[PCLATH as usize] & 0x18) << 8 | op.k;
+            K::Goto => {
+                h.pc = usize::from(self.ram[PCLATH as usize] & 0x18) << 8 | usize::from(op.a);
                 h.cycles += 1;
             }
-            Kind::Return | Kind::Retlw | Kind::Retfie => {
+            K::Return | K::Retlw | K::Retfie => {
                 let name = match op.kind {
-                    Kind::Return => "RETURN",
-                    Kind::Retlw => "RETLW",
+                    K::Return => "RETURN",
+                    K::Retlw => "RETLW",
                     _ => "RETFIE",
                 };
                 match self.pop(name, at) {
-                    Ok(ret) => h.pc = ret,
+                    Ok(ret) => h.pc = usize::from(ret),
                     Err(e) => {
                         h.pc = at;
                         return Err(Exit::Fault(e));
                     }
                 }
-                if op.kind == Kind::Retlw {
+                if op.kind == K::Retlw {
                     h.w = k;
-                } else if op.kind == Kind::Retfie {
+                } else if op.kind == K::Retfie {
                     self.ram[INTCON as usize] |= 0x80;
                     self.irq_changed(h.cycles + 1);
+                    self.next = 0;
                 }
                 h.cycles += 1;
             }
-            Kind::Clrwdt => h.status |= 0x18,
-            Kind::Sleep => {
+            K::Clrwdt => h.st |= 0x18,
+            K::Slow => {
+                self.h = *h;
+                self.exec_slow(op.a);
+                *h = self.h;
+            }
+            K::Sleep => {
                 h.pc = at;
                 return Err(Exit::Fault(err_at("SLEEP executed", at)));
             }
-            Kind::Invalid => {
+            K::Invalid => {
                 h.pc = at;
-                return Err(Exit::Fault(invalid(op.k, at)));
+                return Err(Exit::Fault(invalid(op.a, at)));
             }
-            Kind::Break => {
+            K::Break => {
                 h.pc = at;
                 return Err(Exit::Break);
+            }
+            K::MovfWMovwf => {
+                h.w = self.ram[a];
+                h.zv = h.w;
+                h.cycles += 1;
+                if h.cycles >= self.next {
+                    return Ok(());
+                }
+                h.pc = (h.pc + 1) & 0x1FFF;
+                self.ram[usize::from(op.a2) & (RAM_SIZE - 1)] = h.w;
+            }
+            K::MovwfMovfW => {
+                self.ram[a] = h.w;
+                h.cycles += 1;
+                if h.cycles >= self.next {
+                    return Ok(());
+                }
+                h.pc = (h.pc + 1) & 0x1FFF;
+                h.w = self.ram[usize::from(op.a2) & (RAM_SIZE - 1)];
+                h.zv = h.w;
             }
         }
         h.cycles += 1;
         Ok(())
+    }
+
+    /// Executes a byte- or bit-oriented instruction `word` on any file address (the
+    /// instruction's cycle is counted by the caller, `h.pc` already points past it).
+    #[inline(never)]
+    fn exec_slow(&mut self, word: u16) {
+        let mut h = self.h;
+        self.exec_file_op(&mut h, word);
+        self.h = h;
+    }
+
+    fn exec_file_op(&mut self, h: &mut Hot, word: u16) {
+        use Inst::*;
+        let Some(i) = Inst::decode(word) else {
+            unreachable!("slow op 0x{word:04X} is no instruction");
+        };
+        match i {
+            Addwf(f, d)
+            | Andwf(f, d)
+            | Comf(f, d)
+            | Decf(f, d)
+            | Incf(f, d)
+            | Iorwf(f, d)
+            | Movf(f, d)
+            | Rlf(f, d)
+            | Rrf(f, d)
+            | Subwf(f, d)
+            | Xorwf(f, d) => {
+                // The flags first: a write to STATUS keeps them (and takes its other
+                // bits from the result), so the order does not matter.
+                let a = h.addr(f);
+                let v = self.rd(h, a);
+                let r = match i {
+                    Addwf(..) => h.add(v, h.w),
+                    Subwf(..) => h.sub(v, h.w),
+                    Rlf(..) => {
+                        let r = v << 1 | (h.st & C);
+                        h.set_c(v >> 7);
+                        r
+                    }
+                    Rrf(..) => {
+                        let r = v >> 1 | (h.st & C) << 7;
+                        h.set_c(v & 1);
+                        r
+                    }
+                    _ => {
+                        let r = match i {
+                            Andwf(..) => v & h.w,
+                            Comf(..) => !v,
+                            Decf(..) => v.wrapping_sub(1),
+                            Incf(..) => v.wrapping_add(1),
+                            Iorwf(..) => v | h.w,
+                            Xorwf(..) => v ^ h.w,
+                            _ => v,
+                        };
+                        h.zv = r;
+                        r
+                    }
+                };
+                if d == Dest::W {
+                    h.w = r;
+                } else {
+                    self.wr(h, a, r, true);
+                }
+            }
+            Decfsz(f, d) | Incfsz(f, d) | Swapf(f, d) => {
+                let a = h.addr(f);
+                let v = self.rd(h, a);
+                let r = match i {
+                    Decfsz(..) => v.wrapping_sub(1),
+                    Incfsz(..) => v.wrapping_add(1),
+                    _ => v.rotate_left(4),
+                };
+                if d == Dest::W {
+                    h.w = r;
+                } else {
+                    self.wr(h, a, r, false);
+                }
+                if r == 0 && !matches!(i, Swapf(..)) {
+                    skip(h);
+                }
+            }
+            Clrf(f) => {
+                self.wr(h, h.addr(f), 0, true);
+                h.zv = 0;
+            }
+            Movwf(f) => self.wr(h, h.addr(f), h.w, false),
+            Bcf(f, b) | Bsf(f, b) => {
+                let a = h.addr(f);
+                let m = 1u8 << (b & 7);
+                let v = self.rd(h, a);
+                let r = if matches!(i, Bcf(..)) { v & !m } else { v | m };
+                self.wr(h, a, r, false);
+            }
+            Btfsc(f, b) | Btfss(f, b) => {
+                let set = self.rd(h, h.addr(f)) & 1 << (b & 7) != 0;
+                if set == matches!(i, Btfss(..)) {
+                    skip(h);
+                }
+            }
+            _ => unreachable!("slow op 0x{word:04X} is no file operation"),
+        }
     }
 }
 
