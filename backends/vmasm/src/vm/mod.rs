@@ -159,6 +159,7 @@ struct Ins {
     /// Operands of superinstructions only.
     e: u32,
     g: u32,
+    h: u32,
 }
 
 impl Ins {
@@ -171,6 +172,7 @@ impl Ins {
             d,
             e: 0,
             g: 0,
+            h: 0,
         }
     }
 }
@@ -179,18 +181,26 @@ impl Ins {
 #[derive(Copy, Clone)]
 enum Tag {
     Other,
-    /// A comparison, with its fused form followed by JZ.
-    Rel(Handler),
+    /// A comparison, with its fused forms followed by JZ and by JNZ, and by SEL and JZ
+    /// (a SEL of 2 and of 4 bytes) for the comparisons of 16 and 32-bit integers.
+    Rel(Handler, Handler, Option<(Handler, Handler)>),
     Jz,
+    Jnz,
+    Jmp,
+    /// A binary operation, with its fused form followed by JMP.
+    Bin(Handler),
+    /// SEL of a size, with its fused form followed by JZ.
+    Sel(Handler, usize),
     /// MEMCP of 2 bytes.
     Mov2,
     Ceac,
-    /// An array access, with the fused form of the MEMCP-CEAC-access sequence.
-    Acc(Handler),
+    /// An array access, with the fused forms of the MEMCP-CEAC-access sequence, alone
+    /// and followed by JMP.
+    Acc(Handler, Handler),
 }
 
 /// The most instructions one entry runs (a superinstruction).
-const MAX_WEIGHT: u64 = 3;
+const MAX_WEIGHT: u64 = 4;
 
 /// The machine state the handlers work on.
 struct Core {
@@ -448,10 +458,10 @@ impl Vm {
                     });
                     match lacked.map_or_else(|| translate(inst, mode, &mut core), Err) {
                         Ok((mut ins, mut tag)) => {
-                            if core.checks.is_some() && ub::watched(inst.opcode.0) {
+                            if let Some(k) = core.checks.filter(|k| ub::watched(inst.opcode.0, k)) {
                                 ins.e = core.checked.len() as u32;
                                 core.checked.push((ins.f, inst.opcode.0));
-                                ins.f = ops::checked;
+                                ins.f = fast_check(inst.opcode.0, &k).unwrap_or(ops::checked);
                                 tag = Tag::Other;
                             }
                             out.push(ins);
@@ -706,17 +716,46 @@ fn exec(
 }
 
 /// Puts superinstructions in place of the first entry of the sequences they run: a
-/// comparison followed by JZ on its result, and the array access `MEMCP lac, i, #2;
-/// CEAC lac, …; AxRD/AxWR …, lac`. The entries stay in place for jumps into the
+/// comparison followed by JZ or JNZ on its result, a binary operation followed by JMP,
+/// SEL followed by JZ, a comparison followed by a SEL on its result and JZ on it, and
+/// the array access `MEMCP lac, i, #2; CEAC lac, …; AxRD/AxWR …, lac`, alone and
+/// followed by JMP. The entries stay in place for jumps into the
 /// sequence; the operands of the later entries are copied into the first.
 fn fuse(code: &mut [Ins], tags: &[Tag]) {
     for k in 0..code.len() {
-        match (tags[k], tags.get(k + 1), tags.get(k + 2)) {
-            (Tag::Rel(h), Some(Tag::Jz), _) if code[k + 1].a == code[k].a => {
+        let at = |j: usize| tags.get(k + j).copied().unwrap_or(Tag::Other);
+        match (tags[k], at(1), at(2), at(3)) {
+            (Tag::Rel(_, _, Some((h2, h4))), Tag::Sel(_, n @ (2 | 4)), Tag::Jz, _)
+                if code[k + 1].b == code[k].a && code[k + 2].a == code[k].a =>
+            {
+                let (sel, jz) = (code[k + 1], code[k + 2]);
+                let i = &mut code[k];
+                (i.d, i.e, i.g, i.h) = (sel.a, sel.c, sel.d, jz.b);
+                i.f = if n == 2 { h2 } else { h4 };
+            }
+            (Tag::Mov2, Tag::Ceac, Tag::Acc(_, h), Tag::Jmp)
+                if code[k + 1].a == code[k].a && code[k + 2].c == code[k].a =>
+            {
+                let (ceac, acc, jmp) = (code[k + 1], code[k + 2], code[k + 3]);
+                let i = &mut code[k];
+                (i.c, i.d, i.e, i.g, i.h) = (ceac.b, ceac.c, acc.a, acc.b, jmp.a);
+                i.f = h;
+            }
+            (Tag::Rel(h, _, _), Tag::Jz, _, _) | (Tag::Rel(_, h, _), Tag::Jnz, _, _)
+                if code[k + 1].a == code[k].a =>
+            {
                 code[k].d = code[k + 1].b;
                 code[k].f = h;
             }
-            (Tag::Mov2, Some(Tag::Ceac), Some(&Tag::Acc(h)))
+            (Tag::Bin(h), Tag::Jmp, _, _) => {
+                code[k].d = code[k + 1].a;
+                code[k].f = h;
+            }
+            (Tag::Sel(h, _), Tag::Jz, _, _) => {
+                (code[k].e, code[k].g) = (code[k + 1].a, code[k + 1].b);
+                code[k].f = h;
+            }
+            (Tag::Mov2, Tag::Ceac, Tag::Acc(h, _), _)
                 if code[k + 1].a == code[k].a && code[k + 2].c == code[k].a =>
             {
                 let (ceac, acc) = (code[k + 1], code[k + 2]);
@@ -778,31 +817,66 @@ fn explore(code: &[u8], mode: Mode) -> BTreeMap<u32, Found> {
 
 /// The handler for a type code over every numeric type.
 macro_rules! num {
-    ($t:expr, $h:ident $(, $o:ty)*) => {
+    ($t:expr, $h:ident $(, $o:ty)* $(; $z:expr)?) => {
         match $t {
-            0 | 5 => Some(ops::$h::<u8 $(, $o)*> as Handler),
-            1 => Some(ops::$h::<i8 $(, $o)*> as Handler),
-            2 => Some(ops::$h::<i16 $(, $o)*> as Handler),
-            3 => Some(ops::$h::<i32 $(, $o)*> as Handler),
-            4 => Some(ops::$h::<i64 $(, $o)*> as Handler),
-            6 => Some(ops::$h::<u16 $(, $o)*> as Handler),
-            7 | 0xB | 0xC | 0xD => Some(ops::$h::<u32 $(, $o)*> as Handler),
-            8 | 0xE => Some(ops::$h::<u64 $(, $o)*> as Handler),
-            9 => Some(ops::$h::<f32 $(, $o)*> as Handler),
-            0xA => Some(ops::$h::<f64 $(, $o)*> as Handler),
+            0 | 5 => Some(ops::$h::<u8 $(, $o)* $(, $z)?> as Handler),
+            1 => Some(ops::$h::<i8 $(, $o)* $(, $z)?> as Handler),
+            2 => Some(ops::$h::<i16 $(, $o)* $(, $z)?> as Handler),
+            3 => Some(ops::$h::<i32 $(, $o)* $(, $z)?> as Handler),
+            4 => Some(ops::$h::<i64 $(, $o)* $(, $z)?> as Handler),
+            6 => Some(ops::$h::<u16 $(, $o)* $(, $z)?> as Handler),
+            7 | 0xB | 0xC | 0xD => Some(ops::$h::<u32 $(, $o)* $(, $z)?> as Handler),
+            8 | 0xE => Some(ops::$h::<u64 $(, $o)* $(, $z)?> as Handler),
+            9 => Some(ops::$h::<f32 $(, $o)* $(, $z)?> as Handler),
+            0xA => Some(ops::$h::<f64 $(, $o)* $(, $z)?> as Handler),
             _ => None,
         }
     };
 }
 
+/// The handler for an integer type code (BOOL excluded, as [`ub::check`] reads it).
+macro_rules! int {
+    ($t:expr, $h:ident $(, $o:ty)*) => {
+        match $t {
+            1 => Some(ops::$h::<i8 $(, $o)*> as Handler),
+            2 => Some(ops::$h::<i16 $(, $o)*> as Handler),
+            3 => Some(ops::$h::<i32 $(, $o)*> as Handler),
+            4 => Some(ops::$h::<i64 $(, $o)*> as Handler),
+            5 => Some(ops::$h::<u8 $(, $o)*> as Handler),
+            6 => Some(ops::$h::<u16 $(, $o)*> as Handler),
+            7 => Some(ops::$h::<u32 $(, $o)*> as Handler),
+            8 => Some(ops::$h::<u64 $(, $o)*> as Handler),
+            _ => None,
+        }
+    };
+}
+
+/// A checked handler with a fast path for the common operands of a watched `op`
+/// (DIV and MOD; the two-operand ADD, SUB and MUL of up to 32 bits), or `None` for
+/// [`ops::checked`] alone.
+fn fast_check(op: u16, k: &ub::Checks) -> Option<Handler> {
+    let (g, f) = ((op >> 8) as u8, op as u8);
+    let t = f & 0xF;
+    let lint = t == 4 && k.lint_read_bug;
+    match g {
+        0x04 if !lint && f < 0x10 => int!(t, checked_div, ops::Div),
+        0x04 if !lint && f >> 4 == 1 => int!(t, checked_div, ops::Rem),
+        0x01 if t != 4 && f >> 4 == 2 => int!(t, checked_arith, ops::Add),
+        0x02 if t != 4 => int!(t, checked_arith, ops::Sub),
+        0x03 if t != 4 && f >> 4 == 2 => int!(t, checked_arith, ops::Mul),
+        _ => None,
+    }
+    .filter(|_| matches!(t, 1..=3 | 5 | 6) || (g == 0x04 && matches!(t, 4 | 7 | 8)))
+}
+
 /// The handler for a value size in bytes (1, 2, 4, 8).
 macro_rules! sized {
-    ($n:expr, $h:ident $(, $o:ty)*) => {
+    ($n:expr, $h:ident $(, $o:ty)* $(; $z:expr)?) => {
         match $n {
-            1 => Some(ops::$h::<u8 $(, $o)*> as Handler),
-            2 => Some(ops::$h::<u16 $(, $o)*> as Handler),
-            4 => Some(ops::$h::<u32 $(, $o)*> as Handler),
-            8 => Some(ops::$h::<u64 $(, $o)*> as Handler),
+            1 => Some(ops::$h::<u8 $(, $o)* $(, $z)?> as Handler),
+            2 => Some(ops::$h::<u16 $(, $o)* $(, $z)?> as Handler),
+            4 => Some(ops::$h::<u32 $(, $o)* $(, $z)?> as Handler),
+            8 => Some(ops::$h::<u64 $(, $o)* $(, $z)?> as Handler),
             _ => None,
         }
     };
@@ -822,6 +896,38 @@ macro_rules! float {
 /// Bytes of a value of type code `t` (STRING: 0).
 fn ty_size(t: u8) -> usize {
     crate::isa::Ty::from_code(t).map_or(0, |t| t.size())
+}
+
+/// The fused forms of a comparison followed by JZ and by JNZ.
+macro_rules! rel_j {
+    ($t:expr, $r:ident) => {
+        (
+            num!($t, rel_j, ops::$r; true),
+            num!($t, rel_j, ops::$r; false),
+        )
+    };
+}
+
+/// The fused forms of a comparison of 16 or 32-bit integers followed by a SEL of 2 and
+/// of 4 bytes and JZ.
+macro_rules! rel_sel_jz {
+    ($t:expr, $r:ident) => {{
+        macro_rules! both {
+            ($ty:ty) => {
+                Some((
+                    ops::rel_sel_jz::<$ty, ops::$r, u16> as Handler,
+                    ops::rel_sel_jz::<$ty, ops::$r, u32> as Handler,
+                ))
+            };
+        }
+        match $t {
+            2 => both!(i16),
+            3 => both!(i32),
+            6 => both!(u16),
+            7 => both!(u32),
+            _ => None,
+        }
+    }};
 }
 
 /// Translates a decoded instruction. Operand fields are in encoding order, except for
@@ -849,6 +955,8 @@ fn translate(inst: &Inst, mode: Mode, core: &mut Core) -> Result<(Ins, Tag), Str
     }
     let mut ins = Ins::new(ops::nop, v);
     let mut tag = Tag::Other;
+    // The fused form of a two-operand ADD, SUB or MUL followed by JMP.
+    let mut jmp_form: Option<Handler> = None;
     let m16 = mode == Mode::M16;
     // A variadic group: 2 sources inline, more through the operand pool.
     let mut variadic = |two: Option<Handler>, many: Option<Handler>| {
@@ -863,9 +971,18 @@ fn translate(inst: &Inst, mode: Mode, core: &mut Core) -> Result<(Ins, Tag), Str
     };
     let h: Option<Handler> = match grp {
         0x00 if f == 0 => Some(ops::nop),
-        g::ADD => variadic(num!(t, bin, ops::Add), num!(t, fold, ops::Add)),
-        g::MUL => variadic(num!(t, bin, ops::Mul), num!(t, fold, ops::Mul)),
-        g::SUB => num!(t, bin, ops::Sub),
+        g::ADD => {
+            jmp_form = num!(t, bin_jmp, ops::Add);
+            variadic(num!(t, bin, ops::Add), num!(t, fold, ops::Add))
+        }
+        g::MUL => {
+            jmp_form = num!(t, bin_jmp, ops::Mul);
+            variadic(num!(t, bin, ops::Mul), num!(t, fold, ops::Mul))
+        }
+        g::SUB => {
+            jmp_form = num!(t, bin_jmp, ops::Sub);
+            num!(t, bin, ops::Sub)
+        }
         g::DIV if f < 0x10 => num!(t, bin, ops::Div),
         g::DIV => num!(t, bin, ops::Rem),
         g::NEG => match f {
@@ -941,21 +1058,34 @@ fn translate(inst: &Inst, mode: Mode, core: &mut Core) -> Result<(Ins, Tag), Str
                 _ => None,
             }
         }
-        g::SEL if f <= 0xE => sized!(ty_size(t), sel),
+        g::SEL if f <= 0xE => {
+            if let Some(x) = sized!(ty_size(t), sel_jz) {
+                tag = Tag::Sel(x, ty_size(t));
+            }
+            sized!(ty_size(t), sel)
+        }
         g::LIMIT if f <= 0xE => num!(t, limit),
         g::MAX => variadic(num!(t, bin, ops::Max), num!(t, fold, ops::Max)),
         g::MIN => variadic(num!(t, bin, ops::Min), num!(t, fold, ops::Min)),
         g::GT..=g::NE if f <= 0xE => {
             let (h, fused) = match grp {
-                g::GT => (num!(t, rel, ops::Gt), num!(t, rel_jz, ops::Gt)),
-                g::GE => (num!(t, rel, ops::Ge), num!(t, rel_jz, ops::Ge)),
-                g::EQ => (num!(t, rel, ops::Eq), num!(t, rel_jz, ops::Eq)),
-                g::LE => (num!(t, rel, ops::Le), num!(t, rel_jz, ops::Le)),
-                g::LT => (num!(t, rel, ops::Lt), num!(t, rel_jz, ops::Lt)),
-                _ => (num!(t, rel, ops::Ne), num!(t, rel_jz, ops::Ne)),
+                g::GT => (num!(t, rel, ops::Gt), rel_j!(t, Gt)),
+                g::GE => (num!(t, rel, ops::Ge), rel_j!(t, Ge)),
+                g::EQ => (num!(t, rel, ops::Eq), rel_j!(t, Eq)),
+                g::LE => (num!(t, rel, ops::Le), rel_j!(t, Le)),
+                g::LT => (num!(t, rel, ops::Lt), rel_j!(t, Lt)),
+                _ => (num!(t, rel, ops::Ne), rel_j!(t, Ne)),
             };
-            if let Some(x) = fused {
-                tag = Tag::Rel(x);
+            if let (Some(z), Some(nz)) = fused {
+                let three = match grp {
+                    g::GT => rel_sel_jz!(t, Gt),
+                    g::GE => rel_sel_jz!(t, Ge),
+                    g::EQ => rel_sel_jz!(t, Eq),
+                    g::LE => rel_sel_jz!(t, Le),
+                    g::LT => rel_sel_jz!(t, Lt),
+                    _ => rel_sel_jz!(t, Ne),
+                };
+                tag = Tag::Rel(z, nz, three);
             }
             h
         }
@@ -987,8 +1117,14 @@ fn translate(inst: &Inst, mode: Mode, core: &mut Core) -> Result<(Ins, Tag), Str
             _ => None,
         },
         g::SYS => match f {
-            0x00 => Some(ops::jmp as Handler),
-            0x01 => Some(ops::jnz),
+            0x00 => {
+                tag = Tag::Jmp;
+                Some(ops::jmp as Handler)
+            }
+            0x01 => {
+                tag = Tag::Jnz;
+                Some(ops::jnz)
+            }
             0x02 => {
                 tag = Tag::Jz;
                 Some(ops::jz)
@@ -1025,13 +1161,21 @@ fn translate(inst: &Inst, mode: Mode, core: &mut Core) -> Result<(Ins, Tag), Str
             0x26..=0x2D => {
                 // AORD AOWR ATRD ATWR AFRD AFWR AQRD AQWR: 1, 2, 4, 8-byte elements.
                 let size = 1usize << ((f - 0x26) / 2);
-                let (h, fused) = if f & 1 == 0 {
-                    (sized!(size, acc, ops::Rd), sized!(size, arr, ops::Rd))
+                let (h, fused, jmp) = if f & 1 == 0 {
+                    (
+                        sized!(size, acc, ops::Rd),
+                        sized!(size, arr, ops::Rd; false),
+                        sized!(size, arr, ops::Rd; true),
+                    )
                 } else {
-                    (sized!(size, acc, ops::Wr), sized!(size, arr, ops::Wr))
+                    (
+                        sized!(size, acc, ops::Wr),
+                        sized!(size, arr, ops::Wr; false),
+                        sized!(size, arr, ops::Wr; true),
+                    )
                 };
-                if let Some(x) = fused {
-                    tag = Tag::Acc(x);
+                if let (Some(x), Some(y)) = (fused, jmp) {
+                    tag = Tag::Acc(x, y);
                 }
                 h
             }
@@ -1057,6 +1201,9 @@ fn translate(inst: &Inst, mode: Mode, core: &mut Core) -> Result<(Ins, Tag), Str
         },
         _ => None,
     };
+    if let (Tag::Other, Some(x), 2) = (tag, jmp_form, n) {
+        tag = Tag::Bin(x);
+    }
     match h {
         Some(f) => Ok((Ins { f, ..ins }, tag)),
         None => Err(format!(

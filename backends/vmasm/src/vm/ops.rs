@@ -36,17 +36,25 @@ macro_rules! val {
         impl Val for $t {
             const SIZE: usize = $n;
             #[inline(always)]
+            #[allow(clippy::int_plus_one)]
             fn load(d: &[u8], a: usize) -> Option<Self> {
-                d.get(a..)?.first_chunk::<$n>().map(|b| <$t>::from_le_bytes(*b))
+                // One comparison (`a` is at most 2^32 - 1, so the sum does not wrap).
+                if (a as u64) + $n <= d.len() as u64 {
+                    // SAFETY: `a..a + $n` is inside `d`; `[u8; $n]` has alignment 1.
+                    Some(<$t>::from_le_bytes(unsafe { *(d.as_ptr().add(a) as *const [u8; $n]) }))
+                } else {
+                    None
+                }
             }
             #[inline(always)]
+            #[allow(clippy::int_plus_one)]
             fn store(self, d: &mut [u8], a: usize) -> bool {
-                match d.get_mut(a..).and_then(|s| s.first_chunk_mut::<$n>()) {
-                    Some(b) => {
-                        *b = self.to_le_bytes();
-                        true
-                    }
-                    None => false,
+                if (a as u64) + $n <= d.len() as u64 {
+                    // SAFETY: as in `load`.
+                    unsafe { *(d.as_mut_ptr().add(a) as *mut [u8; $n]) = self.to_le_bytes() };
+                    true
+                } else {
+                    false
                 }
             }
         }
@@ -415,6 +423,93 @@ pub(super) fn checked(c: &mut Core, i: &Ins, k: usize) -> usize {
             EXIT
         }
     }
+}
+
+/// An integer type whose value fits an `i64` (u64 reinterpreted).
+pub(super) trait Int: Val {
+    fn wide(self) -> i64;
+}
+
+macro_rules! int_wide {
+    ($($t:ty),*) => {$(
+        impl Int for $t {
+            #[inline(always)]
+            fn wide(self) -> i64 { self as i64 }
+        }
+    )*};
+}
+int_wide!(i8, i16, i32, i64, u8, u16, u32, u64);
+
+/// A checked DIV or MOD (`O`) of `T`: with a divisor other than 0 and -1, which
+/// [`super::ub::check`] accepts for every type but LINT (never given here), it runs the
+/// operation directly; otherwise through [`checked`].
+pub(super) fn checked_div<T: Int, O: Op2<T>>(c: &mut Core, i: &Ins, k: usize) -> usize {
+    let (a, b) = (c.at(i.b), c.at(i.c));
+    if let (Some(x), Some(y)) = (T::load(&c.data, a), T::load(&c.data, b)) {
+        let w = y.wide();
+        if w != 0 && w != -1 {
+            return match c.st(i.a, O::f(x, y)) {
+                Ok(()) => k + 1,
+                Err(e) => {
+                    c.exit = e;
+                    EXIT
+                }
+            };
+        }
+    }
+    checked(c, i, k)
+}
+
+/// The exact `i64` result of an ADD, SUB or MUL of operands of at most 32 bits.
+pub(super) trait Wide {
+    fn w(a: i64, b: i64) -> i64;
+}
+
+impl Wide for Add {
+    #[inline(always)]
+    fn w(a: i64, b: i64) -> i64 {
+        a + b
+    }
+}
+
+impl Wide for Sub {
+    #[inline(always)]
+    fn w(a: i64, b: i64) -> i64 {
+        a - b
+    }
+}
+
+impl Wide for Mul {
+    #[inline(always)]
+    fn w(a: i64, b: i64) -> i64 {
+        a * b
+    }
+}
+
+/// A checked ADD, SUB or MUL of a `T` of at most 32 bits (not LINT): a result within
+/// the narrowest C type [`super::ub::check`] may compute it in (16 bits below 4 bytes,
+/// else 32) cannot overflow, so the operation runs directly; otherwise through
+/// [`checked`].
+pub(super) fn checked_arith<T: Int, O: Op2<T> + Wide>(c: &mut Core, i: &Ins, k: usize) -> usize {
+    let (a, b) = (c.at(i.b), c.at(i.c));
+    if let (Some(x), Some(y)) = (T::load(&c.data, a), T::load(&c.data, b)) {
+        let r = O::w(x.wide(), y.wide());
+        let fits = if T::SIZE < 4 {
+            r == r as i16 as i64
+        } else {
+            r == r as i32 as i64
+        };
+        if fits {
+            return match c.st(i.a, O::f(x, y)) {
+                Ok(()) => k + 1,
+                Err(e) => {
+                    c.exit = e;
+                    EXIT
+                }
+            };
+        }
+    }
+    checked(c, i, k)
 }
 
 /// NOP.
@@ -871,23 +966,99 @@ pub(super) fn goto(c: &mut Core, i: &Ins, _: usize) -> usize {
 // their own handlers would (same loads and stores in the same order), counts them in
 // `Core::extra`, and on a fault names the faulting one through `Core::skip`.
 
-/// A comparison followed by `JZ` on its result: `a` dst (= JZ's cond), `b` x, `c` y
-/// (as the comparison), `d` JZ's target.
-pub(super) fn rel_jz<T: Val + PartialOrd, R: Rel>(c: &mut Core, i: &Ins, k: usize) -> usize {
+/// A comparison followed by `JZ` (`Z`) or `JNZ` (not `Z`) on its result: `a` dst (=
+/// the jump's cond), `b` x, `c` y (as the comparison), `d` the jump's target.
+pub(super) fn rel_j<T: Val + PartialOrd, R: Rel, const Z: bool>(
+    c: &mut Core,
+    i: &Ins,
+    k: usize,
+) -> usize {
     step(c, |c| {
         let x: T = c.ld(i.b)?;
         let y: T = c.ld(i.c)?;
         let r = R::t(x, y);
         c.st(i.a, r as u8)?;
         c.extra += 1;
-        Ok(if r { k + 2 } else { i.d as usize })
+        Ok(if r != Z { i.d as usize } else { k + 2 })
     })
 }
 
+/// A binary operation followed by `JMP`: `a`, `b`, `c` as the operation, `d` the
+/// jump's target.
+pub(super) fn bin_jmp<T: Val, O: Op2<T>>(c: &mut Core, i: &Ins, _: usize) -> usize {
+    step(c, |c| {
+        let x: T = c.ld(i.b)?;
+        let y: T = c.ld(i.c)?;
+        c.st(i.a, O::f(x, y))?;
+        c.extra += 1;
+        Ok(i.d as usize)
+    })
+}
+
+/// `SEL` followed by `JZ`: `a`..`d` as the SEL, `e` JZ's cond, `g` its target.
+pub(super) fn sel_jz<T: Val>(c: &mut Core, i: &Ins, k: usize) -> usize {
+    let mut done = 0;
+    let r = (|| -> Step {
+        let g: u8 = c.ld(i.b)?;
+        let v: T = c.ld(if g != 0 { i.d } else { i.c })?;
+        c.st(i.a, v)?;
+        done = 1;
+        let z: u8 = c.ld(i.e)?;
+        Ok(if z == 0 { i.g as usize } else { k + 2 })
+    })();
+    match r {
+        Ok(next) => {
+            c.extra += 1;
+            next
+        }
+        Err(e) => {
+            c.extra += done;
+            c.skip = done as usize;
+            c.exit = e;
+            EXIT
+        }
+    }
+}
+
 /// The array-access sequence `MEMCP lac, idx, #2; CEAC lac, low, span; AxRD/AxWR var,
-/// base, lac`: `a` lac, `b` idx (as the MEMCP, whose handler ignores `c`), `c` low,
-/// `d` span, `e` var, `g` base.
-pub(super) fn arr<T: Val, A: Access>(c: &mut Core, i: &Ins, k: usize) -> usize {
+/// base, lac`, and with `J` followed by `JMP`: `a` lac, `b` idx (as the MEMCP, whose
+/// handler ignores `c`), `c` low, `d` span, `e` var, `g` base, `h` the JMP's target.
+pub(super) fn arr<T: Val, A: Access, const J: bool>(c: &mut Core, i: &Ins, k: usize) -> usize {
+    // Fast path: the MEMCP and the CEAC with every operand inside data memory, through
+    // one view of it (the same loads and stores in the same order).
+    let (lac, idx, low, span) = (c.at(i.a), c.at(i.b), c.at(i.c), c.at(i.d));
+    let len = c.data.len();
+    if lac.max(idx).max(low).max(span) < len.saturating_sub(1) {
+        let d = &mut c.data[..];
+        let rd = |d: &[u8], a: usize| i16::from_le_bytes([d[a], d[a + 1]]);
+        let v = rd(d, idx);
+        d[lac..lac + 2].copy_from_slice(&v.to_le_bytes());
+        let (lo, sp) = (rd(d, low), rd(d, span));
+        let x = v.wrapping_sub(lo);
+        d[lac..lac + 2].copy_from_slice(&x.to_le_bytes());
+        if x < 0 || x > sp {
+            c.extra += 1;
+            c.skip = 1;
+            c.exit = c.ceac_stop(v);
+            return EXIT;
+        }
+        return match A::f::<T>(c, i.e, elem_addr::<T>(i.g, x)) {
+            Ok(()) => {
+                c.extra += if J { 3 } else { 2 };
+                if J {
+                    i.h as usize
+                } else {
+                    k + 3
+                }
+            }
+            Err(e) => {
+                c.extra += 2;
+                c.skip = 2;
+                c.exit = e;
+                EXIT
+            }
+        };
+    }
     let mut done = 0;
     let r = (|| -> Step {
         // MEMCP lac, idx, #2
@@ -905,7 +1076,43 @@ pub(super) fn arr<T: Val, A: Access>(c: &mut Core, i: &Ins, k: usize) -> usize {
         done = 2;
         // AxRD / AxWR var, base, lac (lac reads back x)
         A::f::<T>(c, i.e, elem_addr::<T>(i.g, x))?;
-        Ok(k + 3)
+        Ok(if J { i.h as usize } else { k + 3 })
+    })();
+    match r {
+        Ok(next) => {
+            c.extra += if J { 3 } else { 2 };
+            next
+        }
+        Err(e) => {
+            c.extra += done;
+            c.skip = done as usize;
+            c.exit = e;
+            EXIT
+        }
+    }
+}
+
+/// A comparison, a SEL on its result and JZ on it: `a` the comparison's dst (= SEL's
+/// selector = JZ's cond), `b` x, `c` y, `d` SEL's dst, `e` in0, `g` in1, `h` JZ's target.
+pub(super) fn rel_sel_jz<T: Val + PartialOrd, R: Rel, S: Val>(
+    c: &mut Core,
+    i: &Ins,
+    k: usize,
+) -> usize {
+    let mut done = 0;
+    let r = (|| -> Step {
+        let x: T = c.ld(i.b)?;
+        let y: T = c.ld(i.c)?;
+        let r = R::t(x, y);
+        c.st(i.a, r as u8)?;
+        done = 1;
+        // SEL d, a, e, g (a reads back r)
+        let v: S = c.ld(if r { i.g } else { i.e })?;
+        c.st(i.d, v)?;
+        done = 2;
+        // JZ a, h (SEL's dst may overlap a: read it again)
+        let z: u8 = c.ld(i.a)?;
+        Ok(if z == 0 { i.h as usize } else { k + 3 })
     })();
     match r {
         Ok(next) => {

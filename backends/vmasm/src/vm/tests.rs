@@ -750,7 +750,7 @@ fn superinstructions_count_and_stop_exactly() {
     let (_, at) = array_loop();
     // A whole scan: 1 + 4 × 7 + 2 (LE, JZ) + 1 (TRML).
     let mut vm = array_vm(64);
-    assert_eq!(vm.superinstructions(), 2);
+    assert_eq!(vm.superinstructions(), 3);
     let o = vm.run(None, u64::MAX).unwrap();
     assert_eq!(
         o,
@@ -915,4 +915,98 @@ fn port_checks_stop_on_what_c_leaves_undefined() {
     vm.data_mut()[100..104].copy_from_slice(&dmin);
     vm.run_cycle(10).unwrap();
     assert_eq!(i32_at(&vm, 0), i32::MIN);
+}
+
+/// `I := 0; loop: LT c := I < four; SEL s := c ? I : zero; JZ c, end; MEMCP lac, s, #2;
+/// CEAC lac, low, span; AFRD x, BUF, lac; JMP next; next: ADD sum := sum + x;
+/// ADD I := I + one; JMP loop; end: TRML 0` — the comparison-SEL-JZ, array-access-JMP
+/// and ADD-JMP superinstructions.
+fn guarded_loop() -> (Vec<u8>, Vec<u32>) {
+    build_at(Mode::M16, |a| {
+        vec![
+            i(0x1C15, vec![d(0), bytes(&[0, 0])]),     // 0 I := 0
+            i(0x1402, vec![d(2), d(0), d(4)]),         // 1 LT c, I, four
+            i(0x0C02, vec![d(18), d(2), d(36), d(0)]), // 2 SEL s, c, zero, I
+            i(0x1C02, vec![d(2), l(a[11])]),           // 3 JZ c, end
+            i(0x1C1F, vec![d(6), d(18), imm(2)]),      // 4 MEMCP lac, s
+            i(0x1C2E, vec![d(6), d(8), d(10)]),        // 5 CEAC lac, low, span
+            i(0x1C2A, vec![d(12), d(20), d(6)]),       // 6 AFRD x, BUF, lac
+            i(0x1C00, vec![l(a[8])]),                  // 7 JMP next
+            i(0x0127, vec![d(38), d(38), d(12)]),      // 8 ADD sum, sum, x
+            i(0x0122, vec![d(0), d(0), d(16)]),        // 9 ADD I, I, one
+            i(0x1C00, vec![l(a[1])]),                  // 10 JMP loop
+            i(0x1C1D, vec![l(0)]),                     // 11 TRML
+        ]
+    })
+}
+
+fn guarded_vm() -> Vm {
+    let (code, _) = guarded_loop();
+    let mut vm = Vm::new(&code, 64, Mode::M16).unwrap();
+    let m = vm.data_mut();
+    put(m, 4, 4i16.to_le_bytes()); // four
+    put(m, 8, 0i16.to_le_bytes()); // low
+    put(m, 10, 3i16.to_le_bytes()); // span
+    put(m, 16, 1i16.to_le_bytes()); // one
+    put(m, 36, 0i16.to_le_bytes()); // zero
+    put(m, 38, 0u32.to_le_bytes()); // sum
+    for j in 0..4u32 {
+        put(m, 20 + 4 * j as usize, (100 + j).to_le_bytes());
+    }
+    vm
+}
+
+#[test]
+fn fused_guards_and_jumps_run_as_single_steps() {
+    let (_, at) = guarded_loop();
+    assert_eq!(guarded_vm().superinstructions(), 4);
+    // Single steps: the PC and data after each instruction.
+    let mut trace = Vec::new();
+    let mut vm = guarded_vm();
+    trace.push((vm.pc(), vm.data().to_vec()));
+    while vm.run(None, 1).unwrap().end == End::Budget {
+        trace.push((vm.pc(), vm.data().to_vec()));
+    }
+    let total = trace.len() as u64;
+    assert_eq!(total, 1 + 4 * 10 + 3 + 1);
+    assert_eq!(u32::from_le_bytes(get(&vm, 38)), 100 + 101 + 102 + 103);
+    let o = guarded_vm().run(None, u64::MAX).unwrap();
+    assert_eq!(
+        o,
+        Outcome {
+            end: End::Trml,
+            executed: total
+        }
+    );
+    for b in 1..total {
+        let mut vm = guarded_vm();
+        let o = vm.run(None, b).unwrap();
+        assert_eq!(
+            o,
+            Outcome {
+                end: End::Budget,
+                executed: b
+            },
+            "budget {b}"
+        );
+        assert_eq!(vm.pc(), trace[b as usize].0, "budget {b}");
+        assert_eq!(vm.data(), trace[b as usize].1.as_slice(), "budget {b}");
+        assert_eq!(vm.run(None, u64::MAX).unwrap().executed, total - b);
+    }
+    // stop_at inside every sequence.
+    for s in [2, 3, 5, 6, 7, 10] {
+        let first = trace.iter().position(|t| t.0 == at[s]).unwrap() as u64;
+        let mut vm = guarded_vm();
+        let o = vm.run(Some(at[s]), u64::MAX).unwrap();
+        assert_eq!(
+            o,
+            Outcome {
+                end: End::StopAt,
+                executed: first
+            },
+            "stop at {s}"
+        );
+        assert_eq!(vm.data(), trace[first as usize].1.as_slice());
+        assert_eq!(vm.run(None, u64::MAX).unwrap().executed, total - first);
+    }
 }

@@ -34,16 +34,21 @@ impl Checks {
     }
 }
 
-/// True when `op` is an instruction [`check`] has something to say about.
-pub(super) fn watched(op: u16) -> bool {
+/// True when `op` is an instruction [`check`] may have something to say about under
+/// the rules `k` (false only where [`check`] always answers `None`).
+pub(super) fn watched(op: u16, k: &Checks) -> bool {
     let (g, f) = ((op >> 8) as u8, op as u8);
     let t = f & 0xF;
+    // ADD/SUB/MUL: only a signed C type can overflow, and LINT can be misread.
+    let arith =
+        matches!(t, 1..=8) && (signed_range(t, k.int16).is_some() || (k.lint_read_bug && t == 4));
     match g {
-        0x01 | 0x03 => f >> 4 == 2,
-        0x02 | 0x04 | 0x05 | 0x0B => true,
+        0x01 | 0x03 => f >> 4 == 2 && arith,
+        0x02 => arith,
+        0x04 | 0x05 | 0x0B => true,
         0x06 => matches!(f, 0x11..=0x14 | 0x34..=0x37),
         0x19 => matches!(f, 0x05 | 0x0A | 0x0F | 0x11),
-        0x0C..=0x15 => t == 4,
+        0x0C..=0x15 => t == 4 && k.lint_read_bug,
         _ => false,
     }
 }
