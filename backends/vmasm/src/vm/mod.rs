@@ -13,12 +13,16 @@
 //! clears it afterwards ([`Vm::reset`] leaves it alone).
 //!
 //! Speed: each entry is a handler (a function pointer) with up to four operands; the
-//! loop calls one handler per entry. Common sequences of the CPDev compiler run as one
-//! *superinstruction* (a comparison followed by `JZ` on its result; the array access
-//! `MEMCP lac, i, #2; CEAC lac, …; AxRD/AxWR …, lac`) that does the same loads and
-//! stores in the same order; instruction counts, budgets, `stop_at` and fault PCs are
-//! exactly those of the single instructions (near the end of a budget and around a
-//! breakpoint the loop runs them singly).
+//! loop calls one handler per entry. Common sequences of the CPDev compiler and of plcc
+//! run as one *superinstruction* (a comparison followed by `JZ` or `JNZ` on its
+//! result; a comparison, a SEL on its result and `JZ` on it; SEL followed by `JZ`; ADD,
+//! SUB or MUL followed by `JMP`; the array access `MEMCP lac, i, #2; CEAC lac, …;
+//! AxRD/AxWR …, lac`, alone or followed by `JMP`) that does the same loads and stores
+//! in the same order; instruction counts, budgets, `stop_at` and fault PCs are exactly
+//! those of the single instructions (near the end of a budget and around a breakpoint
+//! the loop runs them singly). With [`Vm::for_port`], only the instructions whose C
+//! evaluation can go wrong on that port are checked, and the checks of DIV, MOD and the
+//! signed ADD, SUB and MUL first try a fast path for the operands that cannot.
 //!
 //! Every data operand is relative to DPTR (`data[DPTR + addr]`, the sum wrapping in the
 //! mode's address width), except MMV's absolute side and the targets of the pointer
