@@ -3,12 +3,16 @@
 //! and ADCON1, Timer0, Timer1 with CCP1 compare (special event trigger), and
 //! interrupts.
 //!
-//! Program memory is decoded once into a compact array; the run loop dispatches on the
-//! decoded kind and never ticks the timers per instruction: each timer keeps the cycle
-//! it was last synchronised at and its value then, and the cycle of its next event
-//! (overflow, compare match) is computed in advance. The loop only leaves its fast path
-//! when the cycle counter reaches the next event, the cycle budget, or after a write to
-//! a register that can change an event or an interrupt condition.
+//! Program memory is decoded once per bank into tables of compact ops (STATUS<RP1:RP0>
+//! selects the table), so that direct file operands name their storage at decode time
+//! and only special registers take an out-of-line path; frequent pairs of consecutive
+//! instructions are fused into one op (its second instruction runs only if no check is
+//! due in between). The run loop dispatches on the decoded kind and never ticks the
+//! timers per instruction: each timer keeps the cycle it was last synchronised at and
+//! its value then, and the cycle of its next event (overflow, compare match) is
+//! computed in advance. The loop only leaves its fast path when the cycle counter
+//! reaches the next event, the cycle budget, or after a write to a register that can
+//! change an event or an interrupt condition.
 //!
 //! Timing follows gpsim 0.31 (checked cycle by cycle, see `tests/sim_against_gpsim.rs`):
 //! - An instruction that starts at cycle `c` reads the timers' values at `c`; a write
@@ -331,15 +335,51 @@ enum Kind {
     Invalid,
     /// A stop address of the current `run_until` (the real op is saved aside).
     Break,
-    /// MOVF `a`,W then MOVWF `a2` (both plain), one dispatch for two instructions.
+    // Fused pairs (see `PAIRS`): the first instruction with `a`, `b`, the second with
+    // `a2`, `b2`; one dispatch for two instructions.
     MovfWMovwf,
-    /// MOVWF `a` then MOVF `a2`,W (both plain).
     MovwfMovfW,
+    AddwfFMovfW,
+    RlfFRlfF,
+    BcfStatusRlfF,
+    MovwfGoto,
+    MovfWXorlw,
+    MovwfClrf,
+    MovfWAddwfF,
+    ClrfMovfW,
+    MovwfIncfF,
+    MovfWBtfscStatus,
+    MovwfMovlw,
+    ClrfClrf,
+    IncfFMovfW,
+    MovlwAddwfF,
+    MovfWSublw,
+    MovfWBtfscZ,
+    BcfBtfsc,
+    SublwBtfssStatus,
+    MovwfBcfStatus,
+    SubwfFMovfW,
+    RlfFDecfszF,
+    RrfFBtfssStatus,
+    BcfStatusRrfF,
+    MovfWBtfssStatus,
+    XorlwMovwf,
+    MovlwMovwf,
+    MovfWSubwfF,
+    AndlwMovwf,
+    MovfWAndlw,
+    MovfWSubwfW,
+    RlfFBtfscStatus,
+    SubwfFBtfscStatus,
+    MovfWBtfssZ,
+    IncfFGoto,
+    MovwfBsf,
+    MovwfBcf,
 }
 
 /// A decoded instruction: `a` a storage index (plain file operands), a CALL/GOTO
-/// target or a word; `b` a bit mask or a literal; `a2` the second storage index of a
-/// fused pair.
+/// target or a word; `b` a bit mask or a literal; `a2`, `b2` the same for the second
+/// instruction of a fused pair.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(C, align(8))]
 struct Op {
@@ -347,11 +387,62 @@ struct Op {
     b: u8,
     a: u16,
     a2: u16,
+    b2: u8,
 }
+
+/// The pairs of consecutive instructions fused into one op: (first, second, fused).
+/// The first is a plain single-cycle instruction that goes on to the next address;
+/// the pairs are the most frequent in plcc's code (bench/pic16).
+const PAIRS: [(Kind, Kind, Kind); 38] = [
+    (Kind::MovfW, Kind::Movwf, Kind::MovfWMovwf),
+    (Kind::Movwf, Kind::MovfW, Kind::MovwfMovfW),
+    (Kind::AddwfF, Kind::MovfW, Kind::AddwfFMovfW),
+    (Kind::RlfF, Kind::RlfF, Kind::RlfFRlfF),
+    (Kind::BcfStatus, Kind::RlfF, Kind::BcfStatusRlfF),
+    (Kind::Movwf, Kind::Goto, Kind::MovwfGoto),
+    (Kind::MovfW, Kind::Xorlw, Kind::MovfWXorlw),
+    (Kind::Movwf, Kind::Clrf, Kind::MovwfClrf),
+    (Kind::MovfW, Kind::AddwfF, Kind::MovfWAddwfF),
+    (Kind::Clrf, Kind::MovfW, Kind::ClrfMovfW),
+    (Kind::Movwf, Kind::IncfF, Kind::MovwfIncfF),
+    (Kind::MovfW, Kind::BtfscStatus, Kind::MovfWBtfscStatus),
+    (Kind::Movwf, Kind::Movlw, Kind::MovwfMovlw),
+    (Kind::Clrf, Kind::Clrf, Kind::ClrfClrf),
+    (Kind::IncfF, Kind::MovfW, Kind::IncfFMovfW),
+    (Kind::Movlw, Kind::AddwfF, Kind::MovlwAddwfF),
+    (Kind::MovfW, Kind::Sublw, Kind::MovfWSublw),
+    (Kind::MovfW, Kind::BtfscZ, Kind::MovfWBtfscZ),
+    (Kind::Bcf, Kind::Btfsc, Kind::BcfBtfsc),
+    (Kind::Sublw, Kind::BtfssStatus, Kind::SublwBtfssStatus),
+    (Kind::Movwf, Kind::BcfStatus, Kind::MovwfBcfStatus),
+    (Kind::SubwfF, Kind::MovfW, Kind::SubwfFMovfW),
+    (Kind::RlfF, Kind::DecfszF, Kind::RlfFDecfszF),
+    (Kind::RrfF, Kind::BtfssStatus, Kind::RrfFBtfssStatus),
+    (Kind::BcfStatus, Kind::RrfF, Kind::BcfStatusRrfF),
+    (Kind::MovfW, Kind::BtfssStatus, Kind::MovfWBtfssStatus),
+    (Kind::Xorlw, Kind::Movwf, Kind::XorlwMovwf),
+    (Kind::Movlw, Kind::Movwf, Kind::MovlwMovwf),
+    (Kind::MovfW, Kind::SubwfF, Kind::MovfWSubwfF),
+    (Kind::Andlw, Kind::Movwf, Kind::AndlwMovwf),
+    (Kind::MovfW, Kind::Andlw, Kind::MovfWAndlw),
+    (Kind::MovfW, Kind::SubwfW, Kind::MovfWSubwfW),
+    (Kind::RlfF, Kind::BtfscStatus, Kind::RlfFBtfscStatus),
+    (Kind::SubwfF, Kind::BtfscStatus, Kind::SubwfFBtfscStatus),
+    (Kind::MovfW, Kind::BtfssZ, Kind::MovfWBtfssZ),
+    (Kind::IncfF, Kind::Goto, Kind::IncfFGoto),
+    (Kind::Movwf, Kind::Bsf, Kind::MovwfBsf),
+    (Kind::Movwf, Kind::Bcf, Kind::MovwfBcf),
+];
 
 impl Op {
     const fn new(kind: Kind, b: u8, a: u16) -> Op {
-        Op { kind, b, a, a2: 0 }
+        Op {
+            kind,
+            b,
+            a,
+            a2: 0,
+            b2: 0,
+        }
     }
 
     /// Decodes `word` as executed with STATUS<RP1:RP0> giving data address offset
@@ -435,22 +526,25 @@ impl Op {
     }
 
     fn is_fused(self) -> bool {
-        matches!(self.kind, Kind::MovfWMovwf | Kind::MovwfMovfW)
+        self.kind as u8 >= PAIRS[0].2 as u8
     }
 
     /// The op that executes `self` and then `next` (the instruction after it) in one
     /// dispatch, if there is one.
     fn fuse(self, next: Op) -> Option<Op> {
-        let kind = match (self.kind, next.kind) {
-            (Kind::MovfW, Kind::Movwf) => Kind::MovfWMovwf,
-            (Kind::Movwf, Kind::MovfW) => Kind::MovwfMovfW,
-            _ => return None,
-        };
+        // the second instruction must see the bank the first one leaves
+        if matches!(self.kind, Kind::BcfStatus | Kind::BsfStatus) && self.b & 0x60 != 0 {
+            return None;
+        }
+        let &(_, _, kind) = PAIRS
+            .iter()
+            .find(|&&(first, second, _)| (first, second) == (self.kind, next.kind))?;
         Some(Op {
             kind,
-            b: 0,
+            b: self.b,
             a: self.a,
             a2: next.a,
+            b2: next.b,
         })
     }
 }
@@ -1346,9 +1440,172 @@ impl Core {
         use Kind as K;
         let at = h.pc;
         h.pc = (at + 1) & 0x1FFF;
-        let a = usize::from(op.a) & (RAM_SIZE - 1);
         let k = op.b;
+        // A fused pair: the first instruction, its cycle, and the second unless the
+        // run loop has to check first.
+        macro_rules! pair {
+            ($first:ident, $second:ident) => {{
+                self.simple(h, K::$first, op.a, op.b);
+                h.cycles += 1;
+                if h.cycles >= self.next {
+                    return Ok(());
+                }
+                h.pc = (h.pc + 1) & 0x1FFF;
+                self.simple(h, K::$second, op.a2, op.b2);
+            }};
+        }
         match op.kind {
+            K::AddwfW => self.simple(h, K::AddwfW, op.a, k),
+            K::AddwfF => self.simple(h, K::AddwfF, op.a, k),
+            K::AndwfW => self.simple(h, K::AndwfW, op.a, k),
+            K::AndwfF => self.simple(h, K::AndwfF, op.a, k),
+            K::Clrf => self.simple(h, K::Clrf, op.a, k),
+            K::Clrw => self.simple(h, K::Clrw, op.a, k),
+            K::ComfW => self.simple(h, K::ComfW, op.a, k),
+            K::ComfF => self.simple(h, K::ComfF, op.a, k),
+            K::DecfW => self.simple(h, K::DecfW, op.a, k),
+            K::DecfF => self.simple(h, K::DecfF, op.a, k),
+            K::DecfszW => self.simple(h, K::DecfszW, op.a, k),
+            K::DecfszF => self.simple(h, K::DecfszF, op.a, k),
+            K::IncfW => self.simple(h, K::IncfW, op.a, k),
+            K::IncfF => self.simple(h, K::IncfF, op.a, k),
+            K::IncfszW => self.simple(h, K::IncfszW, op.a, k),
+            K::IncfszF => self.simple(h, K::IncfszF, op.a, k),
+            K::IorwfW => self.simple(h, K::IorwfW, op.a, k),
+            K::IorwfF => self.simple(h, K::IorwfF, op.a, k),
+            K::MovfW => self.simple(h, K::MovfW, op.a, k),
+            K::MovfF => self.simple(h, K::MovfF, op.a, k),
+            K::Movwf => self.simple(h, K::Movwf, op.a, k),
+            K::Nop => self.simple(h, K::Nop, op.a, k),
+            K::RlfW => self.simple(h, K::RlfW, op.a, k),
+            K::RlfF => self.simple(h, K::RlfF, op.a, k),
+            K::RrfW => self.simple(h, K::RrfW, op.a, k),
+            K::RrfF => self.simple(h, K::RrfF, op.a, k),
+            K::SubwfW => self.simple(h, K::SubwfW, op.a, k),
+            K::SubwfF => self.simple(h, K::SubwfF, op.a, k),
+            K::SwapfW => self.simple(h, K::SwapfW, op.a, k),
+            K::SwapfF => self.simple(h, K::SwapfF, op.a, k),
+            K::XorwfW => self.simple(h, K::XorwfW, op.a, k),
+            K::XorwfF => self.simple(h, K::XorwfF, op.a, k),
+            K::Bcf => self.simple(h, K::Bcf, op.a, k),
+            K::Bsf => self.simple(h, K::Bsf, op.a, k),
+            K::Btfsc => self.simple(h, K::Btfsc, op.a, k),
+            K::Btfss => self.simple(h, K::Btfss, op.a, k),
+            K::BcfStatus => self.simple(h, K::BcfStatus, op.a, k),
+            K::BsfStatus => self.simple(h, K::BsfStatus, op.a, k),
+            K::BtfscStatus => self.simple(h, K::BtfscStatus, op.a, k),
+            K::BtfssStatus => self.simple(h, K::BtfssStatus, op.a, k),
+            K::BcfZ => self.simple(h, K::BcfZ, op.a, k),
+            K::BsfZ => self.simple(h, K::BsfZ, op.a, k),
+            K::BtfscZ => self.simple(h, K::BtfscZ, op.a, k),
+            K::BtfssZ => self.simple(h, K::BtfssZ, op.a, k),
+            K::MovfWIndf => self.simple(h, K::MovfWIndf, op.a, k),
+            K::MovwfIndf => self.simple(h, K::MovwfIndf, op.a, k),
+            K::Addlw => self.simple(h, K::Addlw, op.a, k),
+            K::Andlw => self.simple(h, K::Andlw, op.a, k),
+            K::Iorlw => self.simple(h, K::Iorlw, op.a, k),
+            K::Xorlw => self.simple(h, K::Xorlw, op.a, k),
+            K::Movlw => self.simple(h, K::Movlw, op.a, k),
+            K::Sublw => self.simple(h, K::Sublw, op.a, k),
+            K::Goto => self.simple(h, K::Goto, op.a, k),
+            K::Clrwdt => self.simple(h, K::Clrwdt, op.a, k),
+            K::Call => {
+                if let Err(e) = self.push(h.pc as u16, at) {
+                    h.pc = at;
+                    return Err(Exit::Fault(e));
+                }
+                h.pc = usize::from(self.ram[PCLATH as usize] & 0x18) << 8 | usize::from(op.a);
+                h.cycles += 1;
+            }
+            K::Return | K::Retlw | K::Retfie => {
+                let name = match op.kind {
+                    K::Return => "RETURN",
+                    K::Retlw => "RETLW",
+                    _ => "RETFIE",
+                };
+                match self.pop(name, at) {
+                    Ok(ret) => h.pc = usize::from(ret),
+                    Err(e) => {
+                        h.pc = at;
+                        return Err(Exit::Fault(e));
+                    }
+                }
+                if op.kind == K::Retlw {
+                    h.w = k;
+                } else if op.kind == K::Retfie {
+                    self.ram[INTCON as usize] |= 0x80;
+                    self.irq_changed(h.cycles + 1);
+                    self.next = 0;
+                }
+                h.cycles += 1;
+            }
+            K::Slow => {
+                self.h = *h;
+                self.exec_slow(op.a);
+                *h = self.h;
+            }
+            K::Sleep => {
+                h.pc = at;
+                return Err(Exit::Fault(err_at("SLEEP executed", at)));
+            }
+            K::Invalid => {
+                h.pc = at;
+                return Err(Exit::Fault(invalid(op.a, at)));
+            }
+            K::Break => {
+                h.pc = at;
+                return Err(Exit::Break);
+            }
+            K::MovfWMovwf => pair!(MovfW, Movwf),
+            K::MovwfMovfW => pair!(Movwf, MovfW),
+            K::AddwfFMovfW => pair!(AddwfF, MovfW),
+            K::RlfFRlfF => pair!(RlfF, RlfF),
+            K::BcfStatusRlfF => pair!(BcfStatus, RlfF),
+            K::MovwfGoto => pair!(Movwf, Goto),
+            K::MovfWXorlw => pair!(MovfW, Xorlw),
+            K::MovwfClrf => pair!(Movwf, Clrf),
+            K::MovfWAddwfF => pair!(MovfW, AddwfF),
+            K::ClrfMovfW => pair!(Clrf, MovfW),
+            K::MovwfIncfF => pair!(Movwf, IncfF),
+            K::MovfWBtfscStatus => pair!(MovfW, BtfscStatus),
+            K::MovwfMovlw => pair!(Movwf, Movlw),
+            K::ClrfClrf => pair!(Clrf, Clrf),
+            K::IncfFMovfW => pair!(IncfF, MovfW),
+            K::MovlwAddwfF => pair!(Movlw, AddwfF),
+            K::MovfWSublw => pair!(MovfW, Sublw),
+            K::MovfWBtfscZ => pair!(MovfW, BtfscZ),
+            K::BcfBtfsc => pair!(Bcf, Btfsc),
+            K::SublwBtfssStatus => pair!(Sublw, BtfssStatus),
+            K::MovwfBcfStatus => pair!(Movwf, BcfStatus),
+            K::SubwfFMovfW => pair!(SubwfF, MovfW),
+            K::RlfFDecfszF => pair!(RlfF, DecfszF),
+            K::RrfFBtfssStatus => pair!(RrfF, BtfssStatus),
+            K::BcfStatusRrfF => pair!(BcfStatus, RrfF),
+            K::MovfWBtfssStatus => pair!(MovfW, BtfssStatus),
+            K::XorlwMovwf => pair!(Xorlw, Movwf),
+            K::MovlwMovwf => pair!(Movlw, Movwf),
+            K::MovfWSubwfF => pair!(MovfW, SubwfF),
+            K::AndlwMovwf => pair!(Andlw, Movwf),
+            K::MovfWAndlw => pair!(MovfW, Andlw),
+            K::MovfWSubwfW => pair!(MovfW, SubwfW),
+            K::RlfFBtfscStatus => pair!(RlfF, BtfscStatus),
+            K::SubwfFBtfscStatus => pair!(SubwfF, BtfscStatus),
+            K::MovfWBtfssZ => pair!(MovfW, BtfssZ),
+            K::IncfFGoto => pair!(IncfF, Goto),
+            K::MovwfBsf => pair!(Movwf, Bsf),
+            K::MovwfBcf => pair!(Movwf, Bcf),
+        }
+        h.cycles += 1;
+        Ok(())
+    }
+
+    /// Executes an instruction that cannot fail (`kind` a constant where inlined): its
+    /// operands `a`, `k` (see [`Op`]); `h.pc` already points past it.
+    #[inline(always)]
+    fn simple(&mut self, h: &mut Hot, kind: Kind, target: u16, k: u8) {
+        use Kind as K;
+        let a = usize::from(target) & (RAM_SIZE - 1);
+        match kind {
             K::AddwfW => h.w = h.add(self.ram[a], h.w),
             K::AddwfF => self.ram[a] = h.add(self.ram[a], h.w),
             K::AndwfW => {
@@ -1526,81 +1783,13 @@ impl Core {
             }
             K::Movlw => h.w = k,
             K::Sublw => h.w = h.sub(k, h.w),
-            K::Call => {
-                if let Err(e) = self.push(h.pc as u16, at) {
-                    h.pc = at;
-                    return Err(Exit::Fault(e));
-                }
-                h.pc = usize::from(self.ram[PCLATH as usize] & 0x18) << 8 | usize::from(op.a);
-                h.cycles += 1;
-            }
             K::Goto => {
-                h.pc = usize::from(self.ram[PCLATH as usize] & 0x18) << 8 | usize::from(op.a);
-                h.cycles += 1;
-            }
-            K::Return | K::Retlw | K::Retfie => {
-                let name = match op.kind {
-                    K::Return => "RETURN",
-                    K::Retlw => "RETLW",
-                    _ => "RETFIE",
-                };
-                match self.pop(name, at) {
-                    Ok(ret) => h.pc = usize::from(ret),
-                    Err(e) => {
-                        h.pc = at;
-                        return Err(Exit::Fault(e));
-                    }
-                }
-                if op.kind == K::Retlw {
-                    h.w = k;
-                } else if op.kind == K::Retfie {
-                    self.ram[INTCON as usize] |= 0x80;
-                    self.irq_changed(h.cycles + 1);
-                    self.next = 0;
-                }
+                h.pc = usize::from(self.ram[PCLATH as usize] & 0x18) << 8 | usize::from(target);
                 h.cycles += 1;
             }
             K::Clrwdt => h.st |= 0x18,
-            K::Slow => {
-                self.h = *h;
-                self.exec_slow(op.a);
-                *h = self.h;
-            }
-            K::Sleep => {
-                h.pc = at;
-                return Err(Exit::Fault(err_at("SLEEP executed", at)));
-            }
-            K::Invalid => {
-                h.pc = at;
-                return Err(Exit::Fault(invalid(op.a, at)));
-            }
-            K::Break => {
-                h.pc = at;
-                return Err(Exit::Break);
-            }
-            K::MovfWMovwf => {
-                h.w = self.ram[a];
-                h.zv = h.w;
-                h.cycles += 1;
-                if h.cycles >= self.next {
-                    return Ok(());
-                }
-                h.pc = (h.pc + 1) & 0x1FFF;
-                self.ram[usize::from(op.a2) & (RAM_SIZE - 1)] = h.w;
-            }
-            K::MovwfMovfW => {
-                self.ram[a] = h.w;
-                h.cycles += 1;
-                if h.cycles >= self.next {
-                    return Ok(());
-                }
-                h.pc = (h.pc + 1) & 0x1FFF;
-                h.w = self.ram[usize::from(op.a2) & (RAM_SIZE - 1)];
-                h.zv = h.w;
-            }
+            _ => unreachable!("{kind:?} is no simple instruction"),
         }
-        h.cycles += 1;
-        Ok(())
     }
 
     /// Executes a byte- or bit-oriented instruction `word` on any file address (the
