@@ -375,6 +375,31 @@ enum Kind {
     IncfFGoto,
     MovwfBsf,
     MovwfBcf,
+    MovfWIndfMovwf,
+    BcfStatusBtfsc,
+    IncfFBtfscZ,
+    AddwfFGoto,
+    AddwfWMovwf,
+    IncfFMovfWIndf,
+    BsfBtfss,
+    MovlwAddwfW,
+    SubwfWBtfssZ,
+    RlfFMovlw,
+    MovlwSubwfW,
+    BcfBtfssStatus,
+    SublwBtfssZ,
+    BcfBtfssZ,
+    BcfBtfss,
+    MovlwBtfscStatus,
+    MovlwBtfssStatus,
+    DecfszFGoto,
+    BtfssZGoto,
+    BtfscStatusGoto,
+    BtfssStatusGoto,
+    IncfszWAddwfF,
+    IncfszWSubwfF,
+    BtfssBcf,
+    BtfssGoto,
 }
 
 /// A decoded instruction: `a` a storage index (plain file operands), a CALL/GOTO
@@ -391,9 +416,10 @@ struct Op {
 }
 
 /// The pairs of consecutive instructions fused into one op: (first, second, fused).
-/// The first is a plain single-cycle instruction that goes on to the next address;
-/// the pairs are the most frequent in plcc's code (bench/pic16).
-const PAIRS: [(Kind, Kind, Kind); 38] = [
+/// The first is a plain instruction that goes on to the next address or skips it (then
+/// the second does not run); the pairs are the most frequent in plcc's code
+/// (bench/pic16).
+const PAIRS: [(Kind, Kind, Kind); 63] = [
     (Kind::MovfW, Kind::Movwf, Kind::MovfWMovwf),
     (Kind::Movwf, Kind::MovfW, Kind::MovwfMovfW),
     (Kind::AddwfF, Kind::MovfW, Kind::AddwfFMovfW),
@@ -432,6 +458,31 @@ const PAIRS: [(Kind, Kind, Kind); 38] = [
     (Kind::IncfF, Kind::Goto, Kind::IncfFGoto),
     (Kind::Movwf, Kind::Bsf, Kind::MovwfBsf),
     (Kind::Movwf, Kind::Bcf, Kind::MovwfBcf),
+    (Kind::MovfWIndf, Kind::Movwf, Kind::MovfWIndfMovwf),
+    (Kind::BcfStatus, Kind::Btfsc, Kind::BcfStatusBtfsc),
+    (Kind::IncfF, Kind::BtfscZ, Kind::IncfFBtfscZ),
+    (Kind::AddwfF, Kind::Goto, Kind::AddwfFGoto),
+    (Kind::AddwfW, Kind::Movwf, Kind::AddwfWMovwf),
+    (Kind::IncfF, Kind::MovfWIndf, Kind::IncfFMovfWIndf),
+    (Kind::Bsf, Kind::Btfss, Kind::BsfBtfss),
+    (Kind::Movlw, Kind::AddwfW, Kind::MovlwAddwfW),
+    (Kind::SubwfW, Kind::BtfssZ, Kind::SubwfWBtfssZ),
+    (Kind::RlfF, Kind::Movlw, Kind::RlfFMovlw),
+    (Kind::Movlw, Kind::SubwfW, Kind::MovlwSubwfW),
+    (Kind::Bcf, Kind::BtfssStatus, Kind::BcfBtfssStatus),
+    (Kind::Sublw, Kind::BtfssZ, Kind::SublwBtfssZ),
+    (Kind::Bcf, Kind::BtfssZ, Kind::BcfBtfssZ),
+    (Kind::Bcf, Kind::Btfss, Kind::BcfBtfss),
+    (Kind::Movlw, Kind::BtfscStatus, Kind::MovlwBtfscStatus),
+    (Kind::Movlw, Kind::BtfssStatus, Kind::MovlwBtfssStatus),
+    (Kind::DecfszF, Kind::Goto, Kind::DecfszFGoto),
+    (Kind::BtfssZ, Kind::Goto, Kind::BtfssZGoto),
+    (Kind::BtfscStatus, Kind::Goto, Kind::BtfscStatusGoto),
+    (Kind::BtfssStatus, Kind::Goto, Kind::BtfssStatusGoto),
+    (Kind::IncfszW, Kind::AddwfF, Kind::IncfszWAddwfF),
+    (Kind::IncfszW, Kind::SubwfF, Kind::IncfszWSubwfF),
+    (Kind::Btfss, Kind::Bcf, Kind::BtfssBcf),
+    (Kind::Btfss, Kind::Goto, Kind::BtfssGoto),
 ];
 
 impl Op {
@@ -1442,12 +1493,12 @@ impl Core {
         h.pc = (at + 1) & 0x1FFF;
         let k = op.b;
         // A fused pair: the first instruction, its cycle, and the second unless the
-        // run loop has to check first.
+        // first skipped it or the run loop has to check first.
         macro_rules! pair {
             ($first:ident, $second:ident) => {{
                 self.simple(h, K::$first, op.a, op.b);
                 h.cycles += 1;
-                if h.cycles >= self.next {
+                if h.pc != (at + 1) & 0x1FFF || h.cycles >= self.next {
                     return Ok(());
                 }
                 h.pc = (h.pc + 1) & 0x1FFF;
@@ -1594,6 +1645,31 @@ impl Core {
             K::IncfFGoto => pair!(IncfF, Goto),
             K::MovwfBsf => pair!(Movwf, Bsf),
             K::MovwfBcf => pair!(Movwf, Bcf),
+            K::MovfWIndfMovwf => pair!(MovfWIndf, Movwf),
+            K::BcfStatusBtfsc => pair!(BcfStatus, Btfsc),
+            K::IncfFBtfscZ => pair!(IncfF, BtfscZ),
+            K::AddwfFGoto => pair!(AddwfF, Goto),
+            K::AddwfWMovwf => pair!(AddwfW, Movwf),
+            K::IncfFMovfWIndf => pair!(IncfF, MovfWIndf),
+            K::BsfBtfss => pair!(Bsf, Btfss),
+            K::MovlwAddwfW => pair!(Movlw, AddwfW),
+            K::SubwfWBtfssZ => pair!(SubwfW, BtfssZ),
+            K::RlfFMovlw => pair!(RlfF, Movlw),
+            K::MovlwSubwfW => pair!(Movlw, SubwfW),
+            K::BcfBtfssStatus => pair!(Bcf, BtfssStatus),
+            K::SublwBtfssZ => pair!(Sublw, BtfssZ),
+            K::BcfBtfssZ => pair!(Bcf, BtfssZ),
+            K::BcfBtfss => pair!(Bcf, Btfss),
+            K::MovlwBtfscStatus => pair!(Movlw, BtfscStatus),
+            K::MovlwBtfssStatus => pair!(Movlw, BtfssStatus),
+            K::DecfszFGoto => pair!(DecfszF, Goto),
+            K::BtfssZGoto => pair!(BtfssZ, Goto),
+            K::BtfscStatusGoto => pair!(BtfscStatus, Goto),
+            K::BtfssStatusGoto => pair!(BtfssStatus, Goto),
+            K::IncfszWAddwfF => pair!(IncfszW, AddwfF),
+            K::IncfszWSubwfF => pair!(IncfszW, SubwfF),
+            K::BtfssBcf => pair!(Btfss, Bcf),
+            K::BtfssGoto => pair!(Btfss, Goto),
         }
         h.cycles += 1;
         Ok(())
