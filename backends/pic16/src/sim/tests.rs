@@ -760,6 +760,55 @@ fn run_until_semantics() {
 }
 
 #[test]
+fn fused_pairs_run_one_instruction_at_a_time_where_they_must() {
+    // MOVF/MOVWF at 1 and 2 are one op in the run loop
+    let prog = [Nop, Movf(0x20, W), Movwf(0x21), Goto(0)];
+    let mut p = chip(&prog);
+    p.write(0x20, 0x5A);
+    // a stop address on the second instruction: the first runs alone
+    assert_eq!(p.run_until(&[2], 100), Ok(Stop::Breakpoint(2)));
+    assert_eq!((p.cycles(), p.w(), p.read(0x21)), (2, 0x5A, 0));
+    assert_eq!(p.run_until(&[], 1), Ok(Stop::CycleLimit));
+    assert_eq!((p.cycles(), p.pc(), p.read(0x21)), (3, 3, 0x5A));
+    // the cycle budget ends between the two
+    let mut p = chip(&prog);
+    assert_eq!(p.run_until(&[], 2), Ok(Stop::CycleLimit));
+    assert_eq!((p.cycles(), p.pc()), (2, 2));
+    // so does step
+    p.set_pc(1);
+    p.step().unwrap();
+    assert_eq!(p.pc(), 2);
+    // the pair runs whole again once the stop addresses are gone
+    let mut p = chip(&prog);
+    p.write(0x20, 7);
+    assert_eq!(p.run_until(&[3], 100), Ok(Stop::Breakpoint(3)));
+    assert_eq!((p.cycles(), p.read(0x21)), (3, 7));
+}
+
+#[test]
+fn fused_pairs_see_the_bank_and_the_skip_of_the_first() {
+    let mut p = run(&[
+        Movlw(0x11),
+        Bsf(ST, reg::RP0),
+        Movwf(0x20), // 0xA0
+        Bcf(ST, reg::C),
+        Rlf(0x20, F), // 0xA0
+        Bcf(ST, reg::RP0),
+        Movlw(1),
+        Movwf(0x21),
+        Decfsz(0x21, F), // skips the GOTO
+        Goto(0),
+        Nop,
+    ]);
+    assert_eq!((p.read(0xA0), p.read(0x20), p.read(0x21)), (0x22, 0, 0));
+    assert_eq!(p.cycles(), 11);
+    p.set_pc(8);
+    p.write(0x21, 2);
+    p.step().unwrap();
+    assert_eq!(p.pc(), 9);
+}
+
+#[test]
 fn reset_and_fill_ram() {
     let mut p = chip(&[
         Movlw(1),
