@@ -257,8 +257,9 @@ pub enum Port {
 /// Decoded instruction kinds. There is one decoded table per bank (STATUS<RP1:RP0>
 /// selects the table the run loop reads), so a direct file operand is resolved when
 /// the program is decoded: the byte- and bit-oriented kinds below name a storage index
-/// (`Op::a`) of general-purpose RAM or of a register without side effects, and every
-/// other file operand becomes [`Kind::Slow`].
+/// (`Op::a`) of general-purpose RAM or of a register without side effects; MOVF INDF,W
+/// and MOVWF INDF have their own kinds, and every other file operand becomes
+/// [`Kind::Slow`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u8)]
 enum Kind {
