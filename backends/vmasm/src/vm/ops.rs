@@ -966,6 +966,24 @@ pub(super) fn goto(c: &mut Core, i: &Ins, _: usize) -> usize {
 // their own handlers would (same loads and stores in the same order), counts them in
 // `Core::extra`, and on a fault names the faulting one through `Core::skip`.
 
+/// The end of a superinstruction that stands for `count` entries beyond its first:
+/// on success they are counted; on a fault, only the `done` entries before the
+/// faulting one are, and `Core::skip` names it.
+fn fused_end(c: &mut Core, r: Step, done: u64, count: u64) -> usize {
+    match r {
+        Ok(next) => {
+            c.extra += count;
+            next
+        }
+        Err(e) => {
+            c.extra += done;
+            c.skip = done as usize;
+            c.exit = e;
+            EXIT
+        }
+    }
+}
+
 /// A comparison followed by `JZ` (`Z`) or `JNZ` (not `Z`) on its result: `a` dst (=
 /// the jump's cond), `b` x, `c` y (as the comparison), `d` the jump's target.
 pub(super) fn rel_j<T: Val + PartialOrd, R: Rel, const Z: bool>(
@@ -1006,18 +1024,7 @@ pub(super) fn sel_jz<T: Val>(c: &mut Core, i: &Ins, k: usize) -> usize {
         let z: u8 = c.ld(i.e)?;
         Ok(if z == 0 { i.g as usize } else { k + 2 })
     })();
-    match r {
-        Ok(next) => {
-            c.extra += 1;
-            next
-        }
-        Err(e) => {
-            c.extra += done;
-            c.skip = done as usize;
-            c.exit = e;
-            EXIT
-        }
-    }
+    fused_end(c, r, done, 1)
 }
 
 /// The array-access sequence `MEMCP lac, idx, #2; CEAC lac, low, span; AxRD/AxWR var,
@@ -1037,27 +1044,12 @@ pub(super) fn arr<T: Val, A: Access, const J: bool>(c: &mut Core, i: &Ins, k: us
         let x = v.wrapping_sub(lo);
         d[lac..lac + 2].copy_from_slice(&x.to_le_bytes());
         if x < 0 || x > sp {
-            c.extra += 1;
-            c.skip = 1;
-            c.exit = c.ceac_stop(v);
-            return EXIT;
+            let e = c.ceac_stop(v);
+            return fused_end(c, Err(e), 1, 0);
         }
-        return match A::f::<T>(c, i.e, elem_addr::<T>(i.g, x)) {
-            Ok(()) => {
-                c.extra += if J { 3 } else { 2 };
-                if J {
-                    i.h as usize
-                } else {
-                    k + 3
-                }
-            }
-            Err(e) => {
-                c.extra += 2;
-                c.skip = 2;
-                c.exit = e;
-                EXIT
-            }
-        };
+        let r = A::f::<T>(c, i.e, elem_addr::<T>(i.g, x))
+            .map(|()| if J { i.h as usize } else { k + 3 });
+        return fused_end(c, r, 2, if J { 3 } else { 2 });
     }
     let mut done = 0;
     let r = (|| -> Step {
@@ -1078,18 +1070,7 @@ pub(super) fn arr<T: Val, A: Access, const J: bool>(c: &mut Core, i: &Ins, k: us
         A::f::<T>(c, i.e, elem_addr::<T>(i.g, x))?;
         Ok(if J { i.h as usize } else { k + 3 })
     })();
-    match r {
-        Ok(next) => {
-            c.extra += if J { 3 } else { 2 };
-            next
-        }
-        Err(e) => {
-            c.extra += done;
-            c.skip = done as usize;
-            c.exit = e;
-            EXIT
-        }
-    }
+    fused_end(c, r, done, if J { 3 } else { 2 })
 }
 
 /// A comparison, a SEL on its result and JZ on it: `a` the comparison's dst (= SEL's
@@ -1114,16 +1095,5 @@ pub(super) fn rel_sel_jz<T: Val + PartialOrd, R: Rel, S: Val>(
         let z: u8 = c.ld(i.a)?;
         Ok(if z == 0 { i.h as usize } else { k + 3 })
     })();
-    match r {
-        Ok(next) => {
-            c.extra += 2;
-            next
-        }
-        Err(e) => {
-            c.extra += done;
-            c.skip = done as usize;
-            c.exit = e;
-            EXIT
-        }
-    }
+    fused_end(c, r, done, 2)
 }
