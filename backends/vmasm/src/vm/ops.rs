@@ -448,13 +448,7 @@ pub(super) fn checked_div<T: Int, O: Op2<T>>(c: &mut Core, i: &Ins, k: usize) ->
     if let (Some(x), Some(y)) = (T::load(&c.data, a), T::load(&c.data, b)) {
         let w = y.wide();
         if w != 0 && w != -1 {
-            return match c.st(i.a, O::f(x, y)) {
-                Ok(()) => k + 1,
-                Err(e) => {
-                    c.exit = e;
-                    EXIT
-                }
-            };
+            return step(c, |c| c.st(i.a, O::f(x, y)).map(|()| k + 1));
         }
     }
     checked(c, i, k)
@@ -500,13 +494,7 @@ pub(super) fn checked_arith<T: Int, O: Op2<T> + Wide>(c: &mut Core, i: &Ins, k: 
             r == r as i32 as i64
         };
         if fits {
-            return match c.st(i.a, O::f(x, y)) {
-                Ok(()) => k + 1,
-                Err(e) => {
-                    c.exit = e;
-                    EXIT
-                }
-            };
+            return step(c, |c| c.st(i.a, O::f(x, y)).map(|()| k + 1));
         }
     }
     checked(c, i, k)
