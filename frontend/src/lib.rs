@@ -1,5 +1,8 @@
 // Library crates never print (ARCHITECTURE.md, "Panics"): what they say is a Diagnostic.
-#![cfg_attr(not(test), deny(clippy::print_stdout, clippy::print_stderr))]
+#![cfg_attr(
+    not(test),
+    deny(clippy::print_stdout, clippy::print_stderr, clippy::unwrap_used)
+)]
 #![warn(missing_docs)]
 //! plcc's front ends: source files, the shared syntax tree, the Structured Text parser,
 //! the Instruction List, PLC-UD STL and ladder (PLCopen XML) front ends, semantic

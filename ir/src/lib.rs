@@ -1,5 +1,8 @@
 // Library crates never print (ARCHITECTURE.md, "Panics"): what they say is a Diagnostic.
-#![cfg_attr(not(test), deny(clippy::print_stdout, clippy::print_stderr))]
+#![cfg_attr(
+    not(test),
+    deny(clippy::print_stdout, clippy::print_stderr, clippy::unwrap_used)
+)]
 #![warn(missing_docs)]
 //! plcc's SSA intermediate representation: the one language between every front end
 //! and every backend.

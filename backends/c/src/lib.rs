@@ -1,5 +1,8 @@
 // Library crates never print (ARCHITECTURE.md, "Panics"): what they say is a Diagnostic.
-#![cfg_attr(not(test), deny(clippy::print_stdout, clippy::print_stderr))]
+#![cfg_attr(
+    not(test),
+    deny(clippy::print_stdout, clippy::print_stderr, clippy::unwrap_used)
+)]
 //! plcc's C backend: the IR as C source against matiec's ABI (the files `iec2c`
 //! writes, with its names and layouts), and the `c` target's [`Machine`], which builds
 //! that C with the system's compiler into a shared library and runs it in this

@@ -1,5 +1,8 @@
 // Library crates never print (ARCHITECTURE.md, "Panics"): what they say is a Diagnostic.
-#![cfg_attr(not(test), deny(clippy::print_stdout, clippy::print_stderr))]
+#![cfg_attr(
+    not(test),
+    deny(clippy::print_stdout, clippy::print_stderr, clippy::unwrap_used)
+)]
 //! plcc's native backend: the IR translated to Cranelift IR, then either compiled into
 //! this process (the [`Jit`], the `host` target's [`Machine`]) or into a relocatable
 //! object for a target triple with a C header of its memory layout

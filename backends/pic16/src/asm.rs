@@ -441,8 +441,8 @@ impl Names {
         {
             return rel(s, n);
         }
-        if let Some((s, _, n)) = &u.frame {
-            if f >= *s && f < u.frame.as_ref().unwrap().1 {
+        if let Some((s, end, n)) = &u.frame {
+            if f >= *s && f < *end {
                 return rel(*s, n);
             }
         }

@@ -394,7 +394,11 @@ pub fn build_frame(f: &Function, ptrs: &FxHashMap<Value, Ptr>, slot_sizes: &[u32
             let hinted = hint[v]
                 .and_then(|h| bit_color[h.index()])
                 .filter(|c| !taken.contains(c));
-            let c = hinted.unwrap_or_else(|| (0..).find(|c| !taken.contains(c)).unwrap());
+            let c = hinted.unwrap_or_else(|| {
+                (0..)
+                    .find(|c| !taken.contains(c))
+                    .expect("some colour is free")
+            });
             bit_color[v] = Some(c);
             ncolors = ncolors.max(c + 1);
         } else {
@@ -589,7 +593,11 @@ fn forward_memory(
             let Some(p @ Ptr::Known(s, o, bit)) = ptrs.get(addr).copied() else {
                 continue;
             };
-            if !unknown_writes && !written.iter().any(|w| overlaps(*w, range(p, *ty).unwrap())) {
+            if !unknown_writes
+                && !written
+                    .iter()
+                    .any(|w| overlaps(*w, range(p, *ty).expect("a known place has a range")))
+            {
                 // Nothing in the function writes the variable: use it in place anywhere.
                 repr[r.index()] = Repr::Mem(s, o, bit);
                 needs_home[r.index()] = false;
@@ -599,8 +607,12 @@ fn forward_memory(
             if us.is_empty() || us.iter().any(|&(ub, _)| ub != b) {
                 continue;
             }
-            let last = us.iter().map(|&(_, i)| i).max().unwrap();
-            let r_range = range(p, *ty).unwrap();
+            let last = us
+                .iter()
+                .map(|&(_, i)| i)
+                .max()
+                .expect("a used value has uses");
+            let r_range = range(p, *ty).expect("a known place has a range");
             if (k + 1..last).any(|j| clobbers(j, r_range)) {
                 continue;
             }
@@ -629,7 +641,7 @@ fn forward_memory(
                 continue;
             }
             let t = f.value_type(v);
-            let drange = range(dst, t).unwrap();
+            let drange = range(dst, t).expect("a known place has a range");
             let data = f.inst(def);
             let computes = matches!(
                 data,
@@ -751,7 +763,11 @@ fn fold_negations(
                 Repr::Mem(..) => {
                     let us = &uses[r.index()];
                     !us.is_empty() && us.iter().all(|&(ub, _)| ub == b) && {
-                        let last = us.iter().map(|&(_, i)| i).max().unwrap();
+                        let last = us
+                            .iter()
+                            .map(|&(_, i)| i)
+                            .max()
+                            .expect("a used value has uses");
                         let Repr::Mem(sym, o, bit) = repr[arg.index()] else {
                             unreachable!()
                         };

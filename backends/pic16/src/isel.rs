@@ -30,6 +30,9 @@ use plcc_ir::function::Function;
 use plcc_ir::inst::{BinaryOp, BlockCall, ConvOp, InstData, IntCC, Intrinsic, UnaryOp};
 use plcc_ir::{Block, FuncId, Module, Type, Value};
 
+/// The verifier gives every value-producing instruction a result.
+const HAS_RESULT: &str = "the instruction has a result";
+
 /// Addresses of everything placed in RAM, for turning symbols into numbers.
 pub struct Placement<'a> {
     /// The module.
@@ -477,10 +480,10 @@ impl<'a> Emitter<'a> {
                     self.elem_addr(d, self.loc(base), self.loc(index), stride);
                 }
             }
-            InstData::Unary { op, arg } => self.unary(inst, op, arg, res.unwrap()),
-            InstData::Binary { op, args } => self.binary(inst, op, args, res.unwrap()),
+            InstData::Unary { op, arg } => self.unary(inst, op, arg, res.expect(HAS_RESULT)),
+            InstData::Binary { op, args } => self.binary(inst, op, args, res.expect(HAS_RESULT)),
             InstData::Icmp { cond, args } => {
-                let r = res.unwrap();
+                let r = res.expect(HAS_RESULT);
                 if matches!(self.frame.repr[r.index()], Repr::Flags) {
                     return; // the branch after it compares
                 }
@@ -490,13 +493,15 @@ impl<'a> Emitter<'a> {
                 }
             }
             InstData::Fcmp { .. } => self.unsupported(inst, "REAL comparison"),
-            InstData::Convert { op, ty, arg } => self.convert(inst, op, ty, arg, res.unwrap()),
+            InstData::Convert { op, ty, arg } => {
+                self.convert(inst, op, ty, arg, res.expect(HAS_RESULT))
+            }
             InstData::Select {
                 cond,
                 if_true,
                 if_false,
-            } => self.select(cond, if_true, if_false, res.unwrap()),
-            InstData::Load { ty, addr } => self.load(ty, addr, res.unwrap()),
+            } => self.select(cond, if_true, if_false, res.expect(HAS_RESULT)),
+            InstData::Load { ty, addr } => self.load(ty, addr, res.expect(HAS_RESULT)),
             InstData::Store { value, addr } => self.store(value, addr),
             InstData::Call { func, args } => self.call(func, &args, res),
             // `build` refuses these first (`reject_inline_c`).

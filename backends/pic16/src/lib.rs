@@ -1,5 +1,8 @@
 // Library crates never print (ARCHITECTURE.md, "Panics"): what they say is a Diagnostic.
-#![cfg_attr(not(test), deny(clippy::print_stdout, clippy::print_stderr))]
+#![cfg_attr(
+    not(test),
+    deny(clippy::print_stdout, clippy::print_stderr, clippy::unwrap_used)
+)]
 //! plcc's PIC16F876A backend: the IR to MPASM assembly and Intel HEX for the chip of
 //! the PLC-UD controller, and a simulator of the chip that runs the result.
 //!

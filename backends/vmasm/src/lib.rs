@@ -1,5 +1,8 @@
 // Library crates never print (ARCHITECTURE.md, "Panics"): what they say is a Diagnostic.
-#![cfg_attr(not(test), deny(clippy::print_stdout, clippy::print_stderr))]
+#![cfg_attr(
+    not(test),
+    deny(clippy::print_stdout, clippy::print_stderr, clippy::unwrap_used)
+)]
 //! plcc's CPDev VM backend: the IR to VMASM (the mnemonic listing of the CPDev
 //! compiler), the XCP code image and the DCP project description, and a VM in Rust
 //! that runs XCP images as CPDev's C VM does.

@@ -351,10 +351,12 @@ impl State {
             }
             Type::I8 => m[a] as i8 as i64 as u64,
             Type::I16 => i16::from_le_bytes([m[a], m[a + 1]]) as i64 as u64,
-            Type::I32 => i32::from_le_bytes(m[a..a + 4].try_into().unwrap()) as i64 as u64,
-            Type::F32 => u32::from_le_bytes(m[a..a + 4].try_into().unwrap()) as u64,
+            Type::I32 => {
+                i32::from_le_bytes(m[a..a + 4].try_into().expect("a 4-byte slice")) as i64 as u64
+            }
+            Type::F32 => u32::from_le_bytes(m[a..a + 4].try_into().expect("a 4-byte slice")) as u64,
             Type::I64 | Type::F64 | Type::Ptr => {
-                u64::from_le_bytes(m[a..a + 8].try_into().unwrap())
+                u64::from_le_bytes(m[a..a + 8].try_into().expect("an 8-byte slice"))
             }
         })
     }

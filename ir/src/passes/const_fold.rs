@@ -115,7 +115,7 @@ pub fn run(func: &mut Function) -> bool {
                         Some(ty),
                         span,
                     );
-                    let cv = func.result(c).unwrap();
+                    let cv = func.result(c).expect("a constant has a result");
                     spare.push(c);
                     func.insts[i.index()] = InstData::Binary { op, args: [x, cv] };
                     spare.push(i);
@@ -319,20 +319,26 @@ fn fold_binary(func: &Function, op: BinaryOp, a: Value, b: Value) -> Fold {
             (_, Some(0)) | (Some(0), _) => Fold::Int(0),
             (_, Some(1)) => Fold::Alias(a),
             (Some(1), _) => Fold::Alias(b),
-            (_, Some(k)) if log2_of(ty, k).is_some() => {
-                Fold::WithConst(Ishl, a, log2_of(ty, k).unwrap() as i64)
-            }
-            (Some(k), _) if log2_of(ty, k).is_some() => {
-                Fold::WithConst(Ishl, b, log2_of(ty, k).unwrap() as i64)
-            }
+            (_, Some(k)) if log2_of(ty, k).is_some() => Fold::WithConst(
+                Ishl,
+                a,
+                log2_of(ty, k).expect("checked by the guard") as i64,
+            ),
+            (Some(k), _) if log2_of(ty, k).is_some() => Fold::WithConst(
+                Ishl,
+                b,
+                log2_of(ty, k).expect("checked by the guard") as i64,
+            ),
             _ => Fold::Keep,
         },
         // A nonzero constant divisor cannot fault, so these are exact.
         Udiv => match kb {
             Some(1) => Fold::Alias(a),
-            Some(k) if log2_of(ty, k).is_some() => {
-                Fold::WithConst(Ushr, a, log2_of(ty, k).unwrap() as i64)
-            }
+            Some(k) if log2_of(ty, k).is_some() => Fold::WithConst(
+                Ushr,
+                a,
+                log2_of(ty, k).expect("checked by the guard") as i64,
+            ),
             _ => Fold::Keep,
         },
         Urem => match kb {

@@ -227,7 +227,7 @@ fn promote(
         let b = match step {
             Step::Exit(mark) => {
                 while undo.len() > mark {
-                    let (s, v) = undo.pop().unwrap();
+                    let (s, v) = undo.pop().expect("undo holds more than mark");
                     cur[s as usize] = v;
                 }
                 continue;
@@ -273,7 +273,11 @@ fn promote(
                             let s = s as usize;
                             args.push(match cur[s] {
                                 Some(v) => v,
-                                None => zeros.get(func, slot_ty[s].unwrap(), SlotId::new(s)),
+                                None => zeros.get(
+                                    func,
+                                    slot_ty[s].expect("a promoted slot has a type"),
+                                    SlotId::new(s),
+                                ),
                             });
                         }
                         dest_mut(func.inst_mut(i), which).args.extend(args);
@@ -331,7 +335,7 @@ impl Zeros {
             InstData::Iconst { ty, imm: 0 }
         };
         let i = func.create_inst(data, Some(ty), None);
-        let v = func.result(i).unwrap();
+        let v = func.result(i).expect("created with a result");
         self.insts.push(i);
         self.by_type[k] = Some(v);
         v

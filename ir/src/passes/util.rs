@@ -210,7 +210,8 @@ pub(crate) fn remove_block_params(
             continue; // a stale edge (the caller rewrote it): nothing to do
         }
         let mut k = keep.iter();
-        call.args.retain(|_| *k.next().unwrap());
+        call.args
+            .retain(|_| *k.next().expect("one flag per argument"));
     }
     let params = std::mem::take(&mut func.blocks[block.index()].params);
     let mut kept = Vec::with_capacity(params.len());
