@@ -183,9 +183,7 @@ pub fn generate(module: &Module) -> Result<Files, Vec<Diagnostic>> {
     let mut m = module.clone();
     let names = Names::new(&m)?;
     inline_globals_address(&mut m, &names)?;
-    for f in &mut m.funcs {
-        ranges::run(f);
-    }
+    ranges::run_module(&mut m);
     legalize::run(&mut m, &legalize::Defines::NONE);
     debug_assert!(
         plcc_ir::verify::verify_module(&m).is_ok(),

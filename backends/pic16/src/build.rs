@@ -136,9 +136,7 @@ fn legalize(module: &Module) -> Result<Module, Vec<Diagnostic>> {
     let layout = PicLayout::compute(module);
     plcc_ir::passes::sizes::resolve(&mut legal, |t| layout.size(t) as u64);
     // Compares that value ranges decide (bounds checks a loop makes redundant) go.
-    for f in &mut legal.funcs {
-        plcc_ir::passes::ranges::run(f);
-    }
+    plcc_ir::passes::ranges::run_module(&mut legal);
     plcc_ir::passes::dispatch::run(&mut legal);
     softfloat::legalize(&mut legal)?;
     Ok(legal)

@@ -250,9 +250,7 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
     let mut legal = module.clone();
     // Compares that value ranges decide (bounds checks a loop makes redundant) go
     // first, as in the other targets.
-    for f in &mut legal.funcs {
-        plcc_ir::passes::ranges::run(f);
-    }
+    plcc_ir::passes::ranges::run_module(&mut legal);
     plcc_ir::passes::legalize::run(&mut legal, &settings.port.defines());
     let legal = legal;
     let module = &legal;

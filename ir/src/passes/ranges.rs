@@ -66,6 +66,15 @@ pub fn run(func: &mut Function) -> bool {
     changed
 }
 
+/// [`run`] on every function of `module` (what the compiling targets do before
+/// translating it). True if a function changed.
+pub fn run_module(module: &mut crate::module::Module) -> bool {
+    module
+        .funcs
+        .iter_mut()
+        .fold(false, |changed, f| run(f) | changed)
+}
+
 /// Step 1: edges passing a constant to a block that only branches on it go straight
 /// to the chosen destination. True if an edge moved.
 fn thread_constant_branches(func: &mut Function) -> bool {
