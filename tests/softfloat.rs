@@ -159,9 +159,6 @@ trait FloatDraws {
 }
 
 impl FloatDraws for Rng {
-    /// A random float with biased exponent `e` (clamped to 0..=254), a random sign,
-    /// and a fraction that is either full or has only its top few bits random (so
-    /// that sums and products can be exact or exact ties).
     fn float(&mut self, e: i32) -> u32 {
         let sign = self.word() & 0x8000_0000;
         let e = e.clamp(0, 254) as u32;
@@ -173,8 +170,6 @@ impl FloatDraws for Rng {
         sign | (e << 23) | frac
     }
 
-    /// An integer-like bit pattern: a random value shifted right by a random count,
-    /// sometimes negated, sometimes a power of two or a tie pattern.
     fn int_like(&mut self) -> u32 {
         let v = match self.below(4) {
             0 => self.word() >> self.below(32),
@@ -190,7 +185,6 @@ impl FloatDraws for Rng {
         }
     }
 
-    /// A random operand pair of one of several kinds.
     fn pair(&mut self) -> (u32, u32) {
         match self.below(10) {
             0 | 1 => (self.word(), self.word()),

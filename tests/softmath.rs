@@ -210,29 +210,23 @@ trait MathDraws {
 }
 
 impl MathDraws for Rng {
-    /// Uniform in `[0, 1)`.
     fn unit(&mut self) -> f64 {
         (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
     }
 
-    /// Uniform in `[lo, hi]` (rounded to a float).
     fn uniform(&mut self, lo: f64, hi: f64) -> u32 {
         ((lo + (hi - lo) * self.unit()) as f32).to_bits()
     }
 
-    /// A random sign bit.
     fn sign(&mut self) -> u32 {
         self.word() & 0x8000_0000
     }
 
-    /// A positive float with a random significand and a biased exponent uniform in
-    /// `lo..=hi` (clamped to the finite range; 0 gives subnormals).
     fn magnitude(&mut self, lo: i32, hi: i32) -> u32 {
         let e = self.range(lo, hi).clamp(0, 254) as u32;
         (e << 23) | (self.word() & 0x7F_FFFF)
     }
 
-    /// `x` moved by a few ulp (or by up to 2^16 ulp), staying finite.
     fn nudge(&mut self, x: u32) -> u32 {
         let d = if self.below(2) == 0 {
             self.range(-4, 4)
@@ -243,7 +237,6 @@ impl MathDraws for Rng {
         (x & 0x8000_0000) | m
     }
 
-    /// A random input for the function `name`.
     fn input(&mut self, name: &str) -> (u32, u32) {
         let k = self.below(20);
         let b = self.word();
