@@ -252,7 +252,6 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
     // first, as in the other targets.
     plcc_ir::passes::ranges::run_module(&mut legal);
     plcc_ir::passes::legalize::run(&mut legal, &settings.port.defines());
-    let legal = legal;
     let module = &legal;
     let has_sizeof = plcc_ir::passes::sizes::any(module);
     let mode = settings.mode;
