@@ -291,6 +291,19 @@ impl<'f> FuncBuilder<'f> {
         );
     }
 
+    /// `br_table arg, default(args), [table…]`: to `table[arg]` (`arg` read unsigned),
+    /// or to `default` when `arg` is not below the table's length.
+    pub fn br_table(&mut self, arg: Value, default: BlockCall, table: Vec<BlockCall>) {
+        self.push(
+            InstData::BrTable {
+                arg,
+                default,
+                table,
+            },
+            None,
+        );
+    }
+
     /// `return` / `return value`
     pub fn ret(&mut self, value: Option<Value>) {
         self.push(InstData::Return { value }, None);

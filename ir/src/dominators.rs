@@ -13,30 +13,40 @@ use crate::inst::InstData;
 
 const NONE: u32 = u32::MAX;
 
-/// The destinations of `b`'s terminator that exist and are in the layout (`in_layout`
-/// indexed by block). Tolerates malformed functions.
-fn successors(func: &Function, in_layout: &[bool], b: Block) -> [Option<Block>; 2] {
-    let valid = |d: Block| {
-        in_layout
-            .get(d.index())
-            .copied()
-            .unwrap_or(false)
-            .then_some(d)
-    };
-    let last = func
-        .blocks
+/// The terminator of `b`, if it has one. Tolerates malformed functions.
+fn terminator(func: &Function, b: Block) -> Option<&InstData> {
+    func.blocks
         .get(b.index())
         .and_then(|bd| bd.insts.last())
-        .and_then(|i| func.insts.get(i.index()));
-    match last {
-        Some(InstData::Jump { dest }) => [valid(dest.block), None],
-        Some(InstData::Brif {
-            then_dest,
-            else_dest,
-            ..
-        }) => [valid(then_dest.block), valid(else_dest.block)],
-        _ => [None, None],
-    }
+        .and_then(|i| func.insts.get(i.index()))
+}
+
+/// Destination `k` of `b`'s terminator if it exists and is in the layout (`in_layout`
+/// indexed by block), `Some(None)` if it does not; `None` past the last destination.
+/// Tolerates malformed functions.
+fn successor(func: &Function, in_layout: &[bool], b: Block, k: usize) -> Option<Option<Block>> {
+    let d = terminator(func, b)?.dest(k)?;
+    Some(
+        in_layout
+            .get(d.block.index())
+            .copied()
+            .unwrap_or(false)
+            .then_some(d.block),
+    )
+}
+
+/// The destinations of `b`'s terminator that exist and are in the layout, one per
+/// edge. Tolerates malformed functions.
+fn successors<'f>(
+    func: &'f Function,
+    in_layout: &'f [bool],
+    b: Block,
+) -> impl Iterator<Item = Block> + 'f {
+    terminator(func, b)
+        .into_iter()
+        .flat_map(|t| t.dests())
+        .map(|d| d.block)
+        .filter(|d| in_layout.get(d.index()).copied().unwrap_or(false))
 }
 
 fn layout_mask(func: &Function) -> Vec<bool> {
@@ -66,13 +76,13 @@ fn rpo_with(func: &Function, in_layout: &[bool]) -> Vec<Block> {
     let mut visited = vec![false; func.blocks.len()];
     let mut post = Vec::with_capacity(func.layout.len());
     // Explicit stack of (block, next successor index): deep CFGs must not overflow.
-    let mut stack: Vec<(Block, u8)> = vec![(entry, 0)];
+    let mut stack: Vec<(Block, usize)> = vec![(entry, 0)];
     visited[entry.index()] = true;
     while let Some(top) = stack.last_mut() {
         let (b, next) = *top;
-        if next < 2 {
+        if let Some(succ) = successor(func, in_layout, b, next) {
             top.1 += 1;
-            if let Some(s) = successors(func, in_layout, b)[next as usize] {
+            if let Some(s) = succ {
                 if !visited[s.index()] {
                     visited[s.index()] = true;
                     stack.push((s, 0));
@@ -121,7 +131,7 @@ impl DomTree {
         // Predecessors among reachable blocks (compressed rows).
         let mut pred_start = vec![0u32; n + 1];
         for &b in &rpo {
-            for d in successors(func, &in_layout, b).into_iter().flatten() {
+            for d in successors(func, &in_layout, b) {
                 pred_start[d.index() + 1] += 1;
             }
         }
@@ -131,7 +141,7 @@ impl DomTree {
         let mut fill = pred_start.clone();
         let mut preds = vec![Block(0); pred_start[n] as usize];
         for &b in &rpo {
-            for d in successors(func, &in_layout, b).into_iter().flatten() {
+            for d in successors(func, &in_layout, b) {
                 let s = &mut fill[d.index()];
                 preds[*s as usize] = b;
                 *s += 1;

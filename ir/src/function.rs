@@ -272,7 +272,10 @@ impl Function {
             }
             InstData::Intrinsic { op, .. } => op.result(),
             InstData::InlineC { .. } => None,
-            InstData::Jump { .. } | InstData::Brif { .. } | InstData::Return { .. } => None,
+            InstData::Jump { .. }
+            | InstData::Brif { .. }
+            | InstData::BrTable { .. }
+            | InstData::Return { .. } => None,
         }
     }
 

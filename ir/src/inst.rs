@@ -679,6 +679,18 @@ pub enum InstData {
         /// Taken when false.
         else_dest: BlockCall,
     },
+    /// `br_table arg, default(args), [b0(args), b1(args), …]`: a jump through a
+    /// table. `arg` (an integer, `i8` to `i64`) is read unsigned: below the table's
+    /// length control goes to `table[arg]`, else to `default`. Every destination
+    /// carries its block's arguments, as `jump`'s does.
+    BrTable {
+        /// The index (read unsigned).
+        arg: Value,
+        /// Taken when `arg` is not below the table's length.
+        default: BlockCall,
+        /// The destinations by index.
+        table: Vec<BlockCall>,
+    },
     /// `return` or `return v`
     Return {
         /// The result, if the function has one.
@@ -691,7 +703,10 @@ impl InstData {
     pub fn is_terminator(&self) -> bool {
         matches!(
             self,
-            InstData::Jump { .. } | InstData::Brif { .. } | InstData::Return { .. }
+            InstData::Jump { .. }
+                | InstData::Brif { .. }
+                | InstData::BrTable { .. }
+                | InstData::Return { .. }
         )
     }
 
@@ -706,6 +721,7 @@ impl InstData {
             | InstData::InlineC { .. }
             | InstData::Jump { .. }
             | InstData::Brif { .. }
+            | InstData::BrTable { .. }
             | InstData::Return { .. } => true,
             InstData::Binary { op, .. } => op.can_fault(),
             _ => false,
@@ -762,6 +778,16 @@ impl InstData {
                 f(*cond);
                 then_dest.args.iter().copied().for_each(&mut f);
                 else_dest.args.iter().copied().for_each(f);
+            }
+            InstData::BrTable {
+                arg,
+                default,
+                table,
+            } => {
+                f(*arg);
+                for d in std::iter::once(default).chain(table) {
+                    d.args.iter().copied().for_each(&mut f);
+                }
             }
             InstData::Return { value } => {
                 if let Some(v) = value {
@@ -822,6 +848,16 @@ impl InstData {
                 then_dest.args.iter_mut().for_each(|a| *a = f(*a));
                 else_dest.args.iter_mut().for_each(|a| *a = f(*a));
             }
+            InstData::BrTable {
+                arg,
+                default,
+                table,
+            } => {
+                *arg = f(*arg);
+                for d in std::iter::once(default).chain(table) {
+                    d.args.iter_mut().for_each(|a| *a = f(*a));
+                }
+            }
             InstData::Return { value } => {
                 if let Some(v) = value {
                     *v = f(*v)
@@ -830,20 +866,58 @@ impl InstData {
         }
     }
 
-    /// The branch destinations of a terminator (empty for other instructions).
-    pub fn successors(&self) -> Vec<&BlockCall> {
+    /// The number of branch destinations of a terminator: 1 for `jump`, 2 for `brif`,
+    /// one more than the table's length for `br_table`, 0 for anything else.
+    pub fn dest_count(&self) -> usize {
         match self {
-            InstData::Jump { dest } => vec![dest],
-            InstData::Brif {
-                then_dest,
-                else_dest,
-                ..
-            } => vec![then_dest, else_dest],
-            _ => Vec::new(),
+            InstData::Jump { .. } => 1,
+            InstData::Brif { .. } => 2,
+            InstData::BrTable { table, .. } => 1 + table.len(),
+            _ => 0,
         }
     }
 
-    /// The branch destinations of a terminator, for rewriting.
+    /// Branch destination `k` of a terminator: `jump`'s only one (0); `brif`'s then
+    /// (0) and else (1); `br_table`'s default (0), then its table's entries (entry `j`
+    /// is `k = j + 1`). `None` past the last one.
+    pub fn dest(&self, k: usize) -> Option<&BlockCall> {
+        match (self, k) {
+            (InstData::Jump { dest }, 0) => Some(dest),
+            (InstData::Brif { then_dest, .. }, 0) => Some(then_dest),
+            (InstData::Brif { else_dest, .. }, 1) => Some(else_dest),
+            (InstData::BrTable { default, .. }, 0) => Some(default),
+            (InstData::BrTable { table, .. }, k) => table.get(k - 1),
+            _ => None,
+        }
+    }
+
+    /// Branch destination `k` of a terminator (numbered as by [`InstData::dest`]),
+    /// for rewriting.
+    pub fn dest_mut(&mut self, k: usize) -> Option<&mut BlockCall> {
+        match (self, k) {
+            (InstData::Jump { dest }, 0) => Some(dest),
+            (InstData::Brif { then_dest, .. }, 0) => Some(then_dest),
+            (InstData::Brif { else_dest, .. }, 1) => Some(else_dest),
+            (InstData::BrTable { default, .. }, 0) => Some(default),
+            (InstData::BrTable { table, .. }, k) => table.get_mut(k - 1),
+            _ => None,
+        }
+    }
+
+    /// The branch destinations of a terminator in the order of [`InstData::dest`]
+    /// (none for other instructions), without allocating. A block reached by several
+    /// destinations appears once per destination (one per CFG edge).
+    pub fn dests(&self) -> impl Iterator<Item = &BlockCall> {
+        (0..self.dest_count()).filter_map(move |k| self.dest(k))
+    }
+
+    /// The branch destinations of a terminator (empty for other instructions).
+    pub fn successors(&self) -> Vec<&BlockCall> {
+        self.dests().collect()
+    }
+
+    /// The branch destinations of a terminator, for rewriting (in the order of
+    /// [`InstData::dest`]).
     pub fn successors_mut(&mut self) -> Vec<&mut BlockCall> {
         match self {
             InstData::Jump { dest } => vec![dest],
@@ -852,6 +926,9 @@ impl InstData {
                 else_dest,
                 ..
             } => vec![then_dest, else_dest],
+            InstData::BrTable { default, table, .. } => {
+                std::iter::once(default).chain(table.iter_mut()).collect()
+            }
             _ => Vec::new(),
         }
     }

@@ -753,6 +753,27 @@ impl FnCheck<'_> {
                 self.check_block_call(i, else_dest);
                 Expect::Nothing
             }
+            InstData::BrTable {
+                arg,
+                default,
+                table,
+            } => {
+                if let Some(at) = t(*arg) {
+                    if !arith_int(at) {
+                        self.err(
+                            Some(i),
+                            format!(
+                                "the br_table index {arg} is {at}, expected an integer (i8..i64)"
+                            ),
+                        );
+                    }
+                }
+                self.check_block_call(i, default);
+                for d in table {
+                    self.check_block_call(i, d);
+                }
+                Expect::Nothing
+            }
             InstData::Return { value } => {
                 match (value, f.ret) {
                     (Some(v), None) => self.err(

@@ -125,6 +125,7 @@ fn kitchen_sink_text_mentions_everything() {
         "hidden M: i1\n",
         "brif v",
         "jump block1(v",
+        "br_table v",
     ] {
         assert!(t.contains(s), "missing {s:?} in\n{t}");
     }

@@ -77,18 +77,7 @@ pub fn globals_values(names: &Names, func: &Function) -> Vec<bool> {
                 incoming[d.block.index()].push((*p, *a));
             }
         };
-        match data {
-            InstData::Jump { dest } => edge(dest),
-            InstData::Brif {
-                then_dest,
-                else_dest,
-                ..
-            } => {
-                edge(then_dest);
-                edge(else_dest);
-            }
-            _ => {}
-        }
+        data.dests().for_each(&mut edge);
     }
     // Optimistic: every parameter with an argument, until one argument is not.
     for b in &incoming {
@@ -174,17 +163,8 @@ fn used_values(func: &Function, access: &[Option<Place>], split: &[bool]) -> Vec
     let mut work: Vec<Value> = Vec::new();
     let mut edges: Vec<Vec<&BlockCall>> = vec![Vec::new(); func.blocks.len()];
     for (_, i) in func.inst_iter() {
-        match func.inst(i) {
-            InstData::Jump { dest } => edges[dest.block.index()].push(dest),
-            InstData::Brif {
-                then_dest,
-                else_dest,
-                ..
-            } => {
-                edges[then_dest.block.index()].push(then_dest);
-                edges[else_dest.block.index()].push(else_dest);
-            }
-            _ => {}
+        for d in func.inst(i).dests() {
+            edges[d.block.index()].push(d);
         }
     }
     // What computing instruction `i` reads (a branch's block arguments aside).
@@ -193,7 +173,7 @@ fn used_values(func: &Function, access: &[Option<Place>], split: &[bool]) -> Vec
         (InstData::Store { value, .. }, Some(p)) => out.extend(p.base.into_iter().chain([*value])),
         (InstData::FieldAddr { base, .. }, _) if split[base.index()] => {}
         (InstData::Jump { .. }, _) => {}
-        (InstData::Brif { cond, .. }, _) => out.push(*cond),
+        (InstData::Brif { cond, .. } | InstData::BrTable { arg: cond, .. }, _) => out.push(*cond),
         (data, _) => data.for_each_arg(|v| out.push(v)),
     };
     let mark = |v: Value, used: &mut Vec<bool>, work: &mut Vec<Value>| {
@@ -212,6 +192,7 @@ fn used_values(func: &Function, access: &[Option<Place>], split: &[bool]) -> Vec
                 | InstData::InlineC { .. }
                 | InstData::CallTable { .. }
                 | InstData::Brif { .. }
+                | InstData::BrTable { .. }
                 | InstData::Return { .. }
                 | InstData::Intrinsic {
                     op: Intrinsic::RaiseFault,
@@ -473,6 +454,11 @@ impl Emitter<'_> {
                 };
                 self.line(&format!("if ({c}) {{ {t} }} else {{ {e} }}"));
             }
+            InstData::BrTable {
+                arg,
+                default,
+                table,
+            } => self.br_table(*arg, default, table),
             InstData::Return { value } => match value {
                 Some(x) => self.line(&format!("return {};", v(*x))),
                 None => self.line("return;"),
@@ -603,6 +589,39 @@ impl Emitter<'_> {
         self.line("}");
     }
 
+    /// `br_table` as a `switch` on the index (an unsigned C value): one `case` per
+    /// entry (entries with the same destination and arguments share their copies and
+    /// `goto`), the default for the rest. Entries past the index type's range are left
+    /// out.
+    fn br_table(&mut self, arg: Value, default: &BlockCall, table: &[BlockCall]) {
+        let reach: u64 = match self.ty(arg).bits() {
+            64 => u64::MAX,
+            b => (1u64 << b) - 1,
+        };
+        let reached = table
+            .len()
+            .min(usize::try_from(reach.saturating_add(1)).unwrap_or(usize::MAX));
+        let mut done = vec![false; reached];
+        self.line(&format!("switch ({}) {{", v(arg)));
+        for k in 0..reached {
+            if done[k] || table[k] == *default {
+                continue;
+            }
+            let mut labels = String::new();
+            for (j, d) in table[..reached].iter().enumerate().skip(k) {
+                if *d == table[k] {
+                    done[j] = true;
+                    let _ = write!(labels, "case {j}u: ");
+                }
+            }
+            let text = self.edge(&table[k]);
+            self.line(&format!("{labels}{{ {text} }}"));
+        }
+        let text = self.edge(default);
+        self.line(&format!("default: {{ {text} }}"));
+        self.line("}");
+    }
+
     fn call(&self, callee: FuncId, args: &[Value]) -> String {
         let name = &self.names.funcs[callee.index()];
         match self.names.forms[callee.index()] {
@@ -721,6 +740,7 @@ impl Emitter<'_> {
             | InstData::CallTable { .. }
             | InstData::Jump { .. }
             | InstData::Brif { .. }
+            | InstData::BrTable { .. }
             | InstData::Return { .. } => {
                 unreachable!("{data:?} is not an expression of type {rty}")
             }

@@ -114,7 +114,7 @@ struct State {
     slots: Vec<ir::StackSlot>,
     order: Vec<Block>,
     mark: Vec<bool>,
-    stack: Vec<(Block, u8)>,
+    stack: Vec<(Block, u32)>,
     func_refs: Vec<Option<ir::FuncRef>>,
     touched: Vec<usize>,
     math_refs: [Option<ir::FuncRef>; 22],
@@ -205,12 +205,7 @@ impl State {
             let Some(term) = f.terminator(b) else {
                 return Err(format!("{b} of `{}` has no terminator", f.name));
             };
-            let succ = match (f.inst(term), *next) {
-                (InstData::Jump { dest }, 0) => Some(dest.block),
-                (InstData::Brif { then_dest, .. }, 0) => Some(then_dest.block),
-                (InstData::Brif { else_dest, .. }, 1) => Some(else_dest.block),
-                _ => None,
-            };
+            let succ = f.inst(term).dest(*next as usize).map(|d| d.block);
             match succ {
                 Some(s) => {
                     *next += 1;
@@ -733,6 +728,22 @@ impl Cx<'_, '_, '_> {
                 self.st.bargs = targs;
                 self.st.bargs2 = eargs;
             }
+            InstData::BrTable {
+                arg,
+                default,
+                table,
+            } => {
+                let idx = self.table_index(*arg, "br_table")?;
+                let def = self.jump_table_call(default)?;
+                let mut targets = Vec::with_capacity(table.len());
+                for d in table {
+                    targets.push(self.jump_table_call(d)?);
+                }
+                let jt = self
+                    .b
+                    .create_jump_table(ir::JumpTableData::new(def, &targets));
+                self.b.ins().br_table(idx, jt);
+            }
             InstData::Return { value } => match value {
                 Some(v) => {
                     let x = self.val(*v)?;
@@ -767,6 +778,38 @@ impl Cx<'_, '_, '_> {
             self.st.bargs = buf;
         }
         Ok(self.st.blocks[dest.block.index()])
+    }
+
+    /// A branch's destination with its arguments as an entry of a jump table.
+    fn jump_table_call(&mut self, dest: &plcc_ir::BlockCall) -> Result<ir::BlockCall, TransError> {
+        let target = self.block_args(dest, false)?;
+        let args = std::mem::take(&mut self.st.bargs);
+        let call = self.b.func.dfg.block_call(target, &args);
+        self.st.bargs = args;
+        Ok(call)
+    }
+
+    /// The index of a `br_table` (the IR's index read unsigned, as Cranelift's must be
+    /// an `i32`): narrower ones zero-extended, a 64-bit one cut to 32 bits, or to
+    /// `u32::MAX` when it is larger (beyond 32 bits every index is past the table:
+    /// `u32::MAX` is too).
+    fn table_index(&mut self, index: Value, what: &str) -> Result<ir::Value, TransError> {
+        let idx = self.val(index)?;
+        Ok(match self.f.value_type(index) {
+            Type::I8 | Type::I16 => self.b.ins().uextend(types::I32, idx),
+            Type::I32 => idx,
+            Type::I64 => {
+                let big = self.b.ins().icmp_imm_u(
+                    condcodes::IntCC::UnsignedGreaterThan,
+                    idx,
+                    u32::MAX as i64,
+                );
+                let low = self.b.ins().ireduce(types::I32, idx);
+                let out = self.iconst(types::I32, -1);
+                self.b.ins().select(big, out, low)
+            }
+            t => return Err(format!("{what} index of type {t} in `{}`", self.f.name)),
+        })
     }
 
     fn unary(&mut self, op: UnaryOp, ty: Type, a: ir::Value) -> Result<ir::Value, TransError> {
@@ -956,23 +999,7 @@ impl Cx<'_, '_, '_> {
         let Some(tab) = module.tables.get(table.index()) else {
             return Err(format!("call through missing {table} in `{}`", self.f.name));
         };
-        let idx = self.val(index)?;
-        let idx = match self.f.value_type(index) {
-            Type::I8 | Type::I16 => self.b.ins().uextend(types::I32, idx),
-            Type::I32 => idx,
-            Type::I64 => {
-                // Beyond 32 bits every index is out of range: u32::MAX is too.
-                let big = self.b.ins().icmp_imm_u(
-                    condcodes::IntCC::UnsignedGreaterThan,
-                    idx,
-                    u32::MAX as i64,
-                );
-                let low = self.b.ins().ireduce(types::I32, idx);
-                let out = self.iconst(types::I32, -1);
-                self.b.ins().select(big, out, low)
-            }
-            t => return Err(format!("call_table index of type {t} in `{}`", self.f.name)),
-        };
+        let idx = self.table_index(index, "call_table")?;
         let mut cargs = Vec::with_capacity(args.len());
         for &a in args {
             cargs.push(self.val(a)?);

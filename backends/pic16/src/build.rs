@@ -2,7 +2,8 @@
 //!
 //! 1. [`check`]: what the chip cannot run (unchecked pointers, C code, recursion).
 //! 2. [`legalize`]: calls bound at run time as compare chains of direct calls, REAL
-//!    as integers and calls of the soft-float routines.
+//!    as integers and calls of the soft-float routines, jump tables as binary
+//!    searches of compares.
 //! 3. [`CallOrder::of`]: the call graph from the roots, callers first, and the
 //!    pointer parameters every caller agrees on.
 //! 4. [`frames_of`]: each function's static frame, and the data it touches.
@@ -130,7 +131,7 @@ fn check(module: &Module) -> Result<(), Vec<Diagnostic>> {
 /// of direct calls (CALL takes an immediate address), so the call graph, the stack
 /// depth and the frame overlays see every entry; REAL becomes integers and calls of
 /// the soft-float routines; SIZEOF is the size in the chip's layout; the compares
-/// value ranges decide are constants.
+/// value ranges decide are constants; jump tables are binary searches of compares.
 fn legalize(module: &Module) -> Result<Module, Vec<Diagnostic>> {
     let mut legal = module.clone();
     let layout = PicLayout::compute(module);
@@ -139,6 +140,9 @@ fn legalize(module: &Module) -> Result<Module, Vec<Diagnostic>> {
     plcc_ir::passes::ranges::run_module(&mut legal);
     plcc_ir::passes::dispatch::run(&mut legal);
     softfloat::legalize(&mut legal)?;
+    // No computed GOTO (yet): jump tables, the soft-float routines' included, become
+    // binary searches of compares.
+    plcc_ir::passes::br_table::run_module(&mut legal);
     Ok(legal)
 }
 

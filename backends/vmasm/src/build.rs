@@ -248,6 +248,9 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
     // range) are the IR's legalization; the instruction selector emits those
     // operations plainly.
     let mut legal = module.clone();
+    // The VM's jumps take immediate addresses only: jump tables (dense CASEs) become
+    // binary searches of compares.
+    plcc_ir::passes::br_table::run_module(&mut legal);
     // Compares that value ranges decide (bounds checks a loop makes redundant) go
     // first, as in the other targets.
     plcc_ir::passes::ranges::run_module(&mut legal);

@@ -140,6 +140,15 @@ pub(super) enum Op {
         then_edge: u32,
         else_edge: u32,
     },
+    /// Follows edge `edges + 1 + idx` if `idx` (a register of type `ty`, read
+    /// unsigned) is below `len`, else edge `edges` (the default): the table's edges are
+    /// consecutive, the default's first.
+    BrTable {
+        ty: Type,
+        idx: u32,
+        edges: u32,
+        len: u32,
+    },
     /// Returns `val` (or nothing when `NONE`).
     Return { val: u32 },
     /// Fails with message `msg` of `traps`.
@@ -697,6 +706,30 @@ impl Decoder<'_> {
                     c: cond.0,
                     then_edge: self.edge(&then_dest.block, &then_dest.args)?,
                     else_edge: self.edge(&else_dest.block, &else_dest.args)?,
+                }
+            }
+            InstData::BrTable {
+                arg,
+                ref default,
+                ref table,
+            } => {
+                let ty = self.ty(arg);
+                self.want(
+                    matches!(ty, Type::I8 | Type::I16 | Type::I32 | Type::I64),
+                    "an integer index (i8..i64)",
+                )?;
+                let len =
+                    u32::try_from(table.len()).map_err(|_| "a jump table too long".to_string())?;
+                // `edge` pushes one edge each, so the table's follow the default's.
+                let edges = self.edge(&default.block, &default.args)?;
+                for d in table {
+                    self.edge(&d.block, &d.args)?;
+                }
+                Op::BrTable {
+                    ty,
+                    idx: arg.0,
+                    edges,
+                    len,
                 }
             }
             InstData::Return { value } => match (value, f.ret) {

@@ -495,6 +495,14 @@ pub(super) fn inst_text(
             then_dest,
             else_dest,
         } => write!(s, "brif {cond}, {}, {}", call(then_dest), call(else_dest)),
+        InstData::BrTable {
+            arg,
+            default,
+            table,
+        } => {
+            let t: Vec<String> = table.iter().map(&call).collect();
+            write!(s, "br_table {arg}, {}, [{}]", call(default), t.join(", "))
+        }
         InstData::Return { value: Some(v) } => write!(s, "return {v}"),
         InstData::Return { value: None } => write!(s, "return"),
     };
@@ -701,6 +709,20 @@ fn exec(
                 else_edge,
             } => {
                 let e = if r!(c) != 0 { then_edge } else { else_edge };
+                pc = take_edge(st, f, base, e);
+            }
+            Op::BrTable {
+                ty,
+                idx,
+                edges,
+                len,
+            } => {
+                let k = uval(ty, r!(idx));
+                let e = if k < len as u64 {
+                    edges + 1 + k as u32
+                } else {
+                    edges
+                };
                 pc = take_edge(st, f, base, e);
             }
             Op::Return { val } => {

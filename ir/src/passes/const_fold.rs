@@ -198,6 +198,22 @@ fn fold(func: &Function, i: Inst) -> Fold {
             }
             Fold::Keep
         }
+        InstData::BrTable {
+            arg,
+            ref default,
+            ref table,
+        } => match iconst(func, arg) {
+            // The index read unsigned picks the entry; past the table, the default.
+            Some(c) => {
+                let u = func.value_type(arg).zext_bits(c);
+                let dest = usize::try_from(u)
+                    .ok()
+                    .and_then(|k| table.get(k))
+                    .unwrap_or(default);
+                Fold::Rewrite(InstData::Jump { dest: dest.clone() })
+            }
+            None => Fold::Keep,
+        },
         _ => Fold::Keep,
     }
 }

@@ -48,7 +48,9 @@ pub fn run(func: &mut Function) -> bool {
             match data {
                 // Branch arguments are live only if their parameter is.
                 InstData::Jump { .. } => {}
-                InstData::Brif { cond, .. } => work.push(*cond),
+                InstData::Brif { cond, .. } | InstData::BrTable { arg: cond, .. } => {
+                    work.push(*cond)
+                }
                 _ => data.for_each_arg(|a| work.push(a)),
             }
         }

@@ -19,7 +19,7 @@ use crate::dominators::DomTree;
 use crate::entities::{Block, Inst, SlotId, Value};
 use crate::function::Function;
 use crate::inst::{BlockCall, InstData};
-use crate::passes::util::{dest_mut, dests, ValueMap};
+use crate::passes::util::{dest_mut, ValueMap};
 use crate::types::{MemType, Type};
 
 const NONE: u32 = u32::MAX;
@@ -260,9 +260,9 @@ fn promote(
                         dead[i.index()] = true;
                     }
                 }
-                InstData::Jump { .. } | InstData::Brif { .. } => {
-                    for which in 0..2u8 {
-                        let Some(d) = dests(func.inst(i))[which as usize].map(|d| d.block) else {
+                InstData::Jump { .. } | InstData::Brif { .. } | InstData::BrTable { .. } => {
+                    for which in 0..func.inst(i).dest_count() as u32 {
+                        let Some(d) = func.inst(i).dest(which as usize).map(|d| d.block) else {
                             continue;
                         };
                         if phis[d.index()].is_empty() {

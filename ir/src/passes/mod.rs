@@ -10,6 +10,7 @@
 //! [`optimize_program`] is the whole pipeline; [`optimize_module`] /
 //! [`optimize_function`] run the per-function passes in a sensible order.
 
+pub mod br_table;
 pub mod const_fold;
 pub mod copy_prop;
 pub mod dce;

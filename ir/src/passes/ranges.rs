@@ -101,17 +101,8 @@ fn thread_constant_branches(func: &mut Function) -> bool {
         };
         let mut data = func.inst(term).clone();
         let mut moved = false;
-        match &mut data {
-            InstData::Jump { dest } => moved |= thread(func, dest, &mut read),
-            InstData::Brif {
-                then_dest,
-                else_dest,
-                ..
-            } => {
-                moved |= thread(func, then_dest, &mut read);
-                moved |= thread(func, else_dest, &mut read);
-            }
-            _ => {}
+        for dest in data.successors_mut() {
+            moved |= thread(func, dest, &mut read);
         }
         if moved {
             *func.inst_mut(term) = data;
@@ -495,22 +486,10 @@ impl<'a> Ranges<'a> {
             let Some(&term) = f.block(b).insts.last() else {
                 continue;
             };
-            let mut add = |d: &BlockCall| {
+            for d in f.inst(term).dests() {
                 if !d.args.is_empty() {
                     edges.push((b, d.block, d.args.clone()));
                 }
-            };
-            match f.inst(term) {
-                InstData::Jump { dest } => add(dest),
-                InstData::Brif {
-                    then_dest,
-                    else_dest,
-                    ..
-                } => {
-                    add(then_dest);
-                    add(else_dest);
-                }
-                _ => {}
             }
         }
         // How often each parameter's lower and upper bound moved.

@@ -1,6 +1,7 @@
 //! Control-flow graph simplification.
 //!
-//! - `brif` on a constant, or with two identical destinations, becomes a `jump`;
+//! - `brif` or `br_table` on a constant, or whose destinations are all the same,
+//!   becomes a `jump`;
 //! - an edge into a block that only jumps on (an empty forwarder, whose parameters
 //!   nothing but that jump reads) goes straight to the forwarder's destination, with
 //!   the forwarder's arguments (its own parameters replaced by the edge's arguments).
@@ -16,7 +17,7 @@ use crate::dominators::reverse_postorder;
 use crate::entities::{Block, Value};
 use crate::function::Function;
 use crate::inst::{BlockCall, InstData};
-use crate::passes::util::{dest_mut, dests, int_const, ValueMap};
+use crate::passes::util::{dest_mut, int_const, ValueMap};
 
 /// How many forwarders one edge is threaded through per run (cycles of empty blocks
 /// must not loop forever; longer chains finish in the next run).
@@ -34,7 +35,8 @@ pub fn run(func: &mut Function) -> bool {
     changed
 }
 
-/// `brif` with a constant condition or identical destinations becomes `jump`.
+/// `brif` and `br_table` with a constant operand or identical destinations become
+/// `jump`s.
 fn fold_branches(func: &mut Function) -> bool {
     let mut changed = false;
     for bi in 0..func.layout.len() {
@@ -42,19 +44,31 @@ fn fold_branches(func: &mut Function) -> bool {
         let Some(t) = func.terminator(b) else {
             continue;
         };
-        let InstData::Brif {
-            cond,
-            then_dest,
-            else_dest,
-        } = func.inst(t)
-        else {
-            continue;
-        };
-        let dest = match int_const(func, *cond) {
-            Some(c) if c & 1 != 0 => then_dest.clone(),
-            Some(_) => else_dest.clone(),
-            None if then_dest == else_dest => then_dest.clone(),
-            None => continue,
+        let dest = match func.inst(t) {
+            InstData::Brif {
+                cond,
+                then_dest,
+                else_dest,
+            } => match int_const(func, *cond) {
+                Some(c) if c & 1 != 0 => then_dest.clone(),
+                Some(_) => else_dest.clone(),
+                None if then_dest == else_dest => then_dest.clone(),
+                None => continue,
+            },
+            InstData::BrTable {
+                arg,
+                default,
+                table,
+            } => match int_const(func, *arg) {
+                Some(c) => {
+                    let u = func.value_type(*arg).zext_bits(c);
+                    let k = usize::try_from(u).ok().filter(|&k| k < table.len());
+                    k.map_or(default, |k| &table[k]).clone()
+                }
+                None if table.iter().all(|d| d == default) => default.clone(),
+                None => continue,
+            },
+            _ => continue,
         };
         *func.inst_mut(t) = InstData::Jump { dest };
         changed = true;
@@ -118,8 +132,8 @@ fn thread_jumps(func: &mut Function, entry: Block) -> bool {
         let Some(t) = func.terminator(b) else {
             continue;
         };
-        for which in 0..2u8 {
-            let Some(mut call) = dests(func.inst(t))[which as usize].cloned() else {
+        for which in 0..func.inst(t).dest_count() as u32 {
+            let Some(mut call) = func.inst(t).dest(which as usize).cloned() else {
                 continue;
             };
             visited.clear();
@@ -178,7 +192,7 @@ fn merge_blocks(func: &mut Function, entry: Block) -> bool {
     let mut npreds = vec![0u32; n];
     for &b in &func.layout {
         if let Some(t) = func.terminator(b) {
-            for d in dests(func.inst(t)).into_iter().flatten() {
+            for d in func.inst(t).dests() {
                 npreds[d.block.index()] += 1;
             }
         }

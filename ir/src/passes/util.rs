@@ -86,41 +86,19 @@ impl ValueMap {
     }
 }
 
-/// The branch destinations of a terminator without allocating (`[then, else]` for
-/// `brif`, `[dest, None]` for `jump`).
+/// Destination `which` of a terminator (numbered as by [`InstData::dest`]), for
+/// rewriting.
 #[inline]
-pub(crate) fn dests(data: &InstData) -> [Option<&BlockCall>; 2] {
-    match data {
-        InstData::Jump { dest } => [Some(dest), None],
-        InstData::Brif {
-            then_dest,
-            else_dest,
-            ..
-        } => [Some(then_dest), Some(else_dest)],
-        _ => [None, None],
-    }
-}
-
-/// Destination `which` (0 or 1) of a terminator, for rewriting.
-#[inline]
-pub(crate) fn dest_mut(data: &mut InstData, which: u8) -> &mut BlockCall {
-    match (data, which) {
-        (InstData::Jump { dest }, 0) => dest,
-        (InstData::Brif { then_dest, .. }, 0) => then_dest,
-        (InstData::Brif { else_dest, .. }, 1) => else_dest,
-        _ => unreachable!("not a branch destination"),
-    }
+pub(crate) fn dest_mut(data: &mut InstData, which: u32) -> &mut BlockCall {
+    data.dest_mut(which as usize)
+        .expect("an edge names a destination of its terminator")
 }
 
 /// Destination `which` of a terminator.
 #[inline]
-pub(crate) fn dest_ref(data: &InstData, which: u8) -> &BlockCall {
-    match (data, which) {
-        (InstData::Jump { dest }, 0) => dest,
-        (InstData::Brif { then_dest, .. }, 0) => then_dest,
-        (InstData::Brif { else_dest, .. }, 1) => else_dest,
-        _ => unreachable!("not a branch destination"),
-    }
+pub(crate) fn dest_ref(data: &InstData, which: u32) -> &BlockCall {
+    data.dest(which as usize)
+        .expect("an edge names a destination of its terminator")
 }
 
 /// One CFG edge: destination `which` of the terminator `inst` of block `from`.
@@ -130,8 +108,9 @@ pub(crate) struct Edge {
     pub from: Block,
     /// Its terminator.
     pub inst: Inst,
-    /// Which destination of the terminator (0: `jump`/then, 1: else).
-    pub which: u8,
+    /// Which destination of the terminator (see [`InstData::dest`]: 0 is `jump`'s,
+    /// `brif`'s then or `br_table`'s default).
+    pub which: u32,
 }
 
 /// The incoming edges of every block, from the terminators of the layout blocks
@@ -148,7 +127,7 @@ impl Incoming {
         let mut count = vec![0u32; n + 1];
         for &b in &func.layout {
             if let Some(t) = func.terminator(b) {
-                for d in dests(func.inst(t)).into_iter().flatten() {
+                for d in func.inst(t).dests() {
                     count[d.block.index() + 1] += 1;
                 }
             }
@@ -165,16 +144,14 @@ impl Incoming {
         let mut edges = vec![placeholder; count[n] as usize];
         for &b in &func.layout {
             if let Some(t) = func.terminator(b) {
-                for (w, d) in dests(func.inst(t)).into_iter().enumerate() {
-                    if let Some(d) = d {
-                        let slot = &mut fill[d.block.index()];
-                        edges[*slot as usize] = Edge {
-                            from: b,
-                            inst: t,
-                            which: w as u8,
-                        };
-                        *slot += 1;
-                    }
+                for (w, d) in func.inst(t).dests().enumerate() {
+                    let slot = &mut fill[d.block.index()];
+                    edges[*slot as usize] = Edge {
+                        from: b,
+                        inst: t,
+                        which: w as u32,
+                    };
+                    *slot += 1;
                 }
             }
         }

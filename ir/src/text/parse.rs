@@ -543,6 +543,8 @@ enum RawOp<'a> {
     InlineC(Box<(Named<'a>, V, Cow<'a, str>)>),
     Jump(Box<RawBlockCall>),
     Brif(Box<(V, RawBlockCall, RawBlockCall)>),
+    /// The index, the default, the table.
+    BrTable(Box<(V, RawBlockCall, Vec<RawBlockCall>)>),
     Return(Option<V>),
 }
 
@@ -1455,6 +1457,7 @@ impl<'a> Parser<'a> {
                     let e = self.block_call()?;
                     RawOp::Brif(Box::new((c, t, e)))
                 }
+                "br_table" => self.br_table()?,
                 "return" => {
                     let vals = self.values_to_eol()?;
                     if vals.len() > 1 {

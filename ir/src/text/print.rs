@@ -594,6 +594,22 @@ fn write_inst(out: &mut String, m: &Module, f: &Function, inst: Inst, locations:
             out.push_str(", ");
             write_block_call(out, else_dest);
         }
+        InstData::BrTable {
+            arg,
+            default,
+            table,
+        } => {
+            let _ = write!(out, "br_table {arg}, ");
+            write_block_call(out, default);
+            out.push_str(", [");
+            for (k, d) in table.iter().enumerate() {
+                if k > 0 {
+                    out.push_str(", ");
+                }
+                write_block_call(out, d);
+            }
+            out.push(']');
+        }
         InstData::Return { value } => {
             out.push_str("return");
             if let Some(v) = value {

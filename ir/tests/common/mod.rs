@@ -456,7 +456,16 @@ pub fn kitchen_sink() -> Module {
         b.brif(done, exit, vec![n], body, vec![]);
         b.switch_to(body);
         let q2 = b.binary(BinaryOp::Iadd, hq, hq);
-        b.jump(head, vec![n, q2]);
+        // A jump table whose entries repeat a destination with other arguments.
+        b.br_table(
+            n,
+            BlockCall::new(head, vec![n, q2]),
+            vec![
+                BlockCall::new(exit, vec![hp]),
+                BlockCall::new(head, vec![n, q2]),
+                BlockCall::new(head, vec![hp, hq]),
+            ],
+        );
         b.switch_to(exit);
         b.ret(Some(ep));
     }

@@ -1109,6 +1109,10 @@ impl Fx<'_, '_> {
             InstData::Call { func, args } => self.call(func, &args, res)?,
             // `build` refuses these first (`reject_inline_c`).
             InstData::InlineC { .. } => return Err(self.unsupported("C code in a pragma", span)),
+            // The build expands every table into compares first (`passes::br_table`).
+            InstData::BrTable { .. } => {
+                return Err(self.unsupported("a jump table left unexpanded", span))
+            }
             // `build` answered every one with the layout (passes::sizes).
             InstData::SizeOf { .. } => {
                 return Err(self.unsupported("a `sizeof` left after its resolution", span))

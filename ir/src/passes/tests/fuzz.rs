@@ -1,15 +1,17 @@
 //! Random functions shaped like naive front-end output (locals in stack slots,
 //! variables in structs reached through pointers and globals, every statement
-//! reloading what it reads, IF/WHILE/RETURN with dead blocks after RETURN, calls that
-//! write memory, divisions that may fault), run by the reference interpreter before
-//! and after each pass and after the whole driver. Results, fault flags and the final
-//! contents of memory must agree, and the IR must verify after every pass.
+//! reloading what it reads, IF/WHILE/RETURN with dead blocks after RETURN, CASE as a
+//! `br_table`, calls that write memory, divisions that may fault), run by the
+//! reference interpreter before and after each pass, after the whole driver, and
+//! after what the targets without an indirect jump run then (value ranges, the jump
+//! tables as compares). Results, fault flags and the final contents of memory must
+//! agree, and the IR must verify after every pass.
 
 use super::{verify, PASSES};
 use crate::builder::FuncBuilder;
 use crate::entities::{AggId, DataId, FuncId, SlotId, Value};
 use crate::function::{FuncKind, Function};
-use crate::inst::{BinaryOp, ConvOp, FloatCC, IntCC, UnaryOp};
+use crate::inst::{BinaryOp, BlockCall, ConvOp, FloatCC, IntCC, UnaryOp};
 use crate::interp::Interp;
 use crate::machine::Machine;
 use crate::module::{
@@ -392,7 +394,7 @@ impl Gen<'_, '_> {
     fn stmts(&mut self, n: u32, loops: u32) {
         for _ in 0..n {
             self.budget = 12;
-            match self.rng.below(12) {
+            match self.rng.below(13) {
                 0..=5 => {
                     if let Some(p) = self.random_place(None) {
                         let ty = self.place_type(p);
@@ -448,6 +450,7 @@ impl Gen<'_, '_> {
                     self.b.jump(h, vec![]);
                     self.b.switch_to(exit);
                 }
+                12 if self.depth_ok() => self.switch(loops),
                 9 if self.early_return && self.rng.chance(30) => {
                     // RETURN in the middle: the rest goes to a dead block.
                     let v = self.expr(Type::I32);
@@ -475,6 +478,59 @@ impl Gen<'_, '_> {
                 }
             }
         }
+    }
+
+    /// A CASE as a jump table: `br_table` on an expression less a small constant (now
+    /// and then a constant: it folds), whose entries go to 1–3 arms or to the ELSE
+    /// part; the first arm takes an `i32` argument, which differs between entries, and
+    /// stores it.
+    fn switch(&mut self, loops: u32) {
+        let ty = *self.rng.pick(&[Type::I8, Type::I16, Type::I32]);
+        let sel = if self.rng.chance(20) {
+            self.b.iconst(ty, self.rng.range(-2, 9) as i64)
+        } else {
+            let x = self.expr(ty);
+            let k = self.b.iconst(ty, self.rng.range(-3, 3) as i64);
+            self.b.binary(BinaryOp::Isub, x, k)
+        };
+        let args = [self.expr(Type::I32), self.konst(Type::I32)];
+        let arms: Vec<_> = (0..1 + self.rng.below(3))
+            .map(|_| self.b.create_block())
+            .collect();
+        let param = self.b.block_param(arms[0], Type::I32);
+        let (e, j) = (self.b.create_block(), self.b.create_block());
+        let dest = |g: &mut Self| {
+            let k = g.rng.index(arms.len() + 1);
+            match k {
+                0 => BlockCall::new(arms[0], vec![*g.rng.pick(&args)]),
+                k if k < arms.len() => BlockCall::new(arms[k], vec![]),
+                _ => BlockCall::new(e, vec![]),
+            }
+        };
+        let table = (0..1 + self.rng.below(8)).map(|_| dest(self)).collect();
+        let default = if self.rng.chance(70) {
+            BlockCall::new(e, vec![])
+        } else {
+            dest(self)
+        };
+        self.b.br_table(sel, default, table);
+        for (k, &arm) in arms.iter().enumerate() {
+            self.b.switch_to(arm);
+            if k == 0 {
+                if let Some(p) = self.random_place(Some(Type::I32)) {
+                    let a = self.addr(p);
+                    self.b.store(param, a);
+                }
+            }
+            self.nested(|g| g.stmts(1, loops));
+            self.b.jump(j, vec![]);
+        }
+        self.b.switch_to(e);
+        if self.rng.chance(50) {
+            self.nested(|g| g.stmts(1, loops));
+        }
+        self.b.jump(j, vec![]);
+        self.b.switch_to(j);
     }
 
     fn depth_ok(&self) -> bool {
@@ -804,6 +860,7 @@ fn check_same(
 #[test]
 fn random_functions_keep_their_meaning() {
     let seeds: u64 = if cfg!(debug_assertions) { 500 } else { 10000 };
+    let mut tables = 0;
     for seed in 1..=seeds {
         let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15));
         let (mut m, cx, init) = skeleton();
@@ -851,7 +908,27 @@ fn random_functions_keep_their_meaning() {
                 f.name
             );
         }
+
+        // What the targets without an indirect jump run after it: value ranges, then
+        // the jump tables as compares.
+        let mut low = opt;
+        crate::passes::ranges::run_module(&mut low);
+        let has_table = low.funcs.iter().any(|f| {
+            f.inst_iter()
+                .any(|(_, i)| matches!(f.inst(i), crate::inst::InstData::BrTable { .. }))
+        });
+        tables += has_table as u64;
+        crate::passes::br_table::run_module(&mut low);
+        for f in &low.funcs {
+            verify(&low, f, &format!("seed {seed}: after ranges and br_table"));
+        }
+        check_same(seed, "ranges and br_table", &m, &before, &low, init, t);
     }
+    // The jump tables the generator makes mostly survive the optimiser.
+    assert!(
+        tables * 5 >= seeds,
+        "only {tables} of {seeds} optimised functions have a br_table"
+    );
 }
 
 #[test]

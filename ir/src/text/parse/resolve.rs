@@ -504,6 +504,15 @@ impl<'a> Resolver<'a> {
                             else_dest: block_call(e)?,
                         }
                     }
+                    RawOp::BrTable(bt) => {
+                        let (index, default, table) = &**bt;
+                        has_result = Some(false);
+                        InstData::BrTable {
+                            arg: val(*index)?,
+                            default: block_call(default)?,
+                            table: table.iter().map(&block_call).collect::<Result<_, _>>()?,
+                        }
+                    }
                     RawOp::Return(v) => {
                         has_result = Some(false);
                         InstData::Return {

@@ -1,6 +1,8 @@
-//! The function tables of the text form: `table t0 "I_Shape.Area" (ptr) -> f32 = [@a,
-//! -, @b]`, one line each (`-` is an empty entry), and their resolution. Tables are
-//! numbered in declaration order; `call_table t0, v2(v1)` names one by its number.
+//! The tables of the text form. Function tables: `table t0 "I_Shape.Area" (ptr) -> f32
+//! = [@a, -, @b]`, one line each (`-` is an empty entry), and their resolution. Tables
+//! are numbered in declaration order; `call_table t0, v2(v1)` names one by its number.
+//! Jump tables are the operands of an instruction: `br_table v5, block9(v1), [block2,
+//! block3(v4)]`.
 
 use super::*;
 
@@ -45,6 +47,27 @@ impl<'a> Parser<'a> {
             entries,
         });
         Ok(())
+    }
+
+    /// The operands of `br_table` after its mnemonic: `vI, default(args), [dest(args),
+    /// …]` (the table may be empty: `[]`).
+    pub(super) fn br_table(&mut self) -> Result<RawOp<'a>, ParseError> {
+        let index = self.value()?;
+        self.expect(Tok::Comma, "`,`")?;
+        let default = self.block_call()?;
+        self.expect(Tok::Comma, "`,`")?;
+        self.expect(Tok::LBracket, "`[`")?;
+        let mut table = Vec::new();
+        if !self.eat(&Tok::RBracket) {
+            loop {
+                table.push(self.block_call()?);
+                if self.eat(&Tok::RBracket) {
+                    break;
+                }
+                self.expect(Tok::Comma, "`,` or `]`")?;
+            }
+        }
+        Ok(RawOp::BrTable(Box::new((index, default, table))))
     }
 
     /// A table number such as `t0`.
