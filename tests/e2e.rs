@@ -101,7 +101,10 @@
 //! - assignment: every file; IF/ELSIF/ELSE: stmt/if_elsif
 //! - CASE with lists, ranges, ELSE, no match: stmt/case_basic; unsigned and
 //!   bit-string selectors: stmt/case_unsigned; SINT/LINT/ULINT selectors:
-//!   stmt/case_wide; CASE with constant labels: pou/var_constant, apps/wash_cycle
+//!   stmt/case_wide; CASE with constant labels: pou/var_constant, apps/wash_cycle;
+//!   dense CASEs as jump tables (`br_table`) on every machine, INT, SINT and DINT
+//!   selectors, negative labels, overlaps, a wrapping selector: the test
+//!   `dense_case_is_a_jump_table_on_every_machine`
 //! - FOR with BY (positive, negative, non-1, from a variable), the variable after
 //!   the loop, empty ranges: stmt/for_steps; FOR up to the type's maximum or
 //!   minimum terminates: stmt/for_type_max
@@ -1247,6 +1250,163 @@ fn sizeof_is_each_targets_layout() {
             failures.push(format!(
                 "{target}: SIZEOF(x), SIZEOF(xs), SIZEOF(pair) are {got:?}, expected {want:?}"
             ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The dense CASEs of [`dense_case_is_a_jump_table_on_every_machine`]: an INT selector
+/// with lists, a range, gaps and ELSE, an empty arm (its entries go straight to the
+/// join, with the value before the CASE as a block argument); a SINT selector with
+/// negative labels and no ELSE; a DINT one around a million with an overlap (the
+/// first arm wins) and ELSE; a SINT whose `sel - min` wraps (-128 - 100 is 28, past
+/// the table).
+const DENSE_CASES: &str = "\
+PROGRAM main
+VAR_INPUT si : INT; ss : SINT; sd : DINT; END_VAR
+VAR r_int : INT; r_sint : SINT; r_dint : DINT; r_wrap : SINT; END_VAR
+r_int := si;
+CASE si OF
+    0: r_int := 10;
+    1: r_int := 11;
+    2, 3: r_int := 12;
+    4..6: r_int := 13;
+    10: ;
+    9: r_int := 19;
+ELSE
+    r_int := -1;
+END_CASE;
+r_sint := 99;
+CASE ss OF
+    -5..-3: r_sint := 1;
+    -2: r_sint := 2;
+    -1, 1: r_sint := 3;
+    0: r_sint := 4;
+    3..4: r_sint := 5;
+END_CASE;
+CASE sd OF
+    1000000..1000004: r_dint := 1;
+    1000002: r_dint := 2;
+    1000005, 1000007: r_dint := 3;
+    999999: r_dint := 4;
+ELSE
+    r_dint := sd / 1000;
+END_CASE;
+CASE ss OF
+    100..103: r_wrap := 1;
+    110: r_wrap := 2;
+    120..127: r_wrap := 3;
+    104: r_wrap := 4;
+ELSE
+    r_wrap := -7;
+END_CASE;
+END_PROGRAM
+";
+
+/// What [`DENSE_CASES`] computes, by IEC 61131-3: `(r_int, r_sint, r_dint, r_wrap)`.
+fn dense_cases_expected(si: i64, ss: i64, sd: i64) -> [i64; 4] {
+    let r_int = match si {
+        0 => 10,
+        1 => 11,
+        2 | 3 => 12,
+        4..=6 => 13,
+        10 => 10,
+        9 => 19,
+        _ => -1,
+    };
+    let r_sint = match ss {
+        -5..=-3 => 1,
+        -2 => 2,
+        -1 | 1 => 3,
+        0 => 4,
+        3..=4 => 5,
+        _ => 99,
+    };
+    let r_dint = match sd {
+        1_000_000..=1_000_004 => 1,
+        1_000_005 | 1_000_007 => 3,
+        999_999 => 4,
+        _ => sd / 1000, // truncates toward zero, as DIV does
+    };
+    let r_wrap = match ss {
+        100..=103 => 1,
+        110 => 2,
+        120..=127 => 3,
+        104 => 4,
+        _ => -7,
+    };
+    [r_int, r_sint, r_dint, r_wrap]
+}
+
+/// Dense CASEs become jump tables (`br_table` in the IR; a Cranelift jump table on
+/// the host, a `switch` in C, a binary search of compares on the VM and the PIC16)
+/// and every machine gives every selector value the arm IEC 61131-3 says: all 256
+/// SINTs, the INTs and DINTs around the labels and at the ends of their types.
+#[test]
+fn dense_case_is_a_jump_table_on_every_machine() {
+    let b = build_sources(
+        vec![("dense_case.st".into(), DENSE_CASES.as_bytes().to_vec())],
+        &BuildOptions::default(),
+    )
+    .expect("builds");
+    let module = b.module.expect("compiles");
+    let ir = plcc_ir::text::print_module(&module, &plcc_ir::text::PrintOptions::default());
+    assert_eq!(ir.matches("br_table").count(), 4, "{ir}");
+    let ints = [-32768, -1, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 32767];
+    let dints = [
+        i32::MIN as i64,
+        -1_000_000,
+        -1,
+        0,
+        999_998,
+        999_999,
+        1_000_000,
+        1_000_002,
+        1_000_004,
+        1_000_005,
+        1_000_006,
+        1_000_007,
+        1_000_008,
+        1_000_255,
+        i32::MAX as i64,
+    ];
+    let inputs: Vec<(i64, i64, i64)> = (0..256)
+        .map(|k| (ints[k % ints.len()], k as i64 - 128, dints[k % dints.len()]))
+        .collect();
+    let mut failures = Vec::new();
+    for target in [
+        "interp",
+        "host",
+        "c",
+        "vmasm:mode=16",
+        "vmasm:mode=32",
+        "vmasm:mode=32a",
+        "pic16f876a",
+    ] {
+        if targets::not_running().iter().any(|t| target.starts_with(t)) {
+            skip::notice(&format!(
+                "dense CASE on `{target}`: it cannot run programs here"
+            ));
+            continue;
+        }
+        let mut m = machine(target, &module).unwrap_or_else(|e| panic!("{e}"));
+        m.cold_start().expect("cold start");
+        for &(si, ss, sd) in &inputs {
+            m.write("main.si", PlcValue::from_i64(ElemType::Int, si))
+                .unwrap();
+            m.write("main.ss", PlcValue::from_i64(ElemType::SInt, ss))
+                .unwrap();
+            m.write("main.sd", PlcValue::from_i64(ElemType::DInt, sd))
+                .unwrap();
+            m.scan().expect("a scan");
+            let got = ["main.r_int", "main.r_sint", "main.r_dint", "main.r_wrap"]
+                .map(|p| m.read(p).expect("a variable").as_i64());
+            let want = dense_cases_expected(si, ss, sd);
+            if got != want {
+                failures.push(format!(
+                    "{target}: si = {si}, ss = {ss}, sd = {sd}: (r_int, r_sint, r_dint, r_wrap) are {got:?}, expected {want:?}"
+                ));
+            }
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));

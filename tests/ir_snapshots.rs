@@ -1,10 +1,11 @@
 //! Snapshots of the optimised IR of programs from `tests/programs/st/`, chosen to cover
 //! different constructs: calls and parameter passing, FB instances, VAR_TEMP, initial
 //! values, constant folding, integer division and comparisons (signed, unsigned),
-//! TIME scaling, CASE, FOR, loops with EXIT/CONTINUE, short-circuit operators, integer
-//! power, shifts and rotations, selection functions, REAL to integer conversions, the
-//! standard timers and counters, array bounds checks, 2-D arrays, bit access, REAL
-//! arithmetic and arrays passed by reference.
+//! TIME scaling, CASE (a compare chain; dense ones as jump tables), FOR, loops with
+//! EXIT/CONTINUE, short-circuit operators, integer power, shifts and rotations,
+//! selection functions, REAL to integer conversions, the standard timers and
+//! counters, array bounds checks, 2-D arrays, bit access, REAL arithmetic and arrays
+//! passed by reference.
 //!
 //! Review a change with `cargo insta review` (or `INSTA_UPDATE=always cargo test
 //! --test ir_snapshots`, then read the `.snap` files): check that the IR is correct
@@ -50,6 +51,7 @@ snapshot! {
     unsigned_compare_div => "types/unsigned_compare_div.st",
     time_arith => "types/time_arith.st",
     case_basic => "stmt/case_basic.st",
+    case_dense => "stmt/case_dense.st",
     for_steps => "stmt/for_steps.st",
     exit_continue => "stmt/exit_continue.st",
     short_circuit => "ops/short_circuit.st",

@@ -16,6 +16,7 @@ mod bcd;
 mod body;
 mod builtins;
 mod calls;
+mod case;
 mod classes;
 mod consts;
 mod dates;
