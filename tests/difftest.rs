@@ -34,6 +34,26 @@ fn machines_holding_everything() -> usize {
         .count()
 }
 
+/// Half the CASEs the generator writes are dense, and the front end makes jump
+/// tables (`br_table`) of them, so that the batches run tables on every machine: a
+/// Cranelift jump table on the host, a C `switch`, the binary search of compares on
+/// the VM and the PIC16.
+#[test]
+fn dense_cases_become_jump_tables() {
+    let n = 300;
+    let mut with_table = 0;
+    for seed in 1..=n {
+        let m = difftest::compile(&difftest::program(seed)).expect("compiles");
+        let ir = plcc_ir::text::print_module(&m, &plcc_ir::text::PrintOptions::default());
+        with_table += ir.contains("br_table") as usize;
+    }
+    println!("{with_table} of {n} programs have a br_table");
+    assert!(
+        (0.1..=0.6).contains(&(with_table as f64 / n as f64)),
+        "{with_table} of {n} programs have a br_table"
+    );
+}
+
 #[test]
 fn three_hundred_random_programs_agree_on_every_machine() {
     let mut machines_ran = 0;

@@ -256,6 +256,9 @@ impl Expr {
     }
 }
 
+/// A CASE label `lo..hi` (a single value when `lo == hi`).
+pub type Label = (i64, i64);
+
 /// A statement.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Stmt {
@@ -268,8 +271,10 @@ pub enum Stmt {
     /// `FOR kN := lo TO hi BY step DO … END_FOR;` (N: the nesting depth, so nested
     /// loops have their own control variables).
     For(i64, i64, i64, Vec<Stmt>),
-    /// `CASE sel OF n: … ELSE … END_CASE;` (`sel` an INT expression).
-    Case(Expr, Vec<(i64, Vec<Stmt>)>, Vec<Stmt>),
+    /// `CASE sel OF labels: … ELSE … END_CASE;` (`sel` an integer expression; each
+    /// arm's labels are `lo..hi` ranges, a single value when `lo == hi`). Half of
+    /// them are dense, so that the front end makes jump tables of them.
+    Case(Expr, Vec<(Vec<Label>, Vec<Stmt>)>, Vec<Stmt>),
     /// `WHILE wN < n DO … wN := wN + 1; END_WHILE;` (bounded by its counter).
     While(i64, Vec<Stmt>),
     /// `fb(a := e1, b := e2); v := fb.r;`
@@ -974,6 +979,70 @@ impl<'r> Gen<'r> {
         Some(Expr::Call(t, "SIZEOF".into(), vec![arg]))
     }
 
+    /// The selector and the arms' labels of a dense CASE: 4 to 6 arms of one or two
+    /// labels each, single values or ranges of 2 to 4, mostly consecutive (sometimes
+    /// a gap of 1 or 2), from a start near 0 or near the top of the selector's type
+    /// (INT, SINT, DINT, LINT, USINT or UDINT). The selector is often `e MOD 16 +
+    /// start`, so that it lands among the labels.
+    fn dense_case(&mut self) -> (Expr, Vec<Vec<Label>>) {
+        let t = *self.rng.pick(&[
+            T::Int,
+            T::Int,
+            T::Sint,
+            T::Dint,
+            T::Lint,
+            T::Usint,
+            T::Udint,
+        ]);
+        let max = match t {
+            T::Sint => 127,
+            T::Usint => 255,
+            T::Int => 32767,
+            _ => 1_000_000,
+        };
+        let start = match (self.rng.below(4), t.is_signed()) {
+            (0, _) => max - 12,
+            (_, true) => self.rng.range(-8, 4) as i64,
+            (_, false) => self.rng.range(0, 4) as i64,
+        };
+        let mut next = start;
+        let mut arms = Vec::new();
+        for _ in 0..4 + self.rng.below(3) {
+            let mut labels = Vec::new();
+            for _ in 0..1 + self.rng.below(2) {
+                if self.rng.chance(20) {
+                    next += 1 + self.rng.below(2) as i64;
+                }
+                let len = if self.rng.chance(25) {
+                    1 + self.rng.below(3) as i64
+                } else {
+                    0
+                };
+                if next + len > max {
+                    break;
+                }
+                labels.push((next, next + len));
+                next += len + 1;
+            }
+            if !labels.is_empty() {
+                arms.push(labels);
+            }
+        }
+        let e = self.expr(t);
+        let sel = if self.rng.chance(60) {
+            let m = Expr::Bin(t, "MOD", Box::new(e), Box::new(Expr::Lit(t, "16".into())));
+            let k = if start < 0 {
+                format!("({}#{start})", t.name())
+            } else {
+                format!("{}#{start}", t.name())
+            };
+            Expr::Bin(t, "+", Box::new(m), Box::new(Expr::Lit(t, k)))
+        } else {
+            e
+        };
+        (sel, arms)
+    }
+
     /// An expression of type `t`.
     pub fn expr(&mut self, t: T) -> Expr {
         self.depth += 1;
@@ -1382,14 +1451,17 @@ impl<'r> Gen<'r> {
             }
             78..=84 if nested => {
                 self.depth += 1;
-                let sel = self.expr(T::Int);
-                let arms = (0..1 + self.rng.below(3))
-                    .map(|i| {
-                        (
-                            i as i64 * 2 - 1,
-                            (0..1 + self.rng.below(2)).map(|_| self.stmt()).collect(),
-                        )
-                    })
+                let (sel, labels) = if self.rng.chance(50) {
+                    self.dense_case()
+                } else {
+                    // Sparse: one value per arm, -1, 1, 3.
+                    let n = 1 + self.rng.below(3) as i64;
+                    let labels = (0..n).map(|i| vec![(i * 2 - 1, i * 2 - 1)]).collect();
+                    (self.expr(T::Int), labels)
+                };
+                let arms = labels
+                    .into_iter()
+                    .map(|l| (l, (0..1 + self.rng.below(2)).map(|_| self.stmt()).collect()))
                     .collect();
                 let other = (0..self.rng.below(2)).map(|_| self.stmt()).collect();
                 self.depth -= 1;

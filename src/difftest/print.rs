@@ -144,8 +144,15 @@ fn print_stmts(body: &[Stmt], ind: usize, out: &mut String) {
                 let _ = write!(out, "{pad}CASE ");
                 print_expr(sel, out);
                 out.push_str(" OF\n");
-                for (n, body) in arms {
-                    let _ = writeln!(out, "{pad}    {n}:");
+                for (labels, body) in arms {
+                    let labels: Vec<String> = labels
+                        .iter()
+                        .map(|&(lo, hi)| match lo == hi {
+                            true => lo.to_string(),
+                            false => format!("{lo}..{hi}"),
+                        })
+                        .collect();
+                    let _ = writeln!(out, "{pad}    {}:", labels.join(", "));
                     print_stmts(body, ind + 2, out);
                 }
                 if !other.is_empty() {
