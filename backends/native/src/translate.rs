@@ -147,9 +147,13 @@ impl Translator {
         frontend: TargetFrontendConfig,
     ) -> Result<(), TransError> {
         // Compares that value ranges decide (the bounds checks of indexes a loop
-        // keeps in the array) go before translation, as in the `c` target.
+        // keeps in the array) go before translation, as in the `c` target; then
+        // small branches become selects (cmov) and loop tests move to the loops'
+        // ends (one branch an iteration), which Cranelift does not do itself.
         let mut narrowed = env.module.func(fid).clone();
         plcc_ir::passes::ranges::run(&mut narrowed);
+        plcc_ir::passes::if_convert::run(&mut narrowed);
+        plcc_ir::passes::rotate::run(&mut narrowed);
         let f = &narrowed;
         func.signature = env.sigs[fid.index()].clone();
         func.name = UserFuncName::user(0, env.funcs[fid.index()].as_u32());

@@ -899,6 +899,24 @@ fn random_functions_keep_their_meaning() {
             verify(&opt, f, &format!("seed {seed}: after optimize_module"));
         }
         check_same(seed, "optimize_module", &m, &before, &opt, init, t);
+        // The shape passes the JIT runs after the driver (if-conversion, then loop
+        // rotation), on the optimised code as it is and with the watchdog's checks
+        // on back edges that the runner adds.
+        for watchdog in [false, true] {
+            let mut shaped = opt.clone();
+            for k in 0..shaped.funcs.len() {
+                let mut f = shaped.funcs[k].clone();
+                if watchdog {
+                    crate::passes::watchdog::run_function(&mut f);
+                }
+                crate::passes::if_convert::run(&mut f);
+                crate::passes::rotate::run(&mut f);
+                shaped.funcs[k] = f;
+                let what = format!("seed {seed}: after if_convert and rotate ({watchdog})");
+                verify(&shaped, &shaped.funcs[k], &what);
+            }
+            check_same(seed, "if_convert + rotate", &m, &before, &shaped, init, t);
+        }
         // Optimising again finds nothing to do.
         let mut again = opt.clone();
         for f in &mut again.funcs {
@@ -934,6 +952,7 @@ fn random_functions_keep_their_meaning() {
 #[test]
 fn fuzz_stats() {
     let mut total = (0, 0, 0, 0);
+    let mut shaped = (0, 0);
     for seed in 1..=300u64 {
         let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15));
         let (mut m, cx, init) = skeleton();
@@ -945,6 +964,9 @@ fn fuzz_stats() {
         total.1 += opt.funcs[t.index()].live_inst_count();
         total.2 += before.iter().filter(|o| o.1).count();
         total.3 += m.funcs[t.index()].layout.len();
+        let mut f = opt.funcs[t.index()].clone();
+        shaped.0 += usize::from(crate::passes::if_convert::run(&mut f));
+        shaped.1 += usize::from(crate::passes::rotate::run(&mut f));
         if seed == 7 {
             println!(
                 "{}",
@@ -961,6 +983,7 @@ fn fuzz_stats() {
         "insts before {} after {} faults {} blocks {}",
         total.0, total.1, total.2, total.3
     );
+    println!("functions if-converted {} rotated {}", shaped.0, shaped.1);
 }
 
 #[test]
@@ -972,6 +995,25 @@ fn fuzz_debug_seed() {
     let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15));
     let (mut m, cx, _init) = skeleton();
     let t = random_function(&mut m, &cx, &mut rng);
+    // FUZZ_SHAPE=1: print the optimised function with watchdog checks and
+    // if-conversion, then after loop rotation (the JIT's shape passes).
+    if std::env::var("FUZZ_SHAPE").is_ok() {
+        let mut opt = m.clone();
+        crate::passes::optimize_module(&mut opt);
+        let mut f = opt.funcs[t.index()].clone();
+        crate::passes::watchdog::run_function(&mut f);
+        crate::passes::if_convert::run(&mut f);
+        println!(
+            "{}",
+            crate::text::print_function(&opt, &f, &Default::default())
+        );
+        crate::passes::rotate::run(&mut f);
+        println!(
+            "{}",
+            crate::text::print_function(&opt, &f, &Default::default())
+        );
+        return;
+    }
     let mut cur = m.clone();
     for round in 0..2 {
         for (name, pass) in PASSES {

@@ -4,6 +4,7 @@
 
 mod fold_oracle;
 mod fuzz;
+mod shape;
 mod unit;
 
 use crate::function::Function;
