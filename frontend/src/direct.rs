@@ -12,6 +12,7 @@ use crate::ast::{
 };
 use crate::codes;
 use crate::intern::{Interner, Symbol};
+use crate::source::SourceMap;
 use plcc_ir::diag::{Diagnostic, Span};
 use std::collections::BTreeMap;
 
@@ -37,8 +38,15 @@ fn bodies(p: &mut Pou) -> impl Iterator<Item = &mut Vec<Stmt>> {
 }
 
 /// Gives every direct address in a statement its variable (see the module's text);
-/// the implicit globals go into a block of `units`' first unit.
-pub fn resolve(units: &mut [SourceUnit], interner: &mut Interner, diags: &mut Vec<Diagnostic>) {
+/// the implicit globals go into a block of `units`' first unit. The bodies of a unit
+/// whose source has no `%` (which every direct address starts with, in ST, IL and
+/// PLCopen XML alike) are not walked.
+pub fn resolve(
+    units: &mut [SourceUnit],
+    sources: &SourceMap,
+    interner: &mut Interner,
+    diags: &mut Vec<Diagnostic>,
+) {
     // Located globals, by address.
     let mut globals: BTreeMap<String, Symbol> = BTreeMap::new();
     for unit in units.iter() {
@@ -59,6 +67,9 @@ pub fn resolve(units: &mut [SourceUnit], interner: &mut Interner, diags: &mut Ve
     // The implicit ones made, by address: (name, type, first use).
     let mut implicit: BTreeMap<String, (Symbol, &'static str, Span)> = BTreeMap::new();
     for unit in units.iter_mut() {
+        if !sources.get(unit.file).text.contains('%') {
+            continue;
+        }
         for item in &mut unit.items {
             let Item::Pou(p) = item else { continue };
             let own: BTreeMap<String, Symbol> = located(&p.var_blocks).collect();

@@ -209,7 +209,7 @@ pub fn compile(
     );
     // Printed as the user wrote them: before addresses become names and globals move.
     let printable = (opts.print != PrintAs::Nothing).then(|| units.clone());
-    direct::resolve(&mut units, &mut interner, &mut diagnostics);
+    direct::resolve(&mut units, sources, &mut interner, &mut diagnostics);
     if let Some(g) = globals_unit(&mut units, &mut interner) {
         units.push(g);
     }
