@@ -212,7 +212,7 @@ fn isolate(func: &mut Function, tree: &mut Tree, preds: &mut Vec<Vec<Block>>, h:
                     .map_args(|a| map.iter().find(|(from, _)| *from == a).map_or(a, |m| m.1));
             }
         }
-        if let Some(dest) = func.inst_mut(term).successors_mut().into_iter().nth(k) {
+        if let Some(dest) = func.inst_mut(term).dest_mut(k) {
             dest.args.extend(needs[k].iter().copied());
         }
     }
@@ -225,9 +225,8 @@ fn isolate(func: &mut Function, tree: &mut Tree, preds: &mut Vec<Vec<Block>>, h:
 fn split_edge(func: &mut Function, term: Inst, k: usize) -> Block {
     let dest = func
         .inst(term)
-        .successors()
-        .get(k)
-        .map(|d| (*d).clone())
+        .dest(k)
+        .cloned()
         .expect("a brif has two destinations");
     let e = func.create_block();
     let params: Vec<Value> = dest
@@ -247,16 +246,22 @@ fn split_edge(func: &mut Function, term: Inst, k: usize) -> Block {
         span,
     );
     func.blocks[e.index()].insts.push(jump);
-    let at = func
-        .layout
-        .iter()
-        .position(|&b| b == dest.block)
-        .unwrap_or(func.layout.len());
-    func.layout.insert(at, e);
-    if let Some(d) = func.inst_mut(term).successors_mut().into_iter().nth(k) {
+    place(func, e, dest.block, 0);
+    if let Some(d) = func.inst_mut(term).dest_mut(k) {
         d.block = e;
     }
     e
+}
+
+/// Puts the new block `b` into the layout `offset` places after `at` (0: just before
+/// it; 1: just after it).
+fn place(func: &mut Function, b: Block, at: Block, offset: usize) {
+    let i = func
+        .layout
+        .iter()
+        .position(|&x| x == at)
+        .map_or(func.layout.len(), |p| p + offset);
+    func.layout.insert(i, b);
 }
 
 /// The dominator tree of the function as the pass found it, with the blocks the pass
@@ -330,9 +335,8 @@ fn copy_test(func: &mut Function, h: Block, l: Block, k: usize) -> Block {
     let term = func.terminator(l).expect("a latch ends in a branch");
     let dest = func
         .inst(term)
-        .successors()
-        .get(k)
-        .map(|d| (*d).clone())
+        .dest(k)
+        .cloned()
         .expect("the back edge is a destination of the latch");
     let mut map: Vec<(Value, Value)> = func
         .block(h)
@@ -361,13 +365,8 @@ fn copy_test(func: &mut Function, h: Block, l: Block, k: usize) -> Block {
     }
     let t = func.create_block();
     func.blocks[t.index()].insts = copies;
-    let at = func
-        .layout
-        .iter()
-        .position(|&b| b == l)
-        .map_or(func.layout.len(), |p| p + 1);
-    func.layout.insert(at, t);
-    if let Some(d) = func.inst_mut(term).successors_mut().into_iter().nth(k) {
+    place(func, t, l, 1);
+    if let Some(d) = func.inst_mut(term).dest_mut(k) {
         *d = BlockCall::new(t, Vec::new());
     }
     t
