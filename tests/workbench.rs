@@ -750,6 +750,7 @@ async fn functions(c: &Client, page: &str) {
     .await;
     let start = position(c, &coil).await;
     select_id(c, &coil).await;
+    js(c, "document.getElementById('view-info').textContent = ''; return true").await;
     press(c, &[Key::Shift.into(), Key::Down.into()]).await;
     let t = Instant::now();
     let y0 = start["y"].as_f64().expect("a y");
@@ -757,6 +758,14 @@ async fn functions(c: &Client, page: &str) {
         assert!(t.elapsed() < PATIENCE, "Shift+Down did not move the coil");
         tokio::time::sleep(Duration::from_millis(50)).await;
     }
+    // The model moves at once, the drawing when the rung has been checked again: the
+    // drag below must find the new drawing (its status line is written last).
+    until(
+        c,
+        "the moved coil drawn",
+        "return document.getElementById('view-info').textContent.includes('elements')",
+    )
+    .await;
     let at = js(
         c,
         "const g = document.querySelector('svg .el-coil[data-var=lamp]'); const r = g.getBoundingClientRect(); \
@@ -930,11 +939,16 @@ async fn press(c: &Client, keys: &[char]) {
 async fn edit(c: &Client) {
     let contacts = "return document.querySelectorAll('svg .el-contact').length";
     let coils = "return document.querySelectorAll('svg .el-coil').length";
+    // The status line is written when the diagram has been drawn: cleared first, it
+    // tells the new drawing from the one still on the page (a key pressed on the old
+    // one would be lost when the new one replaces it).
+    js(c, "document.getElementById('view-info').textContent = ''; return true").await;
     click(c, "button[aria-label='Program ladder_demo, LD']").await;
     until(
         c,
         "the ladder again",
-        "return document.querySelectorAll('svg .el-contact').length === 7",
+        "return document.querySelectorAll('svg .el-contact').length === 7 \
+         && document.getElementById('view-info').textContent.includes('elements')",
     )
     .await;
     click(c, "#ld-edit").await;
@@ -944,6 +958,13 @@ async fn edit(c: &Client) {
     // C after stop_pb: a contact in series; Ctrl+Z takes it away; C again.
     js(c, &select("stop_pb")).await;
     press(c, &[Key::Enter.into()]).await;
+    until(
+        c,
+        "stop_pb selected",
+        "const e = document.querySelector('svg .el-contact.selected[data-var=stop_pb]'); \
+         return e !== null && document.activeElement === e",
+    )
+    .await;
     press(c, &['c']).await;
     until(
         c,
