@@ -120,6 +120,16 @@ async fn js(c: &Client, script: &str) -> Json {
     c.execute(script, vec![]).await.expect("the script runs")
 }
 
+/// Empties the view's status line, which the page writes last when it has drawn a
+/// diagram: waiting for it to fill again waits for the new drawing.
+async fn clear_status(c: &Client) {
+    js(
+        c,
+        "document.getElementById('view-info').textContent = ''; return true",
+    )
+    .await;
+}
+
 /// Waits until `script` returns true.
 async fn until(c: &Client, what: &str, script: &str) {
     let t = Instant::now();
@@ -750,7 +760,7 @@ async fn functions(c: &Client, page: &str) {
     .await;
     let start = position(c, &coil).await;
     select_id(c, &coil).await;
-    js(c, "document.getElementById('view-info').textContent = ''; return true").await;
+    clear_status(c).await;
     press(c, &[Key::Shift.into(), Key::Down.into()]).await;
     let t = Instant::now();
     let y0 = start["y"].as_f64().expect("a y");
@@ -942,7 +952,7 @@ async fn edit(c: &Client) {
     // The status line is written when the diagram has been drawn: cleared first, it
     // tells the new drawing from the one still on the page (a key pressed on the old
     // one would be lost when the new one replaces it).
-    js(c, "document.getElementById('view-info').textContent = ''; return true").await;
+    clear_status(c).await;
     click(c, "button[aria-label='Program ladder_demo, LD']").await;
     until(
         c,
