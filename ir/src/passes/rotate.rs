@@ -208,8 +208,7 @@ fn isolate(func: &mut Function, tree: &mut Tree, preds: &mut Vec<Vec<Block>>, h:
         for &b in &regions[k] {
             for ii in 0..func.blocks[b.index()].insts.len() {
                 let i = func.blocks[b.index()].insts[ii];
-                func.insts[i.index()]
-                    .map_args(|a| map.iter().find(|(from, _)| *from == a).map_or(a, |m| m.1));
+                func.insts[i.index()].map_args(|a| renamed(&map, a));
             }
         }
         if let Some(dest) = func.inst_mut(term).dest_mut(k) {
@@ -349,7 +348,7 @@ fn copy_test(func: &mut Function, h: Block, l: Block, k: usize) -> Block {
     let mut copies: Vec<Inst> = Vec::new();
     for &i in &func.block(h).insts.clone() {
         let mut data = func.inst(i).clone();
-        data.map_args(|a| map.iter().find(|(from, _)| *from == a).map_or(a, |m| m.1));
+        data.map_args(|a| renamed(&map, a));
         let ty = func.result(i).map(|r| func.value_type(r));
         let c = func.create_inst(data, ty, func.spans[i.index()].or(span));
         if let (Some(old), Some(new)) = (func.result(i), func.result(c)) {
@@ -370,4 +369,9 @@ fn copy_test(func: &mut Function, h: Block, l: Block, k: usize) -> Block {
         *d = BlockCall::new(t, Vec::new());
     }
     t
+}
+
+/// What `v` became under `map` (pairs of old and new values), or `v` itself.
+fn renamed(map: &[(Value, Value)], v: Value) -> Value {
+    map.iter().find(|(from, _)| *from == v).map_or(v, |m| m.1)
 }
