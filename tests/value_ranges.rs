@@ -1,5 +1,5 @@
-//! `passes::ranges` (which the compiling targets run before their code) against the
-//! program it started from, on the reference interpreter: the random programs of the three
+//! `passes::ranges` (which the compiling targets run before their code), followed by
+//! `passes::fill` (which the JIT runs after it), against the program it started from, on the reference interpreter: the random programs of the three
 //! difftest generators (ST, PLCopen, charts) run side by side with and without the
 //! pass, with the same random values written to *every* variable before every scan
 //! (indexes and loop state included, so that removed checks meet indexes out of
@@ -34,19 +34,34 @@ fn random_bits(rng: &mut Rng, ty: ElemType) -> u64 {
     }
 }
 
-/// The module with the pass run on every function.
-fn ranged(m: &Module) -> Module {
+/// The module with the passes run on every function, and how many fills they made.
+fn ranged(m: &Module) -> (Module, usize) {
     let mut r = m.clone();
+    let mut fills = 0;
     for f in &mut r.funcs {
         plcc_ir::passes::ranges::run(f);
+        plcc_ir::passes::fill::run(f, m);
+        fills += f
+            .inst_iter()
+            .filter(|&(_, i)| {
+                matches!(
+                    f.inst(i),
+                    plcc_ir::InstData::Intrinsic {
+                        op: plcc_ir::Intrinsic::Fill,
+                        ..
+                    }
+                )
+            })
+            .count();
     }
     plcc_ir::verify::verify_module(&r).unwrap_or_else(|e| panic!("{e:?}"));
-    r
+    (r, fills)
 }
 
-/// Runs the module and its ranged copy side by side; the scans compared.
-fn agree(m: &Module, scans: u32, seed: u64) -> Result<u32, String> {
-    let r = ranged(m);
+/// Runs the module and its ranged copy side by side; the scans compared, and the
+/// fills in the copy.
+fn agree(m: &Module, scans: u32, seed: u64) -> Result<(u32, usize), String> {
+    let (r, fills) = ranged(m);
     let mut a = Interp::new(m).map_err(|e| e.to_string())?;
     let mut b = Interp::new(&r).map_err(|e| e.to_string())?;
     let vars = plcc::scenario::all_variables(m);
@@ -71,7 +86,7 @@ fn agree(m: &Module, scans: u32, seed: u64) -> Result<u32, String> {
             (Ok(()), Ok(())) => {}
             // The program itself goes wrong with these values (a call too deep,
             // the step limit): both must.
-            (Err(_), Err(_)) => return Ok(s),
+            (Err(_), Err(_)) => return Ok((s, fills)),
             (x, y) => return Err(format!("scan {s}: original {x:?}, ranged {y:?}")),
         }
         for v in &vars {
@@ -85,17 +100,21 @@ fn agree(m: &Module, scans: u32, seed: u64) -> Result<u32, String> {
             return Err(format!("after scan {s}: the fault flag"));
         }
     }
-    Ok(scans)
+    Ok((scans, fills))
 }
 
 #[test]
 fn value_ranges_keep_the_meaning_of_random_programs() {
     let mut failures = Vec::new();
     let mut scans = 0;
+    let mut fills = 0;
     let mut check = |what: String, m: Result<Module, String>, seed: u64| {
         let Ok(m) = m else { return };
         match agree(&m, 8, seed) {
-            Ok(n) => scans += n,
+            Ok((n, f)) => {
+                scans += n;
+                fills += f;
+            }
             Err(e) => failures.push(format!("{what}: {e}")),
         }
     };
@@ -123,7 +142,9 @@ fn value_ranges_keep_the_meaning_of_random_programs() {
             seed,
         );
     }
-    println!("{scans} scans compared");
+    println!("{scans} scans compared, {fills} fills made");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     assert!(scans > 4000, "only {scans} scans compared");
+    // The generators' `Stmt::Fill` loops and the init functions' zeroing loops.
+    assert!(fills > 200, "only {fills} fills made");
 }

@@ -458,15 +458,21 @@ pub enum Intrinsic {
     /// (its watchdog fired: the scan ran too long). Always FALSE on targets without a
     /// watchdog. The `watchdog` pass puts it on loop back edges.
     StopRequested,
+    /// `fill ptr, value, n` (`n: i64`): stores `value` (any scalar type `T`) into `n`
+    /// consecutive elements of an array of `T` starting at `ptr`, as `n` stores
+    /// would; nothing when `n <= 0`. Made by [`crate::passes::fill`] from loops that
+    /// do exactly that, for the backends that can do it faster (`memset`).
+    Fill,
 }
 
 impl Intrinsic {
     /// Every intrinsic.
-    pub const ALL: [Intrinsic; 4] = [
+    pub const ALL: [Intrinsic; 5] = [
         Intrinsic::ClockMs,
         Intrinsic::ClockNs,
         Intrinsic::RaiseFault,
         Intrinsic::StopRequested,
+        Intrinsic::Fill,
     ];
 
     /// The mnemonic of the text form.
@@ -476,6 +482,7 @@ impl Intrinsic {
             Intrinsic::ClockNs => "clock_ns",
             Intrinsic::RaiseFault => "raise_fault",
             Intrinsic::StopRequested => "stop_requested",
+            Intrinsic::Fill => "fill",
         }
     }
 
@@ -486,6 +493,15 @@ impl Intrinsic {
             Intrinsic::ClockNs => Some(Type::I64),
             Intrinsic::RaiseFault => None,
             Intrinsic::StopRequested => Some(Type::I1),
+            Intrinsic::Fill => None,
+        }
+    }
+
+    /// How many operands it takes.
+    pub fn operands(self) -> usize {
+        match self {
+            Intrinsic::Fill => 3,
+            _ => 0,
         }
     }
 }
@@ -648,7 +664,7 @@ pub enum InstData {
     Intrinsic {
         /// Which service.
         op: Intrinsic,
-        /// Its operands (none so far).
+        /// Its operands ([`Intrinsic::operands`]).
         args: Vec<Value>,
     },
     /// `inline_c %agg, data, "code"`: C code copied into the `c` target's output where

@@ -11,7 +11,7 @@
 use crate::analysis::inst_callees;
 use crate::entities::{AggId, Block, FuncId, Inst, TableId, Value};
 use crate::function::{FuncKind, Function, ValueDef};
-use crate::inst::{BinaryOp, BlockCall, ConvOp, InstData, UnaryOp};
+use crate::inst::{BinaryOp, BlockCall, ConvOp, InstData, Intrinsic, UnaryOp};
 use crate::module::{AggDef, DataKind, Module};
 use crate::text::{print_inst, write_name};
 use crate::types::{ElemType, MemType, Type};
@@ -721,11 +721,24 @@ impl FnCheck<'_> {
                 }
             },
             InstData::Intrinsic { op, args } => {
-                if !args.is_empty() {
+                if args.len() != op.operands() {
                     self.err(
                         Some(i),
-                        format!("{} takes no operands, found {}", op.name(), args.len()),
+                        format!(
+                            "{} takes {} operands, found {}",
+                            op.name(),
+                            op.operands(),
+                            args.len()
+                        ),
                     );
+                } else if *op == Intrinsic::Fill {
+                    let ts: Vec<Option<Type>> = args.iter().map(|&a| t(a)).collect();
+                    if ts[0].is_some_and(|p| p != Type::Ptr) {
+                        self.err(Some(i), "fill's first operand must be a ptr".to_string());
+                    }
+                    if ts[2].is_some_and(|n| n != Type::I64) {
+                        self.err(Some(i), "fill's count must be an i64".to_string());
+                    }
                 }
                 match op.result() {
                     Some(r) => Expect::Ty(r),

@@ -73,6 +73,9 @@ fn kitchen_sink_text_mentions_everything() {
         assert!(
             t.contains(&format!("    {}\n", op.name()))
                 || t.contains(&format!("= {}\n", op.name()))
+                || t.contains(&format!("    {} v", op.name())),
+            "{}",
+            op.name()
         );
     }
     for role in ["in", "out", "inout", "temp", "external", "hidden", "var"] {

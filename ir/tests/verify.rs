@@ -761,7 +761,11 @@ fn calls() {
 fn intrinsics() {
     expect_ok(&check(|b, p| {
         for op in Intrinsic::ALL {
-            b.intrinsic(op, vec![]);
+            let args = match op {
+                Intrinsic::Fill => vec![p[4], p[2], p[1]],
+                _ => vec![],
+            };
+            b.intrinsic(op, args);
         }
         ret0(b, p)
     }));
@@ -770,7 +774,28 @@ fn intrinsics() {
             b.intrinsic(Intrinsic::RaiseFault, vec![p[0]]);
             ret0(b, p)
         }),
-        "raise_fault takes no operands, found 1",
+        "raise_fault takes 0 operands, found 1",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.intrinsic(Intrinsic::Fill, vec![p[4], p[0]]);
+            ret0(b, p)
+        }),
+        "fill takes 3 operands, found 2",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.intrinsic(Intrinsic::Fill, vec![p[1], p[0], p[1]]);
+            ret0(b, p)
+        }),
+        "fill's first operand must be a ptr",
+    );
+    expect_only(
+        &check(|b, p| {
+            b.intrinsic(Intrinsic::Fill, vec![p[4], p[5], p[0]]);
+            ret0(b, p)
+        }),
+        "fill's count must be an i64",
     );
     expect_only(
         &check(|b, p| {

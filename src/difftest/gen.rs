@@ -275,6 +275,9 @@ pub enum Stmt {
     /// arm's labels are `lo..hi` ranges, a single value when `lo == hi`). Half of
     /// them are dense, so that the front end makes jump tables of them.
     Case(Expr, Vec<(Vec<Label>, Vec<Stmt>)>, Vec<Stmt>),
+    /// `FOR kN := lo TO hi DO arr[kN] := e; END_FOR;`: every element set to one
+    /// value (a loop `passes::fill` makes one `fill` of).
+    Fill(i64, i64, Expr),
     /// `WHILE wN < n DO … wN := wN + 1; END_WHILE;` (bounded by its counter).
     While(i64, Vec<Stmt>),
     /// `fb(a := e1, b := e2); v := fb.r;`
@@ -306,6 +309,7 @@ impl Stmt {
         match self {
             Stmt::Assign(_, e) => vec![e],
             Stmt::AssignElem(i, e) => vec![i, e],
+            Stmt::Fill(_, _, e) => vec![e],
             Stmt::If(c, ..) | Stmt::Case(c, ..) => vec![c],
             Stmt::For(..) | Stmt::While(..) | Stmt::Raw(_) => Vec::new(),
             Stmt::CallFb(a, b, _) => vec![a, b],
@@ -327,6 +331,7 @@ impl Stmt {
         match self {
             Stmt::Assign(_, e) => vec![e],
             Stmt::AssignElem(i, e) => vec![i, e],
+            Stmt::Fill(_, _, e) => vec![e],
             Stmt::If(c, ..) | Stmt::Case(c, ..) => vec![c],
             Stmt::For(..) | Stmt::While(..) | Stmt::Raw(_) => Vec::new(),
             Stmt::CallFb(a, b, _) => vec![a, b],
@@ -1443,6 +1448,11 @@ impl<'r> Gen<'r> {
             }
             70..=77 if nested => {
                 self.depth += 1;
+                if self.rng.chance(20) {
+                    self.depth -= 1;
+                    let e = self.rng.chance(50).then(|| lit(self.rng, et));
+                    return Stmt::Fill(lo, hi, e.unwrap_or_else(|| self.expr(et)));
+                }
                 let step = *self.rng.pick(&[1i64, 1, 2, -1]);
                 let (a, z) = if step < 0 { (hi, lo) } else { (lo, hi) };
                 let body = (0..1 + self.rng.below(3)).map(|_| self.stmt()).collect();

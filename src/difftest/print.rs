@@ -135,6 +135,13 @@ fn print_stmts(body: &[Stmt], ind: usize, out: &mut String) {
                 }
                 let _ = writeln!(out, "{pad}END_IF;");
             }
+            Stmt::Fill(a, z, e) => {
+                let _ = writeln!(out, "{pad}FOR k{ind} := {a} TO {z} DO");
+                let _ = write!(out, "{pad}  arr[k{ind}] := ");
+                print_expr(e, out);
+                out.push_str(";\n");
+                let _ = writeln!(out, "{pad}END_FOR;");
+            }
             Stmt::For(a, z, step, body) => {
                 let _ = writeln!(out, "{pad}FOR k{ind} := {a} TO {z} BY {step} DO");
                 print_stmts(body, ind + 1, out);

@@ -195,7 +195,7 @@ fn used_values(func: &Function, access: &[Option<Place>], split: &[bool]) -> Vec
                 | InstData::BrTable { .. }
                 | InstData::Return { .. }
                 | InstData::Intrinsic {
-                    op: Intrinsic::RaiseFault,
+                    op: Intrinsic::RaiseFault | Intrinsic::Fill,
                     ..
                 }
         );
@@ -435,6 +435,21 @@ impl Emitter<'_> {
                 op: Intrinsic::RaiseFault,
                 ..
             } => self.line("__plcc_rt.fault = 1;"),
+            InstData::Intrinsic {
+                op: Intrinsic::Fill,
+                args,
+            } => {
+                let t = self.ty(args[1]);
+                self.line(&format!(
+                    "for (int64_t __k = 0; __k < (int64_t){n}; __k++) \
+                     __plcc_st_{a}({p} + __k * (ptrdiff_t)sizeof({c}), {x});",
+                    n = v(args[2]),
+                    a = access(t),
+                    p = v(args[0]),
+                    c = value_type(t),
+                    x = v(args[1]),
+                ));
+            }
             InstData::Jump { dest } => {
                 let text = self.edge(dest);
                 self.line(&text);
@@ -731,7 +746,9 @@ impl Emitter<'_> {
                 Intrinsic::ClockMs => "(uint32_t)__plcc_rt.clock_ms".into(),
                 Intrinsic::ClockNs => "(uint64_t)__plcc_rt.clock_ns".into(),
                 Intrinsic::StopRequested => "__plcc_stop_requested()".into(),
-                Intrinsic::RaiseFault => unreachable!("an effect, not a value"),
+                Intrinsic::RaiseFault | Intrinsic::Fill => {
+                    unreachable!("an effect, not a value")
+                }
             },
             // Effects and terminators are statements (see `inst`).
             InstData::Store { .. }

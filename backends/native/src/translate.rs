@@ -149,9 +149,11 @@ impl Translator {
         // Compares that value ranges decide (the bounds checks of indexes a loop
         // keeps in the array) go before translation, as in the `c` target; then
         // small branches become selects (cmov) and loop tests move to the loops'
-        // ends (one branch an iteration), which Cranelift does not do itself.
+        // ends (one branch an iteration), which Cranelift does not do itself; loops
+        // that only set an array's elements to one value become `memset`.
         let mut narrowed = env.module.func(fid).clone();
         plcc_ir::passes::ranges::run(&mut narrowed);
+        plcc_ir::passes::fill::run(&mut narrowed, env.module);
         plcc_ir::passes::if_convert::run(&mut narrowed);
         plcc_ir::passes::rotate::run(&mut narrowed);
         let f = &narrowed;
@@ -160,7 +162,13 @@ impl Translator {
         let st = &mut self.st;
         st.reset(env, f)?;
         let b = FunctionBuilder::new(func, &mut self.fctx);
-        let mut cx = Cx { env, f, b, st };
+        let mut cx = Cx {
+            env,
+            f,
+            b,
+            st,
+            frontend,
+        };
         let r = cx.run();
         cx.b.seal_all_blocks();
         cx.b.finalize(frontend);
@@ -240,6 +248,7 @@ struct Cx<'e, 'f, 's> {
     f: &'e Function,
     b: FunctionBuilder<'f>,
     st: &'s mut State,
+    frontend: TargetFrontendConfig,
 }
 
 fn trusted() -> MemFlagsData {
@@ -533,6 +542,72 @@ impl Cx<'_, '_, '_> {
         }
     }
 
+    /// `fill at, value, n` ([`Intrinsic::Fill`]): a call of `memset` when every byte of
+    /// the element is the same (a one-byte value, or a constant such as 0), else a
+    /// loop of stores. Nothing when `n <= 0`.
+    fn fill(&mut self, at: Value, value: Value, n: Value) -> Result<(), TransError> {
+        let ty = self.ty(value);
+        let size = i64::from(self.env.layout.scalar_size(ty));
+        let (p, off) = self.addr(at)?;
+        let p = if off == 0 {
+            p
+        } else {
+            self.b.ins().iadd_imm_s(p, off)
+        };
+        let n = self.val(n)?;
+        let zero = self.b.ins().iconst(types::I64, 0);
+        let positive = self
+            .b
+            .ins()
+            .icmp(condcodes::IntCC::SignedGreaterThan, n, zero);
+        let n = self.b.ins().select(positive, n, zero);
+        let bytes = if size == 1 {
+            n
+        } else {
+            self.b.ins().imul_imm_s(n, size)
+        };
+        let konst = match self.f.value_def(value) {
+            plcc_ir::function::ValueDef::Result(i) => match self.f.inst(i) {
+                InstData::Iconst { imm, .. } => Some(*imm as u64),
+                InstData::Fconst { bits, .. } => Some(*bits),
+                _ => None,
+            },
+            plcc_ir::function::ValueDef::Param(..) => None,
+        };
+        let byte = match konst {
+            Some(k) => {
+                let b = k as u8;
+                let uniform = (0..size).all(|j| (k >> (8 * j)) as u8 == b);
+                uniform.then(|| self.b.ins().iconst(types::I8, i64::from(b)))
+            }
+            None if size == 1 => Some(self.val(value)?),
+            None => None,
+        };
+        if let Some(byte) = byte {
+            self.b.call_memset(self.frontend, p, byte, bytes);
+            return Ok(());
+        }
+        let v = self.val(value)?;
+        let end = self.b.ins().iadd(p, bytes);
+        let head = self.b.create_block();
+        let at = self.b.append_block_param(head, types::I64);
+        let body = self.b.create_block();
+        let done = self.b.create_block();
+        self.b.ins().jump(head, &[BlockArg::Value(p)]);
+        self.b.switch_to_block(head);
+        let more = self
+            .b
+            .ins()
+            .icmp(condcodes::IntCC::UnsignedLessThan, at, end);
+        self.b.ins().brif(more, body, &[], done, &[]);
+        self.b.switch_to_block(body);
+        self.b.ins().store(trusted(), v, at, 0);
+        let next = self.b.ins().iadd_imm_s(at, size);
+        self.b.ins().jump(head, &[BlockArg::Value(next)]);
+        self.b.switch_to_block(done);
+        Ok(())
+    }
+
     fn raise_fault(&mut self) {
         let rt = self.rt_addr();
         let one = self.b.ins().iconst(types::I8, 1);
@@ -691,7 +766,8 @@ impl Cx<'_, '_, '_> {
             InstData::CallTable { table, index, args } => {
                 self.call_table(inst, *table, *index, args)?
             }
-            InstData::Intrinsic { op, .. } => match op {
+            InstData::Intrinsic { op, args } => match op {
+                Intrinsic::Fill => self.fill(args[0], args[1], args[2])?,
                 Intrinsic::ClockMs => {
                     let rt = self.rt_addr();
                     let v = self.b.ins().load(types::I32, trusted(), rt, RT_CLOCK_MS);

@@ -527,6 +527,8 @@ impl<'a> Emitter<'a> {
                     self.i(Inst::Bsf(self.p.rt.flags, crate::runtime::FAULT_BIT))
                 }
                 Intrinsic::StopRequested => {}
+                // Only the JIT's pipeline makes fills (`passes::fill`).
+                Intrinsic::Fill => self.unsupported(inst, "a `fill` of array elements"),
             },
             InstData::Jump { dest } => self.jump(&dest, next),
             InstData::Brif {

@@ -108,6 +108,13 @@ pub(super) enum Op {
     Load { ty: Type, dst: u32, addr: u32 },
     /// `store.ty src, [addr]`
     Store { ty: Type, src: u32, addr: u32 },
+    /// `fill ptr, src, n`: `n` stores of `src` (type `ty`) at consecutive elements.
+    Fill {
+        ty: Type,
+        ptr: u32,
+        src: u32,
+        n: u32,
+    },
     /// Call `func` with the `nargs` registers listed at `args` in `call_args`.
     Call {
         func: u32,
@@ -681,10 +688,20 @@ impl Decoder<'_> {
                 }
             }
             InstData::Intrinsic { op, ref args } => {
-                if !args.is_empty() {
-                    return Err(format!("{} takes no operands", op.name()));
+                if args.len() != op.operands() {
+                    return Err(format!("{} takes {} operands", op.name(), op.operands()));
                 }
                 match op {
+                    Intrinsic::Fill => {
+                        self.want(self.ty(args[0]) == Type::Ptr, "a pointer address")?;
+                        self.want(self.ty(args[2]) == Type::I64, "an i64 count")?;
+                        Op::Fill {
+                            ty: self.ty(args[1]),
+                            ptr: args[0].0,
+                            src: args[1].0,
+                            n: args[2].0,
+                        }
+                    }
                     Intrinsic::ClockMs => Op::ClockMs { dst },
                     Intrinsic::ClockNs => Op::ClockNs { dst },
                     Intrinsic::RaiseFault => Op::RaiseFault,

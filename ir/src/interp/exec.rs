@@ -702,6 +702,16 @@ fn exec(
             Op::ClockMs { dst } => r!(dst) = st.clock_ms as i64 as u64,
             Op::ClockNs { dst } => r!(dst) = st.clock_ns as u64,
             Op::RaiseFault => st.fault = true,
+            Op::Fill { ty, ptr, src, n } => {
+                let (a, v, n) = (r!(ptr), r!(src), r!(n) as i64);
+                let size = scalar_size(ty);
+                for k in 0..n.max(0) as u64 {
+                    let at = a.wrapping_add(k.wrapping_mul(size));
+                    if let Err(m) = st.store(ty, at, v, sp) {
+                        bail!(m);
+                    }
+                }
+            }
             Op::Jump { edge } => pc = take_edge(st, f, base, edge),
             Op::Brif {
                 c,

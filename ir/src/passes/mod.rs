@@ -15,6 +15,7 @@ pub mod const_fold;
 pub mod copy_prop;
 pub mod dce;
 pub mod dispatch;
+pub mod fill;
 pub mod gvn;
 pub mod if_convert;
 pub mod inline;

@@ -439,7 +439,12 @@ pub fn kitchen_sink() -> Module {
         b.call_table(helper_table, Some(Type::I64), x32, vec![r, f32v]);
         b.call_table(empty_table, None, x64, vec![]);
         for op in Intrinsic::ALL {
-            b.intrinsic(op, vec![]);
+            let args = match op {
+                // One element of INT: the one written above.
+                Intrinsic::Fill => vec![cell, cv, b.iconst(Type::I64, 1)],
+                _ => vec![],
+            };
+            b.intrinsic(op, args);
         }
         // Control flow: a loop with block parameters, a diamond, returns.
         let head = b.create_block();

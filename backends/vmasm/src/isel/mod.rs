@@ -1131,6 +1131,8 @@ impl Fx<'_, '_> {
                     self.rrr(op::mul(Ty::Lword, 2), &[d, t, k]);
                 }
                 Intrinsic::RaiseFault => self.raise_fault()?,
+                // Only the JIT's pipeline makes fills (`passes::fill`).
+                Intrinsic::Fill => return Err(self.unsupported("a `fill` of array elements", span)),
                 // plcc's VM stops a runaway scan itself; the program never asks, and
                 // branches on the answer go straight on (see Brif).
                 Intrinsic::StopRequested => {

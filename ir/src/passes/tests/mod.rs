@@ -68,8 +68,19 @@ pub(super) fn apply(m: &mut Module, what: &str, f: impl Fn(&mut Function) -> boo
 /// with `expected` (both trimmed, trailing spaces ignored).
 #[track_caller]
 pub(super) fn check(input: &str, pass: Pass, expected: &str) {
+    check_in_module(input, |f, _| pass(f), expected);
+}
+
+/// [`check`] for a pass that reads the module (its types) too.
+#[track_caller]
+pub(super) fn check_in_module(
+    input: &str,
+    pass: impl Fn(&mut Function, &Module) -> bool,
+    expected: &str,
+) {
     let mut m = parse(input);
-    apply(&mut m, "pass", pass);
+    let types = m.clone();
+    apply(&mut m, "pass", |f| pass(f, &types));
     let got = print_funcs(&m);
     let norm = |s: &str| {
         s.trim()
@@ -87,7 +98,7 @@ pub(super) fn check(input: &str, pass: Pass, expected: &str) {
     // A second run must find nothing more to do if the first reported a fixpoint.
     let mut again = m.clone();
     let before = print_funcs(&again);
-    let changed = apply(&mut again, "second run", pass);
+    let changed = apply(&mut again, "second run", |f| pass(f, &types));
     assert!(
         changed || print_funcs(&again) == before,
         "a run that reports no change changed the function"

@@ -1,8 +1,8 @@
 //! Before/after tests of the passes a backend chooses for its target's sake: loop
-//! rotation and if-conversion.
+//! rotation, if-conversion and fills.
 
-use super::check;
-use crate::passes::{if_convert, rotate};
+use super::{check, check_in_module};
+use crate::passes::{fill, if_convert, rotate};
 
 // ---- rotate ----
 
@@ -359,4 +359,168 @@ block4(v8: i32):
 }
 "#;
     check(text, if_convert::run, text);
+}
+
+// ---- fill ----
+
+/// The JIT's view of `FOR i := 0 TO 9999 DO flags[i] := TRUE; END_FOR;` under the
+/// runner (the watchdog's check merged into the body): one fill, and the counter
+/// stored after the loop holds 10000.
+#[test]
+fn fill_a_loop_that_sets_every_flag() {
+    check_in_module(
+        r#"
+struct %s program {
+    var flags: %arr
+    var i: i32 DINT
+}
+array %arr = [10000 x i1 BOOL] lower 0
+
+func @f(ptr) program {
+block0(v0: ptr):
+    v1 = iconst.i32 0
+    v2 = iconst.i32 9999
+    v3 = iconst.i32 1
+    jump block1(v1)
+block1(v4: i32):
+    v5 = icmp sgt v4, v2
+    brif v5, block3, block2
+block2:
+    v6 = field_addr v0, %s.flags
+    v7 = elem_addr v6, %arr, v4
+    v8 = iconst.i1 1
+    store v8, v7
+    v9 = iadd v4, v3
+    v10 = stop_requested
+    brif v10, block4, block1(v9)
+block3:
+    v11 = field_addr v0, %s.i
+    store v4, v11
+    return
+block4:
+    return
+}
+"#,
+        fill::run,
+        r#"
+func @f(ptr) program {
+block0(v0: ptr):
+    v1 = iconst.i32 0
+    v6 = field_addr v0, %s.flags
+    v8 = iconst.i1 1
+    v16 = iconst.i64 10000
+    v22 = elem_addr v6, %arr, v1
+    fill v22, v8, v16
+    v24 = iconst.i32 10000
+    v11 = field_addr v0, %s.i
+    store v24, v11
+    return
+}
+"#,
+    );
+}
+
+/// An INT counter, sign-extended and offset for an array from 1, between bounds
+/// read from variables: the number of elements and the counter after the loop are
+/// worked out at run time (none when `lo > hi`: element 0 is addressed, nothing
+/// written, and the counter keeps `lo`).
+#[test]
+fn fill_between_variable_bounds() {
+    check_in_module(
+        r#"
+array %a = [8 x i16 INT] lower 1
+
+func @f(ptr, i16, i16, i16) -> i16 function {
+block0(v0: ptr, v1: i16, v2: i16, v3: i16):
+    jump block1(v1)
+block1(v4: i16):
+    v5 = icmp sle v4, v2
+    brif v5, block2, block3
+block2:
+    v6 = sext.i32 v4
+    v7 = iconst.i32 1
+    v8 = isub v6, v7
+    v9 = elem_addr v0, %a, v8
+    store v3, v9
+    v10 = iconst.i16 1
+    v11 = iadd v4, v10
+    jump block1(v11)
+block3:
+    return v4
+}
+"#,
+        fill::run,
+        r#"
+func @f(ptr, i16, i16, i16) -> i16 function {
+block0(v0: ptr, v1: i16, v2: i16, v3: i16):
+    v6 = sext.i32 v1
+    v7 = iconst.i32 1
+    v8 = isub v6, v7
+    v12 = sext.i64 v1
+    v13 = sext.i64 v2
+    v14 = isub v13, v12
+    v15 = iconst.i64 1
+    v16 = iadd v14, v15
+    v17 = iconst.i64 0
+    v18 = icmp sgt v16, v17
+    v19 = select v18, v16, v17
+    v20 = iconst.i32 0
+    v21 = select v18, v8, v20
+    v22 = elem_addr v0, %a, v21
+    fill v22, v3, v19
+    v23 = iconst.i16 1
+    v24 = iadd v2, v23
+    v25 = select v18, v24, v1
+    return v25
+}
+"#,
+    );
+}
+
+/// Loops that do more than set elements to one value stay loops: the value depends
+/// on the counter, the body reads memory, the counter steps by 2, or the counter is
+/// INT over an array as long as INT's range.
+#[test]
+fn fill_leaves_other_loops() {
+    let shape = |value: &str, read: &str, step: i64, len: u32| {
+        format!(
+            r#"
+array %a = [{len} x i32 DINT] lower 0
+
+func @f(ptr, i32) function {{
+block0(v0: ptr, v1: i32):
+    v2 = iconst.i32 0
+    v3 = iconst.i32 9
+    jump block1(v2)
+block1(v4: i32):
+    v5 = icmp sle v4, v3
+    brif v5, block2, block3
+block2:
+    v6 = elem_addr v0, %a, v4
+    {read}
+    store {value}, v6
+    v10 = iconst.i32 {step}
+    v11 = iadd v4, v10
+    jump block1(v11)
+block3:
+    return
+}}
+"#
+        )
+    };
+    let nothing = "v7 = iconst.i32 0";
+    for text in [
+        shape("v4", nothing, 1, 10),
+        shape("v7", "v7 = load.i32 v0", 1, 10),
+        shape("v1", nothing, 2, 10),
+    ] {
+        let mut m = super::parse(&text);
+        let types = m.clone();
+        let changed = super::apply(&mut m, "fill", |f| fill::run(f, &types));
+        assert!(!changed, "{}", super::print_funcs(&m));
+    }
+    // The same loop with a stored value from outside is one.
+    let mut m = super::parse(&shape("v1", nothing, 1, 10));
+    let types = m.clone();
+    assert!(super::apply(&mut m, "fill", |f| fill::run(f, &types)));
 }
