@@ -69,12 +69,13 @@ fn three_hundred_random_programs_agree_on_every_machine() {
     }
     println!("300 programs, {machines_ran} machine runs");
     assert!(findings.is_empty(), "{}", findings.join("\n\n"));
-    // Every program runs on the machines that hold everything; about half fit the
-    // PIC16 too (not those with LREAL arithmetic, error E9001, nor most of those
-    // with an EXPT, whose soft-float routines need more RAM than is left).
+    // Every program runs on the machines that hold everything; over two fifths fit
+    // the PIC16 too (not those with LREAL arithmetic, error E9001, nor most of those
+    // with an EXPT, whose soft-float routines need more RAM than is left): 129 since
+    // the generator's fill loops.
     let full = machines_holding_everything();
     assert!(
-        machines_ran > 300 * full + 130,
+        machines_ran > 300 * full + 120,
         "{machines_ran} machine runs"
     );
 }
