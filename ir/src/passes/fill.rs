@@ -42,6 +42,8 @@ use crate::inst::{BinaryOp, ConvOp, InstData, IntCC, Intrinsic};
 use crate::module::{AggDef, Module};
 use crate::types::{MemType, Type};
 
+use super::util::int_const;
+
 /// A loop that [`run`] replaces.
 struct FillLoop {
     header: Block,
@@ -98,16 +100,6 @@ fn def_block(func: &Function, v: Value) -> Option<Block> {
             .iter()
             .copied()
             .find(|&b| func.block(b).insts.contains(&i)),
-    }
-}
-
-fn int_const(func: &Function, v: Value) -> Option<i64> {
-    match func.value_def(v) {
-        ValueDef::Result(i) => match func.inst(i) {
-            InstData::Iconst { imm, .. } => Some(*imm),
-            _ => None,
-        },
-        ValueDef::Param(..) => None,
     }
 }
 
