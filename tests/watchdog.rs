@@ -42,3 +42,40 @@ fn endless_loops_are_stopped() {
         );
     }
 }
+
+/// A loop that counts up to a bound by a step it reads: the watchdog pass cannot
+/// show that it ends (the step may be 0), so it keeps its check, and with a step of
+/// 0 the scan is stopped. The FOR loop before it has constant bounds and no check.
+const COUNTING: &str = "
+PROGRAM main
+VAR a : ARRAY[0..99] OF DINT; j : DINT; s : DINT := 1; n : DINT; k : DINT; END_VAR
+    FOR k := 0 TO 99 DO a[k] := a[k] + k; END_FOR;
+    j := 0;
+    WHILE j <= 100 DO n := n + 1; j := j + s; END_WHILE;
+    s := s - 1;
+END_PROGRAM
+";
+
+#[test]
+fn a_loop_stepping_by_zero_is_stopped() {
+    let b = build_sources(
+        vec![("counting.st".into(), COUNTING.as_bytes().to_vec())],
+        &BuildOptions::default(),
+    )
+    .unwrap();
+    let module = b.module.expect("compiles");
+    for target in ["host", "interp", "vmasm", "c"] {
+        let mut m = targets::machine(target, &module).unwrap();
+        m.set_watchdog(Some(Duration::from_millis(100)));
+        m.cold_start().unwrap();
+        // The first scan steps by 1; the second by 0.
+        m.scan().unwrap();
+        assert_eq!(m.read("main.n").unwrap().as_i64(), 101, "{target}");
+        assert_eq!(m.read("main.a[99]").unwrap().as_i64(), 99, "{target}");
+        let err = m.scan().expect_err("the second scan must be stopped");
+        assert!(
+            err.0.contains("watchdog") || err.0.contains("step limit"),
+            "{target}: {err}"
+        );
+    }
+}

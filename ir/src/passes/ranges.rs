@@ -295,6 +295,22 @@ fn decided(yes: bool, no: bool) -> Option<bool> {
     }
 }
 
+/// The ranges this pass works out, for other passes (the watchdog's bounded loops).
+pub struct ValueRanges<'a>(Ranges<'a>);
+
+impl<'a> ValueRanges<'a> {
+    /// Works out the ranges of `f`'s integer values.
+    pub fn new(f: &'a Function) -> ValueRanges<'a> {
+        ValueRanges(Ranges::new(f))
+    }
+
+    /// The signed range (in its width) of integer value `v` where block `at` runs;
+    /// `None` if no value reaches there.
+    pub fn at(&self, v: Value, at: Block) -> Option<(i128, i128)> {
+        self.0.at(v, at, DEPTH)
+    }
+}
+
 struct Ranges<'a> {
     f: &'a Function,
     dom: DomTree,

@@ -6,6 +6,14 @@
 //! enclosing loop leaves its function the same way, and the scan ends, so the machine
 //! can report the overrun. It is for running code under the runner (`plcc run`,
 //! `plcc test`); code for a real controller is built without it.
+//!
+//! A loop that cannot run long gets no check (a load and a branch an iteration, which
+//! cost a tight loop up to half its time): one with no loop and no call inside, whose
+//! header leaves it on a compare of a counter (a parameter of the header) that every
+//! back edge steps up by at least one, where [`ranges`](super::ranges) bounds the
+//! counter in the loop to an interval the steps cannot wrap back into: it runs at most
+//! [`MAX_WORK`] instructions (iterations times its size). Whatever encloses it keeps
+//! its checks.
 
 use crate::dominators::DomTree;
 use crate::entities::Block;
@@ -13,6 +21,10 @@ use crate::function::Function;
 use crate::inst::{BlockCall, InstData, Intrinsic};
 use crate::module::Module;
 use crate::types::Type;
+
+/// The most instructions (iterations times the loop's size) a loop without a check
+/// may run: a few milliseconds.
+pub const MAX_WORK: i128 = 1 << 24;
 
 /// Adds the checks to every function of the module; returns true if it added any.
 pub fn run(module: &mut Module) -> bool {
@@ -39,6 +51,22 @@ pub fn run_function(f: &mut Function) -> bool {
             }
         }
     }
+    // Loops that cannot run long keep no check.
+    let mut headers: Vec<Block> = edges
+        .iter()
+        .map(|&(b, k)| f.inst(f.terminator(b).expect("terminator")).successors()[k].block)
+        .collect();
+    headers.sort_unstable();
+    headers.dedup();
+    let mut ranges = None;
+    let short: Vec<Block> = headers
+        .into_iter()
+        .filter(|&h| short_loop(f, &dom, h, &mut ranges))
+        .collect();
+    edges.retain(|&(b, k)| {
+        let h = f.inst(f.terminator(b).expect("terminator")).successors()[k].block;
+        !short.contains(&h)
+    });
     if edges.is_empty() {
         return false;
     }
@@ -90,4 +118,122 @@ pub fn run_function(f: &mut Function) -> bool {
         f.layout.insert(at + 1, check);
     }
     true
+}
+
+/// The blocks of the natural loop of header `h` (every block that reaches a back edge
+/// into `h` without passing `h`), `h` first.
+fn loop_blocks(dom: &DomTree, preds: &[Vec<Block>], h: Block) -> Vec<Block> {
+    let mut blocks = vec![h];
+    let mut work: Vec<Block> = preds[h.index()]
+        .iter()
+        .copied()
+        .filter(|&p| dom.dominates(h, p))
+        .collect();
+    while let Some(b) = work.pop() {
+        if blocks.contains(&b) || !dom.is_reachable(b) {
+            continue;
+        }
+        blocks.push(b);
+        work.extend(preds[b.index()].iter().copied());
+    }
+    blocks
+}
+
+/// True if the loop of header `h` cannot run long (see the module doc).
+fn short_loop<'f>(
+    f: &'f Function,
+    dom: &DomTree,
+    h: Block,
+    ranges: &mut Option<(Vec<Vec<Block>>, super::ranges::ValueRanges<'f>)>,
+) -> bool {
+    // The header leaves on `icmp counter, bound`.
+    let Some(term) = f.terminator(h) else {
+        return false;
+    };
+    let InstData::Brif { cond, .. } = f.inst(term) else {
+        return false;
+    };
+    let Some(InstData::Icmp { args, .. }) = super::util::def_inst(f, *cond) else {
+        return false;
+    };
+    let params = &f.block(h).params;
+    let Some(&counter) = args.iter().find(|a| params.contains(a)) else {
+        return false;
+    };
+    let pos = params
+        .iter()
+        .position(|&p| p == counter)
+        .expect("a parameter");
+    let ty = f.value_type(counter);
+    if !ty.is_int() || ty == Type::I1 {
+        return false;
+    }
+    let (preds, r) =
+        ranges.get_or_insert_with(|| (f.predecessors(), super::ranges::ValueRanges::new(f)));
+    let blocks = loop_blocks(dom, preds, h);
+    // No loop and no call inside; the size of an iteration.
+    let mut size: i128 = 0;
+    for &b in &blocks {
+        for &i in &f.block(b).insts {
+            size += 1;
+            match f.inst(i) {
+                InstData::Call { .. } | InstData::CallTable { .. } | InstData::InlineC { .. } => {
+                    return false
+                }
+                data => {
+                    if data
+                        .dests()
+                        .any(|d| d.block != h && dom.dominates(d.block, b))
+                    {
+                        return false;
+                    }
+                }
+            }
+        }
+    }
+    // Every back edge steps the counter up: `counter + s`, `s` at least 1.
+    let (mut s_lo, mut s_hi) = (i128::MAX, i128::MIN);
+    for &b in &blocks[1..] {
+        let t = f.terminator(b).expect("terminator");
+        for d in f.inst(t).dests().filter(|d| d.block == h) {
+            let next = d.args[pos];
+            let Some(InstData::Binary {
+                op: crate::inst::BinaryOp::Iadd,
+                args: [x, step],
+            }) = super::util::def_inst(f, next)
+            else {
+                return false;
+            };
+            let step = match (*x == counter, *step == counter) {
+                (true, _) => *step,
+                (_, true) => *x,
+                _ => return false,
+            };
+            let Some((lo, hi)) = r.at(step, b) else {
+                return false;
+            };
+            s_lo = s_lo.min(lo);
+            s_hi = s_hi.max(hi);
+        }
+    }
+    if s_lo < 1 {
+        return false;
+    }
+    // The counter's range in the loop, where the header's test let it in.
+    let inside = blocks[1..].iter().filter_map(|&b| r.at(counter, b)).fold(
+        None,
+        |acc: Option<(i128, i128)>, (lo, hi)| {
+            Some(acc.map_or((lo, hi), |(a, z)| (a.min(lo), z.max(hi))))
+        },
+    );
+    let Some((lo, hi)) = inside else {
+        return false;
+    };
+    // A step that wraps lands below `lo` (out of the loop) unless it is this large.
+    let width = 1i128 << ty.bits();
+    if s_hi >= width - (hi - lo) {
+        return false;
+    }
+    let trips = (hi - lo) / s_lo + 1;
+    trips.saturating_mul(size) <= MAX_WORK
 }

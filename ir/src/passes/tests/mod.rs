@@ -6,6 +6,7 @@ mod fold_oracle;
 mod fuzz;
 mod shape;
 mod unit;
+mod watchdog;
 
 use crate::function::Function;
 use crate::module::Module;
