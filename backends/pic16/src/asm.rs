@@ -20,6 +20,11 @@ pub enum Op {
     /// Pseudo-instruction: the indirect bank bit must be this from here on. The bank
     /// pass turns it into `bcf/bsf STATUS,IRP`, or into nothing when IRP is known.
     Irp(bool),
+    /// `goto label` as an entry of a jump table: reached by a computed jump (a write
+    /// to PCL), so the code after it runs too, in the same bank state.
+    TableGoto(Label),
+    /// `movlw HIGH(label)` (`true`) or `movlw LOW(label)`: a byte of a code address.
+    MovlwAddr(Label, bool),
 }
 
 /// An element of a code unit.
@@ -153,7 +158,11 @@ impl Program {
                 if let Item::Op(op) = it {
                     let inst = match *op {
                         Op::I(i) => i,
-                        Op::Goto(l) => Inst::Goto(addr_of[l.0 as usize]),
+                        Op::Goto(l) | Op::TableGoto(l) => Inst::Goto(addr_of[l.0 as usize]),
+                        Op::MovlwAddr(l, high) => {
+                            let a = addr_of[l.0 as usize];
+                            Inst::Movlw(if high { (a >> 8) as u8 } else { a as u8 })
+                        }
                         Op::Call(l) => Inst::Call(addr_of[l.0 as usize]),
                         Op::Irp(_) => return Err("IRP pseudo-instruction left in code".into()),
                     };
@@ -471,7 +480,12 @@ impl Names {
         use Inst::*;
         let d = |d: Dest| if d == Dest::W { "W" } else { "F" };
         match op {
-            Op::Goto(l) => format!("goto\t{}", p.labels[l.0 as usize]),
+            Op::Goto(l) | Op::TableGoto(l) => format!("goto\t{}", p.labels[l.0 as usize]),
+            Op::MovlwAddr(l, high) => format!(
+                "movlw\t{}({})",
+                if high { "HIGH" } else { "LOW" },
+                p.labels[l.0 as usize]
+            ),
             Op::Call(l) => format!("call\t{}", p.labels[l.0 as usize]),
             Op::Irp(b) => format!("; irp {b}"),
             Op::I(i) => {

@@ -212,7 +212,7 @@ pub fn insert_selects(
                         }
                     }
                     let before = cur;
-                    if let Op::Goto(l) = op {
+                    if let Op::Goto(l) | Op::TableGoto(l) = op {
                         let e = label_in.entry(*l).or_insert(None);
                         let m = State::meet(*e, cur);
                         if m != *e {
@@ -365,6 +365,28 @@ mod tests {
         // After the label RP0 is unknown (1 on the jump, 0 on the fall-through).
         let tail = &o[o.len() - 2..];
         assert_eq!(tail[0], Op::I(Inst::Bcf(reg::STATUS, reg::RP0)));
+    }
+
+    /// The entries of a jump table are reached with the bank state of the computed
+    /// jump: their targets need no select of their own.
+    #[test]
+    fn table_entries_carry_the_state_of_the_jump() {
+        let (la, lb) = (Label(0), Label(1));
+        let mut u = unit(vec![
+            Item::Op(Op::I(Inst::Movwf(0xA0))),
+            Item::Op(Op::I(Inst::Movwf(reg::PCL))),
+            Item::Op(Op::TableGoto(la)),
+            Item::Op(Op::TableGoto(lb)),
+            Item::Label(la),
+            Item::Op(Op::I(Inst::Movwf(0xA1))),
+            Item::Op(Op::I(Inst::Return)),
+            Item::Label(lb),
+            Item::Op(Op::I(Inst::Movwf(0xA2))),
+            Item::Op(Op::I(Inst::Return)),
+        ]);
+        let st = insert_selects(&mut u, State::UNKNOWN, &|_| None).unwrap();
+        // RP0 and RP1 before the first access, nothing after.
+        assert_eq!(st.selects, 2, "{:?}", ops(&u));
     }
 
     #[test]

@@ -140,9 +140,11 @@ fn legalize(module: &Module) -> Result<Module, Vec<Diagnostic>> {
     plcc_ir::passes::ranges::run_module(&mut legal);
     plcc_ir::passes::dispatch::run(&mut legal);
     softfloat::legalize(&mut legal)?;
-    // No computed GOTO (yet): jump tables, the soft-float routines' included, become
-    // binary searches of compares.
-    plcc_ir::passes::br_table::run_module(&mut legal);
+    // Small jump tables (the soft-float routines' included) become binary searches
+    // of compares; the others, computed GOTOs (`isel::flow::br_table`).
+    for f in &mut legal.funcs {
+        plcc_ir::passes::br_table::run_below(f, plcc_ir::passes::br_table::PIC16_MIN_TABLE);
+    }
     Ok(legal)
 }
 

@@ -506,8 +506,12 @@ impl<'a> Emitter<'a> {
             InstData::Call { func, args } => self.call(func, &args, res),
             // `build` refuses these first (`reject_inline_c`).
             InstData::InlineC { .. } => self.unsupported(inst, "C code in a pragma"),
-            // The build expands every table into compares first (`passes::br_table`).
-            InstData::BrTable { .. } => self.unsupported(inst, "a jump table left unexpanded"),
+            // The build expands the small tables into compares (`passes::br_table`).
+            InstData::BrTable {
+                arg,
+                default,
+                table,
+            } => self.br_table(arg, &default, &table, next),
             // `build` answered every one with the layout (passes::sizes).
             InstData::SizeOf { .. } => {
                 self.unsupported(inst, "a `sizeof` left after its resolution")

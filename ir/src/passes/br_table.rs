@@ -11,9 +11,9 @@
 //! `ceil(log2(n))` compares on any path, where the compare chain a front end would
 //! write costs one per label.
 //!
-//! The PIC16 could jump through the table in constant time (a computed `GOTO` by
-//! `ADDWF PCL` into a table of `GOTO`s kept inside one 256-word page); that is a known
-//! follow-up, not done: the binary search is what it runs today.
+//! The PIC16 jumps through tables of [`PIC16_MIN_TABLE`] entries or more in constant
+//! time (a computed `GOTO`: `MOVWF PCL` into a table of `GOTO`s) and expands only the
+//! smaller ones ([`run_below`]), where the search is shorter than the table's setup.
 
 use crate::diag::Span;
 use crate::entities::{Block, Value};
@@ -30,9 +30,17 @@ pub fn run_module(module: &mut Module) -> bool {
         .fold(false, |changed, f| run(f) | changed)
 }
 
+/// The smallest table the PIC16 backend jumps through rather than searches.
+pub const PIC16_MIN_TABLE: usize = 4;
+
 /// Expands every `br_table` of `func` into compares and `brif`s; true if there was
 /// one. The new blocks follow the block of their `br_table` in the layout.
 pub fn run(func: &mut Function) -> bool {
+    run_below(func, usize::MAX)
+}
+
+/// [`run`] for the tables of fewer than `len` entries only.
+pub fn run_below(func: &mut Function, len: usize) -> bool {
     let old = std::mem::take(&mut func.layout);
     let mut layout = Vec::with_capacity(old.len());
     let mut changed = false;
@@ -49,6 +57,9 @@ pub fn run(func: &mut Function) -> bool {
         else {
             continue;
         };
+        if table.len() >= len {
+            continue;
+        }
         func.blocks[b.index()].insts.pop();
         let ty = func.value_type(arg);
         let runs = runs(ty, &default, &table);

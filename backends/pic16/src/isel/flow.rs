@@ -209,4 +209,85 @@ impl Emitter<'_> {
             self.jump(e, next);
         }
     }
+
+    /// `br_table arg, default, [table]` as a computed GOTO: the index (read unsigned)
+    /// is checked against the table's length, then `PCLATH:W := table + index` and
+    /// `MOVWF PCL` land on the index's `GOTO` in a table that follows. `PCLATH<4:3>`
+    /// keeps the unit's page (the table lies in the unit, which no page boundary
+    /// crosses); its low bits only matter to writes of PCL. An entry whose edge copies
+    /// values jumps to a stub that copies them first.
+    pub(super) fn br_table(
+        &mut self,
+        arg: Value,
+        default: &BlockCall,
+        table: &[BlockCall],
+        next: Option<Block>,
+    ) {
+        let n = self.bytes(self.ty(arg));
+        let loc = self.loc(arg);
+        if let Loc::Lit(k) = loc {
+            let k = (k & mask(n)) as usize;
+            return self.jump(table.get(k).unwrap_or(default), next);
+        }
+        let mut stubs: Vec<(Label, &BlockCall)> = Vec::new();
+        let target = |this: &mut Self, d: &'_ BlockCall| {
+            if this.has_moves(d) {
+                let l = this.new_label("edge");
+                (l, true)
+            } else {
+                (this.block_label(d.block), false)
+            }
+        };
+        let (dflt, stub) = target(self, default);
+        if stub {
+            stubs.push((dflt, default));
+        }
+        // An index with a byte above the first set is past the table.
+        for i in (1..n).rev() {
+            match Self::byte(loc, i) {
+                Src::Lit(0) => {}
+                Src::Lit(_) => {
+                    self.goto(dflt);
+                    for (l, d) in stubs {
+                        self.label(l);
+                        self.jump(d, None);
+                    }
+                    return;
+                }
+                s => {
+                    self.load_w(s);
+                    self.i(Inst::Btfss(reg::STATUS, reg::Z));
+                    self.goto(dflt);
+                }
+            }
+        }
+        let lo = self.reg_for(Self::byte(loc, 0), SCRATCH[0], None);
+        if table.len() < 256 {
+            // W := lo - len: no borrow (C set) when the index is past the table.
+            self.i(Inst::Movlw(table.len() as u8));
+            self.i(Inst::Subwf(lo, Dest::W));
+            self.i(Inst::Btfsc(reg::STATUS, reg::C));
+            self.goto(dflt);
+        }
+        let tab = self.new_label("table");
+        self.items.push(Item::Op(Op::MovlwAddr(tab, true)));
+        self.i(Inst::Movwf(reg::PCLATH));
+        self.items.push(Item::Op(Op::MovlwAddr(tab, false)));
+        self.i(Inst::Addwf(lo, Dest::W));
+        self.i(Inst::Btfsc(reg::STATUS, reg::C));
+        self.i(Inst::Incf(reg::PCLATH, Dest::F));
+        self.i(Inst::Movwf(reg::PCL));
+        self.label(tab);
+        for d in table {
+            let (l, stub) = target(self, d);
+            if stub {
+                stubs.push((l, d));
+            }
+            self.items.push(Item::Op(Op::TableGoto(l)));
+        }
+        for (l, d) in stubs {
+            self.label(l);
+            self.jump(d, None);
+        }
+    }
 }

@@ -883,3 +883,51 @@ fn hex_files() {
     assert!(err(":00000001FF\n:00000001FF\n").contains("after"));
     assert_eq!(Pic16::load_hex(":00000001FF\n"), Ok(vec![]));
 }
+
+/// The computed GOTO of `isel::flow::br_table`, assembled with its table across a
+/// 256-word boundary: every index lands on its own entry (the carry of `LOW(table) +
+/// index` goes into PCLATH).
+#[test]
+fn a_jump_table_across_a_256_word_boundary() {
+    use crate::asm::{Item, Op, Program, Unit};
+    let mut prog = Program::default();
+    let table = prog.label("table");
+    let done = prog.label("done");
+    let entries: Vec<_> = (0..4).map(|k| prog.label(format!("e{k}"))).collect();
+    let mut items = vec![
+        Item::Op(Op::MovlwAddr(table, true)),
+        Item::Op(Op::I(Movwf(reg::PCLATH))),
+        Item::Op(Op::MovlwAddr(table, false)),
+        Item::Op(Op::I(Addwf(0x20, W))),
+        Item::Op(Op::I(Btfsc(reg::STATUS, reg::C))),
+        Item::Op(Op::I(Incf(reg::PCLATH, F))),
+        Item::Op(Op::I(Movwf(reg::PCL))),
+    ];
+    // Pad so that the table starts at 0x0FE: entries 2 and 3 lie past 0x0FF.
+    items.extend((items.len()..0xFE).map(|_| Item::Op(Op::I(Nop))));
+    items.push(Item::Label(table));
+    items.extend(entries.iter().map(|&e| Item::Op(Op::TableGoto(e))));
+    for (k, &e) in entries.iter().enumerate() {
+        items.push(Item::Label(e));
+        items.push(Item::Op(Op::I(Movlw(0x40 + k as u8))));
+        items.push(Item::Op(Op::Goto(done)));
+    }
+    items.push(Item::Label(done));
+    items.push(Item::Op(Op::I(Movwf(0x21))));
+    items.push(Item::Op(Op::I(Sleep)));
+    prog.units.push(Unit {
+        name: "t".into(),
+        org: Some(0),
+        items,
+        ..Default::default()
+    });
+    let image = prog.assemble().unwrap();
+    assert_eq!(image.label_addr[table.0 as usize], 0x0FE);
+    let end = image.label_addr[done.0 as usize] + 1;
+    for k in 0..4u8 {
+        let mut p = Pic16::new(&image.words);
+        p.write(0x20, k);
+        assert_eq!(p.run_until(&[end], 1000), Ok(Stop::Breakpoint(end)));
+        assert_eq!(p.read(0x21), 0x40 + k, "index {k}");
+    }
+}
