@@ -3,6 +3,7 @@
 
 use plcc::driver::{build_sources, BuildOptions};
 use plcc::targets;
+use plcc_ir::machine::Machine;
 use std::time::Duration;
 
 const ENDLESS: &str = "
@@ -20,26 +21,42 @@ VAR i : DINT; k : INT; END_VAR
 END_PROGRAM
 ";
 
-#[test]
-fn endless_loops_are_stopped() {
+/// Every machine that runs programs, cold-started with a watchdog of 100 ms, on
+/// the program `src`.
+fn machines(src: &str) -> Vec<(&'static str, Box<dyn Machine>)> {
     let b = build_sources(
-        vec![("spin.st".into(), ENDLESS.as_bytes().to_vec())],
+        vec![("watchdog.st".into(), src.as_bytes().to_vec())],
         &BuildOptions::default(),
     )
     .unwrap();
     let module = b.module.expect("compiles");
-    for target in ["host", "interp", "vmasm", "c"] {
-        let mut m = targets::machine(target, &module).unwrap();
-        m.set_watchdog(Some(Duration::from_millis(100)));
-        m.cold_start().unwrap();
+    ["host", "interp", "vmasm", "c"]
+        .into_iter()
+        .map(|target| {
+            let mut m = targets::machine(target, &module).unwrap();
+            m.set_watchdog(Some(Duration::from_millis(100)));
+            m.cold_start().unwrap();
+            (target, m)
+        })
+        .collect()
+}
+
+/// The scan ends in the watchdog's error (or the interpreter's step limit).
+fn assert_stopped(target: &str, m: &mut dyn Machine) {
+    let err = m.scan().expect_err("the scan must be stopped");
+    assert!(
+        err.0.contains("watchdog") || err.0.contains("step limit"),
+        "{target}: {err}"
+    );
+}
+
+#[test]
+fn endless_loops_are_stopped() {
+    for (target, mut m) in machines(ENDLESS) {
         // Two ordinary scans, then the one that calls the endless function.
         m.scan().unwrap();
         m.scan().unwrap();
-        let err = m.scan().expect_err("the third scan must be stopped");
-        assert!(
-            err.0.contains("watchdog") || err.0.contains("step limit"),
-            "{target}: {err}"
-        );
+        assert_stopped(target, m.as_mut());
     }
 }
 
@@ -58,24 +75,11 @@ END_PROGRAM
 
 #[test]
 fn a_loop_stepping_by_zero_is_stopped() {
-    let b = build_sources(
-        vec![("counting.st".into(), COUNTING.as_bytes().to_vec())],
-        &BuildOptions::default(),
-    )
-    .unwrap();
-    let module = b.module.expect("compiles");
-    for target in ["host", "interp", "vmasm", "c"] {
-        let mut m = targets::machine(target, &module).unwrap();
-        m.set_watchdog(Some(Duration::from_millis(100)));
-        m.cold_start().unwrap();
+    for (target, mut m) in machines(COUNTING) {
         // The first scan steps by 1; the second by 0.
         m.scan().unwrap();
         assert_eq!(m.read("main.n").unwrap().as_i64(), 101, "{target}");
         assert_eq!(m.read("main.a[99]").unwrap().as_i64(), 99, "{target}");
-        let err = m.scan().expect_err("the second scan must be stopped");
-        assert!(
-            err.0.contains("watchdog") || err.0.contains("step limit"),
-            "{target}: {err}"
-        );
+        assert_stopped(target, m.as_mut());
     }
 }
