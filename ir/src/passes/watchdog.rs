@@ -58,10 +58,10 @@ pub fn run_function(f: &mut Function) -> bool {
         .collect();
     headers.sort_unstable();
     headers.dedup();
-    let mut ranges = None;
+    let (mut preds, mut ranges) = (None, None);
     let short: Vec<Block> = headers
         .into_iter()
-        .filter(|&h| short_loop(f, &dom, h, &mut ranges))
+        .filter(|&h| short_loop(f, &dom, h, &mut preds, &mut ranges))
         .collect();
     edges.retain(|&(b, k)| {
         let h = f.inst(f.terminator(b).expect("terminator")).successors()[k].block;
@@ -124,15 +124,18 @@ pub fn run_function(f: &mut Function) -> bool {
 /// into `h` without passing `h`), `h` first.
 fn loop_blocks(dom: &DomTree, preds: &[Vec<Block>], h: Block) -> Vec<Block> {
     let mut blocks = vec![h];
+    let mut seen = vec![false; preds.len()];
+    seen[h.index()] = true;
     let mut work: Vec<Block> = preds[h.index()]
         .iter()
         .copied()
         .filter(|&p| dom.dominates(h, p))
         .collect();
     while let Some(b) = work.pop() {
-        if blocks.contains(&b) || !dom.is_reachable(b) {
+        if seen[b.index()] || !dom.is_reachable(b) {
             continue;
         }
+        seen[b.index()] = true;
         blocks.push(b);
         work.extend(preds[b.index()].iter().copied());
     }
@@ -144,7 +147,8 @@ fn short_loop<'f>(
     f: &'f Function,
     dom: &DomTree,
     h: Block,
-    ranges: &mut Option<(Vec<Vec<Block>>, super::ranges::ValueRanges<'f>)>,
+    preds: &mut Option<Vec<Vec<Block>>>,
+    ranges: &mut Option<super::ranges::ValueRanges<'f>>,
 ) -> bool {
     // The header leaves on `icmp counter, bound`.
     let Some(term) = f.terminator(h) else {
@@ -168,8 +172,7 @@ fn short_loop<'f>(
     if !ty.is_int() || ty == Type::I1 {
         return false;
     }
-    let (preds, r) =
-        ranges.get_or_insert_with(|| (f.predecessors(), super::ranges::ValueRanges::new(f)));
+    let preds = preds.get_or_insert_with(|| f.predecessors());
     let blocks = loop_blocks(dom, preds, h);
     // No loop and no call inside; the size of an iteration.
     let mut size: i128 = 0;
@@ -191,8 +194,8 @@ fn short_loop<'f>(
             }
         }
     }
-    // Every back edge steps the counter up: `counter + s`, `s` at least 1.
-    let (mut s_lo, mut s_hi) = (i128::MAX, i128::MIN);
+    // Every back edge steps the counter: `counter + s`.
+    let mut steps = Vec::new();
     for &b in &blocks[1..] {
         let t = f.terminator(b).expect("terminator");
         for d in f.inst(t).dests().filter(|d| d.block == h) {
@@ -204,17 +207,22 @@ fn short_loop<'f>(
             else {
                 return false;
             };
-            let step = match (*x == counter, *step == counter) {
-                (true, _) => *step,
-                (_, true) => *x,
+            match (*x == counter, *step == counter) {
+                (true, _) => steps.push((*step, b)),
+                (_, true) => steps.push((*x, b)),
                 _ => return false,
-            };
-            let Some((lo, hi)) = r.at(step, b) else {
-                return false;
-            };
-            s_lo = s_lo.min(lo);
-            s_hi = s_hi.max(hi);
+            }
         }
+    }
+    // By at least 1 (the ranges are worked out only for loops that got this far).
+    let r = ranges.get_or_insert_with(|| super::ranges::ValueRanges::new(f));
+    let (mut s_lo, mut s_hi) = (i128::MAX, i128::MIN);
+    for (step, b) in steps {
+        let Some((lo, hi)) = r.at(step, b) else {
+            return false;
+        };
+        s_lo = s_lo.min(lo);
+        s_hi = s_hi.max(hi);
     }
     if s_lo < 1 {
         return false;
