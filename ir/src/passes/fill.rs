@@ -35,6 +35,7 @@
 //! Like [`crate::passes::rotate`], the pass is a backend's choice, not part of
 //! [`crate::passes::optimize_function`]: only a backend with a fast fill gains.
 
+use crate::builder::FuncBuilder;
 use crate::dominators::DomTree;
 use crate::entities::{AggId, Block, Inst, Value};
 use crate::function::{Function, ValueDef};
@@ -348,106 +349,22 @@ fn def_inst(func: &Function, v: Value) -> Option<Inst> {
     }
 }
 
-/// New instructions for the end of the header.
-struct Emit {
-    insts: Vec<Inst>,
-    span: Option<crate::diag::Span>,
-}
-
-impl Emit {
-    fn inst(&mut self, func: &mut Function, data: InstData, ty: Type) -> Value {
-        let i = func.create_inst(data, Some(ty), self.span);
-        self.insts.push(i);
-        func.result(i).expect("a result")
+/// `v` as an `i64` (sign- or zero-extended).
+fn widen(b: &mut FuncBuilder, v: Value, signed: bool) -> Value {
+    if b.func.value_type(v) == Type::I64 {
+        return v;
     }
-
-    fn iconst(&mut self, func: &mut Function, ty: Type, imm: i64) -> Value {
-        let imm = ty.canon_int(imm);
-        self.inst(func, InstData::Iconst { ty, imm }, ty)
-    }
-
-    fn binary(&mut self, func: &mut Function, op: BinaryOp, a: Value, b: Value) -> Value {
-        let ty = func.value_type(a);
-        self.inst(func, InstData::Binary { op, args: [a, b] }, ty)
-    }
-
-    fn select(&mut self, func: &mut Function, cond: Value, a: Value, b: Value) -> Value {
-        let ty = func.value_type(a);
-        let data = InstData::Select {
-            cond,
-            if_true: a,
-            if_false: b,
-        };
-        self.inst(func, data, ty)
-    }
-
-    fn widen(&mut self, func: &mut Function, v: Value, signed: bool) -> Value {
-        if func.value_type(v) == Type::I64 {
-            return v;
-        }
-        let op = if signed { ConvOp::Sext } else { ConvOp::Uext };
-        let data = InstData::Convert {
-            op,
-            ty: Type::I64,
-            arg: v,
-        };
-        self.inst(func, data, Type::I64)
-    }
+    let op = if signed { ConvOp::Sext } else { ConvOp::Uext };
+    b.convert(op, Type::I64, v)
 }
 
 /// Replaces the loop by a fill in its header (see the module doc).
 fn rewrite(func: &mut Function, l: &FillLoop) {
     let h = l.header;
-    let term = func.terminator(h).expect("header branch");
-    let cty = func.value_type(l.counter);
-    let inclusive = matches!(l.cc, IntCC::Sle | IntCC::Ule);
-    let mut e = Emit {
-        insts: l.moved.clone(),
-        span: func.spans[term.index()],
-    };
-    // The number of elements: bound - first (+ 1 for `<=`), in 64 bits.
-    let signed = matches!(l.cc, IntCC::Slt | IntCC::Sle);
-    let first = e.widen(func, l.counter, signed);
-    let bound = e.widen(func, l.bound, signed);
-    let mut n = e.binary(func, BinaryOp::Isub, bound, first);
-    if inclusive {
-        let one = e.iconst(func, Type::I64, 1);
-        n = e.binary(func, BinaryOp::Iadd, n, one);
-    }
-    let zero64 = e.iconst(func, Type::I64, 0);
-    let cmp = InstData::Icmp {
-        cond: IntCC::Sgt,
-        args: [n, zero64],
-    };
-    let ran = e.inst(func, cmp, Type::I1);
-    let count = e.select(func, ran, n, zero64);
-    // The first element (element 0 when the loop does not run: any valid address).
-    let ity = func.value_type(l.index);
-    let zero = e.iconst(func, ity, 0);
-    let ix = e.select(func, ran, l.index, zero);
-    let elem = InstData::ElemAddr {
-        base: l.base,
-        agg: l.agg,
-        index: ix,
-    };
-    let at = e.inst(func, elem, Type::Ptr);
-    let fill = func.create_inst(
-        InstData::Intrinsic {
-            op: Intrinsic::Fill,
-            args: vec![at, l.value, count],
-        },
-        None,
-        e.span,
-    );
-    e.insts.push(fill);
-    // The counter after the loop.
-    let mut end = l.bound;
-    if inclusive {
-        let one = e.iconst(func, cty, 1);
-        end = e.binary(func, BinaryOp::Iadd, end, one);
-    }
-    let after = e.select(func, ran, end, l.counter);
-    // The header now runs once and goes out.
+    // The header's branch goes; the header gets the body's moved instructions, the
+    // fill, and a jump out.
+    let term = func.blocks[h.index()].insts.pop().expect("header branch");
+    let span = func.spans[term.index()];
     let InstData::Brif {
         then_dest,
         else_dest,
@@ -456,6 +373,42 @@ fn rewrite(func: &mut Function, l: &FillLoop) {
     else {
         unreachable!("matched a brif");
     };
+    let b0 = l.body[0];
+    func.blocks[b0.index()]
+        .insts
+        .retain(|i| !l.moved.contains(i));
+    func.blocks[h.index()].insts.extend(&l.moved);
+    let cty = func.value_type(l.counter);
+    let inclusive = matches!(l.cc, IntCC::Sle | IntCC::Ule);
+    let signed = matches!(l.cc, IntCC::Slt | IntCC::Sle);
+    let mut b = FuncBuilder::new(func);
+    b.set_span(span);
+    b.switch_to(h);
+    // The number of elements: bound - first (+ 1 for `<=`), in 64 bits.
+    let first = widen(&mut b, l.counter, signed);
+    let bound = widen(&mut b, l.bound, signed);
+    let mut n = b.binary(BinaryOp::Isub, bound, first);
+    if inclusive {
+        let one = b.iconst(Type::I64, 1);
+        n = b.binary(BinaryOp::Iadd, n, one);
+    }
+    let zero64 = b.iconst(Type::I64, 0);
+    let ran = b.icmp(IntCC::Sgt, n, zero64);
+    let count = b.select(ran, n, zero64);
+    // The first element (element 0 when the loop does not run: any valid address).
+    let ity = b.func.value_type(l.index);
+    let zero = b.iconst(ity, 0);
+    let ix = b.select(ran, l.index, zero);
+    let at = b.elem_addr(l.base, l.agg, ix);
+    b.intrinsic(Intrinsic::Fill, vec![at, l.value, count]);
+    // The counter after the loop.
+    let mut end = l.bound;
+    if inclusive {
+        let one = b.iconst(cty, 1);
+        end = b.binary(BinaryOp::Iadd, end, one);
+    }
+    let after = b.select(ran, end, l.counter);
+    // The header now runs once and goes out.
     let mut exit = if l.body.contains(&then_dest.block) {
         else_dest
     } else {
@@ -466,21 +419,14 @@ fn rewrite(func: &mut Function, l: &FillLoop) {
             *a = after;
         }
     }
-    *func.inst_mut(term) = InstData::Jump { dest: exit };
-    let b0 = l.body[0];
-    func.blocks[b0.index()]
-        .insts
-        .retain(|i| !l.moved.contains(i));
-    let insts = &mut func.blocks[h.index()].insts;
-    let at = insts.len() - 1;
-    insts.splice(at..at, e.insts);
+    b.jump(exit.block, exit.args);
     // Uses of the counter after the loop see its final value.
-    for b in func.layout.clone() {
-        if b == h || l.body.contains(&b) {
+    for blk in func.layout.clone() {
+        if blk == h || l.body.contains(&blk) {
             continue;
         }
-        for ii in 0..func.blocks[b.index()].insts.len() {
-            let i = func.blocks[b.index()].insts[ii];
+        for ii in 0..func.blocks[blk.index()].insts.len() {
+            let i = func.blocks[blk.index()].insts[ii];
             func.insts[i.index()].map_args(|a| if a == l.counter { after } else { a });
         }
     }
