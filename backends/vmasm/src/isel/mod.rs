@@ -840,13 +840,25 @@ impl Fx<'_, '_> {
         }
     }
 
-    /// The copied, checked index for an A?RD/A?WR access.
+    /// The zero-based INT index for an A?RD/A?WR access.
+    ///
+    /// The IR's index is in range (`elem_addr`'s contract: the front end's checks come
+    /// before it), so an index of 2 bytes or more is read in place: its low two bytes
+    /// (the VM is little-endian) are the INT. Only a folded `sext(i) - low` with a
+    /// non-zero `low` is copied, for CEAC to subtract `low` (CPDev's own shape; CEAC's
+    /// bound check then never fails).
     fn lac(&mut self, index: Value, len: u32) -> Res<u32> {
-        let s = self.scratch(2)?;
         let (src, low) = self.folded_index.get(&index).copied().unwrap_or((index, 0));
         let ih = self.home(src);
         let isz = self.size(self.vty(src));
+        if low == 0 && isz >= 2 {
+            return Ok(ih);
+        }
+        let s = self.scratch(2)?;
         self.resize(s, 2, ih, isz);
+        if low == 0 {
+            return Ok(s);
+        }
         let low = self.konst(Type::I16, low as u64);
         let span = self.konst(Type::I16, len.saturating_sub(1) as u64);
         self.rrr(op::CEAC, &[s, low, span]);
