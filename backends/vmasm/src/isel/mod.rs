@@ -33,6 +33,7 @@ use rustc_hash::FxHashMap;
 
 mod coalesce;
 mod compose;
+mod fill;
 mod in_place;
 mod portable;
 mod power;
@@ -527,6 +528,14 @@ impl<'a, 'p> Fx<'a, 'p> {
                         );
                     }
                 }
+                // A fill writes through its pointer as a store does (`isel/fill.rs`).
+                InstData::Intrinsic {
+                    op: Intrinsic::Fill,
+                    args,
+                } => {
+                    push(args[0], UseKind::Addr);
+                    args[1..].iter().for_each(|&v| push(v, UseKind::Value));
+                }
                 other => other.for_each_arg(|v| push(v, UseKind::Value)),
             }
         }
@@ -870,8 +879,16 @@ impl Fx<'_, '_> {
     fn record_late_uses(&mut self) {
         let f = self.f;
         for (k, (_, i)) in f.inst_iter().enumerate() {
-            if let InstData::Load { addr, .. } | InstData::Store { addr, .. } = f.inst(i) {
-                if let PtrClass::Idx { index, .. } = self.class_of(*addr) {
+            let addr = match f.inst(i) {
+                InstData::Load { addr, .. } | InstData::Store { addr, .. } => *addr,
+                InstData::Intrinsic {
+                    op: Intrinsic::Fill,
+                    args,
+                } => args[0],
+                _ => continue,
+            };
+            {
+                if let PtrClass::Idx { index, .. } = self.class_of(addr) {
                     let src = self.folded_index.get(&index).map_or(index, |&(y, _)| y);
                     self.late_use.insert(i, src);
                     self.uses[src.index()].push((k, UseKind::Late));
@@ -1129,7 +1146,7 @@ impl Fx<'_, '_> {
             InstData::SizeOf { .. } => {
                 return Err(self.unsupported("a `sizeof` left after its resolution", span))
             }
-            InstData::Intrinsic { op: iop, .. } => match iop {
+            InstData::Intrinsic { op: iop, ref args } => match iop {
                 Intrinsic::ClockMs => {
                     let d = self.home(res.expect("result"));
                     self.emit(op::CUR_TIME, vec![Arg::Rel(d)]);
@@ -1143,8 +1160,7 @@ impl Fx<'_, '_> {
                     self.rrr(op::mul(Ty::Lword, 2), &[d, t, k]);
                 }
                 Intrinsic::RaiseFault => self.raise_fault()?,
-                // Only the JIT's pipeline makes fills (`passes::fill`).
-                Intrinsic::Fill => return Err(self.unsupported("a `fill` of array elements", span)),
+                Intrinsic::Fill => self.fill_elems(args)?,
                 // plcc's VM stops a runaway scan itself; the program never asks, and
                 // branches on the answer go straight on (see Brif).
                 Intrinsic::StopRequested => {
