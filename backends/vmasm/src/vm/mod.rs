@@ -68,6 +68,7 @@
 //!   outcome is [`End::Budget`].
 
 mod ops;
+mod step;
 mod ub;
 
 use std::collections::BTreeMap;
@@ -164,6 +165,7 @@ struct Ins {
     e: u32,
     g: u32,
     h: u32,
+    j: u32,
 }
 
 impl Ins {
@@ -177,6 +179,7 @@ impl Ins {
             e: 0,
             g: 0,
             h: 0,
+            j: 0,
         }
     }
 }
@@ -186,21 +189,24 @@ impl Ins {
 enum Tag {
     Other,
     /// A comparison, with its fused forms followed by JZ and by JNZ, and by SEL and JZ
-    /// (a SEL of 2 and of 4 bytes) for the comparisons of 16 and 32-bit integers.
-    Rel(Handler, Handler, Option<(Handler, Handler)>),
+    /// (a SEL of 2 and of 4 bytes) for the comparisons of 16 and 32-bit integers; its
+    /// group and type code.
+    Rel(Handler, Handler, Option<(Handler, Handler)>, (u8, u8)),
     Jz,
     Jnz,
     Jmp,
-    /// A binary operation, with its fused form followed by JMP.
-    Bin(Handler),
+    /// A binary operation, with its fused form followed by JMP; for ADD and SUB, the
+    /// operation and its type code (for [`step`]).
+    Bin(Handler, Option<(step::StepOp, u8)>),
     /// SEL of a size, with its fused form followed by JZ.
     Sel(Handler, usize),
     /// MEMCP of 2 bytes.
     Mov2,
     Ceac,
     /// An array access, with the fused forms of the MEMCP-CEAC-access sequence, alone
-    /// and followed by JMP.
-    Acc(Handler, Handler),
+    /// and followed by JMP; for AORD, its fused forms followed by JZ and by JNZ on the
+    /// variable read.
+    Acc(Handler, Handler, Option<(Handler, Handler)>),
 }
 
 /// The most instructions one entry runs (a superinstruction).
@@ -348,6 +354,8 @@ pub struct Vm {
     code: Vec<Ins>,
     /// The handler of each entry without superinstructions.
     plain: Vec<Handler>,
+    /// The loop steps ([`step`]): each entry and the comparison's entry it jumps to.
+    steps: Vec<(usize, usize)>,
     /// The code address of each entry of `code`.
     pcs: Vec<u32>,
     /// Entry index of each code address that starts an instruction.
@@ -509,12 +517,13 @@ impl Vm {
             }
         }
         let plain = out.iter().map(|i| i.f).collect();
-        fuse(&mut out, &tags);
+        let steps = fuse(&mut out, &tags);
         let start = index.get(&0).copied().unwrap_or(0) as usize;
         Ok(Vm {
             core,
             code: out,
             plain,
+            steps,
             pcs,
             index,
             idx: start,
@@ -616,7 +625,12 @@ impl Vm {
         // superinstruction running over it.
         let mut saved = Vec::new();
         if let Some(e) = stop {
-            for j in e.saturating_sub(MAX_WEIGHT as usize - 1)..e {
+            let steps_over = self
+                .steps
+                .iter()
+                .filter(|&&(_, t)| t == e || t + 1 == e)
+                .map(|&(j, _)| j);
+            for j in (e.saturating_sub(MAX_WEIGHT as usize - 1)..e).chain(steps_over) {
                 saved.push((j, self.code[j].f));
                 self.code[j].f = self.plain[j];
             }
@@ -723,13 +737,16 @@ fn exec(
 /// comparison followed by JZ or JNZ on its result, a binary operation followed by JMP,
 /// SEL followed by JZ, a comparison followed by a SEL on its result and JZ on it, and
 /// the array access `MEMCP lac, i, #2; CEAC lac, …; AxRD/AxWR …, lac`, alone and
-/// followed by JMP. The entries stay in place for jumps into the
-/// sequence; the operands of the later entries are copied into the first.
-fn fuse(code: &mut [Ins], tags: &[Tag]) {
+/// followed by JMP; and the loop step ([`step`]: ADD or SUB, JMP to a comparison and
+/// JZ or JNZ); AORD followed by JZ or JNZ on the variable read. The entries stay in place for jumps into the sequence; the operands of
+/// the later entries are copied into the first. Returns the loop steps (each entry and
+/// the comparison's entry).
+fn fuse(code: &mut [Ins], tags: &[Tag]) -> Vec<(usize, usize)> {
+    let mut steps = Vec::new();
     for k in 0..code.len() {
         let at = |j: usize| tags.get(k + j).copied().unwrap_or(Tag::Other);
         match (tags[k], at(1), at(2), at(3)) {
-            (Tag::Rel(_, _, Some((h2, h4))), Tag::Sel(_, n @ (2 | 4)), Tag::Jz, _)
+            (Tag::Rel(_, _, Some((h2, h4)), _), Tag::Sel(_, n @ (2 | 4)), Tag::Jz, _)
                 if code[k + 1].b == code[k].a && code[k + 2].a == code[k].a =>
             {
                 let (sel, jz) = (code[k + 1], code[k + 2]);
@@ -737,7 +754,7 @@ fn fuse(code: &mut [Ins], tags: &[Tag]) {
                 (i.d, i.e, i.g, i.h) = (sel.a, sel.c, sel.d, jz.b);
                 i.f = if n == 2 { h2 } else { h4 };
             }
-            (Tag::Mov2, Tag::Ceac, Tag::Acc(_, h), Tag::Jmp)
+            (Tag::Mov2, Tag::Ceac, Tag::Acc(_, h, _), Tag::Jmp)
                 if code[k + 1].a == code[k].a && code[k + 2].c == code[k].a =>
             {
                 let (ceac, acc, jmp) = (code[k + 1], code[k + 2], code[k + 3]);
@@ -745,13 +762,30 @@ fn fuse(code: &mut [Ins], tags: &[Tag]) {
                 (i.c, i.d, i.e, i.g, i.h) = (ceac.b, ceac.c, acc.a, acc.b, jmp.a);
                 i.f = h;
             }
-            (Tag::Rel(h, _, _), Tag::Jz, _, _) | (Tag::Rel(_, h, _), Tag::Jnz, _, _)
+            (Tag::Rel(h, _, _, _), Tag::Jz, _, _) | (Tag::Rel(_, h, _, _), Tag::Jnz, _, _)
                 if code[k + 1].a == code[k].a =>
             {
                 code[k].d = code[k + 1].b;
                 code[k].f = h;
             }
-            (Tag::Bin(h), Tag::Jmp, _, _) => {
+            (Tag::Bin(_, Some((sop, bt))), Tag::Jmp, _, _)
+                if loop_step(code, tags, k, sop, bt).is_some() =>
+            {
+                let (h, t) = loop_step(code, tags, k, sop, bt).expect("checked");
+                let (rel, br) = (code[t], code[t + 1]);
+                let i = &mut code[k];
+                (i.d, i.e, i.g, i.h, i.j) = (t as u32, rel.a, rel.b, rel.c, br.b);
+                i.f = h;
+                steps.push((k, t));
+            }
+            (Tag::Acc(_, _, Some((h, _))), Tag::Jz, _, _)
+            | (Tag::Acc(_, _, Some((_, h))), Tag::Jnz, _, _)
+                if code[k + 1].a == code[k].a =>
+            {
+                code[k].d = code[k + 1].b;
+                code[k].f = h;
+            }
+            (Tag::Bin(h, _), Tag::Jmp, _, _) => {
                 code[k].d = code[k + 1].a;
                 code[k].f = h;
             }
@@ -759,7 +793,7 @@ fn fuse(code: &mut [Ins], tags: &[Tag]) {
                 (code[k].e, code[k].g) = (code[k + 1].a, code[k + 1].b);
                 code[k].f = h;
             }
-            (Tag::Mov2, Tag::Ceac, Tag::Acc(h, _), _)
+            (Tag::Mov2, Tag::Ceac, Tag::Acc(h, _, _), _)
                 if code[k + 1].a == code[k].a && code[k + 2].c == code[k].a =>
             {
                 let (ceac, acc) = (code[k + 1], code[k + 2]);
@@ -770,6 +804,32 @@ fn fuse(code: &mut [Ins], tags: &[Tag]) {
             _ => {}
         }
     }
+    steps
+}
+
+/// The loop step handler for the ADD or SUB `(op, bt)` at entry `k` (followed by a JMP)
+/// and the entry of the comparison it jumps to, if that is a comparison of the same
+/// size followed by JZ or JNZ on its result.
+fn loop_step(
+    code: &[Ins],
+    tags: &[Tag],
+    k: usize,
+    op: step::StepOp,
+    bt: u8,
+) -> Option<(Handler, usize)> {
+    let t = code[k + 1].a as usize;
+    let Tag::Rel(_, _, _, (grp, rt)) = *tags.get(t)? else {
+        return None;
+    };
+    let z = match tags.get(t + 1)? {
+        Tag::Jz => true,
+        Tag::Jnz => false,
+        _ => return None,
+    };
+    if code[t + 1].a != code[t].a {
+        return None;
+    }
+    Some((step::handler(op, bt, grp, rt, z)?, t))
 }
 
 /// An entry that fails with `m` when executed.
@@ -1089,7 +1149,7 @@ fn translate(inst: &Inst, mode: Mode, core: &mut Core) -> Result<(Ins, Tag), Str
                     g::LT => rel_sel_jz!(t, Lt),
                     _ => rel_sel_jz!(t, Ne),
                 };
-                tag = Tag::Rel(z, nz, three);
+                tag = Tag::Rel(z, nz, three, (grp, t));
             }
             h
         }
@@ -1178,8 +1238,12 @@ fn translate(inst: &Inst, mode: Mode, core: &mut Core) -> Result<(Ins, Tag), Str
                         sized!(size, arr, ops::Wr; true),
                     )
                 };
+                let branch = (f == 0x26).then_some((
+                    ops::acc_j::<true> as Handler,
+                    ops::acc_j::<false> as Handler,
+                ));
                 if let (Some(x), Some(y)) = (fused, jmp) {
-                    tag = Tag::Acc(x, y);
+                    tag = Tag::Acc(x, y, branch);
                 }
                 h
             }
@@ -1206,7 +1270,12 @@ fn translate(inst: &Inst, mode: Mode, core: &mut Core) -> Result<(Ins, Tag), Str
         _ => None,
     };
     if let (Tag::Other, Some(x), 2) = (tag, jmp_form, n) {
-        tag = Tag::Bin(x);
+        let op = match grp {
+            g::ADD => Some(step::StepOp::Add),
+            g::SUB => Some(step::StepOp::Sub),
+            _ => None,
+        };
+        tag = Tag::Bin(x, op.map(|o| (o, t)));
     }
     match h {
         Some(f) => Ok((Ins { f, ..ins }, tag)),

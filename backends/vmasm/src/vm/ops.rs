@@ -865,6 +865,18 @@ pub(super) fn acc<T: Val, A: Access>(c: &mut Core, i: &Ins, k: usize) -> usize {
     })
 }
 
+/// AORD var, base, idx followed by `JZ` (`Z`) or `JNZ` (not `Z`) on `var`: `a`, `b`,
+/// `c` as the AORD, `d` the jump's target. Only the AORD can fault.
+pub(super) fn acc_j<const Z: bool>(c: &mut Core, i: &Ins, k: usize) -> usize {
+    step(c, |c| {
+        let idx: i16 = c.ld(i.c)?;
+        let v: u8 = c.ld(elem_addr::<u8>(i.b, idx))?;
+        c.st(i.a, v)?;
+        c.extra += 1;
+        Ok(if (v == 0) == Z { i.d as usize } else { k + 2 })
+    })
+}
+
 /// CEAC idx, low, span: idx -= low; outside 0..=span sets ARRAYBOUND and stops the
 /// VM, as every CPDev runtime but iOS's does (`VMP_Debug(6)`).
 pub(super) fn ceac(c: &mut Core, i: &Ins, k: usize) -> usize {

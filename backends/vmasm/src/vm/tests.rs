@@ -751,6 +751,8 @@ fn superinstructions_count_and_stop_exactly() {
     // A whole scan: 1 + 4 × 7 + 2 (LE, JZ) + 1 (TRML).
     let mut vm = array_vm(64);
     assert_eq!(vm.superinstructions(), 3);
+    // The ADD, JMP, LE and JZ of the back edge are one loop step.
+    assert_eq!(vm.steps, [(6, 1)]);
     let o = vm.run(None, u64::MAX).unwrap();
     assert_eq!(
         o,
@@ -789,8 +791,9 @@ fn superinstructions_count_and_stop_exactly() {
         let o = vm.run(None, u64::MAX).unwrap();
         assert_eq!(o.executed, 32 - b, "budget {b}");
     }
-    // stop_at inside the sequences (JZ, CEAC, AFRD).
-    for (s, first) in [(at[2], 2), (at[4], 4), (at[5], 5)] {
+    // stop_at inside the sequences (LE and JZ, which the loop step jumps over too,
+    // CEAC, AFRD, JMP).
+    for (s, first) in [(at[1], 1), (at[2], 2), (at[4], 4), (at[5], 5), (at[7], 7)] {
         let mut vm = array_vm(64);
         let o = vm.run(Some(s), u64::MAX).unwrap();
         assert_eq!(
@@ -805,6 +808,22 @@ fn superinstructions_count_and_stop_exactly() {
         // And the superinstructions are back afterwards.
         let o = vm.run(None, u64::MAX).unwrap();
         assert_eq!(o.executed, 32 - first);
+    }
+    // A stop at the comparison or the branch that the loop step at the ADD reaches by
+    // its jump: the step runs as ADD and JMP only.
+    for (s, n) in [(at[1], 2), (at[2], 3)] {
+        let mut vm = array_vm(64);
+        assert_eq!(vm.run(Some(at[6]), u64::MAX).unwrap().executed, 6);
+        let o = vm.run(Some(s), u64::MAX).unwrap();
+        assert_eq!(
+            o,
+            Outcome {
+                end: End::StopAt,
+                executed: n
+            },
+            "stop at {s:#x}"
+        );
+        assert_eq!(vm.run(None, u64::MAX).unwrap().executed, 32 - 6 - n);
     }
 }
 
@@ -829,6 +848,17 @@ fn faults_inside_superinstructions_name_the_instruction() {
     let e = vm.run(None, u64::MAX).unwrap_err();
     assert_eq!(vm.pc(), at[4], "{e}");
     assert_eq!(vm.executed(), 1 + 2 + 1);
+    // The loop step's ADD reading outside data memory faults at the ADD.
+    let (mut code, _) = array_loop();
+    let o = at[6] as usize + 6;
+    code[o..o + 2].copy_from_slice(&0x0100u16.to_le_bytes());
+    let mut vm = Vm::new(&code, 64, Mode::M16).unwrap();
+    assert_eq!(vm.steps, [(6, 1)]);
+    put(vm.data_mut(), 4, 3i16.to_le_bytes());
+    put(vm.data_mut(), 10, 3i16.to_le_bytes());
+    let e = vm.run(None, u64::MAX).unwrap_err();
+    assert_eq!(vm.pc(), at[6], "{e}");
+    assert_eq!(vm.executed(), 1 + 2 + 3);
 }
 
 /// `Vm::for_port` stops where the C VM of the port is undefined or misreads
@@ -1008,5 +1038,44 @@ fn fused_guards_and_jumps_run_as_single_steps() {
         );
         assert_eq!(vm.data(), trace[first as usize].1.as_slice());
         assert_eq!(vm.run(None, u64::MAX).unwrap().executed, total - first);
+    }
+}
+
+/// `AORD v, BUF, idx; JZ v, zero; MCD r := 1; TRML; zero: MCD r := 2; TRML` (and JNZ):
+/// the read and the branch are one entry that counts two instructions, branches on
+/// the element read, and faults at the AORD when the element is outside data memory.
+#[test]
+fn an_array_read_and_its_branch_run_as_one_entry() {
+    for (jump, taken_on_zero) in [(0x1C02u16, true), (0x1C01, false)] {
+        let (code, at) = build_at(Mode::M16, |a| {
+            vec![
+                i(0x1C26, vec![d(0), d(16), d(2)]), // AORD v, BUF, idx
+                i(jump, vec![d(0), l(a[4])]),       // JZ/JNZ v, other
+                i(0x1C15, vec![d(4), bytes(&[1])]), // r := 1
+                i(0x1C1D, vec![l(0)]),              // TRML
+                i(0x1C15, vec![d(4), bytes(&[2])]), // other: r := 2
+                i(0x1C1D, vec![l(0)]),
+            ]
+        });
+        for (idx, elem) in [(0i16, 0u8), (3, 7), (40, 0)] {
+            let mut vm = Vm::new(&code, 32, Mode::M16).unwrap();
+            assert_eq!(vm.superinstructions(), 1);
+            let m = vm.data_mut();
+            put(m, 2, idx.to_le_bytes());
+            if let Some(x) = m.get_mut(16 + idx as usize) {
+                *x = elem;
+            }
+            let r = vm.run(None, u64::MAX);
+            if idx == 40 {
+                // BUF[40] is outside 32 bytes: the AORD faults, nothing else ran.
+                assert!(r.is_err());
+                assert_eq!((vm.pc(), vm.executed()), (at[0], 0));
+                continue;
+            }
+            assert_eq!(r.unwrap().executed, 4);
+            let jumped = (elem == 0) == taken_on_zero;
+            assert_eq!(get::<1>(&vm, 4)[0], if jumped { 2 } else { 1 });
+            assert_eq!(get::<1>(&vm, 0)[0], elem);
+        }
     }
 }
