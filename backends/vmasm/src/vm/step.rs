@@ -39,10 +39,7 @@ fn step_rel_j<TB: Val, O: Op2<TB>, TR: Val + PartialOrd, R: Rel, const Z: bool>(
 /// The operation and the comparison, or `None` (and nothing done) when an operand is
 /// outside data memory.
 #[inline(always)]
-fn run<TB: Val, O: Op2<TB>, TR: Val, R: Rel>(c: &mut Core, i: &Ins) -> Option<bool>
-where
-    TR: PartialOrd,
-{
+fn run<TB: Val, O: Op2<TB>, TR: Val + PartialOrd, R: Rel>(c: &mut Core, i: &Ins) -> Option<bool> {
     let (a, b, y, e, p, q) = (
         c.at(i.a),
         c.at(i.b),
