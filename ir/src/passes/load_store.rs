@@ -20,7 +20,7 @@
 
 use crate::entities::{AggId, DataId, Inst, SlotId, Value};
 use crate::function::{Function, ValueDef};
-use crate::inst::InstData;
+use crate::inst::{InstData, Intrinsic};
 use crate::passes::util::{int_const, ValueMap};
 use crate::types::Type;
 use rustc_hash::FxHashMap;
@@ -326,8 +326,16 @@ pub fn run(func: &mut Function) -> bool {
                         },
                     );
                 }
-                InstData::Call { .. } | InstData::CallTable { .. } | InstData::InlineC { .. } => {
-                    // The callee (or C code) may read and write any memory it can reach.
+                InstData::Call { .. }
+                | InstData::CallTable { .. }
+                | InstData::InlineC { .. }
+                | InstData::Intrinsic {
+                    op: Intrinsic::Fill,
+                    ..
+                } => {
+                    // The callee (or C code) may read and write any memory it can
+                    // reach; a fill writes elements from its address on, which the
+                    // alias oracle does not describe (it knows single elements).
                     known.clear();
                     pending.clear();
                 }

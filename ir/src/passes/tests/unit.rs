@@ -1047,3 +1047,26 @@ block2(v4: ptr):
 "#,
     );
 }
+
+/// A fill writes elements from its address on: the value stored into another element
+/// before it is not forwarded to a load after it, and the store before it stays.
+#[test]
+fn load_store_fills_clobber() {
+    let func = r#"
+func @f(ptr, i16) -> i16 function {
+block0(v0: ptr, v1: i16):
+    v2 = field_addr v0, %S.arr
+    v3 = iconst.i32 1
+    v4 = elem_addr v2, %A, v3
+    store v1, v4
+    v5 = iconst.i32 0
+    v6 = elem_addr v2, %A, v5
+    v7 = iconst.i16 7
+    v8 = iconst.i64 4
+    fill v6, v7, v8
+    v9 = load.i16 v4
+    return v9
+}
+"#;
+    check(&format!("{STRUCTS}{func}"), load_store::run, func);
+}
