@@ -335,6 +335,7 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
         at = at.div_ceil(2) * 2;
         let fault_addr = at as u32;
         at += 2;
+        let constants_once = constants_once(module, &convs);
         let mut prog = Program::default();
         let entry_labels: Vec<_> = (0..nf)
             .map(|i| prog.label(label_name(module, FuncId::new(i))))
@@ -350,8 +351,10 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
             sources: &options.sources,
             fault_addr,
             port: settings.port,
+            constants_once: &constants_once,
         };
         let mut units = Vec::with_capacity(nf);
+        let mut pools = Vec::new();
         let mut new_sizes = vec![0u32; nf];
         let mut errors = Vec::new();
         for (i, size) in new_sizes.iter_mut().enumerate() {
@@ -359,6 +362,10 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
                 Ok(fc) => {
                     *size = fc.frame_size;
                     units.push(fc.unit);
+                    if let Some((label, unit)) = fc.constants {
+                        pools.push((FuncId::new(i), label));
+                        units.push(unit);
+                    }
                 }
                 Err(d) => errors.push(*d),
             }
@@ -454,6 +461,16 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
         for p in &module.programs {
             call(&mut task, p.init, Some(data_addrs[p.data.index()]));
         }
+        // The constant pools of the PROGRAM bodies that load them once: only the body
+        // writes its frame in the instance, and it never writes its constants.
+        for p in &module.programs {
+            if let Some(&(_, label)) = pools.iter().find(|(g, _)| *g == p.body) {
+                task.items.push(Item::Inst(VInst {
+                    opcode: op::CALB,
+                    args: vec![Arg::Abs(data_addrs[p.data.index()]), Arg::Label(label)],
+                }));
+            }
+        }
         task.items.push(Item::Label(tskloop));
         for p in &module.programs {
             call(&mut task, p.body, Some(data_addrs[p.data.index()]));
@@ -506,6 +523,29 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
             fault_addr,
         });
     }
+}
+
+/// The functions whose constant pool the task loads once at cold start: the bodies of
+/// the task's PROGRAMs (with their instance as frame) that no call and no function
+/// table reaches, so that they only ever run on the instances the task loads.
+fn constants_once(module: &Module, convs: &[Conv]) -> Vec<bool> {
+    let mut once = vec![false; module.funcs.len()];
+    for p in &module.programs {
+        once[p.body.index()] = matches!(convs[p.body.index()], Conv::Instance { .. });
+    }
+    for f in &module.funcs {
+        for (_, i) in f.inst_iter() {
+            if let InstData::Call { func, .. } = f.inst(i) {
+                once[func.index()] = false;
+            }
+        }
+    }
+    for t in &module.tables {
+        for g in t.entries.iter().flatten() {
+            once[g.index()] = false;
+        }
+    }
+    once
 }
 
 #[cfg(test)]

@@ -75,6 +75,10 @@ pub struct Cx<'a> {
     pub fault_addr: u32,
     /// The VM port the code is for.
     pub port: crate::port::Port,
+    /// The functions whose constants the task loads once, at cold start (the bodies
+    /// of the task's PROGRAMs that nothing else calls): their pool goes into a unit of
+    /// its own ([`FuncCode::constants`]) instead of their prologue.
+    pub constants_once: &'a [bool],
 }
 
 /// Where a pointer value points, as far as is known statically.
@@ -143,6 +147,9 @@ pub struct FuncCode {
     pub unit: Unit,
     /// Bytes its frame takes beyond its start.
     pub frame_size: u32,
+    /// For a function of [`Cx::constants_once`], the unit that fills its constant pool
+    /// (run with DPTR at the instance, ending in RETURN), and its label.
+    pub constants: Option<(LabelId, Unit)>,
 }
 
 const SCRATCH: u32 = 96;
@@ -266,7 +273,24 @@ pub fn gen_function(cx: &Cx<'_>, prog: &mut Program, id: FuncId) -> Res<FuncCode
     }
     let frame_size = fx.next - base;
     let mut items = vec![Item::Label(cx.entry_labels[id.index()])];
-    items.append(&mut fx.prologue);
+    let constants = if cx.constants_once[id.index()] {
+        let label = fx.prog.label(format!("?plcc.{}?CONST", f.name));
+        let mut pool = vec![Item::Label(label)];
+        pool.append(&mut fx.prologue);
+        pool.push(Item::Inst(VInst {
+            opcode: op::RETURN,
+            args: vec![],
+        }));
+        let unit = Unit {
+            items: pool,
+            rel_names: fx.names.clone(),
+            abs_names: FxHashMap::default(),
+        };
+        Some((label, unit))
+    } else {
+        items.append(&mut fx.prologue);
+        None
+    };
     items.append(&mut fx.body);
     Ok(FuncCode {
         unit: Unit {
@@ -275,6 +299,7 @@ pub fn gen_function(cx: &Cx<'_>, prog: &mut Program, id: FuncId) -> Res<FuncCode
             abs_names: FxHashMap::default(),
         },
         frame_size,
+        constants,
     })
 }
 
