@@ -206,12 +206,12 @@ enum Tag {
     Ceac,
     /// An array access, with the fused forms of the MEMCP-CEAC-access sequence, alone
     /// and followed by JMP; for AORD, its fused forms followed by JZ and by JNZ on the
-    /// variable read.
-    Acc(Handler, Handler, Option<(Handler, Handler)>),
+    /// variable read; for the writes, the element's size (for [`step`]).
+    Acc(Handler, Handler, Option<(Handler, Handler)>, Option<usize>),
 }
 
 /// The most instructions one entry runs (a superinstruction).
-const MAX_WEIGHT: u64 = 4;
+const MAX_WEIGHT: u64 = 5;
 
 /// The machine state the handlers work on.
 struct Core {
@@ -518,7 +518,7 @@ impl Vm {
             }
         }
         let plain = out.iter().map(|i| i.f).collect();
-        let steps = fuse(&mut out, &tags);
+        let steps = fuse(&mut out, &tags, &mut core.pool);
         let start = index.get(&0).copied().unwrap_or(0) as usize;
         Ok(Vm {
             core,
@@ -742,11 +742,27 @@ fn exec(
 /// JZ or JNZ); AORD followed by JZ or JNZ on the variable read. The entries stay in place for jumps into the sequence; the operands of
 /// the later entries are copied into the first. Returns the loop steps (each entry and
 /// the comparison's entry).
-fn fuse(code: &mut [Ins], tags: &[Tag]) -> Vec<(usize, usize)> {
+fn fuse(code: &mut [Ins], tags: &[Tag], pool: &mut Vec<u32>) -> Vec<(usize, usize)> {
     let mut steps = Vec::new();
     for k in 0..code.len() {
         let at = |j: usize| tags.get(k + j).copied().unwrap_or(Tag::Other);
         match (tags[k], at(1), at(2), at(3)) {
+            (Tag::Acc(_, _, _, Some(size)), Tag::Bin(_, Some((sop, bt))), Tag::Jmp, _)
+                if step_target(code, tags, k + 1)
+                    .and_then(|(_, grp, rt, z)| step::after_write(size, sop, bt, grp, rt, z))
+                    .is_some() =>
+            {
+                let (t, grp, rt, z) = step_target(code, tags, k + 1).expect("checked");
+                let h = step::after_write(size, sop, bt, grp, rt, z).expect("checked");
+                let (bin, rel, br) = (code[k + 1], code[t], code[t + 1]);
+                let d = pool.len() as u32;
+                pool.extend_from_slice(&[bin.a, bin.b, bin.c, t as u32]);
+                let i = &mut code[k];
+                i.d = d;
+                (i.e, i.g, i.h, i.j) = (rel.a, rel.b, rel.c, br.b);
+                i.f = h;
+                steps.push((k, t));
+            }
             (Tag::Rel(_, _, Some((h2, h4)), _), Tag::Sel(_, n @ (2 | 4)), Tag::Jz, _)
                 if code[k + 1].b == code[k].a && code[k + 2].a == code[k].a =>
             {
@@ -755,7 +771,7 @@ fn fuse(code: &mut [Ins], tags: &[Tag]) -> Vec<(usize, usize)> {
                 (i.d, i.e, i.g, i.h) = (sel.a, sel.c, sel.d, jz.b);
                 i.f = if n == 2 { h2 } else { h4 };
             }
-            (Tag::Mov2, Tag::Ceac, Tag::Acc(_, h, _), Tag::Jmp)
+            (Tag::Mov2, Tag::Ceac, Tag::Acc(_, h, _, _), Tag::Jmp)
                 if code[k + 1].a == code[k].a && code[k + 2].c == code[k].a =>
             {
                 let (ceac, acc, jmp) = (code[k + 1], code[k + 2], code[k + 3]);
@@ -770,17 +786,20 @@ fn fuse(code: &mut [Ins], tags: &[Tag]) -> Vec<(usize, usize)> {
                 code[k].f = h;
             }
             (Tag::Bin(_, Some((sop, bt))), Tag::Jmp, _, _)
-                if loop_step(code, tags, k, sop, bt).is_some() =>
+                if step_target(code, tags, k)
+                    .and_then(|(_, grp, rt, z)| step::handler::<step::Alone>(sop, bt, grp, rt, z))
+                    .is_some() =>
             {
-                let (h, t) = loop_step(code, tags, k, sop, bt).expect("checked");
+                let (t, grp, rt, z) = step_target(code, tags, k).expect("checked");
+                let h = step::handler::<step::Alone>(sop, bt, grp, rt, z).expect("checked");
                 let (rel, br) = (code[t], code[t + 1]);
                 let i = &mut code[k];
                 (i.d, i.e, i.g, i.h, i.j) = (t as u32, rel.a, rel.b, rel.c, br.b);
                 i.f = h;
                 steps.push((k, t));
             }
-            (Tag::Acc(_, _, Some((h, _))), Tag::Jz, _, _)
-            | (Tag::Acc(_, _, Some((_, h))), Tag::Jnz, _, _)
+            (Tag::Acc(_, _, Some((h, _)), _), Tag::Jz, _, _)
+            | (Tag::Acc(_, _, Some((_, h)), _), Tag::Jnz, _, _)
                 if code[k + 1].a == code[k].a =>
             {
                 code[k].d = code[k + 1].b;
@@ -794,7 +813,7 @@ fn fuse(code: &mut [Ins], tags: &[Tag]) -> Vec<(usize, usize)> {
                 (code[k].e, code[k].g) = (code[k + 1].a, code[k + 1].b);
                 code[k].f = h;
             }
-            (Tag::Mov2, Tag::Ceac, Tag::Acc(h, _, _), _)
+            (Tag::Mov2, Tag::Ceac, Tag::Acc(h, _, _, _), _)
                 if code[k + 1].a == code[k].a && code[k + 2].c == code[k].a =>
             {
                 let (ceac, acc) = (code[k + 1], code[k + 2]);
@@ -808,17 +827,11 @@ fn fuse(code: &mut [Ins], tags: &[Tag]) -> Vec<(usize, usize)> {
     steps
 }
 
-/// The loop step handler for the ADD or SUB `(op, bt)` at entry `k` (followed by a JMP)
-/// and the entry of the comparison it jumps to, if that is a comparison of the same
-/// size followed by JZ or JNZ on its result.
-fn loop_step(
-    code: &[Ins],
-    tags: &[Tag],
-    k: usize,
-    op: step::StepOp,
-    bt: u8,
-) -> Option<(Handler, usize)> {
-    let t = code[k + 1].a as usize;
+/// For the ADD or SUB at entry `k` (followed by a JMP): the entry of the comparison
+/// the JMP goes to, its group and type code, and whether JZ (else JNZ) follows it on
+/// its result; `None` if something else is there.
+fn step_target(code: &[Ins], tags: &[Tag], k: usize) -> Option<(usize, u8, u8, bool)> {
+    let t = code.get(k + 1)?.a as usize;
     let Tag::Rel(_, _, _, (grp, rt)) = *tags.get(t)? else {
         return None;
     };
@@ -830,7 +843,7 @@ fn loop_step(
     if code[t + 1].a != code[t].a {
         return None;
     }
-    Some((step::handler(op, bt, grp, rt, z)?, t))
+    Some((t, grp, rt, z))
 }
 
 /// An entry that fails with `m` when executed.
@@ -1243,8 +1256,9 @@ fn translate(inst: &Inst, mode: Mode, core: &mut Core) -> Result<(Ins, Tag), Str
                     ops::acc_j::<true> as Handler,
                     ops::acc_j::<false> as Handler,
                 ));
+                let write = (f & 1 == 1).then_some(size);
                 if let (Some(x), Some(y)) = (fused, jmp) {
-                    tag = Tag::Acc(x, y, branch);
+                    tag = Tag::Acc(x, y, branch, write);
                 }
                 h
             }

@@ -851,7 +851,7 @@ impl Access for Wr {
 
 /// The local address of element `idx` of `T`s at `base`.
 #[inline(always)]
-fn elem_addr<T: Val>(base: u32, idx: i16) -> u32 {
+pub(super) fn elem_addr<T: Val>(base: u32, idx: i16) -> u32 {
     base.wrapping_add((idx as i32).wrapping_mul(T::SIZE as i32) as u32)
 }
 

@@ -4,9 +4,14 @@
 //! JNZ t, exit`), four instructions that one entry runs when every operand is in data
 //! memory (else the entry runs the `ADD` and `JMP` alone, and the comparison runs from
 //! its own entry, where a fault names its PC).
+//!
+//! The same step may follow an array write (`AxWR var, base, idx`: the last statement
+//! of a loop body that sets an element), five instructions in one entry: the write
+//! first (a fault there names the write), then the step as above, or, when one of its
+//! operands is outside data memory, nothing more: the step's own entry runs next.
 
-use super::ops::{self, Op2, Rel, Val};
-use super::{Core, Handler, Ins};
+use super::ops::{self, Access, Op2, Rel, Val, Wr};
+use super::{Core, Exit, Handler, Ins, EXIT};
 use crate::isa::op::group as g;
 
 /// The arithmetic of a loop step.
@@ -16,38 +21,105 @@ pub(super) enum StepOp {
     Sub,
 }
 
-/// `a`, `b`, `c` the operation; `d` the comparison's entry; `e`, `g`, `h` the
-/// comparison's dst, x and y; `j` the branch's target.
-fn step_rel_j<TB: Val, O: Op2<TB>, TR: Val + PartialOrd, R: Rel, const Z: bool>(
+/// What runs before the step in the same entry.
+pub(super) trait Prefix {
+    /// Instructions it counts.
+    const COUNT: u64;
+    /// Runs it (a fault here is the first instruction's).
+    fn run(c: &mut Core, i: &Ins, k: usize) -> Result<(), Exit>;
+    /// The operation's dst, x and y.
+    fn operation(c: &Core, i: &Ins) -> [u32; 3];
+    /// The comparison's entry.
+    fn compare_entry(c: &Core, i: &Ins) -> usize;
+    /// Where to go on when the step's operands are not all in data memory.
+    fn fallback<TB: Val, O: Op2<TB>>(c: &mut Core, i: &Ins, k: usize) -> usize;
+}
+
+/// The step alone: `d` is the comparison's entry.
+pub(super) struct Alone;
+impl Prefix for Alone {
+    const COUNT: u64 = 0;
+    #[inline(always)]
+    fn run(_: &mut Core, _: &Ins, _: usize) -> Result<(), Exit> {
+        Ok(())
+    }
+    #[inline(always)]
+    fn operation(_: &Core, i: &Ins) -> [u32; 3] {
+        [i.a, i.b, i.c]
+    }
+    #[inline(always)]
+    fn compare_entry(_: &Core, i: &Ins) -> usize {
+        i.d as usize
+    }
+    #[inline(always)]
+    fn fallback<TB: Val, O: Op2<TB>>(c: &mut Core, i: &Ins, k: usize) -> usize {
+        ops::bin_jmp::<TB, O>(c, i, k)
+    }
+}
+
+/// An array write of `T`s first: `a`, `b`, `c` are the write's var, base and idx (as
+/// the entry's own handler reads them), and `d` indexes the operand pool, which holds
+/// the operation's dst, x and y and the comparison's entry.
+pub(super) struct Write<T>(std::marker::PhantomData<T>);
+impl<T: Val> Prefix for Write<T> {
+    const COUNT: u64 = 1;
+    #[inline(always)]
+    fn run(c: &mut Core, i: &Ins, _: usize) -> Result<(), Exit> {
+        let n: i16 = c.ld(i.c)?;
+        Wr::f::<T>(c, i.a, ops::elem_addr::<T>(i.b, n))
+    }
+    #[inline(always)]
+    fn operation(c: &Core, i: &Ins) -> [u32; 3] {
+        let x = i.d as usize;
+        [c.pool[x], c.pool[x + 1], c.pool[x + 2]]
+    }
+    #[inline(always)]
+    fn compare_entry(c: &Core, i: &Ins) -> usize {
+        c.pool[i.d as usize + 3] as usize
+    }
+    #[inline(always)]
+    fn fallback<TB: Val, O: Op2<TB>>(_: &mut Core, _: &Ins, k: usize) -> usize {
+        // The write ran (the loop counts this call as one instruction); the ADD's
+        // entry runs next.
+        k + 1
+    }
+}
+
+/// `a`, `b`, `c` the operation; `e`, `g`, `h` the comparison's dst, x and y; `j` the
+/// branch's target; `d` as the prefix says.
+fn step_rel_j<P: Prefix, TB: Val, O: Op2<TB>, TR: Val + PartialOrd, R: Rel, const Z: bool>(
     c: &mut Core,
     i: &Ins,
     k: usize,
 ) -> usize {
-    match run::<TB, O, TR, R>(c, i) {
+    if let Err(e) = P::run(c, i, k) {
+        c.exit = e;
+        return EXIT;
+    }
+    let op = P::operation(c, i);
+    match run::<TB, O, TR, R>(c, op, i) {
         Some(r) => {
-            c.extra += 3;
+            c.extra += 3 + P::COUNT;
             if r != Z {
                 i.j as usize
             } else {
-                i.d as usize + 2
+                P::compare_entry(c, i) + 2
             }
         }
-        None => ops::bin_jmp::<TB, O>(c, i, k),
+        None => P::fallback::<TB, O>(c, i, k),
     }
 }
 
-/// The operation and the comparison, or `None` (and nothing done) when an operand is
-/// outside data memory.
+/// The operation (`dst := x op y`, `op` = `[dst, x, y]`) and the comparison (`e`,
+/// `g`, `h`), or `None` (and nothing done) when an operand is outside data memory.
 #[inline(always)]
-fn run<TB: Val, O: Op2<TB>, TR: Val + PartialOrd, R: Rel>(c: &mut Core, i: &Ins) -> Option<bool> {
-    let (a, b, y, e, p, q) = (
-        c.at(i.a),
-        c.at(i.b),
-        c.at(i.c),
-        c.at(i.e),
-        c.at(i.g),
-        c.at(i.h),
-    );
+fn run<TB: Val, O: Op2<TB>, TR: Val + PartialOrd, R: Rel>(
+    c: &mut Core,
+    op: [u32; 3],
+    i: &Ins,
+) -> Option<bool> {
+    let (a, b, y) = (c.at(op[0]), c.at(op[1]), c.at(op[2]));
+    let (e, p, q) = (c.at(i.e), c.at(i.g), c.at(i.h));
     let d = &mut c.data[..];
     let fits = |x: usize, n: usize| x + n <= d.len();
     let (sb, sr) = (std::mem::size_of::<TB>(), std::mem::size_of::<TR>());
@@ -64,22 +136,22 @@ fn run<TB: Val, O: Op2<TB>, TR: Val + PartialOrd, R: Rel>(c: &mut Core, i: &Ins)
 /// The step handler for `op` on the type code `bt` followed by the comparison `grp`
 /// on the type code `rt` and JZ (`z`) or JNZ, or `None` when there is none (other
 /// types, or sizes that differ).
-pub(super) fn handler(op: StepOp, bt: u8, grp: u8, rt: u8, z: bool) -> Option<Handler> {
+pub(super) fn handler<P: Prefix>(op: StepOp, bt: u8, grp: u8, rt: u8, z: bool) -> Option<Handler> {
     macro_rules! rels {
         ($tb:ty, $o:ty, $tr:ty) => {
             match (grp, z) {
-                (g::GT, true) => Some(step_rel_j::<$tb, $o, $tr, ops::Gt, true> as Handler),
-                (g::GT, false) => Some(step_rel_j::<$tb, $o, $tr, ops::Gt, false>),
-                (g::GE, true) => Some(step_rel_j::<$tb, $o, $tr, ops::Ge, true>),
-                (g::GE, false) => Some(step_rel_j::<$tb, $o, $tr, ops::Ge, false>),
-                (g::EQ, true) => Some(step_rel_j::<$tb, $o, $tr, ops::Eq, true>),
-                (g::EQ, false) => Some(step_rel_j::<$tb, $o, $tr, ops::Eq, false>),
-                (g::LE, true) => Some(step_rel_j::<$tb, $o, $tr, ops::Le, true>),
-                (g::LE, false) => Some(step_rel_j::<$tb, $o, $tr, ops::Le, false>),
-                (g::LT, true) => Some(step_rel_j::<$tb, $o, $tr, ops::Lt, true>),
-                (g::LT, false) => Some(step_rel_j::<$tb, $o, $tr, ops::Lt, false>),
-                (g::NE, true) => Some(step_rel_j::<$tb, $o, $tr, ops::Ne, true>),
-                (g::NE, false) => Some(step_rel_j::<$tb, $o, $tr, ops::Ne, false>),
+                (g::GT, true) => Some(step_rel_j::<P, $tb, $o, $tr, ops::Gt, true> as Handler),
+                (g::GT, false) => Some(step_rel_j::<P, $tb, $o, $tr, ops::Gt, false>),
+                (g::GE, true) => Some(step_rel_j::<P, $tb, $o, $tr, ops::Ge, true>),
+                (g::GE, false) => Some(step_rel_j::<P, $tb, $o, $tr, ops::Ge, false>),
+                (g::EQ, true) => Some(step_rel_j::<P, $tb, $o, $tr, ops::Eq, true>),
+                (g::EQ, false) => Some(step_rel_j::<P, $tb, $o, $tr, ops::Eq, false>),
+                (g::LE, true) => Some(step_rel_j::<P, $tb, $o, $tr, ops::Le, true>),
+                (g::LE, false) => Some(step_rel_j::<P, $tb, $o, $tr, ops::Le, false>),
+                (g::LT, true) => Some(step_rel_j::<P, $tb, $o, $tr, ops::Lt, true>),
+                (g::LT, false) => Some(step_rel_j::<P, $tb, $o, $tr, ops::Lt, false>),
+                (g::NE, true) => Some(step_rel_j::<P, $tb, $o, $tr, ops::Ne, true>),
+                (g::NE, false) => Some(step_rel_j::<P, $tb, $o, $tr, ops::Ne, false>),
                 _ => None,
             }
         };
@@ -99,6 +171,24 @@ pub(super) fn handler(op: StepOp, bt: u8, grp: u8, rt: u8, z: bool) -> Option<Ha
         (2 | 6, 6) => ops!(u16, u16),
         (3 | 7, 3) => ops!(u32, i32),
         (3 | 7, 7) => ops!(u32, u32),
+        _ => None,
+    }
+}
+
+/// The step after an array write of `size`-byte elements (see [`handler`]).
+pub(super) fn after_write(
+    size: usize,
+    op: StepOp,
+    bt: u8,
+    grp: u8,
+    rt: u8,
+    z: bool,
+) -> Option<Handler> {
+    match size {
+        1 => handler::<Write<u8>>(op, bt, grp, rt, z),
+        2 => handler::<Write<u16>>(op, bt, grp, rt, z),
+        4 => handler::<Write<u32>>(op, bt, grp, rt, z),
+        8 => handler::<Write<u64>>(op, bt, grp, rt, z),
         _ => None,
     }
 }

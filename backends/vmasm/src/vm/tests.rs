@@ -1079,3 +1079,87 @@ fn an_array_read_and_its_branch_run_as_one_entry() {
         }
     }
 }
+
+/// `I := 0; loop: LE c, I, three; JZ c, end; AOWR v, BUF, I; ADD I, I, one; JMP loop;
+/// end: TRML`: the write and the loop step are one entry (and the ADD's own step
+/// stays for jumps to it).
+fn write_loop() -> (Vec<u8>, Vec<u32>) {
+    build_at(Mode::M16, |a| {
+        vec![
+            i(0x1C15, vec![d(0), bytes(&[0, 0])]), // 0 I := 0
+            i(0x1302, vec![d(2), d(0), d(4)]),     // 1 LE c, I, three
+            i(0x1C02, vec![d(2), l(a[6])]),        // 2 JZ c, end
+            i(0x1C27, vec![d(6), d(20), d(0)]),    // 3 AOWR v, BUF, I
+            i(0x0122, vec![d(0), d(0), d(16)]),    // 4 ADD I, I, one
+            i(0x1C00, vec![l(a[1])]),              // 5 JMP loop
+            i(0x1C1D, vec![l(0)]),                 // 6 TRML
+        ]
+    })
+}
+
+fn write_vm(data: usize, one_at: Option<u16>) -> Vm {
+    let (mut code, at) = write_loop();
+    if let Some(o) = one_at {
+        // The ADD's `one` operand (opcode 2 bytes, I 2, I 2).
+        let p = at[4] as usize + 6;
+        code[p..p + 2].copy_from_slice(&o.to_le_bytes());
+    }
+    let mut vm = Vm::new(&code, data, Mode::M16).unwrap();
+    let m = vm.data_mut();
+    put(m, 4, 3i16.to_le_bytes()); // three
+    m[6] = 0x5A; // v
+    put(m, 16, 1i16.to_le_bytes()); // one
+    vm
+}
+
+#[test]
+fn an_array_write_and_the_loop_step_run_as_one_entry() {
+    let (_, at) = write_loop();
+    let mut vm = write_vm(64, None);
+    // LE-JZ, the write with the step, the ADD's own step.
+    assert_eq!(vm.superinstructions(), 3);
+    assert_eq!(vm.steps, [(3, 1), (4, 1)]);
+    let total = 1 + 4 * 5 + 2 + 1;
+    assert_eq!(vm.run(None, u64::MAX).unwrap().executed, total);
+    assert_eq!(get::<4>(&vm, 20), [0x5A; 4]);
+    assert_eq!(i16_at(&vm, 0), 4);
+    let full = vm.data().to_vec();
+    // Every budget stops after exactly that many instructions at the PC that single
+    // steps reach.
+    let mut trace = vec![];
+    let mut one = write_vm(64, None);
+    trace.push(one.pc());
+    while one.run(None, 1).unwrap().end == End::Budget {
+        trace.push(one.pc());
+    }
+    assert_eq!(one.data(), full.as_slice());
+    assert_eq!(trace.len() as u64, total);
+    for b in 1..total {
+        let mut vm = write_vm(64, None);
+        assert_eq!(vm.run(None, b).unwrap().executed, b, "budget {b}");
+        assert_eq!(vm.pc(), trace[b as usize], "budget {b}");
+        assert_eq!(vm.run(None, u64::MAX).unwrap().executed, total - b);
+        assert_eq!(vm.data(), full.as_slice());
+    }
+    // A stop at the comparison or its branch, reached by the step's jump after the
+    // write (the second round: the first reaches them by falling through).
+    for (s, n) in [(at[1], 3), (at[2], 4)] {
+        let mut vm = write_vm(64, None);
+        assert_eq!(vm.run(Some(at[3]), u64::MAX).unwrap().executed, 3);
+        let o = vm.run(Some(s), u64::MAX).unwrap();
+        assert_eq!((o.end, o.executed), (End::StopAt, n), "stop at {s:#x}");
+        assert_eq!(vm.run(None, u64::MAX).unwrap().executed, total - 3 - n);
+        assert_eq!(vm.data(), full.as_slice());
+    }
+    // The write out of data memory (BUF[2] of 22 bytes) faults at the AOWR.
+    let mut vm = write_vm(22, None);
+    let e = vm.run(None, u64::MAX).unwrap_err();
+    assert_eq!(vm.pc(), at[3], "{e}");
+    assert_eq!(vm.executed(), 1 + 2 * 5 + 2);
+    // The step's operand out of data memory: the write runs, then the ADD faults.
+    let mut vm = write_vm(64, Some(0x0100));
+    let e = vm.run(None, u64::MAX).unwrap_err();
+    assert_eq!(vm.pc(), at[4], "{e}");
+    assert_eq!(vm.executed(), 1 + 2 + 1);
+    assert_eq!(vm.data()[20], 0x5A);
+}
