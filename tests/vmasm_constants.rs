@@ -3,6 +3,8 @@
 //! something else calls keep theirs in their prologue. The machines agree with the
 //! interpreter over several scans, with data memory full of garbage at cold start.
 
+#[path = "common/cli.rs"]
+mod cli;
 #[path = "common/ir_machines.rs"]
 #[allow(dead_code)]
 mod ir_machines;
@@ -35,17 +37,17 @@ fn listing(name: &str, src: &str) -> String {
     std::fs::create_dir_all(&dir).unwrap();
     let st = dir.join(format!("{name}.st"));
     std::fs::write(&st, src).unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_plcc"))
-        .args(["--target", "vmasm", "--emit", "asm", "-o", "-"])
-        .arg(&st)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
+    let out = cli::plcc(&[
+        "--target",
+        "vmasm",
+        "--emit",
+        "asm",
+        "-o",
+        "-",
+        st.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", cli::stderr(&out));
+    cli::stdout(&out)
 }
 
 const ALONE: &str = "
