@@ -211,7 +211,7 @@ enum Tag {
 }
 
 /// The most instructions one entry runs (a superinstruction).
-const MAX_WEIGHT: u64 = 5;
+const MAX_WEIGHT: u64 = 6;
 
 /// The machine state the handlers work on.
 struct Core {
@@ -798,6 +798,19 @@ fn fuse(code: &mut [Ins], tags: &[Tag], pool: &mut Vec<u32>) -> Vec<(usize, usiz
                 i.f = h;
                 steps.push((k, t));
             }
+            (Tag::Acc(_, _, Some(_), _), br @ (Tag::Jz | Tag::Jnz), _, _)
+                if code[k + 1].a == code[k].a && read_skip(code, tags, k, br).is_some() =>
+            {
+                let (h, d, t) = read_skip(code, tags, k, br).expect("checked");
+                let (bin, rel, back) = (code[d], code[t], code[t + 1]);
+                let x = pool.len() as u32;
+                pool.extend_from_slice(&[bin.a, bin.b, bin.c, t as u32, rel.a, rel.b, rel.c]);
+                let i = &mut code[k];
+                (i.d, i.e, i.g) = (d as u32, x, back.b);
+                i.f = h;
+                steps.push((k, d));
+                steps.push((k, t));
+            }
             (Tag::Acc(_, _, Some((h, _)), _), Tag::Jz, _, _)
             | (Tag::Acc(_, _, Some((_, h)), _), Tag::Jnz, _, _)
                 if code[k + 1].a == code[k].a =>
@@ -844,6 +857,23 @@ fn step_target(code: &[Ins], tags: &[Tag], k: usize) -> Option<(usize, u8, u8, b
         return None;
     }
     Some((t, grp, rt, z))
+}
+
+/// For the AORD at entry `k` followed by the branch `br` (JZ or JNZ) on its result:
+/// the handler that also runs the loop step at the branch's target (see
+/// `step::ReadSkip`), the step's entry and its comparison's entry; `None` if no loop
+/// step is there.
+fn read_skip(code: &[Ins], tags: &[Tag], k: usize, br: Tag) -> Option<(Handler, usize, usize)> {
+    let d = code[k + 1].b as usize;
+    let Tag::Bin(_, Some((sop, bt))) = *tags.get(d)? else {
+        return None;
+    };
+    if !matches!(tags.get(d + 1)?, Tag::Jmp) {
+        return None;
+    }
+    let (t, grp, rt, z) = step_target(code, tags, d)?;
+    let h = step::after_read(matches!(br, Tag::Jz), sop, bt, grp, rt, z)?;
+    Some((h, d, t))
 }
 
 /// An entry that fails with `m` when executed.

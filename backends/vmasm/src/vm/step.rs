@@ -25,10 +25,21 @@ pub(super) enum StepOp {
 pub(super) trait Prefix {
     /// Instructions it counts.
     const COUNT: u64;
-    /// Runs it (a fault here is the first instruction's).
-    fn run(c: &mut Core, i: &Ins, k: usize) -> Result<(), Exit>;
+    /// Runs it (a fault here is the first instruction's): `Some(next)` when the step
+    /// is not to run (the prefix counted its own instructions beyond the first).
+    fn run(c: &mut Core, i: &Ins, k: usize) -> Result<Option<usize>, Exit>;
     /// The operation's dst, x and y.
     fn operation(c: &Core, i: &Ins) -> [u32; 3];
+    /// The comparison's dst, x and y.
+    #[inline(always)]
+    fn compare(_: &Core, i: &Ins) -> [u32; 3] {
+        [i.e, i.g, i.h]
+    }
+    /// The target of the branch after the comparison.
+    #[inline(always)]
+    fn branch_target(_: &Core, i: &Ins) -> usize {
+        i.j as usize
+    }
     /// The comparison's entry.
     fn compare_entry(c: &Core, i: &Ins) -> usize;
     /// Where to go on when the step's operands are not all in data memory.
@@ -40,8 +51,8 @@ pub(super) struct Alone;
 impl Prefix for Alone {
     const COUNT: u64 = 0;
     #[inline(always)]
-    fn run(_: &mut Core, _: &Ins, _: usize) -> Result<(), Exit> {
-        Ok(())
+    fn run(_: &mut Core, _: &Ins, _: usize) -> Result<Option<usize>, Exit> {
+        Ok(None)
     }
     #[inline(always)]
     fn operation(_: &Core, i: &Ins) -> [u32; 3] {
@@ -64,9 +75,10 @@ pub(super) struct Write<T>(std::marker::PhantomData<T>);
 impl<T: Val> Prefix for Write<T> {
     const COUNT: u64 = 1;
     #[inline(always)]
-    fn run(c: &mut Core, i: &Ins, _: usize) -> Result<(), Exit> {
+    fn run(c: &mut Core, i: &Ins, _: usize) -> Result<Option<usize>, Exit> {
         let n: i16 = c.ld(i.c)?;
-        Wr::f::<T>(c, i.a, ops::elem_addr::<T>(i.b, n))
+        Wr::f::<T>(c, i.a, ops::elem_addr::<T>(i.b, n))?;
+        Ok(None)
     }
     #[inline(always)]
     fn operation(c: &Core, i: &Ins) -> [u32; 3] {
@@ -85,23 +97,75 @@ impl<T: Val> Prefix for Write<T> {
     }
 }
 
+/// A read of a BOOL or BYTE element and the branch on it (`AORD var, base, idx`,
+/// `JZ var, L` when `ZJ`, else `JNZ`) first, where `L` is a loop step (an `IF arr[i]
+/// THEN … END_IF` ending a loop body): `a`, `b`, `c` the read's (as the entry's own
+/// handler reads them), `d` the branch's target `L`, `e` an index into the operand
+/// pool, which holds the operation's dst, x and y, the comparison's entry and its dst,
+/// x and y, and `g` the target of the branch after the comparison. When the branch
+/// does not jump, the entry ends after it.
+pub(super) struct ReadSkip<const ZJ: bool>;
+impl<const ZJ: bool> Prefix for ReadSkip<ZJ> {
+    const COUNT: u64 = 2;
+    #[inline(always)]
+    fn run(c: &mut Core, i: &Ins, k: usize) -> Result<Option<usize>, Exit> {
+        let n: i16 = c.ld(i.c)?;
+        let v: u8 = c.ld(ops::elem_addr::<u8>(i.b, n))?;
+        c.st(i.a, v)?;
+        if (v == 0) == ZJ {
+            Ok(None)
+        } else {
+            c.extra += 1;
+            Ok(Some(k + 2))
+        }
+    }
+    #[inline(always)]
+    fn operation(c: &Core, i: &Ins) -> [u32; 3] {
+        let x = i.e as usize;
+        [c.pool[x], c.pool[x + 1], c.pool[x + 2]]
+    }
+    #[inline(always)]
+    fn compare(c: &Core, i: &Ins) -> [u32; 3] {
+        let x = i.e as usize + 4;
+        [c.pool[x], c.pool[x + 1], c.pool[x + 2]]
+    }
+    #[inline(always)]
+    fn branch_target(_: &Core, i: &Ins) -> usize {
+        i.g as usize
+    }
+    #[inline(always)]
+    fn compare_entry(c: &Core, i: &Ins) -> usize {
+        c.pool[i.e as usize + 3] as usize
+    }
+    #[inline(always)]
+    fn fallback<TB: Val, O: Op2<TB>>(c: &mut Core, i: &Ins, _: usize) -> usize {
+        // The read and the branch ran; the step's own entry runs next.
+        c.extra += 1;
+        i.d as usize
+    }
+}
+
 /// `a`, `b`, `c` the operation; `e`, `g`, `h` the comparison's dst, x and y; `j` the
-/// branch's target; `d` as the prefix says.
+/// branch's target; `d` as the prefix says (or all as [`ReadSkip`] says).
 fn step_rel_j<P: Prefix, TB: Val, O: Op2<TB>, TR: Val + PartialOrd, R: Rel, const Z: bool>(
     c: &mut Core,
     i: &Ins,
     k: usize,
 ) -> usize {
-    if let Err(e) = P::run(c, i, k) {
-        c.exit = e;
-        return EXIT;
+    match P::run(c, i, k) {
+        Err(e) => {
+            c.exit = e;
+            return EXIT;
+        }
+        Ok(Some(next)) => return next,
+        Ok(None) => {}
     }
-    let op = P::operation(c, i);
-    match run::<TB, O, TR, R>(c, op, i) {
+    let (op, rel) = (P::operation(c, i), P::compare(c, i));
+    match run::<TB, O, TR, R>(c, op, rel) {
         Some(r) => {
             c.extra += 3 + P::COUNT;
             if r != Z {
-                i.j as usize
+                P::branch_target(c, i)
             } else {
                 P::compare_entry(c, i) + 2
             }
@@ -110,16 +174,16 @@ fn step_rel_j<P: Prefix, TB: Val, O: Op2<TB>, TR: Val + PartialOrd, R: Rel, cons
     }
 }
 
-/// The operation (`dst := x op y`, `op` = `[dst, x, y]`) and the comparison (`e`,
-/// `g`, `h`), or `None` (and nothing done) when an operand is outside data memory.
+/// The operation (`dst := x op y`, `op` = `[dst, x, y]`) and the comparison (`rel`,
+/// the same), or `None` (and nothing done) when an operand is outside data memory.
 #[inline(always)]
 fn run<TB: Val, O: Op2<TB>, TR: Val + PartialOrd, R: Rel>(
     c: &mut Core,
     op: [u32; 3],
-    i: &Ins,
+    rel: [u32; 3],
 ) -> Option<bool> {
     let (a, b, y) = (c.at(op[0]), c.at(op[1]), c.at(op[2]));
-    let (e, p, q) = (c.at(i.e), c.at(i.g), c.at(i.h));
+    let (e, p, q) = (c.at(rel[0]), c.at(rel[1]), c.at(rel[2]));
     let d = &mut c.data[..];
     let fits = |x: usize, n: usize| x + n <= d.len();
     let (sb, sr) = (std::mem::size_of::<TB>(), std::mem::size_of::<TR>());
@@ -190,5 +254,21 @@ pub(super) fn after_write(
         4 => handler::<Write<u32>>(op, bt, grp, rt, z),
         8 => handler::<Write<u64>>(op, bt, grp, rt, z),
         _ => None,
+    }
+}
+
+/// The step after an AORD and the JZ (`jz`) or JNZ on it (see [`ReadSkip`]).
+pub(super) fn after_read(
+    jz: bool,
+    op: StepOp,
+    bt: u8,
+    grp: u8,
+    rt: u8,
+    z: bool,
+) -> Option<Handler> {
+    if jz {
+        handler::<ReadSkip<true>>(op, bt, grp, rt, z)
+    } else {
+        handler::<ReadSkip<false>>(op, bt, grp, rt, z)
     }
 }

@@ -1163,3 +1163,92 @@ fn an_array_write_and_the_loop_step_run_as_one_entry() {
     assert_eq!(vm.executed(), 1 + 2 + 1);
     assert_eq!(vm.data()[20], 0x5A);
 }
+
+/// `I := 0; loop: GT c, I, three; JNZ c, end; AORD v, BUF, I; JZ v, next; ADD n, n,
+/// one; next: ADD I, I, one; JMP loop; end: TRML` (an `IF BUF[I] THEN n := n + 1`
+/// loop): the read, its branch and the loop step at the branch's target are one entry.
+fn count_loop() -> (Vec<u8>, Vec<u32>) {
+    build_at(Mode::M16, |a| {
+        vec![
+            i(0x1C15, vec![d(0), bytes(&[0, 0])]), // 0 I := 0
+            i(0x1002, vec![d(2), d(0), d(4)]),     // 1 GT c, I, three
+            i(0x1C01, vec![d(2), l(a[8])]),        // 2 JNZ c, end
+            i(0x1C26, vec![d(6), d(20), d(0)]),    // 3 AORD v, BUF, I
+            i(0x1C02, vec![d(6), l(a[6])]),        // 4 JZ v, next
+            i(0x0122, vec![d(8), d(8), d(16)]),    // 5 ADD n, n, one
+            i(0x0122, vec![d(0), d(0), d(16)]),    // 6 next: ADD I, I, one
+            i(0x1C00, vec![l(a[1])]),              // 7 JMP loop
+            i(0x1C1D, vec![l(0)]),                 // 8 TRML
+        ]
+    })
+}
+
+fn count_vm(data: usize, one_at: Option<u16>) -> Vm {
+    let (mut code, at) = count_loop();
+    if let Some(o) = one_at {
+        // The step's ADD's `one` operand (opcode 2 bytes, I 2, I 2).
+        let p = at[6] as usize + 6;
+        code[p..p + 2].copy_from_slice(&o.to_le_bytes());
+    }
+    let mut vm = Vm::new(&code, data, Mode::M16).unwrap();
+    let m = vm.data_mut();
+    put(m, 4, 3i16.to_le_bytes()); // three
+    put(m, 8, 0i16.to_le_bytes()); // n
+    put(m, 16, 1i16.to_le_bytes()); // one
+    for (j, x) in [0u8, 7, 0, 3].into_iter().enumerate() {
+        if let Some(b) = m.get_mut(20 + j) {
+            *b = x;
+        }
+    }
+    vm
+}
+
+#[test]
+fn an_array_read_its_branch_and_the_loop_step_run_as_one_entry() {
+    let (_, at) = count_loop();
+    let mut vm = count_vm(64, None);
+    // GT-JNZ, the read with the branch and the step, the ADD's own step.
+    assert_eq!(vm.superinstructions(), 3);
+    assert_eq!(vm.steps, [(3, 6), (3, 1), (6, 1)]);
+    // Four rounds of GT, JNZ, AORD, JZ, ADD, JMP, two with the ADD of n.
+    let total = 1 + 4 * 6 + 2 + 2 + 1;
+    assert_eq!(vm.run(None, u64::MAX).unwrap().executed, total);
+    assert_eq!(i16_at(&vm, 8), 2);
+    let full = vm.data().to_vec();
+    let mut trace = vec![];
+    let mut one = count_vm(64, None);
+    trace.push(one.pc());
+    while one.run(None, 1).unwrap().end == End::Budget {
+        trace.push(one.pc());
+    }
+    assert_eq!(one.data(), full.as_slice());
+    assert_eq!(trace.len() as u64, total);
+    for b in 1..total {
+        let mut vm = count_vm(64, None);
+        assert_eq!(vm.run(None, b).unwrap().executed, b, "budget {b}");
+        assert_eq!(vm.pc(), trace[b as usize], "budget {b}");
+        assert_eq!(vm.run(None, u64::MAX).unwrap().executed, total - b);
+        assert_eq!(vm.data(), full.as_slice());
+    }
+    // Stops at the step's ADD and JMP and at the comparison and its branch, reached
+    // from the read's branch on BUF[0] = 0.
+    for (s, n) in [(at[6], 2), (at[7], 3), (at[1], 4), (at[2], 5)] {
+        let mut vm = count_vm(64, None);
+        assert_eq!(vm.run(Some(at[3]), u64::MAX).unwrap().executed, 3);
+        let o = vm.run(Some(s), u64::MAX).unwrap();
+        assert_eq!((o.end, o.executed), (End::StopAt, n), "stop at {s:#x}");
+        assert_eq!(vm.run(None, u64::MAX).unwrap().executed, total - 3 - n);
+        assert_eq!(vm.data(), full.as_slice());
+    }
+    // BUF[1] outside 21 bytes: the read faults, at the AORD.
+    let mut vm = count_vm(21, None);
+    let e = vm.run(None, u64::MAX).unwrap_err();
+    assert_eq!(vm.pc(), at[3], "{e}");
+    assert_eq!(vm.executed(), 1 + 6 + 2);
+    // The step's operand outside data memory: the read and the branch run, then the
+    // step's ADD faults.
+    let mut vm = count_vm(64, Some(0x0100));
+    let e = vm.run(None, u64::MAX).unwrap_err();
+    assert_eq!(vm.pc(), at[6], "{e}");
+    assert_eq!(vm.executed(), 1 + 2 + 2);
+}
