@@ -19,7 +19,9 @@
 //! SUB or MUL followed by `JMP`; the array access `MEMCP lac, i, #2; CEAC lac, …;
 //! AxRD/AxWR …, lac`, alone or followed by `JMP`; AORD followed by `JZ` or `JNZ` on
 //! the element read; the loop step (`vm/step.rs`): ADD or SUB, `JMP` to a comparison and
-//! the `JZ` or `JNZ` after it) that does the same loads and stores in the same order; instruction counts, budgets, `stop_at` and fault PCs are exactly
+//! the `JZ` or `JNZ` after it, alone, after an array write, or after an AORD and the
+//! branch on it that jumps to the step) that does the same loads and stores in the
+//! same order; instruction counts, budgets, `stop_at` and fault PCs are exactly
 //! those of the single instructions (near the end of a budget and around a breakpoint
 //! the loop runs them singly). With [`Vm::for_port`], only the instructions whose C
 //! evaluation can go wrong on that port are checked, and the checks of DIV, MOD and the

@@ -8,7 +8,9 @@
 //! The same step may follow an array write (`AxWR var, base, idx`: the last statement
 //! of a loop body that sets an element), five instructions in one entry: the write
 //! first (a fault there names the write), then the step as above, or, when one of its
-//! operands is outside data memory, nothing more: the step's own entry runs next.
+//! operands is outside data memory, nothing more: the step's own entry runs next. Or
+//! it may follow an AORD and the `JZ`/`JNZ` on the element read that jumps to it (an
+//! `IF arr[i] THEN … END_IF` ending the body), six instructions ([`ReadSkip`]).
 
 use super::ops::{self, Access, Op2, Rel, Val, Wr};
 use super::{Core, Exit, Handler, Ins, EXIT};
