@@ -1080,6 +1080,49 @@ fn an_array_read_and_its_branch_run_as_one_entry() {
     }
 }
 
+/// The VM `make` builds runs `total` instructions to TRML; every budget below that
+/// stops after exactly that many, at the PC single steps reach, and the rest of the
+/// run ends in the same memory. Returns that memory.
+fn budgets_stop_exactly(make: impl Fn() -> Vm, total: u64) -> Vec<u8> {
+    let mut vm = make();
+    assert_eq!(vm.run(None, u64::MAX).unwrap().executed, total);
+    let full = vm.data().to_vec();
+    let mut one = make();
+    let mut trace = vec![one.pc()];
+    while one.run(None, 1).unwrap().end == End::Budget {
+        trace.push(one.pc());
+    }
+    assert_eq!(one.data(), full.as_slice());
+    assert_eq!(trace.len() as u64, total);
+    for b in 1..total {
+        let mut vm = make();
+        assert_eq!(vm.run(None, b).unwrap().executed, b, "budget {b}");
+        assert_eq!(vm.pc(), trace[b as usize], "budget {b}");
+        assert_eq!(vm.run(None, u64::MAX).unwrap().executed, total - b);
+        assert_eq!(vm.data(), full.as_slice());
+    }
+    full
+}
+
+/// After stopping at `first` (`before` instructions in), a stop at each `(s, n)` comes
+/// `n` instructions later, and the run then ends in `full` after `total`.
+fn stops_after(
+    make: impl Fn() -> Vm,
+    (first, before): (u32, u64),
+    stops: &[(u32, u64)],
+    total: u64,
+    full: &[u8],
+) {
+    for &(s, n) in stops {
+        let mut vm = make();
+        assert_eq!(vm.run(Some(first), u64::MAX).unwrap().executed, before);
+        let o = vm.run(Some(s), u64::MAX).unwrap();
+        assert_eq!((o.end, o.executed), (End::StopAt, n), "stop at {s:#x}");
+        assert_eq!(vm.run(None, u64::MAX).unwrap().executed, total - before - n);
+        assert_eq!(vm.data(), full);
+    }
+}
+
 /// `I := 0; loop: LE c, I, three; JZ c, end; AOWR v, BUF, I; ADD I, I, one; JMP loop;
 /// end: TRML`: the write and the loop step are one entry (and the ADD's own step
 /// stays for jumps to it).
@@ -1123,34 +1166,11 @@ fn an_array_write_and_the_loop_step_run_as_one_entry() {
     assert_eq!(vm.run(None, u64::MAX).unwrap().executed, total);
     assert_eq!(get::<4>(&vm, 20), [0x5A; 4]);
     assert_eq!(i16_at(&vm, 0), 4);
-    let full = vm.data().to_vec();
-    // Every budget stops after exactly that many instructions at the PC that single
-    // steps reach.
-    let mut trace = vec![];
-    let mut one = write_vm(64, None);
-    trace.push(one.pc());
-    while one.run(None, 1).unwrap().end == End::Budget {
-        trace.push(one.pc());
-    }
-    assert_eq!(one.data(), full.as_slice());
-    assert_eq!(trace.len() as u64, total);
-    for b in 1..total {
-        let mut vm = write_vm(64, None);
-        assert_eq!(vm.run(None, b).unwrap().executed, b, "budget {b}");
-        assert_eq!(vm.pc(), trace[b as usize], "budget {b}");
-        assert_eq!(vm.run(None, u64::MAX).unwrap().executed, total - b);
-        assert_eq!(vm.data(), full.as_slice());
-    }
+    let make = || write_vm(64, None);
+    let full = budgets_stop_exactly(make, total);
     // A stop at the comparison or its branch, reached by the step's jump after the
     // write (the second round: the first reaches them by falling through).
-    for (s, n) in [(at[1], 3), (at[2], 4)] {
-        let mut vm = write_vm(64, None);
-        assert_eq!(vm.run(Some(at[3]), u64::MAX).unwrap().executed, 3);
-        let o = vm.run(Some(s), u64::MAX).unwrap();
-        assert_eq!((o.end, o.executed), (End::StopAt, n), "stop at {s:#x}");
-        assert_eq!(vm.run(None, u64::MAX).unwrap().executed, total - 3 - n);
-        assert_eq!(vm.data(), full.as_slice());
-    }
+    stops_after(make, (at[3], 3), &[(at[1], 3), (at[2], 4)], total, &full);
     // The write out of data memory (BUF[2] of 22 bytes) faults at the AOWR.
     let mut vm = write_vm(22, None);
     let e = vm.run(None, u64::MAX).unwrap_err();
@@ -1214,32 +1234,12 @@ fn an_array_read_its_branch_and_the_loop_step_run_as_one_entry() {
     let total = 1 + 4 * 6 + 2 + 2 + 1;
     assert_eq!(vm.run(None, u64::MAX).unwrap().executed, total);
     assert_eq!(i16_at(&vm, 8), 2);
-    let full = vm.data().to_vec();
-    let mut trace = vec![];
-    let mut one = count_vm(64, None);
-    trace.push(one.pc());
-    while one.run(None, 1).unwrap().end == End::Budget {
-        trace.push(one.pc());
-    }
-    assert_eq!(one.data(), full.as_slice());
-    assert_eq!(trace.len() as u64, total);
-    for b in 1..total {
-        let mut vm = count_vm(64, None);
-        assert_eq!(vm.run(None, b).unwrap().executed, b, "budget {b}");
-        assert_eq!(vm.pc(), trace[b as usize], "budget {b}");
-        assert_eq!(vm.run(None, u64::MAX).unwrap().executed, total - b);
-        assert_eq!(vm.data(), full.as_slice());
-    }
+    let make = || count_vm(64, None);
+    let full = budgets_stop_exactly(make, total);
     // Stops at the step's ADD and JMP and at the comparison and its branch, reached
     // from the read's branch on BUF[0] = 0.
-    for (s, n) in [(at[6], 2), (at[7], 3), (at[1], 4), (at[2], 5)] {
-        let mut vm = count_vm(64, None);
-        assert_eq!(vm.run(Some(at[3]), u64::MAX).unwrap().executed, 3);
-        let o = vm.run(Some(s), u64::MAX).unwrap();
-        assert_eq!((o.end, o.executed), (End::StopAt, n), "stop at {s:#x}");
-        assert_eq!(vm.run(None, u64::MAX).unwrap().executed, total - 3 - n);
-        assert_eq!(vm.data(), full.as_slice());
-    }
+    let stops = [(at[6], 2), (at[7], 3), (at[1], 4), (at[2], 5)];
+    stops_after(make, (at[3], 3), &stops, total, &full);
     // BUF[1] outside 21 bytes: the read faults, at the AORD.
     let mut vm = count_vm(21, None);
     let e = vm.run(None, u64::MAX).unwrap_err();
