@@ -17,7 +17,13 @@ impl Fx<'_, '_> {
                     _ => Some(None),
                 }
             }
-            InstData::Call { .. } | InstData::CallTable { .. } => Some(None),
+            // A fill writes elements from its address on (`isel/fill.rs`).
+            InstData::Call { .. }
+            | InstData::CallTable { .. }
+            | InstData::Intrinsic {
+                op: Intrinsic::Fill,
+                ..
+            } => Some(None),
             _ => None,
         }
     }
