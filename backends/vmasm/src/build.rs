@@ -255,14 +255,12 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
     // first, as in the other targets.
     plcc_ir::passes::ranges::run_module(&mut legal);
     // Loops that only set an array's elements to one value become `fill`s (FPAT and
-    // MEMCPs, `isel/fill.rs`); the cleanup after one folds its count, most often to a
+    // MEMCPs, `isel/fill.rs`); the pass's cleanup folds the count, most often to a
     // constant.
     for k in 0..legal.funcs.len() {
         let placeholder = plcc_ir::function::Function::new("", FuncKind::Function, vec![], None);
         let mut f = std::mem::replace(&mut legal.funcs[k], placeholder);
-        if plcc_ir::passes::fill::run(&mut f, &legal) {
-            plcc_ir::passes::optimize_function(&mut f);
-        }
+        plcc_ir::passes::fill::run(&mut f, &legal);
         legal.funcs[k] = f;
     }
     plcc_ir::passes::legalize::run(&mut legal, &settings.port.defines());
