@@ -1140,13 +1140,20 @@ fn write_loop() -> (Vec<u8>, Vec<u32>) {
     })
 }
 
-fn write_vm(data: usize, one_at: Option<u16>) -> Vm {
-    let (mut code, at) = write_loop();
-    if let Some(o) = one_at {
-        // The ADD's `one` operand (opcode 2 bytes, I 2, I 2).
-        let p = at[4] as usize + 6;
+/// `code` with the third operand of the 16-bit-mode instruction at `pc` (opcode 2
+/// bytes, operands 2 each) set to `to`, if given.
+fn third_operand(mut code: Vec<u8>, pc: u32, to: Option<u16>) -> Vec<u8> {
+    if let Some(o) = to {
+        let p = pc as usize + 6;
         code[p..p + 2].copy_from_slice(&o.to_le_bytes());
     }
+    code
+}
+
+fn write_vm(data: usize, one_at: Option<u16>) -> Vm {
+    // `one_at`: where the ADD's `one` operand points instead.
+    let (code, at) = write_loop();
+    let code = third_operand(code, at[4], one_at);
     let mut vm = Vm::new(&code, data, Mode::M16).unwrap();
     let m = vm.data_mut();
     put(m, 4, 3i16.to_le_bytes()); // three
@@ -1204,12 +1211,9 @@ fn count_loop() -> (Vec<u8>, Vec<u32>) {
 }
 
 fn count_vm(data: usize, one_at: Option<u16>) -> Vm {
-    let (mut code, at) = count_loop();
-    if let Some(o) = one_at {
-        // The step's ADD's `one` operand (opcode 2 bytes, I 2, I 2).
-        let p = at[6] as usize + 6;
-        code[p..p + 2].copy_from_slice(&o.to_le_bytes());
-    }
+    // `one_at`: where the step's ADD's `one` operand points instead.
+    let (code, at) = count_loop();
+    let code = third_operand(code, at[6], one_at);
     let mut vm = Vm::new(&code, data, Mode::M16).unwrap();
     let m = vm.data_mut();
     put(m, 4, 3i16.to_le_bytes()); // three
