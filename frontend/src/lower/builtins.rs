@@ -516,8 +516,17 @@ impl<'s> BodyCx<'_, 's> {
             }
             Shift(_) => arg_ty(self, 0),
             Compare(_) => Ty::BOOL,
-            Sel | Limit => arg_ty(self, 1),
-            Mux => arg_ty(self, 1),
+            // The data inputs' common type, as `builtin_call` emits them
+            // (`MUX(k, 7, x_ulint)` is a ULINT, not an untyped literal).
+            Sel | Mux | Limit => {
+                let from = if b == Limit { 0 } else { 1 };
+                let mut t = arg_ty(self, from);
+                for i in from + 1..args.len() {
+                    let u = arg_ty(self, i);
+                    t = unify(t, u).unwrap_or(Ty::Error);
+                }
+                t
+            }
             TimeOp(_, e) => Ty::Elem(e),
             Clock => Ty::TIME,
             Stl(_) => arg_ty(self, 0),
