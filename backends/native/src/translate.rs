@@ -566,20 +566,8 @@ impl Cx<'_, '_, '_> {
         } else {
             self.b.ins().imul_imm_s(n, size)
         };
-        let konst = match self.f.value_def(value) {
-            plcc_ir::function::ValueDef::Result(i) => match self.f.inst(i) {
-                InstData::Iconst { imm, .. } => Some(*imm as u64),
-                InstData::Fconst { bits, .. } => Some(*bits),
-                _ => None,
-            },
-            plcc_ir::function::ValueDef::Param(..) => None,
-        };
-        let byte = match konst {
-            Some(k) => {
-                let b = k as u8;
-                let uniform = (0..size).all(|j| (k >> (8 * j)) as u8 == b);
-                uniform.then(|| self.b.ins().iconst(types::I8, i64::from(b)))
-            }
+        let byte = match plcc_ir::passes::fill::repeated_byte(self.f, value, size as u32) {
+            Some(b) => Some(self.b.ins().iconst(types::I8, i64::from(b))),
             None if size == 1 => Some(self.val(value)?),
             None => None,
         };

@@ -68,6 +68,21 @@ struct FillLoop {
     moved: Vec<Inst>,
 }
 
+/// The byte every byte of `value` is, when `value` is an integer or float constant of
+/// `size` bytes whose bytes are all the same (0, -1, a BOOL, 0.0): a backend fills
+/// such a value with a byte fill (`memset`, the VM's FPAT). `None` otherwise.
+pub fn repeated_byte(func: &Function, value: Value, size: u32) -> Option<u8> {
+    let bits = match super::util::def_inst(func, value)? {
+        InstData::Iconst { imm, .. } => *imm as u64,
+        InstData::Fconst { bits, .. } => *bits,
+        _ => return None,
+    };
+    let b = bits as u8;
+    (0..size.min(8))
+        .all(|j| (bits >> (8 * j)) as u8 == b)
+        .then_some(b)
+}
+
 /// Replaces each fill loop of `func` (see the module doc). Returns true if the
 /// function changed.
 pub fn run(func: &mut Function, module: &Module) -> bool {

@@ -36,11 +36,7 @@ impl Fx<'_, '_> {
         if total == 0 {
             return;
         }
-        let byte = self.iconst(v).and_then(|c| {
-            let b = c.to_le_bytes();
-            let b = &b[..size as usize];
-            b.iter().all(|&x| x == b[0]).then_some(b[0])
-        });
+        let byte = plcc_ir::passes::fill::repeated_byte(self.f, v, size);
         let mut done = match byte {
             Some(b) => {
                 // FPAT counts one byte, FPAT4A (the aligned mode's) a word.

@@ -1070,3 +1070,30 @@ block0(v0: ptr, v1: i16):
 "#;
     check(&format!("{STRUCTS}{func}"), load_store::run, func);
 }
+
+/// The constants a backend can fill byte by byte, and those it cannot.
+#[test]
+fn fill_repeated_bytes() {
+    let m = super::parse(
+        r#"
+func @f(i32) function {
+block0(v0: i32):
+    v1 = iconst.i32 -1
+    v2 = iconst.i16 258
+    v3 = fconst.f64 0.0
+    v4 = fconst.f64 2.5
+    v5 = iconst.i1 1
+    return
+}
+"#,
+    );
+    let f = &m.funcs[0];
+    let byte =
+        |v: u32, size| crate::passes::fill::repeated_byte(f, crate::entities::Value(v), size);
+    assert_eq!(byte(1, 4), Some(0xFF));
+    assert_eq!(byte(2, 2), None);
+    assert_eq!(byte(3, 8), Some(0));
+    assert_eq!(byte(4, 8), None);
+    assert_eq!(byte(5, 1), Some(1));
+    assert_eq!(byte(0, 4), None);
+}
