@@ -271,6 +271,30 @@ impl DomTree {
         &self.preds[self.pred_start[i] as usize..self.pred_start[i + 1] as usize]
     }
 
+    /// The blocks of the natural loop of `h`, `h` first: every reachable block from
+    /// which a back edge into `h` (an edge from a block `h` dominates) is reached
+    /// without passing `h`. Just `[h]` when no back edge enters `h`.
+    pub fn natural_loop(&self, h: Block) -> Vec<Block> {
+        let mut blocks = vec![h];
+        let mut seen = vec![false; self.rpo_num.len()];
+        seen[h.index()] = true;
+        let mut work: Vec<Block> = self
+            .preds(h)
+            .iter()
+            .copied()
+            .filter(|&p| self.dominates(h, p))
+            .collect();
+        while let Some(b) = work.pop() {
+            if seen[b.index()] {
+                continue;
+            }
+            seen[b.index()] = true;
+            blocks.push(b);
+            work.extend(self.preds(b).iter().copied());
+        }
+        blocks
+    }
+
     /// The blocks `b` immediately dominates.
     pub fn children(&self, b: Block) -> &[Block] {
         let i = b.index();
@@ -401,6 +425,10 @@ block6:
         let mut preds = dt.preds(b(4)).to_vec();
         preds.sort();
         assert_eq!(preds, vec![b(2), b(3)]);
+        let mut l = dt.natural_loop(b(1));
+        l[1..].sort();
+        assert_eq!(l, [b(1), b(2), b(3), b(4)]);
+        assert_eq!(dt.natural_loop(b(4)), [b(4)]);
         let df = dt.frontiers();
         assert_eq!(df.frontier(b(2)), &[b(4)][..]);
         assert_eq!(df.frontier(b(3)), &[b(4)][..]);

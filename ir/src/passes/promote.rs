@@ -267,28 +267,15 @@ fn note_block(p: &mut PathInfo, b: crate::entities::Block, in_loop: bool) {
     }
 }
 
-/// Which blocks lie on a cycle: the natural loops of the back edges (an edge to a
-/// block that dominates its source), found by walking predecessors from the source
-/// back to the header.
+/// Which blocks lie on a cycle: the natural loops of the headers that back edges (an
+/// edge to a block that dominates its source) enter.
 fn loop_blocks(f: &Function) -> Vec<bool> {
     let dom = crate::dominators::DomTree::compute(f);
     let mut in_loop = vec![false; f.blocks.len()];
-    for &b in dom.rpo() {
-        for h in f.successors(b) {
-            if !dom.dominates(h, b) {
-                continue;
-            }
-            in_loop[h.index()] = true;
-            let mut stack = vec![b];
-            while let Some(x) = stack.pop() {
-                if in_loop[x.index()] && x != b {
-                    continue;
-                }
-                in_loop[x.index()] = true;
-                if x == h {
-                    continue;
-                }
-                stack.extend(dom.preds(x).iter().copied().filter(|p| !in_loop[p.index()]));
+    for &h in dom.rpo() {
+        if dom.preds(h).iter().any(|&p| dom.dominates(h, p)) {
+            for b in dom.natural_loop(h) {
+                in_loop[b.index()] = true;
             }
         }
     }

@@ -58,10 +58,10 @@ pub fn run_function(f: &mut Function) -> bool {
         .collect();
     headers.sort_unstable();
     headers.dedup();
-    let (mut preds, mut ranges) = (None, None);
+    let mut ranges = None;
     let short: Vec<Block> = headers
         .into_iter()
-        .filter(|&h| short_loop(f, &dom, h, &mut preds, &mut ranges))
+        .filter(|&h| short_loop(f, &dom, h, &mut ranges))
         .collect();
     edges.retain(|&(b, k)| {
         let h = f.inst(f.terminator(b).expect("terminator")).successors()[k].block;
@@ -120,34 +120,11 @@ pub fn run_function(f: &mut Function) -> bool {
     true
 }
 
-/// The blocks of the natural loop of header `h` (every block that reaches a back edge
-/// into `h` without passing `h`), `h` first.
-fn loop_blocks(dom: &DomTree, preds: &[Vec<Block>], h: Block) -> Vec<Block> {
-    let mut blocks = vec![h];
-    let mut seen = vec![false; preds.len()];
-    seen[h.index()] = true;
-    let mut work: Vec<Block> = preds[h.index()]
-        .iter()
-        .copied()
-        .filter(|&p| dom.dominates(h, p))
-        .collect();
-    while let Some(b) = work.pop() {
-        if seen[b.index()] || !dom.is_reachable(b) {
-            continue;
-        }
-        seen[b.index()] = true;
-        blocks.push(b);
-        work.extend(preds[b.index()].iter().copied());
-    }
-    blocks
-}
-
 /// True if the loop of header `h` cannot run long (see the module doc).
 fn short_loop<'f>(
     f: &'f Function,
     dom: &DomTree,
     h: Block,
-    preds: &mut Option<Vec<Vec<Block>>>,
     ranges: &mut Option<super::ranges::ValueRanges<'f>>,
 ) -> bool {
     // The header leaves on `icmp counter, bound`.
@@ -172,8 +149,7 @@ fn short_loop<'f>(
     if !ty.is_int() || ty == Type::I1 {
         return false;
     }
-    let preds = preds.get_or_insert_with(|| f.predecessors());
-    let blocks = loop_blocks(dom, preds, h);
+    let blocks = dom.natural_loop(h);
     // No loop and no call inside; the size of an iteration.
     let mut size: i128 = 0;
     for &b in &blocks {
