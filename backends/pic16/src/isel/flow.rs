@@ -242,48 +242,46 @@ impl Emitter<'_> {
         if stub {
             stubs.push((dflt, default));
         }
-        // An index with a byte above the first set is past the table.
-        for i in (1..n).rev() {
-            match Self::byte(loc, i) {
-                Src::Lit(0) => {}
-                Src::Lit(_) => {
-                    self.goto(dflt);
-                    for (l, d) in stubs {
-                        self.label(l);
-                        self.jump(d, None);
+        'table: {
+            // An index with a byte above the first set is past the table.
+            for i in (1..n).rev() {
+                match Self::byte(loc, i) {
+                    Src::Lit(0) => {}
+                    Src::Lit(_) => {
+                        self.goto(dflt);
+                        break 'table;
                     }
-                    return;
-                }
-                s => {
-                    self.load_w(s);
-                    self.i(Inst::Btfss(reg::STATUS, reg::Z));
-                    self.goto(dflt);
+                    s => {
+                        self.load_w(s);
+                        self.i(Inst::Btfss(reg::STATUS, reg::Z));
+                        self.goto(dflt);
+                    }
                 }
             }
-        }
-        let lo = self.reg_for(Self::byte(loc, 0), SCRATCH[0], None);
-        if table.len() < 256 {
-            // W := lo - len: no borrow (C set) when the index is past the table.
-            self.i(Inst::Movlw(table.len() as u8));
-            self.i(Inst::Subwf(lo, Dest::W));
+            let lo = self.reg_for(Self::byte(loc, 0), SCRATCH[0], None);
+            if table.len() < 256 {
+                // W := lo - len: no borrow (C set) when the index is past the table.
+                self.i(Inst::Movlw(table.len() as u8));
+                self.i(Inst::Subwf(lo, Dest::W));
+                self.i(Inst::Btfsc(reg::STATUS, reg::C));
+                self.goto(dflt);
+            }
+            let tab = self.new_label("table");
+            self.items.push(Item::Op(Op::MovlwAddr(tab, true)));
+            self.i(Inst::Movwf(reg::PCLATH));
+            self.items.push(Item::Op(Op::MovlwAddr(tab, false)));
+            self.i(Inst::Addwf(lo, Dest::W));
             self.i(Inst::Btfsc(reg::STATUS, reg::C));
-            self.goto(dflt);
-        }
-        let tab = self.new_label("table");
-        self.items.push(Item::Op(Op::MovlwAddr(tab, true)));
-        self.i(Inst::Movwf(reg::PCLATH));
-        self.items.push(Item::Op(Op::MovlwAddr(tab, false)));
-        self.i(Inst::Addwf(lo, Dest::W));
-        self.i(Inst::Btfsc(reg::STATUS, reg::C));
-        self.i(Inst::Incf(reg::PCLATH, Dest::F));
-        self.i(Inst::Movwf(reg::PCL));
-        self.label(tab);
-        for d in table {
-            let (l, stub) = target(self, d);
-            if stub {
-                stubs.push((l, d));
+            self.i(Inst::Incf(reg::PCLATH, Dest::F));
+            self.i(Inst::Movwf(reg::PCL));
+            self.label(tab);
+            for d in table {
+                let (l, stub) = target(self, d);
+                if stub {
+                    stubs.push((l, d));
+                }
+                self.items.push(Item::Op(Op::TableGoto(l)));
             }
-            self.items.push(Item::Op(Op::TableGoto(l)));
         }
         for (l, d) in stubs {
             self.label(l);
