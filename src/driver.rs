@@ -189,6 +189,7 @@ pub fn build_sources_with_library(
         sfc: opts.sfc,
         library: inputs[first_library..].iter().map(|&(f, _)| f).collect(),
         inline_c: opts.inline_c,
+        check_only: opts.check_only,
         print: opts.print,
     };
     // The panic boundary of the front end (ARCHITECTURE.md, "Panics"): a panic is a

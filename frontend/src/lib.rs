@@ -89,7 +89,8 @@ pub const STDLIB_NAME: &str = "<plcc standard library>";
 /// The result of compiling: the module if there was no error, and every diagnostic
 /// (warnings included) in the order found.
 pub struct Compiled {
-    /// The unoptimised IR module, if there were no errors.
+    /// The unoptimised IR module, if there were no errors (without function bodies
+    /// under [`LowerOptions::check_only`]).
     pub module: Option<Module>,
     /// Errors and warnings.
     pub diagnostics: Vec<Diagnostic>,

@@ -164,7 +164,8 @@ impl<'s> Lowerer<'s> {
     }
 
     /// Takes a function out of the module while `f` builds it (so the builder and the
-    /// lowerer can both be borrowed), then puts it back.
+    /// lowerer can both be borrowed), then puts it back; under
+    /// [`LowerOptions::check_only`](super::LowerOptions::check_only) it drops it.
     pub(super) fn with_function(
         &mut self,
         fid: FuncId,
@@ -178,7 +179,10 @@ impl<'s> Lowerer<'s> {
         };
         let mut func = std::mem::replace(&mut self.module.funcs[fid.index()], shell);
         f(self, &mut func);
-        self.module.funcs[fid.index()] = func;
+        // Dropped here, its memory goes to the next body.
+        if !self.drop_bodies {
+            self.module.funcs[fid.index()] = func;
+        }
     }
 }
 

@@ -90,6 +90,11 @@ pub struct LowerOptions {
     /// a target that copies it into its output (`c`); otherwise such pragmas are
     /// skipped with warning W0010.
     pub inline_c: bool,
+    /// Diagnostics only (`plcc check`, the language server): each function's body is
+    /// dropped as soon as it is lowered, so that memory stays near the syntax trees'
+    /// and the next body reuses it. [`crate::Compiled::module`] then holds the
+    /// functions' signatures, the globals and the tables, but no bodies.
+    pub check_only: bool,
     /// What to print of the build's files ([`crate::Compiled::printed`]).
     pub print: PrintAs,
 }
@@ -256,6 +261,8 @@ pub struct Lowerer<'s> {
     pub(crate) codesys: bool,
     /// [`LowerOptions::inline_c`].
     pub(crate) inline_c: bool,
+    /// Drop each body once lowered ([`LowerOptions::check_only`]).
+    pub(crate) drop_bodies: bool,
     /// The PROGRAMs to run (`LowerOptions::programs`).
     run_programs: Vec<String>,
     /// The library files (`LowerOptions::library`).
@@ -318,6 +325,7 @@ impl<'s> Lowerer<'s> {
             cpdev_files: Vec::new(),
             codesys: false,
             inline_c: false,
+            drop_bodies: false,
             run_programs: Vec::new(),
             library: Vec::new(),
             program_data: FxHashMap::default(),
@@ -333,6 +341,7 @@ impl<'s> Lowerer<'s> {
     pub fn run(mut self, std_units: usize, opts: &LowerOptions) -> Lowered {
         self.codesys = opts.codesys;
         self.inline_c = opts.inline_c;
+        self.drop_bodies = opts.check_only;
         self.run_programs = opts.programs.clone();
         self.library = opts.library.clone();
         self.collect_pous(std_units);
