@@ -14,9 +14,17 @@
 //! counter in the loop to an interval the steps cannot wrap back into: it runs at most
 //! [`MAX_WORK`] instructions (iterations times its size). Whatever encloses it keeps
 //! its checks.
+//!
+//! A loop of that shape whose steps or start are not known (the sieve's
+//! `j := j + i`, from `j := i * i`) but whose bound is a constant gets a copy without
+//! checks, entered when a test before the loop finds the steps at least one (and small
+//! enough not to wrap) and the start high enough; otherwise the loop as it was runs,
+//! checks and all ([`guarded`]).
+
+mod guarded;
 
 use crate::dominators::DomTree;
-use crate::entities::Block;
+use crate::entities::{Block, Value};
 use crate::function::Function;
 use crate::inst::{BlockCall, InstData, Intrinsic};
 use crate::module::Module;
@@ -59,10 +67,19 @@ pub fn run_function(f: &mut Function) -> bool {
     headers.sort_unstable();
     headers.dedup();
     let mut ranges = None;
-    let short: Vec<Block> = headers
-        .into_iter()
-        .filter(|&h| short_loop(f, &dom, h, &mut ranges))
-        .collect();
+    let mut short = Vec::new();
+    let mut guards = Vec::new();
+    for h in headers {
+        let Some(c) = counted(f, &dom, h) else {
+            continue;
+        };
+        if short_loop(f, &c, &mut ranges) {
+            short.push(h);
+        } else if let Some(g) = guarded::guard(f, c) {
+            guards.push(g);
+        }
+    }
+    drop(ranges);
     edges.retain(|&(b, k)| {
         let h = f.inst(f.terminator(b).expect("terminator")).successors()[k].block;
         !short.contains(&h)
@@ -70,6 +87,9 @@ pub fn run_function(f: &mut Function) -> bool {
     if edges.is_empty() {
         return false;
     }
+    // Copies without checks, made before the checks go in: the copies' back edges
+    // are not in `edges`.
+    guarded::copy_all(f, &dom, guards);
     // One exit block returning zero (or nothing).
     let bail = f.create_block();
     let ret = f.ret;
@@ -120,34 +140,40 @@ pub fn run_function(f: &mut Function) -> bool {
     true
 }
 
-/// True if the loop of header `h` cannot run long (see the module doc).
-fn short_loop<'f>(
-    f: &'f Function,
-    dom: &DomTree,
-    h: Block,
-    ranges: &mut Option<super::ranges::ValueRanges<'f>>,
-) -> bool {
+/// A loop of the shape the module doc describes: its header leaves on a compare of a
+/// counter, every back edge steps the counter up by an `iadd`, and it holds no loop
+/// and no call.
+struct Counted {
+    /// Its blocks, the header first.
+    blocks: Vec<Block>,
+    /// The counter: a parameter of the header, and its index there.
+    counter: Value,
+    pos: usize,
+    /// Instructions in the loop (an iteration runs at most these).
+    size: i128,
+    /// The step of each back edge and the block it leaves.
+    steps: Vec<(Value, Block)>,
+}
+
+/// The loop of header `h` if it has the shape of [`Counted`].
+fn counted(f: &Function, dom: &DomTree, h: Block) -> Option<Counted> {
     // The header leaves on `icmp counter, bound`.
-    let Some(term) = f.terminator(h) else {
-        return false;
-    };
+    let term = f.terminator(h)?;
     let InstData::Brif { cond, .. } = f.inst(term) else {
-        return false;
+        return None;
     };
     let Some(InstData::Icmp { args, .. }) = super::util::def_inst(f, *cond) else {
-        return false;
+        return None;
     };
     let params = &f.block(h).params;
-    let Some(&counter) = args.iter().find(|a| params.contains(a)) else {
-        return false;
-    };
+    let &counter = args.iter().find(|a| params.contains(a))?;
     let pos = params
         .iter()
         .position(|&p| p == counter)
         .expect("a parameter");
     let ty = f.value_type(counter);
     if !ty.is_int() || ty == Type::I1 {
-        return false;
+        return None;
     }
     let blocks = dom.natural_loop(h);
     // No loop and no call inside; the size of an iteration.
@@ -157,14 +183,14 @@ fn short_loop<'f>(
             size += 1;
             match f.inst(i) {
                 InstData::Call { .. } | InstData::CallTable { .. } | InstData::InlineC { .. } => {
-                    return false
+                    return None
                 }
                 data => {
                     if data
                         .dests()
                         .any(|d| d.block != h && dom.dominates(d.block, b))
                     {
-                        return false;
+                        return None;
                     }
                 }
             }
@@ -181,19 +207,43 @@ fn short_loop<'f>(
                 args: [x, step],
             }) = super::util::def_inst(f, next)
             else {
-                return false;
+                return None;
             };
             match (*x == counter, *step == counter) {
                 (true, _) => steps.push((*step, b)),
                 (_, true) => steps.push((*x, b)),
-                _ => return false,
+                _ => return None,
             }
         }
     }
+    Some(Counted {
+        blocks,
+        counter,
+        pos,
+        size,
+        steps,
+    })
+}
+
+/// True if the loop `c` cannot run long (see the module doc).
+fn short_loop<'f>(
+    f: &'f Function,
+    c: &Counted,
+    ranges: &mut Option<super::ranges::ValueRanges<'f>>,
+) -> bool {
+    let Counted {
+        blocks,
+        counter,
+        size,
+        steps,
+        ..
+    } = c;
+    let (counter, size) = (*counter, *size);
+    let ty = f.value_type(counter);
     // By at least 1 (the ranges are worked out only for loops that got this far).
     let r = ranges.get_or_insert_with(|| super::ranges::ValueRanges::new(f));
     let (mut s_lo, mut s_hi) = (i128::MAX, i128::MIN);
-    for (step, b) in steps {
+    for &(step, b) in steps {
         let Some((lo, hi)) = r.at(step, b) else {
             return false;
         };

@@ -106,3 +106,168 @@ block5:
     // The inner loop is short; the outer loop, around it, keeps its check.
     assert_eq!(checks(text), 1);
 }
+
+/// Back edges (edges into a block that dominates their source) in the module.
+fn back_edges(m: &crate::module::Module) -> usize {
+    m.funcs
+        .iter()
+        .map(|f| {
+            let dom = crate::dominators::DomTree::compute(f);
+            dom.rpo()
+                .iter()
+                .filter_map(|&b| f.terminator(b).map(|t| (b, t)))
+                .map(|(b, t)| {
+                    f.inst(t)
+                        .dests()
+                        .filter(|d| dom.dominates(d.block, b))
+                        .count()
+                })
+                .sum::<usize>()
+        })
+        .sum()
+}
+
+/// Runs `@f` on each of `inputs` in the interpreter before and after the pass, asks
+/// for the same results, and gives the module after it.
+fn same_results(text: &str, inputs: &[[u64; 2]]) -> crate::module::Module {
+    use crate::interp::Interp;
+    let m = parse(text);
+    let mut after = m.clone();
+    apply(&mut after, "watchdog", watchdog::run_function);
+    let f = m.func_by_name("f").expect("@f");
+    let mut a = Interp::new(&m).expect("runs");
+    let mut b = Interp::new(&after).expect("runs");
+    for it in [&mut a, &mut b] {
+        it.set_step_limit(Some(2_000_000));
+    }
+    for args in inputs {
+        match (a.call(f, args), b.call(f, args)) {
+            // Endless: out of steps in both, each somewhere in its loop.
+            (Err(_), Err(_)) => {}
+            (x, y) => assert_eq!(x, y, "@f{args:?}"),
+        }
+    }
+    after
+}
+
+/// `j := start; WHILE j <= bound (or the compare given) DO acc := acc + j; j := j +
+/// step; END_WHILE; RETURN acc` over `ty`, with `start` and `step` the function's
+/// parameters.
+fn stepping(ty: &str, cc: &str, bound: i64) -> String {
+    format!(
+        r#"
+func @f({ty}, {ty}) -> {ty} function {{
+block0(v0: {ty}, v1: {ty}):
+    v2 = iconst.{ty} {bound}
+    v3 = iconst.{ty} 0
+    jump block1(v0, v3)
+block1(v4: {ty}, v5: {ty}):
+    v6 = icmp {cc} v4, v2
+    brif v6, block2, block3
+block2:
+    v8 = iadd v5, v4
+    v9 = iadd v4, v1
+    jump block1(v9, v8)
+block3:
+    return v5
+}}
+"#
+    )
+}
+
+#[test]
+fn a_loop_of_steps_known_at_run_time_gets_a_copy_without_checks() {
+    let text = stepping("i32", "sle", 9999);
+    let m = same_results(
+        &text,
+        &[
+            [0, 1],
+            [5, 3],
+            [(-100i32) as u32 as u64, 7],
+            [9999, 1],
+            [10000, 1],
+            [0, 10000],
+            // Steps that could wrap, and a start too low: the loop with its checks.
+            [0, 0x7fff_ffff],
+            [0, 0x7fff_d8f1],
+            [(-2_000_000_000i32) as u32 as u64, 1_000_000],
+            // Steps of 0 and -1: endless, in both.
+            [0, 0],
+            [0, 0xffff_ffff],
+        ],
+    );
+    // The copy is a second loop; only the first has a check.
+    assert_eq!(back_edges(&m), 2);
+    assert_eq!(checks(&text), 1);
+    let printed = print_funcs(&m);
+    // The test: the step at least 1 and at most 2^31 - 1 - 9999, the start at
+    // least 10000 - 2^24 / 5.
+    for test in [
+        "iconst.i32 1\n",
+        "iconst.i32 2147473648\n",
+        "iconst.i32 -3345443\n",
+    ] {
+        assert!(printed.contains(test), "no `{test}` in\n{printed}");
+    }
+}
+
+#[test]
+fn unsigned_and_narrow_counters_get_copies_too() {
+    // USINT-like: `j < 200` unsigned (-56 in the canonical form), steps up to 56
+    // cannot wrap.
+    let text = stepping("i8", "ult", -56);
+    let m = same_results(
+        &text,
+        &[[0, 1], [3, 56], [3, 57], [199, 1], [250, 1], [0, 0]],
+    );
+    assert_eq!(back_edges(&m), 2);
+    let text = stepping("i16", "slt", -5);
+    let m = same_results(
+        &text,
+        &[
+            [(-300i16) as u16 as u64, 7],
+            [0, 1],
+            [(-32768i16) as u16 as u64, 1],
+        ],
+    );
+    assert_eq!(back_edges(&m), 2);
+}
+
+#[test]
+fn a_loop_whose_values_cannot_be_merged_gets_no_copy() {
+    // The sum leaves by two exits, each using it.
+    let text = r#"
+func @f(i32, i32) -> i32 function {
+block0(v0: i32, v1: i32):
+    v2 = iconst.i32 9999
+    v3 = iconst.i32 0
+    v10 = iconst.i32 500
+    jump block1(v0, v3)
+block1(v4: i32, v5: i32):
+    v6 = icmp sle v4, v2
+    brif v6, block2, block3
+block2:
+    v8 = iadd v5, v4
+    v11 = icmp sgt v8, v10
+    brif v11, block4, block5
+block5:
+    v9 = iadd v4, v1
+    jump block1(v9, v8)
+block3:
+    return v5
+block4:
+    return v8
+}
+"#;
+    let m = same_results(text, &[[0, 1], [0, 100], [600, 1]]);
+    assert_eq!(back_edges(&m), 1);
+    // The same through one exit block: merged.
+    let text = text
+        .replace("brif v11, block4, block5", "brif v11, block3, block5")
+        .replace("block4:\n    return v8\n", "");
+    let m = same_results(
+        &text,
+        &[[0, 1], [0, 100], [600, 1], [-5i32 as u32 as u64, 0]],
+    );
+    assert_eq!(back_edges(&m), 2);
+}
