@@ -6,6 +6,7 @@
 //! `plcc difftest` runs campaigns; `tests/difftest.rs` runs a fixed-seed batch.
 
 pub mod gen;
+mod model;
 pub mod oo;
 pub mod plcopen;
 mod print;
