@@ -7,7 +7,7 @@
 //! tables as compares). Results, fault flags and the final contents of memory must
 //! agree, and the IR must verify after every pass.
 
-use super::{verify, PASSES};
+use super::{back_edges, verify, PASSES};
 use crate::builder::FuncBuilder;
 use crate::entities::{AggId, DataId, FuncId, SlotId, Value};
 use crate::function::{FuncKind, Function};
@@ -421,6 +421,9 @@ impl Gen<'_, '_> {
                     self.b.jump(j, vec![]);
                     self.b.switch_to(j);
                 }
+                8 if loops > 0 && self.depth_ok() && self.rng.chance(50) => {
+                    self.stepped_loop(loops);
+                }
                 8 if loops > 0 && self.depth_ok() => {
                     // cnt := k; WHILE cnt > 0 DO ...; cnt := cnt - 1; END_WHILE
                     let cnt = self.b.slot("cnt", MemType::Scalar(Type::I16));
@@ -484,6 +487,59 @@ impl Gen<'_, '_> {
     /// and then a constant: it folds), whose entries go to 1–3 arms or to the ELSE
     /// part; the first arm takes an `i32` argument, which differs between entries, and
     /// stores it.
+    /// `cnt := start; WHILE cnt < k DO ...; n := n + 1; IF n > 3 THEN EXIT;
+    /// END_IF; cnt := cnt + step; END_WHILE` with `start` and `step` random
+    /// expressions: the loops the watchdog pass copies without checks (bounded by
+    /// `n`, whatever the step).
+    fn stepped_loop(&mut self, loops: u32) {
+        let ty = Type::I16;
+        let (cnt, step, n) = (
+            self.b.slot("cnt", MemType::Scalar(ty)),
+            self.b.slot("step", MemType::Scalar(ty)),
+            self.b.slot("n", MemType::Scalar(ty)),
+        );
+        for (slot, v) in [
+            (cnt, self.expr(ty)),
+            (step, self.expr(ty)),
+            (n, self.b.iconst(ty, 0)),
+        ] {
+            let a = self.b.slot_addr(slot);
+            self.b.store(v, a);
+        }
+        let (h, body, latch, exit) = (
+            self.b.create_block(),
+            self.b.create_block(),
+            self.b.create_block(),
+            self.b.create_block(),
+        );
+        self.b.jump(h, vec![]);
+        self.b.switch_to(h);
+        let a = self.b.slot_addr(cnt);
+        let c = self.b.load(ty, a);
+        let k = self.b.iconst(ty, 1 + self.rng.below(4) as i64);
+        let go = self.b.icmp(IntCC::Slt, c, k);
+        self.b.brif(go, body, vec![], exit, vec![]);
+        self.b.switch_to(body);
+        self.nested(|g| g.stmts(2, loops - 1));
+        let a = self.b.slot_addr(n);
+        let t = self.b.load(ty, a);
+        let one = self.b.iconst(ty, 1);
+        let t = self.b.binary(BinaryOp::Iadd, t, one);
+        self.b.store(t, a);
+        let three = self.b.iconst(ty, 3);
+        let stop = self.b.icmp(IntCC::Sgt, t, three);
+        self.b.brif(stop, exit, vec![], latch, vec![]);
+        self.b.switch_to(latch);
+        let a = self.b.slot_addr(cnt);
+        let c = self.b.load(ty, a);
+        let s = self.b.slot_addr(step);
+        let s = self.b.load(ty, s);
+        let next = self.b.binary(BinaryOp::Iadd, c, s);
+        self.b.store(next, a);
+        self.b.jump(h, vec![]);
+        self.b.switch_to(exit);
+    }
+
     fn switch(&mut self, loops: u32) {
         let ty = *self.rng.pick(&[Type::I8, Type::I16, Type::I32]);
         let sel = if self.rng.chance(20) {
@@ -860,7 +916,7 @@ fn check_same(
 #[test]
 fn random_functions_keep_their_meaning() {
     let seeds: u64 = if cfg!(debug_assertions) { 500 } else { 10000 };
-    let mut tables = 0;
+    let (mut tables, mut copied) = (0, 0);
     for seed in 1..=seeds {
         let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15));
         let (mut m, cx, init) = skeleton();
@@ -907,7 +963,9 @@ fn random_functions_keep_their_meaning() {
             for k in 0..shaped.funcs.len() {
                 let mut f = shaped.funcs[k].clone();
                 if watchdog {
+                    let loops = back_edges(&f);
                     crate::passes::watchdog::run_function(&mut f);
+                    copied += u64::from(back_edges(&f) > loops);
                 }
                 crate::passes::if_convert::run(&mut f);
                 crate::passes::rotate::run(&mut f);
@@ -942,6 +1000,11 @@ fn random_functions_keep_their_meaning() {
         }
         check_same(seed, "ranges and br_table", &m, &before, &low, init, t);
     }
+    // Some loops run as the watchdog pass's copies without checks, and their tests.
+    assert!(
+        copied * 10 >= seeds,
+        "only {copied} of {seeds} functions have a loop copied"
+    );
     // The jump tables the generator makes mostly survive the optimiser.
     assert!(
         tables * 5 >= seeds,
@@ -953,6 +1016,7 @@ fn random_functions_keep_their_meaning() {
 fn fuzz_stats() {
     let mut total = (0, 0, 0, 0);
     let mut shaped = (0, 0);
+    let mut copied = 0;
     for seed in 1..=300u64 {
         let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15));
         let (mut m, cx, init) = skeleton();
@@ -965,6 +1029,9 @@ fn fuzz_stats() {
         total.2 += before.iter().filter(|o| o.1).count();
         total.3 += m.funcs[t.index()].layout.len();
         let mut f = opt.funcs[t.index()].clone();
+        let mut checked = f.clone();
+        crate::passes::watchdog::run_function(&mut checked);
+        copied += usize::from(back_edges(&checked) > back_edges(&f));
         shaped.0 += usize::from(crate::passes::if_convert::run(&mut f));
         shaped.1 += usize::from(crate::passes::rotate::run(&mut f));
         if seed == 7 {
@@ -983,7 +1050,10 @@ fn fuzz_stats() {
         "insts before {} after {} faults {} blocks {}",
         total.0, total.1, total.2, total.3
     );
-    println!("functions if-converted {} rotated {}", shaped.0, shaped.1);
+    println!(
+        "functions if-converted {} rotated {}, with a loop the watchdog copied {copied}",
+        shaped.0, shaped.1
+    );
 }
 
 #[test]
