@@ -61,8 +61,9 @@ fn endless_loops_are_stopped() {
 }
 
 /// A loop that counts up to a bound by a step it reads: the watchdog pass cannot
-/// show that it ends (the step may be 0), so it keeps its check, and with a step of
-/// 0 the scan is stopped. The FOR loop before it has constant bounds and no check.
+/// show that it ends (the step may be 0), so it keeps its check, and runs a copy
+/// without it only when the step is at least 1; with a step of 0 the scan is
+/// stopped. The FOR loop before it has constant bounds and no check.
 const COUNTING: &str = "
 PROGRAM main
 VAR a : ARRAY[0..99] OF DINT; j : DINT; s : DINT := 1; n : DINT; k : DINT; END_VAR
@@ -81,5 +82,29 @@ fn a_loop_stepping_by_zero_is_stopped() {
         assert_eq!(m.read("main.n").unwrap().as_i64(), 101, "{target}");
         assert_eq!(m.read("main.a[99]").unwrap().as_i64(), 99, "{target}");
         assert_stopped(target, m.as_mut());
+    }
+}
+
+/// The same kind of loop from a start it reads: from 0 it runs 101 times (in the copy
+/// without checks); from -2,000,000,000 it would run for seconds, so the test before
+/// the loop picks the loop with its checks, and the scan is stopped in the loop:
+/// `n`, kept in a register through the loop, is not stored (a copy without checks
+/// would finish the loop, late, and store it).
+const FROM_LOW: &str = "
+PROGRAM main
+VAR j : DINT; s : DINT := 1; n : DINT; lo : DINT := 0; END_VAR
+    j := lo;
+    WHILE j <= 100 DO n := n + 1; j := j + s; END_WHILE;
+    lo := -2000000000;
+END_PROGRAM
+";
+
+#[test]
+fn a_loop_from_a_start_too_low_is_stopped() {
+    for (target, mut m) in machines(FROM_LOW) {
+        m.scan().unwrap();
+        assert_eq!(m.read("main.n").unwrap().as_i64(), 101, "{target}");
+        assert_stopped(target, m.as_mut());
+        assert_eq!(m.read("main.n").unwrap().as_i64(), 101, "{target}");
     }
 }
