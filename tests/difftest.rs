@@ -54,6 +54,44 @@ fn dense_cases_become_jump_tables() {
     );
 }
 
+/// Back edges (edges into a block that dominates their source) in the module.
+fn back_edges(m: &plcc_ir::Module) -> usize {
+    let mut n = 0;
+    for f in &m.funcs {
+        let dom = plcc_ir::dominators::DomTree::compute(f);
+        for &b in dom.rpo() {
+            if let Some(t) = f.terminator(b) {
+                n += f
+                    .inst(t)
+                    .dests()
+                    .filter(|d| dom.dominates(d.block, b))
+                    .count();
+            }
+        }
+    }
+    n
+}
+
+#[test]
+fn stepped_loops_get_copies_without_watchdog_checks() {
+    // The WHILE loops whose counter starts and steps by values known only at run
+    // time: the watchdog pass copies some of them (those without calls and inner
+    // loops), and the machines run both copies (three_hundred_random_programs...).
+    let n = 300;
+    let mut copied = 0;
+    for seed in 1..=n {
+        let mut m = difftest::compile(&difftest::program(seed)).expect("compiles");
+        let before = back_edges(&m);
+        plcc_ir::passes::watchdog::run(&mut m);
+        copied += (back_edges(&m) > before) as usize;
+    }
+    println!("{copied} of {n} programs have a loop copied without checks");
+    assert!(
+        (0.05..=0.6).contains(&(copied as f64 / n as f64)),
+        "{copied} of {n} programs"
+    );
+}
+
 #[test]
 fn three_hundred_random_programs_agree_on_every_machine() {
     let mut machines_ran = 0;

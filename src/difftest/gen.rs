@@ -1006,7 +1006,11 @@ impl<'r> Gen<'r> {
                 let n = 1 + self.rng.below(5) as i64;
                 let body = (0..1 + self.rng.below(2)).map(|_| self.stmt()).collect();
                 self.depth -= 1;
-                Stmt::While(n, body)
+                let stepped = self
+                    .rng
+                    .chance(50)
+                    .then(|| (self.expr(T::Int), self.expr(T::Int)));
+                Stmt::While(n, stepped, body)
             }
             _ => {
                 let ints = self.readable(T::Int);

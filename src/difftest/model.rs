@@ -283,8 +283,12 @@ pub enum Stmt {
     /// `FOR kN := lo TO hi DO arr[kN] := e; END_FOR;`: every element set to one
     /// value (a loop `passes::fill` makes one `fill` of).
     Fill(i64, i64, Expr),
-    /// `WHILE wN < n DO … wN := wN + 1; END_WHILE;` (bounded by its counter).
-    While(i64, Vec<Stmt>),
+    /// `WHILE wN < n DO … wN := wN + 1; END_WHILE;` (bounded by its counter), or,
+    /// with `Some((start, step))`, `wN := start; wsN := step; wtN := 0; WHILE wN < n
+    /// DO …; wtN := wtN + 1; IF wtN > 4 THEN EXIT; END_IF; wN := wN + wsN;
+    /// END_WHILE;`: a counter whose start and step are known only at run time (the
+    /// loops the watchdog pass copies without checks), bounded by `wtN`.
+    While(i64, Option<(Expr, Expr)>, Vec<Stmt>),
     /// `fb(a := e1, b := e2); v := fb.r;`
     CallFb(Expr, Expr, String),
     /// A fixed statement on the STRUCT and enumeration variables (`r2 := r1;`).
@@ -316,6 +320,7 @@ impl Stmt {
             Stmt::AssignElem(i, e) => vec![i, e],
             Stmt::Fill(_, _, e) => vec![e],
             Stmt::If(c, ..) | Stmt::Case(c, ..) => vec![c],
+            Stmt::While(_, Some((a, b)), _) => vec![a, b],
             Stmt::For(..) | Stmt::While(..) | Stmt::Raw(_) => Vec::new(),
             Stmt::CallFb(a, b, _) => vec![a, b],
             Stmt::Set(p, e) => p.idx.iter().chain([e]).collect(),
@@ -338,6 +343,7 @@ impl Stmt {
             Stmt::AssignElem(i, e) => vec![i, e],
             Stmt::Fill(_, _, e) => vec![e],
             Stmt::If(c, ..) | Stmt::Case(c, ..) => vec![c],
+            Stmt::While(_, Some((a, b)), _) => vec![a, b],
             Stmt::For(..) | Stmt::While(..) | Stmt::Raw(_) => Vec::new(),
             Stmt::CallFb(a, b, _) => vec![a, b],
             Stmt::Set(p, e) => p.idx.iter_mut().chain([e]).collect(),
@@ -357,7 +363,7 @@ impl Stmt {
     pub fn bodies(&self) -> Vec<&Vec<Stmt>> {
         match self {
             Stmt::If(_, a, b) => vec![a, b],
-            Stmt::For(_, _, _, b) | Stmt::While(_, b) => vec![b],
+            Stmt::For(_, _, _, b) | Stmt::While(_, _, b) => vec![b],
             Stmt::Case(_, arms, other) => arms.iter().map(|(_, b)| b).chain([other]).collect(),
             _ => Vec::new(),
         }
@@ -367,7 +373,7 @@ impl Stmt {
     pub fn bodies_mut(&mut self) -> Vec<&mut Vec<Stmt>> {
         match self {
             Stmt::If(_, a, b) => vec![a, b],
-            Stmt::For(_, _, _, b) | Stmt::While(_, b) => vec![b],
+            Stmt::For(_, _, _, b) | Stmt::While(_, _, b) => vec![b],
             Stmt::Case(_, arms, other) => arms.iter_mut().map(|(_, b)| b).chain([other]).collect(),
             _ => Vec::new(),
         }

@@ -168,10 +168,22 @@ fn print_stmts(body: &[Stmt], ind: usize, out: &mut String) {
                 }
                 let _ = writeln!(out, "{pad}END_CASE;");
             }
-            Stmt::While(n, body) => {
+            Stmt::While(n, None, body) => {
                 let _ = writeln!(out, "{pad}w{ind} := 0;\n{pad}WHILE w{ind} < {n} DO");
                 print_stmts(body, ind + 1, out);
                 let _ = writeln!(out, "{pad}    w{ind} := w{ind} + 1;\n{pad}END_WHILE;");
+            }
+            Stmt::While(n, Some((start, step)), body) => {
+                let _ = write!(out, "{pad}w{ind} := ");
+                print_expr(start, out);
+                let _ = write!(out, ";\n{pad}ws{ind} := ");
+                print_expr(step, out);
+                let _ = writeln!(out, ";\n{pad}wt{ind} := 0;\n{pad}WHILE w{ind} < {n} DO");
+                print_stmts(body, ind + 1, out);
+                let _ = writeln!(
+                    out,
+                    "{pad}    wt{ind} := wt{ind} + 1;\n{pad}    IF wt{ind} > 4 THEN\n{pad}        EXIT;\n{pad}    END_IF;\n{pad}    w{ind} := w{ind} + ws{ind};\n{pad}END_WHILE;"
+                );
             }
             Stmt::Raw(text) => {
                 let _ = writeln!(out, "{pad}{text}");
@@ -354,7 +366,7 @@ impl Prog {
             }
         }
         // The loops' control variables, as many as the body uses.
-        for c in ['k', 'w'] {
+        for c in ["k", "w", "ws", "wt"] {
             let used: Vec<String> = (1..=6)
                 .map(|i| format!("{c}{i}"))
                 .filter(|v| code.contains(&format!("{v} :=")))
