@@ -19,9 +19,11 @@
 //! time, and a test that always holds is left out. The steps that are values must
 //! not change in the loop (they are defined before it).
 //!
-//! A loop with a value used after it other than through its exits' arguments is left
-//! alone (its copy's value would have to be merged with the loop's), as is a loop
-//! whose header is the function's entry.
+//! Values of the loop used after it (other than through its exits' arguments) become
+//! parameters of its exit block, passed by the loop's edges and by the copy's: this
+//! needs one exit block, entered from the loop only, that dominates every such use;
+//! a loop where that fails keeps its checks and gets no copy, as does a loop whose
+//! header is the function's entry.
 
 use super::{Counted, MAX_WORK};
 use crate::dominators::DomTree;
