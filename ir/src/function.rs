@@ -227,6 +227,97 @@ impl Function {
         SlotId::new(self.slots.len() - 1)
     }
 
+    /// Makes room for `insts` more instructions (and as many values) without the
+    /// arenas' doubling: for a pass that adds a known few to a large function.
+    pub fn reserve(&mut self, insts: usize) {
+        self.insts.reserve_exact(insts);
+        self.results.reserve_exact(insts);
+        self.spans.reserve_exact(insts);
+        self.values.reserve_exact(insts);
+    }
+
+    /// Drops what the passes left behind: the instructions no block of the layout
+    /// holds and the values neither they nor a layout block's parameters define;
+    /// blocks out of the layout are emptied. What stays keeps its order (number `k`
+    /// becomes the count of those kept before it), so that whatever orders
+    /// instructions or values by number orders them as before; the printed names
+    /// change. Returns the number of instructions dropped.
+    pub fn compact(&mut self) -> usize {
+        let mut in_layout = vec![false; self.blocks.len()];
+        let mut live_inst = vec![false; self.insts.len()];
+        let mut live_value = vec![false; self.values.len()];
+        for &b in &self.layout {
+            in_layout[b.index()] = true;
+            let data = &self.blocks[b.index()];
+            for &p in &data.params {
+                live_value[p.index()] = true;
+            }
+            for &i in &data.insts {
+                live_inst[i.index()] = true;
+                if let Some(r) = self.results[i.index()] {
+                    live_value[r.index()] = true;
+                }
+            }
+        }
+        let kept = live_inst.iter().filter(|&&l| l).count();
+        let dropped = self.insts.len() - kept;
+        if dropped == 0 && live_value.iter().all(|&l| l) {
+            return 0;
+        }
+        // The new number of each kept one: those kept before it.
+        let renumber = |live: &[bool]| -> Vec<u32> {
+            let mut next = 0;
+            live.iter()
+                .map(|&l| {
+                    let k = next;
+                    next += u32::from(l);
+                    k
+                })
+                .collect()
+        };
+        let (inst_to, value_to) = (renumber(&live_inst), renumber(&live_value));
+        let value = |v: Value| {
+            debug_assert!(live_value[v.index()], "{v} is used but not defined");
+            Value::new(value_to[v.index()] as usize)
+        };
+        let inst = |i: Inst| Inst::new(inst_to[i.index()] as usize);
+        let mut insts = Vec::with_capacity(kept);
+        let mut results = Vec::with_capacity(kept);
+        let mut spans = Vec::with_capacity(kept);
+        let old = std::mem::take(&mut self.insts);
+        for (k, mut data) in old.into_iter().enumerate() {
+            if live_inst[k] {
+                data.map_args(value);
+                insts.push(data);
+                results.push(self.results[k].map(value));
+                spans.push(self.spans[k]);
+            }
+        }
+        self.values = self
+            .values
+            .iter()
+            .zip(&live_value)
+            .filter(|(_, &l)| l)
+            .map(|(d, _)| ValueData {
+                ty: d.ty,
+                def: match d.def {
+                    ValueDef::Result(i) => ValueDef::Result(inst(i)),
+                    param => param,
+                },
+            })
+            .collect();
+        (self.insts, self.results, self.spans) = (insts, results, spans);
+        for (b, data) in self.blocks.iter_mut().enumerate() {
+            if in_layout[b] {
+                data.params.iter_mut().for_each(|p| *p = value(*p));
+                data.insts.iter_mut().for_each(|i| *i = inst(*i));
+            } else {
+                *data = BlockData::default();
+            }
+        }
+        dropped
+    }
+
     fn make_value(&mut self, ty: Type, def: ValueDef) -> Value {
         self.values.push(ValueData { ty, def });
         Value::new(self.values.len() - 1)

@@ -189,4 +189,9 @@ pub fn optimize_program(module: &mut Module) {
         .filter_map(|(f, c)| c.then_some(f))
         .collect();
     optimize_in_parallel(promoted);
+    // The passes leave dead instructions in the arenas (more than half of them in
+    // large programs); the backends and the runner's copy need only the live ones.
+    for f in &mut module.funcs {
+        f.compact();
+    }
 }

@@ -87,6 +87,10 @@ pub fn run_function(f: &mut Function) -> bool {
     if edges.is_empty() {
         return false;
     }
+    // Room for what comes (a compacted function's arenas are full: one more
+    // instruction would double them).
+    let copies: usize = guards.iter().map(|g| g.added(f)).sum();
+    f.reserve(copies + 2 * edges.len() + 2);
     // Copies without checks, made before the checks go in: the copies' back edges
     // are not in `edges`.
     guarded::copy_all(f, &dom, guards);

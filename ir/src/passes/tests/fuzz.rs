@@ -916,7 +916,7 @@ fn check_same(
 #[test]
 fn random_functions_keep_their_meaning() {
     let seeds: u64 = if cfg!(debug_assertions) { 500 } else { 10000 };
-    let (mut tables, mut copied) = (0, 0);
+    let (mut tables, mut copied, mut compacted) = (0, 0, 0);
     for seed in 1..=seeds {
         let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15));
         let (mut m, cx, init) = skeleton();
@@ -948,13 +948,20 @@ fn random_functions_keep_their_meaning() {
             }
         }
 
-        // The driver.
+        // The driver, and the compaction that ends `optimize_program`.
         let mut opt = m.clone();
         crate::passes::optimize_module(&mut opt);
         for f in &opt.funcs {
             verify(&opt, f, &format!("seed {seed}: after optimize_module"));
         }
         check_same(seed, "optimize_module", &m, &before, &opt, init, t);
+        let live = opt.funcs[t.index()].live_inst_count();
+        compacted += opt.funcs[t.index()].compact();
+        for f in &opt.funcs {
+            verify(&opt, f, &format!("seed {seed}: after compact"));
+        }
+        assert_eq!(opt.funcs[t.index()].insts.len(), live, "seed {seed}");
+        check_same(seed, "compact", &m, &before, &opt, init, t);
         // The shape passes the JIT runs after the driver (if-conversion, then loop
         // rotation), on the optimised code as it is and with the watchdog's checks
         // on back edges that the runner adds.
@@ -1000,6 +1007,11 @@ fn random_functions_keep_their_meaning() {
         }
         check_same(seed, "ranges and br_table", &m, &before, &low, init, t);
     }
+    // The optimiser leaves dead instructions for `compact` to drop.
+    assert!(
+        compacted as u64 >= seeds,
+        "{compacted} dropped in {seeds} functions"
+    );
     // Some loops run as the watchdog pass's copies without checks, and their tests.
     assert!(
         copied * 10 >= seeds,

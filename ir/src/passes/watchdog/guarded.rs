@@ -50,6 +50,14 @@ pub(super) struct Guard {
     min_start: Option<i128>,
 }
 
+impl Guard {
+    /// The most instructions the copy and its test add.
+    pub(super) fn added(&self, f: &Function) -> usize {
+        let copy: usize = self.blocks.iter().map(|&b| f.block(b).insts.len()).sum();
+        copy + 4 * self.steps.len() + 4
+    }
+}
+
 /// The guard of loop `c`, if it can have one (see the module doc).
 pub(super) fn guard(f: &Function, c: Counted) -> Option<Guard> {
     let h = c.blocks[0];
