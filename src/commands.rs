@@ -144,14 +144,10 @@ pub(crate) fn build_and_report(inputs: &Inputs, how: How) -> Result<(Build, Modu
             Mode::Print(p) => p,
             _ => plcc_frontend::PrintAs::Nothing,
         },
+        drop_syntax: !keep_syntax,
     };
     let mut build = driver::build_files(files, library, &opts).map_err(usage)?;
     render::to_stderr(&build.sources, &build.diagnostics);
-    // The syntax trees are no longer needed and the process ends soon: skip freeing
-    // them node by node.
-    if !keep_syntax {
-        std::mem::forget(std::mem::take(&mut build.syntax));
-    }
     match build.module.take() {
         Some(m) => Ok((build, m)),
         None => {
@@ -531,9 +527,11 @@ pub fn run(a: &RunArgs) -> u8 {
     };
     let cycle = scenario::Cycle::of(&module, a.cycle_us);
     eprintln!("{cycle}");
-    let copy = module.clone();
+    // The machine takes the module; what prints the variables needs only its
+    // declarations.
+    let declared = module.clone_declarations();
     let t = std::time::Instant::now();
-    let mut m = match targets::machine_owned(target, copy, &a.settings) {
+    let mut m = match targets::machine_owned(target, module, &a.settings) {
         Ok(m) => m,
         Err(diags) => {
             render::to_stderr(&build.sources, &diags);
@@ -566,18 +564,18 @@ pub fn run(a: &RunArgs) -> u8 {
     }
     let several = programs.len() > 1;
     for program in &programs {
-        let entry = module.program(program).expect("picked program");
+        let entry = declared.program(program).expect("picked program");
         let prefix = format!("{}.", entry.name);
         let prefix = if several { String::new() } else { prefix };
-        if let Err(e) = print_variables(m.as_ref(), &module, entry.data, &prefix) {
+        if let Err(e) = print_variables(m.as_ref(), &declared, entry.data, &prefix) {
             eprintln!("error: {e}");
             return EXIT_FAIL;
         }
     }
     // Globals after the programs' variables, by their plain names.
-    if let Some(g) = module.data_by_name(plcc_frontend::GLOBALS_DATA) {
+    if let Some(g) = declared.data_by_name(plcc_frontend::GLOBALS_DATA) {
         let prefix = format!("{}.", plcc_frontend::GLOBALS_DATA);
-        if let Err(e) = print_variables(m.as_ref(), &module, g, &prefix) {
+        if let Err(e) = print_variables(m.as_ref(), &declared, g, &prefix) {
             eprintln!("error: {e}");
             return EXIT_FAIL;
         }

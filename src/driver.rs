@@ -123,6 +123,10 @@ pub struct BuildOptions {
     pub inline_c: bool,
     /// What to print of the files ([`Build::printed`]).
     pub print: plcc_frontend::PrintAs,
+    /// The syntax trees are not wanted ([`Build::syntax`] comes back empty): they are
+    /// freed on a thread of their own once the IR is made, so that the optimiser and
+    /// the code generator reuse their memory.
+    pub drop_syntax: bool,
 }
 
 /// Reads the files and the library files (`--lib`) and builds them together.
@@ -216,6 +220,11 @@ pub fn build_sources_with_library(
     let mut diagnostics = compiled.diagnostics;
     let mut timings = compiled.timings;
     let mut module = compiled.module;
+    let mut syntax = compiled.syntax;
+    if opts.drop_syntax {
+        let trees = std::mem::take(&mut syntax);
+        std::thread::spawn(move || drop(trees));
+    }
     if let (Some(m), false) = (&mut module, opts.check_only) {
         let t = Instant::now();
         let mut ok = check(m, "the front end")
@@ -248,7 +257,7 @@ pub fn build_sources_with_library(
         module,
         diagnostics,
         timings,
-        syntax: compiled.syntax,
+        syntax,
         ladder: compiled.ladder,
         charts: compiled.charts,
         printed: compiled.printed,

@@ -295,6 +295,33 @@ impl Module {
         Module::default()
     }
 
+    /// A copy whose functions have no bodies (each keeps its name, kind, signature
+    /// and span): for a caller that gives the module to a machine and keeps its
+    /// data, types, programs and names.
+    pub fn clone_declarations(&self) -> Module {
+        let funcs = self
+            .funcs
+            .iter()
+            .map(|f| {
+                let mut shell = Function::new(f.name.clone(), f.kind, f.params.clone(), f.ret);
+                shell.span = f.span;
+                shell
+            })
+            .collect();
+        Module {
+            files: self.files.clone(),
+            aggs: self.aggs.clone(),
+            data: self.data.clone(),
+            funcs,
+            tables: self.tables.clone(),
+            programs: self.programs.clone(),
+            init_globals: self.init_globals,
+            globals: self.globals,
+            configuration: self.configuration.clone(),
+            unchecked_pointers: self.unchecked_pointers,
+        }
+    }
+
     /// Adds an aggregate type.
     pub fn add_agg(&mut self, def: AggDef) -> AggId {
         self.aggs.push(def);

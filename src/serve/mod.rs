@@ -134,6 +134,8 @@ impl Loader {
             check_only: false,
             inline_c: targets::find(target).is_some_and(|t| t.inline_c),
             print: plcc_frontend::PrintAs::Nothing,
+            // The RETAIN blocks and the workbench read the syntax trees.
+            drop_syntax: false,
         };
         Ok(Loader {
             library,
