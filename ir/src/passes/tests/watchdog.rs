@@ -257,3 +257,32 @@ block4:
     );
     assert_eq!(loops(&m), 2);
 }
+
+#[test]
+fn a_header_whose_compare_does_not_leave_gets_no_copy() {
+    // Both ways of the header's compare stay in the loop; it ends (or not) elsewhere,
+    // so the compare bounds nothing.
+    let text = r#"
+func @f(i32, i32) -> i32 function {
+block0(v0: i32, v1: i32):
+    v2 = iconst.i32 9999
+    v3 = iconst.i32 0
+    jump block1(v0, v3)
+block1(v4: i32, v5: i32):
+    v6 = icmp sle v4, v2
+    brif v6, block2, block3
+block2:
+    v7 = iadd v4, v1
+    jump block1(v7, v5)
+block3:
+    v8 = iadd v5, v1
+    v9 = icmp sgt v8, v2
+    v10 = iadd v4, v1
+    brif v9, block4, block1(v10, v8)
+block4:
+    return v8
+}
+"#;
+    let m = same_results(text, &[[0, 1], [10000, 1], [10000, 5000]]);
+    assert_eq!(loops(&m), 2);
+}

@@ -65,11 +65,18 @@ pub(super) fn guard(f: &Function, c: Counted) -> Option<Guard> {
         return None;
     }
     let InstData::Brif {
-        cond, then_dest, ..
+        cond,
+        then_dest,
+        else_dest,
     } = f.inst(f.terminator(h)?)
     else {
         return None;
     };
+    // The compare decides whether the loop goes on: one way leaves it.
+    let stays = |d: &crate::inst::BlockCall| c.blocks.contains(&d.block);
+    if stays(then_dest) == stays(else_dest) {
+        return None;
+    }
     let Some(InstData::Icmp { cond: cc, args }) = def_inst(f, *cond) else {
         return None;
     };
@@ -82,7 +89,7 @@ pub(super) fn guard(f: &Function, c: Counted) -> Option<Guard> {
         return None;
     }
     // The condition under which the loop goes on.
-    if !c.blocks.contains(&then_dest.block) {
+    if !stays(then_dest) {
         cc = cc.inverted();
     }
     let bits = f.value_type(c.counter).bits();
