@@ -295,6 +295,24 @@ impl DomTree {
         blocks
     }
 
+    /// The back edges of `func` (this tree's function): each edge into a block that
+    /// dominates its source, as (source, index of the destination in its
+    /// terminator), sources in reverse postorder.
+    pub fn back_edges(&self, func: &Function) -> Vec<(Block, usize)> {
+        let mut edges = Vec::new();
+        for &b in self.rpo() {
+            let Some(t) = func.terminator(b) else {
+                continue;
+            };
+            for (k, d) in func.inst(t).dests().enumerate() {
+                if self.dominates(d.block, b) {
+                    edges.push((b, k));
+                }
+            }
+        }
+        edges
+    }
+
     /// The blocks `b` immediately dominates.
     pub fn children(&self, b: Block) -> &[Block] {
         let i = b.index();
@@ -429,6 +447,7 @@ block6:
         l[1..].sort();
         assert_eq!(l, [b(1), b(2), b(3), b(4)]);
         assert_eq!(dt.natural_loop(b(4)), [b(4)]);
+        assert_eq!(dt.back_edges(f), [(b(4), 0)]);
         let df = dt.frontiers();
         assert_eq!(df.frontier(b(2)), &[b(4)][..]);
         assert_eq!(df.frontier(b(3)), &[b(4)][..]);

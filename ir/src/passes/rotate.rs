@@ -56,15 +56,12 @@ pub fn run(func: &mut Function) -> bool {
     // Back edges by header: (latch, which destination of its terminator) for the
     // edges into a block that dominates the latch.
     let mut latches: Vec<Vec<(Block, usize)>> = vec![Vec::new(); func.blocks.len()];
-    for &b in dt.rpo() {
-        let Some(t) = func.terminator(b) else {
-            continue;
-        };
-        for (k, d) in func.inst(t).successors().into_iter().enumerate() {
-            if dt.dominates(d.block, b) {
-                latches[d.block.index()].push((b, k));
-            }
-        }
+    for (b, k) in dt.back_edges(func) {
+        let h = func
+            .inst(func.terminator(b).expect("a terminator"))
+            .dests()
+            .nth(k);
+        latches[h.expect("a destination").block.index()].push((b, k));
     }
     let mut changed = false;
     let headers: Vec<Block> = dt

@@ -49,16 +49,7 @@ pub fn run_function(f: &mut Function) -> bool {
         return false;
     }
     let dom = DomTree::compute(f);
-    // Back edges: a destination that dominates the source.
-    let mut edges: Vec<(Block, usize)> = Vec::new();
-    for &b in dom.rpo() {
-        let Some(t) = f.terminator(b) else { continue };
-        for (k, d) in f.inst(t).successors().into_iter().enumerate() {
-            if dom.dominates(d.block, b) {
-                edges.push((b, k));
-            }
-        }
-    }
+    let mut edges = dom.back_edges(f);
     // Loops that cannot run long keep no check.
     let mut headers: Vec<Block> = edges
         .iter()

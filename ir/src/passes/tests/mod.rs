@@ -30,19 +30,9 @@ pub(super) fn parse(text: &str) -> Module {
     parse_module(text).unwrap_or_else(|e| panic!("parse error {e}\n{text}"))
 }
 
-/// Back edges of `f`: edges into a block that dominates their source.
+/// The number of back edges of `f` (one per loop the passes made or kept).
 pub(super) fn back_edges(f: &Function) -> usize {
-    let dom = crate::dominators::DomTree::compute(f);
-    dom.rpo()
-        .iter()
-        .filter_map(|&b| f.terminator(b).map(|t| (b, t)))
-        .map(|(b, t)| {
-            f.inst(t)
-                .dests()
-                .filter(|d| dom.dominates(d.block, b))
-                .count()
-        })
-        .sum()
+    crate::dominators::DomTree::compute(f).back_edges(f).len()
 }
 
 /// Panics with the function's text if it does not verify.
