@@ -246,12 +246,42 @@ fn exit_merge(
 
 /// Puts the copy of `g`'s loop and its test into `f`.
 fn copy(f: &mut Function, g: &Guard, merge: Merge) {
-    let h = g.blocks[0];
-    // The copy's blocks and parameters, its instructions, then their operands and
-    // destinations renamed.
+    let (blocks, values) = clone_loop(f, &g.blocks);
+    if let Some(exit) = merge.exit {
+        merge_at_exit(f, g, exit, &merge.values, &blocks, &values);
+    }
+    let test = add_test(f, g, blocks[&g.blocks[0]]);
+    // The test just before the loop, the copy just after it.
+    let at = f
+        .layout
+        .iter()
+        .position(|&b| b == g.blocks[0])
+        .expect("in layout");
+    f.layout.insert(at, test);
+    let last = f
+        .layout
+        .iter()
+        .rposition(|b| g.blocks.contains(b))
+        .expect("in layout");
+    let copies: Vec<Block> = f
+        .layout
+        .iter()
+        .filter(|b| g.blocks.contains(b))
+        .map(|b| blocks[b])
+        .collect();
+    f.layout.splice(last + 1..last + 1, copies);
+}
+
+/// A copy of `loop_blocks` (not yet in the layout): its blocks and parameters, its
+/// instructions, then their operands and the destinations inside the loop renamed.
+/// Returns the copy of each block and of each value defined in the loop.
+fn clone_loop(
+    f: &mut Function,
+    loop_blocks: &[Block],
+) -> (FxHashMap<Block, Block>, FxHashMap<Value, Value>) {
     let mut blocks: FxHashMap<Block, Block> = FxHashMap::default();
     let mut values: FxHashMap<Value, Value> = FxHashMap::default();
-    for &b in &g.blocks {
+    for &b in loop_blocks {
         let nb = f.create_block();
         blocks.insert(b, nb);
         for p in f.block(b).params.clone() {
@@ -260,7 +290,7 @@ fn copy(f: &mut Function, g: &Guard, merge: Merge) {
         }
     }
     let mut made = Vec::new();
-    for &b in &g.blocks {
+    for &b in loop_blocks {
         for i in f.block(b).insts.clone() {
             let ty = f.result(i).map(|r| f.value_type(r));
             let ni = f.create_inst(f.inst(i).clone(), ty, f.spans[i.index()]);
@@ -280,37 +310,53 @@ fn copy(f: &mut Function, g: &Guard, merge: Merge) {
             }
         }
     }
-    // The values used after the loop: parameters of its exit, passed by the loop's
-    // edges and its copy's.
-    if let Some(exit) = merge.exit {
-        let mut renamed: FxHashMap<Value, Value> = FxHashMap::default();
-        for &v in &merge.values {
-            renamed.insert(v, f.append_block_param(exit, f.value_type(v)));
-        }
-        let copies: Vec<Block> = g.blocks.iter().map(|b| blocks[b]).collect();
-        for &b in g.blocks.iter().chain(&copies) {
-            let t = f.terminator(b).expect("a terminator");
-            let in_copy = copies.contains(&b);
-            for d in f.inst_mut(t).successors_mut() {
-                if d.block == exit {
-                    d.args.extend(merge.values.iter().map(|v| match in_copy {
-                        true => values[v],
-                        false => *v,
-                    }));
-                }
-            }
-        }
-        for b in f.layout.clone() {
-            if g.blocks.contains(&b) {
-                continue;
-            }
-            for i in f.block(b).insts.clone() {
-                f.inst_mut(i)
-                    .map_args(|v| renamed.get(&v).copied().unwrap_or(v));
+    (blocks, values)
+}
+
+/// The values of `g`'s loop used after it (`used`) become parameters of its exit
+/// block, passed by the loop's edges and by its copy's (`blocks`, `values`); their
+/// uses outside the loop read the parameters.
+fn merge_at_exit(
+    f: &mut Function,
+    g: &Guard,
+    exit: Block,
+    used: &[Value],
+    blocks: &FxHashMap<Block, Block>,
+    values: &FxHashMap<Value, Value>,
+) {
+    let mut renamed: FxHashMap<Value, Value> = FxHashMap::default();
+    for &v in used {
+        renamed.insert(v, f.append_block_param(exit, f.value_type(v)));
+    }
+    let copies: Vec<Block> = g.blocks.iter().map(|b| blocks[b]).collect();
+    for &b in g.blocks.iter().chain(&copies) {
+        let t = f.terminator(b).expect("a terminator");
+        let in_copy = copies.contains(&b);
+        for d in f.inst_mut(t).successors_mut() {
+            if d.block == exit {
+                d.args.extend(used.iter().map(|v| match in_copy {
+                    true => values[v],
+                    false => *v,
+                }));
             }
         }
     }
-    // The test, entered instead of the header from outside the loop.
+    for b in f.layout.clone() {
+        if g.blocks.contains(&b) {
+            continue;
+        }
+        for i in f.block(b).insts.clone() {
+            f.inst_mut(i)
+                .map_args(|v| renamed.get(&v).copied().unwrap_or(v));
+        }
+    }
+}
+
+/// The test block (not yet in the layout), entered instead of `g`'s header from
+/// outside the loop: it goes to `copy` (the copy's header) when every test holds,
+/// else to the loop.
+fn add_test(f: &mut Function, g: &Guard, copy: Block) -> Block {
+    let h = g.blocks[0];
     let test = f.create_block();
     let params: Vec<Value> = f
         .block(h)
@@ -337,23 +383,17 @@ fn copy(f: &mut Function, g: &Guard, merge: Merge) {
     } else {
         (IntCC::Uge, IntCC::Ule)
     };
-    let emit = |f: &mut Function, data: InstData, ty: Type| {
-        let i = f.create_inst(data, Some(ty), span);
+    let emit = |f: &mut Function, data: InstData, ty: Option<Type>| {
+        let i = f.create_inst(data, ty, span);
         f.blocks[test.index()].insts.push(i);
-        f.result(i).expect("a result")
+        f.result(i)
     };
     let mut tests = Vec::new();
     let mut compare = |f: &mut Function, cc: IntCC, v: Value, k: i128| {
         let imm = ty.canon_int(k as i64);
-        let k = emit(f, InstData::Iconst { ty, imm }, ty);
-        tests.push(emit(
-            f,
-            InstData::Icmp {
-                cond: cc,
-                args: [v, k],
-            },
-            Type::I1,
-        ));
+        let k = emit(f, InstData::Iconst { ty, imm }, Some(ty)).expect("a constant");
+        let args = [v, k];
+        tests.push(emit(f, InstData::Icmp { cond: cc, args }, Some(Type::I1)).expect("a flag"));
     };
     for &s in &g.steps {
         compare(f, ge, s, 1);
@@ -371,34 +411,14 @@ fn copy(f: &mut Function, g: &Guard, merge: Merge) {
                 op: BinaryOp::Band,
                 args: [a, b],
             };
-            let i = f.create_inst(data, Some(Type::I1), span);
-            f.blocks[test.index()].insts.push(i);
-            f.result(i).expect("a result")
+            emit(f, data, Some(Type::I1)).expect("a flag")
         })
         .expect("a test");
-    let br = f.create_inst(
-        InstData::Brif {
-            cond: ok,
-            then_dest: BlockCall::new(blocks[&h], params.clone()),
-            else_dest: BlockCall::new(h, params),
-        },
-        None,
-        span,
-    );
-    f.blocks[test.index()].insts.push(br);
-    // The test just before the loop, the copy just after it.
-    let at = f.layout.iter().position(|&b| b == h).expect("in layout");
-    f.layout.insert(at, test);
-    let last = f
-        .layout
-        .iter()
-        .rposition(|b| g.blocks.contains(b))
-        .expect("in layout");
-    let copies: Vec<Block> = f
-        .layout
-        .iter()
-        .filter(|b| g.blocks.contains(b))
-        .map(|b| blocks[b])
-        .collect();
-    f.layout.splice(last + 1..last + 1, copies);
+    let br = InstData::Brif {
+        cond: ok,
+        then_dest: BlockCall::new(copy, params.clone()),
+        else_dest: BlockCall::new(h, params),
+    };
+    emit(f, br, None);
+    test
 }
