@@ -242,6 +242,9 @@ struct Core {
     /// Instructions run beyond one per handler call (superinstructions add, `goto`
     /// subtracts; wrapping).
     extra: u64,
+    /// Instructions a loop step may run beyond its entry's weight by going round its
+    /// loop again without returning ([`step`]); [`exec`] sets it aside from the budget.
+    fuel: u64,
     /// After a fault in a superinstruction: entries it completed before the faulting one.
     skip: usize,
     /// The port whose C semantics are checked ([`Vm::for_port`]), if any.
@@ -435,6 +438,7 @@ impl Vm {
             bytes: Vec::new(),
             msgs: Vec::new(),
             extra: 0,
+            fuel: 0,
             skip: 0,
             checks,
             checked: Vec::new(),
@@ -697,17 +701,20 @@ fn exec(
     budget: u64,
 ) -> (usize, u64, Option<Exit>) {
     // `n` counts handler calls, `n + c.extra` instructions, which never exceed the
-    // budget: each chunk makes only as many calls as cannot overshoot, and the last
-    // few instructions run one at a time without superinstructions.
+    // budget: each chunk sets half its room aside as fuel for the loop steps that go
+    // round their loops without returning, and makes only as many calls as cannot
+    // overshoot the other half; the last few instructions run one at a time without
+    // superinstructions.
     c.extra = 0;
     let mut n = 0u64;
     let exit = 'run: {
         loop {
             let room = budget - n.wrapping_add(c.extra);
-            if room < MAX_WEIGHT {
+            if room < 2 * MAX_WEIGHT {
                 break;
             }
-            let end = n + room / MAX_WEIGHT;
+            c.fuel = room / 2;
+            let end = n + (room - c.fuel) / MAX_WEIGHT;
             while n < end {
                 let ins = &code[k];
                 let next = (ins.f)(c, ins, k);

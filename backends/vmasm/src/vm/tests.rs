@@ -1151,12 +1151,17 @@ fn third_operand(mut code: Vec<u8>, pc: u32, to: Option<u16>) -> Vec<u8> {
 }
 
 fn write_vm(data: usize, one_at: Option<u16>) -> Vm {
+    write_vm_to(3, data, one_at)
+}
+
+/// [`write_vm`] with `last` in place of `three`.
+fn write_vm_to(last: i16, data: usize, one_at: Option<u16>) -> Vm {
     // `one_at`: where the ADD's `one` operand points instead.
     let (code, at) = write_loop();
     let code = third_operand(code, at[4], one_at);
     let mut vm = Vm::new(&code, data, Mode::M16).unwrap();
     let m = vm.data_mut();
-    put(m, 4, 3i16.to_le_bytes()); // three
+    put(m, 4, last.to_le_bytes()); // three
     m[6] = 0x5A; // v
     put(m, 16, 1i16.to_le_bytes()); // one
     vm
@@ -1189,6 +1194,30 @@ fn an_array_write_and_the_loop_step_run_as_one_entry() {
     assert_eq!(vm.pc(), at[4], "{e}");
     assert_eq!(vm.executed(), 1 + 2 + 1);
     assert_eq!(vm.data()[20], 0x5A);
+}
+
+#[test]
+fn a_loop_step_going_round_its_own_entry_keeps_budgets_and_faults_exact() {
+    // The write and the step lead back to their own entry: the entry goes round
+    // without returning while its fuel lasts. 61 rounds of 5 instructions.
+    let make = || write_vm_to(60, 128, None);
+    let total = 1 + 61 * 5 + 2 + 1;
+    let full = budgets_stop_exactly(make, total);
+    assert_eq!(&full[20..81], &[0x5A; 61]);
+    assert_eq!(full[81], 0);
+    // BUF[50] is outside 70 bytes: the fiftieth round's write faults, at the AOWR,
+    // with every instruction of the rounds before it counted.
+    let (_, at) = write_loop();
+    for budget in [u64::MAX, 1 + 50 * 5 + 2, 1 + 50 * 5 + 3, 400] {
+        let mut vm = write_vm_to(60, 70, None);
+        match vm.run(None, budget) {
+            Err(e) => assert_eq!((vm.pc(), vm.executed()), (at[3], 1 + 50 * 5 + 2), "{e}"),
+            Ok(o) => {
+                assert_eq!((o.end, o.executed, vm.pc()), (End::Budget, budget, at[3]));
+                assert_eq!(budget, 1 + 50 * 5 + 2);
+            }
+        }
+    }
 }
 
 /// `I := 0; loop: GT c, I, three; JNZ c, end; AORD v, BUF, I; JZ v, next; ADD n, n,
