@@ -602,12 +602,12 @@ pub enum StmtKind {
     For {
         /// The control variable.
         var: Ident,
-        /// Start value.
-        from: Expr,
+        /// Start value (boxed, as are the end and the step, to keep [`Stmt`] small).
+        from: Box<Expr>,
         /// End value (inclusive).
-        to: Expr,
+        to: Box<Expr>,
         /// Step (1 if absent).
-        by: Option<Expr>,
+        by: Option<Box<Expr>>,
         /// The loop body.
         body: Vec<Stmt>,
     },
@@ -686,7 +686,7 @@ pub struct Expr {
 #[derive(Clone, Debug)]
 pub enum ExprKind {
     /// A literal constant.
-    Literal(Literal),
+    Literal(Box<Literal>),
     /// A plain name: variable, constant, enumeration value, POU.
     Name(Ident),
     /// `base.member`: struct field, FB input/output, qualified enum value.
@@ -912,4 +912,18 @@ pub enum LiteralKind {
         /// The characters: bytes for STRING, UTF-16 units for WSTRING.
         units: Vec<u16>,
     },
+}
+
+/// The sizes of the nodes a body is made of: a file of 250k lines holds millions of
+/// them, and the syntax trees live until the IR is made (BENCHMARKS.md, memory).
+#[cfg(all(test, target_pointer_width = "64"))]
+#[test]
+fn node_sizes() {
+    let sizes = [
+        ("Expr", std::mem::size_of::<Expr>()),
+        ("Stmt", std::mem::size_of::<Stmt>()),
+        ("Arg", std::mem::size_of::<Arg>()),
+    ];
+    eprintln!("{sizes:?}");
+    assert_eq!(sizes, [("Expr", 56), ("Stmt", 136), ("Arg", 96)]);
 }

@@ -33,10 +33,10 @@ fn name(sym: crate::intern::Symbol, span: Span) -> Expr {
 
 fn boolean(v: bool, span: Span) -> Expr {
     Expr {
-        kind: ExprKind::Literal(Literal {
+        kind: ExprKind::Literal(Box::new(Literal {
             kind: LiteralKind::Bool(v),
             type_prefix: None,
-        }),
+        })),
         span,
     }
 }

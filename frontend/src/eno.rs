@@ -90,10 +90,10 @@ pub fn declare(units: &mut [SourceUnit], sources: &SourceMap, interner: &mut Int
                     // call: its ENO starts TRUE.
                     init: function.then_some({
                         Init::Expr(Expr {
-                            kind: ExprKind::Literal(Literal {
+                            kind: ExprKind::Literal(Box::new(Literal {
                                 kind: LiteralKind::Bool(true),
                                 type_prefix: None,
-                            }),
+                            })),
                             span: at,
                         })
                     }),

@@ -1017,10 +1017,10 @@ fn fresh(e: Expr, h: u32, tainted: bool) -> Cr {
 
 fn lit(kind: LiteralKind, span: Span) -> Expr {
     Expr {
-        kind: ExprKind::Literal(Literal {
+        kind: ExprKind::Literal(Box::new(Literal {
             kind,
             type_prefix: None,
-        }),
+        })),
         span,
     }
 }

@@ -25,10 +25,13 @@ use plcc_ir::{ElemType, Type};
 pub(super) fn is_bool_digit(e: &Expr) -> bool {
     match &e.kind {
         ExprKind::Paren(x) | ExprKind::UsedBy { value: x, .. } => is_bool_digit(x),
-        ExprKind::Literal(Literal {
-            kind: LiteralKind::Int(0 | 1),
-            type_prefix: None,
-        }) => true,
+        ExprKind::Literal(l) => matches!(
+            **l,
+            Literal {
+                kind: LiteralKind::Int(0 | 1),
+                type_prefix: None,
+            }
+        ),
         ExprKind::Unary(UnaryOp::Not, x) => is_bool_digit(x),
         ExprKind::Binary(Op::And | Op::Or | Op::Xor, a, b) => is_bool_digit(a) && is_bool_digit(b),
         _ => false,

@@ -55,7 +55,7 @@ impl<'s> BodyCx<'_, 's> {
                 to,
                 by,
                 body,
-            } => self.for_stmt(*var, from, to, by.as_ref(), body, s.span),
+            } => self.for_stmt(*var, from, to, by.as_deref(), body, s.span),
             StmtKind::While { cond, body } => {
                 let header = self.b.create_block();
                 let body_b = self.b.create_block();

@@ -639,10 +639,10 @@ impl<'a> Parser<'a> {
                 self.bump();
                 if size == 1 {
                     let bit = Expr {
-                        kind: ExprKind::Literal(Literal {
+                        kind: ExprKind::Literal(Box::new(Literal {
                             kind: LiteralKind::Int(index as i128),
                             type_prefix: None,
-                        }),
+                        })),
                         span: self.tspan(t),
                     };
                     Some(self.wrap(base, Wrap::Bit(bit)))
@@ -773,7 +773,7 @@ impl<'a> Parser<'a> {
 
     pub(super) fn literal_expr(&self, t: Token) -> Expr {
         Expr {
-            kind: ExprKind::Literal(self.literal(t)),
+            kind: ExprKind::Literal(Box::new(self.literal(t))),
             span: self.tspan(t),
         }
     }
@@ -797,10 +797,10 @@ impl<'a> Parser<'a> {
             Tok::True | Tok::False => {
                 self.bump();
                 Some(Expr {
-                    kind: ExprKind::Literal(Literal {
+                    kind: ExprKind::Literal(Box::new(Literal {
                         kind: LiteralKind::Bool(t.kind == Tok::True),
                         type_prefix: None,
-                    }),
+                    })),
                     span: self.tspan(t),
                 })
             }
@@ -964,9 +964,9 @@ pub(super) fn push_for(out: &mut Vec<Stmt>, h: ForHeader, body: Vec<Stmt>, span:
         out,
         StmtKind::For {
             var,
-            from,
-            to,
-            by,
+            from: Box::new(from),
+            to: Box::new(to),
+            by: by.map(Box::new),
             body,
         },
         span,

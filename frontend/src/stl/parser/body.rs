@@ -215,9 +215,9 @@ impl Parser<'_> {
             out.push(Stmt {
                 kind: StmtKind::For {
                     var,
-                    from,
-                    to,
-                    by,
+                    from: Box::new(from),
+                    to: Box::new(to),
+                    by: by.map(Box::new),
                     body,
                 },
                 span,
@@ -240,10 +240,10 @@ impl Parser<'_> {
             Tok::Downto => {
                 let t = self.bump();
                 Some(Expr {
-                    kind: ExprKind::Literal(Literal {
+                    kind: ExprKind::Literal(Box::new(Literal {
                         kind: LiteralKind::Int(-1),
                         type_prefix: None,
-                    }),
+                    })),
                     span: self.tspan(t),
                 })
             }
@@ -470,10 +470,10 @@ impl Parser<'_> {
         let file = self.file;
         let lit = move |kind| {
             Some(Expr {
-                kind: ExprKind::Literal(Literal {
+                kind: ExprKind::Literal(Box::new(Literal {
                     kind,
                     type_prefix: None,
-                }),
+                })),
                 span: Span::new(file, t.start, t.end),
             })
         };
@@ -568,10 +568,10 @@ impl Parser<'_> {
                 n.sym = internal;
             } else if self.syms.shifts.contains(&n.sym) && args.len() == 1 {
                 let one = Expr {
-                    kind: ExprKind::Literal(Literal {
+                    kind: ExprKind::Literal(Box::new(Literal {
                         kind: LiteralKind::Int(1),
                         type_prefix: None,
-                    }),
+                    })),
                     span: self.sp(span.end, span.end),
                 };
                 args.push(Arg {
