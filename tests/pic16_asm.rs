@@ -1,6 +1,7 @@
 //! Snapshots of the PIC16F876A assembly plcc generates for small programs
 //! (`tests/pic16/*.st`): the code of the programs, FBs, functions and runtime helpers
-//! (the vectors and the scan loop are the same for every program and left out).
+//! (the vectors and the scan loop are left out: they differ only in whether the
+//! program reads the clock, which one test below checks).
 //!
 //! Each snapshot was read and checked by hand: the arithmetic idioms, the bank
 //! selects (only where the bank changes, never between a skip and what it skips) and
@@ -12,6 +13,26 @@ use plcc_ir::backend::{Backend, Options};
 use std::path::PathBuf;
 
 fn listing(name: &str) -> String {
+    let (asm, summary) = assembly(name);
+    let mut out = String::new();
+    for section in asm.split("\n; ---- ").skip(1) {
+        let title = section.lines().next().unwrap_or("");
+        if [
+            "program", "fb", "function", "init", "helper", "Mul", "Div", "BitMask",
+        ]
+        .iter()
+        .any(|k| title.starts_with(k))
+        {
+            out.push_str("; ---- ");
+            out.push_str(section.trim_end().trim_end_matches("END").trim_end());
+            out.push_str("\n\n");
+        }
+    }
+    format!("; {summary}\n{out}")
+}
+
+/// The whole assembly of `tests/pic16/{name}` and the build's summary line.
+fn assembly(name: &str) -> (String, String) {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/pic16")
         .join(name);
@@ -33,22 +54,34 @@ fn listing(name: &str) -> String {
         .compile(module, &opts)
         .unwrap_or_else(|d| panic!("{name}: {d:?}"));
     let asm = String::from_utf8(arts.files[0].bytes.clone()).unwrap();
-    let mut out = String::new();
-    for section in asm.split("\n; ---- ").skip(1) {
-        let title = section.lines().next().unwrap_or("");
-        if [
-            "program", "fb", "function", "init", "helper", "Mul", "Div", "BitMask",
-        ]
-        .iter()
-        .any(|k| title.starts_with(k))
-        {
-            out.push_str("; ---- ");
-            out.push_str(section.trim_end().trim_end_matches("END").trim_end());
-            out.push_str("\n\n");
-        }
+    (asm, arts.summary.unwrap_or_default())
+}
+
+/// The clock (Timer1, its interrupt, the sampling at scan start) is built only for a
+/// program that reads it; its interrupt counts with an `incf` chain.
+#[test]
+fn the_clock_is_built_only_for_programs_that_read_it() {
+    let (asm, summary) = assembly("ton_timer.st");
+    for part in [
+        "\tORG\t0x004",
+        "\tincf\tplc_clock_ms+3,F",
+        "\tretfie",
+        "\tmovwf\tT1CON",
+        "\tbsf\tINTCON,7",
+        "\tmovwf\tplc_now_ms",
+    ] {
+        assert!(asm.contains(part), "TON: no {part:?} in\n{asm}");
     }
-    let summary = arts.summary.unwrap_or_default();
-    format!("; {summary}\n{out}")
+    assert!(summary.contains("stack 2/8"), "{summary}");
+    let (asm, summary) = assembly("add16.st");
+    for part in ["ORG\t0x004", "retfie", "T1CON", "INTCON", "plc_now_ms"] {
+        let code: Vec<&str> = asm.lines().filter(|l| !l.contains("EQU")).collect();
+        assert!(
+            !code.iter().any(|l| l.contains(part)),
+            "no clock read, yet {part:?} in\n{asm}"
+        );
+    }
+    assert!(summary.contains("stack 1/8"), "{summary}");
 }
 
 macro_rules! snap {
@@ -214,7 +247,8 @@ END_PROGRAM";
         d[0].message
     );
 
-    // Nine FUNCTIONs too big to inline, each calling the next: 9 levels + the interrupt.
+    // Nine FUNCTIONs too big to inline, each calling the next: 9 levels, and the
+    // scan loop's call (no interrupt: the program never reads the clock).
     let mut deep = String::new();
     for i in 0..9 {
         deep += &format!("FUNCTION f{i} : DINT\nVAR_INPUT a : DINT; END_VAR\nVAR t : DINT; END_VAR\nt := a * {};\n", i + 3);
@@ -230,7 +264,7 @@ END_PROGRAM";
     let d = pic16_errors(&deep);
     assert_eq!(d[0].code, "E9004");
     assert!(
-        d[0].message.contains("12 levels") && d[0].message.contains("4 too many"),
+        d[0].message.contains("11 levels") && d[0].message.contains("3 too many"),
         "{}",
         d[0].message
     );

@@ -50,7 +50,7 @@ pub fn build(module: &Module, options: &Options) -> Result<Build, Vec<Diagnostic
     let mut all = runtime_units(module, &frames, &ram, &pins, &mut code);
     let bank_selects = select_banks(&mut all)?;
     code.program.units = all;
-    let stack_depth = stack_depth(&calls, &code.helper_users)?;
+    let stack_depth = stack_depth(&calls, &code.helper_users, ram.rt.ticks)?;
     let vars = symbols(
         module,
         &layout,
@@ -257,6 +257,8 @@ fn frames_of(module: &Module, layout: &PicLayout, calls: &CallOrder) -> Frames {
 
 /// What the runtime must provide for the code.
 pub(super) struct RuntimeNeeds {
+    /// The millisecond clock is read.
+    pub uses_ms: bool,
     /// The nanosecond clock is read.
     pub uses_ns: bool,
     /// The widest integer multiplied or divided, in bytes (0: none).
@@ -266,6 +268,7 @@ pub(super) struct RuntimeNeeds {
 impl RuntimeNeeds {
     fn of(module: &Module, order: &[FuncId]) -> RuntimeNeeds {
         let mut needs = RuntimeNeeds {
+            uses_ms: false,
             uses_ns: false,
             widest_muldiv: 0,
         };
@@ -277,6 +280,10 @@ impl RuntimeNeeds {
                         op: Intrinsic::ClockNs,
                         ..
                     } => needs.uses_ns = true,
+                    InstData::Intrinsic {
+                        op: Intrinsic::ClockMs,
+                        ..
+                    } => needs.uses_ms = true,
                     InstData::Binary {
                         op:
                             BinaryOp::Imul
@@ -545,11 +552,11 @@ fn runtime_units(
         pins,
     };
     let labels = &mut code.program.labels;
-    let mut all = vec![
-        runtime::reset_unit(&code.rl),
-        runtime::isr_unit(&ram.rt, labels),
-        runtime::main_unit(&plan, &code.rl),
-    ];
+    let mut all = vec![runtime::reset_unit(&code.rl)];
+    if ram.rt.ticks {
+        all.push(runtime::isr_unit(&ram.rt, labels));
+    }
+    all.push(runtime::main_unit(&plan, &code.rl));
     all.append(&mut code.units);
     for mut u in code.helper_set.units(ram.ws) {
         helpers::resolve_local(&mut u, labels);
@@ -605,10 +612,11 @@ fn select_banks(all: &mut [Unit]) -> Result<u32, Vec<Diagnostic>> {
 }
 
 /// The deepest use of the hardware stack: the scan loop's calls, plus one level for
-/// the interrupt; an error past the chip's 8 levels.
+/// the clock's interrupt when there is one; an error past the chip's 8 levels.
 fn stack_depth(
     calls: &CallOrder,
     helper_users: &FxHashSet<FuncId>,
+    interrupt: bool,
 ) -> Result<u32, Vec<Diagnostic>> {
     let mut depth: Vec<u32> = vec![0; calls.callees.len()];
     for &f in calls.order.iter().rev() {
@@ -627,12 +635,17 @@ fn stack_depth(
         .map(|r| depth[r.index()])
         .max()
         .unwrap_or(0)
-        + 1;
+        + u32::from(interrupt);
     if stack_depth > 8 {
+        let with = if interrupt {
+            " (the clock's interrupt included)"
+        } else {
+            ""
+        };
         return Err(vec![Diagnostic::error_nowhere(
             codes::E_STACK,
             format!(
-                "the deepest chain of calls needs {stack_depth} levels of the 8-level hardware stack (the interrupt included): {} too many",
+                "the deepest chain of calls needs {stack_depth} levels of the 8-level hardware stack{with}: {} too many",
                 stack_depth - 8
             ),
         )]);

@@ -32,6 +32,10 @@ pub struct Rt {
     pub now_ms: u16,
     /// The ns clock sampled at scan start (8 bytes).
     pub now_ns: u16,
+    /// The program reads the clock: the 1 ms timer, its interrupt and the sampling
+    /// at scan start are built. A program that never reads it gets none of them (the
+    /// clock's RAM stays reserved, unused).
+    pub ticks: bool,
 }
 
 /// Where the interrupt saves W: the one byte it must reach before it can select a
@@ -182,10 +186,21 @@ impl Code {
     fn lit(&mut self, f: u16, k: u8) {
         if k == 0 {
             self.i(Inst::Clrf(f));
-        } else {
-            self.i(Inst::Movlw(k));
-            self.i(Inst::Movwf(f));
+            return;
         }
+        // W still holds k when the last two instructions were `movlw k; movwf _`.
+        let mut last = self.0.iter().rev().filter_map(|it| match it {
+            Item::Comment(_) => None,
+            other => Some(other),
+        });
+        let held = matches!(
+            (last.next(), last.next()),
+            (Some(Item::Op(Op::I(Inst::Movwf(_)))), Some(Item::Op(Op::I(Inst::Movlw(w))))) if *w == k
+        );
+        if !held {
+            self.i(Inst::Movlw(k));
+        }
+        self.i(Inst::Movwf(f));
     }
     /// Stores what the callee is passed, then calls it.
     fn entry_call(&mut self, e: &EntryCall) {
@@ -193,6 +208,15 @@ impl Code {
             self.lit(a, k);
         }
         self.0.push(Item::Op(Op::Call(e.label)));
+    }
+    /// `d += 1` over n bytes: each byte after the first is incremented when the one
+    /// below it wrapped to zero.
+    fn increment(&mut self, d: u16, n: u16) {
+        self.i(Inst::Incf(d, Dest::F));
+        for i in 1..n {
+            self.i(Inst::Btfsc(reg::STATUS, reg::Z));
+            self.i(Inst::Incf(d + i, Dest::F));
+        }
     }
     /// `d += k` over n bytes of a constant (carry chained).
     fn add_const(&mut self, d: u16, k: u64, n: u16) {
@@ -257,7 +281,7 @@ pub fn isr_unit(rt: &Rt, labels: &mut Vec<String>) -> Unit {
     c.0.push(Item::Op(Op::Goto(out)));
     c.i(Inst::Bcf(reg::PIR1, reg::CCP1IF));
     c.c("one more millisecond");
-    c.add_const(rt.clk_ms, 1, 4);
+    c.increment(rt.clk_ms, 4);
     if let Some(ns) = rt.clk_ns {
         c.add_const(ns, 1_000_000, 8);
     }
@@ -298,44 +322,54 @@ pub fn main_unit(plan: &RuntimePlan, l: &RuntimeLabels) -> Unit {
     c.lit(reg::TRISA, tris[0] & 0x3F);
     c.lit(reg::TRISB, tris[1]);
     c.lit(reg::TRISC, tris[2]);
-    c.c("1 ms tick: Timer1 at Fosc/4, CCP1 special event every 5000 cycles");
-    c.i(Inst::Clrf(reg::TMR1L));
-    c.i(Inst::Clrf(reg::TMR1H));
-    c.lit(reg::CCPR1L, (CYCLES_PER_MS & 0xFF) as u8);
-    c.lit(reg::CCPR1H, (CYCLES_PER_MS >> 8) as u8);
-    c.lit(reg::CCP1CON, 0x0B);
-    c.i(Inst::Bcf(reg::PIR1, reg::CCP1IF));
-    c.i(Inst::Bsf(reg::PIE1, reg::CCP1IF));
-    c.lit(reg::T1CON, 0x01);
-    c.c("clock, flags and every variable");
-    c.i(Inst::Clrf(rt.flags));
-    for k in 0..4 {
-        c.i(Inst::Clrf(rt.clk_ms + k));
+    if rt.ticks {
+        c.c("1 ms tick: Timer1 at Fosc/4, CCP1 special event every 5000 cycles");
+        c.i(Inst::Clrf(reg::TMR1L));
+        c.i(Inst::Clrf(reg::TMR1H));
+        c.lit(reg::CCPR1L, (CYCLES_PER_MS & 0xFF) as u8);
+        c.lit(reg::CCPR1H, (CYCLES_PER_MS >> 8) as u8);
+        c.lit(reg::CCP1CON, 0x0B);
+        c.i(Inst::Bcf(reg::PIR1, reg::CCP1IF));
+        c.i(Inst::Bsf(reg::PIE1, reg::CCP1IF));
+        c.lit(reg::T1CON, 0x01);
+        c.c("clock, flags and every variable");
+    } else {
+        c.c("no clock (the program never reads it): flags and every variable");
     }
-    if let Some(ns) = rt.clk_ns {
-        for k in 0..8 {
-            c.i(Inst::Clrf(ns + k));
+    c.i(Inst::Clrf(rt.flags));
+    if rt.ticks {
+        for k in 0..4 {
+            c.i(Inst::Clrf(rt.clk_ms + k));
+        }
+        if let Some(ns) = rt.clk_ns {
+            for k in 0..8 {
+                c.i(Inst::Clrf(ns + k));
+            }
         }
     }
     for i in &plan.inits {
         c.entry_call(i);
     }
-    c.i(Inst::Bsf(reg::INTCON, reg::PEIE));
-    c.i(Inst::Bsf(reg::INTCON, reg::GIE));
+    if rt.ticks {
+        c.i(Inst::Bsf(reg::INTCON, reg::PEIE));
+        c.i(Inst::Bsf(reg::INTCON, reg::GIE));
+    }
     c.0.push(Item::Label(l.scan));
-    c.c("sample the clock");
-    c.i(Inst::Bcf(reg::INTCON, reg::GIE));
-    for k in 0..4 {
-        c.i(Inst::Movf(rt.clk_ms + k, Dest::W));
-        c.i(Inst::Movwf(rt.now_ms + k));
-    }
-    if let Some(ns) = rt.clk_ns {
-        for k in 0..8 {
-            c.i(Inst::Movf(ns + k, Dest::W));
-            c.i(Inst::Movwf(rt.now_ns + k));
+    if rt.ticks {
+        c.c("sample the clock");
+        c.i(Inst::Bcf(reg::INTCON, reg::GIE));
+        for k in 0..4 {
+            c.i(Inst::Movf(rt.clk_ms + k, Dest::W));
+            c.i(Inst::Movwf(rt.now_ms + k));
         }
+        if let Some(ns) = rt.clk_ns {
+            for k in 0..8 {
+                c.i(Inst::Movf(ns + k, Dest::W));
+                c.i(Inst::Movwf(rt.now_ns + k));
+            }
+        }
+        c.i(Inst::Bsf(reg::INTCON, reg::GIE));
     }
-    c.i(Inst::Bsf(reg::INTCON, reg::GIE));
     let inputs: Vec<&PinBinding> = plan.pins.iter().filter(|p| p.input).collect();
     if !inputs.is_empty() {
         c.c("latch the inputs");

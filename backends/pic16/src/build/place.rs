@@ -56,6 +56,7 @@ pub(super) fn place(
         isr_save: rt_at + 9,
         clk_ns: needs.uses_ns.then_some(rt_at + 12),
         now_ns: if needs.uses_ns { rt_at + 20 } else { rt_at },
+        ticks: needs.uses_ms || needs.uses_ns,
     };
     let widest = needs.widest_muldiv;
     let ws = if widest > 0 {
