@@ -303,7 +303,51 @@ pub fn isr_unit(rt: &Rt, labels: &mut Vec<String>) -> Unit {
     }
 }
 
-/// Cold start and the scan loop.
+/// The cold start's part for the clock's timer: Timer1 and CCP1 set up (interrupts
+/// are enabled after the programs' initialisation).
+fn start_timer(c: &mut Code) {
+    c.c("1 ms tick: Timer1 at Fosc/4, CCP1 special event every 5000 cycles");
+    c.i(Inst::Clrf(reg::TMR1L));
+    c.i(Inst::Clrf(reg::TMR1H));
+    c.lit(reg::CCPR1L, (CYCLES_PER_MS & 0xFF) as u8);
+    c.lit(reg::CCPR1H, (CYCLES_PER_MS >> 8) as u8);
+    c.lit(reg::CCP1CON, 0x0B);
+    c.i(Inst::Bcf(reg::PIR1, reg::CCP1IF));
+    c.i(Inst::Bsf(reg::PIE1, reg::CCP1IF));
+    c.lit(reg::T1CON, 0x01);
+}
+
+/// The clock cleared at cold start.
+fn clear_clock(c: &mut Code, rt: &Rt) {
+    for k in 0..4 {
+        c.i(Inst::Clrf(rt.clk_ms + k));
+    }
+    if let Some(ns) = rt.clk_ns {
+        for k in 0..8 {
+            c.i(Inst::Clrf(ns + k));
+        }
+    }
+}
+
+/// The scan's start: the clock copied with interrupts off, so that TIME and the
+/// timers see one value per scan.
+fn sample_clock(c: &mut Code, rt: &Rt) {
+    c.c("sample the clock");
+    c.i(Inst::Bcf(reg::INTCON, reg::GIE));
+    for k in 0..4 {
+        c.i(Inst::Movf(rt.clk_ms + k, Dest::W));
+        c.i(Inst::Movwf(rt.now_ms + k));
+    }
+    if let Some(ns) = rt.clk_ns {
+        for k in 0..8 {
+            c.i(Inst::Movf(ns + k, Dest::W));
+            c.i(Inst::Movwf(rt.now_ns + k));
+        }
+    }
+    c.i(Inst::Bsf(reg::INTCON, reg::GIE));
+}
+
+/// Cold start and the scan loop (the clock's parts only when `rt.ticks`).
 pub fn main_unit(plan: &RuntimePlan, l: &RuntimeLabels) -> Unit {
     let rt = plan.rt;
     let mut c = Code(Vec::new());
@@ -323,29 +367,14 @@ pub fn main_unit(plan: &RuntimePlan, l: &RuntimeLabels) -> Unit {
     c.lit(reg::TRISB, tris[1]);
     c.lit(reg::TRISC, tris[2]);
     if rt.ticks {
-        c.c("1 ms tick: Timer1 at Fosc/4, CCP1 special event every 5000 cycles");
-        c.i(Inst::Clrf(reg::TMR1L));
-        c.i(Inst::Clrf(reg::TMR1H));
-        c.lit(reg::CCPR1L, (CYCLES_PER_MS & 0xFF) as u8);
-        c.lit(reg::CCPR1H, (CYCLES_PER_MS >> 8) as u8);
-        c.lit(reg::CCP1CON, 0x0B);
-        c.i(Inst::Bcf(reg::PIR1, reg::CCP1IF));
-        c.i(Inst::Bsf(reg::PIE1, reg::CCP1IF));
-        c.lit(reg::T1CON, 0x01);
+        start_timer(&mut c);
         c.c("clock, flags and every variable");
     } else {
         c.c("no clock (the program never reads it): flags and every variable");
     }
     c.i(Inst::Clrf(rt.flags));
     if rt.ticks {
-        for k in 0..4 {
-            c.i(Inst::Clrf(rt.clk_ms + k));
-        }
-        if let Some(ns) = rt.clk_ns {
-            for k in 0..8 {
-                c.i(Inst::Clrf(ns + k));
-            }
-        }
+        clear_clock(&mut c, &rt);
     }
     for i in &plan.inits {
         c.entry_call(i);
@@ -356,19 +385,7 @@ pub fn main_unit(plan: &RuntimePlan, l: &RuntimeLabels) -> Unit {
     }
     c.0.push(Item::Label(l.scan));
     if rt.ticks {
-        c.c("sample the clock");
-        c.i(Inst::Bcf(reg::INTCON, reg::GIE));
-        for k in 0..4 {
-            c.i(Inst::Movf(rt.clk_ms + k, Dest::W));
-            c.i(Inst::Movwf(rt.now_ms + k));
-        }
-        if let Some(ns) = rt.clk_ns {
-            for k in 0..8 {
-                c.i(Inst::Movf(ns + k, Dest::W));
-                c.i(Inst::Movwf(rt.now_ns + k));
-            }
-        }
-        c.i(Inst::Bsf(reg::INTCON, reg::GIE));
+        sample_clock(&mut c, &rt);
     }
     let inputs: Vec<&PinBinding> = plan.pins.iter().filter(|p| p.input).collect();
     if !inputs.is_empty() {
