@@ -88,7 +88,8 @@ arrays, or split a program's variables into several programs.\n\n    VAR log : A
     CodeInfo {
         code: codes::E_STACK,
         title: "hardware stack too shallow",
-        explanation: "The PIC16's return stack has 8 levels and one is kept for the interrupt. \
+        explanation: "The PIC16's return stack has 8 levels; a program that reads the clock (TIME, \
+the timers) keeps one for the clock's interrupt. \
 The deepest chain of calls (programs, function blocks, functions, runtime helpers for \
 multiply and divide) needs more. The message gives the depth. Calls that the optimiser \
 inlines do not count; flatten the deepest chain of FB or FUNCTION calls.\n\n    (* error: main calls fb1, fb1 calls fb2, ... fb8: nine levels with the multiply helper *)",
