@@ -682,6 +682,16 @@ pub struct Expr {
     pub span: Span,
 }
 
+impl Expr {
+    /// The value of a literal written here (not in parentheses), if it is one.
+    pub fn literal_kind(&self) -> Option<&LiteralKind> {
+        match &self.kind {
+            ExprKind::Literal(l) => Some(&l.kind),
+            _ => None,
+        }
+    }
+}
+
 /// Expression forms.
 #[derive(Clone, Debug)]
 pub enum ExprKind {

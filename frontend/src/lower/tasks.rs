@@ -226,11 +226,7 @@ impl<'s> Lowerer<'s> {
                 ("INTERVAL", Some(ConstVal::Int(n))) => {
                     // A literal keeps its nanoseconds (`T#0.5ms`); other TIME
                     // constants are milliseconds, LTIME ones nanoseconds.
-                    let literal = match &value.kind {
-                        ast::ExprKind::Literal(l) => Some(&l.kind),
-                        _ => None,
-                    };
-                    let ns = match literal {
+                    let ns = match value.literal_kind() {
                         Some(&ast::LiteralKind::Duration { ns, .. }) => ns,
                         _ if matches!(
                             self.const_eval_in(value, None, None),

@@ -127,15 +127,10 @@ impl<'a> Parser<'a> {
             self.expect_tok(Tok::Assign, "`:=`")?;
             let e = self.expr()?;
             let span = self.span_from(start);
-            let n = match &e.kind {
-                ExprKind::Literal(l) => match l.kind {
-                    LiteralKind::Int(n) => Some(n),
-                    _ => None,
-                },
-                _ => None,
-            };
-            match n {
-                Some(n) if (0..=u32::MAX as i128).contains(&n) => priority = Some((n as u32, span)),
+            match e.literal_kind() {
+                Some(&LiteralKind::Int(n)) if (0..=u32::MAX as i128).contains(&n) => {
+                    priority = Some((n as u32, span))
+                }
                 _ => {
                     let d = Diagnostic::error(
                         codes::UNEXPECTED_TOKEN,
