@@ -284,8 +284,8 @@ impl<'f> FuncBuilder<'f> {
         self.push(
             InstData::Brif {
                 cond,
-                then_dest: BlockCall::new(then_block, then_args),
-                else_dest: BlockCall::new(else_block, else_args),
+                then_dest: Box::new(BlockCall::new(then_block, then_args)),
+                else_dest: Box::new(BlockCall::new(else_block, else_args)),
             },
             None,
         );
@@ -297,7 +297,7 @@ impl<'f> FuncBuilder<'f> {
         self.push(
             InstData::BrTable {
                 arg,
-                default,
+                default: Box::new(default),
                 table,
             },
             None,

@@ -137,8 +137,8 @@ impl Expander<'_, '_> {
             Some(Type::I1),
         );
         let below = below.expect("a compare has a result");
-        let then_dest = self.target(&runs[..mid]);
-        let else_dest = self.target(&runs[mid..]);
+        let then_dest = Box::new(self.target(&runs[..mid]));
+        let else_dest = Box::new(self.target(&runs[mid..]));
         self.push(
             b,
             InstData::Brif {

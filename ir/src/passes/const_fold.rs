@@ -182,7 +182,9 @@ fn fold(func: &Function, i: Inst) -> Fold {
         } => {
             if let Some(c) = iconst(func, cond) {
                 let dest = if c & 1 != 0 { then_dest } else { else_dest };
-                return Fold::Rewrite(InstData::Jump { dest: dest.clone() });
+                return Fold::Rewrite(InstData::Jump {
+                    dest: (**dest).clone(),
+                });
             }
             if let Some(InstData::Unary {
                 op: UnaryOp::Bnot,

@@ -126,8 +126,8 @@ fn lower_site(f: &mut Function, tables: &[Table], b: Block, inst: Inst) {
             at,
             InstData::Brif {
                 cond: c,
-                then_dest: BlockCall::new(call, Vec::new()),
-                else_dest: BlockCall::new(next, Vec::new()),
+                then_dest: Box::new(BlockCall::new(call, Vec::new())),
+                else_dest: Box::new(BlockCall::new(next, Vec::new())),
             },
             None,
         );

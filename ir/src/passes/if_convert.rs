@@ -184,7 +184,8 @@ fn convert(func: &mut Function, b: Block, preds: &[u32]) -> Option<([Option<Bloc
         _ => return None,
     };
     // What the join receives on each path, once the side's parameters are replaced.
-    let args = |func: &Function, arm: &Option<(Side, BlockCall)>, direct: &BlockCall| match arm {
+    let args = |func: &Function, arm: &Option<(Side, Box<BlockCall>)>, direct: &BlockCall| match arm
+    {
         Some((s, call)) => {
             let params = &func.block(s.block).params;
             s.join

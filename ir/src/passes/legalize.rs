@@ -312,8 +312,8 @@ fn guard_division(
     cur.ins(
         InstData::Brif {
             cond: z,
-            then_dest: BlockCall::new(fault, Vec::new()),
-            else_dest: BlockCall::new(ok, Vec::new()),
+            then_dest: Box::new(BlockCall::new(fault, Vec::new())),
+            else_dest: Box::new(BlockCall::new(ok, Vec::new())),
         },
         None,
     );

@@ -50,9 +50,9 @@ fn fold_branches(func: &mut Function) -> bool {
                 then_dest,
                 else_dest,
             } => match int_const(func, *cond) {
-                Some(c) if c & 1 != 0 => then_dest.clone(),
-                Some(_) => else_dest.clone(),
-                None if then_dest == else_dest => then_dest.clone(),
+                Some(c) if c & 1 != 0 => (**then_dest).clone(),
+                Some(_) => (**else_dest).clone(),
+                None if then_dest == else_dest => (**then_dest).clone(),
                 None => continue,
             },
             InstData::BrTable {
@@ -63,9 +63,9 @@ fn fold_branches(func: &mut Function) -> bool {
                 Some(c) => {
                     let u = func.value_type(*arg).zext_bits(c);
                     let k = usize::try_from(u).ok().filter(|&k| k < table.len());
-                    k.map_or(default, |k| &table[k]).clone()
+                    k.map_or(&**default, |k| &table[k]).clone()
                 }
-                None if table.iter().all(|d| d == default) => default.clone(),
+                None if table.iter().all(|d| d == &**default) => (**default).clone(),
                 None => continue,
             },
             _ => continue,

@@ -122,8 +122,8 @@ pub fn run_function(f: &mut Function) -> bool {
         let br = f.create_inst(
             InstData::Brif {
                 cond,
-                then_dest: BlockCall::new(bail, Vec::new()),
-                else_dest: dest,
+                then_dest: Box::new(BlockCall::new(bail, Vec::new())),
+                else_dest: Box::new(dest),
             },
             None,
             span,

@@ -96,8 +96,8 @@ fn domtree_matches_the_naive_algorithm_on_random_cfgs() {
                     succ[i].push(e);
                     InstData::Brif {
                         cond: cv,
-                        then_dest: BlockCall::new(blocks[t], vec![]),
-                        else_dest: BlockCall::new(blocks[e], vec![]),
+                        then_dest: Box::new(BlockCall::new(blocks[t], vec![])),
+                        else_dest: Box::new(BlockCall::new(blocks[e], vec![])),
                     }
                 }
             };

@@ -416,8 +416,8 @@ fn add_test(f: &mut Function, g: &Guard, copy: Block) -> Block {
         .expect("a test");
     let br = InstData::Brif {
         cond: ok,
-        then_dest: BlockCall::new(copy, params.clone()),
-        else_dest: BlockCall::new(h, params),
+        then_dest: Box::new(BlockCall::new(copy, params.clone())),
+        else_dest: Box::new(BlockCall::new(h, params)),
     };
     emit(f, br, None);
     test

@@ -500,8 +500,8 @@ impl<'a> Resolver<'a> {
                         has_result = Some(false);
                         InstData::Brif {
                             cond: val(*c)?,
-                            then_dest: block_call(t)?,
-                            else_dest: block_call(e)?,
+                            then_dest: Box::new(block_call(t)?),
+                            else_dest: Box::new(block_call(e)?),
                         }
                     }
                     RawOp::BrTable(bt) => {
@@ -509,7 +509,7 @@ impl<'a> Resolver<'a> {
                         has_result = Some(false);
                         InstData::BrTable {
                             arg: val(*index)?,
-                            default: block_call(default)?,
+                            default: Box::new(block_call(default)?),
                             table: table.iter().map(&block_call).collect::<Result<_, _>>()?,
                         }
                     }
