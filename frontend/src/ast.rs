@@ -706,13 +706,14 @@ pub enum ExprKind {
     /// `base.%B1`, `%W0`, `%D0`: partial access of a larger word (size in bits, index).
     Partial(Box<Expr>, u8, u32),
     /// `base[i, j]`
-    Index(Box<Expr>, Vec<Expr>),
+    Index(Box<Expr>, Box<[Expr]>),
     /// `base^`
     Deref(Box<Expr>),
     /// `Color#Red` (an enumeration value qualified by its type).
     EnumValue {
-        /// The enumeration type.
-        ty: Ident,
+        /// The enumeration type (boxed: this rare node would make every `Expr`
+        /// 8 bytes larger).
+        ty: Box<Ident>,
         /// The value.
         value: Ident,
     },
@@ -727,7 +728,7 @@ pub enum ExprKind {
         /// What is called: a `Name` or a `Member`.
         callee: Box<Expr>,
         /// The arguments in order.
-        args: Vec<Arg>,
+        args: Box<[Arg]>,
     },
     /// `(e)`, kept so that diagnostics and printers can see the parentheses.
     Paren(Box<Expr>),
@@ -935,5 +936,5 @@ fn node_sizes() {
         ("Arg", std::mem::size_of::<Arg>()),
     ];
     eprintln!("{sizes:?}");
-    assert_eq!(sizes, [("Expr", 56), ("Stmt", 136), ("Arg", 96)]);
+    assert_eq!(sizes, [("Expr", 48), ("Stmt", 120), ("Arg", 88)]);
 }

@@ -548,7 +548,7 @@ fn operand_shape(
                     span,
                     kind: ExprKind::Call {
                         callee: Box::new(e.clone()),
-                        args: Vec::new(),
+                        args: Box::default(),
                     },
                 };
                 (true, "")
@@ -738,7 +738,7 @@ fn function_call(p: &mut Parser<'_>, idx: usize, name: Ident, out: &mut Vec<Inst
                             kind: ExprKind::Name(name),
                             span: name.span,
                         }),
-                        args,
+                        args: args.into(),
                     },
                     span,
                 };

@@ -1057,7 +1057,7 @@ fn call_expr(callee: Expr, args: Vec<Arg>, span: Span) -> Expr {
     Expr {
         kind: ExprKind::Call {
             callee: Box::new(callee),
-            args,
+            args: args.into(),
         },
         span,
     }

@@ -309,7 +309,7 @@ impl<'s> BodyCx<'_, 's> {
                     crate::ast::ExprKind::EnumValue { ty, value } => {
                         // A known value was reported above (its type is an
                         // enumeration's); this reports an unknown type or value.
-                        let _ = self.l.qualified_enum(*ty, *value, true);
+                        let _ = self.l.qualified_enum(**ty, *value, true);
                         return None;
                     }
                     _ => {}
@@ -339,7 +339,7 @@ impl<'s> BodyCx<'_, 's> {
                 super::body::Named::Place(p) => Some(p.ty),
                 super::body::Named::Error => None,
             },
-            ExprKind::EnumValue { ty, value } => match self.l.qualified_enum(*ty, *value, true) {
+            ExprKind::EnumValue { ty, value } => match self.l.qualified_enum(**ty, *value, true) {
                 Some((e2, _, v)) if e2 == en => return Some(v),
                 Some((e2, b, _)) => Some(Ty::Enum(e2, b)),
                 None => return None,

@@ -246,7 +246,7 @@ impl<'s> BodyCx<'_, 's> {
                 Some(v) => v,
                 None => self.error_val(),
             },
-            ExprKind::EnumValue { ty, value } => match self.l.qualified_enum(*ty, *value, true) {
+            ExprKind::EnumValue { ty, value } => match self.l.qualified_enum(**ty, *value, true) {
                 Some((en, base, v)) => {
                     self.constant(ConstVal::Int(v), Ty::Enum(en, base), None, e.span)
                 }

@@ -339,7 +339,7 @@ impl<'s> BodyCx<'_, 's> {
                     .unwrap_or(Ty::Error),
                 _ => Ty::Error,
             },
-            ExprKind::EnumValue { ty, value } => match self.l.qualified_enum(*ty, *value, false) {
+            ExprKind::EnumValue { ty, value } => match self.l.qualified_enum(**ty, *value, false) {
                 Some((e, base, _)) => Ty::Enum(e, base),
                 None => Ty::Error,
             },

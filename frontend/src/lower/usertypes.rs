@@ -772,11 +772,12 @@ impl<'s> Lowerer<'s> {
         match &e.kind {
             ast::ExprKind::Paren(x) => self.enum_const(x, id),
             ast::ExprKind::Name(n) => self.enum_value_of(id, n.sym),
-            ast::ExprKind::EnumValue { ty, value } => match self.qualified_enum(*ty, *value, false)
-            {
-                Some((eid, _, v)) if eid == id => Some(v),
-                _ => None,
-            },
+            ast::ExprKind::EnumValue { ty, value } => {
+                match self.qualified_enum(**ty, *value, false) {
+                    Some((eid, _, v)) if eid == id => Some(v),
+                    _ => None,
+                }
+            }
             _ => None,
         }
     }

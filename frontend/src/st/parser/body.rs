@@ -597,7 +597,7 @@ impl<'a> Parser<'a> {
         let span = self.span_from(base.span.start);
         let kind = match w {
             Wrap::Deref => ExprKind::Deref(Box::new(base)),
-            Wrap::Index(idx) => ExprKind::Index(Box::new(base), idx),
+            Wrap::Index(idx) => ExprKind::Index(Box::new(base), idx.into()),
             Wrap::Member(m) => ExprKind::Member(Box::new(base), m),
             Wrap::Bit(b) => ExprKind::Bit(Box::new(base), Box::new(b)),
             Wrap::Partial(size, n) => ExprKind::Partial(Box::new(base), size, n),
@@ -855,7 +855,7 @@ impl<'a> Parser<'a> {
                 self.bump();
                 return Expr {
                     kind: ExprKind::EnumValue {
-                        ty: id,
+                        ty: Box::new(id),
                         value: self.ident(n),
                     },
                     span: self.sp(t.start, n.end),
@@ -1004,7 +1004,7 @@ pub(super) fn call(callee: Expr, args: Vec<Arg>, end: u32, file: FileId) -> Expr
         span: Span::new(file, callee.span.start, end),
         kind: ExprKind::Call {
             callee: Box::new(callee),
-            args,
+            args: args.into(),
         },
     }
 }

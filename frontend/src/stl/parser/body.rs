@@ -324,7 +324,7 @@ impl Parser<'_> {
                 let call = Expr {
                     kind: ExprKind::Call {
                         callee: Box::new(target),
-                        args: Vec::new(),
+                        args: Box::default(),
                     },
                     span,
                 };
@@ -583,7 +583,7 @@ impl Parser<'_> {
         Some(Expr {
             kind: ExprKind::Call {
                 callee: Box::new(callee),
-                args,
+                args: args.into(),
             },
             span,
         })
