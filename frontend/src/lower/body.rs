@@ -164,7 +164,7 @@ impl<'s> Lowerer<'s> {
     }
 
     /// Takes a function out of the module while `f` builds it (so the builder and the
-    /// lowerer can both be borrowed), then puts it back; under
+    /// lowerer can both be borrowed), then puts it back, its tables cut to size; under
     /// [`LowerOptions::check_only`](super::LowerOptions::check_only) it drops it.
     pub(super) fn with_function(
         &mut self,
@@ -177,12 +177,22 @@ impl<'s> Lowerer<'s> {
             s.span = cur.span;
             s
         };
-        let mut func = std::mem::replace(&mut self.module.funcs[fid.index()], shell);
+        let current = std::mem::replace(&mut self.module.funcs[fid.index()], shell);
+        // Built in the scratch function (taken: building one body may start
+        // another), then copied out without room to spare; under `check_only`
+        // nothing is copied and the next body reuses the memory.
+        let mut func = match self.scratch.take() {
+            Some(mut scratch) => {
+                scratch.refill_from(current);
+                scratch
+            }
+            None => current,
+        };
         f(self, &mut func);
-        // Dropped here, its memory goes to the next body.
         if !self.drop_bodies {
-            self.module.funcs[fid.index()] = func;
+            self.module.funcs[fid.index()] = func.take_exact();
         }
+        self.scratch = Some(func);
     }
 }
 

@@ -277,6 +277,9 @@ pub struct Lowerer<'s> {
     /// The types given to compiler temporaries (IL's spilled current results), for
     /// printing the build as ST.
     pub(crate) temp_types: crate::print::TempTypes,
+    /// The function each body is built in, its tables' room kept from one body to
+    /// the next ([`Function::take_exact`](plcc_ir::Function::take_exact)).
+    scratch: Option<plcc_ir::Function>,
 }
 
 /// What [`Lowerer::run`] made.
@@ -332,6 +335,7 @@ impl<'s> Lowerer<'s> {
             ref_depth: 0,
             classes: Default::default(),
             temp_types: Default::default(),
+            scratch: None,
         }
     }
 
