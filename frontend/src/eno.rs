@@ -49,8 +49,13 @@ fn names_eno(text: &str, after_dot: bool) -> bool {
 
 /// Declares the implicit ENO output in the function blocks of `units` that need it.
 pub fn declare(units: &mut [SourceUnit], sources: &SourceMap, interner: &mut Interner) {
+    // The lexers intern every identifier: where no file names ENO as one, nothing
+    // needs it, and the scans of every text below are skipped (a comment that says
+    // ENO declares nothing).
+    let Some(eno) = interner.lookup("ENO") else {
+        return;
+    };
     let read_anywhere = sources.iter().any(|(_, f)| names_eno(&f.text, true));
-    let eno = interner.intern("ENO");
     let bool_ty = interner.intern("BOOL");
     for unit in units.iter_mut() {
         let text = &sources.get(unit.file).text;
@@ -108,7 +113,40 @@ pub fn declare(units: &mut [SourceUnit], sources: &SourceMap, interner: &mut Int
 
 #[cfg(test)]
 mod tests {
-    use super::names_eno;
+    use super::*;
+    use crate::source::SourceFile;
+
+    /// The output blocks `declare` leaves in the one function block of `text`.
+    fn outputs_after_declare(text: &str) -> usize {
+        let mut sources = SourceMap::new();
+        let file = sources.add(SourceFile::new("t.st", text));
+        let (mut interner, mut diags) = (Interner::new(), Vec::new());
+        let mut units = vec![crate::st::parse(
+            file,
+            &sources.get(file).text,
+            &mut interner,
+            &mut diags,
+        )];
+        assert!(diags.is_empty(), "{diags:?}");
+        declare(&mut units, &sources, &mut interner);
+        let Item::Pou(fb) = &units[0].items[0] else {
+            panic!("a function block")
+        };
+        fb.var_blocks
+            .iter()
+            .filter(|b| b.kind == VarKind::Output)
+            .count()
+    }
+
+    #[test]
+    fn eno_is_declared_where_a_body_names_it_and_not_for_a_comment() {
+        let fb = |body: &str| {
+            format!("FUNCTION_BLOCK F\nVAR x : INT; END_VAR\n{body}\nEND_FUNCTION_BLOCK\n")
+        };
+        assert_eq!(outputs_after_declare(&fb("ENO := x > 0;")), 1);
+        assert_eq!(outputs_after_declare(&fb("(* sets ENO *) x := 1;")), 0);
+        assert_eq!(outputs_after_declare(&fb("x := 1;")), 0);
+    }
 
     #[test]
     fn eno_as_a_word_and_after_a_dot() {
