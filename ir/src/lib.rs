@@ -25,6 +25,7 @@ pub mod layout;
 pub mod machine;
 pub mod module;
 pub mod names;
+pub mod parallel;
 pub mod passes;
 pub mod rng;
 pub mod text;

@@ -60,9 +60,13 @@ impl std::error::Error for VerifyError {}
 pub fn verify_module(m: &Module) -> Result<(), Vec<VerifyError>> {
     let mut errs = Vec::new();
     check_module(m, &mut errs);
-    for f in &m.funcs {
+    // Each function on its own, on several threads for a large module.
+    let each = crate::parallel::map(&m.funcs, |f| {
+        let mut errs = Vec::new();
         check_function(m, f, &mut errs);
-    }
+        errs
+    });
+    errs.extend(each.into_iter().flatten());
     check_recursion(m, &mut errs);
     if errs.is_empty() {
         Ok(())

@@ -128,46 +128,10 @@ fn cleanup(func: &mut Function, mut dirty: u8) -> bool {
 }
 
 /// Optimises every function of `module` (see [`optimize_function`]), on several
-/// threads when the machine has several cores (functions are independent here).
+/// threads when the machine has several cores (functions are independent here;
+/// [`crate::parallel`]).
 pub fn optimize_module(module: &mut Module) {
-    let all: Vec<&mut Function> = module.funcs.iter_mut().collect();
-    optimize_in_parallel(all);
-}
-
-/// Runs [`optimize_function`] on each function, spreading them over the available
-/// cores by size (largest first, each to the least loaded thread).
-fn optimize_in_parallel(mut funcs: Vec<&mut Function>) {
-    let threads = std::thread::available_parallelism()
-        .map(|n| n.get())
-        .unwrap_or(1)
-        .min(8);
-    let total: usize = funcs.iter().map(|f| f.insts.len()).sum();
-    if threads < 2 || total < 20_000 {
-        for f in funcs {
-            optimize_function(f);
-        }
-        return;
-    }
-    funcs.sort_by_key(|f| std::cmp::Reverse(f.insts.len()));
-    let mut groups: Vec<(usize, Vec<&mut Function>)> =
-        (0..threads).map(|_| (0, Vec::new())).collect();
-    for f in funcs {
-        let g = groups
-            .iter_mut()
-            .min_by_key(|(load, _)| *load)
-            .expect("at least one group");
-        g.0 += f.insts.len();
-        g.1.push(f);
-    }
-    std::thread::scope(|scope| {
-        for (_, group) in groups {
-            scope.spawn(move || {
-                for f in group {
-                    optimize_function(f);
-                }
-            });
-        }
-    });
+    crate::parallel::each_mut(module.funcs.iter_mut().collect(), optimize_function);
 }
 
 /// The whole-program pipeline the driver runs: every function on its own, then
@@ -188,7 +152,7 @@ pub fn optimize_program(module: &mut Module) {
         .zip(changed)
         .filter_map(|(f, c)| c.then_some(f))
         .collect();
-    optimize_in_parallel(promoted);
+    crate::parallel::each_mut(promoted, optimize_function);
     // The passes leave dead instructions in the arenas (more than half of them in
     // large programs); the backends and the runner's copy need only the live ones.
     for f in &mut module.funcs {

@@ -36,11 +36,7 @@ pub const MAX_WORK: i128 = 1 << 24;
 
 /// Adds the checks to every function of the module; returns true if it added any.
 pub fn run(module: &mut Module) -> bool {
-    let mut changed = false;
-    for f in &mut module.funcs {
-        changed |= run_function(f);
-    }
-    changed
+    crate::parallel::each_mut(module.funcs.iter_mut().collect(), run_function)
 }
 
 /// Adds the checks to one function.
