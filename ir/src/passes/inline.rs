@@ -61,10 +61,7 @@ pub fn run(module: &mut Module, optimize: &(dyn Fn(&mut Function) + Sync)) -> bo
         level[fid.index()] = l;
     }
     let top = level.iter().copied().max().unwrap_or(0);
-    let threads = std::thread::available_parallelism()
-        .map(|t| t.get())
-        .unwrap_or(1)
-        .min(8);
+    let threads = crate::parallel::threads();
     let mut changed = false;
     for l in 1..=top {
         // Take this level's functions out of the module; their callees stay in it.
