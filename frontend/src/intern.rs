@@ -53,6 +53,16 @@ impl Interner {
         self.map.get(upper.as_str()).copied()
     }
 
+    /// The number of names interned.
+    pub fn len(&self) -> usize {
+        self.names.len()
+    }
+
+    /// True if no name is interned.
+    pub fn is_empty(&self) -> bool {
+        self.names.is_empty()
+    }
+
     /// The upper-cased name of a symbol.
     pub fn name(&self, sym: Symbol) -> &str {
         &self.names[sym.0 as usize]

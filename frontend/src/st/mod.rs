@@ -4,6 +4,7 @@
 //! into `diags` and the parser recovers, so one run reports every independent error of
 //! a file; what could not be parsed is left out of the tree.
 
+mod halves;
 pub mod lexer;
 pub mod literals;
 pub mod parser;
@@ -27,7 +28,10 @@ pub fn parse(
 ) -> SourceUnit {
     let first = diags.len();
     let lexed = lexer::lex(file, text, interner, diags);
-    let unit = parser::parse_tokens(file, text, &lexed, interner, diags);
+    let unit = match halves::parse(file, text, &lexed, interner, diags) {
+        Some(unit) => unit,
+        None => parser::parse_tokens(file, text, &lexed, interner, diags),
+    };
     // Lexical errors were found first; show everything in source order.
     diags[first..].sort_by_key(|d| d.span.map_or(u32::MAX, |s| s.start));
     unit

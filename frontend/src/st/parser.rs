@@ -78,11 +78,42 @@ pub(crate) fn parse_tokens_with<'a>(
     diags: &'a mut Vec<Diagnostic>,
     hook: Option<&'a mut dyn BodyHook>,
 ) -> SourceUnit {
+    // The hook reborrowed for as long as the parse, so that `diags` is free after.
+    let hook = hook.map(|h| -> &mut dyn BodyHook { h });
+    let unit = parse_range(file, text, lexed, &lexed.tokens, interner, diags, hook);
+    let why = if unit.1 {
+        "IL bodies and declarations keep no C code (an ST body keeps it where a statement may stand)"
+    } else {
+        "it does not stand where a statement may stand"
+    };
+    lexed.warn_c_pragmas(file, unit.2, why, diags);
+    unit.0
+}
+
+/// Interns the words the parser matches by symbol, so that a copy of the interner
+/// made afterwards lets a parser add nothing when the file holds no new names (see
+/// [`super::halves`]).
+pub(crate) fn intern_contextual_words(interner: &mut Interner) {
+    Syms::new(interner);
+}
+
+/// Parses the items of `toks` (a range of `lexed`'s tokens that starts at the top
+/// level and ends with an Eof). Returns the unit, whether a body hook was given, and
+/// the index of the first C pragma not yet taken.
+pub(crate) fn parse_range<'a>(
+    file: FileId,
+    text: &'a str,
+    lexed: &'a Lexed,
+    toks: &'a [Token],
+    interner: &'a mut Interner,
+    diags: &'a mut Vec<Diagnostic>,
+    hook: Option<&'a mut dyn BodyHook>,
+) -> (SourceUnit, bool, usize) {
     let s = Syms::new(interner);
     let mut p = Parser {
         file,
         text,
-        toks: &lexed.tokens,
+        toks,
         lits: &lexed.literals,
         lexed,
         pos: 0,
@@ -103,21 +134,17 @@ pub(crate) fn parse_tokens_with<'a>(
         line_postfix: None,
         c_next: 0,
     };
+    let hooked = p.hook.is_some();
     if p.toks.last().map(|t| t.kind) != Some(Tok::Eof) {
         // `lex` always ends with Eof; a hand-made token vector might not.
-        return SourceUnit {
+        let unit = SourceUnit {
             file,
             items: Vec::new(),
         };
+        return (unit, hooked, 0);
     }
     let items = p.unit();
-    let why = if p.hook.is_some() {
-        "IL bodies and declarations keep no C code (an ST body keeps it where a statement may stand)"
-    } else {
-        "it does not stand where a statement may stand"
-    };
-    lexed.warn_c_pragmas(file, p.c_next, why, p.diags);
-    SourceUnit { file, items }
+    (SourceUnit { file, items }, hooked, p.c_next)
 }
 
 /// Words that are keywords only in some contexts (and names everywhere else).
