@@ -69,16 +69,15 @@ fn parse_at(
     diags: &mut Vec<Diagnostic>,
 ) -> Option<SourceUnit> {
     let toks = &lexed.tokens;
-    let mut first: Vec<Token> = Vec::with_capacity(split + 1);
-    first.extend_from_slice(&toks[..split]);
+    // The first half ends as a file does, at the second half's first token.
     let at = toks[split].start;
-    first.push(Token {
+    let eof = Token {
         kind: Tok::Eof,
         flags: 0,
         start: at,
         end: at,
         data: 0,
-    });
+    };
     parser::intern_contextual_words(interner);
     let mut copy = interner.clone();
     let known = copy.len();
@@ -90,14 +89,23 @@ fn parse_at(
                 text,
                 lexed,
                 &toks[split..],
+                None,
                 &mut copy,
                 &mut second_diags,
                 None,
             );
             unit
         });
-        let (a, ..) =
-            parser::parse_range(file, text, lexed, &first, interner, &mut first_diags, None);
+        let (a, ..) = parser::parse_range(
+            file,
+            text,
+            lexed,
+            &toks[..split],
+            Some(eof),
+            interner,
+            &mut first_diags,
+            None,
+        );
         let b = second
             .join()
             .unwrap_or_else(|p| std::panic::resume_unwind(p));

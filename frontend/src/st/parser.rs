@@ -80,7 +80,16 @@ pub(crate) fn parse_tokens_with<'a>(
 ) -> SourceUnit {
     // The hook reborrowed for as long as the parse, so that `diags` is free after.
     let hook = hook.map(|h| -> &mut dyn BodyHook { h });
-    let unit = parse_range(file, text, lexed, &lexed.tokens, interner, diags, hook);
+    let unit = parse_range(
+        file,
+        text,
+        lexed,
+        &lexed.tokens,
+        None,
+        interner,
+        diags,
+        hook,
+    );
     let why = if unit.1 {
         "IL bodies and declarations keep no C code (an ST body keeps it where a statement may stand)"
     } else {
@@ -98,22 +107,38 @@ pub(crate) fn intern_contextual_words(interner: &mut Interner) {
 }
 
 /// Parses the items of `toks` (a range of `lexed`'s tokens that starts at the top
-/// level and ends with an Eof). Returns the unit, whether a body hook was given, and
-/// the index of the first C pragma not yet taken.
+/// level), which end with an Eof unless `eof` gives the token that follows them.
+/// Returns the unit, whether a body hook was given, and the index of the first C
+/// pragma not yet taken.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn parse_range<'a>(
     file: FileId,
     text: &'a str,
     lexed: &'a Lexed,
     toks: &'a [Token],
+    eof: Option<Token>,
     interner: &'a mut Interner,
     diags: &'a mut Vec<Diagnostic>,
     hook: Option<&'a mut dyn BodyHook>,
 ) -> (SourceUnit, bool, usize) {
     let s = Syms::new(interner);
+    let hooked = hook.is_some();
+    let eof = match eof.or(toks.last().copied()) {
+        Some(t) if t.kind == Tok::Eof => t,
+        // `lex` always ends with Eof; a hand-made token vector might not.
+        _ => {
+            let unit = SourceUnit {
+                file,
+                items: Vec::new(),
+            };
+            return (unit, hooked, 0);
+        }
+    };
     let mut p = Parser {
         file,
         text,
         toks,
+        eof,
         lits: &lexed.literals,
         lexed,
         pos: 0,
@@ -134,15 +159,6 @@ pub(crate) fn parse_range<'a>(
         line_postfix: None,
         c_next: 0,
     };
-    let hooked = p.hook.is_some();
-    if p.toks.last().map(|t| t.kind) != Some(Tok::Eof) {
-        // `lex` always ends with Eof; a hand-made token vector might not.
-        let unit = SourceUnit {
-            file,
-            items: Vec::new(),
-        };
-        return (unit, hooked, 0);
-    }
     let items = p.unit();
     (SourceUnit { file, items }, hooked, p.c_next)
 }
@@ -392,6 +408,8 @@ pub(crate) struct Parser<'a> {
     file: FileId,
     text: &'a str,
     toks: &'a [Token],
+    /// The token after `toks` (their last one, Eof, for a whole file).
+    eof: Token,
     lits: &'a [Literal],
     lexed: &'a Lexed,
     pos: usize,
@@ -438,10 +456,7 @@ impl<'a> Parser<'a> {
 
     /// The token at `idx` (the last one, Eof, past the end).
     pub(crate) fn token(&self, idx: usize) -> Token {
-        self.toks
-            .get(idx)
-            .copied()
-            .unwrap_or(self.toks[self.toks.len() - 1])
+        self.toks.get(idx).copied().unwrap_or(self.eof)
     }
 
     /// The file being parsed.
@@ -482,11 +497,11 @@ impl<'a> Parser<'a> {
     }
 
     pub(crate) fn tok(&self) -> Token {
-        self.toks[self.pos]
+        self.token(self.pos)
     }
 
     pub(crate) fn peek(&self) -> Tok {
-        self.toks[self.pos].kind
+        self.tok().kind
     }
 
     pub(crate) fn peek_at(&self, n: usize) -> Tok {
@@ -498,7 +513,7 @@ impl<'a> Parser<'a> {
     }
 
     pub(crate) fn bump(&mut self) -> Token {
-        let t = self.toks[self.pos];
+        let t = self.tok();
         if t.kind != Tok::Eof {
             self.pos += 1;
         }
@@ -557,7 +572,7 @@ impl<'a> Parser<'a> {
 
     /// How the token at `idx` is shown in "found ..." messages.
     pub(crate) fn describe(&self, idx: usize) -> String {
-        let t = self.toks[idx];
+        let t = self.token(idx);
         match t.kind {
             Tok::Eof => "end of file".into(),
             Tok::Error => "an invalid character".into(),
@@ -579,7 +594,7 @@ impl<'a> Parser<'a> {
             return;
         }
         self.last_err = Some(idx);
-        let k = self.toks[idx].kind;
+        let k = self.token(idx).kind;
         let after_swallow = idx > 0 && self.toks[idx - 1].flags & SWALLOWED != 0;
         if k == Tok::Error || (k == Tok::Eof && self.eof_silent) || after_swallow {
             return;

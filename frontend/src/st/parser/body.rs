@@ -849,7 +849,7 @@ impl<'a> Parser<'a> {
         self.bump();
         let id = self.ident(t);
         if self.at(Tok::Hash) {
-            let n = self.toks[self.pos + 1];
+            let n = self.token(self.pos + 1);
             if n.kind == Tok::Ident {
                 self.bump();
                 self.bump();

@@ -144,7 +144,7 @@ impl<'a> Parser<'a> {
         }
         if self.at(Tok::Lit) && self.peek_at(1) == Tok::DotDot {
             // `IN 1 ..`: read as the input `IN`, the POU keeps the span.
-            let s = self.sp(start, self.toks[self.pos + 1].end);
+            let s = self.sp(start, self.token(self.pos + 1).end);
             self.bump();
             self.bump();
             self.extensible.push(s);
