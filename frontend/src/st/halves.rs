@@ -85,7 +85,7 @@ fn parse_at(
     let (mut first_diags, mut second_diags) = (Vec::new(), Vec::new());
     let (a, b) = std::thread::scope(|scope| {
         let second = scope.spawn(|| {
-            let (unit, ..) = parser::parse_range(
+            let (unit, _) = parser::parse_range(
                 file,
                 text,
                 lexed,
@@ -97,7 +97,7 @@ fn parse_at(
             );
             unit
         });
-        let (a, ..) = parser::parse_range(
+        let (a, _) = parser::parse_range(
             file,
             text,
             lexed,

@@ -78,9 +78,14 @@ pub(crate) fn parse_tokens_with<'a>(
     diags: &'a mut Vec<Diagnostic>,
     hook: Option<&'a mut dyn BodyHook>,
 ) -> SourceUnit {
+    let why = if hook.is_some() {
+        "IL bodies and declarations keep no C code (an ST body keeps it where a statement may stand)"
+    } else {
+        "it does not stand where a statement may stand"
+    };
     // The hook reborrowed for as long as the parse, so that `diags` is free after.
     let hook = hook.map(|h| -> &mut dyn BodyHook { h });
-    let unit = parse_range(
+    let (unit, c_next) = parse_range(
         file,
         text,
         lexed,
@@ -90,13 +95,8 @@ pub(crate) fn parse_tokens_with<'a>(
         diags,
         hook,
     );
-    let why = if unit.1 {
-        "IL bodies and declarations keep no C code (an ST body keeps it where a statement may stand)"
-    } else {
-        "it does not stand where a statement may stand"
-    };
-    lexed.warn_c_pragmas(file, unit.2, why, diags);
-    unit.0
+    lexed.warn_c_pragmas(file, c_next, why, diags);
+    unit
 }
 
 /// Interns the words the parser matches by symbol, so that a copy of the interner
@@ -108,8 +108,7 @@ pub(crate) fn intern_contextual_words(interner: &mut Interner) {
 
 /// Parses the items of `toks` (a range of `lexed`'s tokens that starts at the top
 /// level), which end with an Eof unless `eof` gives the token that follows them.
-/// Returns the unit, whether a body hook was given, and the index of the first C
-/// pragma not yet taken.
+/// Returns the unit and the index of the first C pragma not yet taken.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn parse_range<'a>(
     file: FileId,
@@ -120,18 +119,18 @@ pub(crate) fn parse_range<'a>(
     interner: &'a mut Interner,
     diags: &'a mut Vec<Diagnostic>,
     hook: Option<&'a mut dyn BodyHook>,
-) -> (SourceUnit, bool, usize) {
+) -> (SourceUnit, usize) {
     let s = Syms::new(interner);
-    let hooked = hook.is_some();
     let eof = match eof.or(toks.last().copied()) {
         Some(t) if t.kind == Tok::Eof => t,
-        // `lex` always ends with Eof; a hand-made token vector might not.
+        // `lex` always ends with Eof; a hand-made token vector might not (nothing
+        // parsed, no pragma warned about).
         _ => {
             let unit = SourceUnit {
                 file,
                 items: Vec::new(),
             };
-            return (unit, hooked, 0);
+            return (unit, lexed.c_pragmas.len());
         }
     };
     let mut p = Parser {
@@ -160,7 +159,7 @@ pub(crate) fn parse_range<'a>(
         c_next: 0,
     };
     let items = p.unit();
-    (SourceUnit { file, items }, hooked, p.c_next)
+    (SourceUnit { file, items }, p.c_next)
 }
 
 /// Words that are keywords only in some contexts (and names everywhere else).
