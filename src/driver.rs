@@ -195,6 +195,7 @@ pub fn build_sources_with_library(
         inline_c: opts.inline_c,
         check_only: opts.check_only,
         print: opts.print,
+        parallel_bodies: Default::default(),
     };
     // The panic boundary of the front end (ARCHITECTURE.md, "Panics"): a panic is a
     // bug in plcc, reported as an internal error, not a crash of the command.

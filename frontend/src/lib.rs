@@ -26,6 +26,8 @@ pub mod sfc;
 pub mod source;
 pub mod st;
 pub mod stl;
+#[cfg(test)]
+mod test_files;
 pub mod types;
 pub mod visit;
 

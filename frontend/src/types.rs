@@ -225,6 +225,11 @@ impl TypeTable {
         ArrayId(self.arrays.len() as u32 - 1)
     }
 
+    /// How many array and reference types there are.
+    pub fn counts(&self) -> (usize, usize) {
+        (self.arrays.len(), self.refs.len())
+    }
+
     /// An array type.
     pub fn get(&self, id: ArrayId) -> &ArrayTy {
         &self.arrays[id.0 as usize]

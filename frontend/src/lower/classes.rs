@@ -35,7 +35,7 @@ pub(crate) struct Iface {
 }
 
 /// The object-oriented parts of a build.
-#[derive(Default)]
+#[derive(Clone, Default)]
 pub(crate) struct Classes {
     /// Every INTERFACE.
     pub ifaces: Vec<Iface>,

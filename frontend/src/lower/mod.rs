@@ -36,6 +36,7 @@ mod prototypes;
 mod qualified;
 mod refs;
 mod selection;
+mod split;
 mod stmt;
 mod strings;
 mod tasks;
@@ -55,6 +56,7 @@ use rustc_hash::FxHashMap;
 
 pub use builtins::STANDARD_FUNCTIONS;
 pub use consts::ConstVal;
+pub use split::ParallelBodies;
 
 /// A node of the call graph the recursion check walks: a POU's body, or an ACTION
 /// (a body of its own, called by name).
@@ -97,6 +99,8 @@ pub struct LowerOptions {
     pub check_only: bool,
     /// What to print of the build's files ([`crate::Compiled::printed`]).
     pub print: PrintAs,
+    /// When the POU bodies are lowered on two threads (the result is the same).
+    pub parallel_bodies: ParallelBodies,
 }
 
 /// What [`crate::compile`] prints of a build that compiles.
@@ -370,11 +374,7 @@ impl<'s> Lowerer<'s> {
         self.create_shells();
         self.create_actions();
         self.create_globals();
-        for i in 0..self.pous.len() {
-            if self.used[i] {
-                self.lower_pou(PouId(i as u32));
-            }
-        }
+        self.lower_bodies(opts.parallel_bodies);
         self.lower_actions();
         self.lower_body_copies();
         self.check_classes();

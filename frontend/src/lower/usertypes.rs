@@ -14,7 +14,7 @@ use plcc_ir::{AggDef, AggId, ElemType, Field, FieldRole, StructDef, StructKind};
 use rustc_hash::FxHashMap;
 
 /// The user types of a build.
-#[derive(Default)]
+#[derive(Clone, Default)]
 pub(crate) struct UserTypes<'s> {
     /// The TYPE declarations, in source order.
     pub named: Vec<NamedType<'s>>,
@@ -32,6 +32,7 @@ pub(crate) struct UserTypes<'s> {
 }
 
 /// One `name : spec` of a TYPE block.
+#[derive(Clone)]
 pub(crate) struct NamedType<'s> {
     /// The declaration.
     pub decl: &'s ast::TypeDecl,
@@ -54,6 +55,7 @@ pub(crate) enum TypeState {
 }
 
 /// A STRUCT type.
+#[derive(Clone)]
 pub(crate) struct StructTy<'s> {
     /// The type's name (`STRUCT` for one written in place).
     pub display: String,
@@ -81,6 +83,7 @@ pub(crate) struct StructField<'s> {
 }
 
 /// An enumeration type.
+#[derive(Clone)]
 pub(crate) struct EnumTy {
     /// Its name (the values in parentheses for one written in place).
     pub display: String,
@@ -93,6 +96,7 @@ pub(crate) struct EnumTy {
 }
 
 /// One value of an enumeration.
+#[derive(Clone)]
 pub(crate) struct EnumValue {
     /// Its name.
     pub sym: Symbol,
@@ -104,6 +108,7 @@ pub(crate) struct EnumValue {
 
 /// What a derived type adds to its base: a name for messages, an initial value, the
 /// bounds of a subrange.
+#[derive(Clone)]
 pub(crate) struct TypeTag<'s> {
     /// The derived type's name.
     pub name: String,

@@ -130,25 +130,8 @@ mod tests {
     use super::*;
 
     /// The ST files under `dirs`, with their text.
-    fn st_files(mut dirs: Vec<std::path::PathBuf>) -> Vec<(String, String)> {
-        let mut out = Vec::new();
-        while let Some(d) = dirs.pop() {
-            let Ok(entries) = std::fs::read_dir(&d) else {
-                continue;
-            };
-            for e in entries.flatten() {
-                let p = e.path();
-                if p.is_dir() {
-                    dirs.push(p);
-                } else if p.extension().is_some_and(|x| x == "st") {
-                    if let Ok(text) = std::fs::read_to_string(&p) {
-                        out.push((p.display().to_string(), text));
-                    }
-                }
-            }
-        }
-        out.sort();
-        out
+    fn st_files(dirs: Vec<std::path::PathBuf>) -> Vec<(String, String)> {
+        crate::test_files::files_under(dirs, |p| p.extension().is_some_and(|x| x == "st"))
     }
 
     /// Parses each file whole and in halves at up to 24 of its boundaries (spread
@@ -227,7 +210,7 @@ mod tests {
 
     #[test]
     fn halves_parse_as_the_whole_file_at_its_boundaries() {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let root = crate::test_files::repo_root();
         let files = st_files(vec![root.join("examples"), root.join("tests")]);
         assert!(files.len() > 50, "{} ST files found", files.len());
         let (compared, refused) = compare(&files);
@@ -236,11 +219,10 @@ mod tests {
             compared > 100,
             "{compared} splits compared, {refused} refused"
         );
-        let shared = root.join("../shared");
-        if !shared.is_dir() {
+        let Some(shared) = crate::test_files::shared() else {
             eprintln!("NOTICE: ../shared is absent: its ST corpus was not parsed in halves");
             return;
-        }
+        };
         let files = st_files(vec![shared]);
         let (compared, refused) = compare(&files);
         eprintln!(
