@@ -42,12 +42,23 @@ fn groups(sizes: &[usize]) -> Option<Vec<Vec<usize>>> {
 
 /// Runs `work` on each function; true if any call returned true.
 pub fn each_mut(funcs: Vec<&mut Function>, work: impl Fn(&mut Function) -> bool + Sync) -> bool {
-    let sizes: Vec<usize> = funcs.iter().map(|f| f.insts.len()).collect();
+    each_mut_by(funcs, |f| f.insts.len(), work)
+}
+
+/// Runs `work` on each item, the items weighed by `size` (instructions: the loads
+/// are balanced by it, and below [`MIN_INSTS`] in all everything stays on the
+/// calling thread); true if any call returned true.
+pub fn each_mut_by<T: Send>(
+    items: Vec<&mut T>,
+    size: impl Fn(&T) -> usize,
+    work: impl Fn(&mut T) -> bool + Sync,
+) -> bool {
+    let sizes: Vec<usize> = items.iter().map(|t| size(t)).collect();
     let Some(groups) = groups(&sizes) else {
-        return funcs.into_iter().fold(false, |any, f| work(f) | any);
+        return items.into_iter().fold(false, |any, t| work(t) | any);
     };
-    let mut slots: Vec<Option<&mut Function>> = funcs.into_iter().map(Some).collect();
-    let parts: Vec<Vec<&mut Function>> = groups
+    let mut slots: Vec<Option<&mut T>> = items.into_iter().map(Some).collect();
+    let parts: Vec<Vec<&mut T>> = groups
         .into_iter()
         .map(|g| g.into_iter().filter_map(|i| slots[i].take()).collect())
         .collect();

@@ -61,7 +61,6 @@ pub fn run(module: &mut Module, optimize: &(dyn Fn(&mut Function) + Sync)) -> bo
         level[fid.index()] = l;
     }
     let top = level.iter().copied().max().unwrap_or(0);
-    let threads = crate::parallel::threads();
     let mut changed = false;
     for l in 1..=top {
         // Take this level's functions out of the module; their callees stay in it.
@@ -72,25 +71,20 @@ pub fn run(module: &mut Module, optimize: &(dyn Fn(&mut Function) + Sync)) -> bo
             .collect();
         let funcs = &module.funcs;
         let sites = &sites;
-        let work = |(fid, f): &mut (usize, Function)| inline_into(*fid, f, funcs, sites, optimize);
-        let any = if threads < 2 || batch.len() < 8 {
-            batch.iter_mut().map(work).fold(false, |a, b| a | b)
-        } else {
-            let chunk = batch.len().div_ceil(threads);
-            std::thread::scope(|scope| {
-                let handles: Vec<_> = batch
-                    .chunks_mut(chunk)
-                    .map(|part| {
-                        scope.spawn(move || part.iter_mut().map(work).fold(false, |a, b| a | b))
+        // Weighed by the caller and the callees it may take in.
+        let weight = |(_, f): &(usize, Function)| {
+            f.insts.len()
+                + f.inst_iter()
+                    .filter_map(|(_, i)| match f.inst(i) {
+                        InstData::Call { func, .. } => funcs.get(func.index()),
+                        _ => None,
                     })
-                    .collect();
-                handles
-                    .into_iter()
-                    .map(|h| h.join().unwrap_or(false))
-                    .fold(false, |a, b| a | b)
-            })
+                    .map(|c| c.insts.len())
+                    .sum::<usize>()
         };
-        changed |= any;
+        changed |= crate::parallel::each_mut_by(batch.iter_mut().collect(), weight, |(fid, f)| {
+            inline_into(*fid, f, funcs, sites, optimize)
+        });
         for (i, f) in batch {
             module.funcs[i] = f;
         }

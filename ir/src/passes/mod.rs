@@ -145,14 +145,14 @@ pub fn optimize_program(module: &mut Module) {
         optimize_function(f);
     });
     inline::remove_unreachable_functions(module);
-    let changed = promote::run(module);
-    let promoted: Vec<&mut Function> = module
-        .funcs
-        .iter_mut()
-        .zip(changed)
-        .filter_map(|(f, c)| c.then_some(f))
-        .collect();
-    crate::parallel::each_mut(promoted, optimize_function);
+    let aggs = &module.aggs;
+    crate::parallel::each_mut(module.funcs.iter_mut().collect(), |f| {
+        let promoted = promote::run_function(aggs, f);
+        if promoted {
+            optimize_function(f);
+        }
+        promoted
+    });
     // The passes leave dead instructions in the arenas (more than half of them in
     // large programs); the backends and the runner's copy need only the live ones.
     for f in &mut module.funcs {

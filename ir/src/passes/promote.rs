@@ -14,30 +14,18 @@
 use crate::entities::{AggId, SlotId, Value};
 use crate::function::{FuncKind, Function, ValueDef};
 use crate::inst::InstData;
-use crate::module::{AggDef, Module};
+use crate::module::AggDef;
 use crate::types::{MemType, Type};
 use rustc_hash::FxHashMap;
 
 /// A chain of field indexes from the instance pointer.
 type Path = Vec<u32>;
 
-/// Promotes the non-escaping scalar instance fields of every PROGRAM and FB body of
-/// `module`. Says for each function whether it changed; run `mem2reg` on those.
-pub fn run(module: &mut Module) -> Vec<bool> {
-    let mut changed = vec![false; module.funcs.len()];
-    for (fi, flag) in changed.iter_mut().enumerate() {
-        if !matches!(
-            module.funcs[fi].kind,
-            FuncKind::ProgramBody | FuncKind::FbBody
-        ) {
-            continue;
-        }
-        let placeholder = Function::new("", FuncKind::Helper, vec![], None);
-        let mut f = std::mem::replace(&mut module.funcs[fi], placeholder);
-        *flag = promote_function(module, &mut f);
-        module.funcs[fi] = f;
-    }
-    changed
+/// Promotes the non-escaping scalar instance fields of `f`, if it is a PROGRAM or FB
+/// body (`aggs`: the module's aggregates). Says whether it changed; run `mem2reg` on
+/// it then.
+pub fn run_function(aggs: &[AggDef], f: &mut Function) -> bool {
+    matches!(f.kind, FuncKind::ProgramBody | FuncKind::FbBody) && promote_function(aggs, f)
 }
 
 /// What is known about one path.
@@ -58,7 +46,7 @@ struct PathInfo {
     blocks: Vec<crate::entities::Block>,
 }
 
-fn promote_function(module: &Module, f: &mut Function) -> bool {
+fn promote_function(aggs: &[AggDef], f: &mut Function) -> bool {
     let Some(entry) = f.entry() else { return false };
     let Some(&this) = f.block(entry).params.first() else {
         return false;
@@ -161,7 +149,7 @@ fn promote_function(module: &Module, f: &mut Function) -> bool {
             continue;
         }
         let (agg, field) = *p.steps.last().expect("non-root path");
-        let AggDef::Struct(s) = module.agg(agg) else {
+        let AggDef::Struct(s) = &aggs[agg.index()] else {
             continue;
         };
         match s.fields.get(field as usize).map(|fd| fd.ty) {
