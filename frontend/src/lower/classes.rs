@@ -253,7 +253,7 @@ impl<'s> Lowerer<'s> {
                             );
                         }
                         // Kept even when FINAL, so that its uses give no more errors.
-                        self.pous[i].base = Some(base);
+                        self.pous_mut()[i].base = Some(base);
                     }
                     _ => {
                         let n = self.text(b.span).to_string();
@@ -307,7 +307,7 @@ impl<'s> Lowerer<'s> {
                         "this FUNCTION_BLOCK extends itself, through its bases",
                         span,
                     );
-                    self.pous[i].base = None;
+                    self.pous_mut()[i].base = None;
                     break;
                 }
                 seen.push(c);
@@ -316,7 +316,7 @@ impl<'s> Lowerer<'s> {
         }
         // Class ids.
         let mut extended = FxHashSet::default();
-        for p in &self.pous {
+        for p in self.pous.iter() {
             if let Some(b) = p.base {
                 extended.insert(b);
             }
@@ -441,7 +441,7 @@ impl<'s> Lowerer<'s> {
             MemberRef::Set(_) => ".set",
         };
         let display = format!("{prefix}.{}{suffix}", self.text(name.span));
-        self.pous.push(PouInfo {
+        self.pous_mut().push(PouInfo {
             name,
             display,
             kind: PouKind::Function,

@@ -74,7 +74,7 @@ impl<'s> Lowerer<'s> {
                 if is_globals {
                     self.globals_pou = Some(id);
                 }
-                self.pous.push(PouInfo {
+                self.pous_mut().push(PouInfo {
                     name: p.name,
                     display,
                     kind: p.kind,
@@ -121,8 +121,9 @@ impl<'s> Lowerer<'s> {
                     at,
                 );
             }
-            self.pous[id.0 as usize].ret_tag = ret_tag;
-            self.pous[id.0 as usize].ret = ret;
+            let info = &mut self.pous_mut()[id.0 as usize];
+            info.ret_tag = ret_tag;
+            info.ret = ret;
         }
         for (bi, block) in pou.var_blocks.iter().enumerate() {
             match block.kind {
@@ -243,7 +244,7 @@ impl<'s> Lowerer<'s> {
                 }
             }
         }
-        let info = &mut self.pous[id.0 as usize];
+        let info = &mut self.pous_mut()[id.0 as usize];
         info.vars = vars;
         info.lookup = lookup;
         let n = self.pous[id.0 as usize].vars.len();
@@ -608,7 +609,7 @@ impl<'s> Lowerer<'s> {
         }
         // Uses of a broken external report nothing more.
         for (pi, vi) in broken {
-            self.pous[pi].vars[vi].ty = Ty::Error;
+            self.pous_mut()[pi].vars[vi].ty = Ty::Error;
         }
     }
 

@@ -226,7 +226,9 @@ pub struct Lowerer<'s> {
     pub(crate) sources: &'s SourceMap,
     pub(crate) interner: &'s mut Interner,
     pub(crate) units: &'s [&'s SourceUnit],
-    pub(crate) pous: Vec<PouInfo>,
+    /// The POU table, shared with [`Lowerer::fork`]'s copies (it does not change
+    /// once the interfaces are resolved; before, [`Lowerer::pous_mut`] writes it).
+    pub(crate) pous: std::sync::Arc<Vec<PouInfo>>,
     pub(crate) pou_by_name: FxHashMap<Symbol, PouId>,
     pub(crate) types: TypeTable,
     pub(crate) user: usertypes::UserTypes<'s>,
@@ -309,7 +311,7 @@ impl<'s> Lowerer<'s> {
             sources,
             interner,
             units,
-            pous: Vec::new(),
+            pous: Default::default(),
             pou_by_name: FxHashMap::default(),
             types: TypeTable::default(),
             user: Default::default(),
@@ -437,6 +439,12 @@ impl<'s> Lowerer<'s> {
     /// True for a name declared by a construct already reported as not supported.
     pub(crate) fn is_unsupported_name(&self, sym: Symbol) -> bool {
         self.unsupported_names.contains(&sym)
+    }
+
+    /// The POU table, to add to or change (while POUs and interfaces are collected:
+    /// no copy shares it then).
+    pub(crate) fn pous_mut(&mut self) -> &mut Vec<PouInfo> {
+        std::sync::Arc::make_mut(&mut self.pous)
     }
 
     pub(crate) fn pou(&self, id: PouId) -> &PouInfo {
