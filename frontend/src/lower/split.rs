@@ -8,13 +8,14 @@
 //! - The used POUs are cut in two halves of about equal source size. The calling
 //!   thread lowers the first half in its own [`Lowerer`]; a copy of the lowerer made
 //!   just before ([`Lowerer::fork`]) lowers the second half on another thread.
-//! - The copy's work is kept only if it added nothing to a shared table
-//!   ([`Footprint`]). Then every lookup it made found what was there before the
-//!   split, which lowering in order would have found too, and its bodies are the
-//!   ones lowering in order makes. Its functions, the POUs' storage, its diagnostics
-//!   (after the first half's), its calls and its temporaries' types are moved over.
-//! - Otherwise its work is dropped and the calling thread lowers the second half
-//!   after the first, as without the split.
+//! - The copy stops at the first POU that adds to a shared table ([`Footprint`]) or
+//!   uses a block name nothing declares. Every lookup the POUs before it made found
+//!   what was there before the split, which lowering in order would have found too,
+//!   so their bodies are the ones lowering in order makes. Their functions, their
+//!   storage, their diagnostics (after the first half's), their calls and their
+//!   temporaries' types are moved over.
+//! - The calling thread then lowers the POU the copy stopped at, and splits what is
+//!   left again (each round lowers at least one POU, so it ends).
 //!
 //! Lazily computed facts about other POUs (folded constants) that the copy computed
 //! are not moved; the calling thread computes them again when it needs them, and a
@@ -22,8 +23,8 @@
 //! end of [`Lowerer::run`].
 //!
 //! Invariant: every table a body can add to is counted in [`Footprint`]. A test
-//! lowers every program of the repository and of `../shared` both ways, the split
-//! forced at its middle, and compares modules and diagnostics.
+//! lowers every program of the repository and of `../shared` both ways, split as
+//! often as it can be, and compares modules and diagnostics.
 
 use super::{CallNode, Lowerer, PouIr};
 use crate::intern::Interner;
@@ -40,7 +41,7 @@ pub enum ParallelBodies {
     Auto,
     /// Never: one thread, in order.
     Never,
-    /// Always when there are two POUs or more, on any machine (for tests that
+    /// Whenever there are two POUs or more left, on any machine (for tests that
     /// compare the two ways).
     Always,
 }
@@ -54,13 +55,10 @@ const MIN_SOURCE_BYTES: usize = 256 * 1024;
 #[derive(Clone, Debug, PartialEq, Eq)]
 struct Footprint(Vec<usize>);
 
-/// What the copy made of the second half.
+/// What the copy made of the second half: its first `done` POUs.
 struct Second {
-    /// Its footprint when done.
-    footprint: Footprint,
-    /// Whether it used a block name nothing declares (its reports are merged with
-    /// the others' by their diagnostics' places, which the copy does not know).
-    unknown_blocks: bool,
+    /// How many POUs of the half were lowered without adding anything shared.
+    done: usize,
     /// The lowered functions (bodies and init functions), unless bodies are dropped.
     funcs: Vec<(FuncId, Function)>,
     /// The POUs' IR records (where their variables live).
@@ -78,60 +76,63 @@ impl<'s> Lowerer<'s> {
             .filter(|&i| self.used[i])
             .map(|i| PouId(i as u32))
             .collect();
-        let sizes: Vec<usize> = used
-            .iter()
-            .map(|&p| {
-                let s = self.pou_ast(p).span;
-                (s.end - s.start) as usize
-            })
-            .collect();
-        let total: usize = sizes.iter().sum();
-        let split = match how {
-            ParallelBodies::Never => false,
-            ParallelBodies::Always => used.len() >= 2,
-            ParallelBodies::Auto => total >= MIN_SOURCE_BYTES && plcc_ir::parallel::threads() >= 2,
+        let size = |l: &Self, p: PouId| {
+            let s = l.pou_ast(p).span;
+            (s.end - s.start) as usize
         };
-        if !split {
-            for &p in &used {
-                self.lower_pou(p);
-            }
-            return;
-        }
-        // The first half: the POUs before the middle of the source.
-        let mut acc = 0;
-        let mid = sizes
-            .iter()
-            .position(|&s| {
-                acc += s;
-                acc * 2 >= total
-            })
-            .map_or(used.len() / 2, |i| i + 1)
-            .clamp(1, used.len() - 1);
-        let (first, second) = used.split_at(mid);
-        let before = self.footprint();
-        let mut interner = self.interner.clone();
-        let fork = self.fork(&mut interner);
-        let done = std::thread::scope(|scope| {
-            let worker = scope.spawn(move || fork.lower_half(second));
-            for &p in first {
-                self.lower_pou(p);
-            }
-            worker.join()
-        });
-        match done {
-            Ok(s) if s.footprint == before && !s.unknown_blocks => {
-                #[cfg(test)]
-                tests::KEPT.with(|n| n.set(n.get() + 1));
-                self.take_second(s)
-            }
-            // Added to a shared table (or failed): lowered here, in order.
-            _ => {
-                #[cfg(test)]
-                tests::REDONE.with(|n| n.set(n.get() + 1));
-                for &p in second {
+        let mut rest = &used[..];
+        loop {
+            let sizes: Vec<usize> = rest.iter().map(|&p| size(self, p)).collect();
+            let total: usize = sizes.iter().sum();
+            let split = match how {
+                ParallelBodies::Never => false,
+                ParallelBodies::Always => rest.len() >= 2,
+                ParallelBodies::Auto => {
+                    total >= MIN_SOURCE_BYTES && plcc_ir::parallel::threads() >= 2
+                }
+            };
+            if !split {
+                for &p in rest {
                     self.lower_pou(p);
                 }
+                return;
             }
+            // The first half: the POUs before the middle of the source.
+            let mut acc = 0;
+            let mid = sizes
+                .iter()
+                .position(|&s| {
+                    acc += s;
+                    acc * 2 >= total
+                })
+                .map_or(rest.len() / 2, |i| i + 1)
+                .clamp(1, rest.len() - 1);
+            let (first, second) = rest.split_at(mid);
+            let before = self.footprint();
+            let mut interner = self.interner.clone();
+            let fork = self.fork(&mut interner);
+            let done = std::thread::scope(|scope| {
+                let worker = scope.spawn(|| fork.lower_half(second, &before));
+                for &p in first {
+                    self.lower_pou(p);
+                }
+                worker.join()
+            });
+            // A copy that failed (a panic) did nothing; lowering here reports it.
+            let done = done.map_or(0, |s| self.take_second(s));
+            #[cfg(test)]
+            if done == second.len() {
+                tests::KEPT.with(|n| n.set(n.get() + 1));
+            } else {
+                tests::REDONE.with(|n| n.set(n.get() + 1));
+            }
+            if done == second.len() {
+                return;
+            }
+            // The POU that added something shared is lowered here, after the ones
+            // before it; the rest is split again.
+            self.lower_pou(second[done]);
+            rest = &second[done + 1..];
         }
     }
 
@@ -180,15 +181,31 @@ impl<'s> Lowerer<'s> {
         }
     }
 
-    /// Lowers `pous` in this (forked) lowerer and hands over what it made.
-    fn lower_half(mut self, pous: &[PouId]) -> Second {
+    /// Lowers `pous` in this (forked) lowerer, in order, until one adds to a table
+    /// of `before` or uses a block name nothing declares (whose reports are merged
+    /// by their diagnostics' places, which the copy does not share), and hands over
+    /// what the POUs before that one made.
+    fn lower_half(mut self, pous: &[PouId], before: &Footprint) -> Second {
+        let mut done = 0;
+        let (mut diags, mut calls) = (0, 0);
+        let mut temp_types = crate::print::TempTypes::default();
         for &p in pous {
             self.lower_pou(p);
+            if self.footprint() != *before || !self.unknown_uses.is_empty() {
+                break;
+            }
+            done += 1;
+            (diags, calls) = (self.diags.len(), self.calls.len());
+            // Compiler temporaries are IL's; a later POU may give a name another type.
+            if !self.temp_types.is_empty() {
+                temp_types.clone_from(&self.temp_types);
+            }
         }
-        let footprint = self.footprint();
+        self.diags.truncate(diags);
+        self.calls.truncate(calls);
         let mut funcs = Vec::new();
-        let mut ir = Vec::with_capacity(pous.len());
-        for &p in pous {
+        let mut ir = Vec::with_capacity(done);
+        for &p in &pous[..done] {
             let rec = std::mem::take(&mut self.ir[p.0 as usize]);
             if !self.drop_bodies {
                 for f in [rec.body, rec.init].into_iter().flatten() {
@@ -202,18 +219,18 @@ impl<'s> Lowerer<'s> {
             ir.push((p, rec));
         }
         Second {
-            footprint,
-            unknown_blocks: !self.unknown_uses.is_empty(),
+            done,
             funcs,
             ir,
             diags: self.diags,
             calls: self.calls,
-            temp_types: self.temp_types,
+            temp_types,
         }
     }
 
-    /// Moves the second half's work into this lowerer, after the first half's.
-    fn take_second(&mut self, s: Second) {
+    /// Moves the second half's work into this lowerer, after the first half's;
+    /// returns how many of its POUs it lowered.
+    fn take_second(&mut self, s: Second) -> usize {
         for (f, func) in s.funcs {
             self.module.funcs[f.index()] = func;
         }
@@ -223,6 +240,7 @@ impl<'s> Lowerer<'s> {
         self.diags.extend(s.diags);
         self.calls.extend(s.calls);
         self.temp_types.extend(s.temp_types);
+        s.done
     }
 
     /// The sizes of the tables bodies can add to (see [`Footprint`]).
@@ -254,7 +272,6 @@ impl<'s> Lowerer<'s> {
             self.prototypes.len(),
             self.actions.len(),
             self.action_bodies.len(),
-            self.used.iter().filter(|&&u| u).count(),
             self.pending.len(),
             self.unsupported_names.len(),
             self.program_data.len(),
