@@ -129,6 +129,13 @@ pub struct BuildOptions {
     pub drop_syntax: bool,
 }
 
+/// Frees `value` on a thread of its own: the large structures of a build (its syntax
+/// trees, a module once compiled) take tens of milliseconds to free, which the
+/// calling thread need not wait for.
+pub fn drop_in_background<T: Send + 'static>(value: T) {
+    std::thread::spawn(move || drop(value));
+}
+
 /// Reads the files and the library files (`--lib`) and builds them together.
 pub fn build_files<P: AsRef<Path>, L: AsRef<Path>>(
     files: &[P],
@@ -223,8 +230,7 @@ pub fn build_sources_with_library(
     let mut module = compiled.module;
     let mut syntax = compiled.syntax;
     if opts.drop_syntax {
-        let trees = std::mem::take(&mut syntax);
-        std::thread::spawn(move || drop(trees));
+        drop_in_background(std::mem::take(&mut syntax));
     }
     if let (Some(m), false) = (&mut module, opts.check_only) {
         let t = Instant::now();

@@ -352,6 +352,10 @@ pub fn machine_owned(
         },
     };
     m.set_watchdog(Some(WATCHDOG));
+    // The machine holds what it runs; a large module is freed meanwhile.
+    if module.funcs.iter().map(|f| f.insts.len()).sum::<usize>() >= 20_000 {
+        crate::driver::drop_in_background(module);
+    }
     Ok(m)
 }
 
