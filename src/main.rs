@@ -17,15 +17,15 @@ const MI_OPTION_PURGE_DELAY: libmimalloc_sys::mi_option_t = 15;
 /// mimalloc's default purge delay, in milliseconds (`src/options.c`).
 const MI_DEFAULT_PURGE_DELAY: std::os::raw::c_long = 1000;
 
-/// Keeps the memory freed during a command that ends within seconds: mimalloc
-/// otherwise gives freed pages back to the OS after the purge delay and all of them
-/// at exit, and pages faulted in again are zeroed again. On `plcc check` of a
-/// 117k-line program that was 270 `madvise` calls in its last 25 ms and about 6% of
-/// its time (BENCHMARKS.md). The servers (`serve`, `lsp`) keep purging. A delay set
+/// Keeps mimalloc from giving memory back to the OS as the process ends (it does so
+/// for every freed page at exit, and the OS takes it all anyway). On `plcc check` of
+/// a 117k-line program that was 270 `madvise` calls in its last 25 ms, about 6% of
+/// its time (BENCHMARKS.md). While a command runs, freed pages go back after
+/// mimalloc's delay as usual, which keeps the peak of long builds down. A delay set
 /// with `MIMALLOC_PURGE_DELAY` is left as it is.
-fn keep_freed_memory() {
-    // SAFETY: reading and setting an option of the allocator; both are plain stores
-    // of an integer, safe at any time.
+fn skip_purge_at_exit() {
+    // SAFETY: reading and setting an option of the allocator; both are plain loads
+    // and stores of an integer, safe at any time.
     unsafe {
         if libmimalloc_sys::mi_option_get(MI_OPTION_PURGE_DELAY) == MI_DEFAULT_PURGE_DELAY {
             libmimalloc_sys::mi_option_set(MI_OPTION_PURGE_DELAY, -1);
@@ -311,9 +311,6 @@ fn main() -> ExitCode {
         return ExitCode::from(commands::iec2c("plcc iec2c", &args[2..]));
     }
     let cli = Cli::parse();
-    if !matches!(cli.command, Some(Command::Serve { .. } | Command::Lsp)) {
-        keep_freed_memory();
-    }
     let status = match cli.command {
         Some(Command::Run {
             common,
@@ -418,5 +415,6 @@ fn main() -> ExitCode {
             settings: cli.build.set,
         }),
     };
+    skip_purge_at_exit();
     ExitCode::from(status)
 }

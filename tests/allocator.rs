@@ -1,7 +1,6 @@
-//! The allocator's settings per command: a command that ends within seconds keeps
-//! the memory it frees (mimalloc's purge delay off, `src/main.rs`), unless
-//! `MIMALLOC_PURGE_DELAY` says otherwise. mimalloc's own statistics
-//! (`MIMALLOC_SHOW_STATS`) count the purges.
+//! The allocator's settings: mimalloc gives no memory back to the OS as plcc ends
+//! (`src/main.rs`), unless `MIMALLOC_PURGE_DELAY` says otherwise. mimalloc's own
+//! statistics (`MIMALLOC_SHOW_STATS`) count the purges.
 
 use std::process::Command;
 
@@ -28,7 +27,7 @@ fn purges(file: &std::path::Path, env: &[(&str, &str)]) -> u64 {
 
 #[test]
 fn check_purges_no_memory_unless_mimalloc_purge_delay_is_set() {
-    // Large enough to free memory while it runs (bodies are dropped once checked).
+    // Large enough to have freed memory to purge (bodies are dropped once checked).
     let text: String = (0..600)
         .map(|k| {
             format!(
