@@ -145,6 +145,7 @@ pub(crate) fn build_and_report(inputs: &Inputs, how: How) -> Result<(Build, Modu
             _ => plcc_frontend::PrintAs::Nothing,
         },
         drop_syntax: !keep_syntax,
+        parallel_bodies: Default::default(),
     };
     let mut build = driver::build_files(files, library, &opts).map_err(usage)?;
     render::to_stderr(&build.sources, &build.diagnostics);

@@ -127,6 +127,9 @@ pub struct BuildOptions {
     /// freed on a thread of their own once the IR is made, so that the optimiser and
     /// the code generator reuse their memory.
     pub drop_syntax: bool,
+    /// When the POU bodies are lowered on two threads
+    /// ([`plcc_frontend::LowerOptions::parallel_bodies`]; `difftest` compares).
+    pub parallel_bodies: plcc_frontend::ParallelBodies,
 }
 
 /// Frees `value` on a thread of its own: the large structures of a build (its syntax
@@ -202,7 +205,7 @@ pub fn build_sources_with_library(
         inline_c: opts.inline_c,
         check_only: opts.check_only,
         print: opts.print,
-        parallel_bodies: Default::default(),
+        parallel_bodies: opts.parallel_bodies,
     };
     // The panic boundary of the front end (ARCHITECTURE.md, "Panics"): a panic is a
     // bug in plcc, reported as an internal error, not a crash of the command.

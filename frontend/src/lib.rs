@@ -35,7 +35,7 @@ use plcc_ir::diag::{Diagnostic, FileId};
 use plcc_ir::Module;
 use source::{SourceFile, SourceMap};
 
-pub use lower::{LowerOptions, PrintAs};
+pub use lower::{LowerOptions, ParallelBodies, PrintAs};
 
 /// The source languages plcc reads.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]

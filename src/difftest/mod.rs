@@ -83,8 +83,42 @@ pub fn machine_for_seed(name: &str, seed: u64) -> String {
 /// [`machine_for_seed`]) for `scans` scans.
 pub fn check(p: &Prog, machines: &[&str], scans: u32, seed: u64) -> Verdict {
     match compile(p) {
-        Ok(module) => check_module(&module, &p.input_paths(), machines, scans, seed),
+        Ok(module) => match split_differs(p, &module) {
+            Some(d) => Verdict::Mismatch(d),
+            None => check_module(&module, &p.input_paths(), machines, scans, seed),
+        },
         Err(e) => Verdict::Rejected(e),
+    }
+}
+
+/// Builds `p` again with its POU bodies lowered on two threads as often as they can
+/// be (the random programs are too small for a build to do it on its own) and says
+/// how the module differs from `module`, built in order; `None` if it does not.
+fn split_differs(p: &Prog, module: &Module) -> Option<String> {
+    let opts = BuildOptions {
+        codesys: p.oo.as_ref().is_some_and(|o| o.codesys),
+        parallel_bodies: plcc_frontend::ParallelBodies::Always,
+        ..Default::default()
+    };
+    match build_text("difftest.st", &p.to_st(), &opts) {
+        Ok(split) if split == *module => None,
+        Ok(split) => {
+            let (a, b) = (module.to_string(), split.to_string());
+            let line = a
+                .lines()
+                .zip(b.lines())
+                .position(|(x, y)| x != y)
+                .unwrap_or(a.lines().count().min(b.lines().count()));
+            Some(format!(
+                "the build with the POU bodies lowered on two threads differs from the build in order, at line {} of the IR:\n  in order: {}\n  split:    {}",
+                line + 1,
+                a.lines().nth(line).unwrap_or("(end)"),
+                b.lines().nth(line).unwrap_or("(end)")
+            ))
+        }
+        Err(e) => Some(format!(
+            "the build with the POU bodies lowered on two threads fails, the build in order does not: {e}"
+        )),
     }
 }
 

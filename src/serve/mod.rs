@@ -136,6 +136,7 @@ impl Loader {
             print: plcc_frontend::PrintAs::Nothing,
             // The RETAIN blocks and the workbench read the syntax trees.
             drop_syntax: false,
+            parallel_bodies: Default::default(),
         };
         Ok(Loader {
             library,
