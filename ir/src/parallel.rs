@@ -46,7 +46,7 @@ pub fn each_mut(funcs: Vec<&mut Function>, work: impl Fn(&mut Function) -> bool 
 }
 
 /// Runs `work` on each item, the items weighed by `size` (instructions: the loads
-/// are balanced by it, and below [`MIN_INSTS`] in all everything stays on the
+/// are balanced by it, and below `MIN_INSTS` (20,000) in all everything stays on the
 /// calling thread); true if any call returned true.
 pub fn each_mut_by<T: Send>(
     items: Vec<&mut T>,

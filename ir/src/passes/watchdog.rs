@@ -19,7 +19,7 @@
 //! `j := j + i`, from `j := i * i`) but whose bound is a constant gets a copy without
 //! checks, entered when a test before the loop finds the steps at least one (and small
 //! enough not to wrap) and the start high enough; otherwise the loop as it was runs,
-//! checks and all ([`guarded`]).
+//! checks and all (`guarded`).
 
 mod guarded;
 
