@@ -106,7 +106,7 @@ pub struct Compiled {
     /// The files with charts, their ST and drawings (for `--emit sfc-text`).
     pub charts: Vec<sfc::View>,
     /// With [`LowerOptions::print`], when the build has no error: its files printed
-    /// as Structured Text ([`print`]), each after a comment naming it, or as one
+    /// as Structured Text ([`print`](mod@crate::print)), each after a comment naming it, or as one
     /// PLCopen XML project ([`plcopen::export`]).
     pub printed: Option<String>,
 }

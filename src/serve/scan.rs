@@ -19,7 +19,7 @@ use std::time::{Duration, Instant};
 const WINDOW: usize = 1000;
 
 /// Minimum, mean, maximum, median and 99th percentile of a series of durations, in
-/// microseconds (the percentiles over the last [`WINDOW`] samples).
+/// microseconds (the percentiles over the last `WINDOW` samples).
 #[derive(Clone, Debug, Default)]
 pub struct Series {
     count: u64,
@@ -66,7 +66,7 @@ impl Series {
 }
 
 /// A [`Series`] summed up, in microseconds: minimum, mean and maximum over every
-/// sample, median and 99th percentile over the last [`WINDOW`].
+/// sample, median and 99th percentile over the last `WINDOW`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Summary {
     /// The smallest sample.

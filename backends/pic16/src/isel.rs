@@ -8,7 +8,7 @@
 //!
 //! Bank rule: the instruction a skip may skip either touches no banked register or
 //! the same bank as the skip. Where two operands could sit in different banks, one is
-//! staged through common RAM first (see [`Emitter::reg_for`]).
+//! staged through common RAM first (see `Emitter::reg_for`).
 //!
 //! This module holds the emitter, the places of values and the copies; the code of
 //! the instructions is in `arith`, `compare` (with conversions and selects),

@@ -1,11 +1,11 @@
 //! `plcc fmt`: Structured Text, Instruction List and STL written again in one layout.
 //!
 //! A token-stream formatter: the lexer's tokens, with the comments and pragmas found
-//! between them ([`items`]), are split into the lines the user wrote ([`layout`]: at
+//! between them (`items`), are split into the lines the user wrote (`layout`: at
 //! most one empty line kept in a row; expressions never reflowed), each line indented
 //! from the blocks open at its start (POUs and their members, VAR blocks, TYPE and
 //! STRUCT, IF, CASE labels and arms, the loops, SFC steps and transitions,
-//! continuation lines), and written ([`print`]) with keywords in upper case, one space
+//! continuation lines), and written (`print`) with keywords in upper case, one space
 //! or none between tokens, the `:` of the declarations of one VAR block or STRUCT
 //! aligned, and comments where they were. Literals and names are written exactly as
 //! they were spelt.
@@ -17,7 +17,7 @@
 //! against a `(` that follows them.
 //!
 //! STL has a lexer and a block structure of its own (`begin`/`end`, one-statement
-//! branches): [`stl`] lays it out.
+//! branches): `stl` lays it out.
 //!
 //! A file that does not parse is refused with the parser's diagnostics. The result
 //! is checked before it is returned: it must lex to the same tokens (keywords

@@ -9,7 +9,7 @@ use plcc_ir::ElemType;
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub enum ConstVal {
     /// Integers, bit strings, and durations in their unit (ms for TIME, ns for LTIME,
-    /// or ns for an untyped duration literal: see [`eval`]).
+    /// or ns for an untyped duration literal: see `eval`).
     Int(i128),
     /// Reals.
     Real(f64),

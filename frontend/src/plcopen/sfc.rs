@@ -17,7 +17,7 @@
 //!    the chart. The blocks and edge detectors that graphical conditions need are
 //!    called in an action `COMPUTE_FUNCTION_BLOCKS`, associated with qualifier S as
 //!    the last association of the first initial step.
-//! 2. **Emission** ([`write`]): depth first from each initial step, in registration
+//! 2. **Emission** (`write`): depth first from each initial step, in registration
 //!    order: the step with its associations, the actions it uses not written yet, then
 //!    each of its transitions, followed at once by its target steps. Each element is
 //!    written once. What no initial step reaches is dropped, with a warning (the

@@ -3,11 +3,11 @@
 //! A POU whose body is a chart ([`ast::Sfc`]) is written again as ST: its header and
 //! declarations copied, a variable per step (`S.X`, `S.T`, of the standard library's
 //! `__SFC_STEP`) and per action (its control: `A.Q`), and a body that makes one
-//! evolution of the chart per call under the chosen [`Profile`] ([`emit`]). The text
+//! evolution of the chart per call under the chosen [`Profile`] (`emit`). The text
 //! is a source file of its own, "`FILE` (SFC as ST)", parsed like any ST file; its
 //! [`SpanMap`] sends diagnostics about it back to the chart, exactly where it copies
 //! the user's text (conditions, durations, action bodies), else to the element it was
-//! made from. The structural checks ([`check`]) run on the chart first.
+//! made from. The structural checks (`check`) run on the chart first.
 //!
 //! Every later stage sees ordinary ST, so every target runs charts.
 

@@ -539,7 +539,7 @@ impl Pic16 {
     }
 
     /// Sets the external level of an input pin (`bit` 0–7; RA6/RA7 do not exist and
-    /// are ignored). A rising or falling edge on RB0, as selected by OPTION_REG<INTEDG>,
+    /// are ignored). A rising or falling edge on RB0, as selected by `OPTION_REG<INTEDG>`,
     /// sets INTF when RB0 is an input. (Interrupt-on-change of RB7:RB4 is not modelled.)
     pub fn set_input(&mut self, port: Port, bit: u8, level: bool) {
         self.c.set_input(port, bit, level);
