@@ -22,7 +22,7 @@ const MI_DEFAULT_PURGE_DELAY: std::os::raw::c_long = 1000;
 /// a 117k-line program that was 270 `madvise` calls in its last 25 ms, about 6% of
 /// its time (BENCHMARKS.md). While a command runs, freed pages go back after
 /// mimalloc's delay as usual, which keeps the peak of long builds down. A delay set
-/// with `MIMALLOC_PURGE_DELAY` is left as it is.
+/// with `MIMALLOC_PURGE_DELAY` is left as it is (unless it is the default, 1000).
 fn skip_purge_at_exit() {
     // SAFETY: reading and setting an option of the allocator; both are plain loads
     // and stores of an integer, safe at any time.
