@@ -76,13 +76,18 @@ impl<'s> Lowerer<'s> {
             .filter(|&i| self.used[i])
             .map(|i| PouId(i as u32))
             .collect();
-        let size = |l: &Self, p: PouId| {
-            let s = l.pou_ast(p).span;
-            (s.end - s.start) as usize
-        };
-        let mut rest = &used[..];
+        // Each POU's source size, measured once for every round.
+        let all_sizes: Vec<usize> = used
+            .iter()
+            .map(|&p| {
+                let s = self.pou_ast(p).span;
+                (s.end - s.start) as usize
+            })
+            .collect();
+        let mut from = 0;
         loop {
-            let sizes: Vec<usize> = rest.iter().map(|&p| size(self, p)).collect();
+            let rest = &used[from..];
+            let sizes = &all_sizes[from..];
             let total: usize = sizes.iter().sum();
             let split = match how {
                 ParallelBodies::Never => false,
@@ -132,7 +137,7 @@ impl<'s> Lowerer<'s> {
             // The POU that added something shared is lowered here, after the ones
             // before it; the rest is split again.
             self.lower_pou(second[done]);
-            rest = &second[done + 1..];
+            from += mid + done + 1;
         }
     }
 
