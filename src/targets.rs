@@ -353,7 +353,7 @@ pub fn machine_owned(
     };
     m.set_watchdog(Some(WATCHDOG));
     // The machine holds what it runs; a large module is freed meanwhile.
-    if module.funcs.iter().map(|f| f.insts.len()).sum::<usize>() >= 20_000 {
+    if module.funcs.iter().map(|f| f.insts.len()).sum::<usize>() >= plcc_ir::parallel::MIN_INSTS {
         crate::driver::drop_in_background(module);
     }
     Ok(m)

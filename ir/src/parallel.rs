@@ -8,8 +8,9 @@
 
 use crate::function::Function;
 
-/// Below this many instructions in all, the work stays on the calling thread.
-const MIN_INSTS: usize = 20_000;
+/// Below this many instructions in all, the work stays on the calling thread (and,
+/// elsewhere, a module is too small to be worth a thread of its own).
+pub const MIN_INSTS: usize = 20_000;
 
 /// The number of threads to use: the cores available, at most eight.
 pub fn threads() -> usize {
@@ -46,7 +47,7 @@ pub fn each_mut(funcs: Vec<&mut Function>, work: impl Fn(&mut Function) -> bool 
 }
 
 /// Runs `work` on each item, the items weighed by `size` (instructions: the loads
-/// are balanced by it, and below `MIN_INSTS` (20,000) in all everything stays on the
+/// are balanced by it, and below [`MIN_INSTS`] in all everything stays on the
 /// calling thread); true if any call returned true.
 pub fn each_mut_by<T: Send>(
     items: Vec<&mut T>,
