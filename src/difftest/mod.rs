@@ -40,8 +40,15 @@ const UNFIT: [&str; 6] = ["E9001", "E9002", "E9003", "E9004", "E9101", "E9102"];
 /// Builds a program in its dialect (CODESYS's for an OO part that uses its
 /// constructs).
 pub fn compile(p: &Prog) -> Result<Module, String> {
+    build(p, plcc_frontend::ParallelBodies::default())
+}
+
+/// Builds a program in its dialect, its POU bodies lowered on two threads as `how`
+/// says.
+fn build(p: &Prog, how: plcc_frontend::ParallelBodies) -> Result<Module, String> {
     let opts = BuildOptions {
         codesys: p.oo.as_ref().is_some_and(|o| o.codesys),
+        parallel_bodies: how,
         ..Default::default()
     };
     build_text("difftest.st", &p.to_st(), &opts)
@@ -95,12 +102,7 @@ pub fn check(p: &Prog, machines: &[&str], scans: u32, seed: u64) -> Verdict {
 /// be (the random programs are too small for a build to do it on its own) and says
 /// how the module differs from `module`, built in order; `None` if it does not.
 fn split_differs(p: &Prog, module: &Module) -> Option<String> {
-    let opts = BuildOptions {
-        codesys: p.oo.as_ref().is_some_and(|o| o.codesys),
-        parallel_bodies: plcc_frontend::ParallelBodies::Always,
-        ..Default::default()
-    };
-    match build_text("difftest.st", &p.to_st(), &opts) {
+    match build(p, plcc_frontend::ParallelBodies::Always) {
         Ok(split) if split == *module => None,
         Ok(split) => {
             let (a, b) = (module.to_string(), split.to_string());
