@@ -145,9 +145,10 @@ pub fn optimize_program(module: &mut Module) {
         optimize_function(f);
     });
     inline::remove_unreachable_functions(module);
+    let exposed = promote::Exposed::of(module);
     let aggs = &module.aggs;
     crate::parallel::each_mut(module.funcs.iter_mut().collect(), |f| {
-        let promoted = promote::run_function(aggs, f);
+        let promoted = promote::run_function(aggs, &exposed, f);
         if promoted {
             optimize_function(f);
         }

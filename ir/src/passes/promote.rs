@@ -10,22 +10,169 @@
 //!
 //! An address escapes when it is used other than as the base of a `field_addr` or the
 //! address of a load or store: then it and everything inside it stay in memory.
+//!
+//! That holds within the body; but an address can also get out in another function,
+//! or in an earlier call: an init function that sets `pr := REF(r1)` leaves a pointer
+//! in memory through which the body may read `r1.a` while it keeps `r1.a` in a
+//! register. So a field whose address gets out anywhere in the module ([`Exposed`],
+//! computed over every function first) is never promoted, nor is anything inside an
+//! aggregate whose whole address gets out.
 
 use crate::entities::{AggId, SlotId, Value};
 use crate::function::{FuncKind, Function, ValueDef};
 use crate::inst::InstData;
-use crate::module::AggDef;
+use crate::module::{AggDef, Module};
 use crate::types::{MemType, Type};
-use rustc_hash::FxHashMap;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 /// A chain of field indexes from the instance pointer.
 type Path = Vec<u32>;
 
+/// What the functions of a module let the address of out (store it, pass it to a
+/// call, return it, compare it, ...): memory that a pointer read from memory may
+/// reach, so that no body may keep it in a register.
+#[derive(Debug, Default)]
+pub struct Exposed {
+    /// Fields (of a struct type, in every instance of it) whose address, or the
+    /// address of something inside which, gets out.
+    fields: FxHashSet<(AggId, u32)>,
+    /// Aggregates the address of a whole instance of which gets out.
+    whole: FxHashSet<AggId>,
+    /// An address of an instance of unknown type gets out: nothing is promoted.
+    all: bool,
+}
+
+impl Exposed {
+    /// What the functions of `module` let out. A pointer passed to a call gets out
+    /// only if the callee lets that parameter out (stores it, passes it on, ...), or
+    /// if the call is bound at run time.
+    pub fn of(module: &Module) -> Exposed {
+        let params_out = crate::parallel::map(&module.funcs, params_let_out);
+        let each = crate::parallel::map(&module.funcs, |f| exposed_by(module, &params_out, f));
+        let mut all = Exposed::default();
+        for e in each {
+            all.fields.extend(e.fields);
+            all.whole.extend(e.whole);
+            all.all |= e.all;
+        }
+        all
+    }
+
+    /// Whether the path of `steps` from an instance may be reached through a pointer.
+    fn reaches(&self, steps: &[(AggId, u32)]) -> bool {
+        self.all
+            || steps.first().is_some_and(|(agg, _)| self.whole.contains(agg))
+            || steps.iter().any(|s| self.fields.contains(s))
+    }
+}
+
+/// Calls `use_` with every value `f` uses other than as the address of a load or
+/// store or the base of an address computation (an element's index is no address),
+/// and with whether the use is the `k`th argument of a direct call (`Some((callee,
+/// k))`).
+fn for_each_let_out(f: &Function, mut use_: impl FnMut(Value, Option<(usize, usize)>)) {
+    for (_, i) in f.inst_iter() {
+        match f.inst(i) {
+            InstData::Load { .. } | InstData::FieldAddr { .. } | InstData::ElemAddr { .. } => {}
+            InstData::Store { value, .. } => use_(*value, None),
+            InstData::Call { func, args } => {
+                for (k, &a) in args.iter().enumerate() {
+                    use_(a, Some((func.index(), k)));
+                }
+            }
+            other => other.for_each_arg(|v| use_(v, None)),
+        }
+    }
+}
+
+/// Which parameters of `f` (the entry block's) it lets out as they are, any use
+/// counted, a call's argument included.
+fn params_let_out(f: &Function) -> Vec<bool> {
+    let params: &[Value] = match f.entry() {
+        Some(e) => &f.block(e).params,
+        None => &[],
+    };
+    let mut out = vec![false; params.len()];
+    for_each_let_out(f, |v, _| {
+        let mut v = v;
+        while let ValueDef::Result(i) = f.value_def(v) {
+            match f.inst(i) {
+                InstData::ElemAddr { base, .. } => v = *base,
+                _ => return,
+            }
+        }
+        if let Some(k) = params.iter().position(|&p| p == v) {
+            out[k] = true;
+        }
+    });
+    out
+}
+
+/// What one function lets out: the fields (and data objects, and its own instance)
+/// of the address computations each value it lets out comes from.
+fn exposed_by(module: &Module, params_out: &[Vec<bool>], f: &Function) -> Exposed {
+    let mut out = Exposed::default();
+    // The instance's type: what a `field_addr` on the entry's first parameter names.
+    let this = f
+        .entry()
+        .and_then(|e| f.block(e).params.first().copied())
+        .filter(|_| matches!(f.kind, FuncKind::ProgramBody | FuncKind::FbBody));
+    let this_agg = this.and_then(|t| {
+        f.inst_iter().find_map(|(_, i)| match f.inst(i) {
+            InstData::FieldAddr { base, agg, .. } if *base == t => Some(*agg),
+            _ => None,
+        })
+    });
+    for_each_let_out(f, |v, call| {
+        if let Some((callee, k)) = call {
+            if !params_out.get(callee).and_then(|p| p.get(k)).copied().unwrap_or(true) {
+                return;
+            }
+        }
+        let mut v = v;
+        let mut field = false;
+        loop {
+            match f.value_def(v) {
+                ValueDef::Result(i) => match f.inst(i) {
+                    InstData::FieldAddr { base, agg, field: k } => {
+                        out.fields.insert((*agg, *k));
+                        field = true;
+                        v = *base;
+                    }
+                    InstData::ElemAddr { base, .. } => v = *base,
+                    InstData::GlobalAddr { data } => {
+                        if let (false, Some(MemType::Agg(agg))) =
+                            (field, module.data.get(data.index()).map(|d| d.ty))
+                        {
+                            out.whole.insert(agg);
+                        }
+                        break;
+                    }
+                    _ => break,
+                },
+                ValueDef::Param(..) => {
+                    if !field && Some(v) == this {
+                        match this_agg {
+                            Some(agg) => {
+                                out.whole.insert(agg);
+                            }
+                            None => out.all = true,
+                        }
+                    }
+                    break;
+                }
+            }
+        }
+    });
+    out
+}
+
 /// Promotes the non-escaping scalar instance fields of `f`, if it is a PROGRAM or FB
-/// body (`aggs`: the module's aggregates). Says whether it changed; run `mem2reg` on
-/// it then.
-pub fn run_function(aggs: &[AggDef], f: &mut Function) -> bool {
-    matches!(f.kind, FuncKind::ProgramBody | FuncKind::FbBody) && promote_function(aggs, f)
+/// body (`aggs`: the module's aggregates), leaving alone what `exposed` says other
+/// code may reach. Says whether it changed; run `mem2reg` on it then.
+pub fn run_function(aggs: &[AggDef], exposed: &Exposed, f: &mut Function) -> bool {
+    matches!(f.kind, FuncKind::ProgramBody | FuncKind::FbBody)
+        && promote_function(aggs, exposed, f)
 }
 
 /// What is known about one path.
@@ -46,7 +193,7 @@ struct PathInfo {
     blocks: Vec<crate::entities::Block>,
 }
 
-fn promote_function(aggs: &[AggDef], f: &mut Function) -> bool {
+fn promote_function(aggs: &[AggDef], exposed: &Exposed, f: &mut Function) -> bool {
     let Some(entry) = f.entry() else { return false };
     let Some(&this) = f.block(entry).params.first() else {
         return false;
@@ -145,7 +292,7 @@ fn promote_function(aggs: &[AggDef], f: &mut Function) -> bool {
         if !p.in_loop && p.blocks.len() < MIN_BLOCKS {
             continue;
         }
-        if ancestor_escapes(&paths, &index, id) {
+        if ancestor_escapes(&paths, &index, id) || exposed.reaches(&p.steps) {
             continue;
         }
         let (agg, field) = *p.steps.last().expect("non-root path");
