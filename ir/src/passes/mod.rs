@@ -141,6 +141,16 @@ pub fn optimize_module(module: &mut Module) {
 /// of the bodies it changed.
 pub fn optimize_program(module: &mut Module) {
     optimize_module(module);
+    optimize_whole_program(module);
+}
+
+/// The whole-program part of [`optimize_program`], for a module whose functions
+/// [`optimize_module`] has already optimised: inlining, removal of functions nothing
+/// calls, promotion of instance variables, and the cleanup of what they changed.
+/// `optimize_module` then `optimize_whole_program` gives exactly what
+/// `optimize_program` gives; the tiered JIT runs the second step in the background
+/// (ARCHITECTURE.md, "Tiers").
+pub fn optimize_whole_program(module: &mut Module) {
     inline::run(module, &|f| {
         optimize_function(f);
     });

@@ -61,7 +61,9 @@ impl Exposed {
     /// Whether the path of `steps` from an instance may be reached through a pointer.
     fn reaches(&self, steps: &[(AggId, u32)]) -> bool {
         self.all
-            || steps.first().is_some_and(|(agg, _)| self.whole.contains(agg))
+            || steps
+                .first()
+                .is_some_and(|(agg, _)| self.whole.contains(agg))
             || steps.iter().any(|s| self.fields.contains(s))
     }
 }
@@ -125,7 +127,12 @@ fn exposed_by(module: &Module, params_out: &[Vec<bool>], f: &Function) -> Expose
     });
     for_each_let_out(f, |v, call| {
         if let Some((callee, k)) = call {
-            if !params_out.get(callee).and_then(|p| p.get(k)).copied().unwrap_or(true) {
+            if !params_out
+                .get(callee)
+                .and_then(|p| p.get(k))
+                .copied()
+                .unwrap_or(true)
+            {
                 return;
             }
         }
@@ -134,7 +141,11 @@ fn exposed_by(module: &Module, params_out: &[Vec<bool>], f: &Function) -> Expose
         loop {
             match f.value_def(v) {
                 ValueDef::Result(i) => match f.inst(i) {
-                    InstData::FieldAddr { base, agg, field: k } => {
+                    InstData::FieldAddr {
+                        base,
+                        agg,
+                        field: k,
+                    } => {
                         out.fields.insert((*agg, *k));
                         field = true;
                         v = *base;
@@ -171,8 +182,7 @@ fn exposed_by(module: &Module, params_out: &[Vec<bool>], f: &Function) -> Expose
 /// body (`aggs`: the module's aggregates), leaving alone what `exposed` says other
 /// code may reach. Says whether it changed; run `mem2reg` on it then.
 pub fn run_function(aggs: &[AggDef], exposed: &Exposed, f: &mut Function) -> bool {
-    matches!(f.kind, FuncKind::ProgramBody | FuncKind::FbBody)
-        && promote_function(aggs, exposed, f)
+    matches!(f.kind, FuncKind::ProgramBody | FuncKind::FbBody) && promote_function(aggs, exposed, f)
 }
 
 /// What is known about one path.
