@@ -17,6 +17,7 @@ use plcc_ir::{InstData, Module};
 pub(crate) const MAX_DATA_BYTES: u64 = 1 << 30;
 
 /// Where every data object lives in the one data block.
+#[derive(Clone)]
 pub(crate) struct DataLayout {
     pub layout: Layout,
     /// Offset of each data object.
@@ -25,6 +26,8 @@ pub(crate) struct DataLayout {
     pub size: u64,
     /// Alignment of the block.
     pub align: u32,
+    /// Program instances of the module (the JIT checks an upgrade against it).
+    pub programs: usize,
 }
 
 impl DataLayout {
@@ -64,6 +67,7 @@ impl DataLayout {
             offsets,
             size: off,
             align,
+            programs: module.programs.len(),
         })
     }
 }
@@ -102,6 +106,12 @@ pub(crate) struct CodegenSettings {
     pub regalloc: String,
     /// Worker threads for compiling functions (0: choose).
     pub threads: usize,
+    /// Add the watchdog checks ([`plcc_ir::passes::watchdog`]) to each function as
+    /// it is translated, on the worker threads, rather than to the module before.
+    pub watchdog: bool,
+    /// The quick tier: the translator's own optimisations (ranges, fills, if
+    /// conversion, loop rotation) are left out.
+    pub quick: bool,
 }
 
 impl Default for CodegenSettings {
@@ -110,6 +120,8 @@ impl Default for CodegenSettings {
             opt_level: "speed".to_string(),
             regalloc: "backtracking".to_string(),
             threads: 0,
+            watchdog: false,
+            quick: false,
         }
     }
 }
@@ -256,6 +268,8 @@ pub(crate) fn compile_functions<M: ClModule>(
         sigs: &sigs,
         math: &math,
         call_conv,
+        watchdog: settings.watchdog,
+        quick: settings.quick,
     };
 
     let threads = match settings.threads {
@@ -495,6 +509,8 @@ pub(crate) fn clif_text(module: &Module) -> Result<String, Vec<Diagnostic>> {
         sigs: &sigs,
         math: &math,
         call_conv,
+        watchdog: false,
+        quick: false,
     };
     let mut tr = Translator::default();
     let mut out = String::new();

@@ -27,76 +27,37 @@ struct Program {
     offset: u64,
 }
 
-/// A module compiled to machine code in this process, with its data memory and runtime
-/// context: the `host` target's [`Machine`].
-///
-/// Data memory is one block, never moved after compilation, whose address is baked into
-/// the code; so is the runtime context's. Dropping the machine frees its code.
-pub struct Jit {
+/// Machine code compiled for one data block and runtime context: what scans run.
+/// Dropping it frees the code.
+struct Code {
     jit: Option<JITModule>,
-    /// Data memory: `words` u64s (8-byte aligned), owned through a raw pointer because
-    /// the compiled code writes it behind Rust's back.
-    data: *mut u64,
-    words: usize,
-    rt: *mut Runtime,
     init_globals: Option<InitGlobalsFn>,
     programs: Vec<Program>,
-    /// The module's types and data objects (no functions), to resolve paths.
-    vars: Module,
-    data_layout: DataLayout,
     code_size: u64,
-    /// Stops scans that run too long (dropped before the runtime it points into).
-    watchdog: Option<plcc_ir::watchdog::Watchdog>,
 }
 
-impl Jit {
-    /// Compiles `module` with the default settings.
-    pub fn new(module: &Module) -> Result<Jit, Vec<Diagnostic>> {
-        Jit::with_settings(module, &CodegenSettings::default())
-    }
-
-    pub(crate) fn with_settings(
+impl Code {
+    /// Compiles every function of `module` for the data block at `data` and the
+    /// runtime context at `rt`, laid out as `data_layout`.
+    fn compile(
         module: &Module,
+        data_layout: &DataLayout,
+        data: u64,
+        rt: u64,
         settings: &CodegenSettings,
-    ) -> Result<Jit, Vec<Diagnostic>> {
-        let data_layout = DataLayout::compute(module)?;
+    ) -> Result<Code, Vec<Diagnostic>> {
         check_entries(module)?;
-        let words = (data_layout.size.div_ceil(8) as usize).max(1);
-        let data = Box::into_raw(vec![0u64; words].into_boxed_slice()) as *mut u64;
-        let rt = Box::into_raw(Box::new(Runtime::default()));
-        // From here on `jit` owns the buffers: dropping it frees them.
-        let mut jit = Jit {
-            jit: None,
-            data,
-            words,
-            rt,
-            init_globals: None,
-            programs: Vec::new(),
-            vars: Module {
-                aggs: module.aggs.clone(),
-                data: module.data.clone(),
-                ..Module::default()
-            },
-            data_layout,
-            code_size: 0,
-            watchdog: None,
-        };
-
         let isa = codegen::host_isa(settings)?;
         let mut builder = JITBuilder::with_isa(isa.clone(), default_libcall_names());
         for m in &MATH {
             builder.symbol(m.name, (m.addr)());
         }
         let mut cl = JITModule::new(builder);
-        let addressing = Addressing::Absolute {
-            data: data as u64,
-            rt: rt as u64,
-        };
         let compiled = codegen::compile_functions(
             &mut cl,
             module,
-            &jit.data_layout,
-            addressing,
+            data_layout,
+            Addressing::Absolute { data, rt },
             Linkage::Local,
             settings,
             &isa,
@@ -110,35 +71,188 @@ impl Jit {
             }
         };
         if let Err(e) = cl.finalize_definitions() {
+            // SAFETY: as above.
             unsafe { cl.free_memory() };
             return Err(vec![Diagnostic::error_nowhere(
                 codes::E_EMIT,
                 format!("cannot finalise the JIT code: {e}"),
             )]);
         }
-        jit.code_size = compiled.code_size;
         let addr = |f: plcc_ir::FuncId| cl.get_finalized_function(compiled.funcs[f.index()]);
         // SAFETY: the functions were checked to have these signatures
         // (`check_entries`), and Cranelift compiled them with the host's C convention.
-        unsafe {
-            jit.init_globals = module
+        let (init_globals, programs) = unsafe {
+            let init_globals = module
                 .init_globals
                 .map(|f| std::mem::transmute::<*const u8, InitGlobalsFn>(addr(f)));
-            for p in &module.programs {
-                jit.programs.push(Program {
+            let programs = module
+                .programs
+                .iter()
+                .map(|p| Program {
                     body: std::mem::transmute::<*const u8, EntryFn>(addr(p.body)),
                     init: std::mem::transmute::<*const u8, EntryFn>(addr(p.init)),
-                    offset: jit.data_layout.offsets[p.data.index()],
-                });
-            }
+                    offset: data_layout.offsets[p.data.index()],
+                })
+                .collect();
+            (init_globals, programs)
+        };
+        Ok(Code {
+            jit: Some(cl),
+            init_globals,
+            programs,
+            code_size: compiled.code_size,
+        })
+    }
+}
+
+impl Drop for Code {
+    fn drop(&mut self) {
+        if let Some(m) = self.jit.take() {
+            // SAFETY: the function pointers die with `self`, and code runs only inside
+            // the `&mut` methods of the `Jit` that owns it.
+            unsafe { m.free_memory() };
         }
-        jit.jit = Some(cl);
-        Ok(jit)
+    }
+}
+
+/// A module compiled to machine code in this process, with its data memory and runtime
+/// context: the `host` target's [`Machine`].
+///
+/// Data memory is one block, never moved after compilation, whose address is baked into
+/// the code; so is the runtime context's. Dropping the machine frees its code.
+///
+/// Its code can be replaced between scans by code compiled for the same memory
+/// ([`Upgrade`], [`Jit::install`]): the tiered JIT starts a large program on
+/// quickly compiled code and swaps the optimised code in when it is ready
+/// ([`crate::quick_jit`]). Nothing of
+/// a scan's state lives outside data memory and the runtime context between scans, so
+/// the swap is invisible but for speed.
+pub struct Jit {
+    code: Code,
+    /// Data memory: `words` u64s (8-byte aligned), owned through a raw pointer because
+    /// the compiled code writes it behind Rust's back.
+    data: *mut u64,
+    words: usize,
+    rt: *mut Runtime,
+    /// The module's types and data objects (no functions), to resolve paths.
+    vars: Module,
+    data_layout: DataLayout,
+    /// Stops scans that run too long (dropped before the runtime it points into).
+    watchdog: Option<plcc_ir::watchdog::Watchdog>,
+}
+
+/// What compiles a second version of a [`Jit`]'s module for its memory, on any
+/// thread ([`crate::quick_jit`]). It holds the machine's memory addresses, not the
+/// machine: what it compiles runs only once [`Jit::install`]ed in that machine.
+pub struct Upgrade {
+    data: u64,
+    rt: u64,
+    data_layout: DataLayout,
+    settings: CodegenSettings,
+}
+
+/// Code an [`Upgrade`] compiled, waiting to be [`Jit::install`]ed.
+pub struct Tier {
+    code: Code,
+    data: u64,
+}
+
+// SAFETY: a `Tier`'s code runs only once installed in its `Jit` (checked by address),
+// from that machine's `&mut` methods; `JITModule` is `Send` itself.
+unsafe impl Send for Tier {}
+
+impl Upgrade {
+    /// Compiles `module`, another version of the machine's module (the same data
+    /// objects and types, as the optimiser leaves them), with this upgrade's settings.
+    /// A module whose data is laid out differently is refused.
+    pub fn compile(&self, module: &Module) -> Result<Tier, Vec<Diagnostic>> {
+        let layout = DataLayout::compute(module)?;
+        if layout.offsets != self.data_layout.offsets
+            || layout.size != self.data_layout.size
+            || module.programs.len() != self.data_layout.programs
+        {
+            return Err(vec![Diagnostic::error_nowhere(
+                codes::E_MALFORMED_IR,
+                "the module to upgrade to lays out its data differently from the running one",
+            )]);
+        }
+        let code = Code::compile(module, &layout, self.data, self.rt, &self.settings)?;
+        Ok(Tier {
+            code,
+            data: self.data,
+        })
+    }
+}
+
+impl Jit {
+    /// Compiles `module` with the default settings.
+    pub fn new(module: &Module) -> Result<Jit, Vec<Diagnostic>> {
+        Jit::with_settings(module, &CodegenSettings::default())
+    }
+
+    pub(crate) fn with_settings(
+        module: &Module,
+        settings: &CodegenSettings,
+    ) -> Result<Jit, Vec<Diagnostic>> {
+        let data_layout = DataLayout::compute(module)?;
+        let words = (data_layout.size.div_ceil(8) as usize).max(1);
+        let data = Box::into_raw(vec![0u64; words].into_boxed_slice()) as *mut u64;
+        let rt = Box::into_raw(Box::new(Runtime::default()));
+        let code = match Code::compile(module, &data_layout, data as u64, rt as u64, settings) {
+            Ok(c) => c,
+            Err(e) => {
+                // SAFETY: both came from `Box::into_raw` with these sizes, and no code
+                // refers to them.
+                unsafe {
+                    drop(Box::from_raw(std::ptr::slice_from_raw_parts_mut(
+                        data, words,
+                    )));
+                    drop(Box::from_raw(rt));
+                }
+                return Err(e);
+            }
+        };
+        Ok(Jit {
+            code,
+            data,
+            words,
+            rt,
+            vars: Module {
+                aggs: module.aggs.clone(),
+                data: module.data.clone(),
+                ..Module::default()
+            },
+            data_layout,
+            watchdog: None,
+        })
+    }
+
+    /// What compiles another version of this machine's module for its memory, with
+    /// the backend settings of `settings` (on another thread if wanted).
+    pub(crate) fn upgrade_with(&self, settings: CodegenSettings) -> Upgrade {
+        Upgrade {
+            data: self.data as u64,
+            rt: self.rt as u64,
+            data_layout: self.data_layout.clone(),
+            settings,
+        }
+    }
+
+    /// Replaces the machine's code by `tier`'s, from the next scan on. The old code is
+    /// freed. A tier compiled for another machine is refused (and freed).
+    pub fn install(&mut self, tier: Tier) -> Result<(), MachineError> {
+        if tier.data != self.data as u64 {
+            return Err(MachineError(
+                "the code to install was compiled for another machine".into(),
+            ));
+        }
+        self.code = tier.code;
+        Ok(())
     }
 
     /// Bytes of machine code the module compiled to.
     pub fn code_size(&self) -> u64 {
-        self.code_size
+        self.code.code_size
     }
 
     /// Bytes of data memory.
@@ -211,12 +325,9 @@ fn check_entries(module: &Module) -> Result<(), Vec<Diagnostic>> {
 
 impl Drop for Jit {
     fn drop(&mut self) {
-        // The watchdog thread points into the runtime context: stop it first.
+        // The watchdog thread points into the runtime context: stop it first. The
+        // code is freed after this (a field), but nothing runs it any more.
         self.watchdog = None;
-        if let Some(m) = self.jit.take() {
-            // SAFETY: the function pointers die with `self`; nothing runs any more.
-            unsafe { m.free_memory() };
-        }
         // SAFETY: both came from `Box::into_raw` with these sizes.
         unsafe {
             drop(Box::from_raw(std::ptr::slice_from_raw_parts_mut(
@@ -245,10 +356,10 @@ impl Machine for Jit {
             (*self.rt).clock_ns = 0;
             (*self.rt).fault = 0;
             std::ptr::write_bytes(self.data_ptr(), GARBAGE, self.words * 8);
-            if let Some(f) = self.init_globals {
+            if let Some(f) = self.code.init_globals {
                 f();
             }
-            for p in &self.programs {
+            for p in &self.code.programs {
                 (p.init)(self.data_ptr().add(p.offset as usize));
             }
         }
@@ -269,7 +380,7 @@ impl Machine for Jit {
         }
         // SAFETY: see `cold_start`.
         unsafe {
-            for p in &self.programs {
+            for p in &self.code.programs {
                 (p.body)(self.data_ptr().add(p.offset as usize));
             }
         }

@@ -37,7 +37,7 @@ mod object;
 mod runtime;
 mod translate;
 
-pub use jit::{Jit, GARBAGE};
+pub use jit::{Jit, Tier, Upgrade, GARBAGE};
 pub use runtime::{data_symbol, func_symbol, mangle, Runtime, DATA_SYMBOL, RT_SYMBOL};
 
 use codegen::CodegenSettings;
@@ -214,16 +214,51 @@ impl Backend for NativeBackend {
         module: &Module,
         options: &Options,
     ) -> Option<Result<Box<dyn Machine>, Vec<Diagnostic>>> {
-        if module.unchecked_pointers {
-            // Such a pointer may address the host process itself: a wrong one would
-            // corrupt plcc rather than raise the fault flag.
-            return Some(Err(vec![Diagnostic::error_nowhere(
-                codes::E_UNCHECKED_POINTERS,
-                "this program's pointers are unchecked (CODESYS pointer arithmetic, a pointer given the address of another type, or the address of a temporary kept), which the host target does not run: run it with `--target interp`",
-            )]));
+        if let Err(e) = runs_here(module) {
+            return Some(Err(e));
         }
         Some(parse_settings(options).and_then(|(_, settings)| {
             Jit::with_settings(module, &settings).map(|j| Box::new(j) as Box<dyn Machine>)
         }))
     }
+}
+
+/// Refuses a module the JIT must not run.
+fn runs_here(module: &Module) -> Result<(), Vec<Diagnostic>> {
+    if module.unchecked_pointers {
+        // Such a pointer may address the host process itself: a wrong one would
+        // corrupt plcc rather than raise the fault flag.
+        return Err(vec![Diagnostic::error_nowhere(
+            codes::E_UNCHECKED_POINTERS,
+            "this program's pointers are unchecked (CODESYS pointer arithmetic, a pointer given the address of another type, or the address of a temporary kept), which the host target does not run: run it with `--target interp`",
+        )]);
+    }
+    Ok(())
+}
+
+/// The `host` machine in two tiers, for a large program (the tiered JIT,
+/// ARCHITECTURE.md, "Tiers"): `module` compiled quickly (Cranelift's optimiser off,
+/// its single-pass register allocator, none of the translator's optimisations) and
+/// the [`Upgrade`] that compiles another version of it, the optimised one, for the
+/// same memory with `options`' settings. The quick code computes exactly what the
+/// optimised code does (both keep the IR contract); it runs slower.
+///
+/// Both add the watchdog checks ([`plcc_ir::passes::watchdog`]) to each function as
+/// they translate it: the modules given have none, and are not changed.
+pub fn quick_jit(module: &Module, options: &Options) -> Result<(Jit, Upgrade), Vec<Diagnostic>> {
+    runs_here(module)?;
+    let (_, settings) = parse_settings(options)?;
+    let quick = CodegenSettings {
+        opt_level: "none".to_string(),
+        regalloc: "single_pass".to_string(),
+        threads: settings.threads,
+        watchdog: true,
+        quick: true,
+    };
+    let jit = Jit::with_settings(module, &quick)?;
+    let upgrade = jit.upgrade_with(CodegenSettings {
+        watchdog: true,
+        ..settings
+    });
+    Ok((jit, upgrade))
 }

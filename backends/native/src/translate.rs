@@ -59,6 +59,12 @@ pub(crate) struct Env<'a> {
     /// The Cranelift id of every [`MATH`] function.
     pub math: &'a [ClFuncId],
     pub call_conv: CallConv,
+    /// Add the watchdog checks to each function first
+    /// ([`crate::codegen::CodegenSettings::watchdog`]).
+    pub watchdog: bool,
+    /// Leave out the translator's own optimisations
+    /// ([`crate::codegen::CodegenSettings::quick`]).
+    pub quick: bool,
 }
 
 /// The Cranelift type that holds an IR type.
@@ -152,10 +158,15 @@ impl Translator {
         // ends (one branch an iteration), which Cranelift does not do itself; loops
         // that only set an array's elements to one value become `memset`.
         let mut narrowed = env.module.func(fid).clone();
-        plcc_ir::passes::ranges::run(&mut narrowed);
-        plcc_ir::passes::fill::run(&mut narrowed, env.module);
-        plcc_ir::passes::if_convert::run(&mut narrowed);
-        plcc_ir::passes::rotate::run(&mut narrowed);
+        if env.watchdog {
+            plcc_ir::passes::watchdog::run_function(&mut narrowed);
+        }
+        if !env.quick {
+            plcc_ir::passes::ranges::run(&mut narrowed);
+            plcc_ir::passes::fill::run(&mut narrowed, env.module);
+            plcc_ir::passes::if_convert::run(&mut narrowed);
+            plcc_ir::passes::rotate::run(&mut narrowed);
+        }
         let f = &narrowed;
         func.signature = env.sigs[fid.index()].clone();
         func.name = UserFuncName::user(0, env.funcs[fid.index()].as_u32());
