@@ -564,11 +564,13 @@ pub fn run(a: &RunArgs) -> u8 {
         );
     }
     let several = programs.len() > 1;
+    // One write for many lines, not one each (tens of thousands in a large program).
+    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     for program in &programs {
         let entry = declared.program(program).expect("picked program");
         let prefix = format!("{}.", entry.name);
         let prefix = if several { String::new() } else { prefix };
-        if let Err(e) = print_variables(m.as_ref(), &declared, entry.data, &prefix) {
+        if let Err(e) = print_variables(&mut out, m.as_ref(), &declared, entry.data, &prefix) {
             eprintln!("error: {e}");
             return EXIT_FAIL;
         }
@@ -576,11 +578,16 @@ pub fn run(a: &RunArgs) -> u8 {
     // Globals after the programs' variables, by their plain names.
     if let Some(g) = declared.data_by_name(plcc_frontend::GLOBALS_DATA) {
         let prefix = format!("{}.", plcc_frontend::GLOBALS_DATA);
-        if let Err(e) = print_variables(m.as_ref(), &declared, g, &prefix) {
+        if let Err(e) = print_variables(&mut out, m.as_ref(), &declared, g, &prefix) {
             eprintln!("error: {e}");
             return EXIT_FAIL;
         }
     }
+    if let Err(e) = std::io::Write::flush(&mut out) {
+        eprintln!("error: cannot write the variables: {e}");
+        return EXIT_USAGE;
+    }
+    drop(out);
     if m.fault() {
         eprintln!("warning: the runtime fault flag is set (a division by zero or an array index out of bounds happened)");
     }
@@ -588,8 +595,9 @@ pub fn run(a: &RunArgs) -> u8 {
 }
 
 /// Prints every variable of data object `root` as `name = value` (STRING and
-/// WSTRING variables as literals), each name without `prefix`.
+/// WSTRING variables as literals), each name without `prefix`, to `out`.
 fn print_variables(
+    out: &mut impl std::io::Write,
     m: &dyn plcc_ir::machine::Machine,
     module: &plcc_ir::Module,
     root: plcc_ir::DataId,
@@ -606,7 +614,12 @@ fn print_variables(
             ),
         };
         let text = text.map_err(|e| format!("reading {path}: {e}"))?;
-        println!("{} = {text}", path.strip_prefix(prefix).unwrap_or(path));
+        writeln!(
+            out,
+            "{} = {text}",
+            path.strip_prefix(prefix).unwrap_or(path)
+        )
+        .map_err(|e| format!("cannot write the variables: {e}"))?;
     }
     Ok(())
 }
