@@ -138,6 +138,7 @@ pub(crate) fn build_and_report(inputs: &Inputs, how: How) -> Result<(Build, Modu
         sfc,
         programs,
         no_opt: mode == Mode::Unoptimised,
+        staged: mode == Mode::Staged,
         check_only: matches!(mode, Mode::Check | Mode::Print(_)),
         inline_c,
         print: match mode {
@@ -181,6 +182,9 @@ pub(crate) enum Mode {
     Unoptimised,
     /// Optimised IR, for code generation.
     Full,
+    /// Each function optimised, the whole-program passes left to the machine
+    /// ([`targets::machine_staged`]).
+    Staged,
 }
 
 /// `plcc check FILE...`
@@ -514,7 +518,7 @@ pub fn run(a: &RunArgs) -> u8 {
         &a.inputs,
         How {
             programs,
-            mode: Mode::Full,
+            mode: Mode::Staged,
             inline_c: targets::find(target).is_some_and(|t| t.inline_c),
             keep_syntax: false,
         },
@@ -532,7 +536,7 @@ pub fn run(a: &RunArgs) -> u8 {
     // declarations.
     let declared = module.clone_declarations();
     let t = std::time::Instant::now();
-    let mut m = match targets::machine_owned(target, module, &a.settings) {
+    let mut m = match targets::machine_staged(target, module, &a.settings) {
         Ok(m) => m,
         Err(diags) => {
             render::to_stderr(&build.sources, &diags);
@@ -662,7 +666,7 @@ pub fn test(a: &TestArgs) -> u8 {
         &a.inputs,
         How {
             programs,
-            mode: Mode::Full,
+            mode: Mode::Staged,
             inline_c: targets::find(target).is_some_and(|t| t.inline_c),
             keep_syntax: false,
         },
@@ -674,14 +678,14 @@ pub fn test(a: &TestArgs) -> u8 {
         Ok(p) => p,
         Err(s) => return s,
     };
-    let mut m = match targets::machine_with(target, &module, &a.settings) {
+    let cycle = scenario::Cycle::of(&module, a.cycle_us);
+    let mut m = match targets::machine_staged(target, module, &a.settings) {
         Ok(m) => m,
         Err(diags) => {
             render::to_stderr(&build.sources, &diags);
             return EXIT_FAIL;
         }
     };
-    let cycle = scenario::Cycle::of(&module, a.cycle_us);
     eprintln!("{cycle}");
     let out = scenario::run(&scn, m.as_mut(), &program, cycle.us);
     for c in &out.checks {

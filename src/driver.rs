@@ -116,6 +116,11 @@ pub struct BuildOptions {
     pub sfc: plcc_frontend::sfc::Profile,
     /// Skip the optimisation passes.
     pub no_opt: bool,
+    /// Optimise each function only: the whole-program passes
+    /// ([`plcc_ir::passes::optimize_whole_program`]) are left to the machine
+    /// ([`crate::targets::machine_staged`]), which runs them in the background for a
+    /// large program on the JIT (ARCHITECTURE.md, "Tiers").
+    pub staged: bool,
     /// Only check: no verification or optimisation of the IR.
     pub check_only: bool,
     /// Keep the C code of pragmas for a target that copies it into its output
@@ -243,7 +248,11 @@ pub fn build_sources_with_library(
         timings.push(("verify", t.elapsed()));
         if ok && !opts.no_opt {
             let t = Instant::now();
-            plcc_ir::passes::optimize_program(m);
+            if opts.staged {
+                plcc_ir::passes::optimize_module(m);
+            } else {
+                plcc_ir::passes::optimize_program(m);
+            }
             timings.push(("optimise", t.elapsed()));
             if std::env::var_os("PLCC_TIME_PASSES").is_some() {
                 let insts: usize = m.funcs.iter().map(|f| f.live_inst_count()).sum();
@@ -252,11 +261,15 @@ pub fn build_sources_with_library(
                     m.funcs.len()
                 );
             }
-            let t = Instant::now();
-            ok = check(m, "optimisation")
-                .map_err(|e| diagnostics.extend(e))
-                .is_ok();
-            timings.push(("verify", t.elapsed()));
+            // A staged module is verified once its optimisation is done: by
+            // `machine_staged`, or by the JIT, which verifies what it compiles.
+            if !opts.staged {
+                let t = Instant::now();
+                ok = check(m, "optimisation")
+                    .map_err(|e| diagnostics.extend(e))
+                    .is_ok();
+                timings.push(("verify", t.elapsed()));
+            }
         }
         if !ok {
             module = None;
@@ -285,7 +298,7 @@ pub fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
 
 /// Verifies a module; failures are internal errors (bugs in plcc), reported as
 /// diagnostics rather than panics.
-fn check(m: &Module, stage: &str) -> Result<(), Vec<Diagnostic>> {
+pub(crate) fn check(m: &Module, stage: &str) -> Result<(), Vec<Diagnostic>> {
     plcc_ir::verify::verify_module(m).map_err(|errs| {
         errs.iter()
             .take(10)

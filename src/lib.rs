@@ -15,3 +15,4 @@ pub mod render;
 pub mod scenario;
 pub mod serve;
 pub mod targets;
+pub mod tiers;

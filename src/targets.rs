@@ -222,17 +222,27 @@ pub struct Guarded {
 
 impl Guarded {
     fn catch<T>(&self, what: &str, f: impl FnOnce() -> T) -> Result<T, Vec<Diagnostic>> {
-        std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).map_err(|payload| {
-            let why = crate::driver::panic_message(payload.as_ref());
-            vec![Diagnostic::error_nowhere(
-                crate::driver::E_INTERNAL,
-                format!(
-                    "internal error: the {} backend panicked while {what}: {why}                      (a bug in plcc: please report it with the program)",
-                    self.target
-                ),
-            )]
-        })
+        catch_panic(self.target, what, f)
     }
+}
+
+/// Runs `f`; a panic becomes the internal-error diagnostic (E9901) that names the
+/// target and what it was doing, and asks for a report.
+pub(crate) fn catch_panic<T>(
+    target: &str,
+    what: &str,
+    f: impl FnOnce() -> T,
+) -> Result<T, Vec<Diagnostic>> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).map_err(|payload| {
+        let why = crate::driver::panic_message(payload.as_ref());
+        vec![Diagnostic::error_nowhere(
+            crate::driver::E_INTERNAL,
+            format!(
+                "internal error: the {target} backend panicked while {what}: {why} \
+                 (a bug in plcc: please report it with the program)"
+            ),
+        )]
+    })
 }
 
 impl Backend for Guarded {
@@ -302,6 +312,46 @@ pub fn split_spec(spec: &str) -> (&str, Vec<(String, String)>) {
         }
         None => (spec, Vec::new()),
     }
+}
+
+/// The machine of a module built with [`crate::driver::BuildOptions::staged`] (each
+/// function optimised, the whole-program passes not run), as `plcc run`, `plcc test`
+/// and `plcc serve` build. The `host` target takes the `tier` setting
+/// ([`crate::tiers::Tiers`]): a large program starts on quickly compiled code and the
+/// whole-program passes run in the background (the tiered JIT). Otherwise they run
+/// here, and the machine is [`machine_owned`]'s.
+pub fn machine_staged(
+    name: &str,
+    mut module: Module,
+    settings: &[(String, String)],
+) -> Result<Box<dyn Machine>, Vec<Diagnostic>> {
+    let (tiers, settings) = match name {
+        "host" => crate::tiers::Tiers::take(settings)?,
+        _ => (crate::tiers::Tiers::Full, settings.to_vec()),
+    };
+    let insts: usize = module.funcs.iter().map(|f| f.live_inst_count()).sum();
+    if tiers.starts_quick(insts) {
+        let t = std::time::Instant::now();
+        let mut m = crate::tiers::machine(module, &settings, tiers)?;
+        if std::env::var_os("PLCC_TIME_PASSES").is_some() {
+            eprintln!(
+                "time: {:>9.3} ms  quick code (the optimised code follows in the background)",
+                t.elapsed().as_secs_f64() * 1e3
+            );
+        }
+        m.set_watchdog(Some(WATCHDOG));
+        return Ok(m);
+    }
+    let t = std::time::Instant::now();
+    plcc_ir::passes::optimize_whole_program(&mut module);
+    crate::driver::check(&module, "optimisation")?;
+    if std::env::var_os("PLCC_TIME_PASSES").is_some() {
+        eprintln!(
+            "time: {:>9.3} ms  whole-program optimisation",
+            t.elapsed().as_secs_f64() * 1e3
+        );
+    }
+    machine_owned(name, module, &settings)
 }
 
 /// Like [`machine_with`], taking the module (saves a copy of a large one).

@@ -131,6 +131,8 @@ impl Loader {
             plcopen: a.inputs.plcopen.options()?,
             sfc: a.inputs.plcopen.sfc_profile()?,
             no_opt: false,
+            // The machine runs the whole-program passes (the tiered JIT).
+            staged: true,
             check_only: false,
             inline_c: targets::find(target).is_some_and(|t| t.inline_c),
             print: plcc_frontend::PrintAs::Nothing,
@@ -287,7 +289,7 @@ pub fn serve(a: &ServeArgs) -> u8 {
         &a.inputs,
         How {
             programs: a.program.iter().cloned().collect(),
-            mode: Mode::Full,
+            mode: Mode::Staged,
             inline_c: targets::find(target).is_some_and(|t| t.inline_c),
             keep_syntax: true,
         },
@@ -372,7 +374,7 @@ pub fn serve(a: &ServeArgs) -> u8 {
     let scanner = std::thread::Builder::new()
         .name("plc-scan".into())
         .spawn(move || {
-            let m = match targets::machine_owned(target, module, &settings) {
+            let m = match targets::machine_staged(target, module, &settings) {
                 Ok(m) => m,
                 Err(diags) => {
                     let _ = ready_tx.send(Err(diags));

@@ -454,7 +454,7 @@ impl Plc<'_> {
             vars,
             retained,
         } = l;
-        let mut new = crate::targets::machine_owned(target, module, &settings).map_err(|d| {
+        let mut new = crate::targets::machine_staged(target, module, &settings).map_err(|d| {
             let msgs: Vec<String> = d
                 .iter()
                 .map(|d| format!("{}: {}", d.code, d.message))
