@@ -88,14 +88,71 @@ pub fn machine_for_seed(name: &str, seed: u64) -> String {
 /// Runs `p` on `machines` (the first is the reference; a machine may carry one
 /// target setting, `vmasm:mode=32a`; plain `vmasm` gets a mode from the seed, see
 /// [`machine_for_seed`]) for `scans` scans.
+///
+/// Two kinds of machine run another build of the program: the tiered
+/// JIT's (`host:tier=quick`, `host:tier=swap-at-2`) runs it as `plcc run` builds it,
+/// each function optimised and the whole-program passes left to the machine
+/// ([`targets::machine_staged`]); `interp:ir=raw` runs the IR as the front end made
+/// it, unoptimised: the oracle of the optimiser, which every other machine trusts.
 pub fn check(p: &Prog, machines: &[&str], scans: u32, seed: u64) -> Verdict {
     match compile(p) {
         Ok(module) => match split_differs(p, &module) {
             Some(d) => Verdict::Mismatch(d),
-            None => check_module(&module, &p.input_paths(), machines, scans, seed),
+            None => {
+                let mut builds = vec![(Build::Full, module)];
+                for b in [Build::Staged, Build::Raw] {
+                    if machines.iter().any(|m| Build::of(m) == b) {
+                        match build_as(p, b) {
+                            Ok(m) => builds.push((b, m)),
+                            Err(e) => {
+                                return Verdict::Mismatch(format!("the {b:?} build fails: {e}"))
+                            }
+                        }
+                    }
+                }
+                let builds: Vec<(Build, &Module)> = builds.iter().map(|(b, m)| (*b, m)).collect();
+                check_builds(&builds, &p.input_paths(), machines, scans, seed)
+            }
         },
         Err(e) => Verdict::Rejected(e),
     }
+}
+
+/// Which build of a program a machine runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Build {
+    /// Optimised, as `plcc build` makes it (most machines).
+    Full,
+    /// Each function optimised, the whole-program passes left to the machine
+    /// ([`BuildOptions::staged`]): the tiered JIT's (`host:tier=...`).
+    Staged,
+    /// Unoptimised ([`BuildOptions::no_opt`]): `interp:ir=raw`.
+    Raw,
+}
+
+impl Build {
+    /// The build a machine spec asks for.
+    fn of(spec: &str) -> Build {
+        let (_, settings) = targets::split_spec(spec);
+        if settings.iter().any(|(k, _)| k == "tier") {
+            Build::Staged
+        } else if settings.iter().any(|(k, v)| k == "ir" && v == "raw") {
+            Build::Raw
+        } else {
+            Build::Full
+        }
+    }
+}
+
+/// Builds a program as [`compile`] does, but as `how` says.
+fn build_as(p: &Prog, how: Build) -> Result<Module, String> {
+    let opts = BuildOptions {
+        codesys: p.oo.as_ref().is_some_and(|o| o.codesys),
+        staged: how == Build::Staged,
+        no_opt: how == Build::Raw,
+        ..Default::default()
+    };
+    build_text("difftest.st", &p.to_st(), &opts)
 }
 
 /// Builds `p` again with its POU bodies lowered on two threads as often as they can
@@ -131,9 +188,19 @@ pub(crate) fn build_text(name: &str, text: &str, opts: &BuildOptions) -> Result<
         .into_module()
 }
 
-/// The machine of a name with its setting (`vmasm:mode=32a`).
+/// The machine of a name with its setting (`vmasm:mode=32a`). A machine of the
+/// tiered JIT (`host:tier=quick`) given an optimised module optimises it again in
+/// its background tier, which changes nothing of its meaning; `interp:ir=raw` is the
+/// interpreter of whatever module it is given.
 pub(crate) fn machine(name: &str, module: &Module) -> Result<Option<Box<dyn Machine>>, String> {
-    match targets::machine_spec(name, module) {
+    let (target, settings) = targets::split_spec(name);
+    let made = match Build::of(name) {
+        Build::Staged => targets::machine_staged(target, module.clone(), &settings),
+        Build::Raw if target == "interp" => targets::machine("interp", module),
+        Build::Raw => return Err(format!("{name}: only the interpreter runs the raw IR")),
+        Build::Full => targets::machine_spec(name, module),
+    };
+    match made {
         Ok(m) => Ok(Some(m)),
         Err(d) if d.iter().any(|x| UNFIT.contains(&x.code)) => Ok(None),
         Err(d) => Err(format!(
@@ -155,6 +222,19 @@ pub fn check_module(
     scans: u32,
     seed: u64,
 ) -> Verdict {
+    check_builds(&[(Build::Full, module)], inputs, machines, scans, seed)
+}
+
+/// [`check_module`] with the builds each machine runs ([`Build::of`]); the
+/// full build first.
+fn check_builds(
+    builds: &[(Build, &Module)],
+    inputs: &[(String, T)],
+    machines: &[&str],
+    scans: u32,
+    seed: u64,
+) -> Verdict {
+    let module = builds[0].1;
     if module.programs.is_empty() {
         return Verdict::Rejected("no program".into());
     }
@@ -166,6 +246,16 @@ pub fn check_module(
     let machines: Vec<String> = machines.iter().map(|m| machine_for_seed(m, seed)).collect();
     let mut ms: Vec<(String, Box<dyn Machine>)> = Vec::new();
     for name in &machines {
+        let build = Build::of(name);
+        if build == Build::Raw && !builds.iter().any(|(b, _)| *b == build) {
+            return Verdict::Mismatch(format!(
+                "{name} runs the unoptimised IR, which this kind of program is not built to"
+            ));
+        }
+        let module = builds
+            .iter()
+            .find(|(b, _)| *b == build)
+            .map_or(module, |&(_, m)| m);
         match machine(name, module) {
             Ok(Some(m)) => ms.push((name.clone(), m)),
             Ok(None) => {}
