@@ -574,17 +574,19 @@ pub fn run(a: &RunArgs) -> u8 {
         let entry = declared.program(program).expect("picked program");
         let prefix = format!("{}.", entry.name);
         let prefix = if several { String::new() } else { prefix };
-        if let Err(e) = print_variables(&mut out, m.as_ref(), &declared, entry.data, &prefix) {
+        if let Err((status, e)) =
+            print_variables(&mut out, m.as_ref(), &declared, entry.data, &prefix)
+        {
             eprintln!("error: {e}");
-            return EXIT_FAIL;
+            return status;
         }
     }
     // Globals after the programs' variables, by their plain names.
     if let Some(g) = declared.data_by_name(plcc_frontend::GLOBALS_DATA) {
         let prefix = format!("{}.", plcc_frontend::GLOBALS_DATA);
-        if let Err(e) = print_variables(&mut out, m.as_ref(), &declared, g, &prefix) {
+        if let Err((status, e)) = print_variables(&mut out, m.as_ref(), &declared, g, &prefix) {
             eprintln!("error: {e}");
-            return EXIT_FAIL;
+            return status;
         }
     }
     if let Err(e) = std::io::Write::flush(&mut out) {
@@ -599,14 +601,16 @@ pub fn run(a: &RunArgs) -> u8 {
 }
 
 /// Prints every variable of data object `root` as `name = value` (STRING and
-/// WSTRING variables as literals), each name without `prefix`, to `out`.
+/// WSTRING variables as literals), each name without `prefix`, to `out`. An error
+/// comes with its exit status: 1 for a variable the machine cannot read, 2 for
+/// output that cannot be written.
 fn print_variables(
     out: &mut impl std::io::Write,
     m: &dyn plcc_ir::machine::Machine,
     module: &plcc_ir::Module,
     root: plcc_ir::DataId,
     prefix: &str,
-) -> Result<(), String> {
+) -> Result<(), (u8, String)> {
     use plcc_ir::vars::Var;
     for var in plcc_ir::vars::variables_and_strings(module, root) {
         let (path, text) = match &var {
@@ -617,13 +621,13 @@ fn print_variables(
                     .map(|c| plcc_ir::value::format_string_literal(&c, s.wide)),
             ),
         };
-        let text = text.map_err(|e| format!("reading {path}: {e}"))?;
+        let text = text.map_err(|e| (EXIT_FAIL, format!("reading {path}: {e}")))?;
         writeln!(
             out,
             "{} = {text}",
             path.strip_prefix(prefix).unwrap_or(path)
         )
-        .map_err(|e| format!("cannot write the variables: {e}"))?;
+        .map_err(|e| (EXIT_USAGE, format!("cannot write the variables: {e}")))?;
     }
     Ok(())
 }

@@ -136,3 +136,25 @@ fn run_prints_strings_as_literals_on_every_target() {
         );
     }
 }
+
+/// Output that cannot be written is an I/O error (exit status 2) with a message,
+/// not a panic: the variables go through one buffer, flushed and checked.
+#[cfg(target_os = "linux")]
+#[test]
+fn run_reports_output_it_cannot_write() {
+    let prog =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/programs/st/regress/ulint_printing.st");
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .expect("/dev/full");
+    let out = Command::new(env!("CARGO_BIN_EXE_plcc"))
+        .args(["run", prog.to_str().unwrap()])
+        .stdout(full)
+        .output()
+        .expect("plcc runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("error: cannot write the variables"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
