@@ -6,6 +6,10 @@ usage: bench/bench.py [--quick] [--only compile|scan|oscat|scaling]
 (a) Compile throughput on ../shared/bench/gen_synth.py output (1,000 and 2,000 POUs):
     `plcc check` (parse, check, lower to IR) and the whole path to JIT code
     (`plcc run --scans 0`: parse, check, lower, verify, optimise, Cranelift, load).
+    For a program this large that is the tiered JIT's quick code (each function
+    optimised, Cranelift's fast settings; the whole-program passes and the optimised
+    code follow on a thread of their own, ARCHITECTURE.md, "Tiers"). "optimised" is
+    the same run with `-s tier=full`: the optimised code before the first scan.
     Wall time of the whole process, median of N runs, lines/s = lines / median.
 (b) Time per scan of the JIT on lcg.st, control.st and sieve.st against ref.c built
     with `gcc -O2`: `plcc run --timing` times the scan loop alone (no compilation),
@@ -21,8 +25,9 @@ usage: bench/bench.py [--quick] [--only compile|scan|oscat|scaling]
     Cranelift, object file; the library has no PROGRAM to run and its pointers are
     unchecked, so the JIT would not run it). MB/s and lines/s of the median.
 
-(d) Compile scaling: gen_synth programs from about 10k to 1M lines, `plcc check` and
-    the path to JIT code, the better of two runs each (the large ones take seconds), with the peak
+(d) Compile scaling: gen_synth programs from about 10k to 1M lines, `plcc check`, the
+    path to JIT code and to the optimised code (`-s tier=full`), the better of two
+    runs each (the large ones take seconds), with the peak
     resident memory of each process (wait4's ru_maxrss). Prints the table and writes
     docs/img/compile-scaling.svg (time against lines, both axes logarithmic).
 
@@ -59,7 +64,8 @@ def wall(cmd, n):
 
 def compile_bench(tmp, reps):
     print("\n(a) compile throughput (median of %d whole-process runs)\n" % reps)
-    print(f"{'program':<22} {'lines':>8} {'check s':>9} {'check lines/s':>14} {'to JIT s':>9} {'to JIT lines/s':>15}")
+    print(f"{'program':<22} {'lines':>8} {'check s':>9} {'check lines/s':>14} {'to JIT s':>9} {'to JIT lines/s':>15}"
+          f" {'optimised s':>12} {'lines/s':>9}")
     rows = []
     for n in (1000, 2000):
         src = os.path.join(tmp, f"synth{n}.st")
@@ -68,8 +74,10 @@ def compile_bench(tmp, reps):
         lines = sum(1 for _ in open(src))
         t_check = wall([PLCC, "check", src], reps)
         t_jit = wall([PLCC, "run", src, "--scans", "0"], reps)
+        t_full = wall([PLCC, "run", src, "--scans", "0", "-s", "tier=full"], reps)
         rows.append((n, lines, t_check, t_jit))
-        print(f"{'gen_synth ' + str(n) + ' POUs':<22} {lines:>8} {t_check:>9.3f} {lines / t_check:>14,.0f} {t_jit:>9.3f} {lines / t_jit:>15,.0f}")
+        print(f"{'gen_synth ' + str(n) + ' POUs':<22} {lines:>8} {t_check:>9.3f} {lines / t_check:>14,.0f} {t_jit:>9.3f} {lines / t_jit:>15,.0f}"
+              f" {t_full:>12.3f} {lines / t_full:>9,.0f}")
     if len(rows) == 2:
         (_, l1, c1, j1), (_, l2, c2, j2) = rows
         print(f"\ngrowth from {l1} to {l2} lines ({l2 / l1:.2f}x): check {c2 / c1:.2f}x, to JIT {j2 / j1:.2f}x (linear = {l2 / l1:.2f}x)")
@@ -167,7 +175,8 @@ def scaling_bench(tmp, quick):
     pous = SCALING_POUS[:4] if quick else SCALING_POUS
     print("\n(d) compile scaling (the better of two whole-process runs each; peak resident memory)\n")
     print(f"{'POUs':>6} {'lines':>9} {'check s':>8} {'lines/s':>10} {'MB':>6} {'B/line':>7} "
-          f"{'to JIT s':>9} {'lines/s':>9} {'MB':>6} {'B/line':>7}")
+          f"{'to JIT s':>9} {'lines/s':>9} {'MB':>6} {'B/line':>7} "
+          f"{'optimised s':>12} {'lines/s':>9} {'MB':>6} {'B/line':>7}")
     rows = []
     for n in pous:
         src = os.path.join(tmp, f"scale{n}.st")
@@ -175,14 +184,18 @@ def scaling_bench(tmp, quick):
             subprocess.run([sys.executable, os.path.join(SHARED, "gen_synth.py"), str(n)], stdout=f, check=True)
         lines = sum(1 for _ in open(src))
         # The better of two runs (the first also warms the file cache).
-        (tc, mc), (tj, mj) = (min(measured(cmd) for _ in range(2))
-                              for cmd in ([PLCC, "check", src], [PLCC, "run", src, "--scans", "0"]))
+        (tc, mc), (tj, mj), (tf, mf) = (
+            min(measured(cmd) for _ in range(2))
+            for cmd in ([PLCC, "check", src], [PLCC, "run", src, "--scans", "0"],
+                        [PLCC, "run", src, "--scans", "0", "-s", "tier=full"]))
         os.remove(src)
-        rows.append((lines, tc, tj, mc, mj))
+        rows.append((lines, tc, tj, tf))
         print(f"{n:>6} {lines:>9,} {tc:>8.3f} {lines / tc:>10,.0f} {mc / 1e6:>6.0f} {mc / lines:>7.0f} "
-              f"{tj:>9.3f} {lines / tj:>9,.0f} {mj / 1e6:>6.0f} {mj / lines:>7.0f}")
-    (l0, c0, j0, _, _), (l1, c1, j1, _, _) = rows[0], rows[-1]
-    print(f"\nfrom {l0:,} to {l1:,} lines ({l1 / l0:.0f}x): check {c1 / c0:.0f}x, to JIT {j1 / j0:.0f}x")
+              f"{tj:>9.3f} {lines / tj:>9,.0f} {mj / 1e6:>6.0f} {mj / lines:>7.0f} "
+              f"{tf:>12.3f} {lines / tf:>9,.0f} {mf / 1e6:>6.0f} {mf / lines:>7.0f}")
+    (l0, c0, j0, f0), (l1, c1, j1, f1) = rows[0], rows[-1]
+    print(f"\nfrom {l0:,} to {l1:,} lines ({l1 / l0:.0f}x): check {c1 / c0:.0f}x, to JIT {j1 / j0:.0f}x, "
+          f"to optimised code {f1 / f0:.0f}x")
     out = os.path.join(ROOT, "docs", "img", "compile-scaling.svg")
     with open(out, "w") as f:
         f.write(scaling_svg(rows))
@@ -192,9 +205,9 @@ def scaling_bench(tmp, quick):
 def scaling_svg(rows):
     """Time against lines on log-log axes, one line per path, as a small SVG."""
     import math
-    w, h, left, bottom, top, right = 640, 400, 70, 50, 20, 150
+    w, h, left, bottom, top, right = 660, 400, 70, 50, 20, 170
     xs = [r[0] for r in rows]
-    ys = [t for r in rows for t in (r[1], r[2])]
+    ys = [t for r in rows for t in r[1:]]
     x0, x1 = math.floor(math.log10(min(xs))), math.ceil(math.log10(max(xs)))
     y0, y1 = math.floor(math.log10(min(ys))), math.ceil(math.log10(max(ys)))
     px = lambda x: left + (math.log10(x) - x0) / (x1 - x0) * (w - left - right)
@@ -210,7 +223,8 @@ def scaling_svg(rows):
         out.append(f'<line x1="{left}" y1="{y:.1f}" x2="{w - right}" y2="{y:.1f}" stroke="#ddd"/>')
         out.append(f'<text x="{left - 6}" y="{y + 4:.1f}" text-anchor="end">{10.0 ** e:g} s</text>')
     out.append(f'<text x="{(left + w - right) / 2}" y="{h - 10}" text-anchor="middle">lines of ST (gen_synth)</text>')
-    for k, (label, colour) in enumerate([("plcc check", "#1f77b4"), ("to JIT code", "#d62728")]):
+    paths = [("plcc check", "#1f77b4"), ("to JIT code", "#d62728"), ("to optimised code", "#2ca02c")]
+    for k, (label, colour) in enumerate(paths):
         pts = " ".join(f"{px(r[0]):.1f},{py(r[1 + k]):.1f}" for r in rows)
         out.append(f'<polyline points="{pts}" fill="none" stroke="{colour}" stroke-width="2"/>')
         for r in rows:
@@ -223,6 +237,9 @@ def scaling_svg(rows):
 
 
 def main():
+    if "--help" in sys.argv or "-h" in sys.argv:
+        print(__doc__)
+        return
     if not os.path.isdir(SHARED):
         print("notice: ../shared/bench not found; nothing to measure")
         return
