@@ -149,7 +149,8 @@ enum Command {
         /// Print the time the scans took (cold start and compilation excluded)
         #[arg(long)]
         timing: bool,
-        /// A target setting KEY=VALUE (vmasm: mode=16|32|32a; pic16f876a: pin.%IX0.0=RA2;
+        /// A target setting KEY=VALUE (host: tier=auto|full|quick|swap-at-N, opt_level,
+        /// regalloc, threads; vmasm: mode=16|32|32a; pic16f876a: pin.%IX0.0=RA2;
         /// c: sanitize=undefined, opt=0..3, cc=PATH)
         #[arg(short = 's', long = "set", value_parser = parse_setting)]
         set: Vec<(String, String)>,
@@ -167,7 +168,8 @@ enum Command {
         /// common divisor of the configuration's task intervals, else 10
         #[arg(long, value_parser = plcc::scenario::parse_ms)]
         cycle_ms: Option<u64>,
-        /// A target setting KEY=VALUE (vmasm: mode=16|32|32a; pic16f876a: pin.%IX0.0=RA2;
+        /// A target setting KEY=VALUE (host: tier=auto|full|quick|swap-at-N, opt_level,
+        /// regalloc, threads; vmasm: mode=16|32|32a; pic16f876a: pin.%IX0.0=RA2;
         /// c: sanitize=undefined, opt=0..3, cc=PATH)
         #[arg(short = 's', long = "set", value_parser = parse_setting)]
         set: Vec<(String, String)>,

@@ -89,8 +89,12 @@ for this machine.",
 value is invalid. The backend knows `triple` (a target triple, default: this machine), \
 `opt_level` (`none`, `speed` or `speed_and_size`; default `speed`), `regalloc` \
 (`backtracking` or `single_pass`; default `backtracking`) and `threads` (worker threads \
-for compiling, 0 chooses; default 0). Example: `-s opt_level=fast` fails; write \
-`-s opt_level=speed`.",
+for compiling, 0 chooses; default 0); to run a program (`plcc run`, `test`, `serve`) \
+also `tier`: `auto` (the default: a program of 20,000 IR instructions or more starts on \
+quickly compiled code and the optimised code takes over between two scans once it is \
+ready), `full` (the optimised code from the first scan), `quick` (the quick code only) \
+or `swap-at-N` (the optimised code from scan N on). Example: `-s opt_level=fast` fails; \
+write `-s opt_level=speed`.",
     },
     CodeInfo {
         code: codes::E_MALFORMED_IR,
