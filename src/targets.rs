@@ -195,8 +195,10 @@ pub fn run_help() -> String {
 pub fn difftest_help() -> String {
     let all: Vec<String> = in_order().map(|t| t.checked_machine()).collect();
     format!(
-        "The machines, the reference first (a machine may carry one setting: \
-         vmasm:mode=32a); default: those of {} that run here",
+        "The machines, the reference first (a machine may carry settings: \
+         vmasm:mode=32a; interp:ir=raw runs the unoptimised IR, the optimiser's \
+         oracle; host:tier=quick and host:tier=swap-at-2 the JIT's tiers); default: \
+         those of {} that run here",
         all.join(",")
     )
 }
