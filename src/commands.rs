@@ -117,6 +117,7 @@ pub(crate) fn build_and_report(inputs: &Inputs, how: How) -> Result<(Build, Modu
         mode,
         inline_c,
         keep_syntax,
+        promotion,
     } = how;
     let sfc = plcopen.sfc_profile()?;
     let plcopen = plcopen.options()?;
@@ -147,6 +148,7 @@ pub(crate) fn build_and_report(inputs: &Inputs, how: How) -> Result<(Build, Modu
         },
         drop_syntax: !keep_syntax,
         parallel_bodies: Default::default(),
+        promotion,
     };
     let mut build = driver::build_files(files, library, &opts).map_err(usage)?;
     render::to_stderr(&build.sources, &build.diagnostics);
@@ -169,6 +171,9 @@ pub(crate) struct How {
     pub(crate) inline_c: bool,
     /// Keep the syntax trees in the build (`plcc serve` reads the RETAIN blocks).
     pub(crate) keep_syntax: bool,
+    /// Where promotion pays on the target a full build is for
+    /// ([`targets::promotion`]).
+    pub(crate) promotion: plcc_ir::passes::promote::Promotion,
 }
 
 /// How far a build goes.
@@ -196,6 +201,7 @@ pub fn check(inputs: &Inputs) -> u8 {
             mode: Mode::Check,
             inline_c: false,
             keep_syntax: false,
+            promotion: Default::default(),
         },
     ) {
         Ok((build, module)) => {
@@ -521,6 +527,7 @@ pub fn run(a: &RunArgs) -> u8 {
             mode: Mode::Staged,
             inline_c: targets::find(target).is_some_and(|t| t.inline_c),
             keep_syntax: false,
+            promotion: Default::default(),
         },
     ) {
         Ok(b) => b,
@@ -673,6 +680,7 @@ pub fn test(a: &TestArgs) -> u8 {
             mode: Mode::Staged,
             inline_c: targets::find(target).is_some_and(|t| t.inline_c),
             keep_syntax: false,
+            promotion: Default::default(),
         },
     ) {
         Ok(b) => b,
@@ -761,6 +769,7 @@ pub fn compile(a: &CompileArgs) -> u8 {
             mode,
             inline_c: target.inline_c,
             keep_syntax: false,
+            promotion: targets::promotion(target.name),
         },
     ) {
         Ok(b) => b,

@@ -132,6 +132,9 @@ pub struct BuildOptions {
     /// freed on a thread of their own once the IR is made, so that the optimiser and
     /// the code generator reuse their memory.
     pub drop_syntax: bool,
+    /// Where promotion pays on the target the build is for (the whole-program passes
+    /// of a full build: [`plcc_ir::passes::optimize_program_for`]).
+    pub promotion: plcc_ir::passes::promote::Promotion,
     /// When the POU bodies are lowered on two threads
     /// ([`plcc_frontend::LowerOptions::parallel_bodies`]; `difftest` compares).
     pub parallel_bodies: plcc_frontend::ParallelBodies,
@@ -251,7 +254,7 @@ pub fn build_sources_with_library(
             if opts.staged {
                 plcc_ir::passes::optimize_module(m);
             } else {
-                plcc_ir::passes::optimize_program(m);
+                plcc_ir::passes::optimize_program_for(m, opts.promotion);
             }
             timings.push(("optimise", t.elapsed()));
             if std::env::var_os("PLCC_TIME_PASSES").is_some() {

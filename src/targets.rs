@@ -316,6 +316,12 @@ pub fn split_spec(spec: &str) -> (&str, Vec<(String, String)>) {
     }
 }
 
+/// Where promotion pays on the target `name` (its backend's
+/// [`plcc_ir::backend::TargetFacts::promotion`]; the interpreter's is the default).
+pub fn promotion(name: &str) -> plcc_ir::passes::promote::Promotion {
+    backend(name).map_or(Default::default(), |b| b.facts().promotion)
+}
+
 /// The machine of a module built with [`crate::driver::BuildOptions::staged`] (each
 /// function optimised, the whole-program passes not run), as `plcc run`, `plcc test`
 /// and `plcc serve` build. The `host` target takes the `tier` setting
@@ -345,7 +351,7 @@ pub fn machine_staged(
         return Ok(m);
     }
     let t = std::time::Instant::now();
-    plcc_ir::passes::optimize_whole_program(&mut module);
+    plcc_ir::passes::optimize_whole_program(&mut module, promotion(name));
     crate::driver::check(&module, "optimisation")?;
     if std::env::var_os("PLCC_TIME_PASSES").is_some() {
         eprintln!(

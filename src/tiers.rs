@@ -116,7 +116,7 @@ pub fn machine(
         lower_priority();
         let mut module = module;
         let tier = crate::targets::catch_panic("host", "making the optimised code", || {
-            plcc_ir::passes::optimize_whole_program(&mut module);
+            plcc_ir::passes::optimize_whole_program(&mut module, crate::targets::promotion("host"));
             driver::check(&module, "optimisation")?;
             upgrade.compile(&module)
         })

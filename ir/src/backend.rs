@@ -17,6 +17,9 @@ pub struct TargetFacts {
     /// The elementary types it can hold; any other is a compile error naming the type
     /// and the target.
     pub elem_types: &'static [ElemType],
+    /// Where promoting instance variables to SSA values pays on it (the driver
+    /// optimises for it: [`crate::passes::optimize_program_for`]).
+    pub promotion: crate::passes::promote::Promotion,
 }
 
 /// Options the driver passes to a backend.

@@ -139,6 +139,7 @@ impl Loader {
             // The RETAIN blocks and the workbench read the syntax trees.
             drop_syntax: false,
             parallel_bodies: Default::default(),
+            promotion: Default::default(),
         };
         Ok(Loader {
             library,
@@ -292,6 +293,8 @@ pub fn serve(a: &ServeArgs) -> u8 {
             mode: Mode::Staged,
             inline_c: targets::find(target).is_some_and(|t| t.inline_c),
             keep_syntax: true,
+            // The machine chooses (staged).
+            promotion: Default::default(),
         },
     ) {
         Ok(b) => b,

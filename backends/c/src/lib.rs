@@ -236,6 +236,7 @@ impl Backend for CBackend {
             pointer_bits: 64,
             little_endian: cfg!(target_endian = "little"),
             elem_types: &ElemType::ALL,
+            promotion: plcc_ir::passes::promote::Promotion::Everywhere,
         }
     }
 

@@ -202,6 +202,7 @@ impl Backend for NativeBackend {
             pointer_bits: 64,
             little_endian: cfg!(target_endian = "little"),
             elem_types: &ElemType::ALL,
+            promotion: plcc_ir::passes::promote::Promotion::Everywhere,
         }
     }
 

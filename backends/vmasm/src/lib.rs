@@ -113,6 +113,8 @@ impl Backend for VmasmBackend {
             pointer_bits: 16,
             little_endian: true,
             elem_types: ELEM_TYPES,
+            // Every value is a memory cell of the VM: promotion pays in loops only.
+            promotion: plcc_ir::passes::promote::Promotion::InLoops,
         }
     }
 

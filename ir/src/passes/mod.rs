@@ -140,17 +140,22 @@ pub fn optimize_module(module: &mut Module) {
 /// variables to SSA values within each PROGRAM and FB body followed by a last cleanup
 /// of the bodies it changed.
 pub fn optimize_program(module: &mut Module) {
+    optimize_program_for(module, promote::Promotion::Everywhere);
+}
+
+/// [`optimize_program`] for a target whose SSA values live where `promotion` says.
+pub fn optimize_program_for(module: &mut Module, promotion: promote::Promotion) {
     optimize_module(module);
-    optimize_whole_program(module);
+    optimize_whole_program(module, promotion);
 }
 
 /// The whole-program part of [`optimize_program`], for a module whose functions
 /// [`optimize_module`] has already optimised: inlining, removal of functions nothing
 /// calls, promotion of instance variables, and the cleanup of what they changed.
 /// `optimize_module` then `optimize_whole_program` gives exactly what
-/// `optimize_program` gives; the tiered JIT runs the second step in the background
+/// `optimize_program_for` gives; the tiered JIT runs the second step in the background
 /// (ARCHITECTURE.md, "Tiers").
-pub fn optimize_whole_program(module: &mut Module) {
+pub fn optimize_whole_program(module: &mut Module, promotion: promote::Promotion) {
     inline::run(module, &|f| {
         optimize_function(f);
     });
@@ -158,7 +163,7 @@ pub fn optimize_whole_program(module: &mut Module) {
     let exposed = promote::Exposed::of(module);
     let aggs = &module.aggs;
     crate::parallel::each_mut(module.funcs.iter_mut().collect(), |f| {
-        let promoted = promote::run_function(aggs, &exposed, f);
+        let promoted = promote::run_function(aggs, &exposed, promotion, f);
         if promoted {
             optimize_function(f);
         }

@@ -28,6 +28,21 @@ use rustc_hash::{FxHashMap, FxHashSet};
 /// A chain of field indexes from the instance pointer.
 type Path = Vec<u32>;
 
+/// Where promotion pays, which depends on where the target keeps SSA values
+/// ([`crate::backend::TargetFacts::promotion`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Promotion {
+    /// In loops, and for a variable used in several blocks: values live in registers
+    /// (the JIT, C), so a variable read in three blocks is loaded once, not three
+    /// times.
+    #[default]
+    Everywhere,
+    /// In loops only: every value lives in memory anyway (plcc's VM), so outside a
+    /// loop a promoted variable only gains the copies in and out; in a loop it lets
+    /// the other passes work (induction variables, bounds checks).
+    InLoops,
+}
+
 /// What the functions of a module let the address of out (store it, pass it to a
 /// call, return it, compare it, ...): memory that a pointer read from memory may
 /// reach, so that no body may keep it in a register.
@@ -181,8 +196,14 @@ fn exposed_by(module: &Module, params_out: &[Vec<bool>], f: &Function) -> Expose
 /// Promotes the non-escaping scalar instance fields of `f`, if it is a PROGRAM or FB
 /// body (`aggs`: the module's aggregates), leaving alone what `exposed` says other
 /// code may reach. Says whether it changed; run `mem2reg` on it then.
-pub fn run_function(aggs: &[AggDef], exposed: &Exposed, f: &mut Function) -> bool {
-    matches!(f.kind, FuncKind::ProgramBody | FuncKind::FbBody) && promote_function(aggs, exposed, f)
+pub fn run_function(
+    aggs: &[AggDef],
+    exposed: &Exposed,
+    promotion: Promotion,
+    f: &mut Function,
+) -> bool {
+    matches!(f.kind, FuncKind::ProgramBody | FuncKind::FbBody)
+        && promote_function(aggs, exposed, promotion, f)
 }
 
 /// What is known about one path.
@@ -203,7 +224,12 @@ struct PathInfo {
     blocks: Vec<crate::entities::Block>,
 }
 
-fn promote_function(aggs: &[AggDef], exposed: &Exposed, f: &mut Function) -> bool {
+fn promote_function(
+    aggs: &[AggDef],
+    exposed: &Exposed,
+    promotion: Promotion,
+    f: &mut Function,
+) -> bool {
     let Some(entry) = f.entry() else { return false };
     let Some(&this) = f.block(entry).params.first() else {
         return false;
@@ -299,7 +325,7 @@ fn promote_function(aggs: &[AggDef], exposed: &Exposed, f: &mut Function) -> boo
         if id == 0 || p.escapes || !p.accessed || p.ty.is_none() {
             continue;
         }
-        if !p.in_loop && p.blocks.len() < MIN_BLOCKS {
+        if !p.in_loop && (promotion == Promotion::InLoops || p.blocks.len() < MIN_BLOCKS) {
             continue;
         }
         if ancestor_escapes(&paths, &index, id) || exposed.reaches(&p.steps) {
