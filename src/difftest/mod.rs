@@ -17,6 +17,7 @@ use crate::driver::{build_sources, BuildOptions};
 use crate::targets;
 use gen::{Gen, Prog, Rng, T};
 use plcc_ir::machine::Machine;
+use plcc_ir::passes::promote::Promotion;
 use plcc_ir::value::PlcValue;
 use plcc_ir::Module;
 
@@ -99,15 +100,14 @@ pub fn check(p: &Prog, machines: &[&str], scans: u32, seed: u64) -> Verdict {
         Ok(module) => match split_differs(p, &module) {
             Some(d) => Verdict::Mismatch(d),
             None => {
-                let mut builds = vec![(Build::Full, module)];
-                for b in [Build::Staged, Build::Raw] {
-                    if machines.iter().any(|m| Build::of(m) == b) {
-                        match build_as(p, b) {
-                            Ok(m) => builds.push((b, m)),
-                            Err(e) => {
-                                return Verdict::Mismatch(format!("the {b:?} build fails: {e}"))
-                            }
-                        }
+                let mut builds = vec![(Build::Full(Promotion::Everywhere), module)];
+                for b in machines.iter().map(|m| Build::of(m)) {
+                    if builds.iter().any(|(x, _)| *x == b) {
+                        continue;
+                    }
+                    match build_as(p, b) {
+                        Ok(m) => builds.push((b, m)),
+                        Err(e) => return Verdict::Mismatch(format!("the {b:?} build fails: {e}")),
                     }
                 }
                 let builds: Vec<(Build, &Module)> = builds.iter().map(|(b, m)| (*b, m)).collect();
@@ -121,8 +121,9 @@ pub fn check(p: &Prog, machines: &[&str], scans: u32, seed: u64) -> Verdict {
 /// Which build of a program a machine runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Build {
-    /// Optimised, as `plcc build` makes it (most machines).
-    Full,
+    /// Optimised for the machine's target, as `plcc build` makes it (most machines;
+    /// the VM's promotes in loops only, [`targets::promotion`]).
+    Full(Promotion),
     /// Each function optimised, the whole-program passes left to the machine
     /// ([`BuildOptions::staged`]): the tiered JIT's (`host:tier=...`).
     Staged,
@@ -133,13 +134,13 @@ enum Build {
 impl Build {
     /// The build a machine spec asks for.
     fn of(spec: &str) -> Build {
-        let (_, settings) = targets::split_spec(spec);
+        let (target, settings) = targets::split_spec(spec);
         if settings.iter().any(|(k, _)| k == "tier") {
             Build::Staged
         } else if settings.iter().any(|(k, v)| k == "ir" && v == "raw") {
             Build::Raw
         } else {
-            Build::Full
+            Build::Full(targets::promotion(target))
         }
     }
 }
@@ -150,6 +151,10 @@ fn build_as(p: &Prog, how: Build) -> Result<Module, String> {
         codesys: p.oo.as_ref().is_some_and(|o| o.codesys),
         staged: how == Build::Staged,
         no_opt: how == Build::Raw,
+        promotion: match how {
+            Build::Full(p) => p,
+            _ => Promotion::Everywhere,
+        },
         ..Default::default()
     };
     build_text("difftest.st", &p.to_st(), &opts)
@@ -198,7 +203,7 @@ pub(crate) fn machine(name: &str, module: &Module) -> Result<Option<Box<dyn Mach
         Build::Staged => targets::machine_staged(target, module.clone(), &settings),
         Build::Raw if target == "interp" => targets::machine("interp", module),
         Build::Raw => return Err(format!("{name}: only the interpreter runs the raw IR")),
-        Build::Full => targets::machine_spec(name, module),
+        Build::Full(_) => targets::machine_spec(name, module),
     };
     match made {
         Ok(m) => Ok(Some(m)),
@@ -222,7 +227,13 @@ pub fn check_module(
     scans: u32,
     seed: u64,
 ) -> Verdict {
-    check_builds(&[(Build::Full, module)], inputs, machines, scans, seed)
+    check_builds(
+        &[(Build::Full(Promotion::Everywhere), module)],
+        inputs,
+        machines,
+        scans,
+        seed,
+    )
 }
 
 /// [`check_module`] with the builds each machine runs ([`Build::of`]); the
