@@ -87,9 +87,9 @@ impl Tiers {
 }
 
 /// The `host` machine of a module whose functions are optimised but whose
-/// whole-program passes have not run: quick code now (the watchdog checks added to a
-/// copy), the optimised code made on a thread of its own and swapped in as `tiers`
-/// says.
+/// whole-program passes have not run: quick code now (the watchdog checks added as
+/// each function is translated), the optimised code made on a thread of its own and
+/// swapped in as `tiers` says.
 pub fn machine(
     module: Module,
     settings: &[(String, String)],

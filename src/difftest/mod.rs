@@ -86,11 +86,13 @@ pub fn machine_for_seed(name: &str, seed: u64) -> String {
     }
 }
 
-/// Runs `p` on `machines` (the first is the reference; a machine may carry one
-/// target setting, `vmasm:mode=32a`; plain `vmasm` gets a mode from the seed, see
+/// Runs `p` on `machines` (the first is the reference; a machine may carry target
+/// settings, `vmasm:mode=32a`; plain `vmasm` gets a mode from the seed, see
 /// [`machine_for_seed`]) for `scans` scans.
 ///
-/// Two kinds of machine run another build of the program: the tiered
+/// Each machine runs the build its target gets (the VM's promotes instance
+/// variables in loops only: [`targets::promotion`]). Two kinds of machine run
+/// another build of the program: the tiered
 /// JIT's (`host:tier=quick`, `host:tier=swap-at-2`) runs it as `plcc run` builds it,
 /// each function optimised and the whole-program passes left to the machine
 /// ([`targets::machine_staged`]); `interp:ir=raw` runs the IR as the front end made
