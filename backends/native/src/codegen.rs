@@ -26,8 +26,6 @@ pub(crate) struct DataLayout {
     pub size: u64,
     /// Alignment of the block.
     pub align: u32,
-    /// Program instances of the module (the JIT checks an upgrade against it).
-    pub programs: usize,
 }
 
 impl DataLayout {
@@ -67,7 +65,6 @@ impl DataLayout {
             offsets,
             size: off,
             align,
-            programs: module.programs.len(),
         })
     }
 }

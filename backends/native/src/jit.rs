@@ -148,6 +148,8 @@ pub struct Upgrade {
     data: u64,
     rt: u64,
     data_layout: DataLayout,
+    /// Program instances of the running module.
+    programs: usize,
     settings: CodegenSettings,
 }
 
@@ -169,7 +171,7 @@ impl Upgrade {
         let layout = DataLayout::compute(module)?;
         if layout.offsets != self.data_layout.offsets
             || layout.size != self.data_layout.size
-            || module.programs.len() != self.data_layout.programs
+            || module.programs.len() != self.programs
         {
             return Err(vec![Diagnostic::error_nowhere(
                 codes::E_MALFORMED_IR,
@@ -234,6 +236,7 @@ impl Jit {
             data: self.data as u64,
             rt: self.rt as u64,
             data_layout: self.data_layout.clone(),
+            programs: self.code.programs.len(),
             settings,
         }
     }
