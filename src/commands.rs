@@ -117,7 +117,6 @@ pub(crate) fn build_and_report(inputs: &Inputs, how: How) -> Result<(Build, Modu
         mode,
         inline_c,
         keep_syntax,
-        promotion,
     } = how;
     let sfc = plcopen.sfc_profile()?;
     let plcopen = plcopen.options()?;
@@ -148,7 +147,10 @@ pub(crate) fn build_and_report(inputs: &Inputs, how: How) -> Result<(Build, Modu
         },
         drop_syntax: !keep_syntax,
         parallel_bodies: Default::default(),
-        promotion,
+        promotion: match mode {
+            Mode::Full(p) => p,
+            _ => Default::default(),
+        },
     };
     let mut build = driver::build_files(files, library, &opts).map_err(usage)?;
     render::to_stderr(&build.sources, &build.diagnostics);
@@ -171,9 +173,6 @@ pub(crate) struct How {
     pub(crate) inline_c: bool,
     /// Keep the syntax trees in the build (`plcc serve` reads the RETAIN blocks).
     pub(crate) keep_syntax: bool,
-    /// Where promotion pays on the target a full build is for
-    /// ([`targets::promotion`]).
-    pub(crate) promotion: plcc_ir::passes::promote::Promotion,
 }
 
 /// How far a build goes.
@@ -185,8 +184,9 @@ pub(crate) enum Mode {
     Print(plcc_frontend::PrintAs),
     /// IR as the front end made it.
     Unoptimised,
-    /// Optimised IR, for code generation.
-    Full,
+    /// Optimised IR, for code generation on a target whose promotion is this
+    /// ([`targets::promotion`]).
+    Full(plcc_ir::passes::promote::Promotion),
     /// Each function optimised, the whole-program passes left to the machine
     /// ([`targets::machine_staged`]).
     Staged,
@@ -201,7 +201,6 @@ pub fn check(inputs: &Inputs) -> u8 {
             mode: Mode::Check,
             inline_c: false,
             keep_syntax: false,
-            promotion: Default::default(),
         },
     ) {
         Ok((build, module)) => {
@@ -527,7 +526,6 @@ pub fn run(a: &RunArgs) -> u8 {
             mode: Mode::Staged,
             inline_c: targets::find(target).is_some_and(|t| t.inline_c),
             keep_syntax: false,
-            promotion: Default::default(),
         },
     ) {
         Ok(b) => b,
@@ -680,7 +678,6 @@ pub fn test(a: &TestArgs) -> u8 {
             mode: Mode::Staged,
             inline_c: targets::find(target).is_some_and(|t| t.inline_c),
             keep_syntax: false,
-            promotion: Default::default(),
         },
     ) {
         Ok(b) => b,
@@ -760,7 +757,7 @@ pub fn compile(a: &CompileArgs) -> u8 {
         Some("il") | Some("ld-text") | Some("sfc-text") => Mode::Check,
         Some("st") => Mode::Print(plcc_frontend::PrintAs::St),
         Some("plcopen") => Mode::Print(plcc_frontend::PrintAs::Plcopen),
-        _ => Mode::Full,
+        _ => Mode::Full(targets::promotion(target.name)),
     };
     let (build, module) = match build_and_report(
         &a.inputs,
@@ -769,7 +766,6 @@ pub fn compile(a: &CompileArgs) -> u8 {
             mode,
             inline_c: target.inline_c,
             keep_syntax: false,
-            promotion: targets::promotion(target.name),
         },
     ) {
         Ok(b) => b,

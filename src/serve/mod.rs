@@ -293,8 +293,6 @@ pub fn serve(a: &ServeArgs) -> u8 {
             mode: Mode::Staged,
             inline_c: targets::find(target).is_some_and(|t| t.inline_c),
             keep_syntax: true,
-            // The machine chooses (staged).
-            promotion: Default::default(),
         },
     ) {
         Ok(b) => b,
