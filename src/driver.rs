@@ -82,15 +82,12 @@ impl Build {
 
     /// Prints the phase timings to standard error when `PLCC_TIME_PASSES` is set.
     pub fn report_timings(&self, extra: &[(&'static str, Duration)]) {
-        if std::env::var_os("PLCC_TIME_PASSES").is_none() {
-            return;
-        }
         let mut total = Duration::ZERO;
         for (name, d) in self.timings.iter().chain(extra) {
-            eprintln!("time: {:>9.3} ms  {name}", d.as_secs_f64() * 1e3);
+            report_time(name, *d);
             total += *d;
         }
-        eprintln!("time: {:>9.3} ms  total", total.as_secs_f64() * 1e3);
+        report_time("total", total);
     }
     /// True if the build failed.
     pub fn failed(&self) -> bool {
@@ -138,6 +135,13 @@ pub struct BuildOptions {
     /// When the POU bodies are lowered on two threads
     /// ([`plcc_frontend::LowerOptions::parallel_bodies`]; `difftest` compares).
     pub parallel_bodies: plcc_frontend::ParallelBodies,
+}
+
+/// Prints one phase's time to standard error when `PLCC_TIME_PASSES` is set.
+pub fn report_time(phase: &str, took: Duration) {
+    if std::env::var_os("PLCC_TIME_PASSES").is_some() {
+        eprintln!("time: {:>9.3} ms  {phase}", took.as_secs_f64() * 1e3);
+    }
 }
 
 /// Frees `value` on a thread of its own: the large structures of a build (its syntax

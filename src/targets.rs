@@ -341,24 +341,17 @@ pub fn machine_staged(
     if tiers.starts_quick(insts) {
         let t = std::time::Instant::now();
         let mut m = crate::tiers::machine(module, &settings, tiers)?;
-        if std::env::var_os("PLCC_TIME_PASSES").is_some() {
-            eprintln!(
-                "time: {:>9.3} ms  quick code (the optimised code follows in the background)",
-                t.elapsed().as_secs_f64() * 1e3
-            );
-        }
+        crate::driver::report_time(
+            "quick code (the optimised code follows in the background)",
+            t.elapsed(),
+        );
         m.set_watchdog(Some(WATCHDOG));
         return Ok(m);
     }
     let t = std::time::Instant::now();
     plcc_ir::passes::optimize_whole_program(&mut module, promotion(name));
     crate::driver::check(&module, "optimisation")?;
-    if std::env::var_os("PLCC_TIME_PASSES").is_some() {
-        eprintln!(
-            "time: {:>9.3} ms  whole-program optimisation",
-            t.elapsed().as_secs_f64() * 1e3
-        );
-    }
+    crate::driver::report_time("whole-program optimisation", t.elapsed());
     machine_owned(name, module, &settings)
 }
 
@@ -375,12 +368,7 @@ pub fn machine_owned(
     if name != "interp" {
         plcc_ir::passes::watchdog::run(&mut module);
     }
-    if std::env::var_os("PLCC_TIME_PASSES").is_some() {
-        eprintln!(
-            "time: {:>9.3} ms  watchdog checks",
-            t.elapsed().as_secs_f64() * 1e3
-        );
-    }
+    crate::driver::report_time("watchdog checks", t.elapsed());
     let mut m = match name {
         "interp" => plcc_ir::interp::Interp::new(&module)
             .map(|m| Box::new(m) as Box<dyn Machine>)
