@@ -204,7 +204,7 @@ pub fn build_sources_with_library(
                 )))
             }
         };
-        let id = sources.add(SourceFile::from_bytes(name, &bytes));
+        let id = sources.add(SourceFile::from_bytes(name, bytes));
         inputs.push((id, lang));
     }
     let lower_opts = LowerOptions {

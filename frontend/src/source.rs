@@ -6,13 +6,9 @@ use plcc_ir::diag::{FileId, Span};
 
 /// Byte offsets where each line of `text` starts.
 pub fn line_starts(text: &str) -> Vec<u32> {
-    let mut starts = vec![0u32];
-    starts.extend(
-        text.bytes()
-            .enumerate()
-            .filter(|&(_, b)| b == b'\n')
-            .map(|(i, _)| i as u32 + 1),
-    );
+    let mut starts = Vec::with_capacity(text.len() / 16);
+    starts.push(0u32);
+    starts.extend(memchr::memchr_iter(b'\n', text.as_bytes()).map(|i| i as u32 + 1));
     starts
 }
 
@@ -53,12 +49,14 @@ impl SourceFile {
 
     /// Decodes raw file bytes: UTF-8 (a BOM is dropped), else ISO-8859-1, which maps
     /// every byte to the code point of the same value.
-    pub fn from_bytes(name: impl Into<String>, bytes: &[u8]) -> SourceFile {
-        let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-        let text = match std::str::from_utf8(bytes) {
-            Ok(s) => s.to_string(),
-            Err(_) => bytes.iter().map(|&b| b as char).collect(),
-        };
+    /// Takes the bytes over: UTF-8 without a BOM is not copied.
+    pub fn from_bytes(name: impl Into<String>, bytes: impl Into<Vec<u8>>) -> SourceFile {
+        let mut bytes = bytes.into();
+        if bytes.starts_with(b"\xEF\xBB\xBF") {
+            bytes.drain(..3);
+        }
+        let text = String::from_utf8(bytes)
+            .unwrap_or_else(|e| e.as_bytes().iter().map(|&b| b as char).collect());
         SourceFile::new(name, text)
     }
 
@@ -154,9 +152,9 @@ mod tests {
 
     #[test]
     fn latin1_fallback_and_bom() {
-        let f = SourceFile::from_bytes("a.st", b"(* \xE4 *)");
+        let f = SourceFile::from_bytes("a.st", &b"(* \xE4 *)"[..]);
         assert_eq!(f.text, "(* \u{e4} *)");
-        let g = SourceFile::from_bytes("b.st", b"\xEF\xBB\xBFx");
+        let g = SourceFile::from_bytes("b.st", &b"\xEF\xBB\xBFx"[..]);
         assert_eq!(g.text, "x");
     }
 }

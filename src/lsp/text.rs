@@ -106,7 +106,7 @@ mod tests {
 
     #[test]
     fn a_dropped_byte_order_mark_still_counts_on_line_zero() {
-        let f = SourceFile::from_bytes("a.st", b"\xEF\xBB\xBFab\ncd");
+        let f = SourceFile::from_bytes("a.st", &b"\xEF\xBB\xBFab\ncd"[..]);
         let l = Lines::new(&f, true);
         assert_eq!(l.position(1), Position::new(0, 2));
         assert_eq!(l.offset(Position::new(0, 2)), 1);

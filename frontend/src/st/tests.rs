@@ -359,7 +359,7 @@ fn corpus_parses_without_diagnostics() {
     let mut interner = Interner::new();
     for p in &files {
         let bytes = std::fs::read(p).unwrap();
-        let f = SourceFile::from_bytes(p.display().to_string(), &bytes);
+        let f = SourceFile::from_bytes(p.display().to_string(), bytes);
         let mut d = Vec::new();
         let unit = parse(FileId(0), &f.text, &mut interner, &mut d);
         // matiec's timers read the clock in C pragmas (`{__SET_VAR(...)}`): W0010 is
