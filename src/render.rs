@@ -82,11 +82,31 @@ pub fn to_stderr(map: &SourceMap, diags: &[Diagnostic]) {
     } else {
         termcolor::ColorChoice::Never
     };
-    // One buffered write: thousands of warnings should not cost thousands of syscalls.
-    let mut stream = termcolor::BufferedStandardStream::stderr(choice);
-    write(map, diags, &mut stream);
-    let _ = std::io::Write::flush(&mut stream);
+    // Buffered: thousands of warnings should not cost thousands of syscalls. Many
+    // are rendered in two halves at once, printed in order.
+    let writer = termcolor::BufferWriter::stderr(choice);
+    let (mut first, mut second) = (writer.buffer(), writer.buffer());
+    let mid = if diags.len() >= PARALLEL_DIAGS && plcc_ir::parallel::threads() >= 2 {
+        diags.len() / 2
+    } else {
+        diags.len()
+    };
+    let (a, b) = diags.split_at(mid);
+    std::thread::scope(|scope| {
+        let other = (!b.is_empty()).then(|| scope.spawn(|| write(map, b, &mut second)));
+        write(map, a, &mut first);
+        if let Some(other) = other {
+            other
+                .join()
+                .unwrap_or_else(|p| std::panic::resume_unwind(p));
+        }
+    });
+    let _ = writer.print(&first);
+    let _ = writer.print(&second);
 }
+
+/// From this many diagnostics on, [`to_stderr`] renders on two threads.
+const PARALLEL_DIAGS: usize = 200;
 
 fn write(map: &SourceMap, diags: &[Diagnostic], out: &mut dyn termcolor::WriteColor) {
     let files = SourceFiles(map);
