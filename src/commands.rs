@@ -200,12 +200,14 @@ pub fn check(inputs: &Inputs) -> u8 {
             programs: Vec::new(),
             mode: Mode::Check,
             inline_c: false,
-            keep_syntax: false,
+            // Kept, and left unfreed with the rest: the process ends here.
+            keep_syntax: true,
         },
     ) {
         Ok((build, module)) => {
             build.report_timings(&[]);
             std::mem::forget(module);
+            std::mem::forget(build);
             0
         }
         Err(s) => s,
