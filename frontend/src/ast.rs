@@ -870,7 +870,7 @@ pub enum ArgKind {
 }
 
 /// A literal constant as written.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Literal {
     /// The value.
     pub kind: LiteralKind,

@@ -63,6 +63,18 @@ impl Interner {
         self.names.is_empty()
     }
 
+    /// Forgets the names interned after the first `len`.
+    pub(crate) fn truncate(&mut self, len: usize) {
+        for name in self.names.drain(len.min(self.names.len())..) {
+            self.map.remove(&name);
+        }
+    }
+
+    /// The names interned after the first `from`, in order.
+    pub(crate) fn names_from(&self, from: usize) -> &[Box<str>] {
+        &self.names[from.min(self.names.len())..]
+    }
+
     /// The upper-cased name of a symbol.
     pub fn name(&self, sym: Symbol) -> &str {
         &self.names[sym.0 as usize]

@@ -527,6 +527,11 @@ pub fn lex(
     interner: &mut Interner,
     diags: &mut Vec<Diagnostic>,
 ) -> Lexed {
+    lex_from(file, text, 0, interner, diags)
+}
+
+/// The token kind of each keyword's symbol (interning the keywords).
+pub(super) fn keyword_table(interner: &mut Interner) -> Vec<Tok> {
     let mut keywords: Vec<Tok> = Vec::new();
     for &(name, tok) in KEYWORDS {
         let sym = interner.intern_upper(name).0 as usize;
@@ -535,20 +540,33 @@ pub fn lex(
         }
         keywords[sym] = tok;
     }
+    keywords
+}
+
+/// Lexes `text` from byte `from` on, which is 0 or the start of a line (whose first
+/// token then has [`NEWLINE_BEFORE`]); offsets stay those of `text`.
+pub(super) fn lex_from(
+    file: FileId,
+    text: &str,
+    from: usize,
+    interner: &mut Interner,
+    diags: &mut Vec<Diagnostic>,
+) -> Lexed {
+    let keywords = keyword_table(interner);
     let mut lx = Lexer {
         file,
         text,
         src: text.as_bytes(),
-        pos: 0,
+        pos: from,
         // ST averages about 4 bytes per token; pages of the unused tail are never
         // touched, while growing would copy the whole vector.
-        tokens: Vec::with_capacity(text.len() / 3 + 16),
+        tokens: Vec::with_capacity((text.len() - from) / 3 + 16),
         literals: Vec::new(),
         diags,
         interner,
         keywords,
         upper: String::new(),
-        flags: 0,
+        flags: if from > 0 { NEWLINE_BEFORE } else { 0 },
         eof_in_error: false,
         c_pragmas: Vec::new(),
         swallowed: false,

@@ -5,6 +5,7 @@
 //! a file; what could not be parsed is left out of the tree.
 
 mod halves;
+mod lex_halves;
 pub mod lexer;
 pub mod literals;
 pub mod parser;
@@ -27,7 +28,7 @@ pub fn parse(
     diags: &mut Vec<Diagnostic>,
 ) -> SourceUnit {
     let first = diags.len();
-    let lexed = lexer::lex(file, text, interner, diags);
+    let lexed = lex_halves::lex(file, text, interner, diags);
     let unit = match halves::parse(file, text, &lexed, interner, diags) {
         Some(unit) => unit,
         None => parser::parse_tokens(file, text, &lexed, interner, diags),
