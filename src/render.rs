@@ -69,9 +69,12 @@ fn clamp(map: &SourceMap, file: u32, start: u32, end: u32) -> Range<usize> {
 
 /// Renders diagnostics to a string (no colour).
 pub fn render(map: &SourceMap, diags: &[Diagnostic]) -> String {
-    let mut out = termcolor::NoColor::new(Vec::new());
-    write(map, diags, &mut out);
-    String::from_utf8_lossy(&out.into_inner()).into_owned()
+    let mut first = termcolor::NoColor::new(Vec::new());
+    let mut second = termcolor::NoColor::new(Vec::new());
+    write_in_halves(map, diags, &mut first, &mut second);
+    let mut out = first.into_inner();
+    out.extend(second.into_inner());
+    String::from_utf8_lossy(&out).into_owned()
 }
 
 /// Renders diagnostics to standard error, in colour when it is a terminal.
@@ -82,10 +85,26 @@ pub fn to_stderr(map: &SourceMap, diags: &[Diagnostic]) {
     } else {
         termcolor::ColorChoice::Never
     };
-    // Buffered: thousands of warnings should not cost thousands of syscalls. Many
-    // are rendered in two halves at once, printed in order.
+    // Buffered: thousands of warnings should not cost thousands of syscalls.
     let writer = termcolor::BufferWriter::stderr(choice);
     let (mut first, mut second) = (writer.buffer(), writer.buffer());
+    write_in_halves(map, diags, &mut first, &mut second);
+    let _ = writer.print(&first);
+    let _ = writer.print(&second);
+}
+
+/// From this many diagnostics on, they are rendered on two threads.
+const PARALLEL_DIAGS: usize = 200;
+
+/// Renders `diags` into `first` then `second`: the first half into `first` and the
+/// second half, on another thread, into `second` when there are many; all into
+/// `first` otherwise.
+fn write_in_halves<W: termcolor::WriteColor + Send>(
+    map: &SourceMap,
+    diags: &[Diagnostic],
+    first: &mut W,
+    second: &mut W,
+) {
     let mid = if diags.len() >= PARALLEL_DIAGS && plcc_ir::parallel::threads() >= 2 {
         diags.len() / 2
     } else {
@@ -93,20 +112,15 @@ pub fn to_stderr(map: &SourceMap, diags: &[Diagnostic]) {
     };
     let (a, b) = diags.split_at(mid);
     std::thread::scope(|scope| {
-        let other = (!b.is_empty()).then(|| scope.spawn(|| write(map, b, &mut second)));
-        write(map, a, &mut first);
+        let other = (!b.is_empty()).then(|| scope.spawn(|| write(map, b, second)));
+        write(map, a, first);
         if let Some(other) = other {
             other
                 .join()
                 .unwrap_or_else(|p| std::panic::resume_unwind(p));
         }
     });
-    let _ = writer.print(&first);
-    let _ = writer.print(&second);
 }
-
-/// From this many diagnostics on, [`to_stderr`] renders on two threads.
-const PARALLEL_DIAGS: usize = 200;
 
 fn write(map: &SourceMap, diags: &[Diagnostic], out: &mut dyn termcolor::WriteColor) {
     let files = SourceFiles(map);
@@ -141,5 +155,37 @@ fn write(map: &SourceMap, diags: &[Diagnostic], out: &mut dyn termcolor::WriteCo
             // A span the map cannot show: fall back to the plain form.
             let _ = std::io::Write::write_fmt(out, format_args!("{d}\n"));
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use plcc_frontend::source::SourceFile;
+    use plcc_ir::diag::Span;
+
+    #[test]
+    fn many_diagnostics_render_in_halves_as_in_one_pass() {
+        let mut map = SourceMap::new();
+        let text: String = (0..600).map(|k| format!("x{k} := {k};\n")).collect();
+        let file = map.add(SourceFile::new("many.st", text.clone()));
+        let diags: Vec<Diagnostic> = (0..600)
+            .map(|k| {
+                let start = text.find(&format!("x{k} :=")).unwrap() as u32;
+                Diagnostic::warning(
+                    "W0001",
+                    format!("warning {k}"),
+                    Span::new(file, start, start + 2),
+                )
+                .with_label("here")
+            })
+            .collect();
+        assert!(diags.len() >= PARALLEL_DIAGS);
+        let mut one = termcolor::NoColor::new(Vec::new());
+        write(&map, &diags, &mut one);
+        let one = String::from_utf8(one.into_inner()).unwrap();
+        assert_eq!(render(&map, &diags), one);
+        assert!(one.find("warning 17\n").unwrap() < one.find("warning 599\n").unwrap());
+        assert_eq!(one.matches("many.st:").count(), 600);
     }
 }
