@@ -99,8 +99,9 @@ impl<'s> Lowerer<'s> {
     /// Resolves the variables and result type of a POU.
     pub(super) fn resolve_interface(&mut self, id: PouId) {
         let pou = self.pou_ast(id);
-        let mut vars: Vec<VarInfo> = Vec::new();
-        let mut lookup = FxHashMap::default();
+        let declared: usize = pou.var_blocks.iter().map(|b| b.decls.len()).sum();
+        let mut vars: Vec<VarInfo> = Vec::with_capacity(declared + 1);
+        let mut lookup = FxHashMap::with_capacity_and_hasher(declared + 1, Default::default());
         let kind = pou.kind;
         if kind == PouKind::Function {
             let (ret, ret_tag) = match &pou.return_type {

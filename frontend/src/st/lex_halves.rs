@@ -63,9 +63,23 @@ fn lex_at(
     let (mut first_diags, mut second_diags) = (Vec::new(), Vec::new());
     let (mut first, second) = std::thread::scope(|scope| {
         let other = scope.spawn(|| {
-            lexer::lex_from(file, text, split, &mut copy, &mut second_diags)
+            lexer::lex_from(
+                file,
+                text,
+                split,
+                text.len() - split,
+                &mut copy,
+                &mut second_diags,
+            )
         });
-        let first = lexer::lex_from(file, &text[..split], 0, interner, &mut first_diags);
+        let first = lexer::lex_from(
+            file,
+            &text[..split],
+            0,
+            text.len(),
+            interner,
+            &mut first_diags,
+        );
         let second = other
             .join()
             .unwrap_or_else(|p| std::panic::resume_unwind(p));

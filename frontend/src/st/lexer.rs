@@ -527,7 +527,7 @@ pub fn lex(
     interner: &mut Interner,
     diags: &mut Vec<Diagnostic>,
 ) -> Lexed {
-    lex_from(file, text, 0, interner, diags)
+    lex_from(file, text, 0, text.len(), interner, diags)
 }
 
 /// The token kind of each keyword's symbol (interning the keywords).
@@ -544,11 +544,13 @@ pub(super) fn keyword_table(interner: &mut Interner) -> Vec<Tok> {
 }
 
 /// Lexes `text` from byte `from` on, which is 0 or the start of a line (whose first
-/// token then has [`NEWLINE_BEFORE`]); offsets stay those of `text`.
+/// token then has [`NEWLINE_BEFORE`]); offsets stay those of `text`. The token vector
+/// has room for `room` bytes of text.
 pub(super) fn lex_from(
     file: FileId,
     text: &str,
     from: usize,
+    room: usize,
     interner: &mut Interner,
     diags: &mut Vec<Diagnostic>,
 ) -> Lexed {
@@ -560,7 +562,7 @@ pub(super) fn lex_from(
         pos: from,
         // ST averages about 4 bytes per token; pages of the unused tail are never
         // touched, while growing would copy the whole vector.
-        tokens: Vec::with_capacity((text.len() - from) / 3 + 16),
+        tokens: Vec::with_capacity(room / 3 + 16),
         literals: Vec::new(),
         diags,
         interner,
