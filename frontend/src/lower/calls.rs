@@ -280,8 +280,7 @@ impl<'s> BodyCx<'_, 's> {
             }
             return Ty::Error;
         }
-        let name = self.l.sym_name(id.sym).to_string();
-        match Builtin::lookup(&name) {
+        match self.l.builtin(id.sym) {
             Some(b) => self.builtin_infer(b, args),
             None => Ty::Error,
         }
@@ -386,10 +385,10 @@ impl<'s> BodyCx<'_, 's> {
                         }
                     };
                 }
-                let name = self.l.sym_name(id.sym).to_string();
-                if let Some(b) = Builtin::lookup(&name) {
+                if let Some(b) = self.l.builtin(id.sym) {
                     return Callee::Builtin(b);
                 }
+                let name = self.l.sym_name(id.sym).to_string();
                 if let Some(what) = Builtin::unsupported(&name) {
                     // An argument of a type already reported (a STRING variable) makes
                     // this a consequence: say nothing more.

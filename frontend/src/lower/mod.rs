@@ -286,6 +286,9 @@ pub struct Lowerer<'s> {
     /// The function each body is built in, its tables' room kept from one body to
     /// the next ([`Function::take_exact`](plcc_ir::Function::take_exact)).
     scratch: Option<plcc_ir::Function>,
+    /// The standard function each name called so far means, if any
+    /// ([`Lowerer::builtin`]).
+    builtins: rustc_hash::FxHashMap<crate::intern::Symbol, Option<builtins::Builtin>>,
 }
 
 /// What [`Lowerer::run`] made.
@@ -342,6 +345,7 @@ impl<'s> Lowerer<'s> {
             classes: Default::default(),
             temp_types: Default::default(),
             scratch: None,
+            builtins: Default::default(),
         }
     }
 
@@ -449,6 +453,17 @@ impl<'s> Lowerer<'s> {
 
     pub(crate) fn pou(&self, id: PouId) -> &PouInfo {
         &self.pous[id.0 as usize]
+    }
+
+    /// The standard function the name `sym` calls, if any: looked up by its
+    /// spelling once per name.
+    fn builtin(&mut self, sym: crate::intern::Symbol) -> Option<builtins::Builtin> {
+        if let Some(&b) = self.builtins.get(&sym) {
+            return b;
+        }
+        let b = builtins::Builtin::lookup(self.interner.name(sym));
+        self.builtins.insert(sym, b);
+        b
     }
 
     pub(crate) fn pou_ast(&self, id: PouId) -> &'s ast::Pou {

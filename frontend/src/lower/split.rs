@@ -191,6 +191,7 @@ impl<'s> Lowerer<'s> {
             classes: self.classes.clone(),
             temp_types: Default::default(),
             scratch: None,
+            builtins: self.builtins.clone(),
         }
     }
 

@@ -519,38 +519,38 @@ impl<'a> Parser<'a> {
 
     pub(super) fn postfix(&mut self) -> Option<Expr> {
         let saved = self.height;
-        let mut e = self.primary();
-        while let Some(base) = e.take() {
+        let e = self.postfix_chain();
+        self.height = saved;
+        e
+    }
+
+    /// A primary and its postfixes (`height` counts them).
+    fn postfix_chain(&mut self) -> Option<Expr> {
+        let mut e = self.primary()?;
+        loop {
             if self.line_postfix == Some(self.depth) && self.tok().newline_before() {
-                e = Some(base);
-                break;
+                return Some(e);
             }
             e = match self.peek() {
-                Tok::LParen => self.call_suffix(base),
-                Tok::LBracket => self.index_suffix(base),
+                Tok::LParen => self.call_suffix(e)?,
+                Tok::LBracket => self.index_suffix(e)?,
                 Tok::Dot => {
                     self.bump();
                     if self.line_postfix == Some(self.depth) && self.tok().newline_before() {
                         // An IL operand ends with its line.
                         let what = "a member name or a bit number after `.`";
                         self.missing(codes::UNEXPECTED_TOKEN, what, what);
-                        None
-                    } else {
-                        self.member_access(base)
+                        return None;
                     }
+                    self.member_access(e)?
                 }
-                Tok::Caret => self.deref_suffix(base),
-                _ => {
-                    e = Some(base);
-                    break;
-                }
+                Tok::Caret => self.deref_suffix(e)?,
+                _ => return Some(e),
             };
             if !self.grow() {
-                e = None;
+                return None;
             }
         }
-        self.height = saved;
-        e
     }
 
     pub(super) fn deref_suffix(&mut self, base: Expr) -> Option<Expr> {
