@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """plcc benchmarks: compile throughput and JIT time per scan, printed as tables.
 
-usage: bench/bench.py [--quick] [--only compile|scan|oscat|scaling]
+usage: bench/bench.py [--quick] [--only compile|scan|oscat|scaling|pic16]
 
 (a) Compile throughput on ../shared/bench/gen_synth.py output (1,000 and 2,000 POUs):
     `plcc check` (parse, check, lower to IR) and the whole path to JIT code
@@ -31,11 +31,20 @@ usage: bench/bench.py [--quick] [--only compile|scan|oscat|scaling]
     resident memory of each process (wait4's ru_maxrss). Prints the table and writes
     docs/img/compile-scaling.svg (time against lines, both axes logarithmic).
 
+(e) PIC16F876A: bench/pic16/run.py, printed as it prints it: each program of
+    bench/pic16 built by plcc and by SDCC's pic14 port and run in gpsim (code words
+    of the whole image, cycles per scan, every variable compared after 6 scans), then
+    simulated cycles per second of plcc's simulator against gpsim on the same HEX.
+    The geometric means are then set against the aims (words <= 0.45x SDCC's, the
+    simulator >= 12x gpsim). Needs gputils, gpsim and SDCC's pic14 port
+    (../shared/tools/install-pic16-tools.sh); skips with a notice otherwise.
+
 Needs ../shared/bench (skips with a notice otherwise), python3, gcc, and a release
 build (`cargo build --release`, done here).
 """
 import os
 import re
+import shutil
 import statistics
 import subprocess
 import sys
@@ -236,6 +245,31 @@ def scaling_svg(rows):
     return "\n".join(out)
 
 
+def pic16_bench():
+    print("\n(e) PIC16F876A against SDCC and gpsim (bench/pic16/run.py)\n")
+    missing = [t for t in ("gpasm", "gpsim") if shutil.which(t) is None]
+    if missing:
+        print(f"notice: {', '.join(missing)} not found (../shared/tools/install-pic16-tools.sh); "
+              "the PIC16 was not measured")
+        return
+    r = run([sys.executable, os.path.join(ROOT, "bench", "pic16", "run.py"), "--plcc", PLCC])
+    print(r.stdout)
+    if r.returncode != 0:
+        print(f"notice: bench/pic16/run.py failed (exit {r.returncode}): the PIC16 figures "
+              f"above are incomplete\n{r.stderr[-2000:]}")
+        return
+    words = re.search(r"\*\*geometric mean\*\* \(\d+ programs\) \| \| \| \*\*([\d.]+)\*\*", r.stdout)
+    sim = re.search(r"\*\*([\d.]+)\*\* \(geometric mean\)", r.stdout)
+    if words:
+        w = float(words.group(1))
+        print(f"code words against SDCC's (geometric mean): {w:.2f}x (aim <= 0.45x: "
+              f"{'met' if w <= 0.45 else 'NOT met'})")
+    if sim:
+        v = float(sim.group(1))
+        print(f"plcc's simulator against gpsim (geometric mean): {v:.1f}x (aim >= 12x: "
+              f"{'met' if v >= 12 else 'NOT met'})")
+
+
 def main():
     if "--help" in sys.argv or "-h" in sys.argv:
         print(__doc__)
@@ -255,6 +289,8 @@ def main():
             oscat_bench(tmp, 3 if quick else 7)
         if only in (None, "scaling"):
             scaling_bench(tmp, quick)
+    if only in (None, "pic16"):
+        pic16_bench()
 
 
 if __name__ == "__main__":
