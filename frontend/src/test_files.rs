@@ -39,3 +39,42 @@ pub(crate) fn files_under(
     out.sort();
     out
 }
+
+/// The Structured Text files under `dirs` (as [`files_under`]).
+fn st_files(dirs: Vec<PathBuf>) -> Vec<(String, String)> {
+    files_under(dirs, |p| p.extension().is_some_and(|x| x == "st"))
+}
+
+/// Runs `compare` (which does a job two ways on the given files and returns how many
+/// cases it compared and how many it refused) over the repository's ST files
+/// (`examples`, `tests`), then over those of `../shared` (a notice if it is absent),
+/// and asserts that each compared more than its minimum (`min.0`, `min.1`).
+pub(crate) fn compare_over_st_files(
+    what: &str,
+    min: (usize, usize),
+    compare: impl Fn(&[(String, String)]) -> (usize, usize),
+) {
+    let root = repo_root();
+    let files = st_files(vec![root.join("examples"), root.join("tests")]);
+    assert!(files.len() > 50, "{} ST files found", files.len());
+    let (compared, refused) = compare(&files);
+    eprintln!("repository: {compared} {what} compared, {refused} refused");
+    assert!(
+        compared > min.0,
+        "{compared} {what} compared, {refused} refused"
+    );
+    let Some(shared) = shared() else {
+        eprintln!("NOTICE: ../shared is absent: its ST corpus was not compared ({what})");
+        return;
+    };
+    let files = st_files(vec![shared]);
+    let (compared, refused) = compare(&files);
+    eprintln!(
+        "../shared: {} files, {compared} {what} compared, {refused} refused",
+        files.len()
+    );
+    assert!(
+        compared > min.1,
+        "{compared} {what} compared, {refused} refused"
+    );
+}

@@ -129,11 +129,6 @@ fn parse_at(
 mod tests {
     use super::*;
 
-    /// The ST files under `dirs`, with their text.
-    fn st_files(dirs: Vec<std::path::PathBuf>) -> Vec<(String, String)> {
-        crate::test_files::files_under(dirs, |p| p.extension().is_some_and(|x| x == "st"))
-    }
-
     /// Parses each file whole and in halves at up to 24 of its boundaries (spread
     /// over the file); returns the splits compared and those refused.
     fn compare(files: &[(String, String)]) -> (usize, usize) {
@@ -210,29 +205,7 @@ mod tests {
 
     #[test]
     fn halves_parse_as_the_whole_file_at_its_boundaries() {
-        let root = crate::test_files::repo_root();
-        let files = st_files(vec![root.join("examples"), root.join("tests")]);
-        assert!(files.len() > 50, "{} ST files found", files.len());
-        let (compared, refused) = compare(&files);
-        eprintln!("repository: {compared} splits compared, {refused} refused");
-        assert!(
-            compared > 100,
-            "{compared} splits compared, {refused} refused"
-        );
-        let Some(shared) = crate::test_files::shared() else {
-            eprintln!("NOTICE: ../shared is absent: its ST corpus was not parsed in halves");
-            return;
-        };
-        let files = st_files(vec![shared]);
-        let (compared, refused) = compare(&files);
-        eprintln!(
-            "../shared: {} files, {compared} splits compared, {refused} refused",
-            files.len()
-        );
-        // Most of its files hold one POU.
-        assert!(
-            compared > 50,
-            "{compared} splits compared, {refused} refused"
-        );
+        // Most of ../shared's files hold one POU.
+        crate::test_files::compare_over_st_files("splits", (100, 50), compare);
     }
 }

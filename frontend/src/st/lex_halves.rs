@@ -170,25 +170,9 @@ mod tests {
         (compared, refused)
     }
 
-    fn st_files(dirs: Vec<std::path::PathBuf>) -> Vec<(String, String)> {
-        crate::test_files::files_under(dirs, |p| p.extension().is_some_and(|x| x == "st"))
-    }
-
     #[test]
     fn halves_lex_as_the_whole_file_at_its_line_starts() {
-        let root = crate::test_files::repo_root();
-        let files = st_files(vec![root.join("examples"), root.join("tests")]);
-        assert!(files.len() > 50, "{} ST files found", files.len());
-        let (compared, refused) = compare(&files);
-        eprintln!("repository: {compared} splits compared, {refused} refused");
-        assert!(compared > 1000, "{compared} compared, {refused} refused");
-        let Some(shared) = crate::test_files::shared() else {
-            eprintln!("NOTICE: ../shared is absent: its ST corpus was not lexed in halves");
-            return;
-        };
-        let (compared, refused) = compare(&st_files(vec![shared]));
-        eprintln!("../shared: {compared} splits compared, {refused} refused");
-        assert!(compared > 1000, "{compared} compared, {refused} refused");
+        crate::test_files::compare_over_st_files("splits", (1000, 1000), compare);
     }
 
     #[test]
