@@ -105,21 +105,11 @@ fn write_in_halves<W: termcolor::WriteColor + Send>(
     first: &mut W,
     second: &mut W,
 ) {
-    let mid = if diags.len() >= PARALLEL_DIAGS && plcc_ir::parallel::threads() >= 2 {
-        diags.len() / 2
-    } else {
-        diags.len()
-    };
-    let (a, b) = diags.split_at(mid);
-    std::thread::scope(|scope| {
-        let other = (!b.is_empty()).then(|| scope.spawn(|| write(map, b, second)));
-        write(map, a, first);
-        if let Some(other) = other {
-            other
-                .join()
-                .unwrap_or_else(|p| std::panic::resume_unwind(p));
-        }
-    });
+    if diags.len() < PARALLEL_DIAGS || plcc_ir::parallel::threads() < 2 {
+        return write(map, diags, first);
+    }
+    let (a, b) = diags.split_at(diags.len() / 2);
+    plcc_ir::parallel::join(|| write(map, a, first), || write(map, b, second));
 }
 
 fn write(map: &SourceMap, diags: &[Diagnostic], out: &mut dyn termcolor::WriteColor) {

@@ -20,6 +20,19 @@ pub fn threads() -> usize {
         .min(8)
 }
 
+/// Runs `a` on the calling thread and `b` on another at the same time; returns both
+/// results (a panic in `b` goes on here). For work split in two halves.
+pub fn join<A, B: Send>(a: impl FnOnce() -> A, b: impl FnOnce() -> B + Send) -> (A, B) {
+    std::thread::scope(|scope| {
+        let other = scope.spawn(b);
+        let a = a();
+        let b = other
+            .join()
+            .unwrap_or_else(|p| std::panic::resume_unwind(p));
+        (a, b)
+    })
+}
+
 /// Groups the indexes of functions of the given sizes (instructions) into at most
 /// [`threads`] loads of about equal size; `None` when it is not worth threads.
 fn groups(sizes: &[usize]) -> Option<Vec<Vec<usize>>> {
@@ -105,6 +118,15 @@ pub fn map<T: Send>(funcs: &[Function], work: impl Fn(&Function) -> T + Sync) ->
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn join_returns_both_halves_and_passes_a_panic_on() {
+        let (mut left, mut right) = (Vec::new(), Vec::new());
+        let (a, b) = join(|| left.push(1), || right.push(2));
+        assert_eq!((a, b, left, right), ((), (), vec![1], vec![2]));
+        let caught = std::panic::catch_unwind(|| join(|| 1, || -> u8 { panic!("second half") }));
+        assert!(caught.is_err());
+    }
     use crate::builder::FuncBuilder;
     use crate::function::FuncKind;
     use crate::types::Type;

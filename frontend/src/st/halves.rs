@@ -83,9 +83,21 @@ fn parse_at(
     let mut copy = interner.clone();
     let known = copy.len();
     let (mut first_diags, mut second_diags) = (Vec::new(), Vec::new());
-    let (a, b) = std::thread::scope(|scope| {
-        let second = scope.spawn(|| {
-            let (unit, _) = parser::parse_range(
+    let ((a, _), (b, _)) = plcc_ir::parallel::join(
+        || {
+            parser::parse_range(
+                file,
+                text,
+                lexed,
+                &toks[..split],
+                Some(eof),
+                interner,
+                &mut first_diags,
+                None,
+            )
+        },
+        || {
+            parser::parse_range(
                 file,
                 text,
                 lexed,
@@ -94,24 +106,9 @@ fn parse_at(
                 &mut copy,
                 &mut second_diags,
                 None,
-            );
-            unit
-        });
-        let (a, _) = parser::parse_range(
-            file,
-            text,
-            lexed,
-            &toks[..split],
-            Some(eof),
-            interner,
-            &mut first_diags,
-            None,
-        );
-        let b = second
-            .join()
-            .unwrap_or_else(|p| std::panic::resume_unwind(p));
-        (a, b)
-    });
+            )
+        },
+    );
     let error = |d: &Vec<Diagnostic>| d.iter().any(|d| d.severity == Severity::Error);
     if error(&first_diags) || error(&second_diags) || copy.len() != known {
         // The halves' diagnostics are dropped with them; the whole parse reports.

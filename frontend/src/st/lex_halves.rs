@@ -61,8 +61,18 @@ fn lex_at(
     let mut copy = interner.clone();
     let known = interner.len();
     let (mut first_diags, mut second_diags) = (Vec::new(), Vec::new());
-    let (mut first, second) = std::thread::scope(|scope| {
-        let other = scope.spawn(|| {
+    let (mut first, second) = plcc_ir::parallel::join(
+        || {
+            lexer::lex_from(
+                file,
+                &text[..split],
+                0,
+                text.len(),
+                interner,
+                &mut first_diags,
+            )
+        },
+        || {
             lexer::lex_from(
                 file,
                 text,
@@ -71,20 +81,8 @@ fn lex_at(
                 &mut copy,
                 &mut second_diags,
             )
-        });
-        let first = lexer::lex_from(
-            file,
-            &text[..split],
-            0,
-            text.len(),
-            interner,
-            &mut first_diags,
-        );
-        let second = other
-            .join()
-            .unwrap_or_else(|p| std::panic::resume_unwind(p));
-        (first, second)
-    });
+        },
+    );
     if first.eof_in_error {
         interner.truncate(known);
         return None;
